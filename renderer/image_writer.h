@@ -1,0 +1,39 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace omnishadow {
+
+// Linear float image with named channels, interleaved, first row = top of the picture.
+struct FloatImage {
+  int width = 0;
+  int height = 0;
+  std::vector<std::string> channels;  // e.g. {"R","G","B","A"} or {"P.X","P.Y","P.Z",...}
+  std::vector<float> pixels;          // width * height * channels.size()
+
+  float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels.size() + c]; }
+  float at(int x, int y, int c) const {
+    return pixels[(std::size_t(y) * width + x) * channels.size() + c];
+  }
+  int channelIndex(const std::string& name) const;  // -1 when absent
+};
+
+enum class ExrPixelType { Half, Float };
+
+// 8-bit PNG with 1..4 channels, no metadata that changes between runs (byte-identical output
+// for identical pixels). Throws RenderError when the file cannot be written.
+void writePng(const std::filesystem::path& path, int width, int height, int channels,
+              const std::vector<std::uint8_t>& pixels);
+
+// OpenEXR, ZIP compressed, channels named as given (OpenEXR stores them sorted by name),
+// no time stamps. Throws RenderError when the file cannot be written.
+void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type);
+
+// Reads any image OpenImageIO understands (PNG, EXR, ...) as float, for tests and tools.
+// Throws InputError when unreadable.
+FloatImage readImage(const std::filesystem::path& path);
+
+}  // namespace omnishadow

@@ -1,0 +1,37 @@
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+namespace omnishadow {
+
+// All-or-nothing output: each file is written to a temporary name in its final folder, and
+// commit() renames them all into place. If the transaction is destroyed before commit() (an
+// exception while encoding, say), the temporaries are removed, so a failed run leaves no
+// partial or stray file.
+class OutputTransaction {
+ public:
+  OutputTransaction() = default;
+  OutputTransaction(const OutputTransaction&) = delete;
+  OutputTransaction& operator=(const OutputTransaction&) = delete;
+  ~OutputTransaction();
+
+  // Returns the temporary path to write `finalPath` to. Keeps the extension so that encoders
+  // that pick a format by extension still work. Throws RenderError when the folder is missing
+  // or not writable.
+  std::filesystem::path stage(const std::filesystem::path& finalPath);
+
+  // Renames every staged file onto its final path. Throws RenderError on failure (and removes
+  // what was not yet renamed).
+  void commit();
+
+ private:
+  struct Entry {
+    std::filesystem::path temporary;
+    std::filesystem::path final;
+  };
+  std::vector<Entry> entries_;
+  bool committed_ = false;
+};
+
+}  // namespace omnishadow
