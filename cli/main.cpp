@@ -1,1 +1,42 @@
-int main() { return 0; }
+// omnishadow: headless batch renderer for glTF scenes with shadowed point lights.
+// This is the one place where errors become messages and exit statuses:
+// 0 success, 2 bad input or usage, 1 any other failure.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "cli/render_command.h"
+#include "renderer/errors.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"omnishadow: headless glTF renderer with omnidirectional point-light shadows"};
+  app.set_version_flag("--version", "omnishadow 0.1.0");
+  app.require_subcommand(1);
+  omnishadow::cli::RenderOptions render;
+  omnishadow::cli::addRenderCommand(app, render);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "omnishadow: %s\nRun 'omnishadow --help' or 'omnishadow render --help'.\n",
+                 e.what());
+    return 2;
+  }
+
+  try {
+    if (app.got_subcommand("render")) return omnishadow::cli::runRender(render);
+  } catch (const omnishadow::InputError& e) {
+    std::fprintf(stderr, "omnishadow: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "omnishadow: %s\n", e.what());
+    return 1;
+  }
+  return 2;
+}

@@ -1,0 +1,227 @@
+#include "cli/render_command.h"
+
+#include <CLI/CLI.hpp>
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "renderer/camera.h"
+#include "renderer/display_transform.h"
+#include "renderer/errors.h"
+#include "renderer/gltf_loader.h"
+#include "renderer/lights_loader.h"
+#include "renderer/output_transaction.h"
+#include "renderer/renderer.h"
+
+namespace fs = std::filesystem;
+
+namespace omnishadow::cli {
+namespace {
+
+std::string lowerExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+std::optional<glm::vec3> parseVec3(const std::string& option, const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  glm::vec3 v;
+  std::istringstream in(text);
+  char comma1 = 0, comma2 = 0;
+  in >> v.x >> comma1 >> v.y >> comma2 >> v.z;
+  if (!in || comma1 != ',' || comma2 != ',' || in.peek() != EOF || !std::isfinite(v.x) ||
+      !std::isfinite(v.y) || !std::isfinite(v.z))
+    throw InputError(option + " " + text + ": expected 3 comma-separated finite numbers, e.g. 0,1.5,4");
+  return v;
+}
+
+// The lights file used when --lights is not given: "<scene stem>.lights.json" beside the scene.
+fs::path defaultLightsFile(const fs::path& scene) {
+  fs::path candidate = scene.parent_path() / (scene.stem().string() + ".lights.json");
+  return fs::exists(candidate) ? candidate : fs::path();
+}
+
+// A light so that a scene without any still shows something: at the camera, slightly above.
+Light headlight(const ViewCamera& camera, const Bounds& bounds) {
+  Light light;
+  light.name = "headlight";
+  const glm::vec3 up = glm::vec3(glm::inverse(camera.view)[1]);
+  const float radius = std::max(bounds.radius(), 1e-3f);
+  light.position = camera.eye + up * radius * 0.3f;
+  const float distance = glm::length(bounds.center() - light.position);
+  light.intensity = distance * distance;  // about 1 lux at the scene center
+  light.origin = "default";
+  return light;
+}
+
+void printStats(const StageTimes& times) {
+  std::fprintf(stderr, "stage          ms\n");
+  for (const auto& [stage, ms] : times.stages())
+    std::fprintf(stderr, "%-12s %8.1f\n", stage.c_str(), ms);
+  std::fprintf(stderr, "%-12s %8.1f\n", "total", times.total());
+}
+
+struct Outputs {
+  std::vector<fs::path> png, exr;
+  fs::path aov;
+};
+
+Outputs checkOutputs(const RenderOptions& options, const std::vector<fs::path>& inputs) {
+  Outputs out;
+  std::vector<std::string> outputs = options.outputs;
+  if (outputs.empty() && options.aov.empty()) outputs.push_back("render.png");
+  std::vector<fs::path> all;
+  for (const std::string& output : outputs) {
+    const std::string ext = lowerExtension(output);
+    if (ext == ".png") {
+      out.png.emplace_back(output);
+    } else if (ext == ".exr") {
+      out.exr.emplace_back(output);
+    } else {
+      throw InputError("-o " + output + ": unsupported image format (use .png or .exr)");
+    }
+    all.emplace_back(output);
+  }
+  if (!options.aov.empty()) {
+    if (lowerExtension(options.aov) != ".exr")
+      throw InputError("--aov " + options.aov + ": AOVs are written as OpenEXR; use a .exr name");
+    out.aov = options.aov;
+    all.push_back(out.aov);
+  }
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const fs::path absolute = fs::weakly_canonical(all[i]);
+    for (const fs::path& input : inputs)
+      if (!input.empty() && absolute == fs::weakly_canonical(input))
+        throw InputError(all[i].string() + ": refusing to overwrite an input file");
+    for (std::size_t j = 0; j < i; ++j)
+      if (absolute == fs::weakly_canonical(all[j]))
+        throw InputError(all[i].string() + ": the same file is given twice as output");
+  }
+  return out;
+}
+
+void printWarnings(const std::vector<std::string>& warnings) {
+  for (const std::string& warning : warnings) std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, RenderOptions& o) {
+  CLI::App* render = app.add_subcommand(
+      "render", "Render a glTF scene (default: the built-in demo room) to PNG/EXR images");
+  render->add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb); default: the demo scene");
+  render->add_option("-l,--lights", o.lights,
+                     "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
+  render->add_flag("--no-gltf-lights", o.noGltfLights,
+                   "Ignore the scene's KHR_lights_punctual lights");
+  render->add_option("--scene", o.sceneIndex, "Index of the glTF scene to render (default: the file's default scene)")
+      ->check(CLI::NonNegativeNumber);
+  render->add_option("--camera", o.camera, "glTF camera by name or index (default: the first)");
+  render->add_option("--eye", o.eye, "Camera position x,y,z (world units)");
+  render->add_option("--target", o.target, "Point the camera looks at, x,y,z");
+  render->add_option("--up", o.up, "Camera up vector x,y,z");
+  render->add_option("--fov", o.fov, "Vertical field of view in degrees");
+  render->add_option("--width", o.width, "Image width in pixels (default 1280)")->check(CLI::Range(1, 16384));
+  render->add_option("--height", o.height, "Image height in pixels (default 720, or from the camera's aspect ratio)")
+      ->check(CLI::Range(1, 16384));
+  render->add_option("-o,--output", o.outputs,
+                     "Output image: .png (8-bit sRGB) or .exr (linear half RGBA); repeatable "
+                     "(default: render.png)");
+  render->add_option("--aov", o.aov, "Write AOVs (position, normal, distance, per-light visibility) to this .exr");
+  render->add_option("--exposure", o.exposure, "Exposure in stops applied to the beauty images (default 0)");
+  render->add_option("--shading", o.shading, "pbr (glTF metallic-roughness) or phong (Blinn-Phong)")
+      ->check(CLI::IsMember({"pbr", "phong"}));
+  render->add_option("--gpu", o.gpu, "EGL device index to render on (default: first hardware device, else software)")
+      ->check(CLI::NonNegativeNumber);
+  render->add_flag("-v,--verbose", o.verbose, "Print the GL platform, vendor, renderer, version and GL debug messages");
+  render->add_flag("--stats", o.stats, "Print the time of each stage to stderr");
+}
+
+int runRender(const RenderOptions& o) {
+  StageTimes times;
+  ScopedStage loadStage(times, "load");
+
+  const fs::path scenePath = o.scene.empty() ? fs::path(OMNISHADOW_DEMO_SCENE) : fs::path(o.scene);
+  const fs::path lightsPath = o.lights.empty() ? defaultLightsFile(scenePath) : fs::path(o.lights);
+  const Outputs outputs = checkOutputs(o, {scenePath, lightsPath});
+  CameraRequest cameraRequest;
+  cameraRequest.select = o.camera;
+  cameraRequest.eye = parseVec3("--eye", o.eye);
+  cameraRequest.target = parseVec3("--target", o.target);
+  cameraRequest.up = parseVec3("--up", o.up);
+  cameraRequest.fovDegrees = o.fov;
+  cameraRequest.width = o.width;
+  cameraRequest.height = o.height;
+
+  std::vector<std::string> warnings;
+  GltfLoadOptions loadOptions;
+  loadOptions.sceneIndex = o.sceneIndex;
+  const Scene scene = loadGltf(scenePath, loadOptions);
+  warnings.insert(warnings.end(), scene.warnings.begin(), scene.warnings.end());
+  LightSetup setup;
+  if (!lightsPath.empty()) setup = loadLightsFile(lightsPath, warnings);
+  std::vector<Light> lights =
+      mergeLights(o.noGltfLights ? std::vector<Light>{} : scene.lights, setup.lights);
+  const ViewCamera camera = resolveCamera(scene, cameraRequest);
+  if (lights.empty()) {
+    lights.push_back(headlight(camera, scene.bounds));
+    warnings.push_back("no lights in the scene or a lights file: using a headlight at the camera");
+  }
+  loadStage.stop();
+
+  ScopedStage contextStage(times, "context");
+  ContextOptions contextOptions;
+  contextOptions.gpuIndex = o.gpu;
+  contextOptions.debug = o.verbose;
+  Renderer renderer(contextOptions);
+  if (o.verbose) {
+    std::fprintf(stderr, "omnishadow: %s\nomnishadow: %s\n",
+                 renderer.context().platformDescription().c_str(),
+                 renderer.context().glDescription().c_str());
+    std::fprintf(stderr, "omnishadow: scene %s, camera: %s, %dx%d\n", scenePath.c_str(),
+                 camera.description.c_str(), camera.width, camera.height);
+  }
+  GLint maxCubeSize = 0;
+  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &maxCubeSize);
+  for (const Light& light : lights)
+    if (light.shadow.enabled && light.shadow.resolution > maxCubeSize)
+      throw InputError(light.origin + ": light \"" + light.name + "\": shadow.resolution " +
+                       std::to_string(light.shadow.resolution) + " exceeds this GL's maximum cube map size " +
+                       std::to_string(maxCubeSize));
+  contextStage.stop();
+
+  RenderSettings settings;
+  settings.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
+  settings.aovs = !outputs.aov.empty();
+  Frame frame = renderer.render(scene, lights, setup.ambient, camera, settings, times);
+  warnings.insert(warnings.end(), frame.warnings.begin(), frame.warnings.end());
+
+  ScopedStage encodeStage(times, "encode");
+  OutputTransaction transaction;
+  if (!outputs.png.empty()) {
+    const std::vector<std::uint8_t> srgb = toSrgb8(frame.beauty, o.exposure);
+    for (const fs::path& path : outputs.png)
+      writePng(transaction.stage(path), camera.width, camera.height, 3, srgb);
+  }
+  if (!outputs.exr.empty()) {
+    const FloatImage exposed = applyExposure(frame.beauty, o.exposure);
+    for (const fs::path& path : outputs.exr) writeExr(transaction.stage(path), exposed, ExrPixelType::Half);
+  }
+  if (frame.aovs) writeExr(transaction.stage(outputs.aov), *frame.aovs, ExrPixelType::Float);
+  transaction.commit();
+  encodeStage.stop();
+
+  printWarnings(warnings);
+  for (const auto& list : {outputs.png, outputs.exr})
+    for (const fs::path& path : list) std::printf("wrote %s (%dx%d)\n", path.c_str(), camera.width, camera.height);
+  if (!outputs.aov.empty()) std::printf("wrote %s (AOVs)\n", outputs.aov.c_str());
+  if (o.stats) printStats(times);
+  return 0;
+}
+
+}  // namespace omnishadow::cli

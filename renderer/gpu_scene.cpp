@@ -1,0 +1,150 @@
+#include "renderer/gpu_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/errors.h"
+
+namespace omnishadow {
+namespace {
+
+// Interleaved vertex; attribute locations match shaders/scene_vertex.glsl.
+struct Vertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec4 tangent;
+  glm::vec2 uv0;
+  glm::vec2 uv1;
+  glm::vec4 color;
+};
+
+void setAttribute(GLuint vao, GLuint location, GLint size, GLuint offset) {
+  glEnableVertexArrayAttrib(vao, location);
+  glVertexArrayAttribFormat(vao, location, size, GL_FLOAT, GL_FALSE, offset);
+  glVertexArrayAttribBinding(vao, location, 0);
+}
+
+
+}  // namespace
+
+GpuScene::GpuScene(const Scene& scene) : vertexArray_(gl::createVertexArray()) {
+  uploadGeometry(scene);
+  uploadMaterials(scene);
+}
+
+void GpuScene::uploadGeometry(const Scene& scene) {
+  std::vector<Vertex> vertices;
+  std::vector<std::uint32_t> indices;
+  for (const Mesh& mesh : scene.meshes) {
+    GpuMeshRange range;
+    range.baseVertex = static_cast<GLint>(vertices.size());
+    range.firstIndex = static_cast<GLsizei>(indices.size());
+    range.indexCount = static_cast<GLsizei>(mesh.indices.size());
+    range.hasTangents = !mesh.tangents.empty();
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+      Vertex v;
+      v.position = mesh.positions[i];
+      v.normal = i < mesh.normals.size() ? mesh.normals[i] : glm::vec3(0, 1, 0);
+      v.tangent = i < mesh.tangents.size() ? mesh.tangents[i] : glm::vec4(1, 0, 0, 1);
+      v.uv0 = i < mesh.uv0.size() ? mesh.uv0[i] : glm::vec2(0.0f);
+      v.uv1 = i < mesh.uv1.size() ? mesh.uv1[i] : glm::vec2(0.0f);
+      v.color = i < mesh.colors.size() ? mesh.colors[i] : glm::vec4(1.0f);
+      vertices.push_back(v);
+    }
+    indices.insert(indices.end(), mesh.indices.begin(), mesh.indices.end());
+    triangles_ += mesh.indices.size() / 3;
+    meshes_.push_back(range);
+  }
+  vertices_ = gl::createBuffer();
+  indices_ = gl::createBuffer();
+  // Empty scenes still get valid (1-byte) buffers so the vertex array is complete.
+  glNamedBufferStorage(vertices_.get(), std::max<GLsizeiptr>(1, vertices.size() * sizeof(Vertex)),
+                       vertices.empty() ? nullptr : vertices.data(), 0);
+  glNamedBufferStorage(indices_.get(), std::max<GLsizeiptr>(1, indices.size() * 4),
+                       indices.empty() ? nullptr : indices.data(), 0);
+  const GLuint vao = vertexArray_.get();
+  glVertexArrayVertexBuffer(vao, 0, vertices_.get(), 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(vao, indices_.get());
+  setAttribute(vao, 0, 3, offsetof(Vertex, position));
+  setAttribute(vao, 1, 3, offsetof(Vertex, normal));
+  setAttribute(vao, 2, 4, offsetof(Vertex, tangent));
+  setAttribute(vao, 3, 2, offsetof(Vertex, uv0));
+  setAttribute(vao, 4, 2, offsetof(Vertex, uv1));
+  setAttribute(vao, 5, 4, offsetof(Vertex, color));
+
+  const int defaultMaterial = static_cast<int>(scene.materials.size());
+  for (const MeshInstance& instance : scene.instances) {
+    const Mesh& mesh = scene.meshes[instance.mesh];
+    GpuDraw draw;
+    draw.mesh = instance.mesh;
+    draw.material = mesh.material >= 0 ? mesh.material : defaultMaterial;
+    draw.world = instance.world;
+    draw.normalMatrix = glm::transpose(glm::inverse(glm::mat3(instance.world)));
+    draw.mirrored = glm::determinant(glm::mat3(instance.world)) < 0.0f;
+    const Bounds world = mesh.bounds.transformed(instance.world);
+    draw.boundsCenter = world.center();
+    draw.boundsRadius = world.radius();
+    draws_.push_back(draw);
+  }
+}
+
+GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool srgb) {
+  if (slot.texture < 0) return 0;
+  const int imageIndex = scene.textures[slot.texture].image;
+  if (imageIndex < 0) return 0;
+  gl::Texture& texture = textures_[2 * imageIndex + (srgb ? 1 : 0)];
+  if (!texture) {
+    const Image& image = scene.images[imageIndex];
+    texture = gl::createTexture(GL_TEXTURE_2D);
+    const int levels =
+        1 + static_cast<int>(std::floor(std::log2(std::max(image.width, image.height))));
+    glTextureStorage2D(texture.get(), levels, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, image.width,
+                       image.height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // glTF's UV (0,0) is the top-left of the image and GL's texel row 0 is t = 0, so the
+    // image's first (top) row goes into row 0 unflipped.
+    glTextureSubImage2D(texture.get(), 0, 0, 0, image.width, image.height, GL_RGBA,
+                        GL_UNSIGNED_BYTE, image.rgba.data());
+    glGenerateTextureMipmap(texture.get());
+  }
+  return texture.get();
+}
+
+GLuint GpuScene::samplerFor(const Scene& scene, const TextureSlot& slot) {
+  if (slot.texture < 0) return 0;
+  gl::Sampler& sampler = samplers_[slot.texture];
+  if (!sampler) {
+    const SamplerDesc& desc = scene.textures[slot.texture].sampler;
+    sampler = gl::createSampler();
+    glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, desc.magFilter);
+    glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, desc.minFilter);
+    glSamplerParameteri(sampler.get(), GL_TEXTURE_WRAP_S, desc.wrapS);
+    glSamplerParameteri(sampler.get(), GL_TEXTURE_WRAP_T, desc.wrapT);
+  }
+  return sampler.get();
+}
+
+void GpuScene::uploadMaterials(const Scene& scene) {
+  textures_.resize(2 * scene.images.size());
+  samplers_.resize(scene.textures.size());
+  std::vector<Material> descs = scene.materials;
+  descs.emplace_back();  // glTF's default material: white, metallic 1, roughness 1
+  descs.back().name = "(default)";
+  for (const Material& desc : descs) {
+    GpuMaterial m;
+    m.desc = desc;
+    m.baseColor = textureFor(scene, desc.baseColorTexture, true);
+    m.baseColorSampler = samplerFor(scene, desc.baseColorTexture);
+    m.metallicRoughness = textureFor(scene, desc.metallicRoughnessTexture, false);
+    m.metallicRoughnessSampler = samplerFor(scene, desc.metallicRoughnessTexture);
+    m.normal = textureFor(scene, desc.normalTexture, false);
+    m.normalSampler = samplerFor(scene, desc.normalTexture);
+    m.occlusion = textureFor(scene, desc.occlusionTexture, false);
+    m.occlusionSampler = samplerFor(scene, desc.occlusionTexture);
+    m.emissive = textureFor(scene, desc.emissiveTexture, true);
+    m.emissiveSampler = samplerFor(scene, desc.emissiveTexture);
+    materials_.push_back(std::move(m));
+  }
+}
+
+}  // namespace omnishadow

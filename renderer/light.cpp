@@ -1,5 +1,7 @@
 #include "renderer/light.h"
 
+#include <algorithm>
+
 namespace omnishadow {
 
 const char* toString(LightType type) {
@@ -18,6 +20,18 @@ const char* toString(ShadowFilter filter) {
     case ShadowFilter::PcfDisk: return "pcf-disk";
   }
   return "?";
+}
+
+std::vector<Light> mergeLights(const std::vector<Light>& gltfLights,
+                               const std::vector<Light>& fileLights) {
+  std::vector<Light> merged;
+  for (const Light& light : gltfLights) {
+    const bool replaced = std::any_of(fileLights.begin(), fileLights.end(),
+                                      [&](const Light& l) { return l.name == light.name; });
+    if (!replaced) merged.push_back(light);
+  }
+  merged.insert(merged.end(), fileLights.begin(), fileLights.end());
+  return merged;
 }
 
 }  // namespace omnishadow

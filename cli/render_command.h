@@ -1,0 +1,37 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace omnishadow::cli {
+
+// Everything `omnishadow render` accepts, as given on the command line.
+struct RenderOptions {
+  std::string scene;  // empty = the built-in demo scene
+  std::string lights;
+  bool noGltfLights = false;
+  int sceneIndex = -1;
+  std::string camera;
+  std::string eye, target, up;  // "x,y,z"
+  std::optional<float> fov;
+  std::optional<int> width, height;
+  std::vector<std::string> outputs;
+  std::string aov;
+  float exposure = 0.0f;
+  std::string shading = "pbr";
+  int gpu = -1;
+  bool verbose = false;
+  bool stats = false;
+};
+
+void addRenderCommand(CLI::App& app, RenderOptions& options);
+
+// Runs a render; returns the exit status. Throws InputError/RenderError to the caller.
+int runRender(const RenderOptions& options);
+
+}  // namespace omnishadow::cli

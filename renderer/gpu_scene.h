@@ -1,0 +1,67 @@
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "renderer/gl_resources.h"
+#include "renderer/scene.h"
+
+namespace omnishadow {
+
+// Where one Mesh lives in the shared vertex and index buffers.
+struct GpuMeshRange {
+  GLint baseVertex = 0;
+  GLsizei firstIndex = 0;  // in indices, not bytes
+  GLsizei indexCount = 0;
+  bool hasTangents = false;
+};
+
+// A mesh instance ready to draw: its range, transform, material and world bounds.
+struct GpuDraw {
+  int mesh = -1;
+  int material = -1;  // index into GpuScene::materials (the default material is appended)
+  glm::mat4 world{1.0f};
+  glm::mat3 normalMatrix{1.0f};
+  bool mirrored = false;  // negative determinant: front faces are clockwise
+  glm::vec3 boundsCenter{0.0f};  // world-space bounding sphere, for culling
+  float boundsRadius = 0.0f;
+};
+
+// GL textures for one material; 0 where the material has no such texture.
+struct GpuMaterial {
+  Material desc;
+  GLuint baseColor = 0, metallicRoughness = 0, normal = 0, occlusion = 0, emissive = 0;
+  GLuint baseColorSampler = 0, metallicRoughnessSampler = 0, normalSampler = 0,
+         occlusionSampler = 0, emissiveSampler = 0;
+};
+
+// The static scene on the GPU: all meshes in one vertex buffer and one index buffer behind a
+// single vertex array, textures (sRGB where glTF says so) with mipmaps, and sampler objects.
+class GpuScene {
+ public:
+  explicit GpuScene(const Scene& scene);
+
+  GLuint vertexArray() const { return vertexArray_.get(); }
+  const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
+  const std::vector<GpuDraw>& draws() const { return draws_; }
+  const std::vector<GpuMaterial>& materials() const { return materials_; }
+  std::size_t triangleCount() const { return triangles_; }
+
+ private:
+  void uploadGeometry(const Scene& scene);
+  void uploadMaterials(const Scene& scene);
+  GLuint textureFor(const Scene& scene, const TextureSlot& slot, bool srgb);
+  GLuint samplerFor(const Scene& scene, const TextureSlot& slot);
+
+  gl::VertexArray vertexArray_;
+  gl::Buffer vertices_, indices_;
+  std::vector<gl::Texture> textures_;  // indexed by 2 * image + srgb
+  std::vector<gl::Sampler> samplers_;  // indexed by texture
+  std::vector<GpuMeshRange> meshes_;
+  std::vector<GpuDraw> draws_;
+  std::vector<GpuMaterial> materials_;
+  std::size_t triangles_ = 0;
+};
+
+}  // namespace omnishadow

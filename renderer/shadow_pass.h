@@ -1,0 +1,55 @@
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "renderer/cube_faces.h"
+#include "renderer/gl_resources.h"
+#include "renderer/gpu_scene.h"
+#include "renderer/light.h"
+#include "renderer/shader_program.h"
+
+namespace omnishadow {
+
+// A point light's depth cube map (GL_DEPTH_COMPONENT32F). Each face holds the reversed-Z depth
+// of cubeFaceProjection(near, far); distance is rebuilt when sampling (shaders/point_shadow.glsl).
+struct PointShadowMap {
+  gl::Texture cube;
+  int resolution = 0;
+  float near = 0.0f;
+  float far = 0.0f;
+  glm::vec3 position{0.0f};
+  int drawsRendered = 0;  // instance draws over all faces after culling, for --stats
+};
+
+// Six faces of distance to the light (world units) per texel, rows in GL order (row 0 = t 0).
+// Texels where nothing was rendered hold +infinity.
+struct CubeDistances {
+  int resolution = 0;
+  std::array<std::vector<float>, kCubeFaceCount> faces;
+  float at(CubeFace face, int column, int row) const {
+    return faces[static_cast<int>(face)][static_cast<std::size_t>(row) * resolution + column];
+  }
+};
+
+class ShadowPass {
+ public:
+  ShadowPass();
+
+  // Renders one face at a time; instances whose bounding sphere misses a face's frustum (or
+  // lies beyond `far`) are skipped for that face. Casters are drawn double-sided.
+  PointShadowMap renderPointLight(const GpuScene& scene, const Light& light, float near,
+                                  float far, int resolution);
+
+  // Reads the map back as distances along each texel center's ray.
+  static CubeDistances readDistances(const PointShadowMap& map);
+
+ private:
+  ShaderProgram opaque_;
+  ShaderProgram masked_;
+  gl::Framebuffer framebuffer_;
+};
+
+}  // namespace omnishadow

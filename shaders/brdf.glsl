@@ -1,0 +1,50 @@
+// glTF 2.0 metallic-roughness BRDF (Appendix B of the specification): Lambert diffuse,
+// GGX distribution, height-correlated Smith visibility, Schlick Fresnel.
+const float PI = 3.14159265358979;
+
+float distributionGgx(float NdotH, float alpha) {
+  float a2 = alpha * alpha;
+  float d = NdotH * NdotH * (a2 - 1.0) + 1.0;
+  return a2 / (PI * d * d);
+}
+
+float visibilitySmithGgxCorrelated(float NdotV, float NdotL, float alpha) {
+  float a2 = alpha * alpha;
+  float ggxV = NdotL * sqrt(NdotV * NdotV * (1.0 - a2) + a2);
+  float ggxL = NdotV * sqrt(NdotL * NdotL * (1.0 - a2) + a2);
+  float sum = ggxV + ggxL;
+  return sum > 0.0 ? 0.5 / sum : 0.0;
+}
+
+vec3 fresnelSchlick(vec3 f0, float VdotH) {
+  return f0 + (1.0 - f0) * pow(1.0 - VdotH, 5.0);
+}
+
+// Outgoing radiance towards V for light arriving from L with the given radiance.
+vec3 shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metallic,
+              float roughness) {
+  float NdotL = dot(N, L);
+  if (NdotL <= 0.0) return vec3(0.0);
+  vec3 H = normalize(L + V);
+  float NdotV = max(dot(N, V), 1e-4);
+  float NdotH = max(dot(N, H), 0.0);
+  float VdotH = max(dot(V, H), 0.0);
+  float alpha = max(roughness * roughness, 1e-3);
+  vec3 f0 = mix(vec3(0.04), baseColor, metallic);
+  vec3 F = fresnelSchlick(f0, VdotH);
+  vec3 diffuse = (1.0 - F) * (1.0 - metallic) * baseColor / PI;
+  vec3 specular = F * distributionGgx(NdotH, alpha) * visibilitySmithGgxCorrelated(NdotV, NdotL, alpha);
+  return (diffuse + specular) * radiance * NdotL;
+}
+
+// Blinn-Phong as in the classic point-shadow tutorial, in the same photometric units:
+// normalized Blinn-Phong lobe with a shininess derived from roughness.
+vec3 shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float roughness) {
+  float NdotL = dot(N, L);
+  if (NdotL <= 0.0) return vec3(0.0);
+  vec3 H = normalize(L + V);
+  float alpha = max(roughness * roughness, 1e-3);
+  float shininess = max(2.0 / (alpha * alpha) - 2.0, 1.0);
+  float lobe = (shininess + 8.0) / (8.0 * PI) * pow(max(dot(N, H), 0.0), shininess);
+  return (baseColor / PI + vec3(0.04) * lobe) * radiance * NdotL;
+}

@@ -1,0 +1,128 @@
+// Lighting pass: material, all lights in one loop, shadows, and the AOVs.
+// Variants: SHADING_PHONG (Blinn-Phong instead of metallic-roughness), WRITE_AOVS.
+#include "lights.glsl"
+#include "brdf.glsl"
+#include "point_shadow.glsl"
+
+in VertexData {
+  vec3 worldPosition;
+  vec3 worldNormal;
+  vec4 worldTangent;
+  vec2 uv0;
+  vec2 uv1;
+  vec4 color;
+} vIn;
+
+layout(binding = 0) uniform sampler2D uBaseColorTexture;
+layout(binding = 1) uniform sampler2D uMetallicRoughnessTexture;
+layout(binding = 2) uniform sampler2D uNormalTexture;
+layout(binding = 3) uniform sampler2D uOcclusionTexture;
+layout(binding = 4) uniform sampler2D uEmissiveTexture;
+
+uniform vec4 uBaseColorFactor;
+uniform float uMetallicFactor;
+uniform float uRoughnessFactor;
+uniform vec3 uEmissive;  // factor * strength
+uniform float uNormalScale;
+uniform float uOcclusionStrength;
+uniform int uAlphaMode;  // 0 opaque, 1 mask, 2 blend
+uniform float uAlphaCutoff;
+uniform int uDoubleSided;
+uniform int uHasTangents;
+// Per texture slot: -1 = none, else the TEXCOORD set.
+uniform int uBaseColorTexCoord;
+uniform int uMetallicRoughnessTexCoord;
+uniform int uNormalTexCoord;
+uniform int uOcclusionTexCoord;
+uniform int uEmissiveTexCoord;
+
+uniform vec3 uCameraPosition;
+uniform vec3 uAmbient;
+
+layout(location = 0) out vec4 outBeauty;
+#ifdef WRITE_AOVS
+const int VISIBILITY_OUTPUTS = 5;
+layout(location = 1) out vec4 outPositionDistance;  // P.xyz, camera distance
+layout(location = 2) out vec4 outNormal;            // shading normal facing the camera
+layout(location = 3) out vec4 outVisibility[VISIBILITY_OUTPUTS];
+uniform int uVisibilityBase;  // first light whose shadow term goes to outVisibility
+#endif
+
+vec2 uvFor(int texCoord) { return texCoord == 0 ? vIn.uv0 : vIn.uv1; }
+
+void main() {
+  vec4 baseColor = uBaseColorFactor * vIn.color;
+  if (uBaseColorTexCoord >= 0) baseColor *= texture(uBaseColorTexture, uvFor(uBaseColorTexCoord));
+  if (uAlphaMode == 1 && baseColor.a < uAlphaCutoff) discard;
+  float alpha = uAlphaMode == 2 ? baseColor.a : 1.0;
+
+  float metallic = uMetallicFactor;
+  float roughness = uRoughnessFactor;
+  if (uMetallicRoughnessTexCoord >= 0) {
+    vec4 mr = texture(uMetallicRoughnessTexture, uvFor(uMetallicRoughnessTexCoord));
+    roughness *= mr.g;
+    metallic *= mr.b;
+  }
+  metallic = clamp(metallic, 0.0, 1.0);
+  roughness = clamp(roughness, 0.0, 1.0);
+
+  vec3 V = normalize(uCameraPosition - vIn.worldPosition);
+  // Geometric normal from the triangle itself: robust for back faces and for the shadow bias.
+  vec3 Ngeom = normalize(cross(dFdx(vIn.worldPosition), dFdy(vIn.worldPosition)));
+  if (dot(Ngeom, V) < 0.0) Ngeom = -Ngeom;
+
+  vec3 N = normalize(vIn.worldNormal);
+  if (!gl_FrontFacing) N = -N;  // back faces are only drawn for double-sided materials
+  if (uNormalTexCoord >= 0 && uHasTangents != 0) {
+    vec3 T = normalize(vIn.worldTangent.xyz - N * dot(N, vIn.worldTangent.xyz));
+    vec3 B = cross(N, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
+    vec3 tangentNormal = texture(uNormalTexture, uvFor(uNormalTexCoord)).xyz * 2.0 - 1.0;
+    tangentNormal.xy *= uNormalScale;
+    N = normalize(mat3(T, B, N) * tangentNormal);
+  }
+
+  float occlusion = 1.0;
+  if (uOcclusionTexCoord >= 0)
+    occlusion = 1.0 + uOcclusionStrength *
+                          (texture(uOcclusionTexture, uvFor(uOcclusionTexCoord)).r - 1.0);
+  vec3 emissive = uEmissive;
+  if (uEmissiveTexCoord >= 0) emissive *= texture(uEmissiveTexture, uvFor(uEmissiveTexCoord)).rgb;
+
+  float cameraDistance = length(uCameraPosition - vIn.worldPosition);
+  vec3 color = uAmbient * baseColor.rgb * occlusion + emissive;
+#ifdef WRITE_AOVS
+  float visibility[4 * VISIBILITY_OUTPUTS];
+  for (int i = 0; i < 4 * VISIBILITY_OUTPUTS; ++i) visibility[i] = 1.0;
+#endif
+  for (int i = 0; i < uLightCount; ++i) {
+    Light light = uLights[i];
+    vec3 L, radiance;
+    float distance;
+    incidentLight(light, vIn.worldPosition, L, radiance, distance);
+    float shadow = 1.0;
+    if (int(light.directionType.w) == LIGHT_POINT) {
+      // The bias uses the geometric normal on the light's side of the surface.
+      vec3 Nlight = dot(Ngeom, L) >= 0.0 ? Ngeom : -Ngeom;
+      shadow = pointShadowVisibility(light, vIn.worldPosition, Nlight, cameraDistance);
+    }
+#ifdef WRITE_AOVS
+    int slot = i - uVisibilityBase;
+    if (slot >= 0 && slot < 4 * VISIBILITY_OUTPUTS) visibility[slot] = shadow;
+#endif
+    if (shadow <= 0.0) continue;
+#ifdef SHADING_PHONG
+    color += shadow * shadePhong(N, V, L, radiance, baseColor.rgb, roughness);
+#else
+    color += shadow * shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness);
+#endif
+  }
+
+  outBeauty = vec4(color * alpha, alpha);  // premultiplied, A = coverage
+#ifdef WRITE_AOVS
+  outPositionDistance = vec4(vIn.worldPosition, cameraDistance);
+  outNormal = vec4(dot(N, V) < 0.0 ? -N : N, 1.0);
+  for (int o = 0; o < VISIBILITY_OUTPUTS; ++o)
+    outVisibility[o] = vec4(visibility[4 * o], visibility[4 * o + 1], visibility[4 * o + 2],
+                            visibility[4 * o + 3]);
+#endif
+}

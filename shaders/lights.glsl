@@ -1,0 +1,52 @@
+// Punctual lights as KHR_lights_punctual defines them. Layout mirrors GpuLight in
+// renderer/lighting_pass.cpp (std430).
+const int LIGHT_POINT = 0;
+const int LIGHT_SPOT = 1;
+const int LIGHT_DIRECTIONAL = 2;
+
+const int FILTER_HARD = 0;
+const int FILTER_PCF = 1;
+const int FILTER_PCF_DISK = 2;
+
+struct Light {
+  vec4 positionRange;      // world position, range (0 = unlimited)
+  vec4 directionType;      // direction the light travels, type
+  vec4 radianceShadow;     // color * intensity, shadow map index (-1 = unshadowed)
+  vec4 spotFilter;         // cone scale, cone offset, filter, shadow resolution
+  vec4 shadowParameters;   // near, far, bias (world), slope bias (texels)
+};
+
+layout(std430, binding = 0) readonly buffer LightBuffer {
+  Light uLights[];
+};
+uniform int uLightCount;
+
+// KHR_lights_punctual's recommended range window: smooth to zero at the range.
+float rangeWindow(float distance, float range) {
+  if (range <= 0.0) return 1.0;
+  float ratio = distance / range;
+  float ratio4 = ratio * ratio * ratio * ratio;
+  float window = clamp(1.0 - ratio4, 0.0, 1.0);
+  return window * window;
+}
+
+// Direction towards the light (L) and the radiance arriving at P, unshadowed.
+void incidentLight(Light light, vec3 P, out vec3 L, out vec3 radiance, out float distance) {
+  int type = int(light.directionType.w);
+  if (type == LIGHT_DIRECTIONAL) {
+    L = -light.directionType.xyz;
+    radiance = light.radianceShadow.rgb;
+    distance = 1e30;
+    return;
+  }
+  vec3 toLight = light.positionRange.xyz - P;
+  distance = length(toLight);
+  L = toLight / max(distance, 1e-8);
+  float attenuation = rangeWindow(distance, light.positionRange.w) / max(distance * distance, 1e-8);
+  if (type == LIGHT_SPOT) {
+    float cd = dot(light.directionType.xyz, -L);
+    float t = clamp(cd * light.spotFilter.x + light.spotFilter.y, 0.0, 1.0);
+    attenuation *= t * t;
+  }
+  radiance = light.radianceShadow.rgb * attenuation;
+}
