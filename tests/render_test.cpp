@@ -1,0 +1,500 @@
+// Rendering facts checked through the AOVs: shadows land where geometry says they must, points
+// that see the light are lit, cube map faces are where the GL convention puts them.
+// Runs on whatever EGL gives (llvmpipe in CI); sizes are small to keep it quick.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <limits>
+#include <memory>
+
+#include "renderer/camera.h"
+#include "renderer/cube_faces.h"
+#include "renderer/errors.h"
+#include "renderer/renderer.h"
+#include "scenes/builder/gltf_builder.h"
+
+using namespace omnishadow;
+
+namespace {
+
+Renderer& sharedRenderer() {
+  // One context for the whole test program: creating one costs about a second on llvmpipe.
+  static Renderer renderer(ContextOptions{});
+  return renderer;
+}
+
+int addMaterial(Scene& scene, glm::vec4 color, bool doubleSided = false) {
+  Material m;
+  m.baseColorFactor = color;
+  m.metallicFactor = 0.0f;
+  m.roughnessFactor = 1.0f;
+  m.doubleSided = doubleSided;
+  scene.materials.push_back(m);
+  return static_cast<int>(scene.materials.size()) - 1;
+}
+
+void addObject(Scene& scene, const builder::MeshData& data, const glm::mat4& world, int material) {
+  Mesh mesh;
+  mesh.positions = data.positions;
+  mesh.normals = data.normals;
+  mesh.uv0 = data.uvs;
+  mesh.indices = data.indices;
+  mesh.material = material;
+  for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
+  scene.meshes.push_back(mesh);
+  scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1});
+  scene.bounds.extend(mesh.bounds.transformed(world));
+}
+
+glm::mat4 translate(glm::vec3 t) { return glm::translate(glm::mat4(1.0f), t); }
+
+Light pointLight(const std::string& name, glm::vec3 position, ShadowFilter filter,
+                 int resolution = 512) {
+  Light light;
+  light.name = name;
+  light.position = position;
+  light.intensity = 10.0f;
+  light.shadow.resolution = resolution;
+  light.shadow.filter = filter;
+  return light;
+}
+
+ViewCamera lookFrom(const Scene& scene, glm::vec3 eye, glm::vec3 target, int width, int height,
+                    float fov = 60.0f, glm::vec3 up = {0, 1, 0}) {
+  CameraRequest request;
+  request.eye = eye;
+  request.target = target;
+  request.up = up;
+  request.fovDegrees = fov;
+  request.width = width;
+  request.height = height;
+  return resolveCamera(scene, request);
+}
+
+Frame renderAovs(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
+                 Shading shading = Shading::Pbr) {
+  StageTimes times;
+  RenderSettings settings;
+  settings.aovs = true;
+  settings.shading = shading;
+  return sharedRenderer().render(scene, lights, glm::vec3(0.03f), camera, settings, times);
+}
+
+struct AovPixel {
+  glm::vec3 position, normal;
+  float coverage;
+  float visibility;
+};
+
+AovPixel pixelAt(const FloatImage& aovs, int x, int y, const std::string& light) {
+  const int p = aovs.channelIndex("P.X");
+  const int n = aovs.channelIndex("N.X");
+  const int v = aovs.channelIndex("visibility." + light);
+  return {{aovs.at(x, y, p), aovs.at(x, y, p + 1), aovs.at(x, y, p + 2)},
+          {aovs.at(x, y, n), aovs.at(x, y, n + 1), aovs.at(x, y, n + 2)},
+          aovs.at(x, y, aovs.channelIndex("A")),
+          aovs.at(x, y, v)};
+}
+
+// Slab test: does the segment from `from` to `to` pass through the box?
+bool segmentHitsBox(glm::vec3 from, glm::vec3 to, glm::vec3 boxMin, glm::vec3 boxMax) {
+  const glm::vec3 d = to - from;
+  float t0 = 0.0f, t1 = 1.0f;
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(d[i]) < 1e-9f) {
+      if (from[i] < boxMin[i] || from[i] > boxMax[i]) return false;
+      continue;
+    }
+    float a = (boxMin[i] - from[i]) / d[i];
+    float b = (boxMax[i] - from[i]) / d[i];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+// A sphere of radius r at height h above a plane, the light at height H right above it: the
+// shadow on the plane is a disc of radius H * tan(asin(r / (H - h))) around the origin.
+class SphereAbovePlane : public ::testing::TestWithParam<ShadowFilter> {};
+
+TEST_P(SphereAbovePlane, CastsADiscShapedShadowExactlyWhereGeometrySays) {
+  const float r = 0.5f, h = 1.5f, H = 4.0f;
+  const float discRadius = H * std::tan(std::asin(r / (H - h)));
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeSphere(r, 64, 32), translate({0, h, 0}), white);
+  const Light light = pointLight("lamp", {0, H, 0}, GetParam(), 1024);
+  const ViewCamera camera = lookFrom(scene, {0, 7, 4}, {0, 0, 0}, 320, 240, 50.0f);
+  const Frame frame = renderAovs(scene, {light}, camera);
+  ASSERT_TRUE(frame.aovs);
+
+  // Filters blur the edge over a few texels: at the disc's edge one texel spans about
+  // 2 * H / resolution on the plane (seen from straight above); the disk filter is wider.
+  const float texel = 2.0f * H / 1024.0f * 1.2f;
+  const float margin = GetParam() == ShadowFilter::PcfDisk ? 6 * texel : 2 * texel;
+  int inside = 0, outside = 0;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const AovPixel px = pixelAt(*frame.aovs, x, y, "lamp");
+      if (px.coverage < 1.0f || std::abs(px.position.y) > 1e-3f) continue;  // not the plane
+      const float rho = glm::length(glm::vec2(px.position.x, px.position.z));
+      if (rho < discRadius - margin) {
+        ++inside;
+        EXPECT_LT(px.visibility, 0.01f) << "lit inside the shadow at rho " << rho;
+      } else if (rho > discRadius + margin) {
+        ++outside;
+        EXPECT_GT(px.visibility, 0.99f) << "shadowed outside the disc at rho " << rho;
+      }
+    }
+  }
+  EXPECT_GT(inside, 500);
+  EXPECT_GT(outside, 5000);
+}
+
+INSTANTIATE_TEST_SUITE_P(Filters, SphereAbovePlane,
+                         ::testing::Values(ShadowFilter::Hard, ShadowFilter::Pcf,
+                                           ShadowFilter::PcfDisk),
+                         [](const auto& info) {
+                           return std::string(info.param == ShadowFilter::Hard  ? "hard"
+                                              : info.param == ShadowFilter::Pcf ? "pcf"
+                                                                                : "pcfDisk");
+                         });
+
+TEST(Shadows, PointsThatSeeTheLightAreLitEverywhereOnTheSphere) {
+  // No self-shadowing (acne) on a curved surface: every point of the sphere whose normal faces
+  // the light by more than a grazing angle is fully lit.
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makeSphere(1.0f, 96, 48), glm::mat4(1.0f), white);
+  const glm::vec3 lightPosition(2.0f, 3.0f, 1.5f);
+  const Light light = pointLight("lamp", lightPosition, ShadowFilter::Pcf);
+  const ViewCamera camera = lookFrom(scene, {3, 2, 4}, {0, 0, 0}, 256, 256, 45.0f);
+  const Frame frame = renderAovs(scene, {light}, camera);
+  int checked = 0;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const AovPixel px = pixelAt(*frame.aovs, x, y, "lamp");
+      if (px.coverage < 1.0f) continue;
+      const glm::vec3 L = glm::normalize(lightPosition - px.position);
+      const float NdotL = glm::dot(glm::normalize(px.position), L);  // sphere normal
+      if (NdotL > 0.1f) {
+        ++checked;
+        EXPECT_GT(px.visibility, 0.999f) << "acne at " << x << "," << y << " N.L " << NdotL;
+      } else if (NdotL < -0.3f) {  // near the terminator the bias may leak light
+        EXPECT_LT(px.visibility, 0.01f) << "back of the sphere lit at " << x << "," << y;
+      }
+    }
+  }
+  EXPECT_GT(checked, 3000);
+}
+
+// Six boxes around a light inside a closed room, each off-center in its face so that a flipped
+// or rotated face would move its shadow. From the light's own position, looking along each axis,
+// every wall point must be shadowed exactly when the segment to the light crosses a box.
+TEST(Shadows, ShadowsOnAllSixCubeFacesMatchRayCasting) {
+  Scene scene;
+  const int wall = addMaterial(scene, glm::vec4(0.7f), true);
+  const int boxMaterial = addMaterial(scene, glm::vec4(0.3f, 0.4f, 0.8f, 1.0f));
+  // The room: an inward-visible double-sided box from -5 to 5.
+  addObject(scene, builder::makeBox({5, 5, 5}), glm::mat4(1.0f), wall);
+  const glm::vec3 light(0.2f, -0.1f, 0.3f);
+  const glm::vec3 axes[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  struct Box {
+    glm::vec3 min, max;
+  };
+  std::vector<Box> boxes;
+  for (int i = 0; i < 6; ++i) {
+    const glm::vec3 a = axes[i];
+    // Perpendicular offsets differ per face (distance and direction) to break symmetries.
+    const glm::vec3 u = glm::abs(a.x) > 0 ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    const glm::vec3 v = glm::cross(a, u);
+    const glm::vec3 center = light + a * (1.5f + 0.3f * i) + u * 0.6f + v * (0.25f + 0.05f * i);
+    const glm::vec3 half(0.35f, 0.25f, 0.3f);
+    boxes.push_back({center - half, center + half});
+    addObject(scene, builder::makeBox(half), translate(center), boxMaterial);
+  }
+  const Light lamp = pointLight("lamp", light, ShadowFilter::Hard, 512);
+
+  for (int face = 0; face < 6; ++face) {
+    const glm::vec3 a = axes[face];
+    const glm::vec3 up = std::abs(a.y) > 0 ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+    // Seen from beside the light (from the light itself every shadow hides behind its caster),
+    // from the first candidate position that is not inside a box.
+    const glm::vec3 side = glm::abs(a.x) > 0 ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    const glm::vec3 other = glm::cross(a, side);
+    glm::vec3 eye = light;
+    for (const glm::vec3 offset : {-side * 1.6f - other * 1.1f, side * 1.6f + other * 1.1f,
+                                   -side * 1.6f + other * 1.1f, side * 1.6f - other * 1.1f}) {
+      const glm::vec3 candidate = light + offset - a * 0.5f;
+      bool inside = false;
+      for (const Box& b : boxes)
+        inside |= glm::all(glm::greaterThan(candidate, b.min - 0.2f)) &&
+                  glm::all(glm::lessThan(candidate, b.max + 0.2f));
+      if (!inside) {
+        eye = candidate;
+        break;
+      }
+    }
+    ASSERT_NE(eye, light);
+    const ViewCamera camera = lookFrom(scene, eye, eye + a, 160, 160, 100.0f, up);
+    const Frame frame = renderAovs(scene, {lamp}, camera);
+    int shadowed = 0, lit = 0;
+    for (int y = 0; y < camera.height; ++y) {
+      for (int x = 0; x < camera.width; ++x) {
+        const AovPixel px = pixelAt(*frame.aovs, x, y, "lamp");
+        if (px.coverage < 1.0f) continue;
+        const bool onWall = glm::any(glm::greaterThan(glm::abs(px.position), glm::vec3(4.999f)));
+        if (!onWall) continue;
+        // Two texels of tolerance at the silhouettes, measured at the boxes' distance.
+        const float margin = 0.05f;
+        bool surelyHit = false, maybeHit = false;
+        for (const Box& b : boxes) {
+          surelyHit |= segmentHitsBox(light, px.position, b.min + margin, b.max - margin);
+          maybeHit |= segmentHitsBox(light, px.position, b.min - margin, b.max + margin);
+        }
+        if (surelyHit) {
+          ++shadowed;
+          EXPECT_LT(px.visibility, 0.01f) << "face " << kCubeFaceNames[face] << " pixel " << x << "," << y;
+        } else if (!maybeHit) {
+          ++lit;
+          EXPECT_GT(px.visibility, 0.99f) << "face " << kCubeFaceNames[face] << " pixel " << x << "," << y;
+        }
+      }
+    }
+    EXPECT_GT(shadowed, 80) << "face " << kCubeFaceNames[face];
+    EXPECT_GT(lit, 2000) << "face " << kCubeFaceNames[face];
+  }
+}
+
+TEST(ShadowMap, EachFaceHoldsTheDistancesOfItsOwnDirection) {
+  // One box on each axis at a different distance, off-center; the read-back map must hold
+  // each box's distance at the texel cubeLookup gives for its direction, and not at the
+  // mirrored texels (which a flipped face would show).
+  Scene scene;
+  const int grey = addMaterial(scene, glm::vec4(0.5f));
+  const glm::vec3 axes[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  std::vector<glm::vec3> targets;
+  for (int i = 0; i < 6; ++i) {
+    const glm::vec3 a = axes[i];
+    const glm::vec3 u = glm::abs(a.x) > 0 ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    const glm::vec3 v = glm::cross(a, u);
+    const float distance = 1.0f + 0.5f * i;
+    const glm::vec3 center = a * (distance + 0.1f) + (u * 0.45f + v * 0.2f) * distance;
+    addObject(scene, builder::makeBox(glm::vec3(0.1f * distance)), translate(center), grey);
+    targets.push_back(center - a * (0.1f * distance));  // the box face towards the light
+  }
+  Light lamp = pointLight("lamp", glm::vec3(0.0f), ShadowFilter::Hard, 256);
+  lamp.shadow.far = 20.0f;
+  const std::vector<CubeDistances> maps = sharedRenderer().renderShadowDistances(scene, {lamp});
+  ASSERT_EQ(maps.size(), 1u);
+  const CubeDistances& map = maps[0];
+  for (int i = 0; i < 6; ++i) {
+    const CubeLookup hit = cubeLookup(targets[i]);
+    ASSERT_EQ(static_cast<int>(hit.face), i);
+    const int column = static_cast<int>(hit.st.x * map.resolution);
+    const int row = static_cast<int>(hit.st.y * map.resolution);
+    EXPECT_NEAR(map.at(hit.face, column, row), glm::length(targets[i]), 0.01f * glm::length(targets[i]))
+        << "face " << kCubeFaceNames[i];
+    EXPECT_TRUE(std::isinf(map.at(hit.face, map.resolution - 1 - column, row)))
+        << "face " << kCubeFaceNames[i] << " mirrored in s";
+    EXPECT_TRUE(std::isinf(map.at(hit.face, column, map.resolution - 1 - row)))
+        << "face " << kCubeFaceNames[i] << " mirrored in t";
+  }
+}
+
+TEST(Lighting, PointLightFollowsInverseSquareInCandela) {
+  // A white Lambertian plane straight under a 10 cd light at 2 m: illuminance 2.5 lux, so the
+  // diffuse radiance is albedo / pi * 2.5 (a dielectric's Fresnel takes ~4% off).
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(1.0f));
+  addObject(scene, builder::makePlane(4.0f), glm::mat4(1.0f), white);
+  Light light = pointLight("lamp", {0, 2, 0}, ShadowFilter::Pcf);
+  const ViewCamera camera = lookFrom(scene, {0, 3, 0.001f}, {0, 0, 0}, 65, 65, 20.0f);
+  StageTimes times;
+  const Frame frame = sharedRenderer().render(scene, {light}, glm::vec3(0.0f), camera, {}, times);
+  const float expected = 1.0f / 3.14159265f * 10.0f / 4.0f;
+  const float center = frame.beauty.at(32, 32, 0);
+  EXPECT_NEAR(center, expected, expected * 0.06f);
+  EXPECT_LE(center, expected);
+
+  // With a range, KHR_lights_punctual's window leaves nothing beyond it.
+  light.range = 1.9f;
+  const Frame ranged = sharedRenderer().render(scene, {light}, glm::vec3(0.0f), camera, {}, times);
+  EXPECT_EQ(ranged.beauty.at(32, 32, 0), 0.0f);
+}
+
+TEST(Lighting, SpotConeAndDirectionalLight) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(1.0f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  const ViewCamera camera = lookFrom(scene, {0, 6, 0.001f}, {0, 0, 0}, 101, 101, 60.0f);
+  Light spot;
+  spot.name = "spot";
+  spot.type = LightType::Spot;
+  spot.position = {0, 2, 0};
+  spot.direction = {0, -1, 0};
+  spot.intensity = 10.0f;
+  spot.innerConeAngle = 0.2f;
+  spot.outerConeAngle = 0.4f;  // radius tan(0.4) * 2 = 0.85 m on the floor
+  StageTimes times;
+  const Frame lit = sharedRenderer().render(scene, {spot}, glm::vec3(0.0f), camera, {}, times);
+  EXPECT_GT(lit.beauty.at(50, 50, 0), 0.5f);  // under the spot
+  // 2 m off-center is far outside the cone: black.
+  const float pixelsPerMetre = 50.0f / (6.0f * std::tan(glm::radians(30.0f)));
+  EXPECT_EQ(lit.beauty.at(50 + static_cast<int>(2.0f * pixelsPerMetre), 50, 0), 0.0f);
+
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(0, -1, -1));  // 45 degrees: N.L = 0.707
+  sun.intensity = 2.0f;                                 // lux
+  const Frame day = sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, {}, times);
+  const float expected = 1.0f / 3.14159265f * 2.0f * 0.70710678f;
+  EXPECT_NEAR(day.beauty.at(50, 50, 0), expected, expected * 0.08f);
+}
+
+TEST(Shadows, AlphaMaskCastsCutOutShadows) {
+  // A horizontal screen with a 4x4 checker of holes over the floor, the light right above:
+  // under each opaque cell the floor is in shadow, under each hole it is lit.
+  Scene scene;
+  const int floor = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(10.0f), glm::mat4(1.0f), floor);
+  const int size = 64;
+  Image image;
+  image.width = image.height = size;
+  image.rgba.resize(size * size * 4);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      std::uint8_t* p = &image.rgba[(y * size + x) * 4];
+      p[0] = p[1] = p[2] = 200;
+      p[3] = ((x / 16 + y / 16) % 2 == 0) ? 255 : 0;
+    }
+  scene.images.push_back(image);
+  Texture texture;
+  texture.image = 0;
+  texture.sampler.minFilter = 0x2600;  // nearest: crisp holes
+  texture.sampler.magFilter = 0x2600;
+  scene.textures.push_back(texture);
+  Material screen;
+  screen.alphaMode = AlphaMode::Mask;
+  screen.doubleSided = true;
+  screen.baseColorTexture.texture = 0;
+  scene.materials.push_back(screen);
+  const float screenHeight = 1.0f, H = 3.0f;
+  addObject(scene, builder::makePlane(2.0f), translate({0, screenHeight, 0}),
+            static_cast<int>(scene.materials.size()) - 1);
+
+  const Light light = pointLight("lamp", {0, H, 0}, ShadowFilter::Hard, 1024);
+  const ViewCamera camera = lookFrom(scene, {0, 8, 2.5f}, {0, 0, 0}, 200, 200, 40.0f);
+  const Frame frame = renderAovs(scene, {light}, camera);
+  int shadowed = 0, lit = 0;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const AovPixel px = pixelAt(*frame.aovs, x, y, "lamp");
+      if (px.coverage < 1.0f || std::abs(px.position.y) > 1e-3f) continue;
+      // Where the ray to the light crosses the screen, in the screen's UV space.
+      const glm::vec3 onScreen = px.position + (glm::vec3(0, H, 0) - px.position) *
+                                                   (screenHeight / H);
+      const glm::vec2 uv = (glm::vec2(onScreen.x, onScreen.z) + 1.0f) * 0.5f;
+      if (uv.x <= 0.0f || uv.x >= 1.0f || uv.y <= 0.0f || uv.y >= 1.0f) continue;
+      const glm::vec2 cell = uv * 4.0f;
+      const glm::vec2 inCell = cell - glm::floor(cell);
+      if (glm::any(glm::lessThan(inCell, glm::vec2(0.15f))) ||
+          glm::any(glm::greaterThan(inCell, glm::vec2(0.85f))))
+        continue;  // near a cell edge
+      // Plane UVs: u along +x, v along +z (builder::makePlane); row 0 of the image is v = 0.
+      const int cx = static_cast<int>(cell.x), cy = static_cast<int>(cell.y);
+      const bool opaque = (cx + cy) % 2 == 0;
+      if (opaque) {
+        ++shadowed;
+        EXPECT_LT(px.visibility, 0.01f) << "under an opaque cell at " << x << "," << y;
+      } else {
+        ++lit;
+        EXPECT_GT(px.visibility, 0.99f) << "under a hole at " << x << "," << y;
+      }
+    }
+  }
+  EXPECT_GT(shadowed, 300);
+  EXPECT_GT(lit, 300);
+}
+
+TEST(Shading, PhongUsesTheSameShadowTermsAsPbr) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeSphere(0.5f, 32, 16), translate({0, 1.5f, 0}), white);
+  const std::vector<Light> lights = {pointLight("a", {0, 4, 0}, ShadowFilter::Pcf),
+                                     pointLight("b", {1.5f, 3, 1}, ShadowFilter::PcfDisk)};
+  const ViewCamera camera = lookFrom(scene, {0, 7, 4}, {0, 0, 0}, 96, 72);
+  const Frame pbr = renderAovs(scene, lights, camera, Shading::Pbr);
+  const Frame phong = renderAovs(scene, lights, camera, Shading::Phong);
+  for (const std::string& name : {"visibility.a", "visibility.b"}) {
+    const int c = pbr.aovs->channelIndex(name);
+    ASSERT_GE(c, 0);
+    ASSERT_EQ(phong.aovs->channelIndex(name), c);
+    for (int y = 0; y < camera.height; ++y)
+      for (int x = 0; x < camera.width; ++x)
+        ASSERT_EQ(pbr.aovs->at(x, y, c), phong.aovs->at(x, y, c));
+  }
+  // The beauty differs (different BRDF), but shadowed floor stays dark in both.
+  EXPECT_NE(pbr.beauty.pixels, phong.beauty.pixels);
+}
+
+TEST(Aovs, ChannelsAndManyLightsAcrossSeveralPasses) {
+  // More lights than one pass reports visibility for: every light still gets its channel.
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeBox({0.5f, 0.5f, 0.5f}), translate({0, 0.5f, 0}), white);
+  std::vector<Light> lights;
+  for (int i = 0; i < 26; ++i) {
+    const float angle = 6.2831853f * static_cast<float>(i) / 26.0f;
+    Light light = pointLight("l" + std::to_string(i),
+                             {3 * std::cos(angle), 1.0f + 0.1f * i, 3 * std::sin(angle)},
+                             ShadowFilter::Pcf, 64);
+    light.shadow.enabled = i < kMaxPointShadows;
+    lights.push_back(light);
+  }
+  const ViewCamera camera = lookFrom(scene, {0, 6, 6}, {0, 0, 0}, 64, 48);
+  const Frame frame = renderAovs(scene, lights, camera);
+  const FloatImage& aovs = *frame.aovs;
+  const std::vector<std::string> fixed = {"R", "G", "B", "A", "P.X", "P.Y", "P.Z",
+                                          "N.X", "N.Y", "N.Z", "Z"};
+  for (std::size_t i = 0; i < fixed.size(); ++i) EXPECT_EQ(aovs.channels[i], fixed[i]);
+  ASSERT_EQ(aovs.channels.size(), fixed.size() + lights.size());
+  // Shadowed lights leave some floor in shadow behind the box; unshadowed ones never do.
+  for (int i = 0; i < 26; ++i) {
+    const int c = aovs.channelIndex("visibility.l" + std::to_string(i));
+    float minimum = 1.0f;
+    for (int y = 0; y < camera.height; ++y)
+      for (int x = 0; x < camera.width; ++x) minimum = std::min(minimum, aovs.at(x, y, c));
+    if (i < kMaxPointShadows)
+      EXPECT_LT(minimum, 0.01f) << "light " << i;
+    else
+      EXPECT_EQ(minimum, 1.0f) << "light " << i;
+  }
+  // Camera distance and normals are consistent with the geometry.
+  const AovPixel center = pixelAt(aovs, 32, 24, "l0");
+  const float z = aovs.at(32, 24, aovs.channelIndex("Z"));
+  EXPECT_NEAR(z, glm::length(center.position - camera.eye), 1e-3f);
+  EXPECT_NEAR(glm::length(center.normal), 1.0f, 1e-3f);
+  EXPECT_GT(glm::dot(center.normal, camera.eye - center.position), 0.0f);
+}
+
+TEST(Shadows, TooManyShadowedPointLightsIsAnInputError) {
+  Scene scene;
+  addObject(scene, builder::makePlane(2.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(1.0f)));
+  std::vector<Light> lights;
+  for (int i = 0; i <= kMaxPointShadows; ++i)
+    lights.push_back(pointLight("l" + std::to_string(i), {0, 1, 0}, ShadowFilter::Pcf, 16));
+  const ViewCamera camera = lookFrom(scene, {0, 3, 1}, {0, 0, 0}, 16, 16);
+  StageTimes times;
+  EXPECT_THROW(sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, {}, times),
+               InputError);
+}
