@@ -131,7 +131,8 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
       ->check(CLI::Range(1, 16384));
   render->add_option("-o,--output", o.outputs,
                      "Output image: .png (8-bit sRGB) or .exr (linear half RGBA); repeatable "
-                     "(default: render.png)");
+                     "(default: render.png)")
+      ->allow_extra_args(false);
   render->add_option("--aov", o.aov, "Write AOVs (position, normal, distance, per-light visibility) to this .exr");
   render->add_option("--exposure", o.exposure, "Exposure in stops applied to the beauty images (default 0)");
   render->add_option("--shading", o.shading, "pbr (glTF metallic-roughness) or phong (Blinn-Phong)")
