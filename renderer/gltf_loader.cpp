@@ -1,0 +1,945 @@
+#include "renderer/gltf_loader.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <limits>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "renderer/errors.h"
+#include "renderer/tangents.h"
+
+namespace omnishadow {
+
+namespace {
+
+// Extensions whose meaning we implement; anything else in extensionsRequired cannot be drawn
+// correctly, anything else merely used is ignored with a warning.
+constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual",
+                                                     "KHR_materials_emissive_strength"};
+
+// An accessor without a bufferView is all zeros (plus sparse values): its count costs a file
+// nothing to write but us memory to expand, so it gets a limit far above any real primitive.
+constexpr std::size_t kMaxCountWithoutBufferView = std::size_t{1} << 24;
+
+std::string at(std::string_view array, std::size_t index) {
+  return std::string(array) + "[" + std::to_string(index) + "]";
+}
+
+std::string plural(std::size_t count, std::string_view noun) {
+  const char* ending = count == 1 ? "" : noun.ends_with("sh") ? "es" : "s";
+  return std::to_string(count) + " " + std::string(noun) + ending;
+}
+
+std::vector<std::string> nonEmptyLines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    std::string line = text.substr(start, end - start);
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+    if (!line.empty()) lines.push_back(std::move(line));
+    start = end + 1;
+  }
+  return lines;
+}
+
+// State shared by the conversion steps: the parsed file, the scene being filled, and the
+// message conventions ("<file>: <glTF object>: <problem>").
+struct Context {
+  std::string file;
+  const tinygltf::Model& model;
+  Scene& scene;
+  bool warnedSkins = false;
+  bool warnedMorphTargets = false;
+
+  [[noreturn]] void fail(const std::string& object, const std::string& problem) const {
+    throw InputError(file + ": " + object + ": " + problem);
+  }
+  void warn(const std::string& message) const { scene.warnings.push_back(file + ": " + message); }
+
+  // Validates a reference from `object` to model array `array` of `size` elements.
+  void checkIndex(const std::string& object, std::string_view array, int index,
+                  std::size_t size) const {
+    if (index < 0 || static_cast<std::size_t>(index) >= size) {
+      fail(object, std::string(array) + " " + std::to_string(index) +
+                       " is out of range (the file has " + plural(size, array) + ")");
+    }
+  }
+};
+
+// -----------------------------------------------------------------------------------------------
+// Reading the file
+
+// tinygltf 2.7 hands an image stored in a bufferView to the decoder without checking that the
+// view lies inside its buffer, so a broken file could make stb read past the end. Those images
+// are skipped here and decoded by convertImages() after the bounds check; images from URIs
+// (bytes tinygltf read itself) are decoded as usual.
+bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
+                    int width, int height, const unsigned char* bytes, int size, void*) {
+  if (image->bufferView >= 0) return true;
+  return tinygltf::LoadImageData(image, index, error, warning, width, height, bytes, size, nullptr);
+}
+
+tinygltf::Model readModel(const std::filesystem::path& path, const std::string& file,
+                          std::vector<std::string>& warnings) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) {
+    throw InputError(file + ": cannot read glTF file: no such file");
+  }
+  if (std::filesystem::is_directory(status)) {
+    throw InputError(file + ": cannot read glTF file: is a directory");
+  }
+  char magic[4] = {};
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(file + ": cannot read glTF file: " + std::strerror(errno));
+    in.read(magic, sizeof magic);
+  }
+  // Decided by content, not by extension: some tools write .glb data under a .gltf name.
+  const bool binary = std::memcmp(magic, "glTF", 4) == 0;
+
+  tinygltf::TinyGLTF reader;
+  reader.SetImageLoader(decodeUriImage, nullptr);
+  tinygltf::Model model;
+  std::string error, warning;
+  bool ok = false;
+  try {
+    ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path.string())
+                : reader.LoadASCIIFromFile(&model, &error, &warning, path.string());
+  } catch (const std::exception& e) {
+    throw InputError(file + ": " + e.what());
+  }
+  if (!ok) {
+    std::vector<std::string> lines = nonEmptyLines(error);
+    if (lines.empty()) lines = nonEmptyLines(warning);
+    throw InputError(file + ": " + (lines.empty() ? "not a valid glTF file" : lines.front()));
+  }
+  // On success tinygltf's error text only holds tolerated oddities, so it is a warning too.
+  // tinygltf repeats a message for every object it applies to; once each is enough.
+  std::set<std::string> seen;
+  for (const std::string* text : {&error, &warning}) {
+    for (const std::string& line : nonEmptyLines(*text)) {
+      if (seen.insert(line).second) warnings.push_back(file + ": " + line);
+    }
+  }
+  return model;
+}
+
+void checkExtensions(const Context& ctx) {
+  const auto supported = [](const std::string& name) {
+    return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=
+           std::end(kSupportedExtensions);
+  };
+  for (const std::string& name : ctx.model.extensionsRequired) {
+    if (!supported(name)) ctx.fail("extensionsRequired", name + " is not supported");
+  }
+  for (const std::string& name : ctx.model.extensionsUsed) {
+    if (!supported(name)) ctx.warn("extensionsUsed: " + name + " is not supported; ignored");
+  }
+}
+
+// -----------------------------------------------------------------------------------------------
+// Accessors
+
+enum class Normalize {
+  AsFlagged,  // the accessor's `normalized` flag decides
+  Integers,   // unsigned integer data is normalized (TEXCOORD_n and COLOR_n, glTF 3.7.2.1)
+  Never,      // indices
+};
+
+struct AccessorValues {
+  int components = 0;
+  std::size_t count = 0;
+  std::vector<double> values;  // count * components, element after element
+
+  double get(std::size_t element, int component) const {
+    return values[element * static_cast<std::size_t>(components) +
+                  static_cast<std::size_t>(component)];
+  }
+};
+
+// True when `count` elements of `elementSize` bytes, `stride` bytes apart starting at
+// `offset`, end within `limit` bytes. Written to be free of overflow for any input.
+bool fitsIn(std::uint64_t offset, std::uint64_t stride, std::uint64_t count,
+            std::uint64_t elementSize, std::uint64_t limit) {
+  if (offset > limit) return false;
+  if (count == 0) return true;
+  if (elementSize > limit - offset) return false;
+  const std::uint64_t room = limit - offset - elementSize;
+  return stride == 0 || count - 1 <= room / stride;
+}
+
+double decodeComponent(const unsigned char* p, int componentType, bool normalized) {
+  const auto load = [p]<typename T>(T) {
+    T value;
+    std::memcpy(&value, p, sizeof value);
+    return value;
+  };
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      const double v = load(std::int8_t{});
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+      const double v = load(std::uint8_t{});
+      return normalized ? v / 255.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      const double v = load(std::int16_t{});
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      const double v = load(std::uint16_t{});
+      return normalized ? v / 65535.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_INT: {
+      const double v = load(std::int32_t{});
+      return normalized ? std::max(v / 2147483647.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      const double v = load(std::uint32_t{});
+      return normalized ? v / 4294967295.0 : v;
+    }
+    default:
+      return load(float{});
+  }
+}
+
+int componentSize(int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+// Returns the bytes of bufferViews[index] after checking that they lie inside their buffer.
+const unsigned char* bufferViewData(const Context& ctx, const std::string& object, int index,
+                                    std::size_t* length) {
+  ctx.checkIndex(object, "bufferView", index, ctx.model.bufferViews.size());
+  const tinygltf::BufferView& view = ctx.model.bufferViews[static_cast<std::size_t>(index)];
+  const std::string viewName = at("bufferViews", static_cast<std::size_t>(index));
+  ctx.checkIndex(viewName, "buffer", view.buffer, ctx.model.buffers.size());
+  const tinygltf::Buffer& buffer = ctx.model.buffers[static_cast<std::size_t>(view.buffer)];
+  if (!fitsIn(view.byteOffset, 1, view.byteLength, 1, buffer.data.size())) {
+    ctx.fail(viewName,
+             "extends past the end of " + at("buffers", static_cast<std::size_t>(view.buffer)));
+  }
+  *length = view.byteLength;
+  return buffer.data.data() + view.byteOffset;
+}
+
+// Reads accessors[index] as doubles, element after element, with byteStride, normalization and
+// sparse substitution applied. Throws InputError for anything outside its buffer.
+AccessorValues readAccessor(const Context& ctx, int index, Normalize normalize) {
+  const tinygltf::Accessor& accessor = ctx.model.accessors[static_cast<std::size_t>(index)];
+  const std::string name = at("accessors", static_cast<std::size_t>(index));
+  const int components =
+      tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(accessor.type));
+  const int size = componentSize(accessor.componentType);
+  if (components <= 0) ctx.fail(name, "invalid type " + std::to_string(accessor.type));
+  if (size == 0) ctx.fail(name, "invalid componentType " + std::to_string(accessor.componentType));
+  const bool isUnsigned = accessor.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                          accessor.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  const bool normalized = (normalize == Normalize::AsFlagged && accessor.normalized) ||
+                          (normalize == Normalize::Integers && (accessor.normalized || isUnsigned));
+  const std::size_t elementSize = static_cast<std::size_t>(components * size);
+
+  // Bounds first: the count is only trusted once the data behind it is known to exist.
+  const unsigned char* data = nullptr;
+  std::size_t stride = elementSize;
+  if (accessor.bufferView >= 0) {
+    const std::string viewName = at("bufferViews", static_cast<std::size_t>(accessor.bufferView));
+    std::size_t viewLength = 0;
+    data = bufferViewData(ctx, name, accessor.bufferView, &viewLength);
+    const std::size_t viewStride =
+        ctx.model.bufferViews[static_cast<std::size_t>(accessor.bufferView)].byteStride;
+    if (viewStride != 0 && viewStride < elementSize) {
+      ctx.fail(name, "byteStride " + std::to_string(viewStride) + " of " + viewName +
+                         " is smaller than the element size " + std::to_string(elementSize));
+    }
+    if (viewStride != 0) stride = viewStride;
+    if (!fitsIn(accessor.byteOffset, stride, accessor.count, elementSize, viewLength)) {
+      ctx.fail(name, "extends past the end of " + viewName);
+    }
+  } else if (accessor.count > kMaxCountWithoutBufferView) {
+    ctx.fail(name,
+             "count " + std::to_string(accessor.count) + " is too large without a bufferView");
+  }
+
+  AccessorValues out;
+  out.components = components;
+  out.count = accessor.count;
+  out.values.assign(accessor.count * static_cast<std::size_t>(components), 0.0);
+  const auto readElements = [&](const unsigned char* from, std::size_t step, std::size_t count,
+                                auto&& destination) {
+    for (std::size_t e = 0; e < count; ++e) {
+      double* dst = &out.values[destination(e) * static_cast<std::size_t>(components)];
+      for (int c = 0; c < components; ++c) {
+        dst[c] = decodeComponent(from + e * step + static_cast<std::size_t>(c * size),
+                                 accessor.componentType, normalized);
+      }
+    }
+  };
+  // Without a bufferView the accessor is all zeros (then usually sparse).
+  if (data != nullptr) {
+    readElements(data + accessor.byteOffset, stride, accessor.count,
+                 [](std::size_t e) { return e; });
+  }
+
+  if (accessor.sparse.isSparse) {
+    const auto& sparse = accessor.sparse;
+    if (sparse.count < 0 || static_cast<std::size_t>(sparse.count) > accessor.count) {
+      ctx.fail(name, "sparse.count " + std::to_string(sparse.count) + " exceeds count " +
+                         std::to_string(accessor.count));
+    }
+    const auto count = static_cast<std::size_t>(sparse.count);
+    const std::string indicesName = name + ".sparse.indices";
+    const int indexSize = componentSize(sparse.indices.componentType);
+    if (sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
+        sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT ||
+        sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT || indexSize == 0) {
+      ctx.fail(indicesName,
+               "invalid componentType " + std::to_string(sparse.indices.componentType));
+    }
+    std::size_t indicesLength = 0, valuesLength = 0;
+    const unsigned char* indices =
+        bufferViewData(ctx, indicesName, sparse.indices.bufferView, &indicesLength);
+    const std::string valuesName = name + ".sparse.values";
+    const unsigned char* values =
+        bufferViewData(ctx, valuesName, sparse.values.bufferView, &valuesLength);
+    if (sparse.indices.byteOffset < 0 ||
+        !fitsIn(static_cast<std::size_t>(sparse.indices.byteOffset),
+                static_cast<std::size_t>(indexSize), count, static_cast<std::size_t>(indexSize),
+                indicesLength)) {
+      ctx.fail(indicesName,
+               "extends past the end of " +
+                   at("bufferViews", static_cast<std::size_t>(sparse.indices.bufferView)));
+    }
+    if (sparse.values.byteOffset < 0 || !fitsIn(static_cast<std::size_t>(sparse.values.byteOffset),
+                                                elementSize, count, elementSize, valuesLength)) {
+      ctx.fail(valuesName,
+               "extends past the end of " +
+                   at("bufferViews", static_cast<std::size_t>(sparse.values.bufferView)));
+    }
+    indices += sparse.indices.byteOffset;
+    std::vector<std::size_t> targets(count);
+    for (std::size_t k = 0; k < count; ++k) {
+      const double target = decodeComponent(indices + k * static_cast<std::size_t>(indexSize),
+                                            sparse.indices.componentType, false);
+      if (target >= static_cast<double>(accessor.count)) {
+        ctx.fail(indicesName, "index " + std::to_string(static_cast<std::uint64_t>(target)) +
+                                  " >= count " + std::to_string(accessor.count));
+      }
+      targets[k] = static_cast<std::size_t>(target);
+    }
+    readElements(values + sparse.values.byteOffset, elementSize, count,
+                 [&targets](std::size_t k) { return targets[k]; });
+  }
+  return out;
+}
+
+// -----------------------------------------------------------------------------------------------
+// Images, textures, materials
+
+// Decodes an image stored in a bufferView (see decodeUriImage) into a copy of its description.
+tinygltf::Image decodeBufferViewImage(const Context& ctx, std::size_t index,
+                                      const std::string& object) {
+  const tinygltf::Image& source = ctx.model.images[index];
+  std::size_t length = 0;
+  const unsigned char* bytes = bufferViewData(ctx, object, source.bufferView, &length);
+  if (length == 0 || length > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    ctx.fail(object, "bufferView " + std::to_string(source.bufferView) + " has " +
+                         std::to_string(length) + " bytes");
+  }
+  tinygltf::Image decoded = source;
+  std::string error, warning;
+  if (!tinygltf::LoadImageData(&decoded, static_cast<int>(index), &error, &warning, 0, 0, bytes,
+                               static_cast<int>(length), nullptr)) {
+    const std::vector<std::string> lines = nonEmptyLines(error);
+    ctx.fail(object, lines.empty() ? "cannot decode the image data" : lines.front());
+  }
+  return decoded;
+}
+
+// Any channel count (1 = gray, 2 = gray + alpha) and 8 or 16 bits to RGBA8.
+std::vector<std::uint8_t> toRgba8(const Context& ctx, const tinygltf::Image& decoded,
+                                  const std::string& object) {
+  const auto pixels =
+      static_cast<std::size_t>(decoded.width) * static_cast<std::size_t>(decoded.height);
+  const int channels = decoded.component;
+  const int bytes = decoded.bits / 8;
+  if (channels < 1 || channels > 4 || (decoded.bits != 8 && decoded.bits != 16) ||
+      decoded.image.size() < pixels * static_cast<std::size_t>(channels * bytes)) {
+    ctx.fail(object, "unsupported pixel format (" + std::to_string(channels) + " channels, " +
+                         std::to_string(decoded.bits) + " bits)");
+  }
+  const unsigned char* data = decoded.image.data();
+  const auto sample = [&](std::size_t index) -> std::uint8_t {
+    if (bytes == 1) return data[index];
+    std::uint16_t value;
+    std::memcpy(&value, data + 2 * index, 2);
+    return static_cast<std::uint8_t>((value * 255u + 32767u) / 65535u);
+  };
+  std::vector<std::uint8_t> rgba(pixels * 4);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    const std::size_t in = p * static_cast<std::size_t>(channels);
+    std::uint8_t* out = &rgba[p * 4];
+    const bool gray = channels <= 2;
+    out[0] = sample(in);
+    out[1] = gray ? out[0] : sample(in + 1);
+    out[2] = gray ? out[0] : sample(in + 2);
+    out[3] = channels == 2 ? sample(in + 1) : channels == 4 ? sample(in + 3) : 255;
+  }
+  return rgba;
+}
+
+void convertImages(Context& ctx) {
+  for (std::size_t i = 0; i < ctx.model.images.size(); ++i) {
+    const tinygltf::Image& source = ctx.model.images[i];
+    const bool externalFile = !source.uri.empty() && !tinygltf::IsDataURI(source.uri);
+    Image image;
+    image.name = !source.name.empty() ? source.name
+                 : externalFile       ? source.uri
+                                      : "image" + std::to_string(i);
+    const std::string object = at("images", i) + " \"" + image.name + "\"";
+    tinygltf::Image fromBufferView;
+    if (source.bufferView >= 0) fromBufferView = decodeBufferViewImage(ctx, i, object);
+    const tinygltf::Image& decoded = source.bufferView >= 0 ? fromBufferView : source;
+    if (decoded.image.empty() || decoded.width <= 0 || decoded.height <= 0) {
+      // tinygltf only warns when an external image is missing or undecodable.
+      ctx.fail(object, externalFile ? "cannot read or decode " + source.uri
+                                    : "cannot decode the image data");
+    }
+    image.width = decoded.width;
+    image.height = decoded.height;
+    image.rgba = toRgba8(ctx, decoded, object);
+    ctx.scene.images.push_back(std::move(image));
+  }
+}
+
+void convertTextures(Context& ctx) {
+  const SamplerDesc defaults;
+  for (std::size_t i = 0; i < ctx.model.textures.size(); ++i) {
+    const tinygltf::Texture& source = ctx.model.textures[i];
+    const std::string object = at("textures", i);
+    Texture texture;
+    if (source.source >= 0) {
+      ctx.checkIndex(object, "image", source.source, ctx.model.images.size());
+      texture.image = source.source;
+    } else {
+      // Images in formats we do not read come through extensions (KTX2, WebP).
+      ctx.warn(object + ": no image in a supported format; the texture is ignored");
+    }
+    if (source.sampler >= 0) {
+      ctx.checkIndex(object, "sampler", source.sampler, ctx.model.samplers.size());
+      const tinygltf::Sampler& sampler =
+          ctx.model.samplers[static_cast<std::size_t>(source.sampler)];
+      texture.sampler.magFilter = sampler.magFilter >= 0 ? sampler.magFilter : defaults.magFilter;
+      texture.sampler.minFilter = sampler.minFilter >= 0 ? sampler.minFilter : defaults.minFilter;
+      texture.sampler.wrapS = sampler.wrapS;
+      texture.sampler.wrapT = sampler.wrapT;
+    }
+    ctx.scene.textures.push_back(texture);
+  }
+}
+
+// NormalTextureInfo, OcclusionTextureInfo and TextureInfo share these fields but no base class.
+template <typename Info>
+TextureSlot textureSlot(const Context& ctx, const std::string& object, const Info& info) {
+  if (info.index < 0) return {};
+  ctx.checkIndex(object, "texture", info.index, ctx.model.textures.size());
+  if (info.texCoord < 0 || info.texCoord > 1) {
+    ctx.warn(object + ": TEXCOORD_" + std::to_string(info.texCoord) +
+             " is not supported; the texture is ignored");
+    return {};
+  }
+  if (ctx.scene.textures[static_cast<std::size_t>(info.index)].image < 0) return {};
+  return {info.index, info.texCoord};
+}
+
+template <glm::length_t N>
+glm::vec<N, float> factor(const std::vector<double>& values, glm::vec<N, float> fallback) {
+  if (values.size() != N) return fallback;
+  glm::vec<N, float> out;
+  for (glm::length_t i = 0; i < N; ++i)
+    out[i] = static_cast<float>(values[static_cast<std::size_t>(i)]);
+  return out;
+}
+
+void convertMaterials(Context& ctx) {
+  for (std::size_t i = 0; i < ctx.model.materials.size(); ++i) {
+    const tinygltf::Material& source = ctx.model.materials[i];
+    const std::string object = at("materials", i);
+    const tinygltf::PbrMetallicRoughness& pbr = source.pbrMetallicRoughness;
+    Material material;
+    material.name = source.name;
+    material.baseColorFactor = factor<4>(pbr.baseColorFactor, material.baseColorFactor);
+    material.baseColorTexture =
+        textureSlot(ctx, object + ".baseColorTexture", pbr.baseColorTexture);
+    material.metallicFactor = static_cast<float>(pbr.metallicFactor);
+    material.roughnessFactor = static_cast<float>(pbr.roughnessFactor);
+    material.metallicRoughnessTexture =
+        textureSlot(ctx, object + ".metallicRoughnessTexture", pbr.metallicRoughnessTexture);
+    material.normalTexture = textureSlot(ctx, object + ".normalTexture", source.normalTexture);
+    material.normalScale = static_cast<float>(source.normalTexture.scale);
+    material.occlusionTexture =
+        textureSlot(ctx, object + ".occlusionTexture", source.occlusionTexture);
+    material.occlusionStrength = static_cast<float>(source.occlusionTexture.strength);
+    material.emissiveFactor = factor<3>(source.emissiveFactor, material.emissiveFactor);
+    material.emissiveTexture =
+        textureSlot(ctx, object + ".emissiveTexture", source.emissiveTexture);
+    const auto strength = source.extensions.find("KHR_materials_emissive_strength");
+    if (strength != source.extensions.end() && strength->second.IsObject() &&
+        strength->second.Get("emissiveStrength").IsNumber()) {
+      material.emissiveStrength =
+          static_cast<float>(strength->second.Get("emissiveStrength").GetNumberAsDouble());
+    }
+    if (source.alphaMode == "MASK") {
+      material.alphaMode = AlphaMode::Mask;
+    } else if (source.alphaMode == "BLEND") {
+      material.alphaMode = AlphaMode::Blend;
+    } else if (source.alphaMode != "OPAQUE" && !source.alphaMode.empty()) {
+      ctx.warn(object + ": unknown alphaMode \"" + source.alphaMode + "\"; using OPAQUE");
+    }
+    material.alphaCutoff = static_cast<float>(source.alphaCutoff);
+    material.doubleSided = source.doubleSided;
+    ctx.scene.materials.push_back(std::move(material));
+  }
+}
+
+// -----------------------------------------------------------------------------------------------
+// Primitives
+
+// Reads one vertex attribute of a primitive, checking its type and element count.
+AccessorValues readAttribute(const Context& ctx, const std::string& object,
+                             const tinygltf::Primitive& primitive, const std::string& semantic,
+                             std::initializer_list<int> types, std::size_t vertexCount,
+                             Normalize normalize) {
+  const auto found = primitive.attributes.find(semantic);
+  if (found == primitive.attributes.end()) return {};
+  const std::string attribute = object + ".attributes." + semantic;
+  ctx.checkIndex(attribute, "accessor", found->second, ctx.model.accessors.size());
+  const tinygltf::Accessor& accessor = ctx.model.accessors[static_cast<std::size_t>(found->second)];
+  if (std::find(types.begin(), types.end(), accessor.type) == types.end()) {
+    ctx.fail(attribute, at("accessors", static_cast<std::size_t>(found->second)) +
+                            " has the wrong type for " + semantic);
+  }
+  if (vertexCount != SIZE_MAX && accessor.count != vertexCount) {
+    ctx.fail(attribute, "has " + std::to_string(accessor.count) + " elements but POSITION has " +
+                            std::to_string(vertexCount));
+  }
+  return readAccessor(ctx, found->second, normalize);
+}
+
+template <int N>
+std::vector<glm::vec<N, float>> toVectors(const AccessorValues& values) {
+  std::vector<glm::vec<N, float>> out(values.count, glm::vec<N, float>(0.0f));
+  for (std::size_t e = 0; e < values.count; ++e) {
+    for (int c = 0; c < std::min(N, values.components); ++c) {
+      out[e][c] = static_cast<float>(values.get(e, c));
+    }
+  }
+  return out;
+}
+
+// Turns strips and fans into lists, following the glTF spec's vertex order (3.7.2.1), which
+// keeps every triangle's winding the same as the first one's.
+std::vector<std::uint32_t> toTriangleList(const std::vector<std::uint32_t>& in, int mode) {
+  if (mode == TINYGLTF_MODE_TRIANGLES) return in;
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i + 2 < in.size(); ++i) {
+    std::uint32_t a, b, c;
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      a = in[i];
+      b = in[i + 1 + i % 2];
+      c = in[i + 2 - i % 2];
+    } else {
+      a = in[i + 1];
+      b = in[i + 2];
+      c = in[0];
+    }
+    // Strips are often stitched together with repeated vertices; those triangles are empty.
+    if (a == b || b == c || a == c) continue;
+    out.insert(out.end(), {a, b, c});
+  }
+  return out;
+}
+
+std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::size_t primIndex) {
+  const tinygltf::Mesh& source = ctx.model.meshes[meshIndex];
+  const tinygltf::Primitive& primitive = source.primitives[primIndex];
+  const std::string object = at("meshes", meshIndex) + "." + at("primitives", primIndex);
+  const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+  if (mode < TINYGLTF_MODE_TRIANGLES) {
+    static constexpr const char* kNames[] = {"points", "lines", "line loop", "line strip"};
+    ctx.warn(object + ": " + kNames[mode] + " primitives are not drawn");
+    return std::nullopt;
+  }
+  if (mode > TINYGLTF_MODE_TRIANGLE_FAN) ctx.fail(object, "invalid mode " + std::to_string(mode));
+  if (primitive.attributes.count("POSITION") == 0) {
+    ctx.warn(object + ": no POSITION attribute; not drawn");
+    return std::nullopt;
+  }
+  if (!primitive.targets.empty() && !ctx.warnedMorphTargets) {
+    ctx.warn(object + ": morph targets are not applied (base shape drawn; warned once)");
+    ctx.warnedMorphTargets = true;
+  }
+
+  Mesh mesh;
+  mesh.name = (source.name.empty() ? "mesh" + std::to_string(meshIndex) : source.name) + "/" +
+              std::to_string(primIndex);
+  if (primitive.material >= 0) {
+    ctx.checkIndex(object, "material", primitive.material, ctx.model.materials.size());
+    mesh.material = primitive.material;
+  }
+
+  const int vec2 = TINYGLTF_TYPE_VEC2, vec3 = TINYGLTF_TYPE_VEC3, vec4 = TINYGLTF_TYPE_VEC4;
+  mesh.positions = toVectors<3>(
+      readAttribute(ctx, object, primitive, "POSITION", {vec3}, SIZE_MAX, Normalize::AsFlagged));
+  const std::size_t n = mesh.positions.size();
+  mesh.normals = toVectors<3>(
+      readAttribute(ctx, object, primitive, "NORMAL", {vec3}, n, Normalize::AsFlagged));
+  for (glm::vec3& normal : mesh.normals) {
+    const float length = glm::length(normal);
+    if (length > 0.0f && std::isfinite(length)) normal /= length;
+  }
+  mesh.tangents = toVectors<4>(
+      readAttribute(ctx, object, primitive, "TANGENT", {vec4}, n, Normalize::AsFlagged));
+  mesh.uv0 = toVectors<2>(
+      readAttribute(ctx, object, primitive, "TEXCOORD_0", {vec2}, n, Normalize::Integers));
+  mesh.uv1 = toVectors<2>(
+      readAttribute(ctx, object, primitive, "TEXCOORD_1", {vec2}, n, Normalize::Integers));
+  const AccessorValues colors =
+      readAttribute(ctx, object, primitive, "COLOR_0", {vec3, vec4}, n, Normalize::Integers);
+  mesh.colors = toVectors<4>(colors);
+  if (colors.components == 3) {
+    for (glm::vec4& color : mesh.colors) color.a = 1.0f;
+  }
+
+  std::vector<std::uint32_t> indices;
+  if (primitive.indices >= 0) {
+    ctx.checkIndex(object + ".indices", "accessor", primitive.indices, ctx.model.accessors.size());
+    const tinygltf::Accessor& accessor =
+        ctx.model.accessors[static_cast<std::size_t>(primitive.indices)];
+    if (accessor.type != TINYGLTF_TYPE_SCALAR ||
+        (accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+         accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+         accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
+      ctx.fail(object + ".indices", at("accessors", static_cast<std::size_t>(primitive.indices)) +
+                                        " must be SCALAR unsigned byte, short or int");
+    }
+    const AccessorValues values = readAccessor(ctx, primitive.indices, Normalize::Never);
+    indices.reserve(values.count);
+    for (double value : values.values) {
+      if (value >= static_cast<double>(n)) {
+        ctx.fail(object, "index " + std::to_string(static_cast<std::uint64_t>(value)) +
+                             " >= vertex count " + std::to_string(n));
+      }
+      indices.push_back(static_cast<std::uint32_t>(value));
+    }
+  } else {
+    indices.resize(n);
+    for (std::size_t i = 0; i < n; ++i) indices[i] = static_cast<std::uint32_t>(i);
+  }
+  mesh.indices = toTriangleList(indices, mode);
+  if (mesh.indices.size() % 3 != 0) {
+    ctx.warn(object + ": " + std::to_string(mesh.indices.size()) +
+             " indices is not a multiple of 3; the last triangle is dropped");
+    mesh.indices.resize(mesh.indices.size() / 3 * 3);
+  }
+
+  if (mesh.normals.empty()) {
+    mesh.tangents.clear();  // the spec says to ignore tangents given without normals
+    generateNormals(mesh);
+  }
+  if (mesh.tangents.empty() && mesh.material >= 0) {
+    const TextureSlot& normalMap =
+        ctx.scene.materials[static_cast<std::size_t>(mesh.material)].normalTexture;
+    const std::vector<glm::vec2>& uvs = normalMap.texCoord == 0 ? mesh.uv0 : mesh.uv1;
+    if (normalMap.texture >= 0 && !uvs.empty()) generateTangents(mesh, uvs);
+  }
+  for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
+  return mesh;
+}
+
+// -----------------------------------------------------------------------------------------------
+// Node hierarchy
+
+glm::mat4 localMatrix(const Context& ctx, std::size_t nodeIndex) {
+  const tinygltf::Node& node = ctx.model.nodes[nodeIndex];
+  const std::string object = at("nodes", nodeIndex);
+  if (!node.matrix.empty()) {
+    if (node.matrix.size() != 16) ctx.fail(object, "matrix must have 16 numbers");
+    glm::mat4 m;
+    for (int i = 0; i < 16; ++i) {
+      glm::value_ptr(m)[i] = static_cast<float>(node.matrix[static_cast<std::size_t>(i)]);
+    }
+    return m;  // both column-major
+  }
+  glm::mat4 m(1.0f);
+  if (!node.translation.empty()) {
+    if (node.translation.size() != 3) ctx.fail(object, "translation must have 3 numbers");
+    m = glm::translate(m, factor<3>(node.translation, glm::vec3(0.0f)));
+  }
+  if (!node.rotation.empty()) {
+    if (node.rotation.size() != 4) ctx.fail(object, "rotation must have 4 numbers");
+    const glm::vec4 xyzw = factor<4>(node.rotation, glm::vec4(0, 0, 0, 1));
+    glm::quat q(xyzw.w, xyzw.x, xyzw.y, xyzw.z);
+    // Exporters round quaternions; mat4_cast expects unit length.
+    if (glm::length(q) > 0.0f) m *= glm::mat4_cast(glm::normalize(q));
+  }
+  if (!node.scale.empty()) {
+    if (node.scale.size() != 3) ctx.fail(object, "scale must have 3 numbers");
+    m = glm::scale(m, factor<3>(node.scale, glm::vec3(1.0f)));
+  }
+  return m;
+}
+
+// The node's KHR_lights_punctual light index, or -1.
+int lightOf(const Context& ctx, std::size_t nodeIndex) {
+  const tinygltf::Node& node = ctx.model.nodes[nodeIndex];
+  const auto found = node.extensions.find("KHR_lights_punctual");
+  if (found == node.extensions.end() || !found->second.IsObject() ||
+      !found->second.Get("light").IsNumber()) {
+    return -1;
+  }
+  const int light = found->second.Get("light").GetNumberAsInt();
+  ctx.checkIndex(at("nodes", nodeIndex) + ".extensions.KHR_lights_punctual", "light", light,
+                 ctx.model.lights.size());
+  return light;
+}
+
+Light convertLight(const Context& ctx, int index, const glm::mat4& world,
+                   std::set<std::string>& usedNames) {
+  const tinygltf::Light& source = ctx.model.lights[static_cast<std::size_t>(index)];
+  const std::string object = "KHR_lights_punctual." + at("lights", static_cast<std::size_t>(index));
+  Light light;
+  // Light names must be unique within a render; a light placed by two nodes appears twice.
+  const std::string base = source.name.empty() ? "gltf_light" + std::to_string(index) : source.name;
+  light.name = base;
+  for (int k = 2; !usedNames.insert(light.name).second; ++k)
+    light.name = base + "_" + std::to_string(k);
+  if (source.type == "point") {
+    light.type = LightType::Point;
+  } else if (source.type == "spot") {
+    light.type = LightType::Spot;
+    light.innerConeAngle = static_cast<float>(source.spot.innerConeAngle);
+    light.outerConeAngle = static_cast<float>(source.spot.outerConeAngle);
+  } else if (source.type == "directional") {
+    light.type = LightType::Directional;
+  } else {
+    ctx.fail(object, "unknown type \"" + source.type + "\"");
+  }
+  light.color = factor<3>(source.color, light.color);
+  light.intensity = static_cast<float>(source.intensity);
+  light.range = source.range > 0.0 ? static_cast<float>(source.range) : 0.0f;
+  light.position = glm::vec3(world[3]);
+  const glm::vec3 direction = glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f);
+  if (glm::length(direction) > 0.0f) light.direction = glm::normalize(direction);
+  light.origin = "glTF";
+  return light;
+}
+
+Camera convertCamera(const Context& ctx, std::size_t nodeIndex, const glm::mat4& world) {
+  const tinygltf::Node& node = ctx.model.nodes[nodeIndex];
+  ctx.checkIndex(at("nodes", nodeIndex), "camera", node.camera, ctx.model.cameras.size());
+  const tinygltf::Camera& source = ctx.model.cameras[static_cast<std::size_t>(node.camera)];
+  Camera camera;
+  camera.name = source.name.empty() ? node.name : source.name;
+  camera.nodeName = node.name;
+  camera.index = node.camera;
+  camera.world = world;
+  if (source.type == "orthographic") {
+    camera.orthographic = true;
+    camera.xmag = static_cast<float>(source.orthographic.xmag);
+    camera.ymag = static_cast<float>(source.orthographic.ymag);
+    camera.znear = static_cast<float>(source.orthographic.znear);
+    camera.zfar = static_cast<float>(source.orthographic.zfar);
+  } else {
+    // yfov and znear are required and positive; keep usable defaults when a file breaks that.
+    if (source.perspective.yfov > 0.0) camera.yfov = static_cast<float>(source.perspective.yfov);
+    if (source.perspective.znear > 0.0) {
+      camera.znear = static_cast<float>(source.perspective.znear);
+    }
+    camera.aspectRatio = static_cast<float>(std::max(source.perspective.aspectRatio, 0.0));
+    camera.zfar = static_cast<float>(std::max(source.perspective.zfar, 0.0));
+  }
+  return camera;
+}
+
+class SceneBuilder {
+ public:
+  explicit SceneBuilder(Context& ctx) : ctx_(ctx) {
+    for (const tinygltf::Mesh& mesh : ctx.model.meshes) {
+      meshOf_.emplace_back(mesh.primitives.size(), kNotConverted);
+    }
+  }
+
+  // Depth-first, parents before children, without recursion so that deep hierarchies cannot
+  // overflow the stack.
+  void traverse(const std::vector<int>& roots, const std::string& rootsObject) {
+    const std::size_t nodeCount = ctx_.model.nodes.size();
+    std::vector<char> onPath(nodeCount, 0), visited(nodeCount, 0);
+    struct Frame {
+      std::size_t node;
+      glm::mat4 world;
+      std::size_t nextChild;
+    };
+    std::vector<Frame> stack;
+    const auto enter = [&](int node, const glm::mat4& parentWorld, const std::string& referrer) {
+      ctx_.checkIndex(referrer, "node", node, nodeCount);
+      const auto index = static_cast<std::size_t>(node);
+      if (onPath[index]) ctx_.fail(at("nodes", index), "the node hierarchy has a cycle");
+      // glTF nodes have at most one parent; a second path would draw the subtree twice.
+      if (visited[index]) ctx_.fail(at("nodes", index), "is reachable along two paths");
+      onPath[index] = visited[index] = 1;
+      const glm::mat4 world = parentWorld * localMatrix(ctx_, index);
+      visit(index, world);
+      stack.push_back({index, world, 0});
+    };
+    for (int root : roots) {
+      enter(root, glm::mat4(1.0f), rootsObject);
+      while (!stack.empty()) {
+        Frame& top = stack.back();
+        const std::vector<int>& children = ctx_.model.nodes[top.node].children;
+        if (top.nextChild == children.size()) {
+          onPath[top.node] = 0;
+          stack.pop_back();
+          continue;
+        }
+        const int child = children[top.nextChild++];
+        const glm::mat4 parentWorld = top.world;  // `top` dies when the stack grows
+        enter(child, parentWorld, at("nodes", top.node) + ".children");
+      }
+    }
+    // Cameras keep traversal order within one glTF camera.
+    std::stable_sort(ctx_.scene.cameras.begin(), ctx_.scene.cameras.end(),
+                     [](const Camera& a, const Camera& b) { return a.index < b.index; });
+  }
+
+ private:
+  static constexpr int kNotConverted = -2;  // -1: converted, but not drawn
+
+  void visit(std::size_t nodeIndex, const glm::mat4& world) {
+    const tinygltf::Node& node = ctx_.model.nodes[nodeIndex];
+    if (node.mesh >= 0) {
+      ctx_.checkIndex(at("nodes", nodeIndex), "mesh", node.mesh, ctx_.model.meshes.size());
+      if (node.skin >= 0 && !ctx_.warnedSkins) {
+        ctx_.warn(at("nodes", nodeIndex) +
+                  ": skins are not applied (bind pose drawn; warned once)");
+        ctx_.warnedSkins = true;
+      }
+      const auto meshIndex = static_cast<std::size_t>(node.mesh);
+      for (std::size_t p = 0; p < meshOf_[meshIndex].size(); ++p) {
+        const int mesh = sceneMesh(meshIndex, p);
+        if (mesh < 0) continue;
+        ctx_.scene.instances.push_back({mesh, world, static_cast<int>(nodeIndex)});
+        ctx_.scene.bounds.extend(
+            ctx_.scene.meshes[static_cast<std::size_t>(mesh)].bounds.transformed(world));
+      }
+    }
+    if (node.camera >= 0) ctx_.scene.cameras.push_back(convertCamera(ctx_, nodeIndex, world));
+    if (const int light = lightOf(ctx_, nodeIndex); light >= 0) {
+      ctx_.scene.lights.push_back(convertLight(ctx_, light, world, lightNames_));
+    }
+  }
+
+  // Each glTF primitive becomes one Scene mesh however many nodes use it.
+  int sceneMesh(std::size_t meshIndex, std::size_t primIndex) {
+    int& slot = meshOf_[meshIndex][primIndex];
+    if (slot == kNotConverted) {
+      std::optional<Mesh> mesh = convertPrimitive(ctx_, meshIndex, primIndex);
+      slot = -1;
+      if (mesh) {
+        ctx_.scene.meshes.push_back(std::move(*mesh));
+        slot = static_cast<int>(ctx_.scene.meshes.size()) - 1;
+      }
+    }
+    return slot;
+  }
+
+  Context& ctx_;
+  std::vector<std::vector<int>> meshOf_;  // [glTF mesh][primitive] -> Scene::meshes index
+  std::set<std::string> lightNames_;
+};
+
+// Root nodes of the scene to draw, and how messages name that list.
+std::pair<std::vector<int>, std::string> sceneRoots(const Context& ctx,
+                                                    const GltfLoadOptions& options) {
+  const tinygltf::Model& model = ctx.model;
+  const bool chosen = options.sceneIndex >= 0;
+  if (model.scenes.empty()) {
+    if (options.sceneIndex > 0) {
+      ctx.fail("--scene " + std::to_string(options.sceneIndex), "the file has no scenes");
+    }
+    // The spec allows a file without scenes; drawing every root node is what viewers do.
+    std::vector<char> isChild(model.nodes.size(), 0);
+    for (const tinygltf::Node& node : model.nodes) {
+      for (int child : node.children) {
+        if (child >= 0 && static_cast<std::size_t>(child) < isChild.size()) {
+          isChild[static_cast<std::size_t>(child)] = 1;
+        }
+      }
+    }
+    std::vector<int> roots;
+    for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+      if (!isChild[i]) roots.push_back(static_cast<int>(i));
+    }
+    if (!model.nodes.empty()) {
+      ctx.warn("the file has no scenes; drawing all " + plural(roots.size(), "root node"));
+    }
+    return {roots, "nodes"};
+  }
+  const int index = chosen ? options.sceneIndex : std::max(model.defaultScene, 0);
+  if (static_cast<std::size_t>(index) >= model.scenes.size()) {
+    ctx.fail(chosen ? "--scene " + std::to_string(index) : "scene " + std::to_string(index),
+             "the file has " + plural(model.scenes.size(), "scene"));
+  }
+  const std::string object = at("scenes", static_cast<std::size_t>(index));
+  return {model.scenes[static_cast<std::size_t>(index)].nodes, object + ".nodes"};
+}
+
+}  // namespace
+
+Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options) {
+  Scene scene;
+  scene.path = path.string();
+  const tinygltf::Model model = readModel(path, scene.path, scene.warnings);
+  Context ctx{scene.path, model, scene};
+  checkExtensions(ctx);
+  const auto [roots, rootsObject] = sceneRoots(ctx, options);
+  convertImages(ctx);
+  convertTextures(ctx);
+  convertMaterials(ctx);
+  SceneBuilder(ctx).traverse(roots, rootsObject);
+  return scene;
+}
+
+}  // namespace omnishadow

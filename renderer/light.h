@@ -50,8 +50,8 @@ struct LightSetup {
 const char* toString(LightType type);
 
 // The lights of a render: the glTF's KHR_lights_punctual lights, then the lights file's. A file
-// light named like a glTF light replaces it (to change its color or shadow settings, say);
-// glTF lights sharing a name get "_2", "_3", ... appended.
+// light named like a glTF light replaces it (to change its color or shadow settings, say).
+// Names are unique within each list (the loaders ensure it), so they are unique in the result.
 std::vector<Light> mergeLights(const std::vector<Light>& gltfLights,
                                const std::vector<Light>& fileLights);
 const char* toString(ShadowFilter filter);

@@ -4,7 +4,9 @@
 
 namespace omnishadow {
 
-// Fills mesh.normals with area-weighted vertex normals from the triangles.
+// Fills mesh.normals with flat normals, as the glTF spec asks for primitives without NORMAL:
+// the mesh is un-indexed (every triangle gets its own three vertices, all attributes copied)
+// and each vertex takes its triangle's unit face normal (counter-clockwise = front).
 void generateNormals(Mesh& mesh);
 
 // Fills mesh.tangents from positions, normals and the given UV set (per-triangle UV gradients

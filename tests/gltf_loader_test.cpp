@@ -1,0 +1,1003 @@
+#include "renderer/gltf_loader.h"
+
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <iterator>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "renderer/errors.h"
+#include "scenes/builder/gltf_builder.h"
+
+namespace omnishadow {
+namespace {
+
+namespace fs = std::filesystem;
+using builder::FileFormat;
+using builder::GltfBuilder;
+using builder::IndexType;
+using builder::MaterialDesc;
+using builder::MeshData;
+using builder::PrimitiveMode;
+using builder::PrimitiveOptions;
+using builder::Transform;
+
+constexpr float kEps = 1e-5f;
+constexpr float kPi = std::numbers::pi_v<float>;
+
+::testing::AssertionResult near(glm::vec3 actual, glm::vec3 expected, float eps = kEps) {
+  if (glm::all(glm::lessThanEqual(glm::abs(actual - expected), glm::vec3(eps)))) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure()
+         << "(" << actual.x << ", " << actual.y << ", " << actual.z << ") != (" << expected.x
+         << ", " << expected.y << ", " << expected.z << ")";
+}
+
+::testing::AssertionResult contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
+}
+
+// The message of the InputError that `load` throws; fails the test if it throws none.
+std::string inputError(const std::function<void()>& load) {
+  try {
+    load();
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
+    return message;
+  }
+  ADD_FAILURE() << "no InputError thrown";
+  return "";
+}
+
+bool anyWarningContains(const Scene& scene, const std::string& part) {
+  return std::any_of(scene.warnings.begin(), scene.warnings.end(),
+                     [&](const std::string& w) { return w.find(part) != std::string::npos; });
+}
+
+glm::vec3 faceNormal(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  return glm::normalize(glm::cross(b - a, c - a));
+}
+
+// World-space corners of every drawn triangle, in file order.
+std::vector<glm::vec3> worldTriangles(const Scene& scene) {
+  std::vector<glm::vec3> corners;
+  for (const MeshInstance& instance : scene.instances) {
+    const Mesh& mesh = scene.meshes[instance.mesh];
+    for (std::uint32_t index : mesh.indices) {
+      corners.push_back(glm::vec3(instance.world * glm::vec4(mesh.positions[index], 1.0f)));
+    }
+  }
+  return corners;
+}
+
+std::size_t drawnTriangles(const Scene& scene) {
+  std::size_t count = 0;
+  for (const MeshInstance& instance : scene.instances) {
+    count += scene.meshes[instance.mesh].indices.size() / 3;
+  }
+  return count;
+}
+
+std::vector<unsigned char> readBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+MeshData triangleMesh() {
+  MeshData mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  mesh.indices = {0, 1, 2};
+  return mesh;
+}
+
+// Each test gets a fresh folder for the files it writes.
+class GltfLoaderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("omnishadow_gltf_test_" + std::to_string(::getpid()) + "_" +
+                                        info->test_suite_name() + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path path(const std::string& name) const { return dir_ / name; }
+
+  Scene writeAndLoad(GltfBuilder& builder, const GltfLoadOptions& options = {},
+                     FileFormat format = FileFormat::Glb) {
+    const fs::path file = path(format == FileFormat::Glb ? "scene.glb" : "scene.gltf");
+    builder.write(file, format);
+    return loadGltf(file, options);
+  }
+
+  fs::path dir_;
+};
+
+// Raw buffer access for files the builder cannot express directly.
+int addRawView(tinygltf::Model& model, const std::vector<unsigned char>& bytes,
+               std::size_t stride = 0) {
+  std::vector<unsigned char>& data = model.buffers.at(0).data;
+  while (data.size() % 4 != 0) data.push_back(0);
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = data.size();
+  view.byteLength = bytes.size();
+  view.byteStride = stride;
+  data.insert(data.end(), bytes.begin(), bytes.end());
+  model.bufferViews.push_back(view);
+  return static_cast<int>(model.bufferViews.size()) - 1;
+}
+
+int addRawAccessor(tinygltf::Model& model, int view, std::size_t offset, int componentType,
+                   int type, std::size_t count, bool normalized = false) {
+  tinygltf::Accessor accessor;
+  accessor.bufferView = view;
+  accessor.byteOffset = offset;
+  accessor.componentType = componentType;
+  accessor.type = type;
+  accessor.count = count;
+  accessor.normalized = normalized;
+  model.accessors.push_back(accessor);
+  return static_cast<int>(model.accessors.size()) - 1;
+}
+
+template <typename T>
+void append(std::vector<unsigned char>& bytes, const T& value) {
+  const auto* p = reinterpret_cast<const unsigned char*>(&value);
+  bytes.insert(bytes.end(), p, p + sizeof value);
+}
+
+// -----------------------------------------------------------------------------------------------
+// The builder's procedural meshes
+
+TEST(GltfBuilderMeshes, AreCounterClockwiseOutwardWithUnitNormalsAndUvs) {
+  struct Case {
+    const char* name;
+    MeshData mesh;
+    glm::vec3 inside;  // a point that every face looks away from
+    std::size_t triangles;
+  };
+  const Case cases[] = {
+      {"box", builder::makeBox({1.0f, 0.5f, 2.0f}), {0, 0, 0}, 12},
+      {"sphere", builder::makeSphere(1.5f, 16, 8), {0, 0, 0}, 16 * 8 * 2 - 2 * 16},
+      {"plane", builder::makePlane(2.0f, 2), {0, -1, 0}, 8},
+      {"cylinder", builder::makeCylinder(0.5f, 2.0f, 12), {0, 1, 0}, 4 * 12},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const MeshData& m = c.mesh;
+    ASSERT_EQ(m.indices.size(), 3 * c.triangles);
+    ASSERT_EQ(m.normals.size(), m.positions.size());
+    ASSERT_EQ(m.uvs.size(), m.positions.size());
+    for (const glm::vec3& n : m.normals) EXPECT_NEAR(glm::length(n), 1.0f, kEps);
+    for (const glm::vec2& uv : m.uvs) {
+      EXPECT_TRUE(uv.x >= 0.0f && uv.x <= 1.0f && uv.y >= 0.0f && uv.y <= 1.0f);
+    }
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+      const glm::vec3 a = m.positions[m.indices[t]], b = m.positions[m.indices[t + 1]],
+                      d = m.positions[m.indices[t + 2]];
+      const glm::vec3 face = faceNormal(a, b, d);
+      EXPECT_GT(glm::dot(face, (a + b + d) / 3.0f - c.inside), 0.0f) << "triangle " << t / 3;
+      for (int k = 0; k < 3; ++k) EXPECT_GT(glm::dot(face, m.normals[m.indices[t + k]]), 0.0f);
+    }
+  }
+}
+
+TEST(GltfBuilderMeshes, RejectIndicesThatDoNotFitTheIndexType) {
+  GltfBuilder builder;
+  MeshData mesh = builder::makePlane(1.0f, 20);  // 441 vertices
+  EXPECT_THROW(builder.addMesh(mesh, {IndexType::U8}), std::out_of_range);
+  EXPECT_NO_THROW(builder.addMesh(mesh, {IndexType::U16}));
+}
+
+// -----------------------------------------------------------------------------------------------
+// File formats
+
+// A textured box, the same for every format.
+void buildTexturedBox(GltfBuilder& builder, const std::vector<std::uint8_t>& pixels) {
+  MaterialDesc material;
+  material.name = "boxMaterial";
+  material.baseColorTexture = builder.addTexture(2, 2, pixels, "checker");
+  PrimitiveOptions options;
+  options.material = builder.addMaterial(material);
+  builder.addNode("box", {}, builder.addMesh(builder::makeBox({0.5f, 1.0f, 1.5f}), options, "box"));
+}
+
+TEST_F(GltfLoaderTest, EmbeddedExternalAndGlbLoadTheSameSceneAndWriteTheRightFiles) {
+  const std::vector<std::uint8_t> pixels = {255, 0, 0,   255, 0,   255, 0,   255,
+                                            0,   0, 255, 255, 255, 255, 255, 128};
+  std::vector<Scene> scenes;
+  const std::pair<const char*, FileFormat> formats[] = {
+      {"embedded.gltf", FileFormat::GltfEmbedded},
+      {"external.gltf", FileFormat::GltfExternal},
+      {"binary.glb", FileFormat::Glb},
+  };
+  for (const auto& [name, format] : formats) {
+    GltfBuilder builder;
+    buildTexturedBox(builder, pixels);
+    builder.write(path(name), format);
+    scenes.push_back(loadGltf(path(name)));
+  }
+
+  // External: .bin and PNG next to the .gltf; the others are self-contained.
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    files.push_back(entry.path().filename().string());
+  }
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"binary.glb", "embedded.gltf", "external.bin",
+                                             "external.gltf", "external_image0.png"}));
+  const std::vector<unsigned char> png = readBytes(path("external_image0.png"));
+  ASSERT_GE(png.size(), 8u);
+  EXPECT_EQ(std::memcmp(png.data(), "\x89PNG\r\n\x1a\n", 8), 0);
+  const std::vector<unsigned char> glb = readBytes(path("binary.glb"));
+  EXPECT_EQ(std::memcmp(glb.data(), "glTF", 4), 0);
+  const std::vector<unsigned char> embedded = readBytes(path("embedded.gltf"));
+  const std::string embeddedText(embedded.begin(), embedded.end());
+  EXPECT_TRUE(contains(embeddedText, "data:image/png;base64,"));
+  EXPECT_TRUE(contains(embeddedText, "data:application/octet-stream;base64,"));
+
+  for (const Scene& scene : scenes) {
+    SCOPED_TRACE(scene.path);
+    EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    const Mesh& mesh = scene.meshes[0];
+    EXPECT_EQ(mesh.name, "box/0");
+    EXPECT_EQ(mesh.positions, scenes[0].meshes[0].positions);
+    EXPECT_EQ(mesh.normals, scenes[0].meshes[0].normals);
+    EXPECT_EQ(mesh.uv0, scenes[0].meshes[0].uv0);
+    EXPECT_EQ(mesh.indices, scenes[0].meshes[0].indices);
+    EXPECT_EQ(mesh.indices.size(), 36u);
+    EXPECT_TRUE(near(mesh.bounds.max, {0.5f, 1.0f, 1.5f}));
+    ASSERT_EQ(scene.images.size(), 1u);
+    EXPECT_EQ(scene.images[0].name, "checker");
+    EXPECT_EQ(scene.images[0].width, 2);
+    EXPECT_EQ(scene.images[0].height, 2);
+    EXPECT_EQ(scene.images[0].rgba, pixels);
+    ASSERT_EQ(scene.materials.size(), 1u);
+    EXPECT_EQ(scene.materials[0].baseColorTexture.texture, 0);
+  }
+}
+
+TEST_F(GltfLoaderTest, WritingIsDeterministic) {
+  const std::vector<std::uint8_t> pixels(4 * 4, 200);
+  for (FileFormat format : {FileFormat::GltfEmbedded, FileFormat::GltfExternal, FileFormat::Glb}) {
+    for (const char* folder : {"a", "b"}) {
+      fs::create_directories(path(folder));
+      GltfBuilder builder;
+      buildTexturedBox(builder, pixels);
+      builder.addLight("lamp", "spot", {1, 2, 3}, {0, -1, 0}, {1, 1, 1}, 10.0f);
+      builder.addPerspectiveCamera("cam", {0, 1, 5}, {0, 0, 0}, 0.8f);
+      builder.write(path(folder) / "scene.gltf", format);
+    }
+    for (const auto& entry : fs::directory_iterator(path("a"))) {
+      SCOPED_TRACE(entry.path().filename().string());
+      EXPECT_EQ(readBytes(entry.path()), readBytes(path("b") / entry.path().filename()));
+    }
+    fs::remove_all(path("a"));
+    fs::remove_all(path("b"));
+  }
+}
+
+// -----------------------------------------------------------------------------------------------
+// Geometry
+
+TEST_F(GltfLoaderTest, NodeHierarchyComposesTrsAndMatrices) {
+  GltfBuilder builder;
+  MeshData mesh;
+  mesh.positions = {{1, 0, 0}, {1, 1, 0}, {1, 0, 1}};
+  mesh.indices = {0, 1, 2};
+  const int meshIndex = builder.addMesh(mesh);
+  Transform parentTransform;
+  parentTransform.translation = {1, 2, 3};
+  parentTransform.rotation = glm::angleAxis(kPi / 2.0f, glm::vec3(0, 1, 0));
+  parentTransform.scale = glm::vec3(2.0f);
+  const int parent = builder.addNode("parent", parentTransform);
+  const int child = builder.addNodeWithMatrix(
+      "child", glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, 1)), meshIndex, parent);
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.instances.size(), 1u);
+  EXPECT_EQ(scene.instances[0].node, child);
+  // (1,0,0) -> child (1,0,1) -> scale (2,0,2) -> 90 degrees about +Y (2,0,-2) -> (3,2,1).
+  const glm::vec4 world = scene.instances[0].world * glm::vec4(1, 0, 0, 1);
+  EXPECT_TRUE(near(glm::vec3(world), {3, 2, 1}));
+  EXPECT_TRUE(near(scene.bounds.min, {3, 2, 1}));
+  EXPECT_TRUE(near(scene.bounds.max, {5, 4, 1}));
+}
+
+TEST_F(GltfLoaderTest, IndexTypesAndNonIndexedGiveTheSameTriangles) {
+  GltfBuilder builder;
+  const MeshData indexed = builder::makeBox(glm::vec3(1.0f));
+  MeshData unindexed;
+  for (std::uint32_t i : indexed.indices) {
+    unindexed.positions.push_back(indexed.positions[i]);
+    unindexed.normals.push_back(indexed.normals[i]);
+  }
+  for (IndexType type : {IndexType::U8, IndexType::U16, IndexType::U32}) {
+    builder.addNode("indexed", {}, builder.addMesh(indexed, {type}));
+  }
+  builder.addNode("unindexed", {}, builder.addMesh(unindexed));
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 4u);
+  const std::vector<glm::vec3> all = worldTriangles(scene);
+  ASSERT_EQ(all.size(), 4u * 36u);
+  for (int m = 1; m < 4; ++m) {
+    SCOPED_TRACE(m);
+    EXPECT_TRUE(std::equal(all.begin(), all.begin() + 36, all.begin() + 36 * m));
+  }
+  EXPECT_EQ(scene.meshes[0].indices, scene.meshes[2].indices);
+  EXPECT_EQ(scene.meshes[1].indices, scene.meshes[2].indices);
+}
+
+TEST_F(GltfLoaderTest, StripsAndFansBecomeCounterClockwiseLists) {
+  GltfBuilder builder;
+  // A strip of three quads in the XZ plane, facing +Y.
+  MeshData strip;
+  for (int i = 0; i < 4; ++i) {
+    strip.positions.push_back({static_cast<float>(i), 0, 0});
+    strip.positions.push_back({static_cast<float>(i), 0, 1});
+  }
+  // A fan: center, then a ring counter-clockwise seen from +Y.
+  MeshData fan;
+  fan.positions.push_back({0, 0, 0});
+  for (int i = 0; i < 6; ++i) {
+    const float a = 2.0f * kPi * static_cast<float>(i) / 6.0f;
+    fan.positions.push_back({std::sin(a), 0, std::cos(a)});
+  }
+  MeshData indexedFan = fan;
+  for (std::uint32_t i = 0; i < 7; ++i) indexedFan.indices.push_back(i);
+  builder.addNode("strip", {},
+                  builder.addMesh(strip, {IndexType::U32, PrimitiveMode::TriangleStrip}));
+  builder.addNode("fan", {}, builder.addMesh(fan, {IndexType::U32, PrimitiveMode::TriangleFan}));
+  builder.addNode("indexedFan", {},
+                  builder.addMesh(indexedFan, {IndexType::U16, PrimitiveMode::TriangleFan}));
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 3u);
+  EXPECT_EQ(scene.meshes[0].indices.size(), 3u * 6u);
+  EXPECT_EQ(scene.meshes[1].indices.size(), 3u * 5u);
+  EXPECT_EQ(scene.meshes[2].indices.size(), 3u * 5u);
+  const std::vector<glm::vec3> corners = worldTriangles(scene);
+  for (std::size_t t = 0; t < corners.size(); t += 3) {
+    EXPECT_TRUE(near(faceNormal(corners[t], corners[t + 1], corners[t + 2]), {0, 1, 0}))
+        << "triangle " << t / 3;
+  }
+  // No normals in the file: the generated ones agree with the winding.
+  for (const Mesh& mesh : scene.meshes) {
+    for (const glm::vec3& n : mesh.normals) EXPECT_TRUE(near(n, {0, 1, 0}));
+  }
+}
+
+TEST_F(GltfLoaderTest, MissingNormalsAreGeneratedFlatAndOutward) {
+  GltfBuilder builder;
+  MeshData box = builder::makeBox({1.0f, 2.0f, 3.0f});
+  box.normals.clear();
+  builder.addNode("box", {}, builder.addMesh(box));
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const Mesh& mesh = scene.meshes[0];
+  // Un-indexed: every triangle has its own three corners.
+  ASSERT_EQ(mesh.positions.size(), 36u);
+  ASSERT_EQ(mesh.normals.size(), 36u);
+  ASSERT_EQ(mesh.uv0.size(), 36u);
+  for (std::size_t t = 0; t < 36; t += 3) {
+    const glm::vec3 a = mesh.positions[mesh.indices[t]], b = mesh.positions[mesh.indices[t + 1]],
+                    c = mesh.positions[mesh.indices[t + 2]];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const glm::vec3 n = mesh.normals[mesh.indices[t + k]];
+      EXPECT_NEAR(glm::length(n), 1.0f, kEps);
+      EXPECT_NEAR(glm::dot(n, b - a), 0.0f, kEps);
+      EXPECT_NEAR(glm::dot(n, c - a), 0.0f, kEps);
+      EXPECT_GT(glm::dot(n, (a + b + c) / 3.0f), 0.0f);  // outward from the center
+    }
+  }
+}
+
+TEST_F(GltfLoaderTest, TangentsAreGeneratedOnlyForNormalMappedMaterials) {
+  GltfBuilder builder;
+  MaterialDesc normalMapped;
+  normalMapped.normalTexture = builder.addTexture(1, 1, {128, 128, 255, 255});
+  const int mapped = builder.addMaterial(normalMapped);
+  const int plain = builder.addMaterial({});
+  const MeshData plane = builder::makePlane(2.0f, 1);
+  MeshData mirrored = plane;
+  for (glm::vec2& uv : mirrored.uvs) uv.x = 1.0f - uv.x;
+  PrimitiveOptions options;
+  options.material = mapped;
+  builder.addNode("mapped", {}, builder.addMesh(plane, options));
+  builder.addNode("mirrored", {}, builder.addMesh(mirrored, options));
+  options.material = plain;
+  builder.addNode("plain", {}, builder.addMesh(plane, options));
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 3u);
+  // u runs along +X, v along +Z: the normal map's "up" (v decreasing) is -Z = cross(N, T).
+  ASSERT_EQ(scene.meshes[0].tangents.size(), scene.meshes[0].positions.size());
+  for (const glm::vec4& t : scene.meshes[0].tangents) {
+    EXPECT_TRUE(near(glm::vec3(t), {1, 0, 0}));
+    EXPECT_EQ(t.w, 1.0f);
+  }
+  // Mirrored UVs flip the tangent and the handedness, not the bitangent.
+  ASSERT_EQ(scene.meshes[1].tangents.size(), scene.meshes[1].positions.size());
+  for (const glm::vec4& t : scene.meshes[1].tangents) {
+    EXPECT_TRUE(near(glm::vec3(t), {-1, 0, 0}));
+    EXPECT_EQ(t.w, -1.0f);
+  }
+  EXPECT_TRUE(scene.meshes[2].tangents.empty());
+}
+
+TEST_F(GltfLoaderTest, SharedMeshBecomesOneMeshWithTwoInstancesAndBoundsCoverBoth) {
+  GltfBuilder builder;
+  const int box = builder.addMesh(builder::makeBox(glm::vec3(0.5f)), {}, "crate");
+  Transform left, right;
+  left.translation = {-2, 0, 0};
+  right.translation = {3, 0, 0};
+  right.scale = glm::vec3(2.0f);
+  const int leftNode = builder.addNode("left", left, box);
+  const int rightNode = builder.addNode("right", right, box);
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  EXPECT_EQ(scene.meshes[0].name, "crate/0");
+  ASSERT_EQ(scene.instances.size(), 2u);
+  EXPECT_EQ(scene.instances[0].mesh, 0);
+  EXPECT_EQ(scene.instances[1].mesh, 0);
+  EXPECT_EQ(scene.instances[0].node, leftNode);
+  EXPECT_EQ(scene.instances[1].node, rightNode);
+  EXPECT_TRUE(near(scene.bounds.min, {-2.5f, -1, -1}));
+  EXPECT_TRUE(near(scene.bounds.max, {4, 1, 1}));
+}
+
+TEST_F(GltfLoaderTest, ReadsStridedNormalizedAndSparseAccessors) {
+  GltfBuilder builder;
+  tinygltf::Model& model = builder.model();
+  model.buffers.emplace_back();
+  // Interleaved: float3 position + normalized u8x4 color per vertex, 16 bytes apart.
+  const glm::vec3 positions[] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::uint8_t colors[][4] = {{255, 0, 0, 255}, {0, 51, 0, 255}, {0, 0, 255, 0}};
+  std::vector<unsigned char> interleaved;
+  for (int i = 0; i < 3; ++i) {
+    append(interleaved, positions[i]);
+    for (std::uint8_t c : colors[i]) interleaved.push_back(c);
+  }
+  const int view = addRawView(model, interleaved, 16);
+  std::vector<unsigned char> uvBytes;
+  const std::vector<std::uint16_t> uvs = {0, 65535, 65535, 0, 32768, 32768};
+  for (std::uint16_t v : uvs) append(uvBytes, v);
+  // Sparse positions on an all-zero base: only vertices 1 and 2 are stored.
+  std::vector<unsigned char> sparseIndices, sparseValues;
+  const std::vector<std::uint16_t> replaced = {1, 2};
+  for (std::uint16_t i : replaced) append(sparseIndices, i);
+  for (glm::vec3 p : {glm::vec3(0, 0, 2), glm::vec3(0, 3, 0)}) append(sparseValues, p);
+  constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
+
+  tinygltf::Primitive strided;
+  strided.mode = TINYGLTF_MODE_TRIANGLES;
+  strided.attributes["POSITION"] = addRawAccessor(model, view, 0, kFloat, TINYGLTF_TYPE_VEC3, 3);
+  strided.attributes["COLOR_0"] = addRawAccessor(
+      model, view, 12, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4, 3, true);
+  strided.attributes["TEXCOORD_0"] =
+      addRawAccessor(model, addRawView(model, uvBytes), 0, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                     TINYGLTF_TYPE_VEC2, 3, true);
+  tinygltf::Primitive sparse;
+  sparse.mode = TINYGLTF_MODE_TRIANGLES;
+  const int sparseAccessor = addRawAccessor(model, -1, 0, kFloat, TINYGLTF_TYPE_VEC3, 3);
+  auto& info = model.accessors[sparseAccessor].sparse;
+  info.isSparse = true;
+  info.count = 2;
+  info.indices.bufferView = addRawView(model, sparseIndices);
+  info.indices.byteOffset = 0;
+  info.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  info.values.bufferView = addRawView(model, sparseValues);
+  info.values.byteOffset = 0;
+  sparse.attributes["POSITION"] = sparseAccessor;
+  tinygltf::Mesh mesh;
+  mesh.primitives = {strided, sparse};
+  model.meshes.push_back(mesh);
+  builder.addNode("raw", {}, 0);
+
+  const Scene scene = writeAndLoad(builder, {}, FileFormat::GltfEmbedded);
+  ASSERT_EQ(scene.meshes.size(), 2u);
+  const Mesh& a = scene.meshes[0];
+  ASSERT_EQ(a.positions.size(), 3u);
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(near(a.positions[i], positions[i]));
+  ASSERT_EQ(a.colors.size(), 3u);
+  EXPECT_EQ(a.colors[0], glm::vec4(1, 0, 0, 1));
+  EXPECT_NEAR(a.colors[1].g, 0.2f, kEps);
+  EXPECT_EQ(a.colors[2], glm::vec4(0, 0, 1, 0));
+  ASSERT_EQ(a.uv0.size(), 3u);
+  EXPECT_EQ(a.uv0[0], glm::vec2(0, 1));
+  EXPECT_EQ(a.uv0[1], glm::vec2(1, 0));
+  EXPECT_NEAR(a.uv0[2].x, 32768.0f / 65535.0f, kEps);
+  EXPECT_EQ(a.indices, (std::vector<std::uint32_t>{0, 1, 2}));
+  const Mesh& b = scene.meshes[1];
+  ASSERT_EQ(b.positions.size(), 3u);
+  EXPECT_TRUE(near(b.positions[0], {0, 0, 0}));
+  EXPECT_TRUE(near(b.positions[1], {0, 0, 2}));
+  EXPECT_TRUE(near(b.positions[2], {0, 3, 0}));
+}
+
+TEST_F(GltfLoaderTest, PointsAndLinesAreSkippedWithAWarning) {
+  GltfBuilder builder;
+  const int mesh = builder.addMesh(triangleMesh());
+  builder.addPrimitive(mesh, triangleMesh());
+  builder.model().meshes[0].primitives[0].mode = TINYGLTF_MODE_LINE;
+  builder.addNode("lines", {}, mesh);
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  EXPECT_EQ(scene.meshes[0].name, "mesh0/1");
+  EXPECT_TRUE(anyWarningContains(scene, "meshes[0].primitives[0]: lines"));
+}
+
+TEST_F(GltfLoaderTest, SkinsAndMorphTargetsDrawTheStaticPoseWithOneWarningEach) {
+  GltfBuilder builder;
+  const int mesh = builder.addMesh(triangleMesh());
+  builder.addPrimitive(mesh, triangleMesh());
+  const int a = builder.addNode("a", {}, mesh);
+  const int b = builder.addNode("b", {}, mesh);
+  tinygltf::Model& model = builder.model();
+  for (tinygltf::Primitive& primitive : model.meshes[0].primitives) {
+    primitive.targets = {{{"POSITION", primitive.attributes.at("POSITION")}}};
+  }
+  tinygltf::Skin skin;
+  skin.joints = {a};
+  model.skins.push_back(skin);
+  model.nodes[a].skin = 0;
+  model.nodes[b].skin = 0;
+
+  const Scene scene = writeAndLoad(builder);
+  EXPECT_EQ(scene.meshes.size(), 2u);
+  EXPECT_EQ(scene.instances.size(), 4u);
+  const auto count = [&](const std::string& part) {
+    return std::count_if(scene.warnings.begin(), scene.warnings.end(),
+                         [&](const std::string& w) { return w.find(part) != std::string::npos; });
+  };
+  EXPECT_EQ(count("skins"), 1);
+  EXPECT_EQ(count("morph targets"), 1);
+}
+
+// -----------------------------------------------------------------------------------------------
+// Materials, cameras, lights
+
+TEST_F(GltfLoaderTest, MaterialsKeepFactorsModesAndTextures) {
+  GltfBuilder builder;
+  const std::vector<std::uint8_t> base = {10, 20, 30, 40, 50, 60, 70, 80};  // 2x1
+  MaterialDesc opaque;
+  opaque.name = "opaque";
+  opaque.baseColor = {0.8f, 0.2f, 0.1f, 1.0f};
+  opaque.metallic = 0.25f;
+  opaque.roughness = 0.75f;
+  opaque.emissive = {0.5f, 0.25f, 0.0f};
+  opaque.baseColorTexture = builder.addTexture(2, 1, base, "base");
+  opaque.metallicRoughnessTexture = builder.addTexture(1, 1, {0, 128, 255, 255}, "mr");
+  opaque.normalTexture = builder.addTexture(1, 1, {128, 128, 255, 255}, "normal");
+  opaque.emissiveTexture = builder.addTexture(1, 1, {99, 99, 99, 255}, "emissive");
+  MaterialDesc mask;
+  mask.name = "mask";
+  mask.alphaMode = "MASK";
+  mask.alphaCutoff = 0.3f;
+  mask.doubleSided = true;
+  MaterialDesc blend;
+  blend.name = "blend";
+  blend.alphaMode = "BLEND";
+  blend.emissive = {4.0f, 2.0f, 0.0f};  // beyond 1: KHR_materials_emissive_strength
+  const int mesh = builder.addMesh(
+      triangleMesh(), {IndexType::U32, PrimitiveMode::Triangles, builder.addMaterial(opaque)});
+  builder.addPrimitive(mesh, triangleMesh(),
+                       {IndexType::U32, PrimitiveMode::Triangles, builder.addMaterial(mask)});
+  builder.addPrimitive(mesh, triangleMesh(),
+                       {IndexType::U32, PrimitiveMode::Triangles, builder.addMaterial(blend)});
+  builder.addNode("node", {}, mesh);
+  tinygltf::Model& model = builder.model();
+  model.materials[0].occlusionTexture.index = 1;
+  model.materials[0].occlusionTexture.strength = 0.5;
+  model.materials[0].normalTexture.scale = 0.8;
+  tinygltf::Sampler nearestClamp;
+  nearestClamp.magFilter = TINYGLTF_TEXTURE_FILTER_NEAREST;
+  nearestClamp.wrapS = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+  model.samplers.push_back(nearestClamp);
+  model.textures[1].sampler = 0;
+  // A one-channel image: gray becomes RGB, alpha opaque.
+  model.images[3].component = 1;
+  model.images[3].image = {99};
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.materials.size(), 3u);
+  const Material& m0 = scene.materials[0];
+  EXPECT_EQ(m0.name, "opaque");
+  EXPECT_EQ(m0.baseColorFactor, glm::vec4(0.8f, 0.2f, 0.1f, 1.0f));
+  EXPECT_EQ(m0.metallicFactor, 0.25f);
+  EXPECT_EQ(m0.roughnessFactor, 0.75f);
+  EXPECT_TRUE(near(m0.emissiveFactor, {0.5f, 0.25f, 0.0f}));
+  EXPECT_EQ(m0.emissiveStrength, 1.0f);
+  EXPECT_EQ(m0.baseColorTexture.texture, 0);
+  EXPECT_EQ(m0.metallicRoughnessTexture.texture, 1);
+  EXPECT_EQ(m0.normalTexture.texture, 2);
+  EXPECT_NEAR(m0.normalScale, 0.8f, kEps);
+  EXPECT_EQ(m0.occlusionTexture.texture, 1);
+  EXPECT_NEAR(m0.occlusionStrength, 0.5f, kEps);
+  EXPECT_EQ(m0.emissiveTexture.texture, 3);
+  EXPECT_EQ(m0.baseColorTexture.texCoord, 0);
+  EXPECT_EQ(m0.alphaMode, AlphaMode::Opaque);
+  EXPECT_FALSE(m0.doubleSided);
+  const Material& m1 = scene.materials[1];
+  EXPECT_EQ(m1.alphaMode, AlphaMode::Mask);
+  EXPECT_NEAR(m1.alphaCutoff, 0.3f, kEps);
+  EXPECT_TRUE(m1.doubleSided);
+  EXPECT_EQ(m1.baseColorTexture.texture, -1);
+  const Material& m2 = scene.materials[2];
+  EXPECT_EQ(m2.alphaMode, AlphaMode::Blend);
+  EXPECT_TRUE(near(m2.emissiveFactor * m2.emissiveStrength, {4.0f, 2.0f, 0.0f}));
+  EXPECT_EQ(m2.emissiveStrength, 4.0f);
+
+  ASSERT_EQ(scene.meshes.size(), 3u);
+  EXPECT_EQ(scene.meshes[0].material, 0);
+  EXPECT_EQ(scene.meshes[2].material, 2);
+  ASSERT_EQ(scene.textures.size(), 4u);
+  const SamplerDesc defaults;
+  EXPECT_EQ(scene.textures[0].image, 0);
+  EXPECT_EQ(scene.textures[0].sampler.magFilter, defaults.magFilter);
+  EXPECT_EQ(scene.textures[0].sampler.wrapS, defaults.wrapS);
+  EXPECT_EQ(scene.textures[1].sampler.magFilter, TINYGLTF_TEXTURE_FILTER_NEAREST);
+  EXPECT_EQ(scene.textures[1].sampler.minFilter, defaults.minFilter);  // unset in the sampler
+  EXPECT_EQ(scene.textures[1].sampler.wrapS, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE);
+  EXPECT_EQ(scene.textures[1].sampler.wrapT, TINYGLTF_TEXTURE_WRAP_REPEAT);
+  ASSERT_EQ(scene.images.size(), 4u);
+  EXPECT_EQ(scene.images[0].width, 2);
+  EXPECT_EQ(scene.images[0].height, 1);
+  EXPECT_EQ(scene.images[0].rgba, base);
+  EXPECT_EQ(scene.images[3].rgba, (std::vector<std::uint8_t>{99, 99, 99, 255}));
+}
+
+TEST_F(GltfLoaderTest, CamerasHaveNamesIndicesAndWorldPlacement) {
+  GltfBuilder builder;
+  builder.addPerspectiveCamera("front", {0, 1, 5}, {0, 1, 0}, 0.7f, 1.5f, 0.1f, 100.0f);
+  builder.addPerspectiveCamera("top", {0, 10, 0}, {0, 0, 0}, 0.5f);
+  tinygltf::Model& model = builder.model();
+  // Camera 0 used a second time, below a moved parent; and a nameless orthographic camera.
+  Transform moved;
+  moved.translation = {10, 0, 0};
+  const int parent = builder.addNode("rig", moved);
+  tinygltf::Node second;
+  second.name = "secondFront";
+  second.camera = 0;
+  model.nodes.push_back(second);
+  model.nodes[parent].children.push_back(static_cast<int>(model.nodes.size()) - 1);
+  tinygltf::Camera ortho;
+  ortho.type = "orthographic";
+  ortho.orthographic = {};
+  ortho.orthographic.xmag = 2.0;
+  ortho.orthographic.ymag = 1.0;
+  ortho.orthographic.znear = 0.5;
+  ortho.orthographic.zfar = 50.0;
+  model.cameras.push_back(ortho);
+  tinygltf::Node orthoNode;
+  orthoNode.name = "orthoNode";
+  orthoNode.camera = 2;
+  model.nodes.push_back(orthoNode);
+  model.scenes[0].nodes.insert(model.scenes[0].nodes.begin(),
+                               static_cast<int>(model.nodes.size()) - 1);
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.cameras.size(), 4u);
+  const Camera& front = scene.cameras[0];
+  EXPECT_EQ(front.name, "front");
+  EXPECT_EQ(front.nodeName, "front");
+  EXPECT_EQ(front.index, 0);
+  EXPECT_FALSE(front.orthographic);
+  EXPECT_NEAR(front.yfov, 0.7f, kEps);
+  EXPECT_NEAR(front.aspectRatio, 1.5f, kEps);
+  EXPECT_NEAR(front.znear, 0.1f, kEps);
+  EXPECT_NEAR(front.zfar, 100.0f, 1e-3f);
+  EXPECT_TRUE(near(glm::vec3(front.world[3]), {0, 1, 5}));
+  EXPECT_TRUE(near(-glm::vec3(front.world[2]), {0, 0, -1}));
+  EXPECT_TRUE(near(glm::vec3(front.world[1]), {0, 1, 0}));
+
+  const Camera& again = scene.cameras[1];
+  EXPECT_EQ(again.name, "front");
+  EXPECT_EQ(again.nodeName, "secondFront");
+  EXPECT_EQ(again.index, 0);
+  EXPECT_TRUE(near(glm::vec3(again.world[3]), {10, 0, 0}));
+
+  const Camera& top = scene.cameras[2];
+  EXPECT_EQ(top.name, "top");
+  EXPECT_EQ(top.index, 1);
+  EXPECT_EQ(top.zfar, 0.0f);
+  EXPECT_TRUE(near(glm::vec3(top.world[3]), {0, 10, 0}));
+  EXPECT_TRUE(near(-glm::vec3(top.world[2]), {0, -1, 0}));  // straight down, still orthonormal
+  EXPECT_NEAR(glm::length(glm::vec3(top.world[1])), 1.0f, kEps);
+  EXPECT_NEAR(glm::dot(glm::vec3(top.world[1]), glm::vec3(top.world[2])), 0.0f, kEps);
+
+  const Camera& orthoCamera = scene.cameras[3];
+  EXPECT_EQ(orthoCamera.name, "orthoNode");
+  EXPECT_EQ(orthoCamera.index, 2);
+  EXPECT_TRUE(orthoCamera.orthographic);
+  EXPECT_EQ(orthoCamera.xmag, 2.0f);
+  EXPECT_EQ(orthoCamera.ymag, 1.0f);
+  EXPECT_EQ(orthoCamera.znear, 0.5f);
+  EXPECT_EQ(orthoCamera.zfar, 50.0f);
+}
+
+TEST_F(GltfLoaderTest, KhrLightsArePlacedInWorldSpace) {
+  GltfBuilder builder;
+  builder.addLight("bulb", "point", {1, 2, 3}, {0, -1, 0}, {1.0f, 0.5f, 0.25f}, 100.0f, 10.0f);
+  builder.addLight("", "spot", {0, 5, 0}, {0, -1, 0}, glm::vec3(1.0f), 500.0f);
+  builder.addLight("sun", "directional", {0, 0, 0}, {1, -1, 0}, glm::vec3(1.0f), 3.0f);
+  // Move the bulb below a parent turned 90 degrees about +Y and moved to x = 10.
+  tinygltf::Model& model = builder.model();
+  Transform turned;
+  turned.translation = {10, 0, 0};
+  turned.rotation = glm::angleAxis(kPi / 2.0f, glm::vec3(0, 1, 0));
+  const int parent = builder.addNode("parent", turned);
+  std::vector<int>& roots = model.scenes[0].nodes;
+  roots.erase(std::find(roots.begin(), roots.end(), 0));
+  model.nodes[parent].children.push_back(0);
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.lights.size(), 3u);
+  // Traversal order: spot, sun, then the parent's bulb.
+  const Light& spot = scene.lights[0];
+  EXPECT_EQ(spot.name, "gltf_light1");
+  EXPECT_EQ(spot.type, LightType::Spot);
+  EXPECT_TRUE(near(spot.position, {0, 5, 0}));
+  EXPECT_TRUE(near(spot.direction, {0, -1, 0}));
+  EXPECT_EQ(spot.innerConeAngle, 0.0f);
+  EXPECT_NEAR(spot.outerConeAngle, kPi / 4.0f, kEps);
+  EXPECT_EQ(spot.range, 0.0f);
+  EXPECT_EQ(spot.intensity, 500.0f);
+  const Light& sun = scene.lights[1];
+  EXPECT_EQ(sun.name, "sun");
+  EXPECT_EQ(sun.type, LightType::Directional);
+  EXPECT_TRUE(near(sun.direction, glm::normalize(glm::vec3(1, -1, 0))));
+  const Light& bulb = scene.lights[2];
+  EXPECT_EQ(bulb.name, "bulb");
+  EXPECT_EQ(bulb.type, LightType::Point);
+  EXPECT_TRUE(near(bulb.position, {13, 2, -1}));
+  EXPECT_TRUE(near(bulb.color, {1.0f, 0.5f, 0.25f}));
+  EXPECT_EQ(bulb.range, 10.0f);
+  for (const Light& light : scene.lights) EXPECT_EQ(light.origin, "glTF");
+}
+
+// -----------------------------------------------------------------------------------------------
+// Scene choice
+
+TEST_F(GltfLoaderTest, ChoosesTheRequestedOrDefaultScene) {
+  GltfBuilder builder;
+  builder.addNode("boxNode", {}, builder.addMesh(builder::makeBox(glm::vec3(1.0f)), {}, "box"));
+  builder.addNode("sphereNode", {}, builder.addMesh(builder::makeSphere(1.0f, 8, 4), {}, "sphere"));
+  tinygltf::Model& model = builder.model();
+  model.scenes[0].nodes = {0};
+  model.scenes.emplace_back();
+  model.scenes[1].nodes = {1};
+  const fs::path file = path("scenes.glb");
+  builder.write(file, FileFormat::Glb);
+
+  EXPECT_EQ(loadGltf(file).meshes.at(0).name, "box/0");
+  EXPECT_EQ(loadGltf(file, {1}).meshes.at(0).name, "sphere/0");
+  model.defaultScene = 1;
+  builder.write(file, FileFormat::Glb);
+  EXPECT_EQ(loadGltf(file).meshes.at(0).name, "sphere/0");
+  EXPECT_EQ(loadGltf(file, {0}).meshes.at(0).name, "box/0");
+
+  const std::string message = inputError([&] { loadGltf(file, {3}); });
+  EXPECT_EQ(message, file.string() + ": --scene 3: the file has 2 scenes");
+
+  // No scenes at all: every root node is drawn.
+  model.scenes.clear();
+  model.defaultScene = -1;
+  builder.write(file, FileFormat::Glb);
+  const Scene all = loadGltf(file);
+  EXPECT_EQ(all.meshes.size(), 2u);
+  EXPECT_TRUE(anyWarningContains(all, "no scenes"));
+}
+
+// -----------------------------------------------------------------------------------------------
+// Errors
+
+TEST_F(GltfLoaderTest, MissingGarbageAndTruncatedFilesAreInputErrors) {
+  const fs::path missing = path("missing.gltf");
+  EXPECT_EQ(inputError([&] { loadGltf(missing); }),
+            missing.string() + ": cannot read glTF file: no such file");
+
+  const fs::path garbage = path("garbage.gltf");
+  std::ofstream(garbage) << "this is not a glTF file\n";
+  EXPECT_TRUE(contains(inputError([&] { loadGltf(garbage); }), garbage.string() + ": "));
+
+  const fs::path fakeBinary = path("fake.glb");
+  std::ofstream(fakeBinary, std::ios::binary) << "glTF and then nothing useful at all";
+  EXPECT_TRUE(contains(inputError([&] { loadGltf(fakeBinary); }), fakeBinary.string() + ": "));
+
+  GltfBuilder builder;
+  builder.addNode("box", {}, builder.addMesh(builder::makeBox(glm::vec3(1.0f))));
+  const fs::path truncated = path("truncated.glb");
+  builder.write(truncated, FileFormat::Glb);
+  fs::resize_file(truncated, fs::file_size(truncated) / 2);
+  EXPECT_TRUE(contains(inputError([&] { loadGltf(truncated); }), truncated.string() + ": "));
+}
+
+TEST_F(GltfLoaderTest, IndexOutOfRangeNamesThePrimitive) {
+  GltfBuilder builder;
+  const int mesh = builder.addMesh(triangleMesh());
+  MeshData bad = triangleMesh();
+  bad.indices = {0, 1, 57};
+  builder.addPrimitive(mesh, bad);
+  builder.addNode("node", {}, mesh);
+  const fs::path file = path("bad.glb");
+  builder.write(file, FileFormat::Glb);
+  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+            file.string() + ": meshes[0].primitives[1]: index 57 >= vertex count 3");
+}
+
+TEST_F(GltfLoaderTest, AccessorsAndViewsOutsideTheirBuffersAreInputErrors) {
+  GltfBuilder builder;
+  builder.addNode("node", {}, builder.addMesh(triangleMesh()));
+  const fs::path file = path("bad.gltf");
+
+  builder.model().accessors[1].count = 1000;  // NORMAL
+  builder.write(file, FileFormat::GltfEmbedded);
+  EXPECT_TRUE(contains(inputError([&] { loadGltf(file); }),
+                       file.string() + ": meshes[0].primitives[0].attributes.NORMAL: has 1000"));
+
+  builder.model().accessors[1].count = 3;
+  builder.model().accessors[1].byteOffset = 4;
+  builder.write(file, FileFormat::GltfEmbedded);
+  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+            file.string() + ": accessors[1]: extends past the end of bufferViews[1]");
+
+  builder.model().accessors[1].byteOffset = 0;
+  builder.model().bufferViews[2].byteLength += 1000;  // indices
+  builder.write(file, FileFormat::GltfEmbedded);
+  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+            file.string() + ": bufferViews[2]: extends past the end of buffers[0]");
+}
+
+TEST_F(GltfLoaderTest, UnsupportedExtensionsFailWhenRequiredAndWarnWhenUsed) {
+  GltfBuilder builder;
+  builder.addNode("node", {}, builder.addMesh(triangleMesh()));
+  builder.addLight("lamp", "point", {0, 1, 0}, {0, -1, 0}, glm::vec3(1.0f), 1.0f);
+  tinygltf::Model& model = builder.model();
+  model.extensionsUsed.push_back("KHR_texture_transform");
+  model.extensionsRequired = {"KHR_lights_punctual"};
+  const fs::path file = path("scene.gltf");
+  builder.write(file, FileFormat::GltfEmbedded);
+  const Scene scene = loadGltf(file);
+  EXPECT_EQ(scene.lights.size(), 1u);
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_TRUE(contains(scene.warnings[0], "KHR_texture_transform"));
+
+  model.extensionsUsed.push_back("KHR_draco_mesh_compression");
+  model.extensionsRequired.push_back("KHR_draco_mesh_compression");
+  builder.write(file, FileFormat::GltfEmbedded);
+  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+            file.string() + ": extensionsRequired: KHR_draco_mesh_compression is not supported");
+}
+
+TEST_F(GltfLoaderTest, NodeCyclesAndBadReferencesAreInputErrors) {
+  GltfBuilder builder;
+  const int mesh = builder.addMesh(triangleMesh());
+  const int a = builder.addNode("a", {}, mesh);
+  const int b = builder.addNode("b", {}, mesh, a);
+  builder.model().nodes[b].children.push_back(a);
+  const fs::path file = path("cycle.glb");
+  builder.write(file, FileFormat::Glb);
+  const std::string message = inputError([&] { loadGltf(file); });
+  EXPECT_TRUE(contains(message, file.string() + ": nodes[0]: "));
+  EXPECT_TRUE(contains(message, "cycle"));
+
+  builder.model().nodes[b].children = {7};
+  builder.write(file, FileFormat::Glb);
+  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+            file.string() + ": nodes[1].children: node 7 is out of range (the file has 2 nodes)");
+
+  builder.model().nodes[b].children.clear();
+  builder.model().nodes[b].mesh = 4;
+  builder.write(file, FileFormat::Glb);
+  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+            file.string() + ": nodes[1]: mesh 4 is out of range (the file has 1 mesh)");
+}
+
+TEST_F(GltfLoaderTest, UnreadableImagesAreInputErrorsNamingTheImage) {
+  GltfBuilder builder;
+  MaterialDesc material;
+  material.baseColorTexture = builder.addTexture(1, 1, {1, 2, 3, 4}, "checker");
+  PrimitiveOptions options;
+  options.material = builder.addMaterial(material);
+  builder.addNode("node", {}, builder.addMesh(builder::makeBox(glm::vec3(1.0f)), options));
+  const fs::path file = path("scene.gltf");
+  builder.write(file, FileFormat::GltfExternal);
+  ASSERT_NO_THROW(loadGltf(file));
+
+  std::ofstream(path("scene_image0.png"), std::ios::binary) << "not a PNG";
+  std::string message = inputError([&] { loadGltf(file); });
+  EXPECT_TRUE(contains(message, file.string() + ": "));
+  EXPECT_TRUE(contains(message, "image[0]"));
+
+  fs::remove(path("scene_image0.png"));
+  message = inputError([&] { loadGltf(file); });
+  EXPECT_EQ(message,
+            file.string() + ": images[0] \"checker\": cannot read or decode scene_image0.png");
+}
+
+TEST_F(GltfLoaderTest, ImagesInBufferViewsAreCheckedBeforeDecoding) {
+  GltfBuilder builder;
+  builder.addNode("node", {}, builder.addMesh(triangleMesh()));
+  tinygltf::Model& model = builder.model();
+  tinygltf::Image image;
+  image.name = "bad";
+  image.mimeType = "image/png";
+  image.bufferView = addRawView(model, std::vector<unsigned char>(64, 0x5a));
+  model.images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = 0;
+  model.textures.push_back(texture);
+  const fs::path file = path("images.glb");
+
+  builder.write(file, FileFormat::Glb);
+  std::string message = inputError([&] { loadGltf(file); });
+  EXPECT_TRUE(contains(message, file.string() + ": images[0] \"bad\": "));
+
+  // Past the end of the buffer: tinygltf alone would let the decoder read there.
+  model.bufferViews[image.bufferView].byteLength = 100000;
+  builder.write(file, FileFormat::Glb);
+  message = inputError([&] { loadGltf(file); });
+  EXPECT_TRUE(
+      contains(message, file.string() + ": bufferViews[3]: extends past the end of buffers[0]"));
+}
+
+// -----------------------------------------------------------------------------------------------
+// Real files made by others (glTF-Sample-Models and friends; see the folder's README).
+
+TEST(GltfLoaderThirdParty, LoadsTheSampleScenes) {
+  const fs::path root = "/work/shared/scenes-thirdparty";
+  if (!fs::is_directory(root)) GTEST_SKIP() << root << " is not there";
+  struct Expected {
+    const char* file;
+    std::size_t drawnTriangles;
+    std::size_t cameras;
+    std::size_t lights;
+  };
+  const Expected samples[] = {
+      {"Box/Box.glb", 12, 0, 0},
+      {"Duck/Duck.glb", 4212, 1, 0},
+      {"Avocado/Avocado.gltf", 682, 0, 0},
+      {"Cameras/Cameras.gltf", 2, 2, 0},
+      {"Sundial/Sundial.glb", 15546, 1, 1},
+      {"CornellBoxSuzanne/cornell-box.glb", 1040, 0, 0},
+  };
+  for (const Expected& sample : samples) {
+    SCOPED_TRACE(sample.file);
+    const Scene scene = loadGltf(root / sample.file);
+    EXPECT_EQ(drawnTriangles(scene), sample.drawnTriangles);
+    EXPECT_EQ(scene.cameras.size(), sample.cameras);
+    EXPECT_EQ(scene.lights.size(), sample.lights);
+    EXPECT_FALSE(scene.bounds.empty());
+    for (const Mesh& mesh : scene.meshes) {
+      EXPECT_EQ(mesh.normals.size(), mesh.positions.size());
+    }
+    for (const Image& image : scene.images) {
+      EXPECT_EQ(image.rgba.size(), static_cast<std::size_t>(image.width * image.height * 4));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace omnishadow

@@ -160,10 +160,10 @@ TEST_P(SphereAbovePlane, CastsADiscShapedShadowExactlyWhereGeometrySays) {
 INSTANTIATE_TEST_SUITE_P(Filters, SphereAbovePlane,
                          ::testing::Values(ShadowFilter::Hard, ShadowFilter::Pcf,
                                            ShadowFilter::PcfDisk),
-                         [](const auto& info) {
-                           return std::string(info.param == ShadowFilter::Hard  ? "hard"
-                                              : info.param == ShadowFilter::Pcf ? "pcf"
-                                                                                : "pcfDisk");
+                         [](const ::testing::TestParamInfo<ShadowFilter>& param) {
+                           return std::string(param.param == ShadowFilter::Hard  ? "hard"
+                                              : param.param == ShadowFilter::Pcf ? "pcf"
+                                                                                 : "pcfDisk");
                          });
 
 TEST(Shadows, PointsThatSeeTheLightAreLitEverywhereOnTheSphere) {

@@ -6,14 +6,13 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <glm/gtc/type_ptr.hpp>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <glm/gtc/type_ptr.hpp>
 
 namespace omnishadow::builder {
 
@@ -39,7 +38,9 @@ glm::quat lookRotation(glm::vec3 forward) {
   if (glm::length(forward) < 1e-12f) return glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
   const glm::vec3 f = glm::normalize(forward);
   glm::vec3 up{0.0f, 1.0f, 0.0f};
-  if (glm::length(glm::cross(f, up)) < 1e-6f) up = f.y < 0.0f ? glm::vec3(0, 0, -1) : glm::vec3(0, 0, 1);
+  if (glm::length(glm::cross(f, up)) < 1e-6f) {
+    up = f.y < 0.0f ? glm::vec3(0, 0, -1) : glm::vec3(0, 0, 1);
+  }
   const glm::vec3 right = glm::normalize(glm::cross(f, up));
   const glm::vec3 trueUp = glm::cross(right, f);
   const glm::mat3 basis(right, trueUp, -f);
@@ -65,9 +66,9 @@ std::vector<double> toDoubles(const float* values, int count) {
   return std::vector<double>(values, values + count);
 }
 
-// Encodes 8-bit RGBA as PNG with the stb_image_write that libtinygltf links in (the package
-// ships no stb headers). Embedded, tinygltf returns a data URI; otherwise it hands the bytes to
-// a "write whole file" callback, which here keeps them in memory.
+// Encodes the image's 8-bit pixels as PNG with the stb_image_write inside libtinygltf (the
+// package ships no stb headers). Embedded, tinygltf returns a data URI; otherwise it hands the
+// bytes to a "write whole file" callback, which here keeps them in memory.
 struct EncodedImage {
   std::vector<unsigned char> png;
   std::string dataUri;
@@ -94,7 +95,8 @@ EncodedImage encodePng(const tinygltf::Image& image, bool asDataUri) {
 
 void writeFile(const std::filesystem::path& path, const std::vector<unsigned char>& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
   out.close();
   if (!out) throw std::runtime_error("gltf_builder: cannot write " + path.string());
 }
@@ -177,7 +179,8 @@ MeshData makePlane(float size, int subdivisions) {
   }
   const auto at = [n](int i, int j) { return static_cast<std::uint32_t>(i * (n + 1) + j); };
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+    for (int j = 0; j < n; ++j)
+      addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
   }
   return mesh;
 }
@@ -326,8 +329,9 @@ struct GltfBuilder::Impl {
                       TINYGLTF_TARGET_ARRAY_BUFFER);
     }
     if (!data.uvs.empty()) {
-      primitive.attributes["TEXCOORD_0"] = addAccessor(
-          data.uvs, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
+      primitive.attributes["TEXCOORD_0"] =
+          addAccessor(data.uvs, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2,
+                      TINYGLTF_TARGET_ARRAY_BUFFER);
     }
     // Indices are not checked against the vertex count: tests build broken files on purpose.
     if (!data.indices.empty()) primitive.indices = addIndices(data.indices, options.indexType);
@@ -360,6 +364,8 @@ struct GltfBuilder::Impl {
     const std::string stem = path.stem().string();
     for (std::size_t i = 0; i < out.images.size(); ++i) {
       tinygltf::Image& image = out.images[i];
+      // Images a caller placed through model() (a bufferView or URI) are written as they are.
+      if (image.bufferView >= 0 || !image.uri.empty()) continue;
       const EncodedImage encoded = encodePng(image, format == FileFormat::GltfEmbedded);
       const std::vector<unsigned char>& png = encoded.png;
       image.image.clear();
@@ -416,7 +422,9 @@ GltfBuilder::GltfBuilder() : impl_(new Impl) {
   model.defaultScene = 0;
 }
 
-GltfBuilder::~GltfBuilder() { delete impl_; }
+GltfBuilder::~GltfBuilder() {
+  delete impl_;
+}
 
 int GltfBuilder::addTexture(int width, int height, const std::vector<std::uint8_t>& rgba,
                             const std::string& name) {
@@ -509,7 +517,8 @@ int GltfBuilder::addNode(const std::string& name, const Transform& transform, in
   }
   const glm::quat& q = transform.rotation;
   if (q != glm::quat(1.0f, 0.0f, 0.0f, 0.0f)) node.rotation = {q.x, q.y, q.z, q.w};
-  if (transform.scale != glm::vec3(1.0f)) node.scale = toDoubles(glm::value_ptr(transform.scale), 3);
+  if (transform.scale != glm::vec3(1.0f))
+    node.scale = toDoubles(glm::value_ptr(transform.scale), 3);
   return impl_->addNode(std::move(node), parent);
 }
 
@@ -555,9 +564,9 @@ int GltfBuilder::addLight(const std::string& name, const std::string& type, glm:
   Value::Object light;
   if (!name.empty()) light["name"] = Value(name);
   light["type"] = Value(type);
-  light["color"] = Value(Value::Array{Value(static_cast<double>(color.r)),
-                                      Value(static_cast<double>(color.g)),
-                                      Value(static_cast<double>(color.b))});
+  light["color"] =
+      Value(Value::Array{Value(static_cast<double>(color.r)), Value(static_cast<double>(color.g)),
+                         Value(static_cast<double>(color.b))});
   light["intensity"] = Value(static_cast<double>(intensity));
   if (range > 0.0f) light["range"] = Value(static_cast<double>(range));
   if (type == "spot") {
@@ -588,7 +597,9 @@ int GltfBuilder::addLight(const std::string& name, const std::string& type, glm:
   return index;
 }
 
-tinygltf::Model& GltfBuilder::model() { return impl_->model; }
+tinygltf::Model& GltfBuilder::model() {
+  return impl_->model;
+}
 
 void GltfBuilder::write(const std::filesystem::path& path, FileFormat format) {
   impl_->write(path, format);
