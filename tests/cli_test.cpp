@@ -1,0 +1,631 @@
+// End-to-end tests of the omnishadow binary: exit statuses and messages, what lands on disk (and
+// that nothing does when a run fails), and the images themselves, read back with readImage.
+// Every test runs the real executable in a fresh temporary folder:
+//   <root>/in   inputs, written with GltfBuilder and as JSON text
+//   <root>/out  the working directory of the run, where relative outputs go
+//   <root>/stdout, <root>/stderr  what the run printed
+// Renders are small (96x64, 64-texel shadow maps): llvmpipe is slow and CI has two cores.
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "renderer/image_writer.h"
+#include "scenes/builder/gltf_builder.h"
+
+namespace omnishadow {
+namespace {
+
+namespace fs = std::filesystem;
+using builder::FileFormat;
+using builder::GltfBuilder;
+
+// ---------------------------------------------------------------------------------------------
+// Inputs
+
+// A point light "key" with a cheap shadow map.
+constexpr const char* kKeyLights = R"({
+  "lights": [
+    {"name": "key", "position": [-1.5, 3, 1.5], "intensity": 20, "shadow": {"resolution": 64}}
+  ]
+})";
+
+struct SceneSpec {
+  bool cameras = true;       // "main" (glTF camera 0) and "top" (camera 1)
+  float aspectRatio = 0.0f;  // of "main"; 0 = none
+  bool gltfLight = true;     // KHR_lights_punctual point light "lamp", above and right
+  FileFormat format = FileFormat::GltfEmbedded;
+};
+
+// A textured floor and a box standing on it; the lamp casts the box's shadow onto the floor.
+void writeScene(const fs::path& path, const SceneSpec& spec = {}) {
+  GltfBuilder b;
+  std::vector<std::uint8_t> checker;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const std::uint8_t v = (x + y) % 2 ? 220 : 90;
+      checker.insert(checker.end(), {v, v, v, 255});
+    }
+  builder::MaterialDesc floor{.name = "floor", .roughness = 0.8f};
+  floor.baseColorTexture = b.addTexture(8, 8, checker, "checker");
+  const int box = b.addMaterial({.name = "box", .baseColor = {0.8f, 0.2f, 0.1f, 1.0f}});
+  b.addNode("floor", {}, b.addMesh(builder::makePlane(6.0f), {.material = b.addMaterial(floor)}));
+  b.addNode("box", {.translation = {0.0f, 0.5f, 0.0f}},
+            b.addMesh(builder::makeBox(glm::vec3(0.5f)), {.material = box}));
+  if (spec.cameras) {
+    b.addPerspectiveCamera("main", {0.0f, 2.5f, 4.5f}, {0.0f, 0.3f, 0.0f}, 0.8f, spec.aspectRatio);
+    b.addPerspectiveCamera("top", {0.0f, 6.0f, 1.0f}, {0.0f, 0.0f, 0.0f}, 0.8f);
+  }
+  if (spec.gltfLight)
+    b.addLight("lamp", "point", {1.5f, 3.0f, 1.0f}, {0.0f, -1.0f, 0.0f}, glm::vec3(1.0f), 30.0f);
+  b.write(path, spec.format);
+}
+
+// `count` shadowed point lights in a row.
+std::string shadowedLights(int count) {
+  std::string json = R"({"lights": [)";
+  for (int i = 0; i < count; ++i) {
+    json += (i ? ", " : "") + std::string(R"({"position": [)") + std::to_string(i - count / 2) +
+            R"(, 3, 1], "shadow": {"resolution": 16}})";
+  }
+  return json + "]}";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading results
+
+std::string readBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<std::string> filesIn(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    names.push_back(fs::relative(entry.path(), dir).string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// The IHDR fields of a PNG, read from the file itself (readImage converts to float).
+struct PngHeader {
+  std::uint32_t width = 0, height = 0;
+  int bitDepth = 0, colorType = 0;  // color type 2 = RGB
+};
+
+PngHeader pngHeader(const fs::path& path) {
+  const std::string bytes = readBytes(path);
+  EXPECT_GE(bytes.size(), 33u);
+  EXPECT_EQ(bytes.substr(0, 8), "\x89PNG\r\n\x1a\n");
+  EXPECT_EQ(bytes.substr(12, 4), "IHDR");
+  if (bytes.size() < 33) return {};
+  auto u32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (std::size_t i = 0; i < 4; ++i) v = v << 8 | static_cast<unsigned char>(bytes[at + i]);
+    return v;
+  };
+  return {u32(16), u32(20), static_cast<unsigned char>(bytes[24]),
+          static_cast<unsigned char>(bytes[25])};
+}
+
+std::vector<std::string> sortedChannels(const FloatImage& image) {
+  std::vector<std::string> channels = image.channels;
+  std::sort(channels.begin(), channels.end());
+  return channels;
+}
+
+std::vector<std::string> visibilityChannels(const FloatImage& image) {
+  std::vector<std::string> channels;
+  for (const std::string& c : sortedChannels(image))
+    if (c.starts_with("visibility.")) channels.push_back(c);
+  return channels;
+}
+
+double channelMean(const FloatImage& image, int channel) {
+  double sum = 0.0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) sum += image.at(x, y, channel);
+  return sum / (static_cast<double>(image.width) * image.height);
+}
+
+double channelVariance(const FloatImage& image, int channel) {
+  const double mean = channelMean(image, channel);
+  double sum = 0.0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) sum += std::pow(image.at(x, y, channel) - mean, 2);
+  return sum / (static_cast<double>(image.width) * image.height);
+}
+
+::testing::AssertionResult contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
+}
+
+::testing::AssertionResult sameBytes(const fs::path& a, const fs::path& b) {
+  const std::string x = readBytes(a), y = readBytes(b);
+  if (x.empty()) return ::testing::AssertionFailure() << a << " is empty or missing";
+  if (x == y) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << a << " and " << b << " differ";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Running the binary
+
+struct Run {
+  int status = -1;  // exit status; 128 + signal when killed
+  std::string out, err;
+};
+
+std::string shellQuoted(const std::string& arg) {
+  std::string quoted = "'";
+  for (char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  using Run = omnishadow::Run;  // not ::testing::Test::Run()
+
+  void SetUp() override {
+    std::string pattern = (fs::temp_directory_path() / "omnishadow-cli-XXXXXX").string();
+    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
+    root_ = pattern;
+    fs::create_directory(in_ = root_ / "in");
+    fs::create_directory(out_ = root_ / "out");
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  // `omnishadow args...` with out/ as the working directory.
+  Run run(const std::vector<std::string>& args) {
+    std::string command =
+        "cd " + shellQuoted(out_.string()) + " && " + shellQuoted(OMNISHADOW_BINARY);
+    for (const std::string& arg : args) command += " " + shellQuoted(arg);
+    command += " >" + shellQuoted((root_ / "stdout").string()) + " 2>" +
+               shellQuoted((root_ / "stderr").string());
+    const int wait = std::system(command.c_str());
+    Run result;
+    if (WIFEXITED(wait)) result.status = WEXITSTATUS(wait);
+    if (WIFSIGNALED(wait)) result.status = 128 + WTERMSIG(wait);
+    result.out = readBytes(root_ / "stdout");
+    result.err = readBytes(root_ / "stderr");
+    return result;
+  }
+
+  // `omnishadow render args... --width 96 --height 64`, expected to succeed.
+  Run render(std::vector<std::string> args) {
+    args.insert(args.begin(), "render");
+    args.insert(args.end(), {"--width", "96", "--height", "64"});
+    Run result = run(args);
+    EXPECT_EQ(result.status, 0) << result.err;
+    return result;
+  }
+
+  fs::path input(const std::string& name) const { return in_ / name; }
+  fs::path output(const std::string& name) const { return out_ / name; }
+
+  fs::path writeText(const std::string& name, const std::string& text) {
+    std::ofstream(input(name), std::ios::binary) << text;
+    return input(name);
+  }
+
+  fs::path scene(const std::string& name = "scene.gltf", const SceneSpec& spec = {}) {
+    writeScene(input(name), spec);
+    return input(name);
+  }
+
+  fs::path root_, in_, out_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Errors: the status, the message, and no file at all in the output folder afterwards
+
+struct ErrorCase {
+  std::string name;
+  std::string lightsJson;         // written to in/lights.json
+  std::vector<std::string> args;  // "$scene", "$lights" and "$in" are replaced by paths
+  int status;
+  std::string message;                      // "$..." replaced likewise
+  enum { Contains, OneLine, Exact } match;  // OneLine: the message is one "omnishadow: " line
+};
+
+// gtest names a failing case by this rather than by a byte dump.
+void PrintTo(const ErrorCase& c, std::ostream* os) {
+  *os << c.name;
+}
+
+class CliErrorTest : public CliTest, public ::testing::WithParamInterface<ErrorCase> {
+ protected:
+  std::string substituted(std::string text) const {
+    const std::pair<std::string, std::string> names[] = {{"$scene", input("scene.gltf").string()},
+                                                         {"$lights", input("lights.json").string()},
+                                                         {"$in", in_.string()}};
+    for (const auto& [name, value] : names)
+      for (std::size_t at; (at = text.find(name)) != std::string::npos;)
+        text.replace(at, name.size(), value);
+    return text;
+  }
+};
+
+const ErrorCase kErrorCases[] = {
+    {"NoSubcommand", kKeyLights, {}, 2, "A subcommand is required", ErrorCase::Contains},
+    {"UnknownOption", kKeyLights, {"render", "--bogus"}, 2, "--bogus", ErrorCase::Contains},
+    {"MissingScene",
+     kKeyLights,
+     {"render", "$in/nosuch.gltf", "-o", "a.png"},
+     2,
+     "$in/nosuch.gltf: cannot read glTF file",
+     ErrorCase::OneLine},
+    {"MissingLightsFile",
+     kKeyLights,
+     {"render", "$scene", "-l", "$in/nosuch.json"},
+     2,
+     "$in/nosuch.json: cannot read lights file",
+     ErrorCase::OneLine},
+    {"BadLightPosition",
+     R"({"lights": [{"name": "key", "position": [1, 2]}]})",
+     {"render", "$scene", "-l", "$lights", "-o", "a.png"},
+     2,
+     "omnishadow: $lights: lights[0].position: expected an array of 3 finite numbers\n",
+     ErrorCase::Exact},
+    {"JsonSyntaxError",
+     "{\n  \"lights\": [\n    {\"name\": \"key\",}\n  ]\n}",
+     {"render", "$scene", "-l", "$lights", "-o", "a.png"},
+     2,
+     "$lights:3:20: JSON syntax error",
+     ErrorCase::OneLine},
+    {"JpegOutput",
+     kKeyLights,
+     {"render", "$scene", "-o", "out.jpg"},
+     2,
+     "-o out.jpg: unsupported image format",
+     ErrorCase::OneLine},
+    {"AovNotExr",
+     kKeyLights,
+     {"render", "$scene", "--aov", "x.png"},
+     2,
+     "--aov x.png: AOVs are written as OpenEXR",
+     ErrorCase::OneLine},
+    {"SameOutputTwice",
+     kKeyLights,
+     {"render", "$scene", "-o", "a.exr", "--aov", "a.exr"},
+     2,
+     "the same file is given twice",
+     ErrorCase::OneLine},
+    {"SameOutputTwiceSpelledDifferently",
+     kKeyLights,
+     {"render", "$scene", "-o", "a.png", "-o", "./a.png"},
+     2,
+     "the same file is given twice",
+     ErrorCase::OneLine},
+    {"NanExposure",
+     kKeyLights,
+     {"render", "$scene", "--exposure", "nan", "-o", "a.png"},
+     2,
+     "--exposure nan: expected a finite number",
+     ErrorCase::OneLine},
+    {"InfiniteExposure",
+     kKeyLights,
+     {"render", "$scene", "--exposure", "inf", "-o", "a.exr"},
+     2,
+     "--exposure inf: expected a finite number",
+     ErrorCase::OneLine},
+    {"UnknownCamera",
+     kKeyLights,
+     {"render", "$scene", "--camera", "nosuch", "-o", "a.png"},
+     2,
+     R"($scene has no such camera (cameras: 0 "main", 1 "top"))",
+     ErrorCase::OneLine},
+    {"EyeWithTwoNumbers",
+     kKeyLights,
+     {"render", "$scene", "--eye", "1,2", "-o", "a.png"},
+     2,
+     "--eye 1,2: expected 3 comma-separated finite numbers",
+     ErrorCase::OneLine},
+    // The message says which EGL devices exist, or what was tried when there are none.
+    {"NoSuchGpu",
+     kKeyLights,
+     {"render", "$scene", "--gpu", "99", "-o", "a.png"},
+     1,
+     "EGL device",
+     ErrorCase::OneLine},
+    // Found only once the GL context is up, just before rendering.
+    {"TooManyShadowedLights",
+     shadowedLights(17),
+     {"render", "$scene", "-l", "$lights", "--no-gltf-lights", "-o", "a.png", "--aov", "a.exr"},
+     2,
+     "17 point lights cast shadows, but one frame can sample at most 16",
+     ErrorCase::OneLine},
+    // Found while staging the outputs, after a.png's temporary was created.
+    {"UnwritableSecondOutput",
+     kKeyLights,
+     {"render", "$scene", "--width", "8", "--height", "8", "-o", "a.png", "-o", "$scene/b.png"},
+     1,
+     "cannot write $scene/b.png",
+     ErrorCase::OneLine},
+};
+
+TEST_P(CliErrorTest, ExitsWithStatusMessageAndNoOutput) {
+  const ErrorCase& c = GetParam();
+  scene("scene.gltf");
+  writeText("lights.json", c.lightsJson);
+  const std::vector<std::string> inputsBefore = filesIn(in_);
+  std::vector<std::string> args;
+  for (const std::string& arg : c.args) args.push_back(substituted(arg));
+
+  const Run r = run(args);
+
+  EXPECT_EQ(r.status, c.status) << r.err;
+  const std::string message = substituted(c.message);
+  if (c.match == ErrorCase::Exact) {
+    EXPECT_EQ(r.err, message);
+  } else {
+    EXPECT_TRUE(contains(r.err, message));
+  }
+  if (c.match == ErrorCase::OneLine) {
+    EXPECT_TRUE(r.err.starts_with("omnishadow: ")) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(r.err.ends_with("\n")) << r.err;
+  }
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(filesIn(out_), std::vector<std::string>{}) << "a failed run left files";
+  EXPECT_EQ(filesIn(in_), inputsBefore);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, CliErrorTest, ::testing::ValuesIn(kErrorCases),
+                         [](const ::testing::TestParamInfo<ErrorCase>& test) {
+                           return test.param.name;
+                         });
+
+TEST_F(CliTest, RefusesToOverwriteAnInput) {
+  // Outputs are checked before the scene is read, so this input need not even be a scene.
+  const fs::path precious = writeText("picture.png", "precious bytes");
+  for (const std::string& spelling : std::vector<std::string>{
+           precious.string(), (in_ / "sub" / ".." / "picture.png").string(), "../in/picture.png"}) {
+    SCOPED_TRACE(spelling);
+    const Run r = run({"render", precious.string(), "-o", spelling});
+    EXPECT_EQ(r.status, 2);
+    EXPECT_TRUE(contains(r.err, spelling + ": refusing to overwrite an input file"));
+    EXPECT_EQ(readBytes(precious), "precious bytes");
+    EXPECT_EQ(filesIn(in_), std::vector<std::string>{"picture.png"});
+  }
+  // The lights file is an input as well.
+  const fs::path lights = writeText("lights.exr", kKeyLights);
+  const Run r = run({"render", scene().string(), "-l", lights.string(), "-o", lights.string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "refusing to overwrite an input file"));
+  EXPECT_EQ(readBytes(lights), kKeyLights);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Outputs
+
+TEST_F(CliTest, WritesPngExrAndAovsInOneRun) {
+  const fs::path lights = writeText("lights.json", kKeyLights);
+  const Run r = render(
+      {scene().string(), "-l", lights.string(), "-o", "a.png", "-o", "b.exr", "--aov", "c.exr"});
+
+  EXPECT_EQ(r.out, "wrote a.png (96x64)\nwrote b.exr (96x64)\nwrote c.exr (AOVs)\n");
+  EXPECT_EQ(filesIn(out_), (std::vector<std::string>{"a.png", "b.exr", "c.exr"}));
+
+  const PngHeader png = pngHeader(output("a.png"));
+  EXPECT_EQ(png.width, 96u);
+  EXPECT_EQ(png.height, 64u);
+  EXPECT_EQ(png.bitDepth, 8);
+  EXPECT_EQ(png.colorType, 2) << "not RGB";
+  EXPECT_EQ(readImage(output("a.png")).channels.size(), 3u);
+
+  const FloatImage beauty = readImage(output("b.exr"));
+  EXPECT_EQ(beauty.width, 96);
+  EXPECT_EQ(beauty.height, 64);
+  EXPECT_EQ(sortedChannels(beauty), (std::vector<std::string>{"A", "B", "G", "R"}));
+
+  // The glTF's lamp and the lights file's key light, merged.
+  const FloatImage aovs = readImage(output("c.exr"));
+  EXPECT_EQ(sortedChannels(aovs),
+            (std::vector<std::string>{"A", "B", "G", "N.X", "N.Y", "N.Z", "P.X", "P.Y", "P.Z", "R",
+                                      "Z", "visibility.key", "visibility.lamp"}));
+  // The AOV file's colour (float) is the beauty image's (half).
+  ASSERT_EQ(aovs.width, beauty.width);
+  ASSERT_EQ(aovs.height, beauty.height);
+  for (const char* channel : {"R", "G", "B", "A"}) {
+    const int a = aovs.channelIndex(channel), b = beauty.channelIndex(channel);
+    for (int y = 0; y < beauty.height; ++y)
+      for (int x = 0; x < beauty.width; ++x)
+        ASSERT_NEAR(aovs.at(x, y, a), beauty.at(x, y, b),
+                    1e-3 * std::abs(beauty.at(x, y, b)) + 1e-6)
+            << channel << " at " << x << "," << y;
+  }
+}
+
+TEST_F(CliTest, OutputsAreByteIdenticalAcrossRuns) {
+  const fs::path lights = writeText("lights.json", kKeyLights);
+  for (const std::string folder : {"first", "second"})
+    render({scene().string(), "-l", lights.string(), "-o", folder + "/a.png", "-o",
+            folder + "/a.exr", "--aov", folder + "/aov.exr"});
+  for (const std::string file : {"a.png", "a.exr", "aov.exr"})
+    EXPECT_TRUE(sameBytes(output("first") / file, output("second") / file));
+}
+
+TEST_F(CliTest, ExposureScalesLinearValuesAndBrightensThePng) {
+  const std::string path = scene().string();
+  render({path, "-o", "zero.exr", "-o", "zero.png"});
+  render({path, "-o", "one.exr", "-o", "one.png", "--exposure", "1"});
+
+  const FloatImage zero = readImage(output("zero.exr")), one = readImage(output("one.exr"));
+  ASSERT_EQ(zero.channels, one.channels);
+  ASSERT_EQ(zero.pixels.size(), one.pixels.size());
+  int lit = 0;
+  for (std::size_t i = 0; i < zero.pixels.size(); ++i) {
+    const bool alpha = zero.channels[i % zero.channels.size()] == "A";
+    const float expected = alpha ? zero.pixels[i] : 2.0f * zero.pixels[i];
+    ASSERT_NEAR(one.pixels[i], expected, std::abs(expected) / 1024.0f + 1e-7f) << "value " << i;
+    lit += !alpha && zero.pixels[i] > 0.01f;
+  }
+  EXPECT_GT(lit, 1000) << "the image is too dark to tell";
+
+  const FloatImage pngZero = readImage(output("zero.png")), pngOne = readImage(output("one.png"));
+  ASSERT_EQ(pngZero.pixels.size(), pngOne.pixels.size());
+  for (std::size_t i = 0; i < pngZero.pixels.size(); ++i)
+    ASSERT_GE(pngOne.pixels[i], pngZero.pixels[i]) << "value " << i;
+  for (int c = 0; c < 3; ++c) EXPECT_GT(channelMean(pngOne, c), channelMean(pngZero, c) + 0.05);
+}
+
+TEST_F(CliTest, StatsNameEveryStage) {
+  const Run r = render({scene().string(), "-o", "a.png", "--stats"});
+  for (const char* stage :
+       {"load", "context", "upload", "shadow maps", "lighting", "readback", "encode", "total"}) {
+    EXPECT_TRUE(
+        std::regex_search(r.err, std::regex(std::string("(^|\n)") + stage + " +[0-9]+\\.[0-9]\n")))
+        << "no time for " << stage << " in:\n"
+        << r.err;
+  }
+}
+
+TEST_F(CliTest, VerboseNamesTheGlImplementation) {
+  const Run r = render({scene().string(), "-o", "a.png", "-v"});
+  // "omnishadow: <vendor> | <renderer> | <version>", e.g. "Mesa | llvmpipe (...) | 4.5 (Core...".
+  EXPECT_TRUE(
+      std::regex_search(r.err, std::regex("(^|\n)omnishadow: [^|\n]+ \\| [^|\n]+ \\| 4\\.[5-9]")))
+      << r.err;
+  EXPECT_TRUE(contains(r.err, R"(camera: glTF camera 0 "main", 96x64)"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lights
+
+TEST_F(CliTest, FindsTheLightsFileBesideTheScene) {
+  const fs::path path = scene("room.gltf");
+  writeText("room.lights.json", kKeyLights);
+  render({path.string(), "--aov", "found.exr"});
+  EXPECT_EQ(visibilityChannels(readImage(output("found.exr"))),
+            (std::vector<std::string>{"visibility.key", "visibility.lamp"}));
+
+  // --lights wins over the file beside the scene.
+  const fs::path other = writeText("other.json", R"({"lights": [{"name": "fill",
+      "position": [0, 3, 3], "shadow": {"resolution": 64}}]})");
+  render({path.string(), "-l", other.string(), "--aov", "given.exr"});
+  EXPECT_EQ(visibilityChannels(readImage(output("given.exr"))),
+            (std::vector<std::string>{"visibility.fill", "visibility.lamp"}));
+}
+
+TEST_F(CliTest, NoGltfLightsDropsTheScenesLights) {
+  const fs::path lights = writeText("lights.json", kKeyLights);
+  render({scene().string(), "-l", lights.string(), "--no-gltf-lights", "--aov", "a.exr"});
+  EXPECT_EQ(visibilityChannels(readImage(output("a.exr"))),
+            std::vector<std::string>{"visibility.key"});
+}
+
+TEST_F(CliTest, LightsFileLightReplacesTheGltfLightOfTheSameName) {
+  // Visibility of covered pixels: (lowest, highest).
+  auto visibilityRange = [](const FloatImage& aovs) {
+    const int a = aovs.channelIndex("A"), v = aovs.channelIndex("visibility.lamp");
+    float lowest = 1.0f, highest = 0.0f;
+    for (int y = 0; y < aovs.height; ++y)
+      for (int x = 0; x < aovs.width; ++x)
+        if (aovs.at(x, y, a) > 0.5f) {
+          lowest = std::min(lowest, aovs.at(x, y, v));
+          highest = std::max(highest, aovs.at(x, y, v));
+        }
+    return std::make_pair(lowest, highest);
+  };
+  const fs::path path = scene();
+  render({path.string(), "--aov", "gltf.exr"});
+  const FloatImage gltf = readImage(output("gltf.exr"));
+  EXPECT_EQ(visibilityChannels(gltf), std::vector<std::string>{"visibility.lamp"});
+  EXPECT_EQ(visibilityRange(gltf), std::make_pair(0.0f, 1.0f)) << "the box shadows the floor";
+
+  const fs::path lights = writeText("lights.json", R"({"lights": [{"name": "lamp",
+      "position": [1.5, 3, 1], "intensity": 30, "shadow": false}]})");
+  render({path.string(), "-l", lights.string(), "--aov", "file.exr"});
+  const FloatImage file = readImage(output("file.exr"));
+  EXPECT_EQ(visibilityChannels(file), std::vector<std::string>{"visibility.lamp"});
+  EXPECT_EQ(visibilityRange(file), std::make_pair(1.0f, 1.0f)) << "the file's lamp is unshadowed";
+}
+
+TEST_F(CliTest, RendersWithAHeadlightWhenThereAreNoLights) {
+  const Run r =
+      render({scene("scene.gltf", {.gltfLight = false}).string(), "-o", "a.png", "--aov", "a.exr"});
+  EXPECT_TRUE(contains(r.err, "headlight"));
+  EXPECT_EQ(visibilityChannels(readImage(output("a.exr"))),
+            std::vector<std::string>{"visibility.headlight"});
+  EXPECT_GT(channelMean(readImage(output("a.png")), 0), 0.1);
+}
+
+TEST_F(CliTest, UnknownLightsFieldIsAWarning) {
+  const fs::path lights = writeText("lights.json", R"({"lights": [{"name": "key",
+      "position": [-1.5, 3, 1.5], "colour": [1, 0, 0], "shadow": {"resolution": 64}}]})");
+  const Run r = render({scene().string(), "-l", lights.string(), "-o", "a.png"});
+  EXPECT_TRUE(contains(r.err, "omnishadow: warning: " + lights.string() +
+                                  ": lights[0].colour: unknown field, ignored\n"));
+  EXPECT_TRUE(fs::exists(output("a.png")));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scenes and cameras
+
+TEST_F(CliTest, EmbeddedExternalAndBinaryScenesRenderAlike) {
+  fs::create_directories(input("embedded"));
+  fs::create_directories(input("external"));
+  fs::create_directories(input("binary"));
+  const fs::path embedded = scene("embedded/scene.gltf", {.format = FileFormat::GltfEmbedded});
+  const fs::path external = scene("external/scene.gltf", {.format = FileFormat::GltfExternal});
+  const fs::path binary = scene("binary/scene.glb", {.format = FileFormat::Glb});
+  ASSERT_EQ(filesIn(input("external")),
+            (std::vector<std::string>{"scene.bin", "scene.gltf", "scene_image0.png"}));
+
+  render({embedded.string(), "-o", "embedded.png"});
+  render({external.string(), "-o", "external.png"});
+  render({binary.string(), "-o", "binary.png"});
+  EXPECT_TRUE(sameBytes(output("embedded.png"), output("external.png")));
+  EXPECT_TRUE(sameBytes(output("embedded.png"), output("binary.png")));
+}
+
+TEST_F(CliTest, CameraByNameOrIndex) {
+  const std::string path = scene().string();
+  render({path, "--camera", "main", "-o", "name.png"});
+  render({path, "--camera", "0", "-o", "index.png"});
+  render({path, "--camera", "top", "-o", "top.png"});
+  EXPECT_TRUE(sameBytes(output("name.png"), output("index.png")));
+  EXPECT_NE(readBytes(output("name.png")), readBytes(output("top.png")));
+}
+
+TEST_F(CliTest, SceneWithoutCameraIsFramedAutomatically) {
+  render({scene("scene.gltf", {.cameras = false}).string(), "--aov", "a.exr"});
+  const FloatImage aovs = readImage(output("a.exr"));
+  EXPECT_GT(aovs.at(aovs.width / 2, aovs.height / 2, aovs.channelIndex("A")), 0.5f);
+}
+
+TEST_F(CliTest, CameraAspectRatioGivesTheMissingSide) {
+  const std::string path = scene("scene.gltf", {.aspectRatio = 2.0f}).string();
+  ASSERT_EQ(run({"render", path, "--width", "100", "-o", "wide.png"}).status, 0);
+  ASSERT_EQ(run({"render", path, "--height", "30", "-o", "high.png"}).status, 0);
+  const PngHeader wide = pngHeader(output("wide.png")), high = pngHeader(output("high.png"));
+  EXPECT_EQ(std::make_pair(wide.width, wide.height), std::make_pair(100u, 50u));
+  EXPECT_EQ(std::make_pair(high.width, high.height), std::make_pair(60u, 30u));
+}
+
+TEST_F(CliTest, BuiltInDemoRendersWithoutArguments) {
+  const Run r = run({"render", "--width", "160", "--height", "90", "-o", "demo.png"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, "wrote demo.png (160x90)\n");
+  const FloatImage demo = readImage(output("demo.png"));
+  EXPECT_EQ(demo.width, 160);
+  EXPECT_EQ(demo.height, 90);
+  double variance = 0.0;
+  for (int c = 0; c < 3; ++c) variance += channelVariance(demo, c);
+  EXPECT_GT(variance, 1e-3) << "a flat image";
+}
+
+}  // namespace
+}  // namespace omnishadow

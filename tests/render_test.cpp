@@ -434,7 +434,7 @@ TEST(Shading, PhongUsesTheSameShadowTermsAsPbr) {
   const ViewCamera camera = lookFrom(scene, {0, 7, 4}, {0, 0, 0}, 96, 72);
   const Frame pbr = renderAovs(scene, lights, camera, Shading::Pbr);
   const Frame phong = renderAovs(scene, lights, camera, Shading::Phong);
-  for (const std::string& name : {"visibility.a", "visibility.b"}) {
+  for (const char* name : {"visibility.a", "visibility.b"}) {
     const int c = pbr.aovs->channelIndex(name);
     ASSERT_GE(c, 0);
     ASSERT_EQ(phong.aovs->channelIndex(name), c);
