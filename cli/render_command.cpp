@@ -69,13 +69,25 @@ void printStats(const StageTimes& times) {
 struct Outputs {
   std::vector<fs::path> png, exr;
   fs::path aov;
+  std::vector<fs::path> all;  // in the order given
 };
 
-Outputs checkOutputs(const RenderOptions& options, const std::vector<fs::path>& inputs) {
+// Resolves `.`/`..`/symlinks of the existing part, so that two spellings of one file compare
+// equal even when the file does not exist yet.
+fs::path resolved(const fs::path& path) { return fs::weakly_canonical(fs::absolute(path)); }
+
+// No output may overwrite one of `inputs`.
+void checkNotAnInput(const Outputs& outputs, const std::vector<std::string>& inputs) {
+  for (const fs::path& output : outputs.all)
+    for (const std::string& input : inputs)
+      if (!input.empty() && resolved(output) == resolved(input))
+        throw InputError(output.string() + ": refusing to overwrite an input file");
+}
+
+Outputs checkOutputs(const RenderOptions& options) {
   Outputs out;
   std::vector<std::string> outputs = options.outputs;
   if (outputs.empty() && options.aov.empty()) outputs.push_back("render.png");
-  std::vector<fs::path> all;
   for (const std::string& output : outputs) {
     const std::string ext = lowerExtension(output);
     if (ext == ".png") {
@@ -85,22 +97,20 @@ Outputs checkOutputs(const RenderOptions& options, const std::vector<fs::path>& 
     } else {
       throw InputError("-o " + output + ": unsupported image format (use .png or .exr)");
     }
-    all.emplace_back(output);
+    out.all.emplace_back(output);
   }
   if (!options.aov.empty()) {
     if (lowerExtension(options.aov) != ".exr")
       throw InputError("--aov " + options.aov + ": AOVs are written as OpenEXR; use a .exr name");
     out.aov = options.aov;
-    all.push_back(out.aov);
+    out.all.push_back(out.aov);
   }
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    const fs::path absolute = fs::weakly_canonical(all[i]);
-    for (const fs::path& input : inputs)
-      if (!input.empty() && absolute == fs::weakly_canonical(input))
-        throw InputError(all[i].string() + ": refusing to overwrite an input file");
+  for (std::size_t i = 0; i < out.all.size(); ++i) {
+    if (fs::is_directory(out.all[i]))
+      throw InputError(out.all[i].string() + ": is a folder, expected an image file name");
     for (std::size_t j = 0; j < i; ++j)
-      if (absolute == fs::weakly_canonical(all[j]))
-        throw InputError(all[i].string() + ": the same file is given twice as output");
+      if (resolved(out.all[i]) == resolved(out.all[j]))
+        throw InputError(out.all[i].string() + ": the same file is given twice as output");
   }
   return out;
 }
@@ -109,47 +119,16 @@ void printWarnings(const std::vector<std::string>& warnings) {
   for (const std::string& warning : warnings) std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
 }
 
-}  // namespace
-
-void addRenderCommand(CLI::App& app, RenderOptions& o) {
-  CLI::App* render = app.add_subcommand(
-      "render", "Render a glTF scene (default: the built-in demo room) to PNG/EXR images");
-  render->add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb); default: the demo scene");
-  render->add_option("-l,--lights", o.lights,
-                     "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
-  render->add_flag("--no-gltf-lights", o.noGltfLights,
-                   "Ignore the scene's KHR_lights_punctual lights");
-  render->add_option("--scene", o.sceneIndex, "Index of the glTF scene to render (default: the file's default scene)")
-      ->check(CLI::NonNegativeNumber);
-  render->add_option("--camera", o.camera, "glTF camera by name or index (default: the first)");
-  render->add_option("--eye", o.eye, "Camera position x,y,z (world units)");
-  render->add_option("--target", o.target, "Point the camera looks at, x,y,z");
-  render->add_option("--up", o.up, "Camera up vector x,y,z");
-  render->add_option("--fov", o.fov, "Vertical field of view in degrees");
-  render->add_option("--width", o.width, "Image width in pixels (default 1280)")->check(CLI::Range(1, 16384));
-  render->add_option("--height", o.height, "Image height in pixels (default 720, or from the camera's aspect ratio)")
-      ->check(CLI::Range(1, 16384));
-  render->add_option("-o,--output", o.outputs,
-                     "Output image: .png (8-bit sRGB) or .exr (linear half RGBA); repeatable "
-                     "(default: render.png)")
-      ->allow_extra_args(false);
-  render->add_option("--aov", o.aov, "Write AOVs (position, normal, distance, per-light visibility) to this .exr");
-  render->add_option("--exposure", o.exposure, "Exposure in stops applied to the beauty images (default 0)");
-  render->add_option("--shading", o.shading, "pbr (glTF metallic-roughness) or phong (Blinn-Phong)")
-      ->check(CLI::IsMember({"pbr", "phong"}));
-  render->add_option("--gpu", o.gpu, "EGL device index to render on (default: first hardware device, else software)")
-      ->check(CLI::NonNegativeNumber);
-  render->add_flag("-v,--verbose", o.verbose, "Print the GL platform, vendor, renderer, version and GL debug messages");
-  render->add_flag("--stats", o.stats, "Print the time of each stage to stderr");
-}
-
-int runRender(const RenderOptions& o) {
+int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   StageTimes times;
   ScopedStage loadStage(times, "load");
 
   const fs::path scenePath = o.scene.empty() ? fs::path(OMNISHADOW_DEMO_SCENE) : fs::path(o.scene);
   const fs::path lightsPath = o.lights.empty() ? defaultLightsFile(scenePath) : fs::path(o.lights);
-  const Outputs outputs = checkOutputs(o, {scenePath, lightsPath});
+  const Outputs outputs = checkOutputs(o);
+  checkNotAnInput(outputs, {scenePath.string(), lightsPath.string()});
+  if (!std::isfinite(o.exposure))
+    throw InputError("--exposure " + std::to_string(o.exposure) + ": expected a finite number of stops");
   CameraRequest cameraRequest;
   cameraRequest.select = o.camera;
   cameraRequest.eye = parseVec3("--eye", o.eye);
@@ -159,10 +138,10 @@ int runRender(const RenderOptions& o) {
   cameraRequest.width = o.width;
   cameraRequest.height = o.height;
 
-  std::vector<std::string> warnings;
   GltfLoadOptions loadOptions;
   loadOptions.sceneIndex = o.sceneIndex;
   const Scene scene = loadGltf(scenePath, loadOptions);
+  checkNotAnInput(outputs, scene.inputFiles);
   warnings.insert(warnings.end(), scene.warnings.begin(), scene.warnings.end());
   LightSetup setup;
   if (!lightsPath.empty()) setup = loadLightsFile(lightsPath, warnings);
@@ -223,6 +202,50 @@ int runRender(const RenderOptions& o) {
   if (!outputs.aov.empty()) std::printf("wrote %s (AOVs)\n", outputs.aov.c_str());
   if (o.stats) printStats(times);
   return 0;
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, RenderOptions& o) {
+  CLI::App* render = app.add_subcommand(
+      "render", "Render a glTF scene (default: the built-in demo room) to PNG/EXR images");
+  render->add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb); default: the demo scene");
+  render->add_option("-l,--lights", o.lights,
+                     "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
+  render->add_flag("--no-gltf-lights", o.noGltfLights,
+                   "Ignore the scene's KHR_lights_punctual lights");
+  render->add_option("--scene", o.sceneIndex, "Index of the glTF scene to render (default: the file's default scene)")
+      ->check(CLI::NonNegativeNumber);
+  render->add_option("--camera", o.camera, "glTF camera by name or index (default: the first)");
+  render->add_option("--eye", o.eye, "Camera position x,y,z (world units)");
+  render->add_option("--target", o.target, "Point the camera looks at, x,y,z");
+  render->add_option("--up", o.up, "Camera up vector x,y,z");
+  render->add_option("--fov", o.fov, "Vertical field of view in degrees");
+  render->add_option("--width", o.width, "Image width in pixels (default 1280)")->check(CLI::Range(1, 16384));
+  render->add_option("--height", o.height, "Image height in pixels (default 720, or from the camera's aspect ratio)")
+      ->check(CLI::Range(1, 16384));
+  render->add_option("-o,--output", o.outputs,
+                     "Output image: .png (8-bit sRGB) or .exr (linear half RGBA); repeatable "
+                     "(default: render.png)")
+      ->allow_extra_args(false);
+  render->add_option("--aov", o.aov, "Write AOVs (position, normal, distance, per-light visibility) to this .exr");
+  render->add_option("--exposure", o.exposure, "Exposure in stops applied to the beauty images (default 0)");
+  render->add_option("--shading", o.shading, "pbr (glTF metallic-roughness) or phong (Blinn-Phong)")
+      ->check(CLI::IsMember({"pbr", "phong"}));
+  render->add_option("--gpu", o.gpu, "EGL device index to render on (default: first hardware device, else software)")
+      ->check(CLI::NonNegativeNumber);
+  render->add_flag("-v,--verbose", o.verbose, "Print the GL platform, vendor, renderer, version and GL debug messages");
+  render->add_flag("--stats", o.stats, "Print the time of each stage to stderr");
+}
+
+int runRender(const RenderOptions& o) {
+  std::vector<std::string> warnings;
+  try {
+    return render(o, warnings);
+  } catch (...) {
+    printWarnings(warnings);  // they may explain the failure
+    throw;
+  }
 }
 
 }  // namespace omnishadow::cli

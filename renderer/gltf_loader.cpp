@@ -926,12 +926,27 @@ std::pair<std::vector<int>, std::string> sceneRoots(const Context& ctx,
   return {model.scenes[static_cast<std::size_t>(index)].nodes, object + ".nodes"};
 }
 
+
+// The files this scene reads: itself and the external (non data:) URIs of buffers and images.
+std::vector<std::string> referencedFiles(const std::filesystem::path& path,
+                                         const tinygltf::Model& model) {
+  std::vector<std::string> files = {path.string()};
+  auto add = [&](const std::string& uri) {
+    if (uri.empty() || tinygltf::IsDataURI(uri)) return;
+    files.push_back((path.parent_path() / uri).string());
+  };
+  for (const tinygltf::Buffer& buffer : model.buffers) add(buffer.uri);
+  for (const tinygltf::Image& image : model.images) add(image.uri);
+  return files;
+}
+
 }  // namespace
 
 Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options) {
   Scene scene;
   scene.path = path.string();
   const tinygltf::Model model = readModel(path, scene.path, scene.warnings);
+  scene.inputFiles = referencedFiles(path, model);
   Context ctx{scene.path, model, scene};
   checkExtensions(ctx);
   const auto [roots, rootsObject] = sceneRoots(ctx, options);

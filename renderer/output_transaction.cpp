@@ -66,6 +66,8 @@ void removeQuietly(const fs::path& path) noexcept {
 // place would publish a broken file.
 void checkWritten(const fs::path& temporary, const fs::path& finalPath) {
   std::error_code error;
+  // rename(2) cannot replace a folder; find out before anything is published.
+  if (fs::is_directory(finalPath, error)) throw cannotWrite(finalPath, "is a folder");
   auto size = fs::file_size(temporary, error);
   if (error) throw cannotWrite(finalPath, error.message());
   if (size == 0) throw cannotWrite(finalPath, "nothing was written");
@@ -80,6 +82,16 @@ fs::path identity(const fs::path& path) {
 OutputTransaction::~OutputTransaction() {
   if (committed_) return;
   for (const Entry& entry : entries_) removeQuietly(entry.temporary);
+  removeCreatedFolders();
+}
+
+void OutputTransaction::removeCreatedFolders() noexcept {
+  // Deepest first; a folder that has gained other files since is left alone.
+  for (auto it = createdFolders_.rbegin(); it != createdFolders_.rend(); ++it) {
+    std::error_code ignored;
+    if (fs::is_empty(*it, ignored)) fs::remove(*it, ignored);
+  }
+  createdFolders_.clear();
 }
 
 fs::path OutputTransaction::stage(const fs::path& finalPath) {
@@ -91,9 +103,16 @@ fs::path OutputTransaction::stage(const fs::path& finalPath) {
   }
   if (finalPath.filename().empty()) throw cannotWrite(finalPath, "not a file name");
 
+  // Remember the folders this creates, outermost first, to remove them again on failure.
+  std::vector<fs::path> missing;
+  for (fs::path folder = fs::absolute(folderOf(finalPath)).lexically_normal();
+       !folder.empty() && !fs::exists(folder) && folder != folder.parent_path();
+       folder = folder.parent_path())
+    missing.insert(missing.begin(), folder);
   std::error_code error;
   fs::create_directories(folderOf(finalPath), error);
   if (error) throw cannotWrite(finalPath, error.message());
+  createdFolders_.insert(createdFolders_.end(), missing.begin(), missing.end());
 
   // Reserve first, so that a failing push_back cannot orphan a file on disk.
   entries_.reserve(entries_.size() + 1);
@@ -113,6 +132,7 @@ void OutputTransaction::commit() {
     for (const Entry& entry : pending) checkWritten(entry.temporary, entry.final);
   } catch (...) {
     for (const Entry& entry : pending) removeQuietly(entry.temporary);
+    removeCreatedFolders();
     throw;
   }
 

@@ -8,7 +8,7 @@ namespace omnishadow {
 // All-or-nothing output: each file is written to a temporary name in its final folder, and
 // commit() renames them all into place. If the transaction is destroyed before commit() (an
 // exception while encoding, say), the temporaries are removed, so a failed run leaves no
-// partial or stray file.
+// partial or stray file, and folders that stage() created for it are removed again if empty.
 class OutputTransaction {
  public:
   OutputTransaction() = default;
@@ -30,7 +30,10 @@ class OutputTransaction {
     std::filesystem::path temporary;
     std::filesystem::path final;
   };
+  void removeCreatedFolders() noexcept;
+
   std::vector<Entry> entries_;
+  std::vector<std::filesystem::path> createdFolders_;  // by stage(), outermost first
   bool committed_ = false;
 };
 

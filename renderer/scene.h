@@ -99,6 +99,9 @@ struct Camera {
 
 struct Scene {
   std::string path;  // file it was loaded from, for messages
+  // The scene file and every external file it references (buffers, images), so that outputs
+  // never overwrite an input.
+  std::vector<std::string> inputFiles;
   std::vector<Image> images;
   std::vector<Texture> textures;
   std::vector<Material> materials;

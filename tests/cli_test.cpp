@@ -186,10 +186,12 @@ class CliTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(root_); }
 
-  // `omnishadow args...` with out/ as the working directory.
-  Run run(const std::vector<std::string>& args) {
-    std::string command =
-        "cd " + shellQuoted(out_.string()) + " && " + shellQuoted(OMNISHADOW_BINARY);
+  // `omnishadow args...` with out/ as the working directory; `environment` ("NAME=value ...")
+  // is set for the run only.
+  Run run(const std::vector<std::string>& args, const std::string& environment = "") {
+    std::string command = "cd " + shellQuoted(out_.string()) + " && " +
+                          (environment.empty() ? "" : "env " + environment + " ") +
+                          shellQuoted(OMNISHADOW_BINARY);
     for (const std::string& arg : args) command += " " + shellQuoted(arg);
     command += " >" + shellQuoted((root_ / "stdout").string()) + " 2>" +
                shellQuoted((root_ / "stderr").string());
@@ -386,6 +388,60 @@ INSTANTIATE_TEST_SUITE_P(Cli, CliErrorTest, ::testing::ValuesIn(kErrorCases),
                          [](const ::testing::TestParamInfo<ErrorCase>& test) {
                            return test.param.name;
                          });
+
+TEST_F(CliTest, OutputThatIsAFolderIsRejectedBeforeRendering) {
+  const fs::path scenePath = scene("scene.gltf");
+  fs::create_directory(in_ / "folder.png");
+  const Run r = run({"render", scenePath.string(), "-o", "a.png", "-o", (in_ / "folder.png").string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "folder.png: is a folder, expected an image file name")) << r.err;
+  EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
+}
+
+TEST_F(CliTest, RefusesToOverwriteATextureTheSceneReads) {
+  writeScene(in_ / "scene.gltf", {.format = FileFormat::GltfExternal});
+  const std::vector<std::string> inputs = filesIn(in_);
+  const auto texture = std::find_if(inputs.begin(), inputs.end(), [](const std::string& name) {
+    return name.ends_with(".png");
+  });
+  ASSERT_NE(texture, inputs.end());
+  const std::string before = readBytes(in_ / *texture);
+  const Run r = run({"render", (in_ / "scene.gltf").string(), "-o", (in_ / *texture).string()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "refusing to overwrite an input file")) << r.err;
+  EXPECT_EQ(readBytes(in_ / *texture), before);
+}
+
+TEST_F(CliTest, FailedRunRemovesTheFoldersItCreated) {
+  const fs::path scenePath = scene("scene.gltf");
+  const Run r = run({"render", scenePath.string(), "--width", "8", "--height", "8", "-o",
+                     "new/deeper/a.png", "-o", (scenePath / "b.png").string()});
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
+}
+
+TEST_F(CliTest, WarningsAreStillPrintedWhenTheRunFails) {
+  const fs::path scenePath = scene("scene.gltf");
+  std::string lights = shadowedLights(17);
+  lights.insert(1, R"("colour": 1, )");
+  const fs::path lightsPath = writeText("lights.json", lights);
+  const Run r = run({"render", scenePath.string(), "-l", lightsPath.string(), "--no-gltf-lights"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "colour: unknown field, ignored")) << r.err;
+  EXPECT_TRUE(contains(r.err, "at most 16")) << r.err;
+}
+
+TEST_F(CliTest, NoEglContextSaysWhatWasTried) {
+  // glvnd finds no vendor library, so every platform fails; the message lists the attempts.
+  const fs::path scenePath = scene("scene.gltf");
+  const Run r = run({"render", scenePath.string(), "-o", "a.png"},
+                    "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/vendor.json");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "cannot create a headless OpenGL 4.5 core context through EGL; tried:"))
+      << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
+}
 
 TEST_F(CliTest, RefusesToOverwriteAnInput) {
   // Outputs are checked before the scene is read, so this input need not even be a scene.
