@@ -11,6 +11,7 @@
 #include "renderer/camera.h"
 #include "renderer/cube_faces.h"
 #include "renderer/errors.h"
+#include "renderer/gltf_loader.h"
 #include "renderer/renderer.h"
 #include "scenes/builder/gltf_builder.h"
 
@@ -497,4 +498,102 @@ TEST(Shadows, TooManyShadowedPointLightsIsAnInputError) {
   StageTimes times;
   EXPECT_THROW(sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, {}, times),
                InputError);
+}
+
+// ---------------------------------------------------------------------------------------------
+// A real model made by others: the Cornell box with Suzanne (scenes/thirdparty). The visibility
+// the renderer used must agree with exact ray casting against the model's own triangles.
+
+namespace {
+
+struct Triangle {
+  glm::vec3 a, b, c;
+};
+
+std::vector<Triangle> worldTriangles(const Scene& scene) {
+  std::vector<Triangle> triangles;
+  for (const MeshInstance& instance : scene.instances) {
+    const Mesh& mesh = scene.meshes[instance.mesh];
+    auto world = [&](std::uint32_t i) {
+      return glm::vec3(instance.world * glm::vec4(mesh.positions[i], 1.0f));
+    };
+    for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
+      triangles.push_back({world(mesh.indices[i]), world(mesh.indices[i + 1]),
+                           world(mesh.indices[i + 2])});
+  }
+  return triangles;
+}
+
+// Möller-Trumbore: does the open segment from `from` to `to` cross a triangle?
+bool segmentBlocked(const std::vector<Triangle>& triangles, glm::vec3 from, glm::vec3 to) {
+  const glm::vec3 d = to - from;
+  for (const Triangle& t : triangles) {
+    const glm::vec3 e1 = t.b - t.a, e2 = t.c - t.a;
+    const glm::vec3 p = glm::cross(d, e2);
+    const float det = glm::dot(e1, p);
+    if (std::abs(det) < 1e-12f) continue;
+    const glm::vec3 s = from - t.a;
+    const float u = glm::dot(s, p) / det;
+    if (u < 0.0f || u > 1.0f) continue;
+    const glm::vec3 q = glm::cross(s, e1);
+    const float v = glm::dot(d, q) / det;
+    if (v < 0.0f || u + v > 1.0f) continue;
+    const float hit = glm::dot(e2, q) / det;
+    if (hit > 1e-4f && hit < 1.0f - 1e-4f) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST(Shadows, CornellBoxVisibilityAgreesWithRayCasting) {
+  const Scene scene = loadGltf(std::string(OMNISHADOW_SOURCE_DIR) +
+                               "/scenes/thirdparty/CornellBoxSuzanne/cornell-box.glb");
+  const std::vector<Triangle> triangles = worldTriangles(scene);
+  const glm::vec3 lightPosition(0.15f, 0.55f, 0.35f);
+  const int resolution = 1024;
+  const Light light = pointLight("lamp", lightPosition, ShadowFilter::Hard, resolution);
+  const ViewCamera camera = lookFrom(scene, {0.0f, 0.0f, 3.6f}, {0.0f, 0.0f, 0.0f}, 160, 160, 40.0f);
+  const Frame frame = renderAovs(scene, {light}, camera);
+
+  int agree = 0, disagree = 0, shadowed = 0, skippedEdges = 0;
+  for (int y = 0; y + 1 < camera.height; ++y) {
+    for (int x = 0; x + 1 < camera.width; ++x) {
+      const AovPixel px = pixelAt(*frame.aovs, x, y, "lamp");
+      const AovPixel right = pixelAt(*frame.aovs, x + 1, y, "lamp");
+      const AovPixel below = pixelAt(*frame.aovs, x, y + 1, "lamp");
+      if (px.coverage < 1.0f || right.coverage < 1.0f || below.coverage < 1.0f) continue;
+      // The geometric normal from neighbouring positions: this model's shading normals are
+      // smoothed across the room's corners. Pixels whose neighbours lie on another surface are
+      // skipped.
+      const glm::vec3 dx = right.position - px.position, dy = below.position - px.position;
+      if (glm::length(dx) > 0.05f || glm::length(dy) > 0.05f) continue;
+      glm::vec3 normal = glm::normalize(glm::cross(dx, dy));
+      if (glm::dot(normal, camera.eye - px.position) < 0.0f) normal = -normal;
+      const glm::vec3 toLight = lightPosition - px.position;
+      const float distance = glm::length(toLight);
+      if (glm::dot(normal, toLight / distance) < 0.2f) continue;  // grazing or facing away
+      // Points within a few shadow-map texels of a shadow edge may go either way.
+      const float texel = 2.0f * distance / static_cast<float>(resolution);
+      const glm::vec3 t1 = glm::normalize(dx), t2 = glm::normalize(glm::cross(normal, t1));
+      const glm::vec3 origin = px.position + normal * 1e-3f;
+      const bool blocked = segmentBlocked(triangles, origin, lightPosition);
+      bool edge = false;
+      for (const glm::vec3 offset : {t1, -t1, t2, -t2})
+        edge |= segmentBlocked(triangles, origin + offset * 3.0f * texel, lightPosition) != blocked;
+      if (edge) {
+        ++skippedEdges;
+        continue;
+      }
+      const bool rendererLit = px.visibility > 0.5f;
+      (rendererLit == !blocked ? agree : disagree)++;
+      shadowed += blocked ? 1 : 0;
+    }
+  }
+  std::printf("cornell box: %d pixels agree with ray casting, %d disagree (%d shadowed), %d near "
+              "shadow edges skipped\n", agree, disagree, shadowed, skippedEdges);
+  EXPECT_GT(shadowed, 200);
+  EXPECT_GT(agree, 5000);
+  EXPECT_LE(disagree, agree / 1000) << "agree " << agree << ", edges skipped " << skippedEdges
+                                     << ", shadowed " << shadowed;
 }
