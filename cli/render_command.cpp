@@ -1,8 +1,8 @@
 #include "cli/render_command.h"
 
-#include <CLI/CLI.hpp>
 #include <GL/glcorearb.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -24,7 +24,8 @@ namespace {
 
 std::string lowerExtension(const fs::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
 
@@ -36,7 +37,8 @@ std::optional<glm::vec3> parseVec3(const std::string& option, const std::string&
   in >> v.x >> comma1 >> v.y >> comma2 >> v.z;
   if (!in || comma1 != ',' || comma2 != ',' || in.peek() != EOF || !std::isfinite(v.x) ||
       !std::isfinite(v.y) || !std::isfinite(v.z))
-    throw InputError(option + " " + text + ": expected 3 comma-separated finite numbers, e.g. 0,1.5,4");
+    throw InputError(option + " " + text +
+                     ": expected 3 comma-separated finite numbers, e.g. 0,1.5,4");
   return v;
 }
 
@@ -74,7 +76,9 @@ struct Outputs {
 
 // Resolves `.`/`..`/symlinks of the existing part, so that two spellings of one file compare
 // equal even when the file does not exist yet.
-fs::path resolved(const fs::path& path) { return fs::weakly_canonical(fs::absolute(path)); }
+fs::path resolved(const fs::path& path) {
+  return fs::weakly_canonical(fs::absolute(path));
+}
 
 // No output may overwrite one of `inputs`.
 void checkNotAnInput(const Outputs& outputs, const std::vector<std::string>& inputs) {
@@ -116,7 +120,8 @@ Outputs checkOutputs(const RenderOptions& options) {
 }
 
 void printWarnings(const std::vector<std::string>& warnings) {
-  for (const std::string& warning : warnings) std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
+  for (const std::string& warning : warnings)
+    std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
 }
 
 int render(const RenderOptions& o, std::vector<std::string>& warnings) {
@@ -128,7 +133,8 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   const Outputs outputs = checkOutputs(o);
   checkNotAnInput(outputs, {scenePath.string(), lightsPath.string()});
   if (!std::isfinite(o.exposure))
-    throw InputError("--exposure " + std::to_string(o.exposure) + ": expected a finite number of stops");
+    throw InputError("--exposure " + std::to_string(o.exposure) +
+                     ": expected a finite number of stops");
   CameraRequest cameraRequest;
   cameraRequest.select = o.camera;
   cameraRequest.eye = parseVec3("--eye", o.eye);
@@ -171,8 +177,8 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   for (const Light& light : lights)
     if (light.shadow.enabled && light.shadow.resolution > maxCubeSize)
       throw InputError(light.origin + ": light \"" + light.name + "\": shadow.resolution " +
-                       std::to_string(light.shadow.resolution) + " exceeds this GL's maximum cube map size " +
-                       std::to_string(maxCubeSize));
+                       std::to_string(light.shadow.resolution) +
+                       " exceeds this GL's maximum cube map size " + std::to_string(maxCubeSize));
   contextStage.stop();
 
   RenderSettings settings;
@@ -190,7 +196,8 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   }
   if (!outputs.exr.empty()) {
     const FloatImage exposed = applyExposure(frame.beauty, o.exposure);
-    for (const fs::path& path : outputs.exr) writeExr(transaction.stage(path), exposed, ExrPixelType::Half);
+    for (const fs::path& path : outputs.exr)
+      writeExr(transaction.stage(path), exposed, ExrPixelType::Half);
   }
   if (frame.aovs) writeExr(transaction.stage(outputs.aov), *frame.aovs, ExrPixelType::Float);
   transaction.commit();
@@ -198,7 +205,8 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
 
   printWarnings(warnings);
   for (const auto& list : {outputs.png, outputs.exr})
-    for (const fs::path& path : list) std::printf("wrote %s (%dx%d)\n", path.c_str(), camera.width, camera.height);
+    for (const fs::path& path : list)
+      std::printf("wrote %s (%dx%d)\n", path.c_str(), camera.width, camera.height);
   if (!outputs.aov.empty()) std::printf("wrote %s (AOVs)\n", outputs.aov.c_str());
   if (o.stats) printStats(times);
   return 0;
@@ -214,27 +222,38 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
                      "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
   render->add_flag("--no-gltf-lights", o.noGltfLights,
                    "Ignore the scene's KHR_lights_punctual lights");
-  render->add_option("--scene", o.sceneIndex, "Index of the glTF scene to render (default: the file's default scene)")
+  render
+      ->add_option("--scene", o.sceneIndex,
+                   "Index of the glTF scene to render (default: the file's default scene)")
       ->check(CLI::NonNegativeNumber);
   render->add_option("--camera", o.camera, "glTF camera by name or index (default: the first)");
   render->add_option("--eye", o.eye, "Camera position x,y,z (world units)");
   render->add_option("--target", o.target, "Point the camera looks at, x,y,z");
   render->add_option("--up", o.up, "Camera up vector x,y,z");
   render->add_option("--fov", o.fov, "Vertical field of view in degrees");
-  render->add_option("--width", o.width, "Image width in pixels (default 1280)")->check(CLI::Range(1, 16384));
-  render->add_option("--height", o.height, "Image height in pixels (default 720, or from the camera's aspect ratio)")
+  render->add_option("--width", o.width, "Image width in pixels (default 1280)")
       ->check(CLI::Range(1, 16384));
-  render->add_option("-o,--output", o.outputs,
-                     "Output image: .png (8-bit sRGB) or .exr (linear half RGBA); repeatable "
-                     "(default: render.png)")
+  render
+      ->add_option("--height", o.height,
+                   "Image height in pixels (default 720, or from the camera's aspect ratio)")
+      ->check(CLI::Range(1, 16384));
+  render
+      ->add_option("-o,--output", o.outputs,
+                   "Output image: .png (8-bit sRGB) or .exr (linear half RGBA); repeatable "
+                   "(default: render.png)")
       ->allow_extra_args(false);
-  render->add_option("--aov", o.aov, "Write AOVs (position, normal, distance, per-light visibility) to this .exr");
-  render->add_option("--exposure", o.exposure, "Exposure in stops applied to the beauty images (default 0)");
+  render->add_option("--aov", o.aov,
+                     "Write AOVs (position, normal, distance, per-light visibility) to this .exr");
+  render->add_option("--exposure", o.exposure,
+                     "Exposure in stops applied to the beauty images (default 0)");
   render->add_option("--shading", o.shading, "pbr (glTF metallic-roughness) or phong (Blinn-Phong)")
       ->check(CLI::IsMember({"pbr", "phong"}));
-  render->add_option("--gpu", o.gpu, "EGL device index to render on (default: first hardware device, else software)")
+  render
+      ->add_option("--gpu", o.gpu,
+                   "EGL device index to render on (default: first hardware device, else software)")
       ->check(CLI::NonNegativeNumber);
-  render->add_flag("-v,--verbose", o.verbose, "Print the GL platform, vendor, renderer, version and GL debug messages");
+  render->add_flag("-v,--verbose", o.verbose,
+                   "Print the GL platform, vendor, renderer, version and GL debug messages");
   render->add_flag("--stats", o.stats, "Print the time of each stage to stderr");
 }
 

@@ -81,9 +81,11 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
   out.width = request.width.value_or(kDefaultWidth);
   out.height = request.height.value_or(kDefaultHeight);
   if (aspectHint > 0.0f && !request.height)
-    out.height = std::max(1, static_cast<int>(std::lround(static_cast<float>(out.width) / aspectHint)));
+    out.height =
+        std::max(1, static_cast<int>(std::lround(static_cast<float>(out.width) / aspectHint)));
   else if (aspectHint > 0.0f && request.height && !request.width)
-    out.width = std::max(1, static_cast<int>(std::lround(static_cast<float>(*request.height) * aspectHint)));
+    out.width = std::max(
+        1, static_cast<int>(std::lround(static_cast<float>(*request.height) * aspectHint)));
   const float aspect = static_cast<float>(out.width) / static_cast<float>(out.height);
 
   glm::vec3 eye, forward, up;

@@ -1,9 +1,8 @@
 #pragma once
 
+#include <glm/glm.hpp>
 #include <optional>
 #include <string>
-
-#include <glm/glm.hpp>
 
 #include "renderer/scene.h"
 
@@ -26,7 +25,7 @@ struct ViewCamera {
   glm::mat4 projection{1.0f};  // reversed depth, [0,1] clip range (glClipControl ZERO_TO_ONE)
   bool orthographic = false;
   float znear = 0.01f;
-  float zfar = 0.0f;  // 0 = infinite
+  float zfar = 0.0f;        // 0 = infinite
   std::string description;  // e.g. "glTF camera 0 \"Main\"" or "automatic framing"
 };
 

@@ -46,8 +46,8 @@ glm::mat4 cubeFaceView(CubeFace face, const glm::vec3& center) {
     view[i][1] = up[i];
     view[i][2] = -forward[i];
   }
-  view[3] = glm::vec4(-glm::dot(right, center), -glm::dot(up, center), glm::dot(forward, center),
-                      1.0f);
+  view[3] =
+      glm::vec4(-glm::dot(right, center), -glm::dot(up, center), glm::dot(forward, center), 1.0f);
   return view;
 }
 

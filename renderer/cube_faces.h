@@ -1,7 +1,6 @@
 #pragma once
 
 #include <array>
-
 #include <glm/glm.hpp>
 
 namespace omnishadow {
@@ -10,7 +9,7 @@ namespace omnishadow {
 enum class CubeFace { PosX = 0, NegX, PosY, NegY, PosZ, NegZ };
 inline constexpr int kCubeFaceCount = 6;
 inline constexpr std::array<const char*, kCubeFaceCount> kCubeFaceNames = {"px", "nx", "py",
-                                                                            "ny", "pz", "nz"};
+                                                                           "ny", "pz", "nz"};
 
 // Where a direction lands in a cube map, by the selection rule of the GL specification
 // (OpenGL 4.5 core, section 8.13, table 8.19): the major axis picks the face, and (s, t) in

@@ -14,22 +14,38 @@ namespace {
 
 const char* eglErrorName(EGLint error) {
   switch (error) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CURRENT_SURFACE: return "EGL_BAD_CURRENT_SURFACE";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_NATIVE_PIXMAP: return "EGL_BAD_NATIVE_PIXMAP";
-    case EGL_BAD_NATIVE_WINDOW: return "EGL_BAD_NATIVE_WINDOW";
-    case EGL_CONTEXT_LOST: return "EGL_CONTEXT_LOST";
-    default: return "unknown EGL error";
+    case EGL_SUCCESS:
+      return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CURRENT_SURFACE:
+      return "EGL_BAD_CURRENT_SURFACE";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_SURFACE:
+      return "EGL_BAD_SURFACE";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    case EGL_BAD_NATIVE_PIXMAP:
+      return "EGL_BAD_NATIVE_PIXMAP";
+    case EGL_BAD_NATIVE_WINDOW:
+      return "EGL_BAD_NATIVE_WINDOW";
+    case EGL_CONTEXT_LOST:
+      return "EGL_CONTEXT_LOST";
+    default:
+      return "unknown EGL error";
   }
 }
 
@@ -64,8 +80,7 @@ struct EglContext::Impl {
 
   // Returns an empty string on success, else why it failed.
   std::string tryCreate(const Candidate& candidate, bool debug) {
-    auto getPlatformDisplay =
-        loadProc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
+    auto getPlatformDisplay = loadProc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
     if (!getPlatformDisplay) return "eglGetPlatformDisplayEXT is missing";
     display = getPlatformDisplay(candidate.platform, candidate.nativeDisplay, nullptr);
     if (display == EGL_NO_DISPLAY)
@@ -85,11 +100,14 @@ struct EglContext::Impl {
       if (!eglChooseConfig(display, attributes, &config, 1, &count) || count == 0)
         return fail("eglChooseConfig (no EGL_KHR_no_config_context)");
     }
-    const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
-                                        EGL_CONTEXT_MINOR_VERSION, 5,
+    const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                        4,
+                                        EGL_CONTEXT_MINOR_VERSION,
+                                        5,
                                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                        EGL_CONTEXT_OPENGL_DEBUG, debug ? EGL_TRUE : EGL_FALSE,
+                                        EGL_CONTEXT_OPENGL_DEBUG,
+                                        debug ? EGL_TRUE : EGL_FALSE,
                                         EGL_NONE};
     context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttributes);
     if (context == EGL_NO_CONTEXT) return fail("eglCreateContext (OpenGL 4.5 core)");
@@ -144,9 +162,9 @@ std::vector<Candidate> deviceCandidates(int gpuIndex, std::vector<std::string>& 
     std::string name = "EGL device " + std::to_string(i);
     if (isSoftware) {
       name += " (software)";
-    } else if (const char* drm = queryDeviceString ? queryDeviceString(devices[i],
-                                                                       EGL_DRM_DEVICE_FILE_EXT)
-                                                   : nullptr) {
+    } else if (const char* drm = queryDeviceString
+                                     ? queryDeviceString(devices[i], EGL_DRM_DEVICE_FILE_EXT)
+                                     : nullptr) {
       name += std::string(" (") + drm + ")";
     } else {
       eglGetError();  // the DRM query may fail on drivers without DRM; not an error
@@ -165,10 +183,11 @@ EglContext::EglContext(const ContextOptions& options) : impl_(std::make_unique<I
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (options.gpuIndex < 0) {
     if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless"))
-      candidates.push_back({"EGL surfaceless platform", EGL_PLATFORM_SURFACELESS_MESA,
-                            EGL_DEFAULT_DISPLAY});
+      candidates.push_back(
+          {"EGL surfaceless platform", EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY});
     else
-      attempts.push_back("EGL surfaceless platform: not supported (no EGL_MESA_platform_surfaceless)");
+      attempts.push_back(
+          "EGL surfaceless platform: not supported (no EGL_MESA_platform_surfaceless)");
   }
   for (const Candidate& candidate : candidates) {
     const std::string why = impl_->tryCreate(candidate, options.debug);
@@ -181,9 +200,13 @@ EglContext::EglContext(const ContextOptions& options) : impl_(std::make_unique<I
   throw RenderError(message);
 }
 
-EglContext::~EglContext() { impl_->release(); }
+EglContext::~EglContext() {
+  impl_->release();
+}
 
-const std::string& EglContext::platformDescription() const { return impl_->description; }
+const std::string& EglContext::platformDescription() const {
+  return impl_->description;
+}
 
 std::string EglContext::glDescription() const {
   auto text = [](GLenum name) {

@@ -7,8 +7,8 @@
 namespace omnishadow {
 
 struct ContextOptions {
-  int gpuIndex = -1;     // EGL device index (--gpu); -1 = hardware devices first, then software
-  bool debug = false;    // debug context + KHR_debug messages printed to stderr (--verbose)
+  int gpuIndex = -1;   // EGL device index (--gpu); -1 = hardware devices first, then software
+  bool debug = false;  // debug context + KHR_debug messages printed to stderr (--verbose)
 };
 
 // Headless OpenGL 4.5 core context, current on the calling thread for its lifetime. No window,

@@ -37,13 +37,27 @@ class Handle {
 };
 
 namespace detail {
-inline void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
-inline void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
-inline void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
-inline void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
-inline void deleteSampler(GLuint id) { glDeleteSamplers(1, &id); }
-inline void deleteProgram(GLuint id) { glDeleteProgram(id); }
-inline void deleteShader(GLuint id) { glDeleteShader(id); }
+inline void deleteBuffer(GLuint id) {
+  glDeleteBuffers(1, &id);
+}
+inline void deleteTexture(GLuint id) {
+  glDeleteTextures(1, &id);
+}
+inline void deleteFramebuffer(GLuint id) {
+  glDeleteFramebuffers(1, &id);
+}
+inline void deleteVertexArray(GLuint id) {
+  glDeleteVertexArrays(1, &id);
+}
+inline void deleteSampler(GLuint id) {
+  glDeleteSamplers(1, &id);
+}
+inline void deleteProgram(GLuint id) {
+  glDeleteProgram(id);
+}
+inline void deleteShader(GLuint id) {
+  glDeleteShader(id);
+}
 }  // namespace detail
 
 using Buffer = Handle<detail::deleteBuffer>;

@@ -926,7 +926,6 @@ std::pair<std::vector<int>, std::string> sceneRoots(const Context& ctx,
   return {model.scenes[static_cast<std::size_t>(index)].nodes, object + ".nodes"};
 }
 
-
 // The files this scene reads: itself and the external (non data:) URIs of buffers and images.
 std::vector<std::string> referencedFiles(const std::filesystem::path& path,
                                          const tinygltf::Model& model) {

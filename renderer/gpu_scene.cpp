@@ -24,7 +24,6 @@ void setAttribute(GLuint vao, GLuint location, GLint size, GLuint offset) {
   glVertexArrayAttribBinding(vao, location, 0);
 }
 
-
 }  // namespace
 
 GpuScene::GpuScene(const Scene& scene) : vertexArray_(gl::createVertexArray()) {

@@ -1,8 +1,7 @@
 #pragma once
 
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "renderer/gl_resources.h"
 #include "renderer/scene.h"
@@ -23,7 +22,7 @@ struct GpuDraw {
   int material = -1;  // index into GpuScene::materials (the default material is appended)
   glm::mat4 world{1.0f};
   glm::mat3 normalMatrix{1.0f};
-  bool mirrored = false;  // negative determinant: front faces are clockwise
+  bool mirrored = false;         // negative determinant: front faces are clockwise
   glm::vec3 boundsCenter{0.0f};  // world-space bounding sphere, for culling
   float boundsRadius = 0.0f;
 };

@@ -14,7 +14,9 @@ struct FloatImage {
   std::vector<std::string> channels;  // e.g. {"R","G","B","A"} or {"P.X","P.Y","P.Z",...}
   std::vector<float> pixels;          // width * height * channels.size()
 
-  float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels.size() + c]; }
+  float& at(int x, int y, int c) {
+    return pixels[(std::size_t(y) * width + x) * channels.size() + c];
+  }
   float at(int x, int y, int c) const {
     return pixels[(std::size_t(y) * width + x) * channels.size() + c];
   }

@@ -1,9 +1,8 @@
 #pragma once
 
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 namespace omnishadow {
 
@@ -20,24 +19,24 @@ enum class ShadowFilter {
 
 struct ShadowSettings {
   bool enabled = true;
-  int resolution = 1024;  // texels per cube face edge
-  float near = 0.05f;     // world units
-  float far = 0.0f;       // world units; 0 = the light's range, or the scene bounds if unlimited
-  float bias = 0.0f;      // constant bias in world units
-  float slopeBias = 2.0f; // slope-scaled bias in shadow-map texels (see renderer/shadow_bias.h)
+  int resolution = 1024;   // texels per cube face edge
+  float near = 0.05f;      // world units
+  float far = 0.0f;        // world units; 0 = the light's range, or the scene bounds if unlimited
+  float bias = 0.0f;       // constant bias in world units
+  float slopeBias = 2.0f;  // slope-scaled bias in shadow-map texels (see renderer/shadow_bias.h)
   ShadowFilter filter = ShadowFilter::Pcf;
 };
 
 struct Light {
   std::string name;  // unique within a render
   LightType type = LightType::Point;
-  glm::vec3 position{0.0f};             // world space (point, spot)
-  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, normalized (spot, directional)
-  glm::vec3 color{1.0f};                // linear RGB
-  float intensity = 1.0f;  // candela (point, spot) or lux (directional)
-  float range = 0.0f;      // world units; 0 = unlimited
-  float innerConeAngle = 0.0f;                     // radians (spot)
-  float outerConeAngle = 0.7853981633974483f;      // radians (spot), pi/4
+  glm::vec3 position{0.0f};                    // world space (point, spot)
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};      // world space, normalized (spot, directional)
+  glm::vec3 color{1.0f};                       // linear RGB
+  float intensity = 1.0f;                      // candela (point, spot) or lux (directional)
+  float range = 0.0f;                          // world units; 0 = unlimited
+  float innerConeAngle = 0.0f;                 // radians (spot)
+  float outerConeAngle = 0.7853981633974483f;  // radians (spot), pi/4
   ShadowSettings shadow;
   std::string origin;  // where it came from, for messages: a lights file path or "glTF"
 };

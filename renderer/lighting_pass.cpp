@@ -81,7 +81,8 @@ FrameTargets::FrameTargets(int width, int height, bool aovs)
   std::vector<GLenum> drawBuffers;
   for (int i = 0; i < count; ++i) {
     colors_.push_back(makeTarget(GL_RGBA32F, width, height));
-    glNamedFramebufferTexture(framebuffer_.get(), GL_COLOR_ATTACHMENT0 + i, colors_.back().get(), 0);
+    glNamedFramebufferTexture(framebuffer_.get(), GL_COLOR_ATTACHMENT0 + i, colors_.back().get(),
+                              0);
     drawBuffers.push_back(GL_COLOR_ATTACHMENT0 + i);
   }
   depth_ = makeTarget(GL_DEPTH_COMPONENT32F, width, height);
@@ -111,11 +112,11 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights) {
     if (shaded.shadow) {
       const GLuint unit = 8 + static_cast<GLuint>(shadowIndex);
       glBindTextureUnit(unit, shaded.shadow->cube.get());
-      glBindSampler(unit, l.shadow.filter == ShadowFilter::Hard ? hardCompare_.get()
-                                                                : linearCompare_.get());
+      glBindSampler(
+          unit, l.shadow.filter == ShadowFilter::Hard ? hardCompare_.get() : linearCompare_.get());
       index = static_cast<float>(shadowIndex++);
-      g.shadowParameters = glm::vec4(shaded.shadow->near, shaded.shadow->far, l.shadow.bias,
-                                     l.shadow.slopeBias);
+      g.shadowParameters =
+          glm::vec4(shaded.shadow->near, shaded.shadow->far, l.shadow.bias, l.shadow.slopeBias);
     }
     g.radianceShadow = glm::vec4(l.color * l.intensity, index);
     // KHR_lights_punctual's cone falloff as a scale and offset of cos(angle).

@@ -72,7 +72,8 @@ LightingPass& Renderer::lightingPass(const RenderSettings& settings) {
   const auto key = std::make_pair(settings.shading, settings.aovs);
   for (auto& [k, pass] : lightingPasses_)
     if (k == key) return *pass;
-  lightingPasses_.emplace_back(key, std::make_unique<LightingPass>(settings.shading, settings.aovs));
+  lightingPasses_.emplace_back(key,
+                               std::make_unique<LightingPass>(settings.shading, settings.aovs));
   return *lightingPasses_.back().second;
 }
 
@@ -80,7 +81,8 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
                        const glm::vec3& ambient, const ViewCamera& camera,
                        const RenderSettings& settings, StageTimes& times) {
   Frame frame;
-  const int shadowed = static_cast<int>(std::count_if(lights.begin(), lights.end(), castsPointShadow));
+  const int shadowed =
+      static_cast<int>(std::count_if(lights.begin(), lights.end(), castsPointShadow));
   if (shadowed > kMaxPointShadows)
     throw InputError(std::to_string(shadowed) + " point lights cast shadows, but one frame can " +
                      "sample at most " + std::to_string(kMaxPointShadows) +
@@ -117,16 +119,19 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
 
   // One pass gives the beauty and the visibility of 20 lights; more lights take more passes.
   const int lightCount = static_cast<int>(lights.size());
-  const int passes = settings.aovs ? std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass) : 1;
+  const int passes =
+      settings.aovs ? std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass) : 1;
   std::vector<std::string> channels = {"R", "G", "B", "A"};
   if (settings.aovs) {
-    for (const char* name : {"P.X", "P.Y", "P.Z", "N.X", "N.Y", "N.Z", "Z"}) channels.push_back(name);
+    for (const char* name : {"P.X", "P.Y", "P.Z", "N.X", "N.Y", "N.Z", "Z"})
+      channels.push_back(name);
     for (const Light& light : lights) channels.push_back("visibility." + light.name);
   }
   FloatImage beauty{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
   beauty.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height * 4);
   FloatImage aovs{camera.width, camera.height, channels, {}};
-  if (settings.aovs) aovs.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height * channels.size());
+  if (settings.aovs)
+    aovs.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height * channels.size());
 
   for (int pass = 0; pass < passes; ++pass) {
     const int base = pass * kVisibilityPerPass;

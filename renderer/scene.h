@@ -1,11 +1,10 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "renderer/bounds.h"
 #include "renderer/light.h"
@@ -85,16 +84,16 @@ struct MeshInstance {
 
 // A glTF camera as placed by a node that references it.
 struct Camera {
-  std::string name;      // the camera's name, or else its node's name
+  std::string name;  // the camera's name, or else its node's name
   std::string nodeName;
-  int index = -1;        // glTF camera index
+  int index = -1;  // glTF camera index
   bool orthographic = false;
-  float yfov = 0.8f;          // radians (perspective)
-  float aspectRatio = 0.0f;   // 0 = unspecified
+  float yfov = 0.8f;               // radians (perspective)
+  float aspectRatio = 0.0f;        // 0 = unspecified
   float xmag = 1.0f, ymag = 1.0f;  // half extents (orthographic)
   float znear = 0.01f;
-  float zfar = 0.0f;          // 0 = infinite (perspective)
-  glm::mat4 world{1.0f};      // camera-to-world; the camera looks down its local -Z, +Y up
+  float zfar = 0.0f;      // 0 = infinite (perspective)
+  glm::mat4 world{1.0f};  // camera-to-world; the camera looks down its local -Z, +Y up
 };
 
 struct Scene {

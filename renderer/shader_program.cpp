@@ -84,14 +84,20 @@ ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& f
   }
 }
 
-void ShaderProgram::use() const { glUseProgram(program_.get()); }
+void ShaderProgram::use() const {
+  glUseProgram(program_.get());
+}
 
 GLint ShaderProgram::location(const char* uniform) const {
   return glGetUniformLocation(program_.get(), uniform);
 }
 
-void ShaderProgram::set(const char* u, int v) const { glProgramUniform1i(id(), location(u), v); }
-void ShaderProgram::set(const char* u, float v) const { glProgramUniform1f(id(), location(u), v); }
+void ShaderProgram::set(const char* u, int v) const {
+  glProgramUniform1i(id(), location(u), v);
+}
+void ShaderProgram::set(const char* u, float v) const {
+  glProgramUniform1f(id(), location(u), v);
+}
 void ShaderProgram::set(const char* u, const glm::vec3& v) const {
   glProgramUniform3fv(id(), location(u), 1, glm::value_ptr(v));
 }

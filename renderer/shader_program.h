@@ -1,9 +1,8 @@
 #pragma once
 
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "renderer/gl_resources.h"
 

@@ -29,8 +29,8 @@ ShadowPass::ShadowPass()
   glNamedFramebufferReadBuffer(framebuffer_.get(), GL_NONE);
 }
 
-PointShadowMap ShadowPass::renderPointLight(const GpuScene& scene, const Light& light,
-                                            float near, float far, int resolution) {
+PointShadowMap ShadowPass::renderPointLight(const GpuScene& scene, const Light& light, float near,
+                                            float far, int resolution) {
   PointShadowMap map;
   map.resolution = resolution;
   map.near = near;
@@ -74,9 +74,8 @@ PointShadowMap ShadowPass::renderPointLight(const GpuScene& scene, const Light& 
         program.set("uBaseColorFactor", material.desc.baseColorFactor);
         program.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
         program.set("uBaseColorTexCoord", material.desc.baseColorTexture.texCoord);
-        program.set("uAlphaCutoff", material.desc.alphaMode == AlphaMode::Mask
-                                        ? material.desc.alphaCutoff
-                                        : 0.5f);
+        program.set("uAlphaCutoff",
+                    material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
         glBindTextureUnit(0, material.baseColor);
         glBindSampler(0, material.baseColorSampler);
       }

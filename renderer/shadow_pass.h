@@ -1,9 +1,8 @@
 #pragma once
 
 #include <array>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "renderer/cube_faces.h"
 #include "renderer/gl_resources.h"
@@ -40,8 +39,8 @@ class ShadowPass {
 
   // Renders one face at a time; instances whose bounding sphere misses a face's frustum (or
   // lies beyond `far`) are skipped for that face. Casters are drawn double-sided.
-  PointShadowMap renderPointLight(const GpuScene& scene, const Light& light, float near,
-                                  float far, int resolution);
+  PointShadowMap renderPointLight(const GpuScene& scene, const Light& light, float near, float far,
+                                  int resolution);
 
   // Reads the map back as distances along each texel center's ray.
   static CubeDistances readDistances(const PointShadowMap& map);

@@ -10,7 +10,9 @@ namespace omnishadow {
 // Wall time of the named stages of one render, in the order they ran (--stats).
 class StageTimes {
  public:
-  void add(const std::string& stage, double milliseconds) { stages_.emplace_back(stage, milliseconds); }
+  void add(const std::string& stage, double milliseconds) {
+    stages_.emplace_back(stage, milliseconds);
+  }
   const std::vector<std::pair<std::string, double>>& stages() const { return stages_; }
   double total() const {
     double sum = 0;

@@ -392,7 +392,8 @@ INSTANTIATE_TEST_SUITE_P(Cli, CliErrorTest, ::testing::ValuesIn(kErrorCases),
 TEST_F(CliTest, OutputThatIsAFolderIsRejectedBeforeRendering) {
   const fs::path scenePath = scene("scene.gltf");
   fs::create_directory(in_ / "folder.png");
-  const Run r = run({"render", scenePath.string(), "-o", "a.png", "-o", (in_ / "folder.png").string()});
+  const Run r =
+      run({"render", scenePath.string(), "-o", "a.png", "-o", (in_ / "folder.png").string()});
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(contains(r.err, "folder.png: is a folder, expected an image file name")) << r.err;
   EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
@@ -401,9 +402,8 @@ TEST_F(CliTest, OutputThatIsAFolderIsRejectedBeforeRendering) {
 TEST_F(CliTest, RefusesToOverwriteATextureTheSceneReads) {
   writeScene(in_ / "scene.gltf", {.format = FileFormat::GltfExternal});
   const std::vector<std::string> inputs = filesIn(in_);
-  const auto texture = std::find_if(inputs.begin(), inputs.end(), [](const std::string& name) {
-    return name.ends_with(".png");
-  });
+  const auto texture = std::find_if(inputs.begin(), inputs.end(),
+                                    [](const std::string& name) { return name.ends_with(".png"); });
   ASSERT_NE(texture, inputs.end());
   const std::string before = readBytes(in_ / *texture);
   const Run r = run({"render", (in_ / "scene.gltf").string(), "-o", (in_ / *texture).string()});
@@ -437,7 +437,8 @@ TEST_F(CliTest, NoEglContextSaysWhatWasTried) {
   const Run r = run({"render", scenePath.string(), "-o", "a.png"},
                     "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/vendor.json");
   EXPECT_EQ(r.status, 1);
-  EXPECT_TRUE(contains(r.err, "cannot create a headless OpenGL 4.5 core context through EGL; tried:"))
+  EXPECT_TRUE(
+      contains(r.err, "cannot create a headless OpenGL 4.5 core context through EGL; tried:"))
       << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_EQ(filesIn(out_), std::vector<std::string>{});

@@ -48,7 +48,9 @@ void addObject(Scene& scene, const builder::MeshData& data, const glm::mat4& wor
   scene.bounds.extend(mesh.bounds.transformed(world));
 }
 
-glm::mat4 translate(glm::vec3 t) { return glm::translate(glm::mat4(1.0f), t); }
+glm::mat4 translate(glm::vec3 t) {
+  return glm::translate(glm::mat4(1.0f), t);
+}
 
 Light pointLight(const std::string& name, glm::vec3 position, ShadowFilter filter,
                  int resolution = 512) {
@@ -261,10 +263,12 @@ TEST(Shadows, ShadowsOnAllSixCubeFacesMatchRayCasting) {
         }
         if (surelyHit) {
           ++shadowed;
-          EXPECT_LT(px.visibility, 0.01f) << "face " << kCubeFaceNames[face] << " pixel " << x << "," << y;
+          EXPECT_LT(px.visibility, 0.01f)
+              << "face " << kCubeFaceNames[face] << " pixel " << x << "," << y;
         } else if (!maybeHit) {
           ++lit;
-          EXPECT_GT(px.visibility, 0.99f) << "face " << kCubeFaceNames[face] << " pixel " << x << "," << y;
+          EXPECT_GT(px.visibility, 0.99f)
+              << "face " << kCubeFaceNames[face] << " pixel " << x << "," << y;
         }
       }
     }
@@ -300,7 +304,8 @@ TEST(ShadowMap, EachFaceHoldsTheDistancesOfItsOwnDirection) {
     ASSERT_EQ(static_cast<int>(hit.face), i);
     const int column = static_cast<int>(hit.st.x * map.resolution);
     const int row = static_cast<int>(hit.st.y * map.resolution);
-    EXPECT_NEAR(map.at(hit.face, column, row), glm::length(targets[i]), 0.01f * glm::length(targets[i]))
+    EXPECT_NEAR(map.at(hit.face, column, row), glm::length(targets[i]),
+                0.01f * glm::length(targets[i]))
         << "face " << kCubeFaceNames[i];
     EXPECT_TRUE(std::isinf(map.at(hit.face, map.resolution - 1 - column, row)))
         << "face " << kCubeFaceNames[i] << " mirrored in s";
@@ -354,7 +359,7 @@ TEST(Lighting, SpotConeAndDirectionalLight) {
   sun.name = "sun";
   sun.type = LightType::Directional;
   sun.direction = glm::normalize(glm::vec3(0, -1, -1));  // 45 degrees: N.L = 0.707
-  sun.intensity = 2.0f;                                 // lux
+  sun.intensity = 2.0f;                                  // lux
   const Frame day = sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, {}, times);
   const float expected = 1.0f / 3.14159265f * 2.0f * 0.70710678f;
   EXPECT_NEAR(day.beauty.at(50, 50, 0), expected, expected * 0.08f);
@@ -400,8 +405,8 @@ TEST(Shadows, AlphaMaskCastsCutOutShadows) {
       const AovPixel px = pixelAt(*frame.aovs, x, y, "lamp");
       if (px.coverage < 1.0f || std::abs(px.position.y) > 1e-3f) continue;
       // Where the ray to the light crosses the screen, in the screen's UV space.
-      const glm::vec3 onScreen = px.position + (glm::vec3(0, H, 0) - px.position) *
-                                                   (screenHeight / H);
+      const glm::vec3 onScreen =
+          px.position + (glm::vec3(0, H, 0) - px.position) * (screenHeight / H);
       const glm::vec2 uv = (glm::vec2(onScreen.x, onScreen.z) + 1.0f) * 0.5f;
       if (uv.x <= 0.0f || uv.x >= 1.0f || uv.y <= 0.0f || uv.y >= 1.0f) continue;
       const glm::vec2 cell = uv * 4.0f;
@@ -465,8 +470,8 @@ TEST(Aovs, ChannelsAndManyLightsAcrossSeveralPasses) {
   const ViewCamera camera = lookFrom(scene, {0, 6, 6}, {0, 0, 0}, 64, 48);
   const Frame frame = renderAovs(scene, lights, camera);
   const FloatImage& aovs = *frame.aovs;
-  const std::vector<std::string> fixed = {"R", "G", "B", "A", "P.X", "P.Y", "P.Z",
-                                          "N.X", "N.Y", "N.Z", "Z"};
+  const std::vector<std::string> fixed = {"R",   "G",   "B",   "A",   "P.X", "P.Y",
+                                          "P.Z", "N.X", "N.Y", "N.Z", "Z"};
   for (std::size_t i = 0; i < fixed.size(); ++i) EXPECT_EQ(aovs.channels[i], fixed[i]);
   ASSERT_EQ(aovs.channels.size(), fixed.size() + lights.size());
   // Shadowed lights leave some floor in shadow behind the box; unshadowed ones never do.
@@ -518,8 +523,8 @@ std::vector<Triangle> worldTriangles(const Scene& scene) {
       return glm::vec3(instance.world * glm::vec4(mesh.positions[i], 1.0f));
     };
     for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
-      triangles.push_back({world(mesh.indices[i]), world(mesh.indices[i + 1]),
-                           world(mesh.indices[i + 2])});
+      triangles.push_back(
+          {world(mesh.indices[i]), world(mesh.indices[i + 1]), world(mesh.indices[i + 2])});
   }
   return triangles;
 }
@@ -553,7 +558,8 @@ TEST(Shadows, CornellBoxVisibilityAgreesWithRayCasting) {
   const glm::vec3 lightPosition(0.15f, 0.55f, 0.35f);
   const int resolution = 1024;
   const Light light = pointLight("lamp", lightPosition, ShadowFilter::Hard, resolution);
-  const ViewCamera camera = lookFrom(scene, {0.0f, 0.0f, 3.6f}, {0.0f, 0.0f, 0.0f}, 160, 160, 40.0f);
+  const ViewCamera camera =
+      lookFrom(scene, {0.0f, 0.0f, 3.6f}, {0.0f, 0.0f, 0.0f}, 160, 160, 40.0f);
   const Frame frame = renderAovs(scene, {light}, camera);
 
   int agree = 0, disagree = 0, shadowed = 0, skippedEdges = 0;
@@ -590,10 +596,12 @@ TEST(Shadows, CornellBoxVisibilityAgreesWithRayCasting) {
       shadowed += blocked ? 1 : 0;
     }
   }
-  std::printf("cornell box: %d pixels agree with ray casting, %d disagree (%d shadowed), %d near "
-              "shadow edges skipped\n", agree, disagree, shadowed, skippedEdges);
+  std::printf(
+      "cornell box: %d pixels agree with ray casting, %d disagree (%d shadowed), %d near "
+      "shadow edges skipped\n",
+      agree, disagree, shadowed, skippedEdges);
   EXPECT_GT(shadowed, 200);
   EXPECT_GT(agree, 5000);
-  EXPECT_LE(disagree, agree / 1000) << "agree " << agree << ", edges skipped " << skippedEdges
-                                     << ", shadowed " << shadowed;
+  EXPECT_LE(disagree, agree / 1000)
+      << "agree " << agree << ", edges skipped " << skippedEdges << ", shadowed " << shadowed;
 }

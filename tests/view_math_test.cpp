@@ -25,9 +25,9 @@ TEST(CubeLookup, AxisDirectionsHitFaceCenters) {
   const struct {
     glm::vec3 direction;
     CubeFace face;
-  } cases[] = {{{1, 0, 0}, CubeFace::PosX},  {{-1, 0, 0}, CubeFace::NegX},
-               {{0, 1, 0}, CubeFace::PosY},  {{0, -1, 0}, CubeFace::NegY},
-               {{0, 0, 1}, CubeFace::PosZ},  {{0, 0, -1}, CubeFace::NegZ}};
+  } cases[] = {{{1, 0, 0}, CubeFace::PosX}, {{-1, 0, 0}, CubeFace::NegX},
+               {{0, 1, 0}, CubeFace::PosY}, {{0, -1, 0}, CubeFace::NegY},
+               {{0, 0, 1}, CubeFace::PosZ}, {{0, 0, -1}, CubeFace::NegZ}};
   for (const auto& c : cases) {
     const CubeLookup lookup = cubeLookup(c.direction);
     EXPECT_EQ(lookup.face, c.face);
@@ -191,7 +191,8 @@ TEST(Camera, FirstGltfCameraByDefaultAndSelectionByNameOrIndex) {
     resolveCamera(scene, unknown);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--camera top: test.gltf has no such camera"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("--camera top: test.gltf has no such camera"),
+              std::string::npos)
         << e.what();
     EXPECT_NE(std::string(e.what()).find("1 \"side\""), std::string::npos) << e.what();
   }

@@ -2,11 +2,10 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <string>
-#include <vector>
-
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <string>
+#include <vector>
 
 namespace tinygltf {
 class Model;
@@ -17,8 +16,8 @@ namespace omnishadow::builder {
 // Geometry made in code for test and demo scenes.
 struct MeshData {
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;  // may be empty (the file then has no NORMAL)
-  std::vector<glm::vec2> uvs;      // may be empty
+  std::vector<glm::vec3> normals;      // may be empty (the file then has no NORMAL)
+  std::vector<glm::vec2> uvs;          // may be empty
   std::vector<std::uint32_t> indices;  // may be empty (non-indexed)
 };
 

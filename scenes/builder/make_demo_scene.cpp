@@ -89,12 +89,14 @@ void build(GltfBuilder& b) {
   const int blue = material("blue paint", {0.15f, 0.30f, 0.75f}, 0.5f);
   const int gold = material("brushed gold", {1.0f, 0.78f, 0.34f}, 0.3f, 1.0f);
   const int stone = material("stone", {0.55f, 0.52f, 0.48f}, 0.8f);
-  b.addNode("sphere", {{-1.6f, 0.7f, -0.6f}}, b.addMesh(makeSphere(0.7f, 48, 24), {.material = white}, "sphere"));
+  b.addNode("sphere", {{-1.6f, 0.7f, -0.6f}},
+            b.addMesh(makeSphere(0.7f, 48, 24), {.material = white}, "sphere"));
   b.addNode("tall box", {{1.7f, 1.0f, -1.6f}, yaw(28.0f)},
             b.addMesh(makeBox({0.45f, 1.0f, 0.45f}), {.material = blue}, "tall box"));
   b.addNode("column", {{0.2f, 0.0f, -2.6f}},
             b.addMesh(makeCylinder(0.3f, 2.6f, 40), {.material = stone}, "column"));
-  b.addNode("gold ball", {{0.9f, 0.35f, 0.9f}}, b.addMesh(makeSphere(0.35f, 40, 20), {.material = gold}, "gold ball"));
+  b.addNode("gold ball", {{0.9f, 0.35f, 0.9f}},
+            b.addMesh(makeSphere(0.35f, 40, 20), {.material = gold}, "gold ball"));
   b.addNode("small box", {{-0.2f, 0.25f, 1.4f}, yaw(-20.0f)},
             b.addMesh(makeBox({0.25f, 0.25f, 0.25f}), {.material = blue}, "small box"));
 
