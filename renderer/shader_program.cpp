@@ -34,6 +34,16 @@ void appendWithIncludes(const std::string& file, std::string& out, int depth) {
   }
 }
 
+// The driver's compile or link log of a shader or program.
+template <typename GetIv, typename GetLog>
+std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
+  GLint length = 0;
+  getIv(object, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+  getLog(object, length, nullptr, log.data());
+  return log;
+}
+
 gl::Shader compile(GLenum stage, const std::string& file, const std::string& source) {
   gl::Shader shader(glCreateShader(stage));
   const char* text = source.c_str();
@@ -41,13 +51,9 @@ gl::Shader compile(GLenum stage, const std::string& file, const std::string& sou
   glCompileShader(shader.get());
   GLint ok = GL_FALSE;
   glGetShaderiv(shader.get(), GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader.get(), GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(shader.get(), length, nullptr, log.data());
-    throw RenderError("internal error: cannot compile shader " + file + ":\n" + log);
-  }
+  if (!ok)
+    throw RenderError("internal error: cannot compile shader " + file + ":\n" +
+                      infoLog(shader.get(), glGetShaderiv, glGetShaderInfoLog));
   return shader;
 }
 
@@ -75,13 +81,9 @@ ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& f
   glDetachShader(program_.get(), fragment.get());
   GLint ok = GL_FALSE;
   glGetProgramiv(program_.get(), GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program_.get(), GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program_.get(), length, nullptr, log.data());
-    throw RenderError("internal error: cannot link " + name_ + ":\n" + log);
-  }
+  if (!ok)
+    throw RenderError("internal error: cannot link " + name_ + ":\n" +
+                      infoLog(program_.get(), glGetProgramiv, glGetProgramInfoLog));
 }
 
 void ShaderProgram::use() const {

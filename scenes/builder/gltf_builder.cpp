@@ -62,6 +62,22 @@ void alignTo4(std::vector<unsigned char>& data) {
   while (data.size() % 4 != 0) data.push_back(0);
 }
 
+// Appends `bytes` to buffer 0 (created if needed) as a new, 4-byte aligned buffer view.
+// target 0 = none (e.g. an image in a .glb).
+int appendBufferView(tinygltf::Model& model, const std::vector<unsigned char>& bytes, int target) {
+  if (model.buffers.empty()) model.buffers.emplace_back();
+  std::vector<unsigned char>& data = model.buffers[0].data;
+  alignTo4(data);
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = data.size();
+  view.byteLength = bytes.size();
+  view.target = target;
+  data.insert(data.end(), bytes.begin(), bytes.end());
+  model.bufferViews.push_back(std::move(view));
+  return static_cast<int>(model.bufferViews.size()) - 1;
+}
+
 std::vector<double> toDoubles(const float* values, int count) {
   return std::vector<double>(values, values + count);
 }
@@ -240,17 +256,7 @@ struct GltfBuilder::Impl {
   std::vector<tinygltf::Value> lights;  // KHR_lights_punctual, mirrored into model.extensions
 
   int addBufferView(const std::vector<unsigned char>& bytes, int target) {
-    if (model.buffers.empty()) model.buffers.emplace_back();
-    std::vector<unsigned char>& data = model.buffers[0].data;
-    alignTo4(data);
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = data.size();
-    view.byteLength = bytes.size();
-    view.target = target;
-    data.insert(data.end(), bytes.begin(), bytes.end());
-    model.bufferViews.push_back(std::move(view));
-    return static_cast<int>(model.bufferViews.size()) - 1;
+    return appendBufferView(model, bytes, target);
   }
 
   template <typename T>
@@ -379,16 +385,7 @@ struct GltfBuilder::Impl {
           writeFile(path.parent_path() / image.uri, png);
           break;
         case FileFormat::Glb: {
-          if (out.buffers.empty()) out.buffers.emplace_back();
-          std::vector<unsigned char>& data = out.buffers[0].data;
-          alignTo4(data);
-          tinygltf::BufferView view;
-          view.buffer = 0;
-          view.byteOffset = data.size();
-          view.byteLength = png.size();
-          data.insert(data.end(), png.begin(), png.end());
-          out.bufferViews.push_back(std::move(view));
-          image.bufferView = static_cast<int>(out.bufferViews.size()) - 1;
+          image.bufferView = appendBufferView(out, png, 0);
           break;
         }
       }
