@@ -605,3 +605,110 @@ TEST(Shadows, CornellBoxVisibilityAgreesWithRayCasting) {
   EXPECT_LE(disagree, agree / 1000)
       << "agree " << agree << ", edges skipped " << skippedEdges << ", shadowed " << shadowed;
 }
+
+// ---------------------------------------------------------------------------------------------
+// Material and camera features as they reach the frame.
+
+namespace {
+
+// A floor plane seen from straight above, 32x32 pixels, lit from above.
+ViewCamera topView(const Scene& scene) {
+  return lookFrom(scene, {0, 4, 0.0001f}, {0, 0, 0}, 32, 32, 30.0f, {0, 0, -1});
+}
+
+Light lampAbove() { return pointLight("lamp", {0, 3, 0}, ShadowFilter::Pcf, 64); }
+
+}  // namespace
+
+TEST(Materials, NormalMapTiltsTheShadingNormal) {
+  // A constant tangent-space normal (0.6, 0, 0.8), i.e. tilted towards the tangent (+U = +X on
+  // builder::makePlane), must come out as world normal (0.6, 0.8, 0) in the AOV.
+  Scene scene;
+  Image image;
+  image.width = image.height = 4;
+  const std::uint8_t nx = static_cast<std::uint8_t>(std::lround((0.6f * 0.5f + 0.5f) * 255.0f));
+  const std::uint8_t nz = static_cast<std::uint8_t>(std::lround((0.8f * 0.5f + 0.5f) * 255.0f));
+  for (int i = 0; i < 16; ++i) image.rgba.insert(image.rgba.end(), {nx, 128, nz, 255});
+  scene.images.push_back(image);
+  scene.textures.push_back({0, {}});
+  const int material = addMaterial(scene, glm::vec4(0.8f));
+  scene.materials[material].normalTexture.texture = 0;
+  addObject(scene, builder::makePlane(4.0f), glm::mat4(1.0f), material);
+  Mesh& mesh = scene.meshes.back();
+  mesh.tangents.assign(mesh.positions.size(), glm::vec4(1, 0, 0, 1));
+  const Frame frame = renderAovs(scene, {lampAbove()}, topView(scene));
+  const AovPixel px = pixelAt(*frame.aovs, 16, 16, "lamp");
+  EXPECT_NEAR(px.normal.x, 0.6f, 0.02f);
+  EXPECT_NEAR(px.normal.y, 0.8f, 0.02f);
+  EXPECT_NEAR(px.normal.z, 0.0f, 0.02f);
+}
+
+TEST(Materials, SingleSidedFacesAreCulledDoubleSidedAreNot) {
+  // Seen from below, a single-sided floor is invisible; a double-sided one is drawn with its
+  // normal facing the camera.
+  for (const bool doubleSided : {false, true}) {
+    Scene scene;
+    addObject(scene, builder::makePlane(4.0f), glm::mat4(1.0f),
+              addMaterial(scene, glm::vec4(0.8f), doubleSided));
+    const ViewCamera below = lookFrom(scene, {0, -4, 0.0001f}, {0, 0, 0}, 32, 32, 30.0f, {0, 0, 1});
+    const Frame frame = renderAovs(scene, {lampAbove()}, below);
+    const AovPixel px = pixelAt(*frame.aovs, 16, 16, "lamp");
+    EXPECT_EQ(px.coverage, doubleSided ? 1.0f : 0.0f);
+    if (doubleSided) EXPECT_NEAR(px.normal.y, -1.0f, 1e-4f);
+  }
+}
+
+TEST(Materials, MirroredInstancesKeepTheirOutsideFaces) {
+  // A box scaled by -1 on X: its winding flips, and culling must follow, or the camera would
+  // see the inside faces.
+  Scene scene;
+  addObject(scene, builder::makeBox(glm::vec3(1.0f)), glm::scale(glm::mat4(1.0f), {-1, 1, 1}),
+            addMaterial(scene, glm::vec4(0.8f)));
+  const Frame frame = renderAovs(scene, {lampAbove()}, topView(scene));
+  const AovPixel px = pixelAt(*frame.aovs, 16, 16, "lamp");
+  EXPECT_EQ(px.coverage, 1.0f);
+  EXPECT_NEAR(px.position.y, 1.0f, 1e-3f);  // the top face, not the bottom one
+}
+
+TEST(Materials, BlendedSurfacesMixOverTheOpaqueOnesAndKeepTheirAovs) {
+  Scene scene;
+  addObject(scene, builder::makePlane(4.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(1.0f)));
+  const int glass = addMaterial(scene, glm::vec4(0.0f, 0.0f, 0.0f, 0.5f), true);
+  scene.materials[glass].alphaMode = AlphaMode::Blend;
+  addObject(scene, builder::makePlane(1.0f), translate({0, 1, 0}), glass);
+  Light lamp = lampAbove();
+  lamp.shadow.enabled = false;  // compare the floor's brightness alone
+  const ViewCamera camera = topView(scene);
+  const Frame frame = renderAovs(scene, {lamp}, camera);
+  const FloatImage& aovs = *frame.aovs;
+  // Under the black half-transparent square the floor is half as bright as beside it (the
+  // square's own specular reflection aside), P still describes the floor, and A is 1.
+  const float under = frame.beauty.at(16, 16, 1);
+  const float beside = frame.beauty.at(2, 16, 1);
+  EXPECT_GT(under, 0.0f);
+  EXPECT_LT(under, beside * 0.6f);
+  EXPECT_NEAR(pixelAt(aovs, 16, 16, "lamp").position.y, 0.0f, 1e-3f);
+  EXPECT_EQ(frame.beauty.at(16, 16, 3), 1.0f);
+}
+
+TEST(Cameras, OrthographicCameraOfASampleModel) {
+  // Cameras.gltf (scenes/thirdparty) has a perspective and an orthographic camera; the
+  // orthographic one keeps parallel lines parallel: the square's pixel footprint does not
+  // depend on distance, so both cameras see it, and the ortho image is fully predictable.
+  const Scene scene = loadGltf(std::string(OMNISHADOW_SOURCE_DIR) +
+                               "/scenes/thirdparty/Cameras/Cameras.gltf");
+  ASSERT_EQ(scene.cameras.size(), 2u);
+  for (const Camera& gltfCamera : scene.cameras) {
+    CameraRequest request;
+    request.select = std::to_string(gltfCamera.index);
+    request.width = 64;
+    request.height = 64;
+    const ViewCamera camera = resolveCamera(scene, request);
+    EXPECT_EQ(camera.orthographic, gltfCamera.orthographic);
+    const Frame frame = renderAovs(scene, {lampAbove()}, camera);
+    float coverage = 0.0f;
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) coverage += frame.beauty.at(x, y, 3);
+    EXPECT_GT(coverage, 64.0f) << "camera " << gltfCamera.index << " sees the model";
+  }
+}
