@@ -93,9 +93,12 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
                                " lights are not shadowed yet; it lights the scene unshadowed");
   }
 
+  ScopedStage shaders(times, "shaders");
+  LightingPass& lighting = lightingPass(settings);  // compiled once per variant and renderer
+  shaders.stop();
+
   ScopedStage upload(times, "upload");
   GpuScene gpuScene(scene);
-  LightingPass& lighting = lightingPass(settings);
   FrameTargets targets(camera.width, camera.height, settings.aovs);
   glFinish();
   upload.stop();
