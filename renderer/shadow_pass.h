@@ -1,9 +1,9 @@
 #pragma once
 
-#include <array>
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "renderer/cube_distances.h"
 #include "renderer/cube_faces.h"
 #include "renderer/gl_resources.h"
 #include "renderer/gpu_scene.h"
@@ -21,16 +21,6 @@ struct PointShadowMap {
   float far = 0.0f;
   glm::vec3 position{0.0f};
   int drawsRendered = 0;  // instance draws over all faces after culling, for --stats
-};
-
-// Six faces of distance to the light (world units) per texel, rows in GL order (row 0 = t 0).
-// Texels where nothing was rendered hold +infinity.
-struct CubeDistances {
-  int resolution = 0;
-  std::array<std::vector<float>, kCubeFaceCount> faces;
-  float at(CubeFace face, int column, int row) const {
-    return faces[static_cast<int>(face)][static_cast<std::size_t>(row) * resolution + column];
-  }
 };
 
 class ShadowPass {
