@@ -17,8 +17,10 @@ namespace omnishadow {
 //                        nothing rendered = white.
 //   <light>_cube.exr     OpenEXR cube map (envmap attribute ENVMAP_CUBE), width x 6*width,
 //                        faces in OpenEXR's order and orientation (Imf::CubeMap), channel "Z".
-//   <light>_cross.png    the six previews unfolded into a horizontal cross, seen from inside:
-//                        +Y above, then -X? (see depth_dump.cpp), -Y below.
+//   <light>_cross.png    the six faces unfolded into a 4x3 horizontal cross as seen by a viewer
+//                        at the light with +Y up: middle row +X, +Z, -X, -Z (each face's right
+//                        neighbour is what the viewer sees turning right), +Y above and -Y
+//                        below +Z; unused cells black. Same grey scale as the previews.
 // `lightName` is used in file names as given (the caller makes it file-system safe).
 void writePointShadowDump(const std::filesystem::path& folder, const std::string& lightName,
                           const CubeDistances& distances, float far,
