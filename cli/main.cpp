@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "cli/info_command.h"
 #include "cli/render_command.h"
 #include "renderer/errors.h"
 
@@ -14,6 +15,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   omnishadow::cli::RenderOptions render;
   omnishadow::cli::addRenderCommand(app, render);
+  omnishadow::cli::InfoOptions info;
+  omnishadow::cli::addInfoCommand(app, info);
 
   try {
     app.parse(argc, argv);
@@ -24,13 +27,15 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "omnishadow: %s\nRun 'omnishadow --help' or 'omnishadow render --help'.\n",
-                 e.what());
+    const char* command = app.got_subcommand("info") ? "info" : "render";
+    std::fprintf(stderr, "omnishadow: %s\nRun 'omnishadow --help' or 'omnishadow %s --help'.\n",
+                 e.what(), command);
     return 2;
   }
 
   try {
     if (app.got_subcommand("render")) return omnishadow::cli::runRender(render);
+    if (app.got_subcommand("info")) return omnishadow::cli::runInfo(info);
   } catch (const omnishadow::InputError& e) {
     std::fprintf(stderr, "omnishadow: %s\n", e.what());
     return 2;

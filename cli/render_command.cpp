@@ -7,9 +7,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include "renderer/camera.h"
+#include "renderer/depth_dump.h"
 #include "renderer/display_transform.h"
 #include "renderer/errors.h"
 #include "renderer/gltf_loader.h"
@@ -119,6 +123,80 @@ Outputs checkOutputs(const RenderOptions& options) {
   return out;
 }
 
+AovLayers parseLayers(const std::string& list) {
+  AovLayers layers;
+  std::istringstream in(list);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    if (name == "all") {
+      layers = {true, true, true, true, true, true, true};
+    } else if (name == "albedo") {
+      layers.albedo = true;
+    } else if (name == "roughness") {
+      layers.roughness = true;
+    } else if (name == "metallic") {
+      layers.metallic = true;
+    } else if (name == "diffuse") {
+      layers.diffuse = true;
+    } else if (name == "specular") {
+      layers.specular = true;
+    } else if (name == "objectId") {
+      layers.objectId = true;
+    } else if (name == "materialId") {
+      layers.materialId = true;
+    } else {
+      throw InputError("--aov-layers " + list + ": unknown layer \"" + name +
+                       "\" (expected albedo, roughness, metallic, diffuse, specular, objectId, "
+                       "materialId or all)");
+    }
+  }
+  return layers;
+}
+
+DebugView parseDebugView(const std::string& name) {
+  if (name == "shadow") return DebugView::Shadow;
+  if (name == "depth") return DebugView::Depth;
+  if (name == "normals") return DebugView::Normals;
+  if (name == "albedo") return DebugView::Albedo;
+  if (name == "lightcount") return DebugView::LightCount;
+  return DebugView::None;
+}
+
+// A folder option (--dump-depth, --light-views) must not name an existing file.
+void checkFolderOption(const std::string& option, const std::string& folder) {
+  if (!folder.empty() && fs::exists(folder) && !fs::is_directory(folder))
+    throw InputError(option + " " + folder + ": is a file, expected a folder");
+}
+
+// Per-light files are named after the lights; two names may not map to one file name.
+void checkFileSafeNames(const std::vector<Light>& lights) {
+  for (std::size_t i = 0; i < lights.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (fileSafeName(lights[i].name) == fileSafeName(lights[j].name))
+        throw InputError("lights \"" + lights[j].name + "\" and \"" + lights[i].name +
+                         "\" would write the same files (" + fileSafeName(lights[i].name) +
+                         "_*); rename one");
+}
+
+// objectId/materialId values and what they stand for, next to the AOV file.
+void writeIdSidecar(const fs::path& path, const Scene& scene, OutputTransaction& transaction) {
+  nlohmann::ordered_json ids;
+  ids["objectId"] = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const MeshInstance& instance = scene.instances[i];
+    ids["objectId"].push_back(
+        {{"id", i}, {"node", instance.node}, {"mesh", scene.meshes[instance.mesh].name}});
+  }
+  ids["materialId"] = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < scene.materials.size(); ++i)
+    ids["materialId"].push_back({{"id", i}, {"name", scene.materials[i].name}});
+  ids["materialId"].push_back({{"id", scene.materials.size()}, {"name", "(default)"}});
+  ids["background"] = -1;
+  std::ofstream out(transaction.stage(path));
+  out << ids.dump(2) << "\n";
+  if (!out.flush()) throw RenderError("cannot write " + path.string());
+}
+
 void printWarnings(const std::vector<std::string>& warnings) {
   for (const std::string& warning : warnings)
     std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
@@ -131,6 +209,13 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   const fs::path scenePath = o.scene.empty() ? fs::path(OMNISHADOW_DEMO_SCENE) : fs::path(o.scene);
   const fs::path lightsPath = o.lights.empty() ? defaultLightsFile(scenePath) : fs::path(o.lights);
   const Outputs outputs = checkOutputs(o);
+  const AovLayers layers = parseLayers(o.aovLayers);
+  if (layers.any() && outputs.aov.empty()) throw InputError("--aov-layers: needs --aov FILE.exr");
+  const DebugView debugView = parseDebugView(o.debugView);
+  if (!o.debugLight.empty() && debugView != DebugView::Depth)
+    throw InputError("--debug-light: only used with --debug-view depth");
+  checkFolderOption("--dump-depth", o.dumpDepth);
+  checkFolderOption("--light-views", o.lightViews);
   checkNotAnInput(outputs, {scenePath.string(), lightsPath.string()});
   if (!std::isfinite(o.exposure))
     throw InputError("--exposure " + std::to_string(o.exposure) +
@@ -184,10 +269,17 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   RenderSettings settings;
   settings.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
   settings.aovs = !outputs.aov.empty();
+  settings.layers = layers;
+  settings.debugView = debugView;
+  settings.debugLight = o.debugLight;
+  settings.readShadowMaps = !o.dumpDepth.empty();
+  settings.lightViewSize = o.lightViews.empty() ? 0 : o.lightViewSize;
+  if (settings.readShadowMaps || settings.lightViewSize > 0) checkFileSafeNames(lights);
   Frame frame = renderer.render(scene, lights, setup.ambient, camera, settings, times);
   warnings.insert(warnings.end(), frame.warnings.begin(), frame.warnings.end());
 
   ScopedStage encodeStage(times, "encode");
+  setEncoderThreads(static_cast<int>(std::thread::hardware_concurrency()));
   OutputTransaction transaction;
   if (!outputs.png.empty()) {
     const std::vector<std::uint8_t> srgb = toSrgb8(frame.beauty, o.exposure);
@@ -200,6 +292,18 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
       writeExr(transaction.stage(path), exposed, ExrPixelType::Half);
   }
   if (frame.aovs) writeExr(transaction.stage(outputs.aov), *frame.aovs, ExrPixelType::Float);
+  if (layers.objectId || layers.materialId)
+    writeIdSidecar(fs::path(outputs.aov).replace_extension(".ids.json"), scene, transaction);
+  for (const ShadowMapDump& dump : frame.shadowMaps)
+    writePointShadowDump(o.dumpDepth, fileSafeName(dump.light), dump.distances, dump.far,
+                         transaction);
+  for (const LightView& view : frame.lightViews) {
+    const fs::path path =
+        fs::path(o.lightViews) /
+        (fileSafeName(view.light) + "_" + kCubeFaceNames[static_cast<int>(view.face)] + ".png");
+    writePng(transaction.stage(path), view.beauty.width, view.beauty.height, 3,
+             toSrgb8(view.beauty, o.exposure));
+  }
   transaction.commit();
   encodeStage.stop();
 
@@ -208,6 +312,11 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
     for (const fs::path& path : list)
       std::printf("wrote %s (%dx%d)\n", path.c_str(), camera.width, camera.height);
   if (!outputs.aov.empty()) std::printf("wrote %s (AOVs)\n", outputs.aov.c_str());
+  if (!frame.shadowMaps.empty())
+    std::printf("wrote the shadow maps of %zu lights to %s\n", frame.shadowMaps.size(),
+                o.dumpDepth.c_str());
+  if (!frame.lightViews.empty())
+    std::printf("wrote %zu light views to %s\n", frame.lightViews.size(), o.lightViews.c_str());
   if (o.stats) printStats(times);
   return 0;
 }
@@ -244,6 +353,25 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
       ->allow_extra_args(false);
   render->add_option("--aov", o.aov,
                      "Write AOVs (position, normal, distance, per-light visibility) to this .exr");
+  render->add_option("--aov-layers", o.aovLayers,
+                     "Extra AOV layers, comma-separated: albedo, roughness, metallic, diffuse, "
+                     "specular, objectId, materialId, or all (needs --aov)");
+  render->add_option(
+      "--dump-depth", o.dumpDepth,
+      "Write every shadow map to this folder (EXR distances, PNG previews, cube map, cross)");
+  render->add_option(
+      "--light-views", o.lightViews,
+      "Write the lit scene seen from each cube face of each point light to this folder");
+  render
+      ->add_option("--light-view-size", o.lightViewSize,
+                   "Size of the --light-views images (default 512)")
+      ->check(CLI::Range(1, 16384));
+  render
+      ->add_option("--debug-view", o.debugView,
+                   "Replace the beauty by: shadow, depth, normals, albedo or lightcount")
+      ->check(CLI::IsMember({"none", "shadow", "depth", "normals", "albedo", "lightcount"}));
+  render->add_option("--debug-light", o.debugLight,
+                     "Light shown by --debug-view depth (default: the first shadowed point light)");
   render->add_option("--exposure", o.exposure,
                      "Exposure in stops applied to the beauty images (default 0)");
   render->add_option("--shading", o.shading, "pbr (glTF metallic-roughness) or phong (Blinn-Phong)")

@@ -22,6 +22,12 @@ struct RenderOptions {
   std::optional<int> width, height;
   std::vector<std::string> outputs;
   std::string aov;
+  std::string aovLayers;   // comma-separated
+  std::string dumpDepth;   // folder
+  std::string lightViews;  // folder
+  int lightViewSize = 512;
+  std::string debugView = "none";
+  std::string debugLight;
   float exposure = 0.0f;
   std::string shading = "pbr";
   int gpu = -1;

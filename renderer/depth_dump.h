@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <string>
 
-#include "renderer/output_transaction.h"
 #include "renderer/cube_distances.h"
+#include "renderer/output_transaction.h"
 
 namespace omnishadow {
 

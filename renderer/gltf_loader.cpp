@@ -97,7 +97,7 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
 }
 
 tinygltf::Model readModel(const std::filesystem::path& path, const std::string& file,
-                          std::vector<std::string>& warnings) {
+                          std::vector<std::string>& warnings, bool* isBinary) {
   std::error_code ec;
   const std::filesystem::file_status status = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(status)) {
@@ -114,6 +114,7 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   }
   // Decided by content, not by extension: some tools write .glb data under a .gltf name.
   const bool binary = std::memcmp(magic, "glTF", 4) == 0;
+  *isBinary = binary;
 
   tinygltf::TinyGLTF reader;
   reader.SetImageLoader(decodeUriImage, nullptr);
@@ -678,6 +679,7 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   if (mesh.normals.empty()) {
     mesh.tangents.clear();  // the spec says to ignore tangents given without normals
     generateNormals(mesh);
+    ctx.warn(object + ": no normals; generated flat normals");
   }
   if (mesh.tangents.empty() && mesh.material >= 0) {
     const TextureSlot& normalMap =
@@ -820,6 +822,7 @@ class SceneBuilder {
       // glTF nodes have at most one parent; a second path would draw the subtree twice.
       if (visited[index]) ctx_.fail(at("nodes", index), "is reachable along two paths");
       onPath[index] = visited[index] = 1;
+      ++ctx_.scene.source.reachedNodes;
       const glm::mat4 world = parentWorld * localMatrix(ctx_, index);
       visit(index, world);
       stack.push_back({index, world, 0});
@@ -922,6 +925,7 @@ std::pair<std::vector<int>, std::string> sceneRoots(const Context& ctx,
     ctx.fail(chosen ? "--scene " + std::to_string(index) : "scene " + std::to_string(index),
              "the file has " + plural(model.scenes.size(), "scene"));
   }
+  ctx.scene.source.sceneIndex = index;
   const std::string object = at("scenes", static_cast<std::size_t>(index));
   return {model.scenes[static_cast<std::size_t>(index)].nodes, object + ".nodes"};
 }
@@ -939,13 +943,31 @@ std::vector<std::string> referencedFiles(const std::filesystem::path& path,
   return files;
 }
 
+SourceSummary summarize(const tinygltf::Model& model, bool binary) {
+  SourceSummary source;
+  source.format = binary ? "glb" : "gltf";
+  source.version = model.asset.version;
+  source.minVersion = model.asset.minVersion;
+  source.generator = model.asset.generator;
+  source.copyright = model.asset.copyright;
+  source.sceneCount = static_cast<int>(model.scenes.size());
+  source.fileNodes = static_cast<int>(model.nodes.size());
+  source.gltfMeshes = static_cast<int>(model.meshes.size());
+  for (const tinygltf::Mesh& mesh : model.meshes) {
+    source.gltfPrimitives += static_cast<int>(mesh.primitives.size());
+  }
+  return source;
+}
+
 }  // namespace
 
 Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options) {
   Scene scene;
   scene.path = path.string();
-  const tinygltf::Model model = readModel(path, scene.path, scene.warnings);
+  bool binary = false;
+  const tinygltf::Model model = readModel(path, scene.path, scene.warnings, &binary);
   scene.inputFiles = referencedFiles(path, model);
+  scene.source = summarize(model, binary);
   Context ctx{scene.path, model, scene};
   checkExtensions(ctx);
   const auto [roots, rootsObject] = sceneRoots(ctx, options);

@@ -5,6 +5,7 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfThreading.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -145,6 +146,10 @@ void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPix
     // Iex exceptions derive from std::exception; callers only know RenderError.
     throw RenderError(cannotWrite(path, error.what()));
   }
+}
+
+void setEncoderThreads(int threads) {
+  Imf::setGlobalThreadCount(threads);
 }
 
 FloatImage readImage(const std::filesystem::path& path) {

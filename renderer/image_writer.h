@@ -34,6 +34,10 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
 // no time stamps. Throws RenderError when the file cannot be written.
 void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type);
 
+// Lets OpenEXR compress blocks of scan lines on `threads` threads (0 = in the calling thread).
+// Output bytes do not depend on it. Call once at start-up: it sets OpenEXR's global pool.
+void setEncoderThreads(int threads);
+
 // Reads any image OpenImageIO understands (PNG, EXR, ...) as float, for tests and tools.
 // Throws InputError when unreadable.
 FloatImage readImage(const std::filesystem::path& path);

@@ -17,11 +17,32 @@ struct GpuLight {
   glm::vec4 shadowParameters;
 };
 
-std::vector<std::string> variantDefines(Shading shading, bool aovs) {
+std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs) {
   std::vector<std::string> defines;
   if (shading == Shading::Phong) defines.push_back("SHADING_PHONG");
-  if (aovs) defines.push_back("WRITE_AOVS");
+  if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
+  if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
   return defines;
+}
+
+int attachmentsFor(PassOutputs outputs) {
+  switch (outputs) {
+    case PassOutputs::Beauty:
+      return 1;
+    case PassOutputs::Aovs:
+      return 3 + kVisibilityPerPass / 4;
+    case PassOutputs::Layers:
+      return 3;
+  }
+  return 1;
+}
+
+gl::Sampler makeRawDepthSampler() {
+  gl::Sampler sampler = gl::createSampler();
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  return sampler;
 }
 
 gl::Sampler makeCompareSampler(GLenum filter) {
@@ -53,7 +74,6 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
   program.set("uOcclusionStrength", d.occlusionStrength);
   program.set("uAlphaMode", static_cast<int>(d.alphaMode));
   program.set("uAlphaCutoff", d.alphaCutoff);
-  program.set("uDoubleSided", d.doubleSided ? 1 : 0);
   const struct {
     const char* uniform;
     GLuint texture, sampler;
@@ -75,9 +95,9 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
 
 }  // namespace
 
-FrameTargets::FrameTargets(int width, int height, bool aovs)
+FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
     : width_(width), height_(height), framebuffer_(gl::createFramebuffer()) {
-  const int count = aovs ? 3 + kVisibilityPerPass / 4 : 1;
+  const int count = attachmentsFor(outputs);
   std::vector<GLenum> drawBuffers;
   for (int i = 0; i < count; ++i) {
     colors_.push_back(makeTarget(GL_RGBA32F, width, height));
@@ -94,13 +114,19 @@ FrameTargets::FrameTargets(int width, int height, bool aovs)
                       " framebuffer (status 0x" + std::to_string(status) + ")");
 }
 
-LightingPass::LightingPass(Shading shading, bool aovs)
-    : aovs_(aovs),
-      program_("scene.vert", "lighting.frag", variantDefines(shading, aovs)),
+LightingPass::LightingPass(Shading shading, PassOutputs outputs)
+    : outputs_(outputs),
+      program_("scene.vert", "lighting.frag", variantDefines(shading, outputs)),
       hardCompare_(makeCompareSampler(GL_NEAREST)),
-      linearCompare_(makeCompareSampler(GL_LINEAR)) {}
+      linearCompare_(makeCompareSampler(GL_LINEAR)),
+      rawDepth_(makeRawDepthSampler()) {}
 
-void LightingPass::uploadLights(const std::vector<ShadedLight>& lights) {
+void LightingPass::uploadLights(const std::vector<ShadedLight>& lights, int debugLight) {
+  if (debugLight >= 0 && debugLight < static_cast<int>(lights.size()) &&
+      lights[debugLight].shadow) {
+    glBindTextureUnit(24, lights[debugLight].shadow->cube.get());
+    glBindSampler(24, rawDepth_.get());
+  }
   std::vector<GpuLight> data;
   int shadowIndex = 0;
   for (const ShadedLight& shaded : lights) {
@@ -140,7 +166,8 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights) {
 }
 
 void LightingPass::drawScene(const GpuScene& scene, bool blended) {
-  for (const GpuDraw& draw : scene.draws()) {
+  for (std::size_t index = 0; index < scene.draws().size(); ++index) {
+    const GpuDraw& draw = scene.draws()[index];
     const GpuMaterial& material = scene.materials()[draw.material];
     if ((material.desc.alphaMode == AlphaMode::Blend) != blended) continue;
     if (material.desc.doubleSided) {
@@ -155,6 +182,10 @@ void LightingPass::drawScene(const GpuScene& scene, bool blended) {
     bindMaterial(program_, material);
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
     program_.set("uHasTangents", range.hasTangents ? 1 : 0);
+    if (outputs_ == PassOutputs::Layers) {
+      program_.set("uObjectId", static_cast<float>(index));
+      program_.set("uMaterialId", static_cast<float>(draw.material));
+    }
     glDrawElementsBaseVertex(
         GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4),
@@ -164,13 +195,20 @@ void LightingPass::drawScene(const GpuScene& scene, bool blended) {
 
 void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
                           const std::vector<ShadedLight>& lights, const glm::vec3& ambient,
-                          FrameTargets& targets, int visibilityBase) {
+                          FrameTargets& targets, const PassParameters& parameters) {
   glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
   glViewport(0, 0, targets.width(), targets.height());
+  // Background: no coverage, lit (visibility 1), no object or material (id -1).
   const float zero[4] = {0, 0, 0, 0};
   const float lit[4] = {1, 1, 1, 1};
-  for (int i = 0; i < targets.attachmentCount(); ++i)
-    glClearNamedFramebufferfv(targets.framebuffer(), GL_COLOR, i, i >= 3 ? lit : zero);
+  const float noIds[4] = {0, -1, -1, 0};
+  for (int i = 0; i < targets.attachmentCount(); ++i) {
+    const float* value = outputs_ == PassOutputs::Aovs && i >= 3 ? lit
+                         : outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0
+                             ? noIds
+                             : zero;
+    glClearNamedFramebufferfv(targets.framebuffer(), GL_COLOR, i, value);
+  }
   const float clearDepth = 0.0f;
   glClearNamedFramebufferfv(targets.framebuffer(), GL_DEPTH, 0, &clearDepth);
 
@@ -178,8 +216,14 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   program_.set("uViewProjection", camera.projection * camera.view);
   program_.set("uCameraPosition", camera.eye);
   program_.set("uAmbient", ambient);
-  if (aovs_) program_.set("uVisibilityBase", visibilityBase);
-  uploadLights(lights);
+  if (outputs_ == PassOutputs::Aovs) program_.set("uVisibilityBase", parameters.visibilityBase);
+  if (outputs_ == PassOutputs::Layers) {
+    program_.set("uLayerMode", parameters.layerMode);
+    program_.set("uLayerLight", parameters.layerLight);
+  }
+  program_.set("uDebugView", static_cast<int>(parameters.debugView));
+  program_.set("uDebugLight", parameters.debugLight);
+  uploadLights(lights, parameters.debugLight);
   glBindVertexArray(scene.vertexArray());
 
   glEnable(GL_DEPTH_TEST);
@@ -189,6 +233,11 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   drawScene(scene, false);
 
   // Blended surfaces over the opaque frame, unsorted; the AOVs keep the opaque surfaces.
+  if (outputs_ == PassOutputs::Layers) {
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::checkErrors("a layer pass");
+    return;
+  }
   glDepthMask(GL_FALSE);
   glEnablei(GL_BLEND, 0);
   glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);

@@ -13,6 +13,25 @@ namespace omnishadow {
 
 enum class Shading { Pbr, Phong };
 
+// What replaces the beauty image (--debug-view); values match uDebugView in lighting.frag.
+enum class DebugView { None = 0, Shadow, Depth, Normals, Albedo, LightCount };
+
+// Which render targets a lighting pass variant writes besides the beauty.
+enum class PassOutputs {
+  Beauty,  // attachment 0 only
+  Aovs,    // + position/distance, normal, visibility of 20 lights
+  Layers,  // + two layer targets: material layers or one light's diffuse and specular
+};
+
+// Per-pass choices of a lighting pass.
+struct PassParameters {
+  int visibilityBase = 0;  // Aovs: first light whose shadow term goes to the visibility targets
+  DebugView debugView = DebugView::None;
+  int debugLight = -1;  // DebugView::Depth: index of the shadowed point light shown
+  int layerMode = 0;    // Layers: 0 = albedo/roughness/metallic/ids, 1 = one light's split
+  int layerLight = -1;  // Layers, mode 1: the light
+};
+
 // How many lights one lighting pass reports visibility for (5 RGBA32F targets).
 inline constexpr int kVisibilityPerPass = 20;
 // Shadowed point lights one frame can sample (texture units 8..23).
@@ -24,11 +43,12 @@ struct ShadedLight {
   const PointShadowMap* shadow = nullptr;  // null = unshadowed
 };
 
-// Render targets of one frame. Attachment 0: linear premultiplied RGBA; with AOVs also
-// 1: world position + camera distance, 2: camera-facing normal, 3..7: visibility of 20 lights.
+// Render targets of one frame, RGBA32F each: 0 is linear premultiplied RGBA; for Aovs also
+// 1: world position + camera distance, 2: camera-facing normal, 3..7: visibility of 20 lights;
+// for Layers 1 and 2 hold the layer values.
 class FrameTargets {
  public:
-  FrameTargets(int width, int height, bool aovs);
+  FrameTargets(int width, int height, PassOutputs outputs);
   GLuint framebuffer() const { return framebuffer_.get(); }
   GLuint color(int attachment) const { return colors_[attachment].get(); }
   int attachmentCount() const { return static_cast<int>(colors_.size()); }
@@ -44,22 +64,21 @@ class FrameTargets {
 
 class LightingPass {
  public:
-  LightingPass(Shading shading, bool aovs);
+  LightingPass(Shading shading, PassOutputs outputs);
 
   // Draws opaque and masked surfaces, then blended ones (unsorted, depth writes off, AOV
-  // targets untouched). `visibilityBase` is the first light whose shadow term goes to the
-  // visibility targets.
+  // targets untouched); layer passes draw no blended surfaces.
   void render(const GpuScene& scene, const ViewCamera& camera,
               const std::vector<ShadedLight>& lights, const glm::vec3& ambient,
-              FrameTargets& targets, int visibilityBase);
+              FrameTargets& targets, const PassParameters& parameters);
 
  private:
-  void uploadLights(const std::vector<ShadedLight>& lights);
+  void uploadLights(const std::vector<ShadedLight>& lights, int debugLight);
   void drawScene(const GpuScene& scene, bool blended);
 
-  bool aovs_;
+  PassOutputs outputs_;
   ShaderProgram program_;
-  gl::Sampler hardCompare_, linearCompare_;
+  gl::Sampler hardCompare_, linearCompare_, rawDepth_;
   gl::Buffer lightBuffer_;
   GLsizeiptr lightBufferSize_ = 0;
 };

@@ -13,12 +13,13 @@
 namespace omnishadow {
 namespace {
 
-// Reads attachment `index` of the frame as RGBA floats, rows flipped so row 0 = top.
-std::vector<float> readAttachment(const FrameTargets& targets, int index) {
+// Reads attachment `index` as RGBA floats, top row first unless `glRowOrder`.
+std::vector<float> readAttachment(const FrameTargets& targets, int index, bool glRowOrder) {
   const int w = targets.width(), h = targets.height();
   std::vector<float> pixels(static_cast<std::size_t>(w) * h * 4);
   glGetTextureImage(targets.color(index), 0, GL_RGBA, GL_FLOAT,
                     static_cast<GLsizei>(pixels.size() * sizeof(float)), pixels.data());
+  if (glRowOrder) return pixels;
   const std::size_t row = static_cast<std::size_t>(w) * 4;
   for (int y = 0; y < h / 2; ++y)
     std::swap_ranges(pixels.begin() + y * row, pixels.begin() + (y + 1) * row,
@@ -26,18 +27,40 @@ std::vector<float> readAttachment(const FrameTargets& targets, int index) {
   return pixels;
 }
 
-// Copies channel `from` of an RGBA buffer into channel `to` of the image.
-void copyChannel(const std::vector<float>& rgba, int from, FloatImage& image, int to) {
-  const std::size_t count = static_cast<std::size_t>(image.width) * image.height;
+// Copies `count` channels starting at `from` of an RGBA buffer into the image from `to` on.
+void copyChannels(const std::vector<float>& rgba, int from, int count, FloatImage& image, int to) {
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
   const std::size_t stride = image.channels.size();
-  for (std::size_t i = 0; i < count; ++i) image.pixels[i * stride + to] = rgba[i * 4 + from];
+  for (std::size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < count; ++c) image.pixels[i * stride + to + c] = rgba[i * 4 + from + c];
 }
 
 bool castsPointShadow(const Light& light) {
   return light.type == LightType::Point && light.shadow.enabled;
 }
 
+constexpr int kFixedAovChannels = 11;  // R G B A P.X P.Y P.Z N.X N.Y N.Z Z
+
 }  // namespace
+
+std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers) {
+  std::vector<std::string> channels = {"R",   "G",   "B",   "A",   "P.X", "P.Y",
+                                       "P.Z", "N.X", "N.Y", "N.Z", "Z"};
+  for (const Light& light : lights) channels.push_back("visibility." + light.name);
+  if (layers.albedo)
+    for (const char* c : {"R", "G", "B"}) channels.push_back(std::string("albedo.") + c);
+  if (layers.roughness) channels.push_back("roughness");
+  if (layers.metallic) channels.push_back("metallic");
+  if (layers.objectId) channels.push_back("objectId");
+  if (layers.materialId) channels.push_back("materialId");
+  for (const Light& light : lights) {
+    if (layers.diffuse)
+      for (const char* c : {"R", "G", "B"}) channels.push_back("diffuse." + light.name + "." + c);
+    if (layers.specular)
+      for (const char* c : {"R", "G", "B"}) channels.push_back("specular." + light.name + "." + c);
+  }
+  return channels;
+}
 
 float effectiveShadowFar(const Light& light, const Bounds& sceneBounds) {
   if (light.shadow.far > 0.0f) return light.shadow.far;
@@ -55,26 +78,115 @@ float effectiveShadowFar(const Light& light, const Bounds& sceneBounds) {
   return std::max(farthest * 1.01f, light.shadow.near * 2.0f);
 }
 
+// The scene on the GPU with its shadow maps, shared by every view of one render.
+struct Renderer::Prepared {
+  explicit Prepared(const Scene& s) : gpu(s) {}
+  GpuScene gpu;
+  std::vector<PointShadowMap> maps;
+  std::vector<ShadedLight> shaded;
+  int debugLight = -1;
+};
+
 Renderer::Renderer(const ContextOptions& options)
     : context_(std::make_unique<EglContext>(options)) {
   if (options.debug) gl::enableDebugOutput();
   // Reversed depth with a [0,1] clip range keeps float depth precise from near to far.
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
-  glEnable(GL_FRAMEBUFFER_SRGB);  // no effect on float targets; sRGB textures decode anyway
   shadowPass_ = std::make_unique<ShadowPass>();
   gl::checkErrors("context setup");
 }
 
 Renderer::~Renderer() = default;
 
-LightingPass& Renderer::lightingPass(const RenderSettings& settings) {
-  const auto key = std::make_pair(settings.shading, settings.aovs);
+LightingPass& Renderer::lightingPass(Shading shading, PassOutputs outputs) {
+  const auto key = std::make_pair(shading, outputs);
   for (auto& [k, pass] : lightingPasses_)
     if (k == key) return *pass;
-  lightingPasses_.emplace_back(key,
-                               std::make_unique<LightingPass>(settings.shading, settings.aovs));
+  lightingPasses_.emplace_back(key, std::make_unique<LightingPass>(shading, outputs));
   return *lightingPasses_.back().second;
+}
+
+FloatImage Renderer::drawBeauty(Prepared& prepared, const ViewCamera& camera,
+                                const glm::vec3& ambient, const RenderSettings& settings,
+                                const PassParameters& parameters, StageTimes* times) {
+  StageTimes unused;
+  StageTimes& stages = times ? *times : unused;
+  FrameTargets targets(camera.width, camera.height, PassOutputs::Beauty);
+  {
+    ScopedStage stage(stages, "lighting");
+    lightingPass(settings.shading, PassOutputs::Beauty)
+        .render(prepared.gpu, camera, prepared.shaded, ambient, targets, parameters);
+    glFinish();
+  }
+  ScopedStage readback(stages, "readback");
+  FloatImage image{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
+  image.pixels = readAttachment(targets, 0, camera.glRowOrder);
+  return image;
+}
+
+void Renderer::drawAovs(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                        const RenderSettings& settings, FloatImage& aovs, StageTimes& times) {
+  const int lightCount = static_cast<int>(prepared.shaded.size());
+  const bool flip = camera.glRowOrder;
+  // One pass gives the fixed channels and the visibility of 20 lights; more lights take more.
+  FrameTargets targets(camera.width, camera.height, PassOutputs::Aovs);
+  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs);
+  const int passes = std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass);
+  for (int p = 0; p < passes; ++p) {
+    PassParameters parameters;
+    parameters.visibilityBase = p * kVisibilityPerPass;
+    {
+      ScopedStage stage(times, "lighting");
+      pass.render(prepared.gpu, camera, prepared.shaded, ambient, targets, parameters);
+      glFinish();
+    }
+    ScopedStage readback(times, "readback");
+    if (p == 0) {
+      copyChannels(readAttachment(targets, 0, flip), 0, 4, aovs, 0);
+      const std::vector<float> position = readAttachment(targets, 1, flip);
+      copyChannels(position, 0, 3, aovs, 4);
+      copyChannels(readAttachment(targets, 2, flip), 0, 3, aovs, 7);
+      copyChannels(position, 3, 1, aovs, 10);
+    }
+    for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
+      const int first = parameters.visibilityBase + target * 4;
+      if (first >= lightCount) break;
+      copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
+                   aovs, kFixedAovChannels + first);
+    }
+  }
+
+  const AovLayers& layers = settings.layers;
+  if (!layers.any()) return;
+  FrameTargets layerTargets(camera.width, camera.height, PassOutputs::Layers);
+  LightingPass& layerPass = lightingPass(settings.shading, PassOutputs::Layers);
+  auto runLayerPass = [&](int mode, int light) {
+    PassParameters parameters;
+    parameters.layerMode = mode;
+    parameters.layerLight = light;
+    ScopedStage stage(times, "layers");
+    layerPass.render(prepared.gpu, camera, prepared.shaded, ambient, layerTargets, parameters);
+    return std::make_pair(readAttachment(layerTargets, 1, flip),
+                          readAttachment(layerTargets, 2, flip));
+  };
+  int next = kFixedAovChannels + lightCount;
+  if (layers.albedo || layers.roughness || layers.metallic || layers.objectId ||
+      layers.materialId) {
+    const auto [a, b] = runLayerPass(0, -1);  // a: albedo.rgb, roughness; b: metallic, ids
+    if (layers.albedo) copyChannels(a, 0, 3, aovs, std::exchange(next, next + 3));
+    if (layers.roughness) copyChannels(a, 3, 1, aovs, next++);
+    if (layers.metallic) copyChannels(b, 0, 1, aovs, next++);
+    if (layers.objectId) copyChannels(b, 1, 1, aovs, next++);
+    if (layers.materialId) copyChannels(b, 2, 1, aovs, next++);
+  }
+  if (layers.diffuse || layers.specular) {
+    for (int light = 0; light < lightCount; ++light) {
+      const auto [diffuse, specular] = runLayerPass(1, light);
+      if (layers.diffuse) copyChannels(diffuse, 0, 3, aovs, std::exchange(next, next + 3));
+      if (layers.specular) copyChannels(specular, 0, 3, aovs, std::exchange(next, next + 3));
+    }
+  }
 }
 
 Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
@@ -92,81 +204,92 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
       frame.warnings.push_back("light \"" + light.name + "\": " + toString(light.type) +
                                " lights are not shadowed yet; it lights the scene unshadowed");
   }
+  int debugLight = -1;
+  if (settings.debugView == DebugView::Depth) {
+    for (std::size_t i = 0; i < lights.size() && debugLight < 0; ++i)
+      if (castsPointShadow(lights[i]) &&
+          (settings.debugLight.empty() || lights[i].name == settings.debugLight))
+        debugLight = static_cast<int>(i);
+    if (debugLight < 0)
+      throw InputError(settings.debugLight.empty()
+                           ? "--debug-view depth: no light casts a point shadow"
+                           : "--debug-light " + settings.debugLight +
+                                 ": no shadowed point light has that name");
+  }
 
   ScopedStage shaders(times, "shaders");
-  LightingPass& lighting = lightingPass(settings);  // compiled once per variant and renderer
+  lightingPass(settings.shading, PassOutputs::Beauty);  // compiled once per renderer
   shaders.stop();
 
   ScopedStage upload(times, "upload");
-  GpuScene gpuScene(scene);
-  FrameTargets targets(camera.width, camera.height, settings.aovs);
+  Prepared prepared(scene);
+  prepared.debugLight = debugLight;
   glFinish();
   upload.stop();
 
   ScopedStage shadowStage(times, "shadow maps");
-  std::vector<PointShadowMap> maps;
-  maps.reserve(lights.size());
-  std::vector<ShadedLight> shaded;
+  prepared.maps.reserve(lights.size());  // ShadedLight points into it
   for (const Light& light : lights) {
     ShadedLight s{&light, nullptr};
     if (castsPointShadow(light)) {
-      maps.push_back(shadowPass_->renderPointLight(gpuScene, light, light.shadow.near,
-                                                   effectiveShadowFar(light, scene.bounds),
-                                                   light.shadow.resolution));
-      s.shadow = &maps.back();
+      prepared.maps.push_back(shadowPass_->renderPointLight(prepared.gpu, light, light.shadow.near,
+                                                            effectiveShadowFar(light, scene.bounds),
+                                                            light.shadow.resolution));
+      s.shadow = &prepared.maps.back();
     }
-    shaded.push_back(s);
+    prepared.shaded.push_back(s);
   }
   glFinish();
   shadowStage.stop();
 
-  // One pass gives the beauty and the visibility of 20 lights; more lights take more passes.
-  const int lightCount = static_cast<int>(lights.size());
-  const int passes =
-      settings.aovs ? std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass) : 1;
-  std::vector<std::string> channels = {"R", "G", "B", "A"};
-  if (settings.aovs) {
-    for (const char* name : {"P.X", "P.Y", "P.Z", "N.X", "N.Y", "N.Z", "Z"})
-      channels.push_back(name);
-    for (const Light& light : lights) channels.push_back("visibility." + light.name);
-  }
-  FloatImage beauty{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
-  beauty.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height * 4);
-  FloatImage aovs{camera.width, camera.height, channels, {}};
-  if (settings.aovs)
-    aovs.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height * channels.size());
-
-  for (int pass = 0; pass < passes; ++pass) {
-    const int base = pass * kVisibilityPerPass;
-    {
-      ScopedStage stage(times, "lighting");
-      lighting.render(gpuScene, camera, shaded, ambient, targets, base);
-      glFinish();
-    }
+  if (settings.readShadowMaps) {
     ScopedStage readback(times, "readback");
-    if (pass == 0) {
-      beauty.pixels = readAttachment(targets, 0);
-      if (settings.aovs) {
-        for (int c = 0; c < 4; ++c) copyChannel(beauty.pixels, c, aovs, c);
-        const std::vector<float> position = readAttachment(targets, 1);
-        const std::vector<float> normal = readAttachment(targets, 2);
-        for (int c = 0; c < 3; ++c) copyChannel(position, c, aovs, 4 + c);
-        for (int c = 0; c < 3; ++c) copyChannel(normal, c, aovs, 7 + c);
-        copyChannel(position, 3, aovs, 10);
+    for (const ShadedLight& s : prepared.shaded)
+      if (s.shadow)
+        frame.shadowMaps.push_back(
+            {s.light->name, s.shadow->far, ShadowPass::readDistances(*s.shadow)});
+  }
+
+  PassParameters beautyParameters;
+  beautyParameters.debugView = settings.debugView;
+  beautyParameters.debugLight = debugLight;
+  if (settings.aovs) {
+    FloatImage aovs{camera.width, camera.height, aovChannels(lights, settings.layers), {}};
+    aovs.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height *
+                       aovs.channels.size());
+    drawAovs(prepared, camera, ambient, settings, aovs, times);
+    frame.aovs = std::move(aovs);
+  }
+  if (!settings.aovs || settings.debugView != DebugView::None) {
+    frame.beauty = drawBeauty(prepared, camera, ambient, settings, beautyParameters, &times);
+  } else {
+    // The AOV pass already drew the beauty.
+    frame.beauty = FloatImage{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
+    frame.beauty.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height * 4);
+    const std::size_t stride = frame.aovs->channels.size();
+    for (std::size_t i = 0; i < frame.beauty.pixels.size() / 4; ++i)
+      for (int c = 0; c < 4; ++c)
+        frame.beauty.pixels[i * 4 + c] = frame.aovs->pixels[i * stride + c];
+  }
+
+  if (settings.lightViewSize > 0) {
+    ScopedStage stage(times, "light views");
+    for (const ShadedLight& s : prepared.shaded) {
+      if (s.light->type != LightType::Point) continue;
+      for (int face = 0; face < kCubeFaceCount; ++face) {
+        ViewCamera view;
+        view.width = view.height = settings.lightViewSize;
+        view.eye = s.light->position;
+        view.view = cubeFaceView(static_cast<CubeFace>(face), s.light->position);
+        view.projection =
+            reversedPerspective(glm::radians(90.0f), 1.0f, s.light->shadow.near, 0.0f);
+        view.glRowOrder = true;
+        frame.lightViews.push_back({s.light->name, static_cast<CubeFace>(face),
+                                    drawBeauty(prepared, view, ambient, settings, {}, nullptr)});
       }
-    }
-    if (!settings.aovs) continue;
-    for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
-      const int first = base + target * 4;
-      if (first >= lightCount) break;
-      const std::vector<float> visibility = readAttachment(targets, 3 + target);
-      for (int c = 0; c < 4 && first + c < lightCount; ++c)
-        copyChannel(visibility, c, aovs, 11 + first + c);
     }
   }
   gl::checkErrors("reading back the frame");
-  frame.beauty = std::move(beauty);
-  if (settings.aovs) frame.aovs = std::move(aovs);
   return frame;
 }
 

@@ -2,9 +2,11 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "renderer/camera.h"
+#include "renderer/cube_distances.h"
 #include "renderer/egl_context.h"
 #include "renderer/image_writer.h"
 #include "renderer/light.h"
@@ -14,16 +16,53 @@
 
 namespace omnishadow {
 
+// Optional AOV layers (--aov-layers), appended to Frame::aovs after the fixed channels.
+struct AovLayers {
+  bool albedo = false;      // albedo.R/G/B
+  bool roughness = false;   // roughness
+  bool metallic = false;    // metallic
+  bool diffuse = false;     // diffuse.<light>.R/G/B
+  bool specular = false;    // specular.<light>.R/G/B
+  bool objectId = false;    // objectId: index into Scene::instances, -1 = background
+  bool materialId = false;  // materialId: index into Scene::materials (the default material is
+                            // Scene::materials.size()), -1 = background
+  bool any() const {
+    return albedo || roughness || metallic || diffuse || specular || objectId || materialId;
+  }
+};
+
 struct RenderSettings {
   Shading shading = Shading::Pbr;
   bool aovs = false;  // fill Frame::aovs
+  AovLayers layers;   // with aovs
+  DebugView debugView = DebugView::None;
+  std::string debugLight;       // DebugView::Depth: light name; empty = the first shadowed one
+  bool readShadowMaps = false;  // fill Frame::shadowMaps
+  int lightViewSize = 0;        // > 0: fill Frame::lightViews with images of this size
+};
+
+// A point light's shadow map as the lighting pass sampled it.
+struct ShadowMapDump {
+  std::string light;
+  float far = 0.0f;
+  CubeDistances distances;
+};
+
+// The lit scene seen from one cube face of a point light, in GL texel layout like the dumps.
+struct LightView {
+  std::string light;
+  CubeFace face;
+  FloatImage beauty;
 };
 
 // What one render produces, read back to the CPU; first row = top of the picture.
 struct Frame {
   FloatImage beauty;  // R,G,B,A: linear, premultiplied, A = coverage
-  // R,G,B,A, P.X,P.Y,P.Z, N.X,N.Y,N.Z, Z, visibility.<light> per light (README, "Outputs").
+  // R,G,B,A, P.X,P.Y,P.Z, N.X,N.Y,N.Z, Z, visibility.<light> per light (README, "Outputs"),
+  // then the requested layers.
   std::optional<FloatImage> aovs;
+  std::vector<ShadowMapDump> shadowMaps;
+  std::vector<LightView> lightViews;
   std::vector<std::string> warnings;
 };
 
@@ -39,21 +78,32 @@ class Renderer {
 
   const EglContext& context() const { return *context_; }
 
-  // Renders the scene's lights merged with `lights` (lights must already be merged and named
-  // uniquely). Stage times go to `times`: upload, shadow maps, lighting, readback.
+  // Renders the scene with `lights` (already merged and uniquely named). Stage times go to
+  // `times`: shaders, upload, shadow maps, lighting, readback. Throws InputError for settings
+  // the scene cannot satisfy (too many shadowed lights, an unknown --debug-light).
   Frame render(const Scene& scene, const std::vector<Light>& lights, const glm::vec3& ambient,
                const ViewCamera& camera, const RenderSettings& settings, StageTimes& times);
 
-  // Depth cube maps of the shadowed point lights, as distances, e.g. for tests and dumps.
+  // Depth cube maps of the shadowed point lights, as distances, e.g. for tests.
   std::vector<CubeDistances> renderShadowDistances(const Scene& scene,
                                                    const std::vector<Light>& lights);
 
  private:
-  LightingPass& lightingPass(const RenderSettings& settings);
+  struct Prepared;
+  LightingPass& lightingPass(Shading shading, PassOutputs outputs);
+  FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                        const RenderSettings& settings, const PassParameters& parameters,
+                        StageTimes* times);
+  void drawAovs(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                const RenderSettings& settings, FloatImage& aovs, StageTimes& times);
 
   std::unique_ptr<EglContext> context_;
   std::unique_ptr<ShadowPass> shadowPass_;
-  std::vector<std::pair<std::pair<Shading, bool>, std::unique_ptr<LightingPass>>> lightingPasses_;
+  std::vector<std::pair<std::pair<Shading, PassOutputs>, std::unique_ptr<LightingPass>>>
+      lightingPasses_;
 };
+
+// Channel names of Frame::aovs for these lights and layers, in order.
+std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers);
 
 }  // namespace omnishadow

@@ -96,8 +96,23 @@ struct Camera {
   glm::mat4 world{1.0f};  // camera-to-world; the camera looks down its local -Z, +Y up
 };
 
+// What the file held, beyond what the chosen scene draws; filled by the loader, reported by
+// `omnishadow info`.
+struct SourceSummary {
+  std::string format;  // "gltf" or "glb" (by content, not by the file name)
+  // The glTF `asset` fields as given (empty when absent).
+  std::string version, minVersion, generator, copyright;
+  int sceneCount = 0;      // glTF scenes in the file
+  int sceneIndex = -1;     // the scene loaded; -1 when the file has no scenes (all roots drawn)
+  int fileNodes = 0;       // nodes in the file
+  int reachedNodes = 0;    // nodes reached from the loaded scene's roots
+  int gltfMeshes = 0;      // glTF meshes in the file
+  int gltfPrimitives = 0;  // primitives of all of them, of any mode
+};
+
 struct Scene {
   std::string path;  // file it was loaded from, for messages
+  SourceSummary source;
   // The scene file and every external file it references (buffers, images), so that outputs
   // never overwrite an input.
   std::vector<std::string> inputFiles;

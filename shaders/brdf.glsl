@@ -17,14 +17,18 @@ float visibilitySmithGgxCorrelated(float NdotV, float NdotL, float alpha) {
 }
 
 vec3 fresnelSchlick(vec3 f0, float VdotH) {
-  return f0 + (1.0 - f0) * pow(1.0 - VdotH, 5.0);
+  // VdotH may exceed 1 by rounding (camera at the light): pow of a negative base is undefined.
+  return f0 + (1.0 - f0) * pow(clamp(1.0 - VdotH, 0.0, 1.0), 5.0);
 }
 
-// Outgoing radiance towards V for light arriving from L with the given radiance.
-vec3 shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metallic,
-              float roughness) {
+// Outgoing radiance towards V for light arriving from L with the given radiance, split into
+// its diffuse and specular parts (the per-light AOV layers report them separately).
+void shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metallic,
+              float roughness, out vec3 diffuse, out vec3 specular) {
+  diffuse = vec3(0.0);
+  specular = vec3(0.0);
   float NdotL = dot(N, L);
-  if (NdotL <= 0.0) return vec3(0.0);
+  if (NdotL <= 0.0) return;
   vec3 H = normalize(L + V);
   float NdotV = max(dot(N, V), 1e-4);
   float NdotH = max(dot(N, H), 0.0);
@@ -32,19 +36,25 @@ vec3 shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metal
   float alpha = max(roughness * roughness, 1e-3);
   vec3 f0 = mix(vec3(0.04), baseColor, metallic);
   vec3 F = fresnelSchlick(f0, VdotH);
-  vec3 diffuse = (1.0 - F) * (1.0 - metallic) * baseColor / PI;
-  vec3 specular = F * distributionGgx(NdotH, alpha) * visibilitySmithGgxCorrelated(NdotV, NdotL, alpha);
-  return (diffuse + specular) * radiance * NdotL;
+  vec3 irradiance = radiance * NdotL;
+  diffuse = (1.0 - F) * (1.0 - metallic) * baseColor / PI * irradiance;
+  specular = F * distributionGgx(NdotH, alpha) *
+             visibilitySmithGgxCorrelated(NdotV, NdotL, alpha) * irradiance;
 }
 
 // Blinn-Phong as in the classic point-shadow tutorial, in the same photometric units:
 // normalized Blinn-Phong lobe with a shininess derived from roughness.
-vec3 shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float roughness) {
+void shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float roughness,
+                out vec3 diffuse, out vec3 specular) {
+  diffuse = vec3(0.0);
+  specular = vec3(0.0);
   float NdotL = dot(N, L);
-  if (NdotL <= 0.0) return vec3(0.0);
+  if (NdotL <= 0.0) return;
   vec3 H = normalize(L + V);
   float alpha = max(roughness * roughness, 1e-3);
   float shininess = max(2.0 / (alpha * alpha) - 2.0, 1.0);
   float lobe = (shininess + 8.0) / (8.0 * PI) * pow(max(dot(N, H), 0.0), shininess);
-  return (baseColor / PI + vec3(0.04) * lobe) * radiance * NdotL;
+  vec3 irradiance = radiance * NdotL;
+  diffuse = baseColor / PI * irradiance;
+  specular = vec3(0.04) * lobe * irradiance;
 }

@@ -1,5 +1,7 @@
 // Lighting pass: material, all lights in one loop, shadows, and the AOVs.
-// Variants: SHADING_PHONG (Blinn-Phong instead of metallic-roughness), WRITE_AOVS.
+// Variants: SHADING_PHONG (Blinn-Phong instead of metallic-roughness), WRITE_AOVS (position,
+// normal, distance, visibility), WRITE_LAYERS (material layers or one light's diffuse and
+// specular, chosen by uLayerMode).
 #include "lights.glsl"
 #include "brdf.glsl"
 #include "point_shadow.glsl"
@@ -18,6 +20,8 @@ layout(binding = 1) uniform sampler2D uMetallicRoughnessTexture;
 layout(binding = 2) uniform sampler2D uNormalTexture;
 layout(binding = 3) uniform sampler2D uOcclusionTexture;
 layout(binding = 4) uniform sampler2D uEmissiveTexture;
+// The cube map of the light --debug-view depth shows, read without comparison.
+layout(binding = 24) uniform samplerCube uDebugDepthCube;
 
 uniform vec4 uBaseColorFactor;
 uniform float uMetallicFactor;
@@ -27,7 +31,6 @@ uniform float uNormalScale;
 uniform float uOcclusionStrength;
 uniform int uAlphaMode;  // 0 opaque, 1 mask, 2 blend
 uniform float uAlphaCutoff;
-uniform int uDoubleSided;
 uniform int uHasTangents;
 // Per texture slot: -1 = none, else the TEXCOORD set.
 uniform int uBaseColorTexCoord;
@@ -39,6 +42,10 @@ uniform int uEmissiveTexCoord;
 uniform vec3 uCameraPosition;
 uniform vec3 uAmbient;
 
+// 0 = beauty; 1 shadow, 2 depth, 3 normals, 4 albedo, 5 light count (renderer/lighting_pass.h)
+uniform int uDebugView;
+uniform int uDebugLight;  // the light --debug-view depth shows
+
 layout(location = 0) out vec4 outBeauty;
 #ifdef WRITE_AOVS
 const int VISIBILITY_OUTPUTS = 5;
@@ -47,8 +54,27 @@ layout(location = 2) out vec4 outNormal;            // shading normal facing the
 layout(location = 3) out vec4 outVisibility[VISIBILITY_OUTPUTS];
 uniform int uVisibilityBase;  // first light whose shadow term goes to outVisibility
 #endif
+#ifdef WRITE_LAYERS
+layout(location = 1) out vec4 outLayerA;  // mode 0: albedo, roughness; mode 1: diffuse
+layout(location = 2) out vec4 outLayerB;  // mode 0: metallic, objectId, materialId; 1: specular
+uniform int uLayerMode;
+uniform int uLayerLight;
+uniform float uObjectId;
+uniform float uMaterialId;
+#endif
 
 vec2 uvFor(int texCoord) { return texCoord == 0 ? vIn.uv0 : vIn.uv1; }
+
+// Distance to the light stored in its cube map in the fragment's direction, over `far`.
+float debugDepth(Light light) {
+  vec3 d = vIn.worldPosition - light.positionRange.xyz;
+  float depth = texture(uDebugDepthCube, d).r;
+  if (depth <= 0.0) return 1.0;  // nothing rendered there
+  float near = light.shadowParameters.x, far = light.shadowParameters.y;
+  float axis = near * far / (depth * (far - near) + near);
+  float distance = axis * length(d) / max(abs(d.x), max(abs(d.y), abs(d.z)));
+  return clamp(distance / far, 0.0, 1.0);
+}
 
 void main() {
   vec4 baseColor = uBaseColorFactor * vIn.color;
@@ -80,6 +106,7 @@ void main() {
     tangentNormal.xy *= uNormalScale;
     N = normalize(mat3(T, B, N) * tangentNormal);
   }
+  vec3 facingNormal = dot(N, V) < 0.0 ? -N : N;
 
   float occlusion = 1.0;
   if (uOcclusionTexCoord >= 0)
@@ -94,6 +121,13 @@ void main() {
   float visibility[4 * VISIBILITY_OUTPUTS];
   for (int i = 0; i < 4 * VISIBILITY_OUTPUTS; ++i) visibility[i] = 1.0;
 #endif
+#ifdef WRITE_LAYERS
+  vec3 layerDiffuse = vec3(0.0), layerSpecular = vec3(0.0);
+#endif
+  float shadowSum = 0.0;
+  int shadowedLights = 0;
+  int contributing = 0;
+  float depthView = 1.0;
   for (int i = 0; i < uLightCount; ++i) {
     Light light = uLights[i];
     vec3 L, radiance;
@@ -104,25 +138,53 @@ void main() {
       // The bias uses the geometric normal on the light's side of the surface.
       vec3 Nlight = dot(Ngeom, L) >= 0.0 ? Ngeom : -Ngeom;
       shadow = pointShadowVisibility(light, vIn.worldPosition, Nlight, cameraDistance);
+      if (int(light.radianceShadow.w) >= 0) {
+        shadowSum += shadow;
+        ++shadowedLights;
+      }
+      if (uDebugView == 2 && i == uDebugLight) depthView = debugDepth(light);
     }
 #ifdef WRITE_AOVS
     int slot = i - uVisibilityBase;
     if (slot >= 0 && slot < 4 * VISIBILITY_OUTPUTS) visibility[slot] = shadow;
 #endif
     if (shadow <= 0.0) continue;
+    vec3 diffuse, specular;
 #ifdef SHADING_PHONG
-    color += shadow * shadePhong(N, V, L, radiance, baseColor.rgb, roughness);
+    shadePhong(N, V, L, radiance, baseColor.rgb, roughness, diffuse, specular);
 #else
-    color += shadow * shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness);
+    shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, diffuse, specular);
+#endif
+    color += shadow * (diffuse + specular);
+    if (any(greaterThan(diffuse + specular, vec3(0.0)))) ++contributing;
+#ifdef WRITE_LAYERS
+    if (i == uLayerLight) {
+      layerDiffuse = shadow * diffuse;
+      layerSpecular = shadow * specular;
+    }
 #endif
   }
 
+  if (uDebugView == 1) color = vec3(shadowedLights > 0 ? shadowSum / float(shadowedLights) : 1.0);
+  if (uDebugView == 2) color = vec3(depthView);
+  if (uDebugView == 3) color = facingNormal * 0.5 + 0.5;
+  if (uDebugView == 4) color = baseColor.rgb;
+  if (uDebugView == 5) color = vec3(float(contributing) / float(max(uLightCount, 1)));
   outBeauty = vec4(color * alpha, alpha);  // premultiplied, A = coverage
 #ifdef WRITE_AOVS
   outPositionDistance = vec4(vIn.worldPosition, cameraDistance);
-  outNormal = vec4(dot(N, V) < 0.0 ? -N : N, 1.0);
+  outNormal = vec4(facingNormal, 1.0);
   for (int o = 0; o < VISIBILITY_OUTPUTS; ++o)
     outVisibility[o] = vec4(visibility[4 * o], visibility[4 * o + 1], visibility[4 * o + 2],
                             visibility[4 * o + 3]);
+#endif
+#ifdef WRITE_LAYERS
+  if (uLayerMode == 0) {
+    outLayerA = vec4(baseColor.rgb, roughness);
+    outLayerB = vec4(metallic, uObjectId, uMaterialId, 0.0);
+  } else {
+    outLayerA = vec4(layerDiffuse, 0.0);
+    outLayerB = vec4(layerSpecular, 0.0);
+  }
 #endif
 }

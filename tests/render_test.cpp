@@ -616,7 +616,9 @@ ViewCamera topView(const Scene& scene) {
   return lookFrom(scene, {0, 4, 0.0001f}, {0, 0, 0}, 32, 32, 30.0f, {0, 0, -1});
 }
 
-Light lampAbove() { return pointLight("lamp", {0, 3, 0}, ShadowFilter::Pcf, 64); }
+Light lampAbove() {
+  return pointLight("lamp", {0, 3, 0}, ShadowFilter::Pcf, 64);
+}
 
 }  // namespace
 
@@ -654,7 +656,9 @@ TEST(Materials, SingleSidedFacesAreCulledDoubleSidedAreNot) {
     const Frame frame = renderAovs(scene, {lampAbove()}, below);
     const AovPixel px = pixelAt(*frame.aovs, 16, 16, "lamp");
     EXPECT_EQ(px.coverage, doubleSided ? 1.0f : 0.0f);
-    if (doubleSided) EXPECT_NEAR(px.normal.y, -1.0f, 1e-4f);
+    if (doubleSided) {
+      EXPECT_NEAR(px.normal.y, -1.0f, 1e-4f);
+    }
   }
 }
 
@@ -695,8 +699,8 @@ TEST(Cameras, OrthographicCameraOfASampleModel) {
   // Cameras.gltf (scenes/thirdparty) has a perspective and an orthographic camera; the
   // orthographic one keeps parallel lines parallel: the square's pixel footprint does not
   // depend on distance, so both cameras see it, and the ortho image is fully predictable.
-  const Scene scene = loadGltf(std::string(OMNISHADOW_SOURCE_DIR) +
-                               "/scenes/thirdparty/Cameras/Cameras.gltf");
+  const Scene scene =
+      loadGltf(std::string(OMNISHADOW_SOURCE_DIR) + "/scenes/thirdparty/Cameras/Cameras.gltf");
   ASSERT_EQ(scene.cameras.size(), 2u);
   for (const Camera& gltfCamera : scene.cameras) {
     CameraRequest request;
@@ -711,4 +715,214 @@ TEST(Cameras, OrthographicCameraOfASampleModel) {
       for (int x = 0; x < 64; ++x) coverage += frame.beauty.at(x, y, 3);
     EXPECT_GT(coverage, 64.0f) << "camera " << gltfCamera.index << " sees the model";
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Debugging outputs: shadow map dumps, light views, debug views, AOV layers.
+
+namespace {
+
+// Six boxes of different colors, one on each axis around a point light at the origin, at
+// different distances, inside nothing else.
+Scene sixColoredBoxes(std::vector<glm::vec3>& colors, std::vector<float>& distances) {
+  Scene scene;
+  const glm::vec3 axes[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {1, 0, 1}};
+  for (int i = 0; i < 6; ++i) {
+    const float distance = 1.0f + 0.25f * static_cast<float>(i);
+    distances.push_back(distance);
+    // A large box whose face towards the light lies at `distance` and covers the face center.
+    addObject(scene, builder::makeBox(glm::vec3(0.4f)), translate(axes[i] * (distance + 0.4f)),
+              addMaterial(scene, glm::vec4(colors[i], 1.0f)));
+  }
+  return scene;
+}
+
+}  // namespace
+
+TEST(DebugOutputs, LightViewsAndDumpsShowEachAxisOnItsOwnFace) {
+  std::vector<glm::vec3> colors;
+  std::vector<float> distances;
+  const Scene scene = sixColoredBoxes(colors, distances);
+  Light light = pointLight("lamp", glm::vec3(0.0f), ShadowFilter::Pcf, 64);
+  RenderSettings settings;
+  settings.readShadowMaps = true;
+  settings.lightViewSize = 32;
+  StageTimes times;
+  const ViewCamera camera = lookFrom(scene, {4, 3, 5}, {0, 0, 0}, 16, 16);
+  const Frame frame =
+      sharedRenderer().render(scene, {light}, glm::vec3(0.0f), camera, settings, times);
+  ASSERT_EQ(frame.lightViews.size(), 6u);
+  ASSERT_EQ(frame.shadowMaps.size(), 1u);
+  const CubeDistances& map = frame.shadowMaps[0].distances;
+  for (int face = 0; face < 6; ++face) {
+    SCOPED_TRACE(kCubeFaceNames[face]);
+    const LightView& view = frame.lightViews[face];
+    EXPECT_EQ(static_cast<int>(view.face), face);
+    EXPECT_EQ(view.light, "lamp");
+    // The face's center pixel shows that axis' box: the brightest channels are its color's.
+    const glm::vec3 center(view.beauty.at(16, 16, 0), view.beauty.at(16, 16, 1),
+                           view.beauty.at(16, 16, 2));
+    ASSERT_GT(glm::length(center), 0.0f);
+    const glm::vec3 hue = center / std::max(center.x, std::max(center.y, center.z));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(hue[c], colors[face][c], 0.05f);
+    // The dump holds that box's distance at the face center.
+    EXPECT_NEAR(map.at(static_cast<CubeFace>(face), 32, 32), distances[face],
+                distances[face] * 0.01f);
+  }
+}
+
+TEST(DebugOutputs, DumpedDistancesAreWhatTheLightingCompared) {
+  // For every receiver pixel: if the dump's distance in its direction is clearly shorter than
+  // the receiver's own distance, the lighting found it shadowed, and vice versa.
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeSphere(0.5f, 32, 16), translate({0.3f, 1.2f, -0.2f}), white);
+  const glm::vec3 lightPosition(0, 3, 0);
+  const Light light = pointLight("lamp", lightPosition, ShadowFilter::Hard, 256);
+  RenderSettings settings;
+  settings.aovs = true;
+  settings.readShadowMaps = true;
+  StageTimes times;
+  const ViewCamera camera = lookFrom(scene, {0, 6, 4}, {0, 0, 0}, 96, 72);
+  const Frame frame =
+      sharedRenderer().render(scene, {light}, glm::vec3(0.0f), camera, settings, times);
+  const CubeDistances& map = frame.shadowMaps.at(0).distances;
+  int shadowed = 0, lit = 0;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const AovPixel px = pixelAt(*frame.aovs, x, y, "lamp");
+      if (px.coverage < 1.0f || std::abs(px.position.y) > 1e-3f) continue;  // the floor only
+      const glm::vec3 d = px.position - lightPosition;
+      const CubeLookup hit = cubeLookup(d);
+      const int column = std::min(static_cast<int>(hit.st.x * 256), 255);
+      const int row = std::min(static_cast<int>(hit.st.y * 256), 255);
+      const float stored = map.at(hit.face, column, row);
+      const float receiver = glm::length(d);
+      if (stored < receiver * 0.9f) {
+        ++shadowed;
+        EXPECT_EQ(px.visibility, 0.0f) << x << "," << y;
+      } else if (stored > receiver * 0.98f) {
+        ++lit;
+        EXPECT_EQ(px.visibility, 1.0f) << x << "," << y;
+      }
+    }
+  }
+  EXPECT_GT(shadowed, 100);
+  EXPECT_GT(lit, 1000);
+}
+
+TEST(DebugOutputs, PerLightLayersSumToTheBeauty) {
+  Scene scene;
+  const int red = addMaterial(scene, glm::vec4(0.9f, 0.2f, 0.1f, 1.0f));
+  scene.materials[red].metallicFactor = 0.3f;
+  scene.materials[red].roughnessFactor = 0.4f;
+  addObject(scene, builder::makePlane(6.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(0.7f)));
+  addObject(scene, builder::makeSphere(0.6f, 32, 16), translate({0, 0.6f, 0}), red);
+  const std::vector<Light> lights = {pointLight("a", {1.5f, 2.5f, 1}, ShadowFilter::Pcf, 128),
+                                     pointLight("b", {-2, 1.5f, 0.5f}, ShadowFilter::PcfDisk, 128)};
+  RenderSettings settings;
+  settings.aovs = true;
+  settings.layers = {true, true, true, true, true, true, true};
+  StageTimes times;
+  const ViewCamera camera = lookFrom(scene, {0, 3, 4}, {0, 0.3f, 0}, 64, 48);
+  const Frame frame =
+      sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, settings, times);
+  const FloatImage& aovs = *frame.aovs;
+  EXPECT_EQ(aovs.channels, aovChannels(lights, settings.layers));
+  for (const char* name : {"albedo.R", "roughness", "metallic", "objectId", "materialId",
+                           "diffuse.a.R", "specular.b.B"})
+    EXPECT_GE(aovs.channelIndex(name), 0) << name;
+  float maxError = 0.0f;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        const char* rgb[] = {"R", "G", "B"};
+        float sum = 0.0f;
+        for (const char* light : {"a", "b"})
+          for (const char* part : {"diffuse", "specular"})
+            sum += aovs.at(x, y, aovs.channelIndex(std::string(part) + "." + light + "." + rgb[c]));
+        maxError = std::max(maxError, std::abs(sum - aovs.at(x, y, c)));
+      }
+    }
+  }
+  EXPECT_LT(maxError, 1e-4f);  // no ambient, no emission: the lights are all there is
+  // The sphere at the center: its material's values and ids.
+  const int centerX = 32, centerY = 24;
+  EXPECT_NEAR(aovs.at(centerX, centerY, aovs.channelIndex("albedo.R")), 0.9f, 1e-5f);
+  EXPECT_NEAR(aovs.at(centerX, centerY, aovs.channelIndex("roughness")), 0.4f, 1e-5f);
+  EXPECT_NEAR(aovs.at(centerX, centerY, aovs.channelIndex("metallic")), 0.3f, 1e-5f);
+  EXPECT_EQ(aovs.at(centerX, centerY, aovs.channelIndex("objectId")), 1.0f);
+  EXPECT_EQ(aovs.at(centerX, centerY, aovs.channelIndex("materialId")), static_cast<float>(red));
+  EXPECT_EQ(aovs.at(0, 0, aovs.channelIndex("objectId")), -1.0f);  // background
+}
+
+TEST(DebugOutputs, DebugViewsShowWhatTheySay) {
+  Scene scene;
+  const int green = addMaterial(scene, glm::vec4(0.1f, 0.6f, 0.2f, 1.0f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), green);
+  addObject(scene, builder::makeSphere(0.5f, 32, 16), translate({0, 1.5f, 0}), green);
+  std::vector<Light> lights = {pointLight("lamp", {0, 4, 0}, ShadowFilter::Hard, 256),
+                               pointLight("side", {3, 1, 0}, ShadowFilter::Hard, 256)};
+  lights[1].range = 2.0f;  // reaches only part of the floor
+  const ViewCamera camera = lookFrom(scene, {0, 7, 3}, {0, 0, 0}, 64, 48);
+  auto render = [&](DebugView view) {
+    RenderSettings settings;
+    settings.aovs = true;
+    settings.debugView = view;
+    StageTimes times;
+    return sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, settings, times);
+  };
+  const Frame normals = render(DebugView::Normals);
+  const Frame albedo = render(DebugView::Albedo);
+  const Frame shadow = render(DebugView::Shadow);
+  const Frame depth = render(DebugView::Depth);
+  const Frame count = render(DebugView::LightCount);
+  int floorPixels = 0;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const AovPixel px = pixelAt(*normals.aovs, x, y, "lamp");
+      if (px.coverage < 1.0f || std::abs(px.position.y) > 1e-3f) continue;
+      ++floorPixels;
+      EXPECT_NEAR(normals.beauty.at(x, y, 1), 1.0f, 1e-4f);  // N = +Y -> (0.5, 1, 0.5)
+      EXPECT_NEAR(normals.beauty.at(x, y, 0), 0.5f, 1e-4f);
+      EXPECT_NEAR(albedo.beauty.at(x, y, 1), 0.6f, 1e-5f);
+      const float lampVisibility = px.visibility;
+      const float sideVisibility = pixelAt(*normals.aovs, x, y, "side").visibility;
+      EXPECT_NEAR(shadow.beauty.at(x, y, 0), 0.5f * (lampVisibility + sideVisibility), 1e-5f);
+      // Depth view: the lamp's stored distance over far; on lit floor that is the floor's own
+      // distance to the lamp.
+      if (lampVisibility == 1.0f) {
+        const float far = effectiveShadowFar(lights[0], scene.bounds);
+        const float expected = glm::length(px.position - lights[0].position) / far;
+        EXPECT_NEAR(depth.beauty.at(x, y, 0), expected, expected * 0.02f);
+      }
+      // Light count over the two lights: the side light contributes only within its range.
+      const float sideDistance = glm::length(px.position - lights[1].position);
+      if (std::abs(sideDistance - 2.0f) < 0.05f) continue;  // at the range's edge
+      const bool sideReaches = sideDistance < 2.0f;
+      const float expectedCount = (static_cast<float>(lampVisibility > 0.0f) +
+                                   static_cast<float>(sideReaches && sideVisibility > 0.0f)) /
+                                  2.0f;
+      EXPECT_NEAR(count.beauty.at(x, y, 0), expectedCount, 1e-5f) << x << "," << y;
+    }
+  }
+  EXPECT_GT(floorPixels, 1000);
+}
+
+TEST(Lighting, ACameraAtTheLightSeesNoInvalidValues) {
+  // Regression: with the eye exactly at the light, V == L and Fresnel's pow(1 - V.H, 5) got a
+  // slightly negative base, which is undefined in GLSL (black speckles).
+  Scene scene;
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(0.8f)));
+  const Light light = pointLight("lamp", {0, 2, 0}, ShadowFilter::Pcf, 128);
+  const ViewCamera camera = lookFrom(scene, {0, 2, 0}, {0, 0, 0.001f}, 64, 64, 90.0f, {0, 0, -1});
+  StageTimes times;
+  const Frame frame = sharedRenderer().render(scene, {light}, glm::vec3(0.0f), camera, {}, times);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      ASSERT_TRUE(std::isfinite(frame.beauty.at(x, y, 0))) << x << "," << y;
+      ASSERT_GT(frame.beauty.at(x, y, 0), 0.0f) << x << "," << y;
+    }
 }

@@ -1,0 +1,423 @@
+#include "cli/info_command.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/gltf_loader.h"
+#include "renderer/light.h"
+#include "renderer/lights_loader.h"
+
+namespace fs = std::filesystem;
+
+namespace omnishadow::cli {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Everything the report shows, gathered before anything is printed.
+struct Info {
+  std::string file;
+  Scene scene;
+  std::optional<LightSetup> setup;  // when a lights file was read
+  std::vector<Light> lights;        // as a render would use them: glTF, then the file's
+  std::vector<std::string> warnings;
+  std::uint64_t triangles = 0, drawnTriangles = 0, vertices = 0;
+};
+
+// The lights file used when --lights is not given, as in `omnishadow render`.
+fs::path defaultLightsFile(const fs::path& scene) {
+  fs::path candidate = scene.parent_path() / (scene.stem().string() + ".lights.json");
+  return fs::exists(candidate) ? candidate : fs::path();
+}
+
+Info gather(const InfoOptions& o, std::vector<std::string>& warnings) {
+  Info info;
+  info.file = o.scene;
+  const fs::path scenePath(o.scene);
+  const fs::path lightsPath = o.lights.empty() ? defaultLightsFile(scenePath) : fs::path(o.lights);
+  GltfLoadOptions loadOptions;
+  loadOptions.sceneIndex = o.sceneIndex;
+  info.scene = loadGltf(scenePath, loadOptions);
+  warnings.insert(warnings.end(), info.scene.warnings.begin(), info.scene.warnings.end());
+  if (!lightsPath.empty()) info.setup = loadLightsFile(lightsPath, warnings);
+  info.lights =
+      mergeLights(info.scene.lights, info.setup ? info.setup->lights : std::vector<Light>{});
+  if (info.lights.empty())
+    warnings.push_back(
+        "no lights in the scene or a lights file: render uses a headlight at the camera");
+  info.warnings = warnings;
+
+  for (const Mesh& mesh : info.scene.meshes) {
+    info.triangles += mesh.indices.size() / 3;
+    info.vertices += mesh.positions.size();
+  }
+  for (const MeshInstance& instance : info.scene.instances)
+    info.drawnTriangles +=
+        info.scene.meshes[static_cast<std::size_t>(instance.mesh)].indices.size() / 3;
+  return info;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Values as both formats show them
+
+// The shortest decimal that reads back as the same float: 0.8f is 0.8, not 0.800000011920929.
+std::string shortest(float value) {
+  if (!std::isfinite(value)) return std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf";
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+Json number(float value) {
+  if (!std::isfinite(value)) return nullptr;
+  return std::strtod(shortest(value).c_str(), nullptr);
+}
+
+Json vec3(const glm::vec3& v) {
+  return Json::array({number(v.x), number(v.y), number(v.z)});
+}
+
+Json stringOrNull(const std::string& text) {
+  return text.empty() ? Json(nullptr) : Json(text);
+}
+
+// Six significant digits: enough to read, and free of float noise (0.55, not 0.5500001).
+std::string readable(float value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g", static_cast<double>(value));
+  return buffer;
+}
+
+std::string text(const glm::vec3& v) {
+  return "(" + readable(v.x) + ", " + readable(v.y) + ", " + readable(v.z) + ")";
+}
+
+std::string quoted(const std::string& name) {
+  return name.empty() ? "(unnamed)" : "\"" + name + "\"";
+}
+
+// Degrees to six significant digits: a yfov of pi/6 in a float is 30, not 30.000002.
+float degrees(float radians) {
+  return std::strtof(readable(radians * 57.295779513082320876f).c_str(), nullptr);
+}
+
+const char* toString(AlphaMode mode) {
+  switch (mode) {
+    case AlphaMode::Opaque:
+      return "OPAQUE";
+    case AlphaMode::Mask:
+      return "MASK";
+    case AlphaMode::Blend:
+      return "BLEND";
+  }
+  return "?";
+}
+
+// A material's texture slots in the order the report lists them.
+std::vector<std::pair<const char*, const TextureSlot*>> textureSlots(const Material& m) {
+  return {{"baseColor", &m.baseColorTexture},
+          {"metallicRoughness", &m.metallicRoughnessTexture},
+          {"normal", &m.normalTexture},
+          {"occlusion", &m.occlusionTexture},
+          {"emissive", &m.emissiveTexture}};
+}
+
+glm::vec3 cameraPosition(const Camera& camera) {
+  return glm::vec3(camera.world[3]);
+}
+
+glm::vec3 cameraDirection(const Camera& camera) {
+  const glm::vec3 d = glm::mat3(camera.world) * glm::vec3(0.0f, 0.0f, -1.0f);
+  return glm::length(d) > 0.0f ? glm::normalize(d) : d;
+}
+
+bool hasPosition(const Light& light) {
+  return light.type != LightType::Directional;
+}
+
+bool hasDirection(const Light& light) {
+  return light.type != LightType::Point;
+}
+
+// ---------------------------------------------------------------------------------------------
+// JSON
+
+Json toJson(const Info& info) {
+  const Scene& scene = info.scene;
+  const SourceSummary& source = scene.source;
+  Json doc;
+  doc["file"] = info.file;
+  doc["format"] = source.format;
+  doc["asset"] = {{"version", stringOrNull(source.version)},
+                  {"minVersion", stringOrNull(source.minVersion)},
+                  {"generator", stringOrNull(source.generator)},
+                  {"copyright", stringOrNull(source.copyright)}};
+  doc["scene"] = {{"index", source.sceneIndex >= 0 ? Json(source.sceneIndex) : Json(nullptr)},
+                  {"count", source.sceneCount}};
+  doc["counts"] = {
+      {"nodes", {{"file", source.fileNodes}, {"reached", source.reachedNodes}}},
+      {"meshes", source.gltfMeshes},
+      {"primitives", {{"file", source.gltfPrimitives}, {"drawn", scene.meshes.size()}}},
+      {"instances", scene.instances.size()},
+      {"triangles", info.triangles},
+      {"drawnTriangles", info.drawnTriangles},
+      {"vertices", info.vertices},
+      {"materials", scene.materials.size()},
+      {"textures", scene.textures.size()},
+      {"images", scene.images.size()},
+      {"cameras", scene.cameras.size()},
+      {"lights", info.lights.size()}};
+  if (scene.bounds.empty()) {
+    doc["bounds"] = nullptr;
+  } else {
+    const Bounds& b = scene.bounds;
+    doc["bounds"] = {{"min", vec3(b.min)},
+                     {"max", vec3(b.max)},
+                     {"center", vec3(b.center())},
+                     {"size", vec3(b.max - b.min)}};
+  }
+
+  Json materials = Json::array();
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    Json textures = Json::object();
+    for (const auto& [slot, texture] : textureSlots(m))
+      textures[slot] = texture->texture >= 0 ? Json(texture->texture) : Json(nullptr);
+    materials.push_back(
+        {{"index", i},
+         {"name", m.name},
+         {"alphaMode", toString(m.alphaMode)},
+         {"alphaCutoff", m.alphaMode == AlphaMode::Mask ? number(m.alphaCutoff) : Json(nullptr)},
+         {"doubleSided", m.doubleSided},
+         {"textures", textures}});
+  }
+  doc["materials"] = materials;
+
+  Json textures = Json::array();
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+    const int image = scene.textures[i].image;
+    Json imageJson = nullptr;
+    if (image >= 0) {
+      const Image& im = scene.images[static_cast<std::size_t>(image)];
+      imageJson = {{"index", image}, {"name", im.name}, {"width", im.width}, {"height", im.height}};
+    }
+    textures.push_back({{"index", i}, {"image", imageJson}});
+  }
+  doc["textures"] = textures;
+
+  Json cameras = Json::array();
+  for (const Camera& c : scene.cameras) {
+    const Json none = nullptr;
+    cameras.push_back(
+        {{"index", c.index},
+         {"name", c.name},
+         {"node", c.nodeName},
+         {"type", c.orthographic ? "orthographic" : "perspective"},
+         {"yfovDegrees", c.orthographic ? none : number(degrees(c.yfov))},
+         {"aspectRatio", !c.orthographic && c.aspectRatio > 0.0f ? number(c.aspectRatio) : none},
+         {"xmag", c.orthographic ? number(c.xmag) : none},
+         {"ymag", c.orthographic ? number(c.ymag) : none},
+         {"znear", number(c.znear)},
+         {"zfar", c.zfar > 0.0f ? number(c.zfar) : none},
+         {"position", vec3(cameraPosition(c))},
+         {"direction", vec3(cameraDirection(c))}});
+  }
+  doc["cameras"] = cameras;
+
+  Json lights = Json::array();
+  for (const Light& l : info.lights) {
+    const Json none = nullptr;
+    const bool spot = l.type == LightType::Spot;
+    lights.push_back({{"name", l.name},
+                      {"type", toString(l.type)},
+                      {"source", l.origin},
+                      {"position", hasPosition(l) ? vec3(l.position) : none},
+                      {"direction", hasDirection(l) ? vec3(l.direction) : none},
+                      {"color", vec3(l.color)},
+                      {"intensity", number(l.intensity)},
+                      {"range", l.range > 0.0f ? number(l.range) : none},
+                      {"innerConeAngle", spot ? number(l.innerConeAngle) : none},
+                      {"outerConeAngle", spot ? number(l.outerConeAngle) : none},
+                      {"shadow",
+                       {{"enabled", l.shadow.enabled},
+                        {"resolution", l.shadow.resolution},
+                        {"filter", toString(l.shadow.filter)},
+                        {"near", number(l.shadow.near)},
+                        {"far", l.shadow.far > 0.0f ? number(l.shadow.far) : none},
+                        {"bias", number(l.shadow.bias)},
+                        {"slopeBias", number(l.shadow.slopeBias)}}}});
+  }
+  doc["lights"] = lights;
+  doc["ambient"] = info.setup ? vec3(info.setup->ambient) : Json(nullptr);
+  doc["warnings"] = info.warnings;
+  return doc;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Text
+
+// Rows of cells printed as columns, each as wide as its widest cell, indented by two spaces.
+void printTable(const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> widths;
+  for (const auto& row : rows) {
+    widths.resize(std::max(widths.size(), row.size()), 0);
+    for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
+  }
+  for (const auto& row : rows) {
+    std::string line = " ";
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      line += " " + row[c];
+      if (c + 1 < row.size()) line.append(widths[c] - row[c].size() + 1, ' ');
+    }
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    std::printf("%s\n", line.c_str());
+  }
+}
+
+void printField(const char* label, const std::string& value) {
+  std::printf("%-11s %s\n", label, value.c_str());
+}
+
+std::string plural(std::uint64_t count, const std::string& noun, const std::string& nouns) {
+  return std::to_string(count) + " " + (count == 1 ? noun : nouns);
+}
+
+void printText(const Info& info) {
+  const Scene& scene = info.scene;
+  const SourceSummary& source = scene.source;
+  printField("file", info.file);
+  std::string format = source.format + ", glTF " + (source.version.empty() ? "?" : source.version);
+  if (!source.generator.empty()) format += ", generator \"" + source.generator + "\"";
+  printField("format", format);
+  printField("scene", (source.sceneIndex >= 0 ? std::to_string(source.sceneIndex) : "none") + " (" +
+                          plural(static_cast<std::uint64_t>(source.sceneCount), "scene", "scenes") +
+                          " in the file)");
+  printField("nodes", std::to_string(source.fileNodes) + " in the file, " +
+                          std::to_string(source.reachedNodes) + " reached from the scene");
+  printField(
+      "meshes",
+      plural(static_cast<std::uint64_t>(source.gltfMeshes), "glTF mesh", "glTF meshes") + ", " +
+          plural(static_cast<std::uint64_t>(source.gltfPrimitives), "primitive", "primitives") +
+          " (" + std::to_string(scene.meshes.size()) + " drawn)");
+  printField("instances", std::to_string(scene.instances.size()));
+  printField("triangles", std::to_string(info.triangles) + " unique, " +
+                              std::to_string(info.drawnTriangles) + " drawn");
+  printField("vertices", std::to_string(info.vertices));
+  if (scene.bounds.empty()) {
+    printField("bounds", "empty");
+  } else {
+    const Bounds& b = scene.bounds;
+    printField("bounds", "min " + text(b.min) + "  max " + text(b.max));
+    printField("", "center " + text(b.center()) + "  size " + text(b.max - b.min));
+  }
+
+  printField("materials", std::to_string(scene.materials.size()));
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    std::string alpha = toString(m.alphaMode);
+    if (m.alphaMode == AlphaMode::Mask) alpha += " " + readable(m.alphaCutoff);
+    std::string textures;
+    for (const auto& [slot, texture] : textureSlots(m))
+      if (texture->texture >= 0)
+        textures += (textures.empty() ? "" : " ") + std::string(slot) + "=" +
+                    std::to_string(texture->texture);
+    rows.push_back({std::to_string(i), quoted(m.name), alpha,
+                    m.doubleSided ? "double-sided" : "single-sided",
+                    textures.empty() ? "no textures" : "textures " + textures});
+  }
+  printTable(rows);
+
+  printField("textures", std::to_string(scene.textures.size()) + " (" +
+                             plural(scene.images.size(), "image", "images") + ")");
+  rows.clear();
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+    const int image = scene.textures[i].image;
+    if (image < 0) {
+      rows.push_back({std::to_string(i), "no image"});
+      continue;
+    }
+    const Image& im = scene.images[static_cast<std::size_t>(image)];
+    rows.push_back({std::to_string(i), "image " + std::to_string(image), quoted(im.name),
+                    std::to_string(im.width) + "x" + std::to_string(im.height)});
+  }
+  printTable(rows);
+
+  printField("cameras", std::to_string(scene.cameras.size()));
+  rows.clear();
+  for (const Camera& c : scene.cameras) {
+    const std::string lens = c.orthographic
+                                 ? "xmag " + readable(c.xmag) + " ymag " + readable(c.ymag)
+                                 : "yfov " + readable(degrees(c.yfov)) + " deg";
+    rows.push_back({std::to_string(c.index), quoted(c.name),
+                    c.orthographic ? "orthographic" : "perspective", lens,
+                    "at " + text(cameraPosition(c))});
+  }
+  printTable(rows);
+
+  printField("lights", std::to_string(info.lights.size()));
+  rows.clear();
+  for (const Light& l : info.lights) {
+    std::string where;
+    if (hasPosition(l)) where = "at " + text(l.position);
+    if (hasDirection(l))
+      where += (where.empty() ? "" : " ") + std::string("dir ") + text(l.direction);
+    const std::string shadow = l.shadow.enabled ? "shadow " + std::to_string(l.shadow.resolution) +
+                                                      " " + toString(l.shadow.filter)
+                                                : "no shadow";
+    rows.push_back({quoted(l.name), toString(l.type), l.origin, where, "color " + text(l.color),
+                    "intensity " + readable(l.intensity),
+                    l.range > 0.0f ? "range " + readable(l.range) : "range unlimited", shadow});
+  }
+  printTable(rows);
+  printField("ambient",
+             info.setup ? text(info.setup->ambient) + " (lights file)" : "none (no lights file)");
+
+  printField("warnings", std::to_string(info.warnings.size()));
+  for (const std::string& warning : info.warnings) std::printf("  %s\n", warning.c_str());
+}
+
+}  // namespace
+
+void addInfoCommand(CLI::App& app, InfoOptions& o) {
+  CLI::App* info = app.add_subcommand(
+      "info", "Describe a glTF scene and its lights as a render would use them (no GL needed)");
+  info->add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
+  info->add_option("-l,--lights", o.lights,
+                   "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
+  info->add_flag("--json", o.json, "Print one JSON object (schema in the README)");
+  info->add_option("--scene", o.sceneIndex,
+                   "Index of the glTF scene to describe (default: the file's default scene)")
+      ->check(CLI::NonNegativeNumber);
+}
+
+int runInfo(const InfoOptions& o) {
+  std::vector<std::string> warnings;
+  Info info;
+  try {
+    info = gather(o, warnings);
+  } catch (...) {
+    // As in render: the warnings so far may explain the failure.
+    for (const std::string& warning : warnings)
+      std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
+    throw;
+  }
+  if (o.json) {
+    std::printf("%s\n", toJson(info).dump(2, ' ', false, Json::error_handler_t::replace).c_str());
+  } else {
+    printText(info);
+  }
+  return 0;
+}
+
+}  // namespace omnishadow::cli
