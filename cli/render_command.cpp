@@ -1,37 +1,22 @@
 #include "cli/render_command.h"
 
-#include <GL/glcorearb.h>
-
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 
-#include "renderer/camera.h"
-#include "renderer/depth_dump.h"
-#include "renderer/display_transform.h"
+#include "cli/render_job.h"
 #include "renderer/errors.h"
-#include "renderer/gltf_loader.h"
-#include "renderer/lights_loader.h"
-#include "renderer/output_transaction.h"
+#include "renderer/image_writer.h"
 #include "renderer/renderer.h"
 
 namespace fs = std::filesystem;
 
 namespace omnishadow::cli {
 namespace {
-
-std::string lowerExtension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 std::optional<glm::vec3> parseVec3(const std::string& option, const std::string& text) {
   if (text.empty()) return std::nullopt;
@@ -46,25 +31,6 @@ std::optional<glm::vec3> parseVec3(const std::string& option, const std::string&
   return v;
 }
 
-// The lights file used when --lights is not given: "<scene stem>.lights.json" beside the scene.
-fs::path defaultLightsFile(const fs::path& scene) {
-  fs::path candidate = scene.parent_path() / (scene.stem().string() + ".lights.json");
-  return fs::exists(candidate) ? candidate : fs::path();
-}
-
-// A light so that a scene without any still shows something: at the camera, slightly above.
-Light headlight(const ViewCamera& camera, const Bounds& bounds) {
-  Light light;
-  light.name = "headlight";
-  const glm::vec3 up = glm::vec3(glm::inverse(camera.view)[1]);
-  const float radius = std::max(bounds.radius(), 1e-3f);
-  light.position = camera.eye + up * radius * 0.3f;
-  const float distance = glm::length(bounds.center() - light.position);
-  light.intensity = distance * distance;  // about 1 lux at the scene center
-  light.origin = "default";
-  return light;
-}
-
 void printStats(const StageTimes& times) {
   std::fprintf(stderr, "stage          ms\n");
   for (const auto& [stage, ms] : times.stages())
@@ -72,177 +38,56 @@ void printStats(const StageTimes& times) {
   std::fprintf(stderr, "%-12s %8.1f\n", "total", times.total());
 }
 
-struct Outputs {
-  std::vector<fs::path> png, exr;
-  fs::path aov;
-  std::vector<fs::path> all;  // in the order given
-};
-
-// Resolves `.`/`..`/symlinks of the existing part, so that two spellings of one file compare
-// equal even when the file does not exist yet.
-fs::path resolved(const fs::path& path) {
-  return fs::weakly_canonical(fs::absolute(path));
-}
-
-// No output may overwrite one of `inputs`.
-void checkNotAnInput(const Outputs& outputs, const std::vector<std::string>& inputs) {
-  for (const fs::path& output : outputs.all)
-    for (const std::string& input : inputs)
-      if (!input.empty() && resolved(output) == resolved(input))
-        throw InputError(output.string() + ": refusing to overwrite an input file");
-}
-
-Outputs checkOutputs(const RenderOptions& options) {
-  Outputs out;
-  std::vector<std::string> outputs = options.outputs;
-  if (outputs.empty() && options.aov.empty()) outputs.push_back("render.png");
-  for (const std::string& output : outputs) {
-    const std::string ext = lowerExtension(output);
-    if (ext == ".png") {
-      out.png.emplace_back(output);
-    } else if (ext == ".exr") {
-      out.exr.emplace_back(output);
-    } else {
-      throw InputError("-o " + output + ": unsupported image format (use .png or .exr)");
-    }
-    out.all.emplace_back(output);
-  }
-  if (!options.aov.empty()) {
-    if (lowerExtension(options.aov) != ".exr")
-      throw InputError("--aov " + options.aov + ": AOVs are written as OpenEXR; use a .exr name");
-    out.aov = options.aov;
-    out.all.push_back(out.aov);
-  }
-  for (std::size_t i = 0; i < out.all.size(); ++i) {
-    if (fs::is_directory(out.all[i]))
-      throw InputError(out.all[i].string() + ": is a folder, expected an image file name");
-    for (std::size_t j = 0; j < i; ++j)
-      if (resolved(out.all[i]) == resolved(out.all[j]))
-        throw InputError(out.all[i].string() + ": the same file is given twice as output");
-  }
-  return out;
-}
-
-AovLayers parseLayers(const std::string& list) {
-  AovLayers layers;
-  std::istringstream in(list);
-  std::string name;
-  while (std::getline(in, name, ',')) {
-    if (name == "all") {
-      layers = {true, true, true, true, true, true, true};
-    } else if (name == "albedo") {
-      layers.albedo = true;
-    } else if (name == "roughness") {
-      layers.roughness = true;
-    } else if (name == "metallic") {
-      layers.metallic = true;
-    } else if (name == "diffuse") {
-      layers.diffuse = true;
-    } else if (name == "specular") {
-      layers.specular = true;
-    } else if (name == "objectId") {
-      layers.objectId = true;
-    } else if (name == "materialId") {
-      layers.materialId = true;
-    } else {
-      throw InputError("--aov-layers " + list + ": unknown layer \"" + name +
-                       "\" (expected albedo, roughness, metallic, diffuse, specular, objectId, "
-                       "materialId or all)");
-    }
-  }
-  return layers;
-}
-
-DebugView parseDebugView(const std::string& name) {
-  if (name == "shadow") return DebugView::Shadow;
-  if (name == "depth") return DebugView::Depth;
-  if (name == "normals") return DebugView::Normals;
-  if (name == "albedo") return DebugView::Albedo;
-  if (name == "lightcount") return DebugView::LightCount;
-  return DebugView::None;
-}
-
-// A folder option (--dump-depth, --light-views) must not name an existing file.
-void checkFolderOption(const std::string& option, const std::string& folder) {
-  if (!folder.empty() && fs::exists(folder) && !fs::is_directory(folder))
-    throw InputError(option + " " + folder + ": is a file, expected a folder");
-}
-
-// Per-light files are named after the lights; two names may not map to one file name.
-void checkFileSafeNames(const std::vector<Light>& lights) {
-  for (std::size_t i = 0; i < lights.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j)
-      if (fileSafeName(lights[i].name) == fileSafeName(lights[j].name))
-        throw InputError("lights \"" + lights[j].name + "\" and \"" + lights[i].name +
-                         "\" would write the same files (" + fileSafeName(lights[i].name) +
-                         "_*); rename one");
-}
-
-// objectId/materialId values and what they stand for, next to the AOV file.
-void writeIdSidecar(const fs::path& path, const Scene& scene, OutputTransaction& transaction) {
-  nlohmann::ordered_json ids;
-  ids["objectId"] = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
-    const MeshInstance& instance = scene.instances[i];
-    ids["objectId"].push_back(
-        {{"id", i}, {"node", instance.node}, {"mesh", scene.meshes[instance.mesh].name}});
-  }
-  ids["materialId"] = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < scene.materials.size(); ++i)
-    ids["materialId"].push_back({{"id", i}, {"name", scene.materials[i].name}});
-  ids["materialId"].push_back({{"id", scene.materials.size()}, {"name", "(default)"}});
-  ids["background"] = -1;
-  std::ofstream out(transaction.stage(path));
-  out << ids.dump(2) << "\n";
-  if (!out.flush()) throw RenderError("cannot write " + path.string());
-}
-
 void printWarnings(const std::vector<std::string>& warnings) {
   for (const std::string& warning : warnings)
     std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
 }
 
+// The command line as a job; checks everything that needs no file reading.
+RenderJob jobFromOptions(const RenderOptions& o) {
+  RenderJob job;
+  job.scene = o.scene.empty() ? fs::path(OMNISHADOW_DEMO_SCENE) : fs::path(o.scene);
+  job.lights = o.lights.empty() ? defaultLightsFile(job.scene) : fs::path(o.lights);
+  job.noGltfLights = o.noGltfLights;
+  job.sceneIndex = o.sceneIndex;
+  std::vector<std::string> outputs = o.outputs;
+  if (outputs.empty() && o.aov.empty()) outputs.push_back("render.png");
+  for (const std::string& output : outputs) {
+    const std::string ext = lowerExtension(output);
+    if (ext == ".png") {
+      job.png.emplace_back(output);
+    } else if (ext == ".exr") {
+      job.exr.emplace_back(output);
+    } else {
+      throw InputError("-o " + output + ": unsupported image format (use .png or .exr)");
+    }
+  }
+  job.aov = o.aov;
+  job.layers = parseLayers(o.aovLayers);
+  job.exposure = o.exposure;
+  job.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
+  job.debugView = parseDebugView(o.debugView);
+  job.debugLight = o.debugLight;
+  job.dumpDepth = o.dumpDepth;
+  job.lightViews = o.lightViews;
+  job.lightViewSize = o.lightViewSize;
+  validateJob(job);
+  job.camera.select = o.camera;
+  job.camera.eye = parseVec3("--eye", o.eye);
+  job.camera.target = parseVec3("--target", o.target);
+  job.camera.up = parseVec3("--up", o.up);
+  job.camera.fovDegrees = o.fov;
+  job.camera.width = o.width;
+  job.camera.height = o.height;
+  return job;
+}
+
 int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   StageTimes times;
   ScopedStage loadStage(times, "load");
-
-  const fs::path scenePath = o.scene.empty() ? fs::path(OMNISHADOW_DEMO_SCENE) : fs::path(o.scene);
-  const fs::path lightsPath = o.lights.empty() ? defaultLightsFile(scenePath) : fs::path(o.lights);
-  const Outputs outputs = checkOutputs(o);
-  const AovLayers layers = parseLayers(o.aovLayers);
-  if (layers.any() && outputs.aov.empty()) throw InputError("--aov-layers: needs --aov FILE.exr");
-  const DebugView debugView = parseDebugView(o.debugView);
-  if (!o.debugLight.empty() && debugView != DebugView::Depth)
-    throw InputError("--debug-light: only used with --debug-view depth");
-  checkFolderOption("--dump-depth", o.dumpDepth);
-  checkFolderOption("--light-views", o.lightViews);
-  checkNotAnInput(outputs, {scenePath.string(), lightsPath.string()});
-  if (!std::isfinite(o.exposure))
-    throw InputError("--exposure " + std::to_string(o.exposure) +
-                     ": expected a finite number of stops");
-  CameraRequest cameraRequest;
-  cameraRequest.select = o.camera;
-  cameraRequest.eye = parseVec3("--eye", o.eye);
-  cameraRequest.target = parseVec3("--target", o.target);
-  cameraRequest.up = parseVec3("--up", o.up);
-  cameraRequest.fovDegrees = o.fov;
-  cameraRequest.width = o.width;
-  cameraRequest.height = o.height;
-
-  GltfLoadOptions loadOptions;
-  loadOptions.sceneIndex = o.sceneIndex;
-  const Scene scene = loadGltf(scenePath, loadOptions);
-  checkNotAnInput(outputs, scene.inputFiles);
-  warnings.insert(warnings.end(), scene.warnings.begin(), scene.warnings.end());
-  LightSetup setup;
-  if (!lightsPath.empty()) setup = loadLightsFile(lightsPath, warnings);
-  std::vector<Light> lights =
-      mergeLights(o.noGltfLights ? std::vector<Light>{} : scene.lights, setup.lights);
-  const ViewCamera camera = resolveCamera(scene, cameraRequest);
-  if (lights.empty()) {
-    lights.push_back(headlight(camera, scene.bounds));
-    warnings.push_back("no lights in the scene or a lights file: using a headlight at the camera");
-  }
+  const RenderJob job = jobFromOptions(o);
+  LoadedJob loaded = loadJob(job);
+  warnings = loaded.warnings;
   loadStage.stop();
 
   ScopedStage contextStage(times, "context");
@@ -254,69 +99,29 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
     std::fprintf(stderr, "omnishadow: %s\nomnishadow: %s\n",
                  renderer.context().platformDescription().c_str(),
                  renderer.context().glDescription().c_str());
-    std::fprintf(stderr, "omnishadow: scene %s, camera: %s, %dx%d\n", scenePath.c_str(),
-                 camera.description.c_str(), camera.width, camera.height);
+    std::fprintf(stderr, "omnishadow: scene %s, camera: %s, %dx%d\n", job.scene.c_str(),
+                 loaded.camera.description.c_str(), loaded.camera.width, loaded.camera.height);
   }
-  GLint maxCubeSize = 0;
-  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &maxCubeSize);
-  for (const Light& light : lights)
-    if (light.shadow.enabled && light.shadow.resolution > maxCubeSize)
-      throw InputError(light.origin + ": light \"" + light.name + "\": shadow.resolution " +
-                       std::to_string(light.shadow.resolution) +
-                       " exceeds this GL's maximum cube map size " + std::to_string(maxCubeSize));
   contextStage.stop();
 
-  RenderSettings settings;
-  settings.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
-  settings.aovs = !outputs.aov.empty();
-  settings.layers = layers;
-  settings.debugView = debugView;
-  settings.debugLight = o.debugLight;
-  settings.readShadowMaps = !o.dumpDepth.empty();
-  settings.lightViewSize = o.lightViews.empty() ? 0 : o.lightViewSize;
-  if (settings.readShadowMaps || settings.lightViewSize > 0) checkFileSafeNames(lights);
-  Frame frame = renderer.render(scene, lights, setup.ambient, camera, settings, times);
-  warnings.insert(warnings.end(), frame.warnings.begin(), frame.warnings.end());
+  const Frame frame = renderJob(renderer, job, loaded, times);
+  warnings = loaded.warnings;
 
   ScopedStage encodeStage(times, "encode");
   setEncoderThreads(static_cast<int>(std::thread::hardware_concurrency()));
-  OutputTransaction transaction;
-  if (!outputs.png.empty()) {
-    const std::vector<std::uint8_t> srgb = toSrgb8(frame.beauty, o.exposure);
-    for (const fs::path& path : outputs.png)
-      writePng(transaction.stage(path), camera.width, camera.height, 3, srgb);
-  }
-  if (!outputs.exr.empty()) {
-    const FloatImage exposed = applyExposure(frame.beauty, o.exposure);
-    for (const fs::path& path : outputs.exr)
-      writeExr(transaction.stage(path), exposed, ExrPixelType::Half);
-  }
-  if (frame.aovs) writeExr(transaction.stage(outputs.aov), *frame.aovs, ExrPixelType::Float);
-  if (layers.objectId || layers.materialId)
-    writeIdSidecar(fs::path(outputs.aov).replace_extension(".ids.json"), scene, transaction);
-  for (const ShadowMapDump& dump : frame.shadowMaps)
-    writePointShadowDump(o.dumpDepth, fileSafeName(dump.light), dump.distances, dump.far,
-                         transaction);
-  for (const LightView& view : frame.lightViews) {
-    const fs::path path =
-        fs::path(o.lightViews) /
-        (fileSafeName(view.light) + "_" + kCubeFaceNames[static_cast<int>(view.face)] + ".png");
-    writePng(transaction.stage(path), view.beauty.width, view.beauty.height, 3,
-             toSrgb8(view.beauty, o.exposure));
-  }
-  transaction.commit();
+  writeJobOutputs(job, loaded, frame);
   encodeStage.stop();
 
   printWarnings(warnings);
-  for (const auto& list : {outputs.png, outputs.exr})
+  for (const auto& list : {job.png, job.exr})
     for (const fs::path& path : list)
-      std::printf("wrote %s (%dx%d)\n", path.c_str(), camera.width, camera.height);
-  if (!outputs.aov.empty()) std::printf("wrote %s (AOVs)\n", outputs.aov.c_str());
+      std::printf("wrote %s (%dx%d)\n", path.c_str(), loaded.camera.width, loaded.camera.height);
+  if (!job.aov.empty()) std::printf("wrote %s (AOVs)\n", job.aov.c_str());
   if (!frame.shadowMaps.empty())
     std::printf("wrote the shadow maps of %zu lights to %s\n", frame.shadowMaps.size(),
-                o.dumpDepth.c_str());
+                job.dumpDepth.c_str());
   if (!frame.lightViews.empty())
-    std::printf("wrote %zu light views to %s\n", frame.lightViews.size(), o.lightViews.c_str());
+    std::printf("wrote %zu light views to %s\n", frame.lightViews.size(), job.lightViews.c_str());
   if (o.stats) printStats(times);
   return 0;
 }

@@ -1,0 +1,252 @@
+#include "cli/render_job.h"
+
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "renderer/depth_dump.h"
+#include "renderer/display_transform.h"
+#include "renderer/errors.h"
+#include "renderer/gltf_loader.h"
+#include "renderer/lights_loader.h"
+#include "renderer/output_transaction.h"
+
+namespace fs = std::filesystem;
+
+namespace omnishadow::cli {
+namespace {
+
+// A light so that a scene without any still shows something: at the camera, slightly above.
+Light headlight(const ViewCamera& camera, const Bounds& bounds) {
+  Light light;
+  light.name = "headlight";
+  const glm::vec3 up = glm::vec3(glm::inverse(camera.view)[1]);
+  const float radius = std::max(bounds.radius(), 1e-3f);
+  light.position = camera.eye + up * radius * 0.3f;
+  const float distance = glm::length(bounds.center() - light.position);
+  light.intensity = distance * distance;  // about 1 lux at the scene center
+  light.origin = "default";
+  return light;
+}
+
+// Resolves `.`/`..`/symlinks of the existing part, so that two spellings of one file compare
+// equal even when the file does not exist yet.
+fs::path resolved(const fs::path& path) {
+  return fs::weakly_canonical(fs::absolute(path));
+}
+
+// A folder option (--dump-depth, --light-views) must not name an existing file.
+void checkFolderOption(const std::string& option, const fs::path& folder) {
+  if (!folder.empty() && fs::exists(folder) && !fs::is_directory(folder))
+    throw InputError(option + " " + folder.string() + ": is a file, expected a folder");
+}
+
+// Per-light files are named after the lights; two names may not map to one file name.
+void checkFileSafeNames(const std::vector<Light>& lights) {
+  for (std::size_t i = 0; i < lights.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (fileSafeName(lights[i].name) == fileSafeName(lights[j].name))
+        throw InputError("lights \"" + lights[j].name + "\" and \"" + lights[i].name +
+                         "\" would write the same files (" + fileSafeName(lights[i].name) +
+                         "_*); rename one");
+}
+
+// objectId/materialId values and what they stand for, next to the AOV file.
+void writeIdSidecar(const fs::path& path, const Scene& scene, OutputTransaction& transaction) {
+  nlohmann::ordered_json ids;
+  ids["objectId"] = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const MeshInstance& instance = scene.instances[i];
+    ids["objectId"].push_back(
+        {{"id", i}, {"node", instance.node}, {"mesh", scene.meshes[instance.mesh].name}});
+  }
+  ids["materialId"] = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < scene.materials.size(); ++i)
+    ids["materialId"].push_back({{"id", i}, {"name", scene.materials[i].name}});
+  ids["materialId"].push_back({{"id", scene.materials.size()}, {"name", "(default)"}});
+  ids["background"] = -1;
+  std::ofstream out(transaction.stage(path));
+  out << ids.dump(2) << "\n";
+  if (!out.flush()) throw RenderError("cannot write " + path.string());
+}
+
+fs::path idSidecarPath(const RenderJob& job) {
+  return fs::path(job.aov).replace_extension(".ids.json");
+}
+
+}  // namespace
+
+std::string lowerExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+fs::path defaultLightsFile(const fs::path& scene) {
+  fs::path candidate = scene.parent_path() / (scene.stem().string() + ".lights.json");
+  return fs::exists(candidate) ? candidate : fs::path();
+}
+
+AovLayers parseLayers(const std::string& list) {
+  AovLayers layers;
+  std::istringstream in(list);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    if (name == "all") {
+      layers = {true, true, true, true, true, true, true};
+    } else if (name == "albedo") {
+      layers.albedo = true;
+    } else if (name == "roughness") {
+      layers.roughness = true;
+    } else if (name == "metallic") {
+      layers.metallic = true;
+    } else if (name == "diffuse") {
+      layers.diffuse = true;
+    } else if (name == "specular") {
+      layers.specular = true;
+    } else if (name == "objectId") {
+      layers.objectId = true;
+    } else if (name == "materialId") {
+      layers.materialId = true;
+    } else {
+      throw InputError("--aov-layers " + list + ": unknown layer \"" + name +
+                       "\" (expected albedo, roughness, metallic, diffuse, specular, objectId, "
+                       "materialId or all)");
+    }
+  }
+  return layers;
+}
+
+DebugView parseDebugView(const std::string& name) {
+  if (name == "shadow") return DebugView::Shadow;
+  if (name == "depth") return DebugView::Depth;
+  if (name == "normals") return DebugView::Normals;
+  if (name == "albedo") return DebugView::Albedo;
+  if (name == "lightcount") return DebugView::LightCount;
+  return DebugView::None;
+}
+
+std::vector<fs::path> RenderJob::outputFiles() const {
+  std::vector<fs::path> all = png;
+  all.insert(all.end(), exr.begin(), exr.end());
+  if (!aov.empty()) all.push_back(aov);
+  return all;
+}
+
+void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& inputs) {
+  for (const fs::path& output : job.outputFiles())
+    for (const std::string& input : inputs)
+      if (!input.empty() && resolved(output) == resolved(input))
+        throw InputError(output.string() + ": refusing to overwrite an input file");
+}
+
+void validateJob(const RenderJob& job) {
+  for (const fs::path& path : job.png)
+    if (lowerExtension(path) != ".png") throw InputError(path.string() + ": expected a .png name");
+  for (const fs::path& path : job.exr)
+    if (lowerExtension(path) != ".exr") throw InputError(path.string() + ": expected a .exr name");
+  if (!job.aov.empty() && lowerExtension(job.aov) != ".exr")
+    throw InputError("--aov " + job.aov.string() +
+                     ": AOVs are written as OpenEXR; use a .exr name");
+  const std::vector<fs::path> all = job.outputFiles();
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (fs::is_directory(all[i]))
+      throw InputError(all[i].string() + ": is a folder, expected an image file name");
+    for (std::size_t j = 0; j < i; ++j)
+      if (resolved(all[i]) == resolved(all[j]))
+        throw InputError(all[i].string() + ": the same file is given twice as output");
+  }
+  if (job.layers.any() && job.aov.empty()) throw InputError("--aov-layers: needs --aov FILE.exr");
+  if (!job.debugLight.empty() && job.debugView != DebugView::Depth)
+    throw InputError("--debug-light: only used with --debug-view depth");
+  checkFolderOption("--dump-depth", job.dumpDepth);
+  checkFolderOption("--light-views", job.lightViews);
+  if (!std::isfinite(job.exposure))
+    throw InputError("--exposure " + std::to_string(job.exposure) +
+                     ": expected a finite number of stops");
+  checkNotAnInput(job, {job.scene.string(), job.lights.string()});
+}
+
+LoadedJob loadJob(const RenderJob& job) {
+  LoadedJob loaded;
+  GltfLoadOptions loadOptions;
+  loadOptions.sceneIndex = job.sceneIndex;
+  loaded.scene = loadGltf(job.scene, loadOptions);
+  checkNotAnInput(job, loaded.scene.inputFiles);
+  loaded.warnings = loaded.scene.warnings;
+  if (!job.lights.empty()) loaded.setup = loadLightsFile(job.lights, loaded.warnings);
+  loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
+                              loaded.setup.lights);
+  loaded.camera = resolveCamera(loaded.scene, job.camera);
+  if (loaded.lights.empty()) {
+    loaded.lights.push_back(headlight(loaded.camera, loaded.scene.bounds));
+    loaded.warnings.push_back(
+        "no lights in the scene or a lights file: using a headlight at the camera");
+  }
+  if (!job.dumpDepth.empty() || !job.lightViews.empty()) checkFileSafeNames(loaded.lights);
+  return loaded;
+}
+
+Frame renderJob(Renderer& renderer, const RenderJob& job, LoadedJob& loaded, StageTimes& times) {
+  GLint maxCubeSize = 0;
+  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &maxCubeSize);
+  for (const Light& light : loaded.lights)
+    if (light.shadow.enabled && light.shadow.resolution > maxCubeSize)
+      throw InputError(light.origin + ": light \"" + light.name + "\": shadow.resolution " +
+                       std::to_string(light.shadow.resolution) +
+                       " exceeds this GL's maximum cube map size " + std::to_string(maxCubeSize));
+  RenderSettings settings;
+  settings.shading = job.shading;
+  settings.aovs = !job.aov.empty();
+  settings.layers = job.layers;
+  settings.debugView = job.debugView;
+  settings.debugLight = job.debugLight;
+  settings.readShadowMaps = !job.dumpDepth.empty();
+  settings.lightViewSize = job.lightViews.empty() ? 0 : job.lightViewSize;
+  Frame frame = renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera,
+                                settings, times);
+  loaded.warnings.insert(loaded.warnings.end(), frame.warnings.begin(), frame.warnings.end());
+  return frame;
+}
+
+std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loaded,
+                                      const Frame& frame) {
+  OutputTransaction transaction;
+  std::vector<fs::path> written;
+  auto stage = [&](const fs::path& path) {
+    written.push_back(path);
+    return transaction.stage(path);
+  };
+  const int width = frame.beauty.width, height = frame.beauty.height;
+  if (!job.png.empty()) {
+    const std::vector<std::uint8_t> srgb = toSrgb8(frame.beauty, job.exposure);
+    for (const fs::path& path : job.png) writePng(stage(path), width, height, 3, srgb);
+  }
+  if (!job.exr.empty()) {
+    const FloatImage exposed = applyExposure(frame.beauty, job.exposure);
+    for (const fs::path& path : job.exr) writeExr(stage(path), exposed, ExrPixelType::Half);
+  }
+  if (frame.aovs) writeExr(stage(job.aov), *frame.aovs, ExrPixelType::Float);
+  if (job.layers.objectId || job.layers.materialId) {
+    written.push_back(idSidecarPath(job));
+    writeIdSidecar(idSidecarPath(job), loaded.scene, transaction);
+  }
+  for (const ShadowMapDump& dump : frame.shadowMaps)
+    writePointShadowDump(job.dumpDepth, fileSafeName(dump.light), dump.distances, dump.far,
+                         transaction);
+  for (const LightView& view : frame.lightViews) {
+    const fs::path path = job.lightViews / (fileSafeName(view.light) + "_" +
+                                            kCubeFaceNames[static_cast<int>(view.face)] + ".png");
+    writePng(stage(path), view.beauty.width, view.beauty.height, 3,
+             toSrgb8(view.beauty, job.exposure));
+  }
+  transaction.commit();
+  return written;
+}
+
+}  // namespace omnishadow::cli

@@ -1,0 +1,70 @@
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "renderer/camera.h"
+#include "renderer/light.h"
+#include "renderer/renderer.h"
+#include "renderer/scene.h"
+#include "renderer/stage_timer.h"
+
+namespace omnishadow::cli {
+
+// One render, as `render` or one entry of `batch` describes it: inputs, view, outputs.
+struct RenderJob {
+  std::filesystem::path scene;
+  std::filesystem::path lights;  // empty = no lights file
+  bool noGltfLights = false;
+  int sceneIndex = -1;
+  CameraRequest camera;
+  std::vector<std::filesystem::path> png, exr;
+  std::filesystem::path aov;
+  AovLayers layers;
+  float exposure = 0.0f;
+  Shading shading = Shading::Pbr;
+  DebugView debugView = DebugView::None;
+  std::string debugLight;
+  std::filesystem::path dumpDepth, lightViews;
+  int lightViewSize = 512;
+
+  // Every file or folder the job writes to (images, AOVs; not the dump folders' contents).
+  std::vector<std::filesystem::path> outputFiles() const;
+};
+
+// The job's inputs, loaded: CPU only, so it may run on any thread.
+struct LoadedJob {
+  Scene scene;
+  LightSetup setup;
+  std::vector<Light> lights;  // merged; a headlight when there is none
+  ViewCamera camera;
+  std::vector<std::string> warnings;
+};
+
+// Checks what needs no file reading: output names and formats, option combinations.
+// Throws InputError.
+void validateJob(const RenderJob& job);
+
+// Reads the scene and lights file and resolves the camera. Throws InputError.
+LoadedJob loadJob(const RenderJob& job);
+
+// Renders on the renderer's (GL) thread. Throws InputError for limits of this GL.
+Frame renderJob(Renderer& renderer, const RenderJob& job, LoadedJob& loaded, StageTimes& times);
+
+// Encodes and writes every output of the job, all or nothing. CPU only; any thread.
+// Returns the files written.
+std::vector<std::filesystem::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loaded,
+                                                   const Frame& frame);
+
+// "<file>: refusing to overwrite an input file" when an output is one of `inputs`.
+void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& inputs);
+
+// Helpers shared by the commands that build jobs from options.
+std::string lowerExtension(const std::filesystem::path& path);
+AovLayers parseLayers(const std::string& list);
+DebugView parseDebugView(const std::string& name);
+// The lights file used when none is given: "<scene stem>.lights.json" beside the scene.
+std::filesystem::path defaultLightsFile(const std::filesystem::path& scene);
+
+}  // namespace omnishadow::cli
