@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <exception>
 
+#include "cli/batch_command.h"
+#include "cli/diff_command.h"
 #include "cli/info_command.h"
 #include "cli/render_command.h"
 #include "renderer/errors.h"
@@ -17,6 +19,10 @@ int main(int argc, char** argv) {
   omnishadow::cli::addRenderCommand(app, render);
   omnishadow::cli::InfoOptions info;
   omnishadow::cli::addInfoCommand(app, info);
+  omnishadow::cli::BatchOptions batch;
+  omnishadow::cli::addBatchCommand(app, batch);
+  omnishadow::cli::DiffCommandOptions diff;
+  omnishadow::cli::addDiffCommand(app, diff);
 
   try {
     app.parse(argc, argv);
@@ -27,7 +33,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const char* command = app.got_subcommand("info") ? "info" : "render";
+    const char* command = app.got_subcommand("info")    ? "info"
+                          : app.got_subcommand("diff")  ? "diff"
+                          : app.got_subcommand("batch") ? "batch"
+                                                        : "render";
     std::fprintf(stderr, "omnishadow: %s\nRun 'omnishadow --help' or 'omnishadow %s --help'.\n",
                  e.what(), command);
     return 2;
@@ -36,6 +45,9 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("render")) return omnishadow::cli::runRender(render);
     if (app.got_subcommand("info")) return omnishadow::cli::runInfo(info);
+    if (app.got_subcommand("batch")) return omnishadow::cli::runBatch(batch);
+    // 0 within the tolerances, 1 not; InputError (2) for unreadable or incomparable images.
+    if (app.got_subcommand("diff")) return omnishadow::cli::runDiff(diff);
   } catch (const omnishadow::InputError& e) {
     std::fprintf(stderr, "omnishadow: %s\n", e.what());
     return 2;

@@ -18,19 +18,6 @@ namespace fs = std::filesystem;
 namespace omnishadow::cli {
 namespace {
 
-std::optional<glm::vec3> parseVec3(const std::string& option, const std::string& text) {
-  if (text.empty()) return std::nullopt;
-  glm::vec3 v;
-  std::istringstream in(text);
-  char comma1 = 0, comma2 = 0;
-  in >> v.x >> comma1 >> v.y >> comma2 >> v.z;
-  if (!in || comma1 != ',' || comma2 != ',' || in.peek() != EOF || !std::isfinite(v.x) ||
-      !std::isfinite(v.y) || !std::isfinite(v.z))
-    throw InputError(option + " " + text +
-                     ": expected 3 comma-separated finite numbers, e.g. 0,1.5,4");
-  return v;
-}
-
 void printStats(const StageTimes& times) {
   std::fprintf(stderr, "stage          ms\n");
   for (const auto& [stage, ms] : times.stages())

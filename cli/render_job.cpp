@@ -74,11 +74,11 @@ void writeIdSidecar(const fs::path& path, const Scene& scene, OutputTransaction&
   if (!out.flush()) throw RenderError("cannot write " + path.string());
 }
 
+}  // namespace
+
 fs::path idSidecarPath(const RenderJob& job) {
   return fs::path(job.aov).replace_extension(".ids.json");
 }
-
-}  // namespace
 
 std::string lowerExtension(const fs::path& path) {
   std::string ext = path.extension().string();
@@ -122,6 +122,19 @@ AovLayers parseLayers(const std::string& list) {
   return layers;
 }
 
+std::optional<glm::vec3> parseVec3(const std::string& option, const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  glm::vec3 v;
+  std::istringstream in(text);
+  char comma1 = 0, comma2 = 0;
+  in >> v.x >> comma1 >> v.y >> comma2 >> v.z;
+  if (!in || comma1 != ',' || comma2 != ',' || in.peek() != EOF || !std::isfinite(v.x) ||
+      !std::isfinite(v.y) || !std::isfinite(v.z))
+    throw InputError(option + " " + text +
+                     ": expected 3 comma-separated finite numbers, e.g. 0,1.5,4");
+  return v;
+}
+
 DebugView parseDebugView(const std::string& name) {
   if (name == "shadow") return DebugView::Shadow;
   if (name == "depth") return DebugView::Depth;
@@ -135,7 +148,27 @@ std::vector<fs::path> RenderJob::outputFiles() const {
   std::vector<fs::path> all = png;
   all.insert(all.end(), exr.begin(), exr.end());
   if (!aov.empty()) all.push_back(aov);
+  if (!aov.empty() && (layers.objectId || layers.materialId)) all.push_back(idSidecarPath(*this));
   return all;
+}
+
+std::vector<fs::path> RenderJob::perLightFiles(const std::vector<Light>& rendered) const {
+  std::vector<fs::path> files;
+  for (const Light& light : rendered) {
+    if (light.type != LightType::Point) continue;
+    const std::string name = fileSafeName(light.name);
+    for (const char* face : kCubeFaceNames) {
+      if (!lightViews.empty()) files.push_back(lightViews / (name + "_" + face + ".png"));
+      if (!dumpDepth.empty() && light.shadow.enabled)
+        for (const char* ext : {".exr", ".png"})
+          files.push_back(dumpDepth / (name + "_" + face + ext));
+    }
+    if (!dumpDepth.empty() && light.shadow.enabled) {
+      files.push_back(dumpDepth / (name + "_cube.exr"));
+      files.push_back(dumpDepth / (name + "_cross.png"));
+    }
+  }
+  return files;
 }
 
 void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& inputs) {
@@ -188,7 +221,21 @@ LoadedJob loadJob(const RenderJob& job) {
     loaded.warnings.push_back(
         "no lights in the scene or a lights file: using a headlight at the camera");
   }
-  if (!job.dumpDepth.empty() || !job.lightViews.empty()) checkFileSafeNames(loaded.lights);
+  if (!job.dumpDepth.empty() || !job.lightViews.empty()) {
+    checkFileSafeNames(loaded.lights);
+    // The per-light files must spare the inputs and the job's other outputs too.
+    std::vector<std::string> inputs = loaded.scene.inputFiles;
+    inputs.push_back(job.lights.string());
+    const std::vector<fs::path> files = job.perLightFiles(loaded.lights);
+    for (const fs::path& file : files) {
+      for (const std::string& input : inputs)
+        if (!input.empty() && resolved(file) == resolved(input))
+          throw InputError(file.string() + ": refusing to overwrite an input file");
+      for (const fs::path& output : job.outputFiles())
+        if (resolved(file) == resolved(output))
+          throw InputError(file.string() + ": the same file is given twice as output");
+    }
+  }
   return loaded;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,8 +30,10 @@ struct RenderJob {
   std::filesystem::path dumpDepth, lightViews;
   int lightViewSize = 512;
 
-  // Every file or folder the job writes to (images, AOVs; not the dump folders' contents).
+  // Every file the job writes besides the per-light ones: images, AOVs, the id sidecar.
   std::vector<std::filesystem::path> outputFiles() const;
+  // The shadow map dumps and light views the job writes for these lights.
+  std::vector<std::filesystem::path> perLightFiles(const std::vector<Light>& rendered) const;
 };
 
 // The job's inputs, loaded: CPU only, so it may run on any thread.
@@ -60,10 +63,15 @@ std::vector<std::filesystem::path> writeJobOutputs(const RenderJob& job, const L
 // "<file>: refusing to overwrite an input file" when an output is one of `inputs`.
 void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& inputs);
 
+// "<aov stem>.ids.json": what objectId and materialId values stand for.
+std::filesystem::path idSidecarPath(const RenderJob& job);
+
 // Helpers shared by the commands that build jobs from options.
 std::string lowerExtension(const std::filesystem::path& path);
 AovLayers parseLayers(const std::string& list);
 DebugView parseDebugView(const std::string& name);
+// "x,y,z" -> vector; empty -> nullopt; anything else -> InputError naming the option.
+std::optional<glm::vec3> parseVec3(const std::string& option, const std::string& text);
 // The lights file used when none is given: "<scene stem>.lights.json" beside the scene.
 std::filesystem::path defaultLightsFile(const std::filesystem::path& scene);
 

@@ -290,6 +290,7 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
     }
   }
   gl::checkErrors("reading back the frame");
+  for (PointShadowMap& map : prepared.maps) shadowPass_->recycle(std::move(map));
   return frame;
 }
 

@@ -36,8 +36,7 @@ PointShadowMap ShadowPass::renderPointLight(const GpuScene& scene, const Light& 
   map.near = near;
   map.far = far;
   map.position = light.position;
-  map.cube = gl::createTexture(GL_TEXTURE_CUBE_MAP);
-  glTextureStorage2D(map.cube.get(), 1, GL_DEPTH_COMPONENT32F, resolution, resolution);
+  map.cube = takeCube(resolution);
   glObjectLabel(GL_TEXTURE, map.cube.get(), -1, ("shadow cube " + light.name).c_str());
 
   const glm::mat4 projection = cubeFaceProjection(near, far);
@@ -91,6 +90,26 @@ PointShadowMap ShadowPass::renderPointLight(const GpuScene& scene, const Light& 
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the shadow pass of light \"" + light.name + "\"");
   return map;
+}
+
+gl::Texture ShadowPass::takeCube(int resolution) {
+  for (auto it = pool_.begin(); it != pool_.end(); ++it) {
+    if (it->first != resolution) continue;
+    gl::Texture cube = std::move(it->second);
+    pool_.erase(it);
+    return cube;
+  }
+  gl::Texture cube = gl::createTexture(GL_TEXTURE_CUBE_MAP);
+  glTextureStorage2D(cube.get(), 1, GL_DEPTH_COMPONENT32F, resolution, resolution);
+  return cube;
+}
+
+void ShadowPass::recycle(PointShadowMap&& map) {
+  // Enough for the shadowed lights of one frame; older textures are deleted.
+  constexpr std::size_t kPoolSize = 16;
+  if (!map.cube) return;
+  pool_.emplace_back(map.resolution, std::move(map.cube));
+  if (pool_.size() > kPoolSize) pool_.erase(pool_.begin());
 }
 
 CubeDistances ShadowPass::readDistances(const PointShadowMap& map) {

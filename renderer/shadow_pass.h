@@ -35,7 +35,14 @@ class ShadowPass {
   // Reads the map back as distances along each texel center's ray.
   static CubeDistances readDistances(const PointShadowMap& map);
 
+  // Gives the map's texture back for reuse by later renders (batch mode renders many scenes
+  // with the same resolutions); the pool keeps a few and deletes the rest.
+  void recycle(PointShadowMap&& map);
+
  private:
+  gl::Texture takeCube(int resolution);
+
+  std::vector<std::pair<int, gl::Texture>> pool_;  // (resolution, cube map)
   ShaderProgram opaque_;
   ShaderProgram masked_;
   gl::Framebuffer framebuffer_;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <memory>
@@ -925,4 +926,54 @@ TEST(Lighting, ACameraAtTheLightSeesNoInvalidValues) {
       ASSERT_TRUE(std::isfinite(frame.beauty.at(x, y, 0))) << x << "," << y;
       ASSERT_GT(frame.beauty.at(x, y, 0), 0.0f) << x << "," << y;
     }
+}
+
+namespace {
+
+// Resident memory of this process in KiB (llvmpipe's "GPU" memory is process memory).
+long residentKiB() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  return -1;
+}
+
+}  // namespace
+
+TEST(Batch, ManyScenesInOneContextDoNotGrowMemory) {
+  // What batch mode does: one renderer, scene after scene. After a warm-up, 1000 more renders
+  // of scenes with their own textures and shadow maps must not keep memory growing.
+  auto makeScene = [](int i) {
+    Scene scene;
+    Image image;
+    image.width = image.height = 8 + i % 3;
+    image.rgba.assign(static_cast<std::size_t>(image.width * image.height) * 4,
+                      static_cast<std::uint8_t>(i));
+    scene.images.push_back(image);
+    scene.textures.push_back({0, {}});
+    const int material = addMaterial(scene, glm::vec4(0.8f));
+    scene.materials[material].baseColorTexture.texture = 0;
+    addObject(scene, builder::makePlane(4.0f), glm::mat4(1.0f), material);
+    addObject(scene, builder::makeBox(glm::vec3(0.3f + 0.01f * static_cast<float>(i % 7))),
+              translate({0, 0.5f, 0}), material);
+    return scene;
+  };
+  const std::vector<Light> lights = {pointLight("a", {0, 2, 0}, ShadowFilter::Pcf, 16),
+                                     pointLight("b", {1, 2, 1}, ShadowFilter::Hard, 32)};
+  auto renderOne = [&](int i) {
+    const Scene scene = makeScene(i);
+    const ViewCamera camera = lookFrom(scene, {0, 3, 3}, {0, 0, 0}, 16 + i % 5, 16);
+    StageTimes times;
+    RenderSettings settings;
+    settings.aovs = i % 2 == 0;
+    sharedRenderer().render(scene, lights, glm::vec3(0.03f), camera, settings, times);
+  };
+  for (int i = 0; i < 100; ++i) renderOne(i);
+  const long before = residentKiB();
+  for (int i = 100; i < 1100; ++i) renderOne(i);
+  const long after = residentKiB();
+  ASSERT_GT(before, 0);
+  std::printf("resident memory: %ld KiB after 100 renders, %ld KiB after 1100\n", before, after);
+  EXPECT_LT(after - before, 8 * 1024) << "grew by " << (after - before) << " KiB";
 }

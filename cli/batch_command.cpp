@@ -1,0 +1,350 @@
+#include "cli/batch_command.h"
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <future>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "cli/batch_jobs.h"
+#include "renderer/errors.h"
+#include "renderer/image_writer.h"
+#include "renderer/renderer.h"
+
+namespace fs = std::filesystem;
+
+namespace omnishadow::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+enum class Status { Rendered, Skipped, Failed };
+
+struct JobResult {
+  Status status = Status::Failed;
+  std::string error;
+  std::vector<fs::path> outputs;
+  std::vector<std::string> warnings;
+  StageTimes times;
+  double milliseconds = 0.0;  // load + render + encode
+};
+
+// A job loaded on a worker thread, with how long loading took.
+struct Loaded {
+  std::shared_ptr<LoadedJob> job;
+  double milliseconds = 0.0;
+};
+
+Loaded load(const RenderJob& job) {
+  const Clock::time_point start = Clock::now();
+  Loaded loaded{std::make_shared<LoadedJob>(loadJob(job)), 0.0};
+  loaded.milliseconds = millisecondsSince(start);
+  return loaded;
+}
+
+bool allOutputsExist(const RenderJob& job) {
+  for (const fs::path& path : job.outputFiles())
+    if (!fs::exists(path)) return false;
+  return true;
+}
+
+BatchDefaults defaultsFromOptions(const BatchOptions& o) {
+  BatchDefaults d;
+  d.out = o.out;
+  d.lights = o.lights;
+  d.png = !o.noPng;
+  d.exr = o.exr;
+  d.aov = o.aov || !o.aovLayers.empty();
+  RenderJob& job = d.job;
+  job.noGltfLights = o.noGltfLights;
+  job.sceneIndex = o.sceneIndex;
+  job.camera.select = o.camera;
+  job.camera.eye = parseVec3("--eye", o.eye);
+  job.camera.target = parseVec3("--target", o.target);
+  job.camera.up = parseVec3("--up", o.up);
+  job.camera.fovDegrees = o.fov;
+  job.camera.width = o.width;
+  job.camera.height = o.height;
+  job.layers = parseLayers(o.aovLayers);
+  job.exposure = o.exposure;
+  job.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
+  if (!d.png && !d.exr && !d.aov)
+    throw InputError("--no-png: nothing left to write; add --exr or --aov");
+  return d;
+}
+
+// Progress on a terminal: one line rewritten in place.
+class Progress {
+ public:
+  Progress(std::size_t total, bool live, bool quiet)
+      : total_(total), live_(live), quiet_(quiet), start_(Clock::now()) {}
+
+  void finished(const std::string& name, const JobResult& result) {
+    ++done_;
+    if (result.status == Status::Failed)
+      std::fprintf(stderr, "%somnishadow: %s: %s\n", live_ ? "\r\033[K" : "", name.c_str(),
+                   result.error.c_str());
+    if (quiet_) return;
+    if (live_) {
+      const double seconds = millisecondsSince(start_) / 1000.0;
+      const double rate = seconds > 0.0 ? static_cast<double>(done_) / seconds : 0.0;
+      const double eta = rate > 0.0 ? static_cast<double>(total_ - done_) / rate : 0.0;
+      const int width = 30;
+      const int filled = static_cast<int>(width * done_ / std::max<std::size_t>(total_, 1));
+      std::printf("\r[%s%s] %zu/%zu  %.1f scenes/s  ETA %d:%02d", std::string(filled, '#').c_str(),
+                  std::string(width - filled, '.').c_str(), done_, total_, rate,
+                  static_cast<int>(eta) / 60, static_cast<int>(eta) % 60);
+    } else if (result.status == Status::Rendered) {
+      std::printf("ok      %s (%.0f ms)\n", name.c_str(), result.milliseconds);
+    } else if (result.status == Status::Skipped) {
+      std::printf("skipped %s\n", name.c_str());
+    } else {
+      std::printf("FAILED  %s: %s\n", name.c_str(), result.error.c_str());
+    }
+    std::fflush(stdout);
+  }
+
+  void summary(std::size_t rendered, std::size_t skipped, std::size_t failed) {
+    if (quiet_) return;
+    std::printf("%s%zu rendered, %zu skipped, %zu failed in %.1f s\n", live_ ? "\n" : "", rendered,
+                skipped, failed, millisecondsSince(start_) / 1000.0);
+  }
+
+ private:
+  std::size_t total_, done_ = 0;
+  bool live_, quiet_;
+  Clock::time_point start_;
+};
+
+void writeReport(const fs::path& path, const std::vector<BatchEntry>& jobs,
+                 const std::vector<JobResult>& results, const std::string& shard, double seconds) {
+  nlohmann::ordered_json report;
+  std::size_t counts[3] = {0, 0, 0};
+  for (const JobResult& r : results) ++counts[static_cast<int>(r.status)];
+  report["summary"] = {{"jobs", jobs.size()},
+                       {"rendered", counts[0]},
+                       {"skipped", counts[1]},
+                       {"failed", counts[2]},
+                       {"seconds", seconds}};
+  report["shard"] = shard.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(shard);
+  report["jobs"] = nlohmann::ordered_json::array();
+  const char* statusNames[] = {"rendered", "skipped", "failed"};
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const JobResult& r = results[i];
+    nlohmann::ordered_json job;
+    job["name"] = jobs[i].name;
+    job["scene"] = jobs[i].job.scene.string();
+    job["status"] = statusNames[static_cast<int>(r.status)];
+    job["error"] = r.error.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.error);
+    job["outputs"] = nlohmann::ordered_json::array();
+    for (const fs::path& output : r.outputs) job["outputs"].push_back(output.string());
+    job["warnings"] = r.warnings;
+    job["stages"] = nlohmann::ordered_json::object();
+    for (const auto& [stage, ms] : r.times.stages())
+      job["stages"][stage] = job["stages"].value(stage, 0.0) + ms;
+    report["jobs"].push_back(std::move(job));
+  }
+  std::ofstream out(path);
+  out << report.dump(2) << "\n";
+  if (!out.flush()) throw RenderError("cannot write the report " + path.string());
+}
+
+// Renders the jobs in order on this (the GL) thread. Loading runs up to `workers` jobs ahead
+// and encoding up to `workers` jobs behind, on other threads; with 0 workers everything runs
+// here. Results come back in job order.
+class BatchRunner {
+ public:
+  BatchRunner(const std::vector<BatchEntry>& jobs, const BatchOptions& options)
+      : jobs_(jobs), options_(options), results_(jobs.size()) {
+    workers_ = options.jobs >= 0
+                   ? options.jobs
+                   : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  }
+
+  std::vector<JobResult> run(Progress& progress) {
+    makeRenderer();
+    for (std::size_t i = 0; i < jobs_.size(); ++i) {
+      prefetch(i);
+      renderOne(i);
+      // With no workers this finishes each job at once (its encoding was deferred to here).
+      while (encoding_.size() > static_cast<std::size_t>(workers_)) finishOldest(progress);
+    }
+    while (!encoding_.empty()) finishOldest(progress);
+    return std::move(results_);
+  }
+
+ private:
+  struct Pending {
+    std::size_t index;
+    std::future<std::vector<fs::path>> outputs;
+  };
+
+  void makeRenderer() {
+    ContextOptions context;
+    context.gpuIndex = options_.gpu;
+    context.debug = options_.verbose;
+    renderer_.reset();
+    renderer_ = std::make_unique<Renderer>(context);
+  }
+
+  bool skipped(std::size_t i) const {
+    return options_.skipExisting && allOutputsExist(jobs_[i].job);
+  }
+
+  void prefetch(std::size_t current) {
+    if (workers_ == 0) return;
+    for (std::size_t i = current; i < jobs_.size() && i <= current + workers_; ++i) {
+      if (loading_.count(i) || skipped(i)) continue;
+      const RenderJob& job = jobs_[i].job;
+      loading_.emplace(i, std::async(std::launch::async, [&job] { return load(job); }));
+    }
+  }
+
+  void renderOne(std::size_t i) {
+    JobResult& result = results_[i];
+    if (skipped(i)) {
+      result.status = Status::Skipped;
+      encoding_.push_back({i, {}});
+      return;
+    }
+    try {
+      Loaded loaded;
+      if (auto it = loading_.find(i); it != loading_.end()) {
+        loaded = it->second.get();
+        loading_.erase(it);
+      } else {
+        loaded = load(jobs_[i].job);
+      }
+      result.times.add("load", loaded.milliseconds);
+      std::shared_ptr<LoadedJob> job = loaded.job;
+      auto frame = std::make_shared<Frame>(renderJob(*renderer_, jobs_[i].job, *job, result.times));
+      result.warnings = job->warnings;
+      const RenderJob& description = jobs_[i].job;
+      auto encode = [&description, job, frame, &result] {
+        const Clock::time_point encodeStart = Clock::now();
+        std::vector<fs::path> written = writeJobOutputs(description, *job, *frame);
+        result.times.add("encode", millisecondsSince(encodeStart));
+        return written;
+      };
+      encoding_.push_back(
+          {i, workers_ == 0 ? deferred(encode) : std::async(std::launch::async, encode)});
+      result.status = Status::Rendered;
+    } catch (const RenderError& e) {
+      // A GL error or a lost context may leave the context unusable: start a fresh one.
+      fail(i, e.what());
+      makeRenderer();
+    } catch (const std::exception& e) {
+      fail(i, e.what());
+    }
+  }
+
+  template <typename F>
+  static std::future<std::vector<fs::path>> deferred(F f) {
+    return std::async(std::launch::deferred, std::move(f));
+  }
+
+  void fail(std::size_t i, const std::string& message) {
+    results_[i].status = Status::Failed;
+    results_[i].error = message;
+    encoding_.push_back({i, {}});
+  }
+
+  void finishOldest(Progress& progress) {
+    Pending pending = std::move(encoding_.front());
+    encoding_.pop_front();
+    JobResult& result = results_[pending.index];
+    if (pending.outputs.valid()) {
+      try {
+        result.outputs = pending.outputs.get();
+      } catch (const std::exception& e) {
+        result.status = Status::Failed;
+        result.error = e.what();
+      }
+    }
+    if (result.status != Status::Skipped) result.milliseconds = result.times.total();
+    progress.finished(jobs_[pending.index].name, result);
+  }
+
+  const std::vector<BatchEntry>& jobs_;
+  const BatchOptions& options_;
+  std::vector<JobResult> results_;
+  int workers_ = 0;
+  std::unique_ptr<Renderer> renderer_;
+  std::map<std::size_t, std::future<Loaded>> loading_;
+  std::deque<Pending> encoding_;
+};
+
+}  // namespace
+
+void addBatchCommand(CLI::App& app, BatchOptions& o) {
+  CLI::App* batch = app.add_subcommand(
+      "batch", "Render many scenes with one GL context: folders, globs, scene files, manifests");
+  batch
+      ->add_option("inputs", o.inputs,
+                   "Folders (all .gltf/.glb below), quoted globs, scene files or manifest .json")
+      ->required();
+  batch->add_option("-o,--out", o.out, "Output folder; mirrors the input tree")->required();
+  batch->add_option("-l,--lights", o.lights,
+                    "One lights file for every scene (default: <scene>.lights.json, else "
+                    "lights.json in the scene's folder)");
+  batch->add_flag("--exr", o.exr, "Also write <name>.exr (linear half RGBA)");
+  batch->add_flag("--no-png", o.noPng, "Do not write <name>.png");
+  batch->add_flag("--aov", o.aov, "Also write <name>.aov.exr");
+  batch->add_option("--aov-layers", o.aovLayers, "Extra AOV layers, as for render (implies --aov)");
+  batch->add_option("--width", o.width, "Image width")->check(CLI::Range(1, 16384));
+  batch->add_option("--height", o.height, "Image height")->check(CLI::Range(1, 16384));
+  batch->add_option("--camera", o.camera, "glTF camera by name or index");
+  batch->add_option("--eye", o.eye, "Camera position x,y,z");
+  batch->add_option("--target", o.target, "Camera target x,y,z");
+  batch->add_option("--up", o.up, "Camera up x,y,z");
+  batch->add_option("--fov", o.fov, "Vertical field of view in degrees");
+  batch->add_option("--exposure", o.exposure, "Exposure in stops");
+  batch->add_option("--shading", o.shading, "pbr or phong")->check(CLI::IsMember({"pbr", "phong"}));
+  batch->add_flag("--no-gltf-lights", o.noGltfLights,
+                  "Ignore the scenes' KHR_lights_punctual lights");
+  batch->add_option("--scene", o.sceneIndex, "glTF scene index")->check(CLI::NonNegativeNumber);
+  batch->add_flag("--skip-existing", o.skipExisting, "Skip jobs whose outputs all exist (resume)");
+  batch->add_option("--shard", o.shard, "Render only shard K of N (K/N, 0 <= K < N)");
+  batch
+      ->add_option("--jobs", o.jobs,
+                   "Worker threads for loading and encoding (default: cores; 0 = none)")
+      ->check(CLI::Range(0, 256));
+  batch->add_option("--report", o.report, "Write a JSON report of every job");
+  batch->add_flag("-q,--quiet", o.quiet, "No progress or log lines (failures still on stderr)");
+  batch->add_option("--gpu", o.gpu, "EGL device index")->check(CLI::NonNegativeNumber);
+  batch->add_flag("-v,--verbose", o.verbose, "GL debug messages");
+}
+
+int runBatch(const BatchOptions& o) {
+  const Clock::time_point start = Clock::now();
+  const BatchDefaults defaults = defaultsFromOptions(o);
+  std::vector<BatchEntry> jobs = collectJobs(o.inputs, defaults);
+  if (!o.shard.empty()) jobs = selectShard(std::move(jobs), parseShard(o.shard));
+  if (!o.report.empty() && fs::is_directory(o.report))
+    throw InputError("--report " + o.report + ": is a folder, expected a file name");
+
+  setEncoderThreads(0);  // the batch's own workers encode in parallel already
+  Progress progress(jobs.size(), ::isatty(STDOUT_FILENO) != 0, o.quiet);
+  BatchRunner runner(jobs, o);
+  const std::vector<JobResult> results = runner.run(progress);
+
+  std::size_t counts[3] = {0, 0, 0};
+  for (const JobResult& r : results) ++counts[static_cast<int>(r.status)];
+  progress.summary(counts[0], counts[1], counts[2]);
+  if (!o.report.empty())
+    writeReport(o.report, jobs, results, o.shard, millisecondsSince(start) / 1000.0);
+  return counts[2] == 0 ? 0 : 1;
+}
+
+}  // namespace omnishadow::cli

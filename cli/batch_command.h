@@ -1,0 +1,42 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace omnishadow::cli {
+
+// Everything `omnishadow batch` accepts, as given on the command line.
+struct BatchOptions {
+  std::vector<std::string> inputs;
+  std::string out;
+  std::string lights;
+  bool exr = false, noPng = false, aov = false;
+  std::string aovLayers;
+  std::optional<int> width, height;
+  std::string camera, eye, target, up;
+  std::optional<float> fov;
+  float exposure = 0.0f;
+  std::string shading = "pbr";
+  bool noGltfLights = false;
+  int sceneIndex = -1;
+  bool skipExisting = false;
+  std::string shard;
+  int jobs = -1;  // -1 = number of cores
+  std::string report;
+  bool quiet = false;
+  int gpu = -1;
+  bool verbose = false;
+};
+
+void addBatchCommand(CLI::App& app, BatchOptions& options);
+
+// Renders every job; returns 0 when all succeeded (or were skipped), 1 when some failed.
+// Throws InputError for usage errors (bad inputs, manifest, shard).
+int runBatch(const BatchOptions& options);
+
+}  // namespace omnishadow::cli

@@ -1,0 +1,283 @@
+#include "cli/batch_jobs.h"
+
+#include <glob.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "renderer/errors.h"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace omnishadow::cli {
+namespace {
+
+bool isScene(const fs::path& path) {
+  const std::string ext = lowerExtension(path);
+  return ext == ".gltf" || ext == ".glb";
+}
+
+bool hasWildcard(const std::string& text) {
+  return text.find_first_of("*?[") != std::string::npos;
+}
+
+// Lights for a scene without --lights: "<stem>.lights.json" beside it, else "lights.json" in
+// its folder.
+fs::path sceneLights(const fs::path& scene) {
+  if (fs::path own = defaultLightsFile(scene); !own.empty()) return own;
+  const fs::path folder = scene.parent_path() / "lights.json";
+  return fs::exists(folder) ? folder : fs::path();
+}
+
+// A job for `scene` whose outputs are `stem` (no extension) plus the batch's formats.
+RenderJob folderJob(const fs::path& scene, const fs::path& stem, const BatchDefaults& defaults) {
+  RenderJob job = defaults.job;
+  job.scene = scene;
+  job.lights = defaults.lights.empty() ? sceneLights(scene) : defaults.lights;
+  if (defaults.png) job.png.push_back(fs::path(stem.string() + ".png"));
+  if (defaults.exr) job.exr.push_back(fs::path(stem.string() + ".exr"));
+  if (defaults.aov) job.aov = fs::path(stem.string() + ".aov.exr");
+  return job;
+}
+
+void addScene(const fs::path& scene, const fs::path& base, const BatchDefaults& defaults,
+              std::vector<BatchEntry>& jobs) {
+  const fs::path relative = scene.lexically_relative(base);
+  fs::path stem = relative;
+  stem.replace_extension();
+  jobs.push_back({relative.generic_string(), folderJob(scene, defaults.out / stem, defaults)});
+}
+
+void addFolder(const fs::path& folder, std::vector<BatchEntry>& jobs,
+               const BatchDefaults& defaults) {
+  std::vector<fs::path> scenes;
+  for (const auto& entry : fs::recursive_directory_iterator(folder))
+    if (entry.is_regular_file() && isScene(entry.path())) scenes.push_back(entry.path());
+  std::sort(scenes.begin(), scenes.end());
+  if (scenes.empty()) throw InputError(folder.string() + ": no .gltf or .glb files in this folder");
+  for (const fs::path& scene : scenes) addScene(scene, folder, defaults, jobs);
+}
+
+void addGlob(const std::string& pattern, std::vector<BatchEntry>& jobs,
+             const BatchDefaults& defaults) {
+  glob_t matches{};
+  const int status = ::glob(pattern.c_str(), 0, nullptr, &matches);
+  std::vector<fs::path> scenes;
+  if (status == 0)
+    for (std::size_t i = 0; i < matches.gl_pathc; ++i)
+      if (isScene(matches.gl_pathv[i]) && fs::is_regular_file(matches.gl_pathv[i]))
+        scenes.emplace_back(matches.gl_pathv[i]);
+  globfree(&matches);
+  std::sort(scenes.begin(), scenes.end());
+  if (scenes.empty()) throw InputError(pattern + ": matches no .gltf or .glb file");
+  // Outputs mirror the paths below the pattern's leading folder without wildcards.
+  fs::path base;
+  for (const fs::path& part : fs::path(pattern).parent_path()) {
+    if (hasWildcard(part.string())) break;
+    base /= part;
+  }
+  for (const fs::path& scene : scenes) addScene(scene, base, defaults, jobs);
+}
+
+// Manifest fields: each reader throws InputError naming "<manifest>: jobs[i].<field>".
+class ManifestJob {
+ public:
+  ManifestJob(const json& value, std::string where) : value_(value), where_(std::move(where)) {}
+
+  std::optional<std::string> string(const char* field) const {
+    const json* v = find(field);
+    if (!v) return std::nullopt;
+    if (!v->is_string() || v->get<std::string>().empty())
+      fail(field, "expected a non-empty string");
+    return v->get<std::string>();
+  }
+  std::optional<double> number(const char* field) const {
+    const json* v = find(field);
+    if (!v) return std::nullopt;
+    if (!v->is_number() || !std::isfinite(v->get<double>()))
+      fail(field, "expected a finite number");
+    return v->get<double>();
+  }
+  std::optional<int> positiveInt(const char* field, int max) const {
+    const auto n = number(field);
+    if (!n) return std::nullopt;
+    if (*n != std::floor(*n) || *n < 1 || *n > max)
+      fail(field, "expected an integer in [1, " + std::to_string(max) + "]");
+    return static_cast<int>(*n);
+  }
+  std::optional<bool> boolean(const char* field) const {
+    const json* v = find(field);
+    if (!v) return std::nullopt;
+    if (!v->is_boolean()) fail(field, "expected true or false");
+    return v->get<bool>();
+  }
+  std::optional<glm::vec3> vec3(const char* field) const {
+    const json* v = find(field);
+    if (!v) return std::nullopt;
+    if (!v->is_array() || v->size() != 3 || !std::all_of(v->begin(), v->end(), [](const json& x) {
+          return x.is_number() && std::isfinite(x.get<double>());
+        }))
+      fail(field, "expected an array of 3 finite numbers");
+    return glm::vec3((*v)[0].get<float>(), (*v)[1].get<float>(), (*v)[2].get<float>());
+  }
+  std::optional<std::vector<std::string>> strings(const char* field) const {
+    const json* v = find(field);
+    if (!v) return std::nullopt;
+    if (!v->is_array() || v->empty() ||
+        !std::all_of(v->begin(), v->end(), [](const json& x) { return x.is_string(); }))
+      fail(field, "expected a non-empty array of file names");
+    return v->get<std::vector<std::string>>();
+  }
+  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+    throw InputError(where_ + "." + field + ": " + what);
+  }
+  const std::string& where() const { return where_; }
+
+ private:
+  const json* find(const char* field) const {
+    const auto it = value_.find(field);
+    return it == value_.end() ? nullptr : &*it;
+  }
+  const json& value_;
+  std::string where_;
+};
+
+RenderJob manifestJob(const ManifestJob& m, const fs::path& folder, const BatchDefaults& d) {
+  const auto scene = m.string("scene");
+  if (!scene) m.fail("scene", "missing; expected the path of a .gltf or .glb file");
+  const fs::path scenePath = folder / *scene;
+  fs::path stem = fs::path(*scene).filename();
+  stem.replace_extension();
+  RenderJob job = folderJob(scenePath, d.out / stem, d);
+  if (const auto lights = m.string("lights")) job.lights = folder / *lights;
+  if (const auto outputs = m.strings("outputs")) {
+    job.png.clear();
+    job.exr.clear();
+    for (const std::string& output : *outputs) {
+      const std::string ext = lowerExtension(output);
+      if (ext == ".png") {
+        job.png.push_back(d.out / output);
+      } else if (ext == ".exr") {
+        job.exr.push_back(d.out / output);
+      } else {
+        m.fail("outputs", "\"" + output + "\": expected .png or .exr names");
+      }
+    }
+  }
+  if (const auto aov = m.string("aov")) job.aov = d.out / *aov;
+  if (const auto layers = m.string("aovLayers")) job.layers = parseLayers(*layers);
+  if (const auto camera = m.string("camera")) job.camera.select = *camera;
+  if (const auto eye = m.vec3("eye")) job.camera.eye = eye;
+  if (const auto target = m.vec3("target")) job.camera.target = target;
+  if (const auto up = m.vec3("up")) job.camera.up = up;
+  if (const auto fov = m.number("fov")) job.camera.fovDegrees = static_cast<float>(*fov);
+  if (const auto width = m.positiveInt("width", 16384)) job.camera.width = width;
+  if (const auto height = m.positiveInt("height", 16384)) job.camera.height = height;
+  if (const auto exposure = m.number("exposure")) job.exposure = static_cast<float>(*exposure);
+  if (const auto shading = m.string("shading")) {
+    if (*shading != "pbr" && *shading != "phong")
+      m.fail("shading", "expected \"pbr\" or \"phong\"");
+    job.shading = *shading == "phong" ? Shading::Phong : Shading::Pbr;
+  }
+  if (const auto index = m.number("sceneIndex")) {
+    if (*index != std::floor(*index) || *index < 0)
+      m.fail("sceneIndex", "expected an integer >= 0");
+    job.sceneIndex = static_cast<int>(*index);
+  }
+  if (const auto noGltfLights = m.boolean("noGltfLights")) job.noGltfLights = *noGltfLights;
+  return job;
+}
+
+void addManifest(const fs::path& path, std::vector<BatchEntry>& jobs,
+                 const BatchDefaults& defaults) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot read manifest");
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  json manifest;
+  try {
+    manifest = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // Same form as the lights file's syntax errors: file:line:column.
+    const std::size_t end = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+    const auto line = 1 + std::count(text.begin(), text.begin() + end, '\n');
+    const std::size_t lineStart = text.rfind('\n', end == 0 ? 0 : end - 1);
+    const std::size_t column = lineStart == std::string::npos ? end + 1 : end - lineStart;
+    throw InputError(path.string() + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                     ": JSON syntax error");
+  }
+  if (!manifest.is_object() || !manifest.contains("jobs") || !manifest["jobs"].is_array())
+    throw InputError(path.string() + ": jobs: expected an array of job objects");
+  const json& list = manifest["jobs"];
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string where = path.string() + ": jobs[" + std::to_string(i) + "]";
+    if (!list[i].is_object()) throw InputError(where + ": expected a job object");
+    const ManifestJob m(list[i], where);
+    RenderJob job = manifestJob(m, path.parent_path(), defaults);
+    jobs.push_back(
+        {"jobs[" + std::to_string(i) + "] " + list[i]["scene"].get<std::string>(), std::move(job)});
+  }
+}
+
+}  // namespace
+
+std::vector<BatchEntry> collectJobs(const std::vector<std::string>& inputs,
+                                    const BatchDefaults& defaults) {
+  std::vector<BatchEntry> jobs;
+  for (const std::string& input : inputs) {
+    const fs::path path(input);
+    if (fs::is_directory(path)) {
+      addFolder(path, jobs, defaults);
+    } else if (lowerExtension(path) == ".json") {
+      addManifest(path, jobs, defaults);
+    } else if (hasWildcard(input) && !fs::exists(path)) {
+      addGlob(input, jobs, defaults);
+    } else if (!fs::exists(path)) {
+      throw InputError(input + ": no such file or folder");
+    } else if (isScene(path)) {
+      addScene(path, path.parent_path(), defaults, jobs);
+    } else {
+      throw InputError(input +
+                       ": expected a folder, a .gltf/.glb file, a glob or a manifest .json");
+    }
+  }
+  if (jobs.empty()) throw InputError("batch: no scenes to render");
+  // Every job checked up front, and no two jobs may write one file.
+  std::map<std::string, std::string> writers;
+  for (const BatchEntry& entry : jobs) {
+    validateJob(entry.job);
+    for (const fs::path& output : entry.job.outputFiles()) {
+      const std::string key = fs::weakly_canonical(fs::absolute(output)).string();
+      const auto [it, fresh] = writers.emplace(key, entry.name);
+      if (!fresh)
+        throw InputError(output.string() + ": written by both " + it->second + " and " +
+                         entry.name);
+    }
+  }
+  return jobs;
+}
+
+Shard parseShard(const std::string& text) {
+  Shard shard;
+  char slash = 0;
+  std::istringstream in(text);
+  if (!(in >> shard.index >> slash >> shard.count) || slash != '/' || in.peek() != EOF ||
+      shard.count < 1 || shard.index < 0 || shard.index >= shard.count)
+    throw InputError("--shard " + text + ": expected K/N with 0 <= K < N, e.g. 0/4");
+  return shard;
+}
+
+std::vector<BatchEntry> selectShard(std::vector<BatchEntry> jobs, const Shard& shard) {
+  std::vector<BatchEntry> selected;
+  for (std::size_t i = 0; i < jobs.size(); ++i)
+    if (static_cast<int>(i % static_cast<std::size_t>(shard.count)) == shard.index)
+      selected.push_back(std::move(jobs[i]));
+  return selected;
+}
+
+}  // namespace omnishadow::cli
