@@ -68,6 +68,8 @@ BatchDefaults defaultsFromOptions(const BatchOptions& o) {
   d.aov = o.aov || !o.aovLayers.empty();
   RenderJob& job = d.job;
   job.noGltfLights = o.noGltfLights;
+  job.allowExternalUris = o.allowExternalUris;
+  job.maxMemoryMiB = o.maxMemoryMiB;
   job.sceneIndex = o.sceneIndex;
   job.camera.select = o.camera;
   job.camera.eye = parseVec3("--eye", o.eye);
@@ -311,6 +313,12 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
   batch->add_option("--fov", o.fov, "Vertical field of view in degrees");
   batch->add_option("--exposure", o.exposure, "Exposure in stops");
   batch->add_option("--shading", o.shading, "pbr or phong")->check(CLI::IsMember({"pbr", "phong"}));
+  batch
+      ->add_option("--max-memory", o.maxMemoryMiB,
+                   "Memory the shadow maps of one frame may use, in MiB (default 4096)")
+      ->check(CLI::PositiveNumber);
+  batch->add_flag("--allow-external-uris", o.allowExternalUris,
+                  "Let scenes read buffers and images outside their own folders");
   batch->add_flag("--no-gltf-lights", o.noGltfLights,
                   "Ignore the scenes' KHR_lights_punctual lights");
   batch->add_option("--scene", o.sceneIndex, "glTF scene index")->check(CLI::NonNegativeNumber);

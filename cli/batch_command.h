@@ -23,6 +23,8 @@ struct BatchOptions {
   float exposure = 0.0f;
   std::string shading = "pbr";
   bool noGltfLights = false;
+  bool allowExternalUris = false;
+  double maxMemoryMiB = 4096.0;
   int sceneIndex = -1;
   bool skipExisting = false;
   std::string shard;

@@ -47,6 +47,7 @@ Info gather(const InfoOptions& o, std::vector<std::string>& warnings) {
   const fs::path lightsPath = o.lights.empty() ? defaultLightsFile(scenePath) : fs::path(o.lights);
   GltfLoadOptions loadOptions;
   loadOptions.sceneIndex = o.sceneIndex;
+  loadOptions.allowExternalUris = o.allowExternalUris;
   info.scene = loadGltf(scenePath, loadOptions);
   warnings.insert(warnings.end(), info.scene.warnings.begin(), info.scene.warnings.end());
   if (!lightsPath.empty()) info.setup = loadLightsFile(lightsPath, warnings);
@@ -396,6 +397,8 @@ void addInfoCommand(CLI::App& app, InfoOptions& o) {
   info->add_option("-l,--lights", o.lights,
                    "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
   info->add_flag("--json", o.json, "Print one JSON object (schema in the README)");
+  info->add_flag("--allow-external-uris", o.allowExternalUris,
+                 "Let the scene read buffers and images outside its own folder");
   info->add_option("--scene", o.sceneIndex,
                    "Index of the glTF scene to describe (default: the file's default scene)")
       ->check(CLI::NonNegativeNumber);

@@ -13,6 +13,7 @@ struct InfoOptions {
   std::string scene;
   std::string lights;
   int sceneIndex = -1;
+  bool allowExternalUris = false;
   bool json = false;
 };
 

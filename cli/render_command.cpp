@@ -36,6 +36,8 @@ RenderJob jobFromOptions(const RenderOptions& o) {
   job.scene = o.scene.empty() ? fs::path(OMNISHADOW_DEMO_SCENE) : fs::path(o.scene);
   job.lights = o.lights.empty() ? defaultLightsFile(job.scene) : fs::path(o.lights);
   job.noGltfLights = o.noGltfLights;
+  job.allowExternalUris = o.allowExternalUris;
+  job.maxMemoryMiB = o.maxMemoryMiB;
   job.sceneIndex = o.sceneIndex;
   std::vector<std::string> outputs = o.outputs;
   if (outputs.empty() && o.aov.empty()) outputs.push_back("render.png");
@@ -121,6 +123,12 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
   render->add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb); default: the demo scene");
   render->add_option("-l,--lights", o.lights,
                      "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
+  render
+      ->add_option("--max-memory", o.maxMemoryMiB,
+                   "Memory the shadow maps of one frame may use, in MiB (default 4096)")
+      ->check(CLI::PositiveNumber);
+  render->add_flag("--allow-external-uris", o.allowExternalUris,
+                   "Let the scene read buffers and images outside its own folder");
   render->add_flag("--no-gltf-lights", o.noGltfLights,
                    "Ignore the scene's KHR_lights_punctual lights");
   render

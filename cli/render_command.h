@@ -15,6 +15,8 @@ struct RenderOptions {
   std::string scene;  // empty = the built-in demo scene
   std::string lights;
   bool noGltfLights = false;
+  bool allowExternalUris = false;
+  double maxMemoryMiB = 4096.0;
   int sceneIndex = -1;
   std::string camera;
   std::string eye, target, up;  // "x,y,z"

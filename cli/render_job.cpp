@@ -209,8 +209,12 @@ LoadedJob loadJob(const RenderJob& job) {
   LoadedJob loaded;
   GltfLoadOptions loadOptions;
   loadOptions.sceneIndex = job.sceneIndex;
+  loadOptions.allowExternalUris = job.allowExternalUris;
   loaded.scene = loadGltf(job.scene, loadOptions);
   checkNotAnInput(job, loaded.scene.inputFiles);
+  if (loaded.scene.instances.empty())
+    throw InputError(job.scene.string() + ": the scene draws no triangles (" +
+                     std::to_string(loaded.scene.source.reachedNodes) + " nodes reached)");
   loaded.warnings = loaded.scene.warnings;
   if (!job.lights.empty()) loaded.setup = loadLightsFile(job.lights, loaded.warnings);
   loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
@@ -255,6 +259,7 @@ Frame renderJob(Renderer& renderer, const RenderJob& job, LoadedJob& loaded, Sta
   settings.debugLight = job.debugLight;
   settings.readShadowMaps = !job.dumpDepth.empty();
   settings.lightViewSize = job.lightViews.empty() ? 0 : job.lightViewSize;
+  settings.maxShadowMemoryMiB = job.maxMemoryMiB;
   Frame frame = renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera,
                                 settings, times);
   loaded.warnings.insert(loaded.warnings.end(), frame.warnings.begin(), frame.warnings.end());

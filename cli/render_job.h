@@ -18,6 +18,7 @@ struct RenderJob {
   std::filesystem::path scene;
   std::filesystem::path lights;  // empty = no lights file
   bool noGltfLights = false;
+  bool allowExternalUris = false;
   int sceneIndex = -1;
   CameraRequest camera;
   std::vector<std::filesystem::path> png, exr;
@@ -29,6 +30,7 @@ struct RenderJob {
   std::string debugLight;
   std::filesystem::path dumpDepth, lightViews;
   int lightViewSize = 512;
+  double maxMemoryMiB = 4096.0;  // for shadow maps
 
   // Every file the job writes besides the per-light ones: images, AOVs, the id sidecar.
   std::vector<std::filesystem::path> outputFiles() const;

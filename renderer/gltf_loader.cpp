@@ -33,8 +33,11 @@ constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual",
                                                      "KHR_materials_emissive_strength"};
 
 // An accessor without a bufferView is all zeros (plus sparse values): its count costs a file
-// nothing to write but us memory to expand, so it gets a limit far above any real primitive.
-constexpr std::size_t kMaxCountWithoutBufferView = std::size_t{1} << 24;
+// nothing to write but us memory and time to expand, however often it is read (every primitive
+// that uses it reads it again). So all such reads of one file share a limit, far above what
+// real files use them for (sparse morph targets, which are not read) yet small enough that a
+// 100-byte file cannot keep the loader busy for seconds.
+constexpr std::size_t kMaxCountWithoutBufferView = std::size_t{1} << 18;
 
 std::string at(std::string_view array, std::size_t index) {
   return std::string(array) + "[" + std::to_string(index) + "]";
@@ -67,6 +70,7 @@ struct Context {
   Scene& scene;
   bool warnedSkins = false;
   bool warnedMorphTargets = false;
+  std::size_t countWithoutBufferView = 0;  // elements read so far from accessors without one
 
   [[noreturn]] void fail(const std::string& object, const std::string& problem) const {
     throw InputError(file + ": " + object + ": " + problem);
@@ -96,8 +100,54 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
   return tinygltf::LoadImageData(image, index, error, warning, width, height, bytes, size, nullptr);
 }
 
+// Where external files may come from: the scene's folder (and below), unless the user allows
+// any path. Files a .gltf names are read only through this check, so a downloaded scene cannot
+// make the renderer read /etc/passwd or ../../secrets into a texture.
+struct UriPolicy {
+  std::filesystem::path folder;  // canonical
+  bool allowExternal = false;
+  std::string violation;  // the first refused path, for the error message
+};
+
+// Records why `filepath` may not be read, or returns true.
+bool permitted(UriPolicy& policy, const std::string& filepath) {
+  namespace fs = std::filesystem;
+  if (filepath.find("://") != std::string::npos) {
+    policy.violation =
+        "\"" + filepath + "\": only data: URIs and relative file paths are supported";
+    return false;
+  }
+  if (policy.allowExternal) return true;
+  std::error_code ec;
+  const fs::path resolved = fs::weakly_canonical(fs::absolute(filepath), ec);
+  const fs::path relative = resolved.lexically_relative(policy.folder);
+  if (!ec && !relative.empty() && *relative.begin() != "..") return true;
+  policy.violation =
+      "\"" + filepath + "\" is outside the scene's folder; pass --allow-external-uris to read it";
+  return false;
+}
+
+// tinygltf looks for a URI beside the scene and then in the working directory; both lookups
+// and the read itself go through the policy.
+bool existsWithinFolder(const std::string& filepath, void* user) {
+  auto* policy = static_cast<UriPolicy*>(user);
+  if (!tinygltf::FileExists(filepath, nullptr)) return false;
+  return permitted(*policy, filepath);
+}
+
+bool readWithinFolder(std::vector<unsigned char>* out, std::string* error,
+                      const std::string& filepath, void* user) {
+  auto* policy = static_cast<UriPolicy*>(user);
+  if (!permitted(*policy, filepath)) {
+    if (error) *error = policy->violation;
+    return false;
+  }
+  return tinygltf::ReadWholeFile(out, error, filepath, nullptr);
+}
+
 tinygltf::Model readModel(const std::filesystem::path& path, const std::string& file,
-                          std::vector<std::string>& warnings, bool* isBinary) {
+                          std::vector<std::string>& warnings, bool* isBinary,
+                          bool allowExternalUris) {
   std::error_code ec;
   const std::filesystem::file_status status = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(status)) {
@@ -118,6 +168,12 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
 
   tinygltf::TinyGLTF reader;
   reader.SetImageLoader(decodeUriImage, nullptr);
+  UriPolicy policy{std::filesystem::weakly_canonical(std::filesystem::absolute(path)).parent_path(),
+                   allowExternalUris,
+                   {}};
+  tinygltf::FsCallbacks files{&existsWithinFolder, &tinygltf::ExpandFilePath, &readWithinFolder,
+                              &tinygltf::WriteWholeFile, &policy};
+  reader.SetFsCallbacks(files);
   tinygltf::Model model;
   std::string error, warning;
   bool ok = false;
@@ -127,6 +183,8 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   } catch (const std::exception& e) {
     throw InputError(file + ": " + e.what());
   }
+  // tinygltf tolerates an image it could not read; a refused file is an error all the same.
+  if (!policy.violation.empty()) throw InputError(file + ": uri " + policy.violation);
   if (!ok) {
     std::vector<std::string> lines = nonEmptyLines(error);
     if (lines.empty()) lines = nonEmptyLines(warning);
@@ -258,7 +316,7 @@ const unsigned char* bufferViewData(const Context& ctx, const std::string& objec
 
 // Reads accessors[index] as doubles, element after element, with byteStride, normalization and
 // sparse substitution applied. Throws InputError for anything outside its buffer.
-AccessorValues readAccessor(const Context& ctx, int index, Normalize normalize) {
+AccessorValues readAccessor(Context& ctx, int index, Normalize normalize) {
   const tinygltf::Accessor& accessor = ctx.model.accessors[static_cast<std::size_t>(index)];
   const std::string name = at("accessors", static_cast<std::size_t>(index));
   const int components =
@@ -289,9 +347,12 @@ AccessorValues readAccessor(const Context& ctx, int index, Normalize normalize) 
     if (!fitsIn(accessor.byteOffset, stride, accessor.count, elementSize, viewLength)) {
       ctx.fail(name, "extends past the end of " + viewName);
     }
-  } else if (accessor.count > kMaxCountWithoutBufferView) {
-    ctx.fail(name,
-             "count " + std::to_string(accessor.count) + " is too large without a bufferView");
+  } else if (accessor.count > kMaxCountWithoutBufferView - ctx.countWithoutBufferView) {
+    ctx.fail(name, "count " + std::to_string(accessor.count) +
+                       " is too large without a bufferView (accessors without one may hold " +
+                       std::to_string(kMaxCountWithoutBufferView) + " elements in all)");
+  } else {
+    ctx.countWithoutBufferView += accessor.count;
   }
 
   AccessorValues out;
@@ -539,7 +600,7 @@ void convertMaterials(Context& ctx) {
 // Primitives
 
 // Reads one vertex attribute of a primitive, checking its type and element count.
-AccessorValues readAttribute(const Context& ctx, const std::string& object,
+AccessorValues readAttribute(Context& ctx, const std::string& object,
                              const tinygltf::Primitive& primitive, const std::string& semantic,
                              std::initializer_list<int> types, std::size_t vertexCount,
                              Normalize normalize) {
@@ -625,6 +686,13 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   mesh.positions = toVectors<3>(
       readAttribute(ctx, object, primitive, "POSITION", {vec3}, SIZE_MAX, Normalize::AsFlagged));
   const std::size_t n = mesh.positions.size();
+  // Non-finite positions would poison bounds, cameras and shadow ranges: skip the primitive.
+  if (std::any_of(mesh.positions.begin(), mesh.positions.end(), [](const glm::vec3& p) {
+        return !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z);
+      })) {
+    ctx.warn(object + ": POSITION has non-finite values; primitive not drawn");
+    return std::nullopt;
+  }
   mesh.normals = toVectors<3>(
       readAttribute(ctx, object, primitive, "NORMAL", {vec3}, n, Normalize::AsFlagged));
   for (glm::vec3& normal : mesh.normals) {
@@ -796,6 +864,13 @@ Camera convertCamera(const Context& ctx, std::size_t nodeIndex, const glm::mat4&
   return camera;
 }
 
+bool isFinite(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
 class SceneBuilder {
  public:
   explicit SceneBuilder(Context& ctx) : ctx_(ctx) {
@@ -824,6 +899,14 @@ class SceneBuilder {
       onPath[index] = visited[index] = 1;
       ++ctx_.scene.source.reachedNodes;
       const glm::mat4 world = parentWorld * localMatrix(ctx_, index);
+      if (!isFinite(world)) {
+        // A NaN or infinite transform would place everything below it nowhere.
+        ctx_.warn(at("nodes", index) +
+                  ": non-finite transform; the node and its children are "
+                  "not drawn");
+        onPath[index] = 0;
+        return;
+      }
       visit(index, world);
       stack.push_back({index, world, 0});
     };
@@ -965,7 +1048,8 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   Scene scene;
   scene.path = path.string();
   bool binary = false;
-  const tinygltf::Model model = readModel(path, scene.path, scene.warnings, &binary);
+  const tinygltf::Model model =
+      readModel(path, scene.path, scene.warnings, &binary, options.allowExternalUris);
   scene.inputFiles = referencedFiles(path, model);
   scene.source = summarize(model, binary);
   Context ctx{scene.path, model, scene};

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "renderer/errors.h"
 #include "renderer/gl_debug.h"
@@ -199,6 +200,19 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
     throw InputError(std::to_string(shadowed) + " point lights cast shadows, but one frame can " +
                      "sample at most " + std::to_string(kMaxPointShadows) +
                      ": set \"shadow\": false on some of them");
+  double shadowMiB = 0.0;
+  for (const Light& light : lights)
+    if (castsPointShadow(light))
+      shadowMiB += 6.0 * 4.0 * static_cast<double>(light.shadow.resolution) *
+                   static_cast<double>(light.shadow.resolution) / (1024.0 * 1024.0);
+  if (shadowMiB > settings.maxShadowMemoryMiB) {
+    char message[256];
+    std::snprintf(message, sizeof message,
+                  "the shadow maps need %.0f MiB, more than the %.0f MiB allowed "
+                  "(--max-memory): lower shadow.resolution",
+                  shadowMiB, settings.maxShadowMemoryMiB);
+    throw InputError(message);
+  }
   for (const Light& light : lights) {
     if (light.type != LightType::Point && light.shadow.enabled)
       frame.warnings.push_back("light \"" + light.name + "\": " + toString(light.type) +

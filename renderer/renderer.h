@@ -39,6 +39,9 @@ struct RenderSettings {
   std::string debugLight;       // DebugView::Depth: light name; empty = the first shadowed one
   bool readShadowMaps = false;  // fill Frame::shadowMaps
   int lightViewSize = 0;        // > 0: fill Frame::lightViews with images of this size
+  // Shadow maps may use at most this much memory (MiB); more is an InputError before any GL
+  // allocation, naming the size needed.
+  double maxShadowMemoryMiB = 4096.0;
 };
 
 // A point light's shadow map as the lighting pass sampled it.

@@ -998,5 +998,35 @@ TEST(GltfLoaderThirdParty, LoadsTheSampleScenes) {
   }
 }
 
+// -----------------------------------------------------------------------------------------------
+// Inputs found by the fuzzer (tests/fuzz/fuzz_gltf.cpp)
+
+// A file of 150 bytes declared millions of vertices in an accessor without a bufferView (all
+// zeros): seconds of work and hundreds of MB. All reads of such accessors now share one limit,
+// however many primitives repeat them.
+TEST_F(GltfLoaderTest, AccessorsWithoutBufferViewShareOneCountLimit) {
+  const auto write = [&](const std::string& name, std::size_t count, int primitives) {
+    std::string list;
+    for (int i = 0; i < primitives; ++i) {
+      list += std::string(i == 0 ? "" : ",") + R"({"attributes":{"POSITION":0}})";
+    }
+    const fs::path file = path(name);
+    std::ofstream(file) << R"({"asset":{"version":"2.0"},"accessors":[{"componentType":5126,)"
+                        << R"("count":)" << count << R"(,"type":"VEC3"}],"meshes":[{"primitives":[)"
+                        << list << R"(]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})";
+    return file;
+  };
+  const std::string limit = " is too large without a bufferView (accessors without one may hold "
+                            "262144 elements in all)";
+  const fs::path huge = write("huge.gltf", 5555555, 1);
+  EXPECT_EQ(inputError([&] { loadGltf(huge); }),
+            huge.string() + ": accessors[0]: count 5555555" + limit);
+  const fs::path repeated = write("repeated.gltf", 100000, 3);
+  EXPECT_EQ(inputError([&] { loadGltf(repeated); }),
+            repeated.string() + ": accessors[0]: count 100000" + limit);
+  const Scene scene = loadGltf(write("fits.gltf", 100000, 2));
+  EXPECT_EQ(scene.meshes.size(), 2u);
+}
+
 }  // namespace
 }  // namespace omnishadow

@@ -1,0 +1,43 @@
+# libFuzzer targets for the input parsers (scripts/fuzz.sh builds and runs them). Off by default:
+# configure a separate build folder with CC=clang CXX=clang++ -DOMNISHADOW_FUZZ=ON.
+#
+# Each target compiles the loader sources it needs itself, with the fuzzing flags, rather than
+# linking the project's libraries (those are built without instrumentation). tinygltf is a
+# prebuilt shared library and stays uninstrumented; its allocations still go through ASan.
+if(NOT OMNISHADOW_FUZZ)
+  return()
+endif()
+if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  message(FATAL_ERROR "OMNISHADOW_FUZZ needs clang (-fsanitize=fuzzer): "
+                      "configure with CC=clang CXX=clang++ in a fresh build folder")
+endif()
+
+set(omnishadow_fuzz_sanitizers -fsanitize=fuzzer,address,undefined)
+set(omnishadow_fuzz_flags ${omnishadow_fuzz_sanitizers}
+  # Undefined behaviour is a finding, not a log line.
+  -fno-sanitize-recover=all
+  -fno-omit-frame-pointer
+  # Keep assert() (glm's index checks) and turn on libstdc++'s bounds checks (ABI-neutral).
+  -UNDEBUG -D_GLIBCXX_ASSERTIONS)
+
+function(omnishadow_fuzzer name)
+  add_executable(${name} ${ARGN})
+  target_include_directories(${name} PRIVATE ${CMAKE_SOURCE_DIR})
+  target_compile_options(${name} PRIVATE ${omnishadow_fuzz_flags} ${warnings})
+  target_link_options(${name} PRIVATE ${omnishadow_fuzz_sanitizers})
+  target_link_libraries(${name} PRIVATE glm::glm nlohmann_json::nlohmann_json)
+endfunction()
+
+omnishadow_fuzzer(fuzz_lights
+  tests/fuzz/fuzz_lights.cpp
+  renderer/light.cpp
+  renderer/lights_loader.cpp)
+
+omnishadow_fuzzer(fuzz_gltf
+  tests/fuzz/fuzz_gltf.cpp
+  renderer/bounds.cpp
+  renderer/gltf_loader.cpp
+  renderer/tangents.cpp
+  renderer/light.cpp
+  renderer/lights_loader.cpp)
+target_link_libraries(fuzz_gltf PRIVATE TinyGLTF::TinyGLTF)

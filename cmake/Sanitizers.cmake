@@ -1,0 +1,25 @@
+# AddressSanitizer + UndefinedBehaviorSanitizer for every target of the project (library,
+# CLI, scene builders, tests), switched on with -DOMNISHADOW_SANITIZE=ON (the option is in the
+# root CMakeLists.txt). Use a build folder of its own (scripts/test-sanitizers.sh uses
+# build-asan/): instrumented objects must not mix with a normal build's.
+#
+# Included from the root CMakeLists.txt before any target is defined, so that the directory-wide
+# add_compile_options/add_link_options reach every target, tests/ included.
+if(OMNISHADOW_SANITIZE)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    message(FATAL_ERROR "OMNISHADOW_SANITIZE needs GCC or Clang (got ${CMAKE_CXX_COMPILER_ID})")
+  endif()
+  # float-cast-overflow (a float out of an integer's range, NaN included, converted to it) is UB
+  # that GCC's -fsanitize=undefined leaves out; sizes and indices read from JSON go through it.
+  set(omnishadow_sanitizers address,undefined,float-cast-overflow)
+  set(omnishadow_sanitize_flags
+    -fsanitize=${omnishadow_sanitizers}
+    # Every UBSan finding is an error: stop at the first one instead of printing and going on.
+    -fno-sanitize-recover=undefined,float-cast-overflow
+    # Readable stacks in reports (ASan's fast unwinder follows frame pointers).
+    -fno-omit-frame-pointer
+    -fno-optimize-sibling-calls)
+  add_compile_options(${omnishadow_sanitize_flags})
+  add_link_options(-fsanitize=${omnishadow_sanitizers})
+  message(STATUS "omnishadow: building with AddressSanitizer and UndefinedBehaviorSanitizer")
+endif()

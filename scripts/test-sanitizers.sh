@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# The whole test suite built with AddressSanitizer + UndefinedBehaviorSanitizer
+# (-DOMNISHADOW_SANITIZE=ON) in build-asan/. Installs what is missing, builds quietly (the log is
+# printed only when the build fails), runs CTest (extra arguments go to ctest), and fails when a
+# test fails or when any process, the CLI started by a test included, wrote a sanitizer report.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build="$root/build-asan"
+supp="$root/tests/sanitizers"
+"$root/scripts/install-deps.sh"
+
+# Reports go to files, one per process (<reports>/asan.<pid>, ubsan.<pid>): a test that runs the
+# CLI and reads its stderr, or expects it to fail, still cannot hide one; they are printed below.
+reports="$build/sanitizer-reports"
+mkdir -p "$build"
+rm -rf "$reports"
+mkdir -p "$reports"
+
+# halt_on_error, exitcode: the first finding ends the process with a status no test expects.
+# detect_leaks: LeakSanitizer at exit, with the platform's own one-off leaks (Mesa, glvnd)
+# suppressed by library name in lsan.supp. Initialization-order checks are cheap, so on too.
+export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:abort_on_error=0:exitcode=86:check_initialization_order=1:strict_init_order=1:detect_stack_use_after_return=1:log_path=$reports/asan"
+export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:exitcode=87:suppressions=$supp/ubsan.supp:log_path=$reports/ubsan"
+
+start=$SECONDS
+if [[ ! -f "$build/CMakeCache.txt" ]]; then
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOMNISHADOW_SANITIZE=ON \
+    >"$build/configure.log" 2>&1 || { cat "$build/configure.log" >&2; exit 1; }
+fi
+jobs=$(nproc 2>/dev/null || echo 2)
+# The build runs the test binaries too (gtest_discover_tests lists their tests), under the
+# options above.
+if ! cmake --build "$build" -j"$jobs" >"$build/build.log" 2>&1; then
+  cat "$build/build.log" >&2
+  cat "$reports"/* >&2 2>/dev/null || true
+  exit 1
+fi
+built=$SECONDS
+
+status=0
+(cd "$build" && ctest --output-on-failure -j"$jobs" "$@") || status=$?
+end=$SECONDS
+
+if compgen -G "$reports/*" >/dev/null; then
+  echo "test-sanitizers: sanitizer reports:" >&2
+  for report in "$reports"/*; do
+    echo "---- $report" >&2
+    cat "$report" >&2
+  done
+  status=1
+fi
+echo "test-sanitizers: build $((built - start))s, tests $((end - built))s"
+exit "$status"
