@@ -94,9 +94,54 @@ struct Context {
 // view lies inside its buffer, so a broken file could make stb read past the end. Those images
 // are skipped here and decoded by convertImages() after the bounds check; images from URIs
 // (bytes tinygltf read itself) are decoded as usual.
+// Images may not exceed this many texels per side or in all: a 64k x 64k PNG is a few KB of
+// file but 16 GiB once decoded, so the header is checked before anything is allocated.
+constexpr std::uint32_t kMaxImageSide = 32768;
+constexpr std::uint64_t kMaxImageTexels = std::uint64_t{1} << 28;  // 1 GiB of RGBA8
+
+// Width and height from a PNG or JPEG header; nullopt for other formats (the decoder decides).
+std::optional<std::pair<std::uint32_t, std::uint32_t>> imageHeaderSize(const unsigned char* b,
+                                                                        std::size_t size) {
+  auto be16 = [&](std::size_t at) { return std::uint32_t{b[at]} << 8 | b[at + 1]; };
+  auto be32 = [&](std::size_t at) { return be16(at) << 16 | be16(at + 2); };
+  if (size >= 24 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0)
+    return std::make_pair(be32(16), be32(20));
+  if (size >= 4 && b[0] == 0xFF && b[1] == 0xD8) {
+    // Walk the JPEG segments to the first start-of-frame marker (SOF0..SOF15 except DHT, JPG,
+    // DAC), which holds height then width.
+    std::size_t at = 2;
+    while (at + 9 < size) {
+      if (b[at] != 0xFF) return std::nullopt;
+      const unsigned char marker = b[at + 1];
+      if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC)
+        return std::make_pair(be16(at + 7), be16(at + 5));
+      at += 2 + be16(at + 2);
+    }
+  }
+  return std::nullopt;
+}
+
+// Empty string when the image may be decoded, else why not.
+std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
+  const auto header = imageHeaderSize(bytes, size);
+  if (!header) return {};
+  const auto [width, height] = *header;
+  if (width <= kMaxImageSide && height <= kMaxImageSide &&
+      std::uint64_t{width} * height <= kMaxImageTexels)
+    return {};
+  return std::to_string(width) + "x" + std::to_string(height) +
+         " texels is too large (at most " + std::to_string(kMaxImageSide) + " per side and " +
+         std::to_string(kMaxImageTexels) + " in all)";
+}
+
 bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
                     int width, int height, const unsigned char* bytes, int size, void*) {
   if (image->bufferView >= 0) return true;
+  if (const std::string why = imageTooLarge(bytes, static_cast<std::size_t>(std::max(size, 0)));
+      !why.empty()) {
+    if (error) *error += "images[" + std::to_string(index) + "]: " + why + "\n";
+    return false;
+  }
   return tinygltf::LoadImageData(image, index, error, warning, width, height, bytes, size, nullptr);
 }
 
@@ -440,6 +485,7 @@ tinygltf::Image decodeBufferViewImage(const Context& ctx, std::size_t index,
     ctx.fail(object, "bufferView " + std::to_string(source.bufferView) + " has " +
                          std::to_string(length) + " bytes");
   }
+  if (const std::string why = imageTooLarge(bytes, length); !why.empty()) ctx.fail(object, why);
   tinygltf::Image decoded = source;
   std::string error, warning;
   if (!tinygltf::LoadImageData(&decoded, static_cast<int>(index), &error, &warning, 0, 0, bytes,

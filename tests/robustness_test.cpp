@@ -194,3 +194,29 @@ TEST_F(RobustnessTest, ShadowMapsBeyondMaxMemoryFailBeforeRendering) {
 }
 
 }  // namespace
+
+namespace {
+
+// The first bytes of a PNG claiming width x height: signature, IHDR length, "IHDR", size.
+std::string pngHeader(std::uint32_t width, std::uint32_t height) {
+  std::string bytes = "\x89PNG\r\n\x1a\n";
+  bytes += std::string("\x00\x00\x00\x0d", 4) + "IHDR";
+  for (std::uint32_t v : {width, height})
+    for (int shift = 24; shift >= 0; shift -= 8) bytes += static_cast<char>((v >> shift) & 0xff);
+  bytes += std::string("\x08\x06\x00\x00\x00", 5) + std::string(64, '\0');
+  return bytes;
+}
+
+TEST_F(RobustnessTest, HugeImagesAreRefusedBeforeDecoding) {
+  // A few bytes on disk, 16 GiB once decoded: refused from the header alone.
+  const fs::path scene = writeScene();
+  const nlohmann::json json = readJson(scene);
+  const std::string image = json["images"][0]["uri"];
+  std::ofstream(root_ / "scene" / image, std::ios::binary) << pngHeader(65536, 65536);
+  const Result r = render(scene);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, "images[0]")) << r.err;
+  EXPECT_TRUE(outputEmpty());
+}
+
+}  // namespace
