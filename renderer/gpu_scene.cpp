@@ -24,6 +24,30 @@ void setAttribute(GLuint vao, GLuint location, GLint size, GLuint offset) {
   glVertexArrayAttribBinding(vao, location, 0);
 }
 
+// Box-filtered half-size copy (a side of 1 stays 1).
+Image halved(const Image& in) {
+  Image out;
+  out.name = in.name;
+  out.width = std::max(1, in.width / 2);
+  out.height = std::max(1, in.height / 2);
+  out.rgba.resize(static_cast<std::size_t>(out.width) * out.height * 4);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x)
+      for (int c = 0; c < 4; ++c) {
+        int sum = 0, count = 0;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const int sx = std::min(2 * x + dx, in.width - 1),
+                      sy = std::min(2 * y + dy, in.height - 1);
+            sum += in.rgba[(static_cast<std::size_t>(sy) * in.width + sx) * 4 + c];
+            ++count;
+          }
+        out.rgba[(static_cast<std::size_t>(y) * out.width + x) * 4 + c] =
+            static_cast<std::uint8_t>((sum + count / 2) / count);
+      }
+  return out;
+}
+
 }  // namespace
 
 GpuScene::GpuScene(const Scene& scene) : vertexArray_(gl::createVertexArray()) {
@@ -93,7 +117,21 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
   if (imageIndex < 0) return 0;
   gl::Texture& texture = textures_[2 * imageIndex + (srgb ? 1 : 0)];
   if (!texture) {
-    const Image& image = scene.images[imageIndex];
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    Image fitted;
+    const Image* source = &scene.images[imageIndex];
+    if (source->width > maxSize || source->height > maxSize) {
+      fitted = *source;
+      while (fitted.width > maxSize || fitted.height > maxSize) fitted = halved(fitted);
+      warnings_.push_back(
+          "images[" + std::to_string(imageIndex) + "] \"" + source->name +
+          "\": " + std::to_string(source->width) + "x" + std::to_string(source->height) +
+          " exceeds this GL's maximum texture size " + std::to_string(maxSize) +
+          "; downscaled to " + std::to_string(fitted.width) + "x" + std::to_string(fitted.height));
+      source = &fitted;
+    }
+    const Image& image = *source;
     texture = gl::createTexture(GL_TEXTURE_2D);
     const int levels =
         1 + static_cast<int>(std::floor(std::log2(std::max(image.width, image.height))));

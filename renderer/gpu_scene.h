@@ -1,6 +1,7 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include <string>
 #include <vector>
 
 #include "renderer/gl_resources.h"
@@ -46,6 +47,8 @@ class GpuScene {
   const std::vector<GpuDraw>& draws() const { return draws_; }
   const std::vector<GpuMaterial>& materials() const { return materials_; }
   std::size_t triangleCount() const { return triangles_; }
+  // Images larger than this GL allows were halved until they fit; one line each.
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
   void uploadGeometry(const Scene& scene);
@@ -61,6 +64,7 @@ class GpuScene {
   std::vector<GpuDraw> draws_;
   std::vector<GpuMaterial> materials_;
   std::size_t triangles_ = 0;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace omnishadow

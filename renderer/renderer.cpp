@@ -238,6 +238,8 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
   ScopedStage upload(times, "upload");
   Prepared prepared(scene);
   prepared.debugLight = debugLight;
+  frame.warnings.insert(frame.warnings.end(), prepared.gpu.warnings().begin(),
+                        prepared.gpu.warnings().end());
   glFinish();
   upload.stop();
 

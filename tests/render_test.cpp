@@ -977,3 +977,29 @@ TEST(Batch, ManyScenesInOneContextDoNotGrowMemory) {
   std::printf("resident memory: %ld KiB after 100 renders, %ld KiB after 1100\n", before, after);
   EXPECT_LT(after - before, 8 * 1024) << "grew by " << (after - before) << " KiB";
 }
+
+TEST(Materials, TexturesLargerThanTheGlLimitAreDownscaledWithAWarning) {
+  // One row wider than any GL allows (llvmpipe and NVIDIA: 16384 or 32768): cheap in memory.
+  GLint maxSize = 0;
+  sharedRenderer();
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  Scene scene;
+  Image image;
+  image.name = "wide";
+  image.width = maxSize + 2;
+  image.height = 1;
+  image.rgba.assign(static_cast<std::size_t>(image.width) * 4, 200);
+  scene.images.push_back(image);
+  scene.textures.push_back({0, {}});
+  const int material = addMaterial(scene, glm::vec4(1.0f));
+  scene.materials[material].baseColorTexture.texture = 0;
+  addObject(scene, builder::makePlane(4.0f), glm::mat4(1.0f), material);
+  const ViewCamera camera = lookFrom(scene, {0, 4, 0.001f}, {0, 0, 0}, 16, 16);
+  StageTimes times;
+  const Frame frame =
+      sharedRenderer().render(scene, {lampAbove()}, glm::vec3(0.0f), camera, {}, times);
+  ASSERT_EQ(frame.warnings.size(), 1u);
+  EXPECT_NE(frame.warnings[0].find("exceeds this GL's maximum texture size"), std::string::npos)
+      << frame.warnings[0];
+  EXPECT_GT(frame.beauty.at(8, 8, 0), 0.0f);
+}
