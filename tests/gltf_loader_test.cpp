@@ -1016,8 +1016,9 @@ TEST_F(GltfLoaderTest, AccessorsWithoutBufferViewShareOneCountLimit) {
                         << list << R"(]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]})";
     return file;
   };
-  const std::string limit = " is too large without a bufferView (accessors without one may hold "
-                            "262144 elements in all)";
+  const std::string limit =
+      " is too large without a bufferView (accessors without one may hold "
+      "262144 elements in all)";
   const fs::path huge = write("huge.gltf", 5555555, 1);
   EXPECT_EQ(inputError([&] { loadGltf(huge); }),
             huge.string() + ": accessors[0]: count 5555555" + limit);
@@ -1026,6 +1027,88 @@ TEST_F(GltfLoaderTest, AccessorsWithoutBufferViewShareOneCountLimit) {
             repeated.string() + ": accessors[0]: count 100000" + limit);
   const Scene scene = loadGltf(write("fits.gltf", 100000, 2));
   EXPECT_EQ(scene.meshes.size(), 2u);
+}
+
+// Image headers that claim more than their data can hold: stb_image allocates for the claim
+// before it finds the data missing (1 GiB for a 400-byte JPEG, past the fuzzer's limit), and a
+// JPEG with fill bytes before its frame got past the header check. Only PNG and JPEG reach
+// stb_image: its other decoders take almost any bytes (a TGA has no signature) for any size.
+std::vector<unsigned char> pngClaiming(std::uint32_t width, std::uint32_t height,
+                                       unsigned char depth) {
+  std::vector<unsigned char> bytes = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n',
+                                      0,    0,   0,   13,  'I',  'H',  'D',  'R'};
+  for (std::uint32_t v : {width, height}) {
+    for (int shift = 24; shift >= 0; shift -= 8) bytes.push_back((v >> shift) & 0xff);
+  }
+  bytes.push_back(depth);
+  for (int b : {6, 0, 0, 0, 0, 0, 0, 0})
+    bytes.push_back(static_cast<unsigned char>(b));  // RGBA, CRC
+  bytes.resize(bytes.size() + 64, 0);
+  return bytes;
+}
+
+TEST_F(GltfLoaderTest, ImagesClaimingMoreThanTheirDataAreRefusedBeforeDecoding) {
+  GltfBuilder builder;
+  builder.addNode("node", {}, builder.addMesh(triangleMesh()));
+  tinygltf::Model& model = builder.model();
+  tinygltf::Image image;
+  image.name = "big";
+  image.mimeType = "image/png";
+  image.bufferView = addRawView(model, {});
+  model.images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = 0;
+  model.textures.push_back(texture);
+  const fs::path file = path("images.glb");
+  const auto loadWith = [&](const std::vector<unsigned char>& bytes) {
+    tinygltf::BufferView& view = model.bufferViews[image.bufferView];
+    std::vector<unsigned char>& data = model.buffers[0].data;
+    data.resize(view.byteOffset);
+    data.insert(data.end(), bytes.begin(), bytes.end());
+    view.byteLength = bytes.size();
+    builder.write(file, FileFormat::Glb);
+    return inputError([&] { loadGltf(file); });
+  };
+  const std::string object = file.string() + ": images[0] \"big\": ";
+
+  EXPECT_TRUE(contains(loadWith(pngClaiming(16384, 16384, 8)),
+                       object + "16384x16384 texels cannot be in 97 bytes of PNG (at least "));
+  EXPECT_EQ(loadWith(pngClaiming(16384, 16384, 16)),
+            object + "16384x16384 texels of 16-bit channels is too large");
+
+  // SOI, a fill byte, SOF0 for 16384 x 16384 with three components, then some data.
+  std::vector<unsigned char> jpeg = {0xff, 0xd8, 0xff, 0xff, 0xc0, 0x00, 0x11, 0x08,
+                                     0x40, 0x00, 0x40, 0x00, 0x03, 0x01, 0x22, 0x00,
+                                     0x02, 0x11, 0x00, 0x03, 0x11, 0x00};
+  jpeg.resize(400, 0);
+  EXPECT_TRUE(
+      contains(loadWith(jpeg), object + "16384x16384 texels cannot be in 400 bytes of JPEG"));
+  jpeg[4] = 0xc3;  // lossless SOF3, which stb_image does not decode
+  EXPECT_EQ(loadWith(jpeg), object + "no JPEG frame header that can be decoded");
+
+  // A TGA header: no signature, 16384 x 16384 at 32 bits.
+  std::vector<unsigned char> tga = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x40, 0, 0x40, 32, 0};
+  tga.resize(400, 0);
+  EXPECT_EQ(loadWith(tga), object + "unknown image format: glTF images are PNG or JPEG");
+
+  // The same checks for images read from files (and data: URIs).
+  GltfBuilder external;
+  MaterialDesc material;
+  material.baseColorTexture = external.addTexture(1, 1, {1, 2, 3, 4}, "checker");
+  PrimitiveOptions options;
+  options.material = external.addMaterial(material);
+  external.addNode("node", {}, external.addMesh(triangleMesh(), options));
+  const fs::path scene = path("scene.gltf");
+  external.write(scene, FileFormat::GltfExternal);
+  ASSERT_NO_THROW(loadGltf(scene));
+  std::ofstream(path("scene_image0.png"), std::ios::binary) << "P6\n8000 8000\n255\n";
+  EXPECT_EQ(inputError([&] { loadGltf(scene); }),
+            scene.string() + ": Unknown image format for image[0]: glTF images are PNG or JPEG");
+  const std::vector<unsigned char> png = pngClaiming(16384, 16384, 8);
+  std::ofstream(path("scene_image0.png"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  EXPECT_TRUE(contains(inputError([&] { loadGltf(scene); }),
+                       scene.string() + ": images[0]: 16384x16384 texels cannot be in 97 bytes"));
 }
 
 }  // namespace
