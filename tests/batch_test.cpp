@@ -494,7 +494,8 @@ TEST_F(BatchTest, SkipExistingLeavesFinishedJobsAlone) {
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_TRUE(logIs(again.out, {"skipped a.gltf", "skipped b.glb", "skipped sub/c.gltf"},
                     "0 rendered, 3 skipped, 0 failed"));
-  for (const json& job : report()["jobs"]) EXPECT_EQ(job["status"], "skipped") << job.dump();
+  const json skippedReport = report();  // named: a range-for over report()["jobs"] would dangle
+  for (const json& job : skippedReport["jobs"]) EXPECT_EQ(job["status"], "skipped") << job.dump();
   EXPECT_EQ(report()["summary"]["skipped"], 3);
   EXPECT_EQ(filesIn(out_), files);
   for (const auto& [file, content] : bytes) {

@@ -1111,5 +1111,36 @@ TEST_F(GltfLoaderTest, ImagesClaimingMoreThanTheirDataAreRefusedBeforeDecoding) 
                        scene.string() + ": images[0]: 16384x16384 texels cannot be in 97 bytes"));
 }
 
+// From the fuzzer: a 1x1 PNG whose IDAT chunk declared 1 GiB (0x4000000d bytes) in a 70-byte
+// file; stb_image reserved the 1 GiB before finding the data missing.
+TEST_F(GltfLoaderTest, PngChunksPastTheEndOfTheImageAreRefusedBeforeDecoding) {
+  std::vector<unsigned char> png = {
+      0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48,
+      0x44, 0x52, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x08, 0x06, 0x00, 0x00,
+      0x00, 0x1f, 0x15, 0xc4, 0x89, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x44, 0x41, 0x54, 0x78,
+      0x9c, 0x63, 0xe0, 0x12, 0x91, 0xfb, 0x0f, 0x00, 0x01, 0xa4, 0x01, 0x3c, 0x93, 0x8b,
+      0x0e, 0xb7, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
+  GltfBuilder builder;
+  MaterialDesc material;
+  material.baseColorTexture = builder.addTexture(1, 1, {1, 2, 3, 4}, "checker");
+  PrimitiveOptions options;
+  options.material = builder.addMaterial(material);
+  builder.addNode("node", {}, builder.addMesh(triangleMesh(), options));
+  const fs::path scene = path("scene.gltf");
+  builder.write(scene, FileFormat::GltfExternal);
+  const auto writeImage = [&] {
+    std::ofstream(path("scene_image0.png"), std::ios::binary)
+        .write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  };
+  writeImage();
+  ASSERT_EQ(loadGltf(scene).images.size(), 1u);
+
+  png[33] = 0x40;  // IDAT length 0x0000000d -> 0x4000000d
+  writeImage();
+  EXPECT_EQ(
+      inputError([&] { loadGltf(scene); }),
+      scene.string() + ": images[0]: a PNG chunk at byte 33 extends past the end of the 70 bytes");
+}
+
 }  // namespace
 }  // namespace omnishadow
