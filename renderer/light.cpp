@@ -24,6 +24,34 @@ const char* toString(ShadowFilter filter) {
       return "pcf";
     case ShadowFilter::PcfDisk:
       return "pcf-disk";
+    case ShadowFilter::Poisson:
+      return "poisson";
+    case ShadowFilter::Pcss:
+      return "pcss";
+    case ShadowFilter::Vsm:
+      return "vsm";
+  }
+  return "?";
+}
+
+const char* toString(CullFace cull) {
+  switch (cull) {
+    case CullFace::None:
+      return "none";
+    case CullFace::Back:
+      return "back";
+    case CullFace::Front:
+      return "front";
+  }
+  return "?";
+}
+
+const char* toString(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::Float32:
+      return "32f";
+    case DepthFormat::Fixed24:
+      return "24";
   }
   return "?";
 }

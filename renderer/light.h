@@ -15,16 +15,40 @@ enum class ShadowFilter {
   Hard,     // one comparison
   Pcf,      // hardware 2x2 comparison with linear filtering
   PcfDisk,  // 20 fixed offset directions, radius growing with distance to the camera
+  Poisson,  // `samples` taps of a Vogel disk rotated per pixel by interleaved gradient noise
+  Pcss,     // percentage-closer soft shadows: blocker search, penumbra from the light's radius
+  Vsm,      // variance shadow map (filterable moments) with light-bleeding reduction
 };
 
+// Which faces the shadow pass culls.
+enum class CullFace { None, Back, Front };
+
+enum class DepthFormat { Float32, Fixed24 };
+
+// Per-light shadow settings (lights file "shadow" object). Bias terms in "texels" are multiples
+// of the world size of one shadow-map texel at the receiver, so they follow resolution and
+// distance (README, "Shadow settings").
 struct ShadowSettings {
   bool enabled = true;
-  int resolution = 1024;   // texels per cube face edge
-  float near = 0.05f;      // world units
-  float far = 0.0f;        // world units; 0 = the light's range, or the scene bounds if unlimited
-  float bias = 0.0f;       // constant bias in world units
-  float slopeBias = 2.0f;  // slope-scaled bias in shadow-map texels (see renderer/shadow_bias.h)
+  int resolution = 1024;    // texels per cube face or 2D map edge
+  float near = 0.05f;       // world units (point, spot)
+  float far = 0.0f;         // world units; 0 = the light's range, or the scene bounds if unlimited
+  float bias = 0.0f;        // constant bias in world units
+  float slopeBias = 2.0f;   // texels: max(slopeBias * (1 - N.L), minBias)
+  float minBias = 0.5f;     // texels, the slope term's floor
+  float normalBias = 1.0f;  // texels: the receiver is moved this far along its normal
+  float polygonOffsetFactor = 0.0f;  // glPolygonOffset in the shadow pass
+  float polygonOffsetUnits = 0.0f;
+  CullFace cullFace = CullFace::None;
+  DepthFormat depthFormat = DepthFormat::Float32;
   ShadowFilter filter = ShadowFilter::Pcf;
+  float filterRadius = 1.5f;    // texels (pcf-disk, poisson)
+  int samples = 16;             // poisson taps; pcss blocker-search and filter taps
+  float radius = 0.0f;          // world units: the light's size, for pcss penumbrae
+  float bleedReduction = 0.2f;  // vsm: visibility below this is treated as shadow
+  int cascades = 1;             // directional: 1..4 cascaded maps
+  float cascadeSplit = 0.75f;   // directional: 0 = linear splits, 1 = logarithmic
+  float distance = 0.0f;  // directional: shadows reach this far from the camera; 0 = scene bounds
 };
 
 struct Light {
@@ -54,5 +78,7 @@ const char* toString(LightType type);
 std::vector<Light> mergeLights(const std::vector<Light>& gltfLights,
                                const std::vector<Light>& fileLights);
 const char* toString(ShadowFilter filter);
+const char* toString(CullFace cull);
+const char* toString(DepthFormat format);
 
 }  // namespace omnishadow

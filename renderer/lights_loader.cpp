@@ -303,13 +303,24 @@ glm::vec3 readDirection(const Reader& reader) {
 // ---------------------------------------------------------------------------------------------
 // The file's structure
 
-int readResolution(const Reader& reader) {
+// An integer in [low, high].
+int readInteger(const Reader& reader, int low, int high) {
   const auto number = finiteNumber(reader.value());
-  if (!number || *number != std::floor(*number) || *number < 1.0 ||
-      *number > kMaxShadowResolution) {
-    reader.failGot("expected an integer in [1, " + std::to_string(kMaxShadowResolution) + "]");
+  if (!number || *number != std::floor(*number) || *number < low || *number > high) {
+    reader.failGot("expected an integer in [" + std::to_string(low) + ", " + std::to_string(high) +
+                   "]");
   }
   return static_cast<int>(*number);
+}
+
+int readResolution(const Reader& reader) {
+  return readInteger(reader, 1, kMaxShadowResolution);
+}
+
+float readUnitInterval(const Reader& reader) {
+  const auto number = finiteNumber(reader.value());
+  if (!number || *number < 0.0 || *number > 1.0) reader.failGot("expected a number in [0, 1]");
+  return static_cast<float>(*number);
 }
 
 ShadowSettings readShadow(const Reader& reader) {
@@ -319,7 +330,10 @@ ShadowSettings readShadow(const Reader& reader) {
     return shadow;
   }
   if (!reader.value().is_object()) reader.failGot("expected true, false or an object");
-  reader.warnUnknownFields({"enabled", "resolution", "near", "far", "bias", "slopeBias", "filter"});
+  reader.warnUnknownFields({"enabled", "resolution", "near", "far", "bias", "slopeBias", "minBias",
+                            "normalBias", "polygonOffset", "cullFace", "depthFormat", "filter",
+                            "filterRadius", "samples", "radius", "bleedReduction", "cascades",
+                            "cascadeSplit", "distance"});
 
   if (auto field = reader.field("enabled")) shadow.enabled = readBool(*field);
   if (auto field = reader.field("resolution")) shadow.resolution = readResolution(*field);
@@ -334,11 +348,42 @@ ShadowSettings readShadow(const Reader& reader) {
   }
   if (auto field = reader.field("bias")) shadow.bias = readNonNegative(*field);
   if (auto field = reader.field("slopeBias")) shadow.slopeBias = readNonNegative(*field);
-  if (auto field = reader.field("filter")) {
-    shadow.filter =
-        readChoice(*field, {ShadowFilter::Hard, ShadowFilter::Pcf, ShadowFilter::PcfDisk},
-                   R"(expected "hard", "pcf" or "pcf-disk")");
+  if (auto field = reader.field("minBias")) shadow.minBias = readNonNegative(*field);
+  if (auto field = reader.field("normalBias")) shadow.normalBias = readNonNegative(*field);
+  if (auto field = reader.field("polygonOffset")) {
+    const Json& value = field->value();
+    if (!value.is_array() || value.size() != 2 || !finiteNumber(value[0]) ||
+        !finiteNumber(value[1])) {
+      field->failGot("expected [factor, units], two finite numbers");
+    }
+    shadow.polygonOffsetFactor = static_cast<float>(value[0].get<double>());
+    shadow.polygonOffsetUnits = static_cast<float>(value[1].get<double>());
   }
+  if (auto field = reader.field("cullFace")) {
+    shadow.cullFace = readChoice(*field, {CullFace::None, CullFace::Back, CullFace::Front},
+                                 R"(expected "none", "back" or "front")");
+  }
+  if (auto field = reader.field("depthFormat")) {
+    shadow.depthFormat = readChoice(*field, {DepthFormat::Float32, DepthFormat::Fixed24},
+                                    R"(expected "32f" or "24")");
+  }
+  if (auto field = reader.field("filter")) {
+    shadow.filter = readChoice(*field,
+                               {ShadowFilter::Hard, ShadowFilter::Pcf, ShadowFilter::PcfDisk,
+                                ShadowFilter::Poisson, ShadowFilter::Pcss, ShadowFilter::Vsm},
+                               R"(expected "hard", "pcf", "pcf-disk", "poisson", "pcss" or "vsm")");
+  }
+  if (auto field = reader.field("filterRadius")) shadow.filterRadius = readNonNegative(*field);
+  if (auto field = reader.field("samples")) shadow.samples = readInteger(*field, 1, 64);
+  if (auto field = reader.field("radius")) shadow.radius = readNonNegative(*field);
+  if (auto field = reader.field("bleedReduction")) {
+    const auto number = finiteNumber(field->value());
+    if (!number || *number < 0.0 || *number >= 1.0) field->failGot("expected a number in [0, 1)");
+    shadow.bleedReduction = static_cast<float>(*number);
+  }
+  if (auto field = reader.field("cascades")) shadow.cascades = readInteger(*field, 1, 4);
+  if (auto field = reader.field("cascadeSplit")) shadow.cascadeSplit = readUnitInterval(*field);
+  if (auto field = reader.field("distance")) shadow.distance = readNonNegative(*field);
   return shadow;
 }
 

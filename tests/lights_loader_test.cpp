@@ -15,11 +15,14 @@
 
 namespace {
 
+using omnishadow::CullFace;
+using omnishadow::DepthFormat;
 using omnishadow::InputError;
 using omnishadow::Light;
 using omnishadow::LightSetup;
 using omnishadow::LightType;
 using omnishadow::ShadowFilter;
+using omnishadow::ShadowSettings;
 
 constexpr std::string_view kLabel = "lights.json";
 constexpr float kPi = 3.14159265358979323846f;
@@ -201,7 +204,32 @@ TEST_P(ShadowFilterTest, ParsesFilterName) {
 INSTANTIATE_TEST_SUITE_P(LightsLoader, ShadowFilterTest,
                          testing::Values(FilterCase{"hard", ShadowFilter::Hard},
                                          FilterCase{"pcf", ShadowFilter::Pcf},
-                                         FilterCase{"pcf-disk", ShadowFilter::PcfDisk}));
+                                         FilterCase{"pcf-disk", ShadowFilter::PcfDisk},
+                                         FilterCase{"poisson", ShadowFilter::Poisson},
+                                         FilterCase{"pcss", ShadowFilter::Pcss},
+                                         FilterCase{"vsm", ShadowFilter::Vsm}));
+
+TEST(LightsLoader, ReadsEveryShadowSetting) {
+  const Light light = parse(R"({"lights": [{"type": "directional", "shadow": {
+      "minBias": 0.25, "normalBias": 2, "polygonOffset": [1.5, -2], "cullFace": "front",
+      "depthFormat": "24", "filterRadius": 3, "samples": 32, "radius": 0.2,
+      "bleedReduction": 0.4, "cascades": 3, "cascadeSplit": 0.5, "distance": 40}}]})")
+                          .lights.at(0);
+  const ShadowSettings& s = light.shadow;
+  EXPECT_FLOAT_EQ(s.minBias, 0.25f);
+  EXPECT_FLOAT_EQ(s.normalBias, 2.0f);
+  EXPECT_FLOAT_EQ(s.polygonOffsetFactor, 1.5f);
+  EXPECT_FLOAT_EQ(s.polygonOffsetUnits, -2.0f);
+  EXPECT_EQ(s.cullFace, CullFace::Front);
+  EXPECT_EQ(s.depthFormat, DepthFormat::Fixed24);
+  EXPECT_FLOAT_EQ(s.filterRadius, 3.0f);
+  EXPECT_EQ(s.samples, 32);
+  EXPECT_FLOAT_EQ(s.radius, 0.2f);
+  EXPECT_FLOAT_EQ(s.bleedReduction, 0.4f);
+  EXPECT_EQ(s.cascades, 3);
+  EXPECT_FLOAT_EQ(s.cascadeSplit, 0.5f);
+  EXPECT_FLOAT_EQ(s.distance, 40.0f);
+}
 
 class IntegerValuedResolutionTest : public testing::TestWithParam<std::pair<const char*, int>> {};
 
@@ -412,9 +440,37 @@ const ErrorCase kErrorCases[] = {
     {"SlopeBiasNegative", R"({"lights": [{"shadow": {"slopeBias": -1}}]})",
      "lights[0].shadow.slopeBias: expected a finite number >= 0, got -1"},
     {"FilterUnknown", R"({"lights": [{"shadow": {"filter": "box"}}]})",
-     R"(lights[0].shadow.filter: expected "hard", "pcf" or "pcf-disk", got "box")"},
+     R"(lights[0].shadow.filter: expected "hard", "pcf", "pcf-disk", "poisson", "pcss" or "vsm", )"
+     R"(got "box")"},
     {"FilterBool", R"({"lights": [{"shadow": {"filter": true}}]})",
-     R"(lights[0].shadow.filter: expected "hard", "pcf" or "pcf-disk", got true)"},
+     R"(lights[0].shadow.filter: expected "hard", "pcf", "pcf-disk", "poisson", "pcss" or "vsm", )"
+     R"(got true)"},
+    {"MinBiasNegative", R"({"lights": [{"shadow": {"minBias": -1}}]})",
+     "lights[0].shadow.minBias: expected a finite number >= 0, got -1"},
+    {"NormalBiasString", R"({"lights": [{"shadow": {"normalBias": "1"}}]})",
+     R"(lights[0].shadow.normalBias: expected a finite number >= 0, got "1")"},
+    {"PolygonOffsetScalar", R"({"lights": [{"shadow": {"polygonOffset": 2}}]})",
+     "lights[0].shadow.polygonOffset: expected [factor, units], two finite numbers, got 2"},
+    {"PolygonOffsetThree", R"({"lights": [{"shadow": {"polygonOffset": [1, 2, 3]}}]})",
+     "lights[0].shadow.polygonOffset: expected [factor, units], two finite numbers, got [1,2,3]"},
+    {"CullFaceUnknown", R"({"lights": [{"shadow": {"cullFace": "both"}}]})",
+     R"(lights[0].shadow.cullFace: expected "none", "back" or "front", got "both")"},
+    {"DepthFormat16", R"({"lights": [{"shadow": {"depthFormat": "16"}}]})",
+     R"(lights[0].shadow.depthFormat: expected "32f" or "24", got "16")"},
+    {"SamplesZero", R"({"lights": [{"shadow": {"samples": 0}}]})",
+     "lights[0].shadow.samples: expected an integer in [1, 64], got 0"},
+    {"SamplesFraction", R"({"lights": [{"shadow": {"samples": 2.5}}]})",
+     "lights[0].shadow.samples: expected an integer in [1, 64], got 2.5"},
+    {"RadiusNegative", R"({"lights": [{"shadow": {"radius": -0.1}}]})",
+     "lights[0].shadow.radius: expected a finite number >= 0, got -0.1"},
+    {"BleedReductionOne", R"({"lights": [{"shadow": {"bleedReduction": 1}}]})",
+     "lights[0].shadow.bleedReduction: expected a number in [0, 1), got 1"},
+    {"CascadesFive", R"({"lights": [{"shadow": {"cascades": 5}}]})",
+     "lights[0].shadow.cascades: expected an integer in [1, 4], got 5"},
+    {"CascadeSplitAboveOne", R"({"lights": [{"shadow": {"cascadeSplit": 1.5}}]})",
+     "lights[0].shadow.cascadeSplit: expected a number in [0, 1], got 1.5"},
+    {"DistanceNegative", R"({"lights": [{"shadow": {"distance": -3}}]})",
+     "lights[0].shadow.distance: expected a finite number >= 0, got -3"},
 };
 
 INSTANTIATE_TEST_SUITE_P(LightsLoader, InvalidContentTest, testing::ValuesIn(kErrorCases),
