@@ -70,6 +70,7 @@ BatchDefaults defaultsFromOptions(const BatchOptions& o) {
   job.noGltfLights = o.noGltfLights;
   job.allowExternalUris = o.allowExternalUris;
   job.maxMemoryMiB = o.maxMemoryMiB;
+  job.shadowPass = parseShadowPassStrategy(o.shadowPass);
   job.sceneIndex = o.sceneIndex;
   job.camera.select = o.camera;
   job.camera.eye = parseVec3("--eye", o.eye);
@@ -313,6 +314,11 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
   batch->add_option("--fov", o.fov, "Vertical field of view in degrees");
   batch->add_option("--exposure", o.exposure, "Exposure in stops");
   batch->add_option("--shading", o.shading, "pbr or phong")->check(CLI::IsMember({"pbr", "phong"}));
+  batch
+      ->add_option("--shadow-pass", o.shadowPass,
+                   "How point-light cube maps are rendered: six, geometry, instanced or auto "
+                   "(default: the fastest measured on this driver)")
+      ->check(CLI::IsMember({"auto", "six", "geometry", "instanced"}));
   batch
       ->add_option("--max-memory", o.maxMemoryMiB,
                    "Memory the shadow maps of one frame may use, in MiB (default 4096)")

@@ -25,6 +25,7 @@ struct BatchOptions {
   bool noGltfLights = false;
   bool allowExternalUris = false;
   double maxMemoryMiB = 4096.0;
+  std::string shadowPass = "auto";
   int sceneIndex = -1;
   bool skipExisting = false;
   std::string shard;

@@ -14,6 +14,7 @@
 #include <system_error>
 #include <vector>
 
+#include "cli/text_table.h"
 #include "renderer/errors.h"
 #include "renderer/image_diff.h"
 #include "renderer/image_writer.h"
@@ -193,24 +194,6 @@ void printJson(const Json& doc) {
 // ---------------------------------------------------------------------------------------------
 // Text
 
-// Rows of cells printed as columns, each as wide as its widest cell, indented by two spaces.
-void printTable(const std::vector<std::vector<std::string>>& rows) {
-  std::vector<std::size_t> widths;
-  for (const auto& row : rows) {
-    widths.resize(std::max(widths.size(), row.size()), 0);
-    for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
-  }
-  for (const auto& row : rows) {
-    std::string line = " ";
-    for (std::size_t c = 0; c < row.size(); ++c) {
-      line += " " + row[c];
-      if (c + 1 < row.size()) line.append(widths[c] - row[c].size() + 1, ' ');
-    }
-    while (!line.empty() && line.back() == ' ') line.pop_back();
-    std::printf("%s\n", line.c_str());
-  }
-}
-
 void printField(const char* label, const std::string& value) {
   if (value.empty())
     std::printf("%s\n", label);
@@ -288,7 +271,7 @@ int diffFiles(const DiffCommandOptions& o) {
     printField("compared", joined(result.overall.channels) + "  (threshold " +
                                readable(o.threshold) + ", PSNR peak " + readable(result.peak) +
                                ")");
-    std::vector<std::vector<std::string>> rows = {
+    TextTable rows = {
         {"channels", "max abs", "mean abs", "RMSE", "PSNR dB", "failing pixels", "max at"},
         statsRow("all", result.overall)};
     for (const DiffStats& s : result.perChannel) rows.push_back(statsRow(s.channels[0], s));
@@ -415,8 +398,7 @@ int diffFolders(const DiffCommandOptions& o) {
     doc["pass"] = pass;
     printJson(doc);
   } else {
-    std::vector<std::vector<std::string>> rows = {
-        {"path", "max abs", "mean abs", "failing", "result"}};
+    TextTable rows = {{"path", "max abs", "mean abs", "failing", "result"}};
     for (const Pair& pair : pairs) {
       if (!pair.result) {
         rows.push_back({pair.path, "-", "-", "-", "ERROR"});

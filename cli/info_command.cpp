@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/text_table.h"
 #include "renderer/gltf_loader.h"
 #include "renderer/light.h"
 #include "renderer/lights_loader.h"
@@ -267,24 +268,6 @@ Json toJson(const Info& info) {
 // ---------------------------------------------------------------------------------------------
 // Text
 
-// Rows of cells printed as columns, each as wide as its widest cell, indented by two spaces.
-void printTable(const std::vector<std::vector<std::string>>& rows) {
-  std::vector<std::size_t> widths;
-  for (const auto& row : rows) {
-    widths.resize(std::max(widths.size(), row.size()), 0);
-    for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
-  }
-  for (const auto& row : rows) {
-    std::string line = " ";
-    for (std::size_t c = 0; c < row.size(); ++c) {
-      line += " " + row[c];
-      if (c + 1 < row.size()) line.append(widths[c] - row[c].size() + 1, ' ');
-    }
-    while (!line.empty() && line.back() == ' ') line.pop_back();
-    std::printf("%s\n", line.c_str());
-  }
-}
-
 void printField(const char* label, const std::string& value) {
   std::printf("%-11s %s\n", label, value.c_str());
 }
@@ -323,7 +306,7 @@ void printText(const Info& info) {
   }
 
   printField("materials", std::to_string(scene.materials.size()));
-  std::vector<std::vector<std::string>> rows;
+  TextTable rows;
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
     std::string alpha = toString(m.alphaMode);

@@ -9,6 +9,7 @@
 #include "cli/diff_command.h"
 #include "cli/info_command.h"
 #include "cli/render_command.h"
+#include "cli/verify_command.h"
 #include "renderer/errors.h"
 
 int main(int argc, char** argv) {
@@ -23,6 +24,8 @@ int main(int argc, char** argv) {
   omnishadow::cli::addBatchCommand(app, batch);
   omnishadow::cli::DiffCommandOptions diff;
   omnishadow::cli::addDiffCommand(app, diff);
+  omnishadow::cli::VerifyOptions verify;
+  omnishadow::cli::addVerifyCommand(app, verify);
 
   try {
     app.parse(argc, argv);
@@ -33,10 +36,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const char* command = app.got_subcommand("info")    ? "info"
-                          : app.got_subcommand("diff")  ? "diff"
-                          : app.got_subcommand("batch") ? "batch"
-                                                        : "render";
+    const char* command = app.got_subcommand("info")     ? "info"
+                          : app.got_subcommand("diff")   ? "diff"
+                          : app.got_subcommand("batch")  ? "batch"
+                          : app.got_subcommand("verify") ? "verify"
+                                                         : "render";
     std::fprintf(stderr, "omnishadow: %s\nRun 'omnishadow --help' or 'omnishadow %s --help'.\n",
                  e.what(), command);
     return 2;
@@ -48,6 +52,8 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("batch")) return omnishadow::cli::runBatch(batch);
     // 0 within the tolerances, 1 not; InputError (2) for unreadable or incomparable images.
     if (app.got_subcommand("diff")) return omnishadow::cli::runDiff(diff);
+    // 0 within --max-error, 1 not.
+    if (app.got_subcommand("verify")) return omnishadow::cli::runVerify(verify);
   } catch (const omnishadow::InputError& e) {
     std::fprintf(stderr, "omnishadow: %s\n", e.what());
     return 2;

@@ -38,6 +38,7 @@ RenderJob jobFromOptions(const RenderOptions& o) {
   job.noGltfLights = o.noGltfLights;
   job.allowExternalUris = o.allowExternalUris;
   job.maxMemoryMiB = o.maxMemoryMiB;
+  job.shadowPass = parseShadowPassStrategy(o.shadowPass);
   job.sceneIndex = o.sceneIndex;
   std::vector<std::string> outputs = o.outputs;
   if (outputs.empty() && o.aov.empty()) outputs.push_back("render.png");
@@ -123,6 +124,11 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
   render->add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb); default: the demo scene");
   render->add_option("-l,--lights", o.lights,
                      "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
+  render
+      ->add_option("--shadow-pass", o.shadowPass,
+                   "How point-light cube maps are rendered: six, geometry, instanced or auto "
+                   "(default: the fastest measured on this driver)")
+      ->check(CLI::IsMember({"auto", "six", "geometry", "instanced"}));
   render
       ->add_option("--max-memory", o.maxMemoryMiB,
                    "Memory the shadow maps of one frame may use, in MiB (default 4096)")

@@ -17,6 +17,7 @@ struct RenderOptions {
   bool noGltfLights = false;
   bool allowExternalUris = false;
   double maxMemoryMiB = 4096.0;
+  std::string shadowPass = "auto";
   int sceneIndex = -1;
   std::string camera;
   std::string eye, target, up;  // "x,y,z"

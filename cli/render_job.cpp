@@ -244,22 +244,27 @@ LoadedJob loadJob(const RenderJob& job) {
 }
 
 Frame renderJob(Renderer& renderer, const RenderJob& job, LoadedJob& loaded, StageTimes& times) {
-  GLint maxCubeSize = 0;
+  GLint maxCubeSize = 0, maxTextureSize = 0;
   glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &maxCubeSize);
-  for (const Light& light : loaded.lights)
-    if (light.shadow.enabled && light.shadow.resolution > maxCubeSize)
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize);
+  for (const Light& light : loaded.lights) {
+    const bool cube = light.type == LightType::Point;
+    const int limit = cube ? maxCubeSize : maxTextureSize;
+    if (light.shadow.enabled && light.shadow.resolution > limit)
       throw InputError(light.origin + ": light \"" + light.name + "\": shadow.resolution " +
-                       std::to_string(light.shadow.resolution) +
-                       " exceeds this GL's maximum cube map size " + std::to_string(maxCubeSize));
+                       std::to_string(light.shadow.resolution) + " exceeds this GL's maximum " +
+                       (cube ? "cube map" : "texture") + " size " + std::to_string(limit));
+  }
   RenderSettings settings;
   settings.shading = job.shading;
-  settings.aovs = !job.aov.empty();
+  settings.aovs = job.aovs || !job.aov.empty();
   settings.layers = job.layers;
   settings.debugView = job.debugView;
   settings.debugLight = job.debugLight;
   settings.readShadowMaps = !job.dumpDepth.empty();
   settings.lightViewSize = job.lightViews.empty() ? 0 : job.lightViewSize;
   settings.maxShadowMemoryMiB = job.maxMemoryMiB;
+  settings.shadowPass = job.shadowPass;
   Frame frame = renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera,
                                 settings, times);
   loaded.warnings.insert(loaded.warnings.end(), frame.warnings.begin(), frame.warnings.end());

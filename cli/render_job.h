@@ -23,6 +23,7 @@ struct RenderJob {
   CameraRequest camera;
   std::vector<std::filesystem::path> png, exr;
   std::filesystem::path aov;
+  bool aovs = false;  // fill Frame::aovs even without an AOV file (`verify` reads them)
   AovLayers layers;
   float exposure = 0.0f;
   Shading shading = Shading::Pbr;
@@ -31,6 +32,7 @@ struct RenderJob {
   std::filesystem::path dumpDepth, lightViews;
   int lightViewSize = 512;
   double maxMemoryMiB = 4096.0;  // for shadow maps
+  ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
 
   // Every file the job writes besides the per-light ones: images, AOVs, the id sidecar.
   std::vector<std::filesystem::path> outputFiles() const;

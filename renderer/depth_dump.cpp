@@ -13,10 +13,13 @@
 #include <cstdint>
 #include <exception>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "renderer/errors.h"
+#include "renderer/exr_memory_stream.h"
 #include "renderer/image_writer.h"
+#include "renderer/output_transaction.h"
 
 namespace omnishadow {
 namespace {
@@ -103,6 +106,7 @@ std::vector<float> openExrCubePixels(const CubeDistances& distances) {
 // Like writeExr, but with the envmap attribute that marks the image as a cube map. Same header
 // policy: ZIP, no time stamps or other attributes, so identical pixels give identical files.
 void writeCubeExr(const fs::path& path, int faceSize, const std::vector<float>& pixels) {
+  std::string encoded;
   try {
     Imf::Header header(faceSize, 6 * faceSize);
     header.compression() = Imf::ZIP_COMPRESSION;
@@ -113,13 +117,19 @@ void writeCubeExr(const fs::path& path, int faceSize, const std::vector<float>& 
     char* base = reinterpret_cast<char*>(const_cast<float*>(pixels.data()));
     frameBuffer.insert("Z", Imf::Slice(Imf::FLOAT, base, sizeof(float),
                                        sizeof(float) * static_cast<std::size_t>(faceSize)));
-    Imf::OutputFile file(path.string().c_str(), header);
-    file.setFrameBuffer(frameBuffer);
-    file.writePixels(6 * faceSize);
+    ExrMemoryStream stream(OutputTransaction::finalPathOf(path).string());
+    {
+      Imf::OutputFile file(stream, header);
+      file.setFrameBuffer(frameBuffer);
+      file.writePixels(6 * faceSize);
+    }  // the destructor completes the file (the line offset table)
+    encoded = stream.bytes();
   } catch (const std::exception& error) {
     // Iex exceptions derive from std::exception; callers only know RenderError.
-    throw RenderError("cannot write " + path.string() + ": " + error.what());
+    throw RenderError("cannot write " + OutputTransaction::finalPathOf(path).string() + ": " +
+                      error.what());
   }
+  writeFileBytes(path, encoded);
 }
 
 // One cell of the 4x3 cross: what a viewer at the light sees looking along `forward` with

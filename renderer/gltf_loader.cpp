@@ -15,6 +15,7 @@
 #include <limits>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -277,6 +278,112 @@ bool readWithinFolder(std::vector<unsigned char>* out, std::string* error,
   return tinygltf::ReadWholeFile(out, error, filepath, nullptr);
 }
 
+// -----------------------------------------------------------------------------------------------
+// The .glb container
+
+constexpr std::uint32_t kGlbJsonChunk = 0x4E4F534A;  // "JSON", little-endian
+constexpr std::uint32_t kGlbBinChunk = 0x004E4942;   // "BIN\0"
+
+std::uint32_t le32(const unsigned char* b) {
+  return std::uint32_t{b[0]} | std::uint32_t{b[1]} << 8 | std::uint32_t{b[2]} << 16 |
+         std::uint32_t{b[3]} << 24;
+}
+
+// The bytes as text where they are printable, else as \xNN, for messages.
+std::string printable(const unsigned char* bytes, std::size_t size) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string text;
+  for (std::size_t i = 0; i < size; ++i) {
+    const unsigned char c = bytes[i];
+    if (c >= 0x20 && c < 0x7F && c != '"' && c != '\\') {
+      text += static_cast<char>(c);
+    } else {
+      text += std::string("\\x") + kHex[c >> 4] + kHex[c & 15];
+    }
+  }
+  return text;
+}
+
+// tinygltf says "Invalid glTF binary." for any broken header or chunk length; this says which
+// field is wrong and where, from the 12-byte header and the 8-byte chunk headers alone.
+void checkGlbLayout(std::ifstream& in, const std::string& file, std::uint64_t fileSize) {
+  const auto fail = [&](const std::string& problem) { throw InputError(file + ": " + problem); };
+  if (fileSize < 12) {
+    fail("truncated .glb: " + std::to_string(fileSize) + " bytes, less than the 12-byte header");
+  }
+  unsigned char header[12];
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(header), sizeof header)) {
+    fail(std::string("cannot read glTF file: ") + std::strerror(errno));
+  }
+  const std::uint32_t version = le32(header + 4), length = le32(header + 8);
+  if (version != 2) {
+    fail("GLB header: version " + std::to_string(version) + " is not supported (expected 2)");
+  }
+  if (length > fileSize) {
+    fail("GLB header: length " + std::to_string(length) + " is more than the file's " +
+         std::to_string(fileSize) + " bytes (truncated file?)");
+  }
+  std::uint64_t at = 12;
+  for (int index = 0; at < length; ++index) {
+    const std::string chunk = "GLB chunk " + std::to_string(index);
+    const std::string where = " at byte " + std::to_string(at);
+    if (length - at < 8) fail(chunk + where + ": truncated chunk header");
+    unsigned char chunkHeader[8];
+    in.seekg(static_cast<std::streamoff>(at));
+    if (!in.read(reinterpret_cast<char*>(chunkHeader), sizeof chunkHeader)) {
+      fail(std::string("cannot read glTF file: ") + std::strerror(errno));
+    }
+    const std::uint32_t chunkLength = le32(chunkHeader), type = le32(chunkHeader + 4);
+    const std::string name = (type == kGlbJsonChunk  ? chunk + " (JSON)"
+                              : type == kGlbBinChunk ? chunk + " (BIN)"
+                                                     : chunk) +
+                             where;
+    if (index == 0 && type != kGlbJsonChunk) {
+      fail(name + ": type \"" + printable(chunkHeader + 4, 4) +
+           "\", but the first chunk must be JSON");
+    }
+    if (chunkLength > length - at - 8) {
+      fail(name + ": length " + std::to_string(chunkLength) + " extends past the end of the " +
+           std::to_string(length) + " bytes of the file");
+    }
+    at += 8 + std::uint64_t{chunkLength};
+  }
+  if (length <= 12) fail("GLB: no JSON chunk");
+}
+
+// tinygltf stops at the first buffer or bufferView it cannot use without saying which one. It
+// appends every one it has parsed before going on to the next, so the number parsed so far is
+// the index of the one that failed.
+std::string locateParseError(const tinygltf::Model& model, const std::string& message) {
+  static constexpr std::string_view kNotFound = "File not found : ";
+  if (message.starts_with(kNotFound)) {
+    return at("buffers", model.buffers.size()) + ": uri \"" + message.substr(kNotFound.size()) +
+           "\": no such file";
+  }
+  static constexpr std::string_view kBufferErrors[] = {"File read error",
+                                                       "File is empty",
+                                                       "File size mismatch",
+                                                       "Failed to decode 'uri'",
+                                                       "Invalid binary data in `Buffer'",
+                                                       "'uri' is missing"};
+  for (std::string_view prefix : kBufferErrors) {
+    if (message.starts_with(prefix)) return at("buffers", model.buffers.size()) + ": " + message;
+  }
+  if (message.starts_with("Invalid `byteStride' value")) {
+    return at("bufferViews", model.bufferViews.size()) + ": byteStride " +
+           message.substr(message.rfind(' ') + 1) + " is not a multiple of 4 from 4 to 252";
+  }
+  return message;
+}
+
+bool hasGlbExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".glb";
+}
+
 tinygltf::Model readModel(const std::filesystem::path& path, const std::string& file,
                           std::vector<std::string>& warnings, bool* isBinary,
                           bool allowExternalUris) {
@@ -288,14 +395,30 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   if (std::filesystem::is_directory(status)) {
     throw InputError(file + ": cannot read glTF file: is a directory");
   }
-  char magic[4] = {};
+  unsigned char magic[4] = {};
+  // Decided by content, not by extension: some tools write .glb data under a .gltf name.
+  bool binary = false;
   {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(file + ": cannot read glTF file: " + std::strerror(errno));
-    in.read(magic, sizeof magic);
+    in.read(reinterpret_cast<char*>(magic), sizeof magic);
+    const auto got = static_cast<std::size_t>(in.gcount());
+    const std::uint64_t size = std::filesystem::file_size(path, ec);
+    binary = got == 4 && std::memcmp(magic, "glTF", 4) == 0;
+    if (binary) {
+      in.clear();
+      checkGlbLayout(in, file, ec ? 0 : size);
+    } else if (hasGlbExtension(path)) {
+      // JSON under a .glb name is read as such; anything else would only give a JSON syntax
+      // error about what is really a broken binary header.
+      std::size_t first = 0;
+      while (first < got && std::isspace(magic[first])) ++first;
+      if (first == got || magic[first] != '{') {
+        throw InputError(file + ": not a binary glTF: it starts with \"" + printable(magic, got) +
+                         "\", not the magic \"glTF\"");
+      }
+    }
   }
-  // Decided by content, not by extension: some tools write .glb data under a .gltf name.
-  const bool binary = std::memcmp(magic, "glTF", 4) == 0;
   *isBinary = binary;
 
   tinygltf::TinyGLTF reader;
@@ -320,7 +443,9 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   if (!ok) {
     std::vector<std::string> lines = nonEmptyLines(error);
     if (lines.empty()) lines = nonEmptyLines(warning);
-    throw InputError(file + ": " + (lines.empty() ? "not a valid glTF file" : lines.front()));
+    throw InputError(
+        file + ": " +
+        (lines.empty() ? "not a valid glTF file" : locateParseError(model, lines.front())));
   }
   // On success tinygltf's error text only holds tolerated oddities, so it is a warning too.
   // tinygltf repeats a message for every object it applies to; once each is enough.
@@ -735,11 +860,41 @@ void convertMaterials(Context& ctx) {
 // -----------------------------------------------------------------------------------------------
 // Primitives
 
-// Reads one vertex attribute of a primitive, checking its type and element count.
+std::string componentTypeName(int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return "BYTE";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return "UNSIGNED_BYTE";
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return "SHORT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return "UNSIGNED_SHORT";
+    case TINYGLTF_COMPONENT_TYPE_INT:
+      return "INT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      return "UNSIGNED_INT";
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return "FLOAT";
+    default:
+      return std::to_string(componentType);
+  }
+}
+
+// The component types glTF 2.0 allows for vertex attributes (3.7.2.1). Others would be read,
+// but as numbers the file never meant (a POSITION of unsigned bytes is what
+// KHR_mesh_quantization allows, and that extension is not supported).
+constexpr int kFloatOnly[] = {TINYGLTF_COMPONENT_TYPE_FLOAT};
+constexpr int kFloatOrNormalized[] = {TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
+
+// Reads one vertex attribute of a primitive, checking its type, component type and element
+// count.
 AccessorValues readAttribute(Context& ctx, const std::string& object,
                              const tinygltf::Primitive& primitive, const std::string& semantic,
-                             std::initializer_list<int> types, std::size_t vertexCount,
-                             Normalize normalize) {
+                             std::initializer_list<int> types, std::span<const int> componentTypes,
+                             std::size_t vertexCount, Normalize normalize) {
   const auto found = primitive.attributes.find(semantic);
   if (found == primitive.attributes.end()) return {};
   const std::string attribute = object + ".attributes." + semantic;
@@ -748,6 +903,19 @@ AccessorValues readAttribute(Context& ctx, const std::string& object,
   if (std::find(types.begin(), types.end(), accessor.type) == types.end()) {
     ctx.fail(attribute, at("accessors", static_cast<std::size_t>(found->second)) +
                             " has the wrong type for " + semantic);
+  }
+  if (std::find(componentTypes.begin(), componentTypes.end(), accessor.componentType) ==
+      componentTypes.end()) {
+    std::string allowed;
+    for (std::size_t i = 0; i < componentTypes.size(); ++i) {
+      allowed += (i == 0                           ? ""
+                  : i + 1 == componentTypes.size() ? " or "
+                                                   : ", ") +
+                 componentTypeName(componentTypes[i]);
+    }
+    ctx.fail(attribute, at("accessors", static_cast<std::size_t>(found->second)) +
+                            " has componentType " + componentTypeName(accessor.componentType) +
+                            "; " + semantic + " must be " + allowed);
   }
   if (vertexCount != SIZE_MAX && accessor.count != vertexCount) {
     ctx.fail(attribute, "has " + std::to_string(accessor.count) + " elements but POSITION has " +
@@ -819,8 +987,8 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   }
 
   const int vec2 = TINYGLTF_TYPE_VEC2, vec3 = TINYGLTF_TYPE_VEC3, vec4 = TINYGLTF_TYPE_VEC4;
-  mesh.positions = toVectors<3>(
-      readAttribute(ctx, object, primitive, "POSITION", {vec3}, SIZE_MAX, Normalize::AsFlagged));
+  mesh.positions = toVectors<3>(readAttribute(ctx, object, primitive, "POSITION", {vec3},
+                                              kFloatOnly, SIZE_MAX, Normalize::AsFlagged));
   const std::size_t n = mesh.positions.size();
   // Non-finite positions would poison bounds, cameras and shadow ranges: skip the primitive.
   if (std::any_of(mesh.positions.begin(), mesh.positions.end(), [](const glm::vec3& p) {
@@ -830,19 +998,19 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
     return std::nullopt;
   }
   mesh.normals = toVectors<3>(
-      readAttribute(ctx, object, primitive, "NORMAL", {vec3}, n, Normalize::AsFlagged));
+      readAttribute(ctx, object, primitive, "NORMAL", {vec3}, kFloatOnly, n, Normalize::AsFlagged));
   for (glm::vec3& normal : mesh.normals) {
     const float length = glm::length(normal);
     if (length > 0.0f && std::isfinite(length)) normal /= length;
   }
-  mesh.tangents = toVectors<4>(
-      readAttribute(ctx, object, primitive, "TANGENT", {vec4}, n, Normalize::AsFlagged));
-  mesh.uv0 = toVectors<2>(
-      readAttribute(ctx, object, primitive, "TEXCOORD_0", {vec2}, n, Normalize::Integers));
-  mesh.uv1 = toVectors<2>(
-      readAttribute(ctx, object, primitive, "TEXCOORD_1", {vec2}, n, Normalize::Integers));
-  const AccessorValues colors =
-      readAttribute(ctx, object, primitive, "COLOR_0", {vec3, vec4}, n, Normalize::Integers);
+  mesh.tangents = toVectors<4>(readAttribute(ctx, object, primitive, "TANGENT", {vec4}, kFloatOnly,
+                                             n, Normalize::AsFlagged));
+  mesh.uv0 = toVectors<2>(readAttribute(ctx, object, primitive, "TEXCOORD_0", {vec2},
+                                        kFloatOrNormalized, n, Normalize::Integers));
+  mesh.uv1 = toVectors<2>(readAttribute(ctx, object, primitive, "TEXCOORD_1", {vec2},
+                                        kFloatOrNormalized, n, Normalize::Integers));
+  const AccessorValues colors = readAttribute(ctx, object, primitive, "COLOR_0", {vec3, vec4},
+                                              kFloatOrNormalized, n, Normalize::Integers);
   mesh.colors = toVectors<4>(colors);
   if (colors.components == 3) {
     for (glm::vec4& color : mesh.colors) color.a = 1.0f;

@@ -109,6 +109,13 @@ void GpuScene::uploadGeometry(const Scene& scene) {
     draw.boundsRadius = world.radius();
     draws_.push_back(draw);
   }
+  // World matrices by draw index, for passes that draw many objects in one call.
+  std::vector<glm::mat4> models;
+  for (const GpuDraw& draw : draws_) models.push_back(draw.world);
+  if (models.empty()) models.emplace_back(1.0f);
+  models_ = gl::createBuffer();
+  glNamedBufferStorage(models_.get(), static_cast<GLsizeiptr>(models.size() * sizeof(glm::mat4)),
+                       models.data(), 0);
 }
 
 GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool srgb) {

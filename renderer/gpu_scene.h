@@ -43,6 +43,8 @@ class GpuScene {
   explicit GpuScene(const Scene& scene);
 
   GLuint vertexArray() const { return vertexArray_.get(); }
+  // std430 array of mat4: draws()[i].world at index i.
+  GLuint modelBuffer() const { return models_.get(); }
   const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
   const std::vector<GpuDraw>& draws() const { return draws_; }
   const std::vector<GpuMaterial>& materials() const { return materials_; }
@@ -57,7 +59,7 @@ class GpuScene {
   GLuint samplerFor(const Scene& scene, const TextureSlot& slot);
 
   gl::VertexArray vertexArray_;
-  gl::Buffer vertices_, indices_;
+  gl::Buffer vertices_, indices_, models_;
   std::vector<gl::Texture> textures_;  // indexed by 2 * image + srgb
   std::vector<gl::Sampler> samplers_;  // indexed by texture
   std::vector<GpuMeshRange> meshes_;

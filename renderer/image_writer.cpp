@@ -6,22 +6,36 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfThreading.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstddef>
+#include <cstring>
 #include <exception>
 #include <set>
 #include <stdexcept>
 #include <string>
 
 #include "renderer/errors.h"
+#include "renderer/exr_memory_stream.h"
+#include "renderer/output_transaction.h"
 
 namespace omnishadow {
 namespace {
 
-std::string cannotWrite(const std::filesystem::path& path, const std::string& reason) {
-  return "cannot write " + path.string() + ": " + reason;
+// Names the output as the user gave it, also where the reason quotes the temporary's name.
+std::string cannotWrite(const std::filesystem::path& path, std::string reason) {
+  const std::string temporary = path.string();
+  const std::string final = OutputTransaction::finalPathOf(path).string();
+  for (std::size_t at = 0;
+       !temporary.empty() && (at = reason.find(temporary, at)) != std::string::npos;
+       at += final.size())
+    reason.replace(at, temporary.size(), final);
+  return "cannot write " + final + ": " + reason;
 }
 
 // OIIO keeps errors per object and globally; whichever is set explains the failure.
@@ -88,9 +102,13 @@ Imf::FrameBuffer interleavedFrameBuffer(const FloatImage& image, Imf::PixelType 
 
 void writeExrPixels(const std::filesystem::path& path, const Imf::Header& header,
                     const Imf::FrameBuffer& frameBuffer, int height) {
-  Imf::OutputFile file(path.string().c_str(), header);
-  file.setFrameBuffer(frameBuffer);
-  file.writePixels(height);
+  ExrMemoryStream stream(path.string());
+  {
+    Imf::OutputFile file(stream, header);
+    file.setFrameBuffer(frameBuffer);
+    file.writePixels(height);
+  }  // the destructor completes the file (the line offset table)
+  writeFileBytes(path, stream.bytes());
 }
 
 std::vector<Imath::half> toHalf(const std::vector<float>& pixels) {
@@ -113,6 +131,12 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
   // Created by format name, not by extension, so temporaries and odd names still get PNG.
   auto output = OIIO::ImageOutput::create("png");
   if (!output) throw RenderError(cannotWrite(path, oiioReason("")));
+  // Encoded in memory and written by writeFileBytes: OIIO's PNG writer does not notice a write
+  // that fails (a full disk), and would leave a short file that looks complete.
+  std::vector<unsigned char> encoded;
+  OIIO::Filesystem::IOVecOutput memory(encoded);
+  if (!output->set_ioproxy(&memory))
+    throw RenderError(cannotWrite(path, oiioReason(output->geterror())));
   // A bare spec: OIIO 2.4's PNG writer turns extra attributes (DateTime, Software,
   // XResolution, oiio:ColorSpace...) into tEXt/tIME/pHYs/gAMA chunks, and adds none of its own
   // beyond a constant oFFs(0,0), so identical pixels give identical bytes.
@@ -127,8 +151,28 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
     output->close();
     throw RenderError(cannotWrite(path, reason));
   }
-  // close() flushes the final IDAT/IEND, so its failure (disk full) is a write failure.
+  // close() flushes the final IDAT/IEND.
   if (!output->close()) throw RenderError(cannotWrite(path, oiioReason(output->geterror())));
+  writeFileBytes(path, {reinterpret_cast<const char*>(encoded.data()), encoded.size()});
+}
+
+void writeFileBytes(const std::filesystem::path& path, std::string_view bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) throw RenderError(cannotWrite(path, std::strerror(errno)));
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      // write() returns 0 only for a zero-length request; treat it as no space all the same.
+      const int error = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      throw RenderError(cannotWrite(path, std::strerror(error)));
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  // Some file systems (NFS, quotas) report a full disk only when the file is closed.
+  if (::close(fd) != 0) throw RenderError(cannotWrite(path, std::strerror(errno)));
 }
 
 void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type) {

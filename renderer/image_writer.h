@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace omnishadow {
@@ -33,6 +34,11 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
 // OpenEXR, ZIP compressed, channels named as given (OpenEXR stores them sorted by name),
 // no time stamps. Throws RenderError when the file cannot be written.
 void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type);
+
+// Writes `bytes` to `path` (created, or emptied when it exists) and closes it, checking every
+// step: a full disk or a file size limit is a RenderError naming the output, never a short file
+// that looks written. The encoders write through it.
+void writeFileBytes(const std::filesystem::path& path, std::string_view bytes);
 
 // Lets OpenEXR compress blocks of scan lines on `threads` threads (0 = in the calling thread).
 // Output bytes do not depend on it. Call once at start-up: it sets OpenEXR's global pool.

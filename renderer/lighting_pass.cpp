@@ -14,11 +14,39 @@ struct GpuLight {
   glm::vec4 directionType;
   glm::vec4 radianceShadow;
   glm::vec4 spotFilter;
-  glm::vec4 shadowParameters;
+  glm::vec4 shadowDepth;
+  glm::vec4 shadowBias;
+  glm::vec4 shadowSoft;
+  glm::vec4 shadowProjection;
+  glm::vec4 cascadeEnd;
+  glm::vec4 cascadeTexel;
 };
 
-std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs) {
+static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight must match the std430 layout of Light");
+
+// Texture units of the shadow samplers (shaders/shadows.glsl), kMaxShadowGroups each.
+constexpr GLuint kCubeCompareUnit = 8;
+constexpr GLuint kCubeDepthUnit = 12;
+constexpr GLuint kPlanarCompareUnit = 16;
+constexpr GLuint kPlanarDepthUnit = 20;
+constexpr GLuint kCubeMomentsUnit = 24;
+constexpr GLuint kPlanarMomentsUnit = 28;
+
+std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
+                                        const LightingFeatures& features) {
   std::vector<std::string> defines;
+  if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
+  if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
+  const struct {
+    ShadowFilter filter;
+    const char* define;
+  } filters[] = {
+      {ShadowFilter::Hard, "SHADOW_HARD"},        {ShadowFilter::Pcf, "SHADOW_PCF"},
+      {ShadowFilter::PcfDisk, "SHADOW_PCF_DISK"}, {ShadowFilter::Poisson, "SHADOW_POISSON"},
+      {ShadowFilter::Pcss, "SHADOW_PCSS"},        {ShadowFilter::Vsm, "SHADOW_VSM"}};
+  for (const auto& f : filters)
+    if (features.filters & (1u << static_cast<unsigned>(f.filter))) defines.push_back(f.define);
+  if (features.debugDepth) defines.push_back("DEBUG_DEPTH");
   if (shading == Shading::Phong) defines.push_back("SHADING_PHONG");
   if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
@@ -37,21 +65,32 @@ int attachmentsFor(PassOutputs outputs) {
   return 1;
 }
 
-gl::Sampler makeRawDepthSampler() {
+// Spot and directional maps: outside the map is lit. With reversed depth that is a border
+// depth of 0, the cleared "nothing here" value (the shader also skips points outside).
+void clampToLitBorder(GLuint sampler) {
+  const float border[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (const GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glSamplerParameteri(sampler, wrap, GL_CLAMP_TO_BORDER);
+  glSamplerParameterfv(sampler, GL_TEXTURE_BORDER_COLOR, border);
+}
+
+gl::Sampler makeRawSampler(GLenum filter) {
   gl::Sampler sampler = gl::createSampler();
-  glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, filter);
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, filter);
+  for (const GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glSamplerParameteri(sampler.get(), wrap, GL_CLAMP_TO_EDGE);
   glSamplerParameteri(sampler.get(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
   return sampler;
 }
 
-gl::Sampler makeCompareSampler(GLenum filter) {
+gl::Sampler makeCompareSampler(bool planar) {
   gl::Sampler sampler = gl::createSampler();
-  glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, filter);
-  glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, filter);
-  glSamplerParameteri(sampler.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glSamplerParameteri(sampler.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glSamplerParameteri(sampler.get(), GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  for (const GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glSamplerParameteri(sampler.get(), wrap, GL_CLAMP_TO_EDGE);
+  if (planar) clampToLitBorder(sampler.get());
   glSamplerParameteri(sampler.get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
   // Reversed depth: the receiver is lit when its reference is at least the stored depth.
   glSamplerParameteri(sampler.get(), GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL);
@@ -114,43 +153,78 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
                       " framebuffer (status 0x" + std::to_string(status) + ")");
 }
 
-LightingPass::LightingPass(Shading shading, PassOutputs outputs)
-    : outputs_(outputs),
-      program_("scene.vert", "lighting.frag", variantDefines(shading, outputs)),
-      hardCompare_(makeCompareSampler(GL_NEAREST)),
-      linearCompare_(makeCompareSampler(GL_LINEAR)),
-      rawDepth_(makeRawDepthSampler()) {}
-
-void LightingPass::uploadLights(const std::vector<ShadedLight>& lights, int debugLight) {
-  if (debugLight >= 0 && debugLight < static_cast<int>(lights.size()) &&
-      lights[debugLight].shadow) {
-    glBindTextureUnit(24, lights[debugLight].shadow->cube.get());
-    glBindSampler(24, rawDepth_.get());
+LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {
+  LightingFeatures features;
+  for (const Light& light : lights) {
+    if (!light.shadow.enabled) continue;
+    (light.type == LightType::Point ? features.cubeShadows : features.planarShadows) = true;
+    features.filters |= 1u << static_cast<unsigned>(light.shadow.filter);
   }
+  features.debugDepth = debugView == DebugView::Depth;
+  return features;
+}
+
+LightingPass::LightingPass(Shading shading, PassOutputs outputs, const LightingFeatures& features)
+    : outputs_(outputs),
+      program_("scene.vert", "lighting.frag", variantDefines(shading, outputs, features)),
+      cubeCompare_(makeCompareSampler(false)),
+      planarCompare_(makeCompareSampler(true)),
+      rawDepth_(makeRawSampler(GL_NEAREST)),
+      moments_(makeRawSampler(GL_LINEAR)) {}
+
+void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
+                                const ShadowGroups& shadowGroups) {
+  // Each group takes the next slot of its layout's sampler arrays.
+  std::vector<int> slot(shadowGroups.size());
+  int cubeSlots = 0, planarSlots = 0;
+  for (std::size_t g = 0; g < shadowGroups.size(); ++g) {
+    const ShadowGroupTextures& group = shadowGroups[g];
+    const bool cube = group.key.layout == ShadowLayout::Cube;
+    const auto s = static_cast<GLuint>(slot[g] = cube ? cubeSlots++ : planarSlots++);
+    const GLuint compareUnit = (cube ? kCubeCompareUnit : kPlanarCompareUnit) + s;
+    const GLuint depthUnit = (cube ? kCubeDepthUnit : kPlanarDepthUnit) + s;
+    glBindTextureUnit(compareUnit, group.depth.get());
+    glBindSampler(compareUnit, cube ? cubeCompare_.get() : planarCompare_.get());
+    glBindTextureUnit(depthUnit, group.depth.get());
+    glBindSampler(depthUnit, rawDepth_.get());
+    if (group.moments) {
+      const GLuint momentsUnit = (cube ? kCubeMomentsUnit : kPlanarMomentsUnit) + s;
+      glBindTextureUnit(momentsUnit, group.moments.get());
+      glBindSampler(momentsUnit, moments_.get());
+    }
+  }
+
   std::vector<GpuLight> data;
-  int shadowIndex = 0;
+  std::vector<glm::mat4> viewProjections;
   for (const ShadedLight& shaded : lights) {
     const Light& l = *shaded.light;
+    const ShadowSettings& s = l.shadow;
     GpuLight g{};
     g.positionRange = glm::vec4(l.position, l.range);
     g.directionType = glm::vec4(glm::normalize(l.direction), static_cast<float>(l.type));
-    float index = -1.0f;
-    if (shaded.shadow) {
-      const GLuint unit = 8 + static_cast<GLuint>(shadowIndex);
-      glBindTextureUnit(unit, shaded.shadow->cube.get());
-      glBindSampler(
-          unit, l.shadow.filter == ShadowFilter::Hard ? hardCompare_.get() : linearCompare_.get());
-      index = static_cast<float>(shadowIndex++);
-      g.shadowParameters =
-          glm::vec4(shaded.shadow->near, shaded.shadow->far, l.shadow.bias, l.shadow.slopeBias);
+    float group = -1.0f;
+    if (const LightShadowPlan* plan = shaded.shadow) {
+      group = static_cast<float>(slot[plan->group]);
+      g.shadowDepth = glm::vec4(plan->near, plan->far, s.bias, s.slopeBias);
+      g.shadowBias = glm::vec4(s.minBias, s.normalBias, s.filterRadius, s.samples);
+      g.shadowSoft = glm::vec4(s.radius, s.bleedReduction, plan->firstLayer, plan->layerCount);
+      g.shadowProjection =
+          glm::vec4(plan->tanHalfFov, static_cast<float>(viewProjections.size()), 0.0f, 0.0f);
+      for (int c = 0; c < 4; ++c) {
+        g.cascadeEnd[c] = plan->cascadeEnd[c];
+        g.cascadeTexel[c] = plan->cascadeTexel[c];
+      }
+      if (l.type != LightType::Point)
+        viewProjections.insert(viewProjections.end(), plan->viewProjection.begin(),
+                               plan->viewProjection.begin() + plan->layerCount);
     }
-    g.radianceShadow = glm::vec4(l.color * l.intensity, index);
+    g.radianceShadow = glm::vec4(l.color * l.intensity, group);
     // KHR_lights_punctual's cone falloff as a scale and offset of cos(angle).
     const float cosOuter = std::cos(l.outerConeAngle);
     const float cosInner = std::cos(l.innerConeAngle);
     const float scale = 1.0f / std::max(0.001f, cosInner - cosOuter);
-    g.spotFilter = glm::vec4(scale, -cosOuter * scale, static_cast<float>(l.shadow.filter),
-                             shaded.shadow ? static_cast<float>(shaded.shadow->resolution) : 0.0f);
+    g.spotFilter = glm::vec4(scale, -cosOuter * scale, static_cast<float>(s.filter),
+                             static_cast<float>(s.resolution));
     data.push_back(g);
   }
   const GLsizeiptr size = std::max<GLsizeiptr>(sizeof(GpuLight), data.size() * sizeof(GpuLight));
@@ -162,6 +236,15 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights, int debu
   if (!data.empty())
     glNamedBufferSubData(lightBuffer_.get(), 0, data.size() * sizeof(GpuLight), data.data());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, lightBuffer_.get());
+  if (viewProjections.empty()) viewProjections.emplace_back(1.0f);
+  const auto matrixBytes = static_cast<GLsizeiptr>(viewProjections.size() * sizeof(glm::mat4));
+  if (matrixBytes > viewProjectionBufferSize_) {
+    viewProjectionBuffer_ = gl::createBuffer();
+    glNamedBufferStorage(viewProjectionBuffer_.get(), matrixBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    viewProjectionBufferSize_ = matrixBytes;
+  }
+  glNamedBufferSubData(viewProjectionBuffer_.get(), 0, matrixBytes, viewProjections.data());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, viewProjectionBuffer_.get());
   program_.set("uLightCount", static_cast<int>(data.size()));
 }
 
@@ -194,8 +277,9 @@ void LightingPass::drawScene(const GpuScene& scene, bool blended) {
 }
 
 void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
-                          const std::vector<ShadedLight>& lights, const glm::vec3& ambient,
-                          FrameTargets& targets, const PassParameters& parameters) {
+                          const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
+                          const glm::vec3& ambient, FrameTargets& targets,
+                          const PassParameters& parameters) {
   glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
   glViewport(0, 0, targets.width(), targets.height());
   // Background: no coverage, lit (visibility 1), no object or material (id -1).
@@ -223,7 +307,8 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   }
   program_.set("uDebugView", static_cast<int>(parameters.debugView));
   program_.set("uDebugLight", parameters.debugLight);
-  uploadLights(lights, parameters.debugLight);
+  program_.set("uCameraView", parameters.cascadeView ? *parameters.cascadeView : camera.view);
+  uploadLights(lights, shadowGroups);
   glBindVertexArray(scene.vertexArray());
 
   glEnable(GL_DEPTH_TEST);

@@ -7,7 +7,7 @@
 #include "renderer/gpu_scene.h"
 #include "renderer/light.h"
 #include "renderer/shader_program.h"
-#include "renderer/shadow_pass.h"
+#include "renderer/shadow_atlas.h"
 
 namespace omnishadow {
 
@@ -30,18 +30,20 @@ struct PassParameters {
   int debugLight = -1;  // DebugView::Depth: index of the shadowed point light shown
   int layerMode = 0;    // Layers: 0 = albedo/roughness/metallic/ids, 1 = one light's split
   int layerLight = -1;  // Layers, mode 1: the light
+  // Directional cascades were fitted to this camera; null = the camera being drawn.
+  const glm::mat4* cascadeView = nullptr;
 };
 
 // How many lights one lighting pass reports visibility for (5 RGBA32F targets).
 inline constexpr int kVisibilityPerPass = 20;
-// Shadowed point lights one frame can sample (texture units 8..23).
-inline constexpr int kMaxPointShadows = 16;
-
-// A light as the lighting pass sees it: its description plus the shadow map it samples.
+// A light as the lighting pass sees it: its description plus where its shadow map is.
 struct ShadedLight {
   const Light* light = nullptr;
-  const PointShadowMap* shadow = nullptr;  // null = unshadowed
+  const LightShadowPlan* shadow = nullptr;  // null = unshadowed
 };
+
+// The frame's shadow textures, indexed like ShadowAtlasPlan::groups.
+using ShadowGroups = std::vector<ShadowGroupTextures>;
 
 // Render targets of one frame, RGBA32F each: 0 is linear premultiplied RGBA; for Aovs also
 // 1: world position + camera distance, 2: camera-facing normal, 3..7: visibility of 20 lights;
@@ -62,25 +64,42 @@ class FrameTargets {
   gl::Texture depth_;
 };
 
+// What a lighting pass variant is compiled for besides its outputs: the shadow layouts and
+// filters present in the frame, and the depth debug view. Absent features compile out.
+struct LightingFeatures {
+  bool cubeShadows = false;
+  bool planarShadows = false;
+  unsigned filters = 0;  // bit per ShadowFilter
+  bool debugDepth = false;
+  bool operator==(const LightingFeatures& o) const {
+    return cubeShadows == o.cubeShadows && planarShadows == o.planarShadows &&
+           filters == o.filters && debugDepth == o.debugDepth;
+  }
+};
+
+LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView);
+
 class LightingPass {
  public:
-  LightingPass(Shading shading, PassOutputs outputs);
+  LightingPass(Shading shading, PassOutputs outputs, const LightingFeatures& features);
 
   // Draws opaque and masked surfaces, then blended ones (unsorted, depth writes off, AOV
   // targets untouched); layer passes draw no blended surfaces.
   void render(const GpuScene& scene, const ViewCamera& camera,
-              const std::vector<ShadedLight>& lights, const glm::vec3& ambient,
-              FrameTargets& targets, const PassParameters& parameters);
+              const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
+              const glm::vec3& ambient, FrameTargets& targets, const PassParameters& parameters);
 
  private:
-  void uploadLights(const std::vector<ShadedLight>& lights, int debugLight);
+  void uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups);
   void drawScene(const GpuScene& scene, bool blended);
 
   PassOutputs outputs_;
   ShaderProgram program_;
-  gl::Sampler hardCompare_, linearCompare_, rawDepth_;
+  gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::Buffer lightBuffer_;
   GLsizeiptr lightBufferSize_ = 0;
+  gl::Buffer viewProjectionBuffer_;
+  GLsizeiptr viewProjectionBufferSize_ = 0;
 };
 
 }  // namespace omnishadow

@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <cerrno>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -20,6 +22,14 @@ namespace fs = std::filesystem;
 // Shared by every transaction in the process, so two transactions staging the same final path
 // (or one retrying) never pick the same temporary name.
 std::atomic<unsigned long> stageCounter{0};
+
+// Temporary -> final path of every staged file not yet committed or removed; batch mode encodes
+// on several threads at once.
+std::mutex namesMutex;
+std::map<fs::path, fs::path>& finalNames() {
+  static std::map<fs::path, fs::path> names;
+  return names;
+}
 
 RenderError cannotWrite(const fs::path& finalPath, const std::string& reason) {
   return RenderError("cannot write " + finalPath.string() + ": " + reason);
@@ -80,9 +90,21 @@ fs::path identity(const fs::path& path) {
 }  // namespace
 
 OutputTransaction::~OutputTransaction() {
+  forgetNames();
   if (committed_) return;
   for (const Entry& entry : entries_) removeQuietly(entry.temporary);
   removeCreatedFolders();
+}
+
+fs::path OutputTransaction::finalPathOf(const fs::path& path) {
+  const std::lock_guard lock(namesMutex);
+  const auto found = finalNames().find(path);
+  return found == finalNames().end() ? path : found->second;
+}
+
+void OutputTransaction::forgetNames() noexcept {
+  const std::lock_guard lock(namesMutex);
+  for (const Entry& entry : entries_) finalNames().erase(entry.temporary);
 }
 
 void OutputTransaction::removeCreatedFolders() noexcept {
@@ -118,12 +140,15 @@ fs::path OutputTransaction::stage(const fs::path& finalPath) {
   entries_.reserve(entries_.size() + 1);
   fs::path temporary = createTemporary(finalPath);
   entries_.push_back({temporary, finalPath});
+  const std::lock_guard lock(namesMutex);
+  finalNames()[temporary] = finalPath;
   return temporary;
 }
 
 void OutputTransaction::commit() {
   if (committed_) return;
   committed_ = true;
+  forgetNames();
   std::vector<Entry> pending;
   pending.swap(entries_);
 

@@ -25,12 +25,18 @@ class OutputTransaction {
   // what was not yet renamed).
   void commit();
 
+  // The final path of a temporary that stage() returned and that is not yet committed or
+  // removed, by any transaction of the process; else `path` itself. Encoders name files with
+  // it, so that a message says "cannot write out/a.png", not the hidden temporary's name.
+  static std::filesystem::path finalPathOf(const std::filesystem::path& path);
+
  private:
   struct Entry {
     std::filesystem::path temporary;
     std::filesystem::path final;
   };
   void removeCreatedFolders() noexcept;
+  void forgetNames() noexcept;
 
   std::vector<Entry> entries_;
   std::vector<std::filesystem::path> createdFolders_;  // by stage(), outermost first

@@ -10,6 +10,7 @@
 #include "renderer/gl_debug.h"
 #include "renderer/gpu_scene.h"
 #include "renderer/shadow_pass.h"
+#include "renderer/vsm_filter.h"
 
 namespace omnishadow {
 namespace {
@@ -36,10 +37,6 @@ void copyChannels(const std::vector<float>& rgba, int from, int count, FloatImag
     for (int c = 0; c < count; ++c) image.pixels[i * stride + to + c] = rgba[i * 4 + from + c];
 }
 
-bool castsPointShadow(const Light& light) {
-  return light.type == LightType::Point && light.shadow.enabled;
-}
-
 constexpr int kFixedAovChannels = 11;  // R G B A P.X P.Y P.Z N.X N.Y N.Z Z
 
 }  // namespace
@@ -63,27 +60,13 @@ std::vector<std::string> aovChannels(const std::vector<Light>& lights, const Aov
   return channels;
 }
 
-float effectiveShadowFar(const Light& light, const Bounds& sceneBounds) {
-  if (light.shadow.far > 0.0f) return light.shadow.far;
-  if (light.range > 0.0f) return light.range;
-  // Far enough for every point of the scene, with a margin so the farthest corner is inside.
-  float farthest = 0.0f;
-  if (!sceneBounds.empty()) {
-    for (int corner = 0; corner < 8; ++corner) {
-      const glm::vec3 p{(corner & 1) ? sceneBounds.max.x : sceneBounds.min.x,
-                        (corner & 2) ? sceneBounds.max.y : sceneBounds.min.y,
-                        (corner & 4) ? sceneBounds.max.z : sceneBounds.min.z};
-      farthest = std::max(farthest, glm::length(p - light.position));
-    }
-  }
-  return std::max(farthest * 1.01f, light.shadow.near * 2.0f);
-}
-
 // The scene on the GPU with its shadow maps, shared by every view of one render.
 struct Renderer::Prepared {
   explicit Prepared(const Scene& s) : gpu(s) {}
   GpuScene gpu;
-  std::vector<PointShadowMap> maps;
+  LightingFeatures features;
+  ShadowAtlasPlan atlas;
+  ShadowGroups groups;  // indexed like atlas.groups
   std::vector<ShadedLight> shaded;
   int debugLight = -1;
 };
@@ -95,16 +78,48 @@ Renderer::Renderer(const ContextOptions& options)
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
   shadowPass_ = std::make_unique<ShadowPass>();
+  vsmFilter_ = std::make_unique<VsmFilter>();
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &shadowLimits_.maxArrayLayers);
+  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &maxCubeSize_);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize_);
+  glRenderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   gl::checkErrors("context setup");
 }
 
 Renderer::~Renderer() = default;
 
-LightingPass& Renderer::lightingPass(Shading shading, PassOutputs outputs) {
-  const auto key = std::make_pair(shading, outputs);
-  for (auto& [k, pass] : lightingPasses_)
-    if (k == key) return *pass;
-  lightingPasses_.emplace_back(key, std::make_unique<LightingPass>(shading, outputs));
+ShadowPassStrategy Renderer::defaultShadowPass() const {
+  return resolveShadowPassStrategy(ShadowPassStrategy::Auto, glRenderer_);
+}
+
+void Renderer::renderShadows(Prepared& prepared, const Scene& scene,
+                             const std::vector<Light>& lights, const ViewCamera& camera,
+                             const RenderSettings& settings) {
+  prepared.atlas = planShadowAtlas(lights, camera, scene.bounds, shadowLimits_);
+  for (const ShadowGroupPlan& group : prepared.atlas.groups)
+    prepared.groups.push_back(shadowTextures_.take(group));
+  const ShadowPassStrategy strategy = resolveShadowPassStrategy(settings.shadowPass, glRenderer_);
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    ShadedLight s{&lights[i], nullptr};
+    if (next < prepared.atlas.lights.size() &&
+        prepared.atlas.lights[next].light == static_cast<int>(i)) {
+      const LightShadowPlan& plan = prepared.atlas.lights[next++];
+      const ShadowGroupTextures& group = prepared.groups[plan.group];
+      shadowPass_->render(prepared.gpu, lights[i], plan, group, strategy);
+      if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
+      s.shadow = &plan;
+    }
+    prepared.shaded.push_back(s);
+  }
+}
+
+LightingPass& Renderer::lightingPass(Shading shading, PassOutputs outputs,
+                                     const LightingFeatures& features) {
+  for (auto& [key, pass] : lightingPasses_)
+    if (key.shading == shading && key.outputs == outputs && key.features == features) return *pass;
+  lightingPasses_.emplace_back(PassKey{shading, outputs, features},
+                               std::make_unique<LightingPass>(shading, outputs, features));
   return *lightingPasses_.back().second;
 }
 
@@ -116,8 +131,9 @@ FloatImage Renderer::drawBeauty(Prepared& prepared, const ViewCamera& camera,
   FrameTargets targets(camera.width, camera.height, PassOutputs::Beauty);
   {
     ScopedStage stage(stages, "lighting");
-    lightingPass(settings.shading, PassOutputs::Beauty)
-        .render(prepared.gpu, camera, prepared.shaded, ambient, targets, parameters);
+    lightingPass(settings.shading, PassOutputs::Beauty, prepared.features)
+        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
+                parameters);
     glFinish();
   }
   ScopedStage readback(stages, "readback");
@@ -132,14 +148,15 @@ void Renderer::drawAovs(Prepared& prepared, const ViewCamera& camera, const glm:
   const bool flip = camera.glRowOrder;
   // One pass gives the fixed channels and the visibility of 20 lights; more lights take more.
   FrameTargets targets(camera.width, camera.height, PassOutputs::Aovs);
-  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs);
+  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, prepared.features);
   const int passes = std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass);
   for (int p = 0; p < passes; ++p) {
     PassParameters parameters;
     parameters.visibilityBase = p * kVisibilityPerPass;
     {
       ScopedStage stage(times, "lighting");
-      pass.render(prepared.gpu, camera, prepared.shaded, ambient, targets, parameters);
+      pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
+                  parameters);
       glFinish();
     }
     ScopedStage readback(times, "readback");
@@ -161,13 +178,14 @@ void Renderer::drawAovs(Prepared& prepared, const ViewCamera& camera, const glm:
   const AovLayers& layers = settings.layers;
   if (!layers.any()) return;
   FrameTargets layerTargets(camera.width, camera.height, PassOutputs::Layers);
-  LightingPass& layerPass = lightingPass(settings.shading, PassOutputs::Layers);
+  LightingPass& layerPass = lightingPass(settings.shading, PassOutputs::Layers, prepared.features);
   auto runLayerPass = [&](int mode, int light) {
     PassParameters parameters;
     parameters.layerMode = mode;
     parameters.layerLight = light;
     ScopedStage stage(times, "layers");
-    layerPass.render(prepared.gpu, camera, prepared.shaded, ambient, layerTargets, parameters);
+    layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
+                     parameters);
     return std::make_pair(readAttachment(layerTargets, 1, flip),
                           readAttachment(layerTargets, 2, flip));
   };
@@ -194,76 +212,67 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
                        const glm::vec3& ambient, const ViewCamera& camera,
                        const RenderSettings& settings, StageTimes& times) {
   Frame frame;
-  const int shadowed =
-      static_cast<int>(std::count_if(lights.begin(), lights.end(), castsPointShadow));
-  if (shadowed > kMaxPointShadows)
-    throw InputError(std::to_string(shadowed) + " point lights cast shadows, but one frame can " +
-                     "sample at most " + std::to_string(kMaxPointShadows) +
-                     ": set \"shadow\": false on some of them");
-  double shadowMiB = 0.0;
-  for (const Light& light : lights)
-    if (castsPointShadow(light))
-      shadowMiB += 6.0 * 4.0 * static_cast<double>(light.shadow.resolution) *
-                   static_cast<double>(light.shadow.resolution) / (1024.0 * 1024.0);
-  if (shadowMiB > settings.maxShadowMemoryMiB) {
-    char message[256];
-    std::snprintf(message, sizeof message,
-                  "the shadow maps need %.0f MiB, more than the %.0f MiB allowed "
-                  "(--max-memory): lower shadow.resolution",
-                  shadowMiB, settings.maxShadowMemoryMiB);
-    throw InputError(message);
-  }
   for (const Light& light : lights) {
-    if (light.type != LightType::Point && light.shadow.enabled)
-      frame.warnings.push_back("light \"" + light.name + "\": " + toString(light.type) +
-                               " lights are not shadowed yet; it lights the scene unshadowed");
+    if (!light.shadow.enabled) continue;
+    const int limit = light.type == LightType::Point ? maxCubeSize_ : maxTextureSize_;
+    if (light.shadow.resolution > limit)
+      throw InputError("light \"" + light.name + "\": shadow.resolution " +
+                       std::to_string(light.shadow.resolution) + " is above this GL's maximum " +
+                       (light.type == LightType::Point ? "cube map" : "texture") + " size " +
+                       std::to_string(limit));
+  }
+  {
+    // Planned twice (here without GL) so that nothing is allocated when it would not fit.
+    const ShadowAtlasPlan plan = planShadowAtlas(lights, camera, scene.bounds, shadowLimits_);
+    const double shadowMiB = plan.bytes / (1024.0 * 1024.0);
+    if (shadowMiB > settings.maxShadowMemoryMiB) {
+      char message[256];
+      std::snprintf(message, sizeof message,
+                    "the shadow maps need %.0f MiB, more than the %.0f MiB allowed "
+                    "(--max-memory): lower shadow.resolution",
+                    shadowMiB, settings.maxShadowMemoryMiB);
+      throw InputError(message);
+    }
+    frame.warnings.insert(frame.warnings.end(), plan.warnings.begin(), plan.warnings.end());
   }
   int debugLight = -1;
   if (settings.debugView == DebugView::Depth) {
     for (std::size_t i = 0; i < lights.size() && debugLight < 0; ++i)
-      if (castsPointShadow(lights[i]) &&
+      if (lights[i].shadow.enabled &&
           (settings.debugLight.empty() || lights[i].name == settings.debugLight))
         debugLight = static_cast<int>(i);
     if (debugLight < 0)
-      throw InputError(settings.debugLight.empty()
-                           ? "--debug-view depth: no light casts a point shadow"
-                           : "--debug-light " + settings.debugLight +
-                                 ": no shadowed point light has that name");
+      throw InputError(settings.debugLight.empty() ? "--debug-view depth: no light casts a shadow"
+                                                   : "--debug-light " + settings.debugLight +
+                                                         ": no shadowed light has that name");
   }
 
   ScopedStage shaders(times, "shaders");
-  lightingPass(settings.shading, PassOutputs::Beauty);  // compiled once per renderer
+  const LightingFeatures features = lightingFeatures(lights, settings.debugView);
+  lightingPass(settings.shading, PassOutputs::Beauty, features);  // compiled once per variant
   shaders.stop();
 
   ScopedStage upload(times, "upload");
   Prepared prepared(scene);
   prepared.debugLight = debugLight;
+  prepared.features = features;
   frame.warnings.insert(frame.warnings.end(), prepared.gpu.warnings().begin(),
                         prepared.gpu.warnings().end());
   glFinish();
   upload.stop();
 
   ScopedStage shadowStage(times, "shadow maps");
-  prepared.maps.reserve(lights.size());  // ShadedLight points into it
-  for (const Light& light : lights) {
-    ShadedLight s{&light, nullptr};
-    if (castsPointShadow(light)) {
-      prepared.maps.push_back(shadowPass_->renderPointLight(prepared.gpu, light, light.shadow.near,
-                                                            effectiveShadowFar(light, scene.bounds),
-                                                            light.shadow.resolution));
-      s.shadow = &prepared.maps.back();
-    }
-    prepared.shaded.push_back(s);
-  }
+  renderShadows(prepared, scene, lights, camera, settings);
   glFinish();
   shadowStage.stop();
 
   if (settings.readShadowMaps) {
     ScopedStage readback(times, "readback");
     for (const ShadedLight& s : prepared.shaded)
-      if (s.shadow)
+      if (s.shadow && s.light->type == LightType::Point)
         frame.shadowMaps.push_back(
-            {s.light->name, s.shadow->far, ShadowPass::readDistances(*s.shadow)});
+            {s.light->name, s.shadow->far,
+             readCubeDistances(prepared.groups[s.shadow->group], *s.shadow)});
   }
 
   PassParameters beautyParameters;
@@ -300,27 +309,31 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
         view.projection =
             reversedPerspective(glm::radians(90.0f), 1.0f, s.light->shadow.near, 0.0f);
         view.glRowOrder = true;
-        frame.lightViews.push_back({s.light->name, static_cast<CubeFace>(face),
-                                    drawBeauty(prepared, view, ambient, settings, {}, nullptr)});
+        PassParameters parameters;
+        parameters.cascadeView = &camera.view;
+        frame.lightViews.push_back(
+            {s.light->name, static_cast<CubeFace>(face),
+             drawBeauty(prepared, view, ambient, settings, parameters, nullptr)});
       }
     }
   }
   gl::checkErrors("reading back the frame");
-  for (PointShadowMap& map : prepared.maps) shadowPass_->recycle(std::move(map));
+  for (ShadowGroupTextures& group : prepared.groups) shadowTextures_.give(std::move(group));
   return frame;
 }
 
 std::vector<CubeDistances> Renderer::renderShadowDistances(const Scene& scene,
-                                                           const std::vector<Light>& lights) {
-  GpuScene gpuScene(scene);
+                                                           const std::vector<Light>& lights,
+                                                           ShadowPassStrategy strategy) {
+  Prepared prepared(scene);
+  RenderSettings settings;
+  settings.shadowPass = strategy;
+  renderShadows(prepared, scene, lights, ViewCamera{}, settings);
   std::vector<CubeDistances> out;
-  for (const Light& light : lights) {
-    if (!castsPointShadow(light)) continue;
-    const PointShadowMap map = shadowPass_->renderPointLight(
-        gpuScene, light, light.shadow.near, effectiveShadowFar(light, scene.bounds),
-        light.shadow.resolution);
-    out.push_back(ShadowPass::readDistances(map));
-  }
+  for (const ShadedLight& s : prepared.shaded)
+    if (s.shadow && s.light->type == LightType::Point)
+      out.push_back(readCubeDistances(prepared.groups[s.shadow->group], *s.shadow));
+  for (ShadowGroupTextures& group : prepared.groups) shadowTextures_.give(std::move(group));
   return out;
 }
 

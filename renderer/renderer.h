@@ -12,6 +12,8 @@
 #include "renderer/light.h"
 #include "renderer/lighting_pass.h"
 #include "renderer/scene.h"
+#include "renderer/shadow_atlas.h"
+#include "renderer/shadow_pass.h"
 #include "renderer/stage_timer.h"
 
 namespace omnishadow {
@@ -42,6 +44,7 @@ struct RenderSettings {
   // Shadow maps may use at most this much memory (MiB); more is an InputError before any GL
   // allocation, naming the size needed.
   double maxShadowMemoryMiB = 4096.0;
+  ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
 };
 
 // A point light's shadow map as the lighting pass sampled it.
@@ -69,9 +72,6 @@ struct Frame {
   std::vector<std::string> warnings;
 };
 
-// Shadow settings a light is actually rendered with: its `far` filled in when automatic.
-float effectiveShadowFar(const Light& light, const Bounds& sceneBounds);
-
 // Owns the headless GL context and the compiled passes; renders frames of any scene. Not
 // thread-safe: use it from the thread that created it.
 class Renderer {
@@ -88,12 +88,19 @@ class Renderer {
                const ViewCamera& camera, const RenderSettings& settings, StageTimes& times);
 
   // Depth cube maps of the shadowed point lights, as distances, e.g. for tests.
-  std::vector<CubeDistances> renderShadowDistances(const Scene& scene,
-                                                   const std::vector<Light>& lights);
+  std::vector<CubeDistances> renderShadowDistances(
+      const Scene& scene, const std::vector<Light>& lights,
+      ShadowPassStrategy strategy = ShadowPassStrategy::Auto);
+
+  // The strategy `auto` resolves to on this context.
+  ShadowPassStrategy defaultShadowPass() const;
 
  private:
   struct Prepared;
-  LightingPass& lightingPass(Shading shading, PassOutputs outputs);
+  LightingPass& lightingPass(Shading shading, PassOutputs outputs,
+                             const LightingFeatures& features);
+  void renderShadows(Prepared& prepared, const Scene& scene, const std::vector<Light>& lights,
+                     const ViewCamera& camera, const RenderSettings& settings);
   FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                         const RenderSettings& settings, const PassParameters& parameters,
                         StageTimes* times);
@@ -102,8 +109,17 @@ class Renderer {
 
   std::unique_ptr<EglContext> context_;
   std::unique_ptr<ShadowPass> shadowPass_;
-  std::vector<std::pair<std::pair<Shading, PassOutputs>, std::unique_ptr<LightingPass>>>
-      lightingPasses_;
+  std::unique_ptr<class VsmFilter> vsmFilter_;
+  ShadowTexturePool shadowTextures_;
+  ShadowLimits shadowLimits_;
+  int maxCubeSize_ = 0, maxTextureSize_ = 0;
+  std::string glRenderer_;
+  struct PassKey {
+    Shading shading;
+    PassOutputs outputs;
+    LightingFeatures features;
+  };
+  std::vector<std::pair<PassKey, std::unique_ptr<LightingPass>>> lightingPasses_;
 };
 
 // Channel names of Frame::aovs for these lights and layers, in order.

@@ -68,17 +68,21 @@ std::string expandShaderSource(const std::string& file, const std::vector<std::s
 }
 
 ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& fragmentFile,
-                             const std::vector<std::string>& defines)
-    : program_(glCreateProgram()), name_(vertexFile + " + " + fragmentFile) {
-  const gl::Shader vertex =
-      compile(GL_VERTEX_SHADER, vertexFile, expandShaderSource(vertexFile, defines));
-  const gl::Shader fragment =
-      compile(GL_FRAGMENT_SHADER, fragmentFile, expandShaderSource(fragmentFile, defines));
-  glAttachShader(program_.get(), vertex.get());
-  glAttachShader(program_.get(), fragment.get());
+                             const std::vector<std::string>& defines,
+                             const std::string& geometryFile)
+    : program_(glCreateProgram()),
+      name_(vertexFile + (geometryFile.empty() ? "" : " + " + geometryFile) + " + " +
+            fragmentFile) {
+  std::vector<gl::Shader> shaders;
+  shaders.push_back(compile(GL_VERTEX_SHADER, vertexFile, expandShaderSource(vertexFile, defines)));
+  if (!geometryFile.empty())
+    shaders.push_back(
+        compile(GL_GEOMETRY_SHADER, geometryFile, expandShaderSource(geometryFile, defines)));
+  shaders.push_back(
+      compile(GL_FRAGMENT_SHADER, fragmentFile, expandShaderSource(fragmentFile, defines)));
+  for (const gl::Shader& shader : shaders) glAttachShader(program_.get(), shader.get());
   glLinkProgram(program_.get());
-  glDetachShader(program_.get(), vertex.get());
-  glDetachShader(program_.get(), fragment.get());
+  for (const gl::Shader& shader : shaders) glDetachShader(program_.get(), shader.get());
   GLint ok = GL_FALSE;
   glGetProgramiv(program_.get(), GL_LINK_STATUS, &ok);
   if (!ok)
@@ -111,6 +115,9 @@ void ShaderProgram::set(const char* u, const glm::mat3& v) const {
 }
 void ShaderProgram::set(const char* u, const glm::mat4& v) const {
   glProgramUniformMatrix4fv(id(), location(u), 1, GL_FALSE, glm::value_ptr(v));
+}
+void ShaderProgram::set(const char* u, const glm::mat4* values, int count) const {
+  glProgramUniformMatrix4fv(id(), location(u), count, GL_FALSE, glm::value_ptr(values[0]));
 }
 
 }  // namespace omnishadow

@@ -14,7 +14,7 @@ namespace omnishadow {
 class ShaderProgram {
  public:
   ShaderProgram(const std::string& vertexFile, const std::string& fragmentFile,
-                const std::vector<std::string>& defines = {});
+                const std::vector<std::string>& defines = {}, const std::string& geometryFile = {});
 
   GLuint id() const { return program_.get(); }
   void use() const;
@@ -26,6 +26,7 @@ class ShaderProgram {
   void set(const char* uniform, const glm::vec4& value) const;
   void set(const char* uniform, const glm::mat3& value) const;
   void set(const char* uniform, const glm::mat4& value) const;
+  void set(const char* uniform, const glm::mat4* values, int count) const;  // uniform arrays
 
  private:
   gl::Program program_;

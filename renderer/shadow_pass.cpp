@@ -1,147 +1,321 @@
 #include "renderer/shadow_pass.h"
 
-#include <cmath>
-#include <limits>
+#include <array>
+#include <cstdint>
 
 #include "renderer/gl_debug.h"
 
 namespace omnishadow {
 namespace {
 
-// True when a sphere (view space of a cube face) may touch the face's 90 degree frustum
-// between near and far.
-bool sphereTouchesFace(const glm::vec3& c, float radius, float near, float far) {
-  const float depth = -c.z;
-  const float k = 0.70710678f;  // side planes x = +-depth, y = +-depth, normals normalized
-  if (depth + radius < near || depth - radius > far) return false;
-  if ((c.x - depth) * k > radius || (-c.x - depth) * k > radius) return false;
-  if ((c.y - depth) * k > radius || (-c.y - depth) * k > radius) return false;
-  return true;
-}
+// glMultiDrawElementsIndirect's command layout.
+struct DrawCommand {
+  GLuint count;
+  GLuint instanceCount;
+  GLuint firstIndex;
+  GLint baseVertex;
+  GLuint baseInstance;
+};
+
+// Clip-space planes of a view-projection with a [0,1] depth range, normalized.
+struct Frustum {
+  std::array<glm::vec4, 6> planes;
+  explicit Frustum(const glm::mat4& m) {
+    const glm::vec4 r0(m[0][0], m[1][0], m[2][0], m[3][0]);
+    const glm::vec4 r1(m[0][1], m[1][1], m[2][1], m[3][1]);
+    const glm::vec4 r2(m[0][2], m[1][2], m[2][2], m[3][2]);
+    const glm::vec4 r3(m[0][3], m[1][3], m[2][3], m[3][3]);
+    planes = {r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2};
+    for (glm::vec4& p : planes) p /= glm::length(glm::vec3(p));
+  }
+  bool touches(const glm::vec3& center, float radius) const {
+    for (const glm::vec4& p : planes)
+      if (glm::dot(glm::vec3(p), center) + p.w < -radius) return false;
+    return true;
+  }
+};
+
+// Opaque draws are sorted into culling states: both sides, counter-clockwise or clockwise
+// front faces (mirrored transforms).
+enum Bucket { kNoCull = 0, kCullCcw, kCullCw, kBucketCount };
 
 }  // namespace
 
-ShadowPass::ShadowPass()
-    : opaque_("shadow_depth.vert", "shadow_depth.frag"),
-      masked_("shadow_depth.vert", "shadow_depth.frag", {"ALPHA_MASK"}),
-      framebuffer_(gl::createFramebuffer()) {
-  glNamedFramebufferDrawBuffer(framebuffer_.get(), GL_NONE);
-  glNamedFramebufferReadBuffer(framebuffer_.get(), GL_NONE);
+const char* toString(ShadowPassStrategy strategy) {
+  switch (strategy) {
+    case ShadowPassStrategy::Auto:
+      return "auto";
+    case ShadowPassStrategy::Six:
+      return "six";
+    case ShadowPassStrategy::Geometry:
+      return "geometry";
+    case ShadowPassStrategy::Instanced:
+      return "instanced";
+  }
+  return "?";
 }
 
-PointShadowMap ShadowPass::renderPointLight(const GpuScene& scene, const Light& light, float near,
-                                            float far, int resolution) {
-  PointShadowMap map;
-  map.resolution = resolution;
-  map.near = near;
-  map.far = far;
-  map.position = light.position;
-  map.cube = takeCube(resolution);
-  glObjectLabel(GL_TEXTURE, map.cube.get(), -1, ("shadow cube " + light.name).c_str());
+ShadowPassStrategy parseShadowPassStrategy(const std::string& name) {
+  for (const ShadowPassStrategy s :
+       {ShadowPassStrategy::Six, ShadowPassStrategy::Geometry, ShadowPassStrategy::Instanced})
+    if (name == toString(s)) return s;
+  return ShadowPassStrategy::Auto;
+}
 
-  const glm::mat4 projection = cubeFaceProjection(near, far);
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
-  glViewport(0, 0, resolution, resolution);
+ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
+                                             const std::string& glRenderer) {
+  if (requested != ShadowPassStrategy::Auto) return requested;
+  // Measured with scripts/bench-shadows.sh (docs/performance.md). llvmpipe: per-face passes
+  // with CPU culling beat the layered strategies, whose vertex work is not culled per face as
+  // finely and whose geometry stage is slow. No GPU driver has been measured yet; "six" is
+  // the safe choice there as well until it is.
+  (void)glRenderer;
+  return ShadowPassStrategy::Six;
+}
+
+ShadowPass::ShadowPass() : framebuffer_(gl::createFramebuffer()) {}
+ShadowPass::~ShadowPass() = default;
+
+const ShaderProgram& ShadowPass::program(ShadowPassStrategy strategy, bool masked, bool moments) {
+  const int key = static_cast<int>(strategy) * 4 + (masked ? 2 : 0) + (moments ? 1 : 0);
+  auto& slot = programs_[key];
+  if (!slot) {
+    std::vector<std::string> defines;
+    if (masked) defines.emplace_back("ALPHA_MASK");
+    if (moments) defines.emplace_back("MOMENTS");
+    std::string geometry;
+    if (strategy == ShadowPassStrategy::Instanced) defines.emplace_back("LAYER_FROM_INSTANCE");
+    if (strategy == ShadowPassStrategy::Geometry) {
+      defines.emplace_back("GEOMETRY_LAYERS");
+      geometry = "shadow_depth.geom";
+    }
+    slot = std::make_unique<ShaderProgram>("shadow_depth.vert", "shadow_depth.frag", defines,
+                                           geometry);
+  }
+  return *slot;
+}
+
+void ShadowPass::upload(const std::vector<GLuint>& words, gl::Buffer& buffer,
+                        GLsizeiptr& capacity) {
+  const auto size = static_cast<GLsizeiptr>(words.size() * sizeof(GLuint));
+  if (size > capacity) {
+    buffer = gl::createBuffer();
+    capacity = std::max<GLsizeiptr>(size, 2 * capacity);
+    glNamedBufferStorage(buffer.get(), capacity, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  }
+  if (size > 0) glNamedBufferSubData(buffer.get(), 0, size, words.data());
+}
+
+void ShadowPass::render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
+                        const ShadowGroupTextures& target, ShadowPassStrategy strategy) {
+  const bool cube = target.key.layout == ShadowLayout::Cube;
+  if (!cube || strategy == ShadowPassStrategy::Auto) strategy = ShadowPassStrategy::Six;
+  const bool moments = target.key.moments;
+  const int n = target.key.resolution;
+  const int views = plan.layerCount;
+
+  const float zero = 0.0f;
+  glClearTexSubImage(target.depth.get(), 0, 0, 0, plan.firstLayer, n, n, views, GL_DEPTH_COMPONENT,
+                     GL_FLOAT, &zero);
+  if (moments) {
+    const float far[2] = {1.0f, 1.0f};
+    glClearTexSubImage(target.moments.get(), 0, 0, 0, plan.firstLayer, n, n, views, GL_RG, GL_FLOAT,
+                       far);
+  }
+
+  // Which views each object can touch: one bit per view.
+  std::vector<Frustum> frusta;
+  for (int v = 0; v < views; ++v) frusta.emplace_back(plan.viewProjection[v]);
+  const std::vector<GpuDraw>& draws = scene.draws();
+  std::vector<unsigned> viewMask(draws.size(), 0u);
+  for (std::size_t d = 0; d < draws.size(); ++d)
+    for (int v = 0; v < views; ++v)
+      if (frusta[v].touches(draws[d].boundsCenter, draws[d].boundsRadius)) viewMask[d] |= 1u << v;
+
+  const ShadowSettings& settings = light.shadow;
+  auto bucketOf = [&](const GpuDraw& draw) {
+    const GpuMaterial& material = scene.materials()[draw.material];
+    if (settings.cullFace == CullFace::None || material.desc.doubleSided) return kNoCull;
+    return draw.mirrored ? kCullCw : kCullCcw;
+  };
+  auto isMasked = [&](const GpuDraw& draw) {
+    // Blended surfaces cast shadows where they are at least half opaque.
+    return scene.materials()[draw.material].desc.alphaMode != AlphaMode::Opaque;
+  };
+
+  // Multi-draw calls: (bucket, view or -1 for layered, first command, command count).
+  struct Call {
+    int bucket, view, first, count;
+  };
+  std::vector<Call> calls;
+  std::vector<GLuint> commandWords, objects;
+  auto addCommand = [&](std::size_t d, GLuint firstView, GLuint viewCount) {
+    const GpuMeshRange& range = scene.meshes()[draws[d].mesh];
+    const DrawCommand c{static_cast<GLuint>(range.indexCount), viewCount,
+                        static_cast<GLuint>(range.firstIndex), range.baseVertex, firstView};
+    const auto* words = reinterpret_cast<const GLuint*>(&c);
+    commandWords.insert(commandWords.end(), words, words + 5);
+    objects.push_back(static_cast<GLuint>(d));
+    drawCount_ += viewCount;
+  };
+  auto collect = [&](int bucket, int view) {
+    const int first = static_cast<int>(objects.size());
+    for (std::size_t d = 0; d < draws.size(); ++d) {
+      if (isMasked(draws[d]) || bucketOf(draws[d]) != bucket || viewMask[d] == 0) continue;
+      if (view >= 0) {
+        if (viewMask[d] & (1u << view)) addCommand(d, 0, 1);
+      } else if (strategy == ShadowPassStrategy::Geometry) {
+        addCommand(d, 0, 1);
+      } else {
+        // Runs of consecutive faces become one command each.
+        for (int v = 0; v < views;) {
+          if (!(viewMask[d] & (1u << v))) {
+            ++v;
+            continue;
+          }
+          int end = v;
+          while (end < views && (viewMask[d] & (1u << end))) ++end;
+          addCommand(d, static_cast<GLuint>(v), static_cast<GLuint>(end - v));
+          v = end;
+        }
+      }
+    }
+    const int count = static_cast<int>(objects.size()) - first;
+    if (count > 0) calls.push_back({bucket, view, first, count});
+  };
+  const bool layered = strategy != ShadowPassStrategy::Six;
+  for (int view = layered ? -1 : 0; view < (layered ? 0 : views); ++view)
+    for (int bucket = 0; bucket < kBucketCount; ++bucket) collect(bucket, view);
+  upload(commandWords, commands_, commandsCapacity_);
+  upload(objects, drawObjects_, drawObjectsCapacity_);
+
+  // Fixed state of the whole light.
+  const GLuint fb = framebuffer_.get();
+  glBindFramebuffer(GL_FRAMEBUFFER, fb);
+  glViewport(0, 0, n, n);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GREATER);  // reversed depth: nearer is larger
   glDepthMask(GL_TRUE);
-  glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  const GLboolean writeColor = moments ? GL_TRUE : GL_FALSE;
+  glColorMask(writeColor, writeColor, GL_FALSE, GL_FALSE);
+  glNamedFramebufferDrawBuffer(fb, moments ? GL_COLOR_ATTACHMENT0 : GL_NONE);
+  glNamedFramebufferReadBuffer(fb, GL_NONE);
+  if (settings.polygonOffsetFactor != 0.0f || settings.polygonOffsetUnits != 0.0f) {
+    // Reversed depth: pushing casters away from the light means smaller depth values.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-settings.polygonOffsetFactor, -settings.polygonOffsetUnits);
+  }
   glBindVertexArray(scene.vertexArray());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, scene.modelBuffer());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, drawObjects_.get());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_.get());
 
-  for (int face = 0; face < kCubeFaceCount; ++face) {
-    glNamedFramebufferTextureLayer(framebuffer_.get(), GL_DEPTH_ATTACHMENT, map.cube.get(), 0,
-                                   face);
-    const float clearDepth = 0.0f;
-    glClearNamedFramebufferfv(framebuffer_.get(), GL_DEPTH, 0, &clearDepth);
-    const glm::mat4 view = cubeFaceView(static_cast<CubeFace>(face), light.position);
-    const glm::mat4 viewProjection = projection * view;
-    opaque_.set("uViewProjection", viewProjection);
-    masked_.set("uViewProjection", viewProjection);
-
-    for (const GpuDraw& draw : scene.draws()) {
-      const glm::vec3 center = glm::vec3(view * glm::vec4(draw.boundsCenter, 1.0f));
-      if (!sphereTouchesFace(center, draw.boundsRadius, near, far)) continue;
-      const GpuMaterial& material = scene.materials()[draw.material];
-      // Blended surfaces cast shadows where they are at least half opaque.
-      const bool cutout = material.desc.alphaMode != AlphaMode::Opaque;
-      const ShaderProgram& program = cutout ? masked_ : opaque_;
-      program.use();
-      program.set("uModel", draw.world);
-      if (cutout) {
-        program.set("uBaseColorFactor", material.desc.baseColorFactor);
-        program.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
-        program.set("uBaseColorTexCoord", material.desc.baseColorTexture.texCoord);
-        program.set("uAlphaCutoff",
-                    material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
-        glBindTextureUnit(0, material.baseColor);
-        glBindSampler(0, material.baseColorSampler);
-      }
-      const GpuMeshRange& range = scene.meshes()[draw.mesh];
-      glDrawElementsBaseVertex(
-          GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
-          reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4),
-          range.baseVertex);
-      ++map.drawsRendered;
+  auto attach = [&](int view) {
+    if (view < 0) {
+      glNamedFramebufferTexture(fb, GL_DEPTH_ATTACHMENT, target.depth.get(), 0);
+      glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, moments ? target.moments.get() : 0, 0);
+    } else {
+      glNamedFramebufferTextureLayer(fb, GL_DEPTH_ATTACHMENT, target.depth.get(), 0,
+                                     plan.firstLayer + view);
+      if (moments)
+        glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, target.moments.get(), 0,
+                                       plan.firstLayer + view);
+      else
+        glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, 0, 0);
     }
+  };
+  auto setCulling = [&](int bucket) {
+    if (bucket == kNoCull) {
+      glDisable(GL_CULL_FACE);
+      return;
+    }
+    glEnable(GL_CULL_FACE);
+    glCullFace(settings.cullFace == CullFace::Front ? GL_FRONT : GL_BACK);
+    glFrontFace(bucket == kCullCw ? GL_CW : GL_CCW);
+  };
+  auto prepare = [&](const ShaderProgram& p, int view) {
+    p.use();
+    p.set("uViewProjections", plan.viewProjection.data(), views);
+    p.set("uLayerBase", plan.firstLayer);
+    p.set("uView", std::max(view, 0));
+    if (moments) {
+      p.set("uLightPosition", light.position);
+      p.set("uMomentScale", 1.0f / plan.far);
+      p.set("uMomentFromDepth", light.type == LightType::Directional ? 1 : 0);
+    }
+  };
+
+  // Opaque casters: one multi-draw per (view, bucket).
+  int attachedView = -2;
+  const ShaderProgram& opaque = program(strategy, false, moments);
+  for (const Call& call : calls) {
+    if (call.view != attachedView) attach(attachedView = call.view);
+    prepare(opaque, call.view);
+    opaque.set("uObject", -1);
+    opaque.set("uDrawBase", call.first);
+    setCulling(call.bucket);
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                reinterpret_cast<const void*>(
+                                    static_cast<std::uintptr_t>(call.first) * sizeof(DrawCommand)),
+                                call.count, 0);
   }
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  gl::checkErrors("the shadow pass of light \"" + light.name + "\"");
-  return map;
-}
 
-gl::Texture ShadowPass::takeCube(int resolution) {
-  for (auto it = pool_.begin(); it != pool_.end(); ++it) {
-    if (it->first != resolution) continue;
-    gl::Texture cube = std::move(it->second);
-    pool_.erase(it);
-    return cube;
-  }
-  gl::Texture cube = gl::createTexture(GL_TEXTURE_CUBE_MAP);
-  glTextureStorage2D(cube.get(), 1, GL_DEPTH_COMPONENT32F, resolution, resolution);
-  return cube;
-}
-
-void ShadowPass::recycle(PointShadowMap&& map) {
-  // Enough for the shadowed lights of one frame; older textures are deleted.
-  constexpr std::size_t kPoolSize = 16;
-  if (!map.cube) return;
-  pool_.emplace_back(map.resolution, std::move(map.cube));
-  if (pool_.size() > kPoolSize) pool_.erase(pool_.begin());
-}
-
-CubeDistances ShadowPass::readDistances(const PointShadowMap& map) {
-  CubeDistances out;
-  out.resolution = map.resolution;
-  const int n = map.resolution;
-  const std::size_t texels = static_cast<std::size_t>(n) * n;
-  for (int face = 0; face < kCubeFaceCount; ++face) {
-    std::vector<float> depth(texels);
-    glGetTextureSubImage(map.cube.get(), 0, 0, 0, face, n, n, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
-                         static_cast<GLsizei>(texels * sizeof(float)), depth.data());
-    std::vector<float>& distances = out.faces[face];
-    distances.resize(texels);
-    const glm::mat4 toWorldDirection = glm::inverse(cubeFaceView(static_cast<CubeFace>(face), {}));
-    for (int row = 0; row < n; ++row) {
-      for (int column = 0; column < n; ++column) {
-        const std::size_t i = static_cast<std::size_t>(row) * n + column;
-        if (depth[i] <= 0.0f) {
-          distances[i] = std::numeric_limits<float>::infinity();
+  // Alpha-tested casters, each with its own texture.
+  const ShaderProgram& masked = program(strategy, true, moments);
+  for (int view = layered ? -1 : 0; view < (layered ? 0 : views); ++view) {
+    bool prepared = false;
+    for (std::size_t d = 0; d < draws.size(); ++d) {
+      const GpuDraw& draw = draws[d];
+      if (!isMasked(draw) || viewMask[d] == 0) continue;
+      if (view >= 0 && !(viewMask[d] & (1u << view))) continue;
+      if (!prepared) {
+        if (view != attachedView) attach(attachedView = view);
+        prepare(masked, view);
+        prepared = true;
+      }
+      const GpuMaterial& material = scene.materials()[draw.material];
+      masked.set("uObject", static_cast<int>(d));
+      masked.set("uBaseColorFactor", material.desc.baseColorFactor);
+      masked.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
+      masked.set("uBaseColorTexCoord", material.desc.baseColorTexture.texCoord);
+      masked.set("uAlphaCutoff",
+                 material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
+      glBindTextureUnit(0, material.baseColor);
+      glBindSampler(0, material.baseColorSampler);
+      setCulling(bucketOf(draw));
+      const GpuMeshRange& range = scene.meshes()[draw.mesh];
+      const void* offset =
+          reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4);
+      if (view >= 0 || strategy == ShadowPassStrategy::Geometry) {
+        glDrawElementsInstancedBaseVertexBaseInstance(
+            GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT, offset, 1, range.baseVertex, 0);
+        drawCount_ += 1;
+        continue;
+      }
+      for (int v = 0; v < views;) {
+        if (!(viewMask[d] & (1u << v))) {
+          ++v;
           continue;
         }
-        // Texel center on the face plane at axis distance 1, back to a world direction.
-        const float x = (2.0f * (static_cast<float>(column) + 0.5f) / static_cast<float>(n)) - 1.0f;
-        const float y = (2.0f * (static_cast<float>(row) + 0.5f) / static_cast<float>(n)) - 1.0f;
-        const glm::vec3 direction = glm::vec3(toWorldDirection * glm::vec4(x, y, -1.0f, 0.0f));
-        const float axis = cubeDepthToAxisDistance(depth[i], map.near, map.far);
-        distances[i] = axis * glm::length(direction);
+        int end = v;
+        while (end < views && (viewMask[d] & (1u << end))) ++end;
+        glDrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, range.indexCount,
+                                                      GL_UNSIGNED_INT, offset, end - v,
+                                                      range.baseVertex, static_cast<GLuint>(v));
+        drawCount_ += end - v;
+        v = end;
       }
     }
   }
-  gl::checkErrors("reading back a shadow map");
-  return out;
+
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_CULL_FACE);
+  glFrontFace(GL_CCW);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl::checkErrors("the shadow pass of light \"" + light.name + "\"");
 }
 
 }  // namespace omnishadow

@@ -1,51 +1,60 @@
 #pragma once
 
-#include <glm/glm.hpp>
+#include <map>
+#include <memory>
+#include <string>
 #include <vector>
 
-#include "renderer/cube_distances.h"
-#include "renderer/cube_faces.h"
 #include "renderer/gl_resources.h"
 #include "renderer/gpu_scene.h"
 #include "renderer/light.h"
 #include "renderer/shader_program.h"
+#include "renderer/shadow_atlas.h"
 
 namespace omnishadow {
 
-// A point light's depth cube map (GL_DEPTH_COMPONENT32F). Each face holds the reversed-Z depth
-// of cubeFaceProjection(near, far); distance is rebuilt when sampling (shaders/point_shadow.glsl).
-struct PointShadowMap {
-  gl::Texture cube;
-  int resolution = 0;
-  float near = 0.0f;
-  float far = 0.0f;
-  glm::vec3 position{0.0f};
-  int drawsRendered = 0;  // instance draws over all faces after culling, for --stats
+// How a point light's six cube faces are rendered (--shadow-pass). All of them write the same
+// texels; they differ in speed, which depends on the driver (docs/performance.md).
+enum class ShadowPassStrategy {
+  Auto,       // the fastest measured on this driver (resolveShadowPassStrategy)
+  Six,        // one pass per face, objects culled per face on the CPU
+  Geometry,   // one pass, a geometry shader copies each triangle to six layers (the classic)
+  Instanced,  // one pass, instances pick the face and write gl_Layer from the vertex shader;
+              // objects are culled per face too (runs of faces per object)
 };
 
+const char* toString(ShadowPassStrategy strategy);
+// "auto", "six", "geometry" or "instanced"; anything else is Auto (the CLI checks the spelling).
+ShadowPassStrategy parseShadowPassStrategy(const std::string& name);
+
+// What `auto` means on a GL renderer (its GL_RENDERER string).
+ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
+                                             const std::string& glRenderer);
+
+// Renders depth (and vsm moments) of one light's layers. Spot lights and directional cascades
+// are always drawn one layer per pass; the strategy applies to point lights. Opaque casters
+// are drawn with glMultiDrawElementsIndirect; alpha-tested ones one by one with their texture.
 class ShadowPass {
  public:
   ShadowPass();
+  ~ShadowPass();
 
-  // Renders one face at a time; instances whose bounding sphere misses a face's frustum (or
-  // lies beyond `far`) are skipped for that face. Casters are drawn double-sided.
-  PointShadowMap renderPointLight(const GpuScene& scene, const Light& light, float near, float far,
-                                  int resolution);
+  void render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
+              const ShadowGroupTextures& target, ShadowPassStrategy strategy);
 
-  // Reads the map back as distances along each texel center's ray.
-  static CubeDistances readDistances(const PointShadowMap& map);
-
-  // Gives the map's texture back for reuse by later renders (batch mode renders many scenes
-  // with the same resolutions); the pool keeps a few and deletes the rest.
-  void recycle(PointShadowMap&& map);
+  // Object draws issued since construction (a draw covering k faces counts k), for --stats.
+  long long drawCount() const { return drawCount_; }
 
  private:
-  gl::Texture takeCube(int resolution);
+  struct Variant;
+  const ShaderProgram& program(ShadowPassStrategy strategy, bool masked, bool moments);
+  void upload(const std::vector<GLuint>& words, gl::Buffer& buffer, GLsizeiptr& capacity);
 
-  std::vector<std::pair<int, gl::Texture>> pool_;  // (resolution, cube map)
-  ShaderProgram opaque_;
-  ShaderProgram masked_;
+  std::map<int, std::unique_ptr<ShaderProgram>> programs_;
   gl::Framebuffer framebuffer_;
+  gl::Buffer commands_, drawObjects_;
+  GLsizeiptr commandsCapacity_ = 0, drawObjectsCapacity_ = 0;
+  long long drawCount_ = 0;
 };
 
 }  // namespace omnishadow

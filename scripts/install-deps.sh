@@ -11,6 +11,8 @@ packages=(
   # libraries
   libtinygltf-dev libglm-dev libopenimageio-dev libopenexr-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev
+  # exact shadow rays for `omnishadow verify`
+  libembree-dev
   # fuzzing (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
   clang libclang-rt-14-dev
   # OpenImageIO's CMake config refers to its command-line tools (and they are handy: idiff, iinfo)

@@ -4,7 +4,7 @@
 // specular, chosen by uLayerMode).
 #include "lights.glsl"
 #include "brdf.glsl"
-#include "point_shadow.glsl"
+#include "shadows.glsl"
 
 in VertexData {
   vec3 worldPosition;
@@ -20,8 +20,6 @@ layout(binding = 1) uniform sampler2D uMetallicRoughnessTexture;
 layout(binding = 2) uniform sampler2D uNormalTexture;
 layout(binding = 3) uniform sampler2D uOcclusionTexture;
 layout(binding = 4) uniform sampler2D uEmissiveTexture;
-// The cube map of the light --debug-view depth shows, read without comparison.
-layout(binding = 24) uniform samplerCube uDebugDepthCube;
 
 uniform vec4 uBaseColorFactor;
 uniform float uMetallicFactor;
@@ -64,17 +62,6 @@ uniform float uMaterialId;
 #endif
 
 vec2 uvFor(int texCoord) { return texCoord == 0 ? vIn.uv0 : vIn.uv1; }
-
-// Distance to the light stored in its cube map in the fragment's direction, over `far`.
-float debugDepth(Light light) {
-  vec3 d = vIn.worldPosition - light.positionRange.xyz;
-  float depth = texture(uDebugDepthCube, d).r;
-  if (depth <= 0.0) return 1.0;  // nothing rendered there
-  float near = light.shadowParameters.x, far = light.shadowParameters.y;
-  float axis = near * far / (depth * (far - near) + near);
-  float distance = axis * length(d) / max(abs(d.x), max(abs(d.y), abs(d.z)));
-  return clamp(distance / far, 0.0, 1.0);
-}
 
 void main() {
   vec4 baseColor = uBaseColorFactor * vIn.color;
@@ -134,16 +121,20 @@ void main() {
     float distance;
     incidentLight(light, vIn.worldPosition, L, radiance, distance);
     float shadow = 1.0;
-    if (int(light.directionType.w) == LIGHT_POINT) {
+    // Lights that do not reach P (range, cone) need no shadow lookup.
+    bool reaches = any(greaterThan(radiance, vec3(0.0)));
+    if (reaches && shadowGroup(light) >= 0) {
       // The bias uses the geometric normal on the light's side of the surface.
       vec3 Nlight = dot(Ngeom, L) >= 0.0 ? Ngeom : -Ngeom;
-      shadow = pointShadowVisibility(light, vIn.worldPosition, Nlight, cameraDistance);
-      if (int(light.radianceShadow.w) >= 0) {
-        shadowSum += shadow;
-        ++shadowedLights;
-      }
-      if (uDebugView == 2 && i == uDebugLight) depthView = debugDepth(light);
+      shadow = shadowVisibility(light, vIn.worldPosition, Nlight, L, cameraDistance);
     }
+    if (shadowGroup(light) >= 0) {
+      shadowSum += shadow;
+      ++shadowedLights;
+    }
+#ifdef DEBUG_DEPTH
+    if (i == uDebugLight) depthView = shadowDepthView(light, vIn.worldPosition);
+#endif
 #ifdef WRITE_AOVS
     int slot = i - uVisibilityBase;
     if (slot >= 0 && slot < 4 * VISIBILITY_OUTPUTS) visibility[slot] = shadow;

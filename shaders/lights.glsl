@@ -7,19 +7,33 @@ const int LIGHT_DIRECTIONAL = 2;
 const int FILTER_HARD = 0;
 const int FILTER_PCF = 1;
 const int FILTER_PCF_DISK = 2;
+const int FILTER_POISSON = 3;
+const int FILTER_PCSS = 4;
+const int FILTER_VSM = 5;
 
 struct Light {
-  vec4 positionRange;      // world position, range (0 = unlimited)
-  vec4 directionType;      // direction the light travels, type
-  vec4 radianceShadow;     // color * intensity, shadow map index (-1 = unshadowed)
-  vec4 spotFilter;         // cone scale, cone offset, filter, shadow resolution
-  vec4 shadowParameters;   // near, far, bias (world), slope bias (texels)
+  vec4 positionRange;     // world position, range (0 = unlimited)
+  vec4 directionType;     // direction the light travels, type
+  vec4 radianceShadow;    // color * intensity, shadow group (-1 = unshadowed)
+  vec4 spotFilter;        // cone scale, cone offset, filter, shadow resolution
+  vec4 shadowDepth;       // near, far, constant bias (world), slope bias (texels)
+  vec4 shadowBias;        // min bias (texels), normal bias (texels), filter radius, samples
+  vec4 shadowSoft;        // source radius, vsm bleed reduction, first layer, layer count
+  vec4 shadowProjection;  // spot: tan(half fov); first entry in uShadowViewProjections
+  vec4 cascadeEnd;        // directional: camera view depth where each cascade ends
+  vec4 cascadeTexel;      // directional: world size of a texel in each cascade
 };
 
 layout(std430, binding = 0) readonly buffer LightBuffer {
   Light uLights[];
 };
 uniform int uLightCount;
+
+// Spot lights: one view-projection; directional: one per cascade. Kept out of `Light` so the
+// shading loop's copy of a light stays small.
+layout(std430, binding = 3) readonly buffer ShadowViewProjections {
+  mat4 uShadowViewProjections[];
+};
 
 // KHR_lights_punctual's recommended range window: smooth to zero at the range.
 float rangeWindow(float distance, float range) {

@@ -6,8 +6,6 @@
 //   <root>/stdout, <root>/stderr  what the run printed
 // Renders are small (96x64, 64-texel shadow maps): llvmpipe is slow and CI has two cores.
 #include <gtest/gtest.h>
-#include <stdlib.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +13,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <regex>
 #include <string>
 #include <utility>
@@ -23,6 +20,8 @@
 
 #include "renderer/image_writer.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/run_binary.h"
+#include "tests/support/temp_folder.h"
 
 namespace omnishadow {
 namespace {
@@ -73,30 +72,22 @@ void writeScene(const fs::path& path, const SceneSpec& spec = {}) {
 }
 
 // `count` shadowed point lights in a row.
-std::string shadowedLights(int count) {
+// Five shadowed point lights of five resolutions: five cube map arrays, one more than a frame
+// samples, an error found only when rendering.
+std::string tooManyShadowTextures() {
   std::string json = R"({"lights": [)";
-  for (int i = 0; i < count; ++i) {
-    json += (i ? ", " : "") + std::string(R"({"position": [)") + std::to_string(i - count / 2) +
-            R"(, 3, 1], "shadow": {"resolution": 16}})";
-  }
+  for (int i = 0; i < 5; ++i)
+    json += (i ? ", " : "") + std::string(R"({"position": [)") + std::to_string(i) +
+            R"(, 3, 1], "shadow": {"resolution": )" + std::to_string(16 + i) + "}}";
   return json + "]}";
 }
+
 
 // ---------------------------------------------------------------------------------------------
 // Reading results
 
-std::string readBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::vector<std::string> filesIn(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::recursive_directory_iterator(dir))
-    names.push_back(fs::relative(entry.path(), dir).string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+using test_support::filesIn;
+using test_support::readFile;
 
 // The IHDR fields of a PNG, read from the file itself (readImage converts to float).
 struct PngHeader {
@@ -105,7 +96,7 @@ struct PngHeader {
 };
 
 PngHeader pngHeader(const fs::path& path) {
-  const std::string bytes = readBytes(path);
+  const std::string bytes = readFile(path);
   EXPECT_GE(bytes.size(), 33u);
   EXPECT_EQ(bytes.substr(0, 8), "\x89PNG\r\n\x1a\n");
   EXPECT_EQ(bytes.substr(12, 4), "IHDR");
@@ -153,7 +144,7 @@ double channelVariance(const FloatImage& image, int channel) {
 }
 
 ::testing::AssertionResult sameBytes(const fs::path& a, const fs::path& b) {
-  const std::string x = readBytes(a), y = readBytes(b);
+  const std::string x = readFile(a), y = readFile(b);
   if (x.empty()) return ::testing::AssertionFailure() << a << " is empty or missing";
   if (x == y) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << a << " and " << b << " differ";
@@ -162,46 +153,22 @@ double channelVariance(const FloatImage& image, int channel) {
 // ---------------------------------------------------------------------------------------------
 // Running the binary
 
-struct Run {
-  int status = -1;  // exit status; 128 + signal when killed
-  std::string out, err;
-};
-
-std::string shellQuoted(const std::string& arg) {
-  std::string quoted = "'";
-  for (char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
 class CliTest : public ::testing::Test {
  protected:
-  using Run = omnishadow::Run;  // not ::testing::Test::Run()
+  using Run = test_support::RunResult;  // not ::testing::Test::Run()
 
   void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "omnishadow-cli-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    root_ = pattern;
-    fs::create_directory(in_ = root_ / "in");
-    fs::create_directory(out_ = root_ / "out");
+    fs::create_directory(in_);
+    fs::create_directory(out_);
   }
-  void TearDown() override { fs::remove_all(root_); }
 
-  // `omnishadow args...` with out/ as the working directory; `environment` ("NAME=value ...")
+  // `omnishadow args...` with out/ as the working directory; `environment` ("NAME=value")
   // is set for the run only.
-  Run run(const std::vector<std::string>& args, const std::string& environment = "") {
-    std::string command = "cd " + shellQuoted(out_.string()) + " && " +
-                          (environment.empty() ? "" : "env " + environment + " ") +
-                          shellQuoted(OMNISHADOW_BINARY);
-    for (const std::string& arg : args) command += " " + shellQuoted(arg);
-    command += " >" + shellQuoted((root_ / "stdout").string()) + " 2>" +
-               shellQuoted((root_ / "stderr").string());
-    const int wait = std::system(command.c_str());
-    Run result;
-    if (WIFEXITED(wait)) result.status = WEXITSTATUS(wait);
-    if (WIFSIGNALED(wait)) result.status = 128 + WTERMSIG(wait);
-    result.out = readBytes(root_ / "stdout");
-    result.err = readBytes(root_ / "stderr");
-    return result;
+  Run run(const std::vector<std::string>& args, const std::vector<std::string>& environment = {}) {
+    test_support::RunOptions options;
+    options.workingDirectory = out_;
+    options.environment = environment;
+    return test_support::runOmnishadow(args, options);
   }
 
   // `omnishadow render args... --width 96 --height 64`, expected to succeed.
@@ -226,7 +193,8 @@ class CliTest : public ::testing::Test {
     return input(name);
   }
 
-  fs::path root_, in_, out_;
+  test_support::TempFolder root_{"omnishadow-cli"};
+  fs::path in_ = root_ / "in", out_ = root_ / "out";
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -342,11 +310,11 @@ const ErrorCase kErrorCases[] = {
      "EGL device",
      ErrorCase::OneLine},
     // Found only once the GL context is up, just before rendering.
-    {"TooManyShadowedLights",
-     shadowedLights(17),
+    {"TooManyShadowTextures",
+     tooManyShadowTextures(),
      {"render", "$scene", "-l", "$lights", "--no-gltf-lights", "-o", "a.png", "--aov", "a.exr"},
      2,
-     "17 point lights cast shadows, but one frame can sample at most 16",
+     "the point lights' shadow maps need more than 4 textures",
      ErrorCase::OneLine},
     // Found while staging the outputs, after a.png's temporary was created.
     {"UnwritableSecondOutput",
@@ -405,11 +373,11 @@ TEST_F(CliTest, RefusesToOverwriteATextureTheSceneReads) {
   const auto texture = std::find_if(inputs.begin(), inputs.end(),
                                     [](const std::string& name) { return name.ends_with(".png"); });
   ASSERT_NE(texture, inputs.end());
-  const std::string before = readBytes(in_ / *texture);
+  const std::string before = readFile(in_ / *texture);
   const Run r = run({"render", (in_ / "scene.gltf").string(), "-o", (in_ / *texture).string()});
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(contains(r.err, "refusing to overwrite an input file")) << r.err;
-  EXPECT_EQ(readBytes(in_ / *texture), before);
+  EXPECT_EQ(readFile(in_ / *texture), before);
 }
 
 TEST_F(CliTest, FailedRunRemovesTheFoldersItCreated) {
@@ -422,20 +390,20 @@ TEST_F(CliTest, FailedRunRemovesTheFoldersItCreated) {
 
 TEST_F(CliTest, WarningsAreStillPrintedWhenTheRunFails) {
   const fs::path scenePath = scene("scene.gltf");
-  std::string lights = shadowedLights(17);
+  std::string lights = tooManyShadowTextures();
   lights.insert(1, R"("colour": 1, )");
   const fs::path lightsPath = writeText("lights.json", lights);
   const Run r = run({"render", scenePath.string(), "-l", lightsPath.string(), "--no-gltf-lights"});
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(contains(r.err, "colour: unknown field, ignored")) << r.err;
-  EXPECT_TRUE(contains(r.err, "at most 16")) << r.err;
+  EXPECT_TRUE(contains(r.err, "use fewer distinct shadow resolutions")) << r.err;
 }
 
 TEST_F(CliTest, NoEglContextSaysWhatWasTried) {
   // glvnd finds no vendor library, so every platform fails; the message lists the attempts.
   const fs::path scenePath = scene("scene.gltf");
   const Run r = run({"render", scenePath.string(), "-o", "a.png"},
-                    "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/vendor.json");
+                    {"__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/vendor.json"});
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(
       contains(r.err, "cannot create a headless OpenGL 4.5 core context through EGL; tried:"))
@@ -453,7 +421,7 @@ TEST_F(CliTest, RefusesToOverwriteAnInput) {
     const Run r = run({"render", precious.string(), "-o", spelling});
     EXPECT_EQ(r.status, 2);
     EXPECT_TRUE(contains(r.err, spelling + ": refusing to overwrite an input file"));
-    EXPECT_EQ(readBytes(precious), "precious bytes");
+    EXPECT_EQ(readFile(precious), "precious bytes");
     EXPECT_EQ(filesIn(in_), std::vector<std::string>{"picture.png"});
   }
   // The lights file is an input as well.
@@ -461,7 +429,7 @@ TEST_F(CliTest, RefusesToOverwriteAnInput) {
   const Run r = run({"render", scene().string(), "-l", lights.string(), "-o", lights.string()});
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(contains(r.err, "refusing to overwrite an input file"));
-  EXPECT_EQ(readBytes(lights), kKeyLights);
+  EXPECT_EQ(readFile(lights), kKeyLights);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -654,7 +622,7 @@ TEST_F(CliTest, CameraByNameOrIndex) {
   render({path, "--camera", "0", "-o", "index.png"});
   render({path, "--camera", "top", "-o", "top.png"});
   EXPECT_TRUE(sameBytes(output("name.png"), output("index.png")));
-  EXPECT_NE(readBytes(output("name.png")), readBytes(output("top.png")));
+  EXPECT_NE(readFile(output("name.png")), readFile(output("top.png")));
 }
 
 TEST_F(CliTest, SceneWithoutCameraIsFramedAutomatically) {

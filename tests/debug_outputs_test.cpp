@@ -11,8 +11,6 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <gtest/gtest.h>
-#include <stdlib.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +18,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -31,6 +28,8 @@
 
 #include "renderer/image_writer.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/run_binary.h"
+#include "tests/support/temp_folder.h"
 
 namespace omnishadow {
 namespace {
@@ -136,23 +135,12 @@ void writeSixBoxes(const fs::path& path) {
 // ---------------------------------------------------------------------------------------------
 // Reading results
 
-std::string readBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::vector<std::string> filesIn(const fs::path& dir) {
-  std::vector<std::string> names;
-  if (!fs::exists(dir)) return names;
-  for (const auto& entry : fs::recursive_directory_iterator(dir))
-    names.push_back(fs::relative(entry.path(), dir).string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+using test_support::filesIn;
+using test_support::readFile;
 
 // Width and height from a PNG's IHDR.
 std::pair<std::uint32_t, std::uint32_t> pngSize(const fs::path& path) {
-  const std::string bytes = readBytes(path);
+  const std::string bytes = readFile(path);
   EXPECT_GE(bytes.size(), 33u) << path;
   EXPECT_EQ(bytes.substr(0, 8), "\x89PNG\r\n\x1a\n") << path;
   if (bytes.size() < 33) return {0, 0};
@@ -220,44 +208,18 @@ std::vector<std::string> sorted(std::vector<std::string> names) {
 // ---------------------------------------------------------------------------------------------
 // Running the binary
 
-struct Run {
-  int status = -1;  // exit status; 128 + signal when killed
-  std::string out, err;
-};
-
-std::string shellQuoted(const std::string& arg) {
-  std::string quoted = "'";
-  for (char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
 class DebugOutputsTest : public ::testing::Test {
  protected:
-  using Run = omnishadow::Run;  // not ::testing::Test::Run()
+  using Run = test_support::RunResult;  // not ::testing::Test::Run()
 
   void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "omnishadow-debug-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    root_ = pattern;
-    fs::create_directory(in_ = root_ / "in");
-    fs::create_directory(out_ = root_ / "out");
+    fs::create_directory(in_);
+    fs::create_directory(out_);
   }
-  void TearDown() override { fs::remove_all(root_); }
 
   // `omnishadow args...` with out/ as the working directory.
   Run run(const std::vector<std::string>& args) {
-    std::string command =
-        "cd " + shellQuoted(out_.string()) + " && " + shellQuoted(OMNISHADOW_BINARY);
-    for (const std::string& arg : args) command += " " + shellQuoted(arg);
-    command += " >" + shellQuoted((root_ / "stdout").string()) + " 2>" +
-               shellQuoted((root_ / "stderr").string());
-    const int wait = std::system(command.c_str());
-    Run result;
-    if (WIFEXITED(wait)) result.status = WEXITSTATUS(wait);
-    if (WIFSIGNALED(wait)) result.status = 128 + WTERMSIG(wait);
-    result.out = readBytes(root_ / "stdout");
-    result.err = readBytes(root_ / "stderr");
-    return result;
+    return test_support::runOmnishadow(args, test_support::RunOptions::in(out_));
   }
 
   // `omnishadow render args... --width 64 --height 48 --no-gltf-lights`, expected to succeed.
@@ -277,7 +239,8 @@ class DebugOutputsTest : public ::testing::Test {
     return input(name);
   }
 
-  fs::path root_, in_, out_;
+  test_support::TempFolder root_{"omnishadow-debug"};
+  fs::path in_ = root_ / "in", out_ = root_ / "out";
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -396,9 +359,9 @@ TEST_F(DebugOutputsTest, DumpsAndLightViewsAreByteIdenticalAcrossRuns) {
   EXPECT_EQ(filesIn(output("second")), files);
   for (const std::string& file : files) {
     if (fs::is_directory(output("first") / file)) continue;
-    const std::string first = readBytes(output("first") / file);
+    const std::string first = readFile(output("first") / file);
     EXPECT_FALSE(first.empty()) << file;
-    EXPECT_TRUE(first == readBytes(output("second") / file)) << file << " differs";
+    EXPECT_TRUE(first == readFile(output("second") / file)) << file << " differs";
   }
 }
 
@@ -427,7 +390,7 @@ TEST_F(DebugOutputsTest, AllAovLayersWithIdSidecar) {
   // The sidecar: every instance, every material and the default one, the background.
   std::ifstream sidecarFile(output("a.ids.json"));
   const nlohmann::json ids = nlohmann::json::parse(sidecarFile, nullptr, false);
-  ASSERT_FALSE(ids.is_discarded()) << readBytes(output("a.ids.json"));
+  ASSERT_FALSE(ids.is_discarded()) << readFile(output("a.ids.json"));
   EXPECT_EQ(ids.value("background", 0), -1);
   ASSERT_TRUE(ids.contains("objectId") && ids["objectId"].is_array());
   ASSERT_EQ(ids["objectId"].size(), layout.nodeMaterial.size());
@@ -634,12 +597,12 @@ const ErrorCase kErrorCases[] = {
      kTwoShadowedLights,
      {"render", "$scene", "-l", "$lights", "--debug-view", "depth", "--debug-light", "nosuch", "-o",
       "a.png"},
-     "--debug-light nosuch: no shadowed point light has that name"},
+     "--debug-light nosuch: no shadowed light has that name"},
     {"UnshadowedDebugLight",
      kTwoShadowedLights,
      {"render", "$scene", "-l", "$lights", "--debug-view", "depth", "--debug-light", "off", "-o",
       "a.png"},
-     "--debug-light off: no shadowed point light has that name"},
+     "--debug-light off: no shadowed light has that name"},
     {"DumpDepthIsAFile",
      kTwoShadowedLights,
      {"render", "$scene", "-l", "$lights", "-o", "a.png", "--dump-depth", "$in/lights.json"},
@@ -668,7 +631,7 @@ TEST_P(DebugOutputsErrorTest, ExitsWithStatusTwoMessageAndNoOutput) {
   writeScene(input("scene.gltf"));
   writeText("lights.json", c.lightsJson);
   const std::vector<std::string> inputsBefore = filesIn(in_);
-  const std::string lightsBefore = readBytes(input("lights.json"));
+  const std::string lightsBefore = readFile(input("lights.json"));
   std::vector<std::string> args;
   for (const std::string& arg : c.args) args.push_back(substituted(arg));
   args.insert(args.end(), {"--width", "64", "--height", "48", "--no-gltf-lights"});
@@ -684,7 +647,7 @@ TEST_P(DebugOutputsErrorTest, ExitsWithStatusTwoMessageAndNoOutput) {
   EXPECT_EQ(r.out, "");
   EXPECT_EQ(filesIn(out_), std::vector<std::string>{}) << "a failed run left files";
   EXPECT_EQ(filesIn(in_), inputsBefore);
-  EXPECT_EQ(readBytes(input("lights.json")), lightsBefore);
+  EXPECT_EQ(readFile(input("lights.json")), lightsBefore);
 }
 
 // Files named after lights or the AOV must not replace an input: here the lights file itself
@@ -717,7 +680,7 @@ TEST_F(DebugOutputsTest, PerLightFilesAndTheIdSidecarNeverOverwriteAnInput) {
     const Run r = run(args);
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_TRUE(contains(r.err, "refusing to overwrite an input file")) << r.err;
-    EXPECT_EQ(readBytes(lights), kTwoShadowedLights);
+    EXPECT_EQ(readFile(lights), kTwoShadowedLights);
     EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
     fs::remove(lights);
   }

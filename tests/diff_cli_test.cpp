@@ -3,20 +3,18 @@
 //   <root>/in   inputs, written with writePng / writeExr
 //   <root>/out  the working directory of the run, where relative outputs go
 #include <gtest/gtest.h>
-#include <stdlib.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "renderer/image_writer.h"
+#include "tests/support/run_binary.h"
+#include "tests/support/temp_folder.h"
 
 namespace omnishadow {
 namespace {
@@ -26,24 +24,9 @@ using Json = nlohmann::ordered_json;
 
 constexpr int kWidth = 8, kHeight = 4;
 
-std::string readBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::vector<std::string> filesIn(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::recursive_directory_iterator(dir))
-    names.push_back(fs::relative(entry.path(), dir).generic_string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
-std::string shellQuoted(const std::string& arg) {
-  std::string quoted = "'";
-  for (char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
+using test_support::filesIn;
+using test_support::readFile;
+using test_support::RunResult;
 
 ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
@@ -88,46 +71,18 @@ FloatImage aovImage(float offsetR = 0.0f, float offsetP = 0.0f,
   return image;
 }
 
-struct RunResult {
-  int status = -1;
-  std::string out, err;
-};
-
 class DiffCliTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "omnishadow-diff-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    root_ = pattern;
-    fs::create_directory(in_ = root_ / "in");
-    fs::create_directory(out_ = root_ / "out");
+    fs::create_directory(in_);
+    fs::create_directory(out_);
   }
-  void TearDown() override { fs::remove_all(root_); }
 
   // `omnishadow diff args...` for each argument list, all at once (each run pays OpenImageIO's
   // start-up, most of its time), with out/ as the working directory.
-  std::vector<RunResult> diffAll(const std::vector<std::vector<std::string>>& runs) {
-    std::string command = "cd " + shellQuoted(out_.string()) + " && {";
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-      const std::string n = std::to_string(i);
-      command += " (" + shellQuoted(OMNISHADOW_BINARY) + " diff";
-      for (const std::string& arg : runs[i]) command += " " + shellQuoted(arg);
-      command += " >" + shellQuoted((root_ / ("stdout" + n)).string()) + " 2>" +
-                 shellQuoted((root_ / ("stderr" + n)).string()) + "; echo $? >" +
-                 shellQuoted((root_ / ("status" + n)).string()) + ") &";
-    }
-    command += " wait; }";
-    EXPECT_EQ(std::system(command.c_str()), 0);
-    std::vector<RunResult> results;
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-      const std::string n = std::to_string(i);
-      RunResult result;
-      result.status = std::atoi(readBytes(root_ / ("status" + n)).c_str());
-      result.out = readBytes(root_ / ("stdout" + n));
-      result.err = readBytes(root_ / ("stderr" + n));
-      results.push_back(result);
-    }
-    return results;
+  std::vector<RunResult> diffAll(std::vector<std::vector<std::string>> runs) {
+    for (std::vector<std::string>& args : runs) args.insert(args.begin(), "diff");
+    return test_support::runOmnishadowAll(runs, test_support::RunOptions::in(out_));
   }
 
   RunResult diff(const std::vector<std::string>& args) { return diffAll({args})[0]; }
@@ -162,7 +117,8 @@ class DiffCliTest : public ::testing::Test {
     EXPECT_TRUE(contains(r.err, part));
   }
 
-  fs::path root_, in_, out_;
+  test_support::TempFolder root_{"omnishadow-diff"};
+  fs::path in_ = root_ / "in", out_ = root_ / "out";
 };
 
 TEST_F(DiffCliTest, ExitStatusFollowsTheTolerances) {

@@ -4,23 +4,21 @@
 //   <root>/in   inputs
 //   <root>/stdout, <root>/stderr  what the run printed
 #include <gtest/gtest.h>
-#include <stdlib.h>
-#include <sys/wait.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/run_binary.h"
+#include "tests/support/temp_folder.h"
 
 namespace omnishadow {
 namespace {
@@ -82,10 +80,7 @@ constexpr const char* kLights = R"({
   ]
 })";
 
-std::string readBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test_support::readFile;
 
 ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
@@ -104,48 +99,23 @@ void expectVec3(const Json& value, glm::vec3 expected) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(value[i].get<double>(), expected[i], 1e-5) << value;
 }
 
-struct Run {
-  int status = -1;  // exit status; 128 + signal when killed
-  std::string out, err;
-};
-
-std::string shellQuoted(const std::string& arg) {
-  std::string quoted = "'";
-  for (char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
 class InfoTest : public ::testing::Test {
  protected:
-  using Run = omnishadow::Run;  // not ::testing::Test::Run()
+  using Run = test_support::RunResult;  // not ::testing::Test::Run()
 
-  void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "omnishadow-info-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    root_ = pattern;
-    fs::create_directory(in_ = root_ / "in");
-  }
-  void TearDown() override { fs::remove_all(root_); }
+  void SetUp() override { fs::create_directory(in_); }
 
-  // `omnishadow args...`; `environment` ("NAME=value ...") is set for the run only.
-  Run run(const std::vector<std::string>& args, const std::string& environment = "") {
-    std::string command = "cd " + shellQuoted(root_.string()) + " && " +
-                          (environment.empty() ? "" : "env " + environment + " ") +
-                          shellQuoted(OMNISHADOW_BINARY);
-    for (const std::string& arg : args) command += " " + shellQuoted(arg);
-    command += " >" + shellQuoted((root_ / "stdout").string()) + " 2>" +
-               shellQuoted((root_ / "stderr").string());
-    const int wait = std::system(command.c_str());
-    Run result;
-    if (WIFEXITED(wait)) result.status = WEXITSTATUS(wait);
-    if (WIFSIGNALED(wait)) result.status = 128 + WTERMSIG(wait);
-    result.out = readBytes(root_ / "stdout");
-    result.err = readBytes(root_ / "stderr");
-    return result;
+  // `omnishadow args...` in the test's folder; `environment` ("NAME=value") is set for the run
+  // only.
+  Run run(const std::vector<std::string>& args, const std::vector<std::string>& environment = {}) {
+    test_support::RunOptions options;
+    options.workingDirectory = root_.path();
+    options.environment = environment;
+    return test_support::runOmnishadow(args, options);
   }
 
   // `omnishadow info args... --json`, expected to succeed with nothing on stderr.
-  Json info(std::vector<std::string> args, const std::string& environment = "") {
+  Json info(std::vector<std::string> args, const std::vector<std::string>& environment = {}) {
     args.insert(args.begin(), "info");
     args.push_back("--json");
     const Run r = run(args, environment);
@@ -181,7 +151,8 @@ class InfoTest : public ::testing::Test {
     EXPECT_EQ(r.out, "");
   }
 
-  fs::path root_, in_;
+  test_support::TempFolder root_{"omnishadow-info"};
+  fs::path in_ = root_ / "in";
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -439,11 +410,11 @@ TEST_F(InfoTest, TextReportHasTheKeyLines) {
 TEST_F(InfoTest, NeedsNoGlContext) {
   const fs::path path = scene();
   // The same environment makes a render fail at the context: it does break EGL.
-  const Run render = run({"render", path.string(), "-o", "a.png"}, kBrokenEgl);
+  const Run render = run({"render", path.string(), "-o", "a.png"}, {kBrokenEgl});
   EXPECT_EQ(render.status, 1) << render.err;
   EXPECT_TRUE(contains(render.err, "EGL"));
   // JSON with broken EGL: SundialSample.
-  const Run text = run({"info", path.string()}, kBrokenEgl);
+  const Run text = run({"info", path.string()}, {kBrokenEgl});
   EXPECT_EQ(text.status, 0) << text.err;
   EXPECT_EQ(text.err, "");
   EXPECT_TRUE(contains(text.out, "triangles   16 unique, 30 drawn\n"));
@@ -494,7 +465,7 @@ TEST_F(InfoTest, UsageErrorsNameTheInfoHelp) {
 TEST_F(InfoTest, SundialSample) {
   const fs::path path =
       fs::path(OMNISHADOW_SOURCE_DIR) / "scenes" / "thirdparty" / "Sundial" / "Sundial.glb";
-  const Json doc = info({path.string()}, kBrokenEgl);
+  const Json doc = info({path.string()}, {kBrokenEgl});
   EXPECT_EQ(doc["format"], "glb");
   EXPECT_EQ(doc["counts"]["cameras"], 1);
   EXPECT_EQ(doc["counts"]["lights"], 1);

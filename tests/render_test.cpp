@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <memory>
+#include <random>
 
 #include "renderer/camera.h"
 #include "renderer/cube_faces.h"
@@ -76,6 +78,14 @@ ViewCamera lookFrom(const Scene& scene, glm::vec3 eye, glm::vec3 target, int wid
   return resolveCamera(scene, request);
 }
 
+// The pixel (column, row from the top) where a world point appears.
+glm::ivec2 project(const ViewCamera& camera, glm::vec3 p) {
+  const glm::vec4 clip = camera.projection * camera.view * glm::vec4(p, 1.0f);
+  const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+  return {static_cast<int>((ndc.x * 0.5f + 0.5f) * static_cast<float>(camera.width)),
+          static_cast<int>((0.5f - ndc.y * 0.5f) * static_cast<float>(camera.height))};
+}
+
 Frame renderAovs(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
                  Shading shading = Shading::Pbr) {
   StageTimes times;
@@ -123,31 +133,52 @@ bool segmentHitsBox(glm::vec3 from, glm::vec3 to, glm::vec3 boxMin, glm::vec3 bo
 }  // namespace
 
 // A sphere of radius r at height h above a plane, the light at height H right above it: the
-// shadow on the plane is a disc of radius H * tan(asin(r / (H - h))) around the origin.
-class SphereAbovePlane : public ::testing::TestWithParam<ShadowFilter> {};
+// shadow on the plane is a disc of radius H * tan(asin(r / (H - h))) around the origin for
+// point and spot lights, and of radius r for a directional light shining straight down.
+struct DiscCase {
+  LightType type;
+  ShadowFilter filter;
+};
+
+class SphereAbovePlane : public ::testing::TestWithParam<DiscCase> {};
 
 TEST_P(SphereAbovePlane, CastsADiscShapedShadowExactlyWhereGeometrySays) {
   const float r = 0.5f, h = 1.5f, H = 4.0f;
-  const float discRadius = H * std::tan(std::asin(r / (H - h)));
+  const LightType type = GetParam().type;
+  const float discRadius =
+      type == LightType::Directional ? r : H * std::tan(std::asin(r / (H - h)));
   Scene scene;
   const int white = addMaterial(scene, glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
   addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
   addObject(scene, builder::makeSphere(r, 64, 32), translate({0, h, 0}), white);
-  const Light light = pointLight("lamp", {0, H, 0}, GetParam(), 1024);
+  Light light = pointLight("lamp", {0, H, 0}, GetParam().filter, 1024);
+  light.type = type;
+  light.direction = {0, -1, 0};
+  light.outerConeAngle = glm::radians(60.0f);
+  if (type == LightType::Directional) light.intensity = 2.0f;
   const ViewCamera camera = lookFrom(scene, {0, 7, 4}, {0, 0, 0}, 320, 240, 50.0f);
   const Frame frame = renderAovs(scene, {light}, camera);
   ASSERT_TRUE(frame.aovs);
 
-  // Filters blur the edge over a few texels: at the disc's edge one texel spans about
-  // 2 * H / resolution on the plane (seen from straight above); the disk filter is wider.
-  const float texel = 2.0f * H / 1024.0f * 1.2f;
-  const float margin = GetParam() == ShadowFilter::PcfDisk ? 6 * texel : 2 * texel;
+  // Filters blur the edge over a few texels. A texel on the plane near the disc's edge spans
+  // about 2 * H / resolution for the point light's cube (seen from straight above), 2 * H *
+  // tan(60 deg) / resolution for the spot map and the plane's width / resolution for the sun.
+  const float texel = (type == LightType::Point  ? 2.0f * H
+                       : type == LightType::Spot ? 2.0f * H * std::tan(glm::radians(61.0f))
+                                                 : 8.0f) /
+                      1024.0f * 1.2f;
+  const ShadowFilter filter = GetParam().filter;
+  const float margin = (filter == ShadowFilter::PcfDisk                               ? 6.0f
+                        : filter == ShadowFilter::Hard || filter == ShadowFilter::Pcf ? 2.0f
+                                                                                      : 4.0f) *
+                       texel;
   int inside = 0, outside = 0;
   for (int y = 0; y < camera.height; ++y) {
     for (int x = 0; x < camera.width; ++x) {
       const AovPixel px = pixelAt(*frame.aovs, x, y, "lamp");
       if (px.coverage < 1.0f || std::abs(px.position.y) > 1e-3f) continue;  // not the plane
       const float rho = glm::length(glm::vec2(px.position.x, px.position.z));
+      if (type == LightType::Spot && rho > H * std::tan(glm::radians(59.0f))) continue;
       if (rho < discRadius - margin) {
         ++inside;
         EXPECT_LT(px.visibility, 0.01f) << "lit inside the shadow at rho " << rho;
@@ -157,17 +188,27 @@ TEST_P(SphereAbovePlane, CastsADiscShapedShadowExactlyWhereGeometrySays) {
       }
     }
   }
-  EXPECT_GT(inside, 500);
+  EXPECT_GT(inside, type == LightType::Directional ? 200 : 500);
   EXPECT_GT(outside, 5000);
 }
 
-INSTANTIATE_TEST_SUITE_P(Filters, SphereAbovePlane,
-                         ::testing::Values(ShadowFilter::Hard, ShadowFilter::Pcf,
-                                           ShadowFilter::PcfDisk),
-                         [](const ::testing::TestParamInfo<ShadowFilter>& param) {
-                           return std::string(param.param == ShadowFilter::Hard  ? "hard"
-                                              : param.param == ShadowFilter::Pcf ? "pcf"
-                                                                                 : "pcfDisk");
+std::vector<DiscCase> allLightsAndFilters() {
+  std::vector<DiscCase> cases;
+  for (const LightType type : {LightType::Point, LightType::Spot, LightType::Directional})
+    for (const ShadowFilter filter : {ShadowFilter::Hard, ShadowFilter::Pcf, ShadowFilter::PcfDisk,
+                                      ShadowFilter::Poisson, ShadowFilter::Pcss, ShadowFilter::Vsm})
+      cases.push_back({type, filter});
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(LightsAndFilters, SphereAbovePlane,
+                         ::testing::ValuesIn(allLightsAndFilters()),
+                         [](const ::testing::TestParamInfo<DiscCase>& param) {
+                           std::string name = std::string(toString(param.param.type)) + "_" +
+                                              toString(param.param.filter);
+                           for (char& c : name)
+                             if (c == '-') c = '_';
+                           return name;
                          });
 
 TEST(Shadows, PointsThatSeeTheLightAreLitEverywhereOnTheSphere) {
@@ -275,6 +316,47 @@ TEST(Shadows, ShadowsOnAllSixCubeFacesMatchRayCasting) {
     }
     EXPECT_GT(shadowed, 80) << "face " << kCubeFaceNames[face];
     EXPECT_GT(lit, 2000) << "face " << kCubeFaceNames[face];
+  }
+}
+
+// The --shadow-pass strategies draw the same triangles with the same matrices, so every texel
+// of every face must be identical: objects straddling faces, cut-out casters, mirrored and
+// culled ones, and three lights in one cube map array.
+TEST(ShadowMap, AllShadowPassStrategiesWriteIdenticalTexels) {
+  Scene scene;
+  const int grey = addMaterial(scene, glm::vec4(0.5f));
+  const int twoSided = addMaterial(scene, glm::vec4(0.7f), true);
+  addObject(scene, builder::makePlane(10.0f), glm::mat4(1.0f), grey);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+  for (int i = 0; i < 40; ++i) {
+    glm::mat4 world = translate({u(rng), 0.5f + 0.3f * std::abs(u(rng)), u(rng)});
+    if (i % 5 == 0) world = glm::scale(world, glm::vec3(-1, 1, 1));  // mirrored
+    addObject(scene, i % 2 ? builder::makeSphere(0.3f, 16, 8) : builder::makeBox(glm::vec3(0.3f)),
+              world, i % 3 ? grey : twoSided);
+  }
+  std::vector<Light> lights = {pointLight("a", {0, 2, 0}, ShadowFilter::Pcf, 128),
+                               pointLight("b", {1.5f, 1, -1}, ShadowFilter::Pcf, 128),
+                               pointLight("c", {-2, 0.8f, 2}, ShadowFilter::Pcf, 128)};
+  lights[1].shadow.cullFace = CullFace::Front;
+  lights[2].shadow.cullFace = CullFace::Back;
+  const auto six = sharedRenderer().renderShadowDistances(scene, lights, ShadowPassStrategy::Six);
+  for (const ShadowPassStrategy other :
+       {ShadowPassStrategy::Geometry, ShadowPassStrategy::Instanced}) {
+    const auto maps = sharedRenderer().renderShadowDistances(scene, lights, other);
+    ASSERT_EQ(maps.size(), six.size());
+    for (std::size_t l = 0; l < maps.size(); ++l) {
+      for (int face = 0; face < kCubeFaceCount; ++face) {
+        const std::vector<float>& a = six[l].faces[face];
+        const std::vector<float>& b = maps[l].faces[face];
+        ASSERT_EQ(a.size(), b.size());
+        int differing = 0;
+        for (std::size_t i = 0; i < a.size(); ++i)
+          if (std::memcmp(&a[i], &b[i], sizeof(float)) != 0) ++differing;
+        EXPECT_EQ(differing, 0) << toString(other) << ", light " << l << ", face "
+                                << kCubeFaceNames[face];
+      }
+    }
   }
 }
 
@@ -460,12 +542,13 @@ TEST(Aovs, ChannelsAndManyLightsAcrossSeveralPasses) {
   addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
   addObject(scene, builder::makeBox({0.5f, 0.5f, 0.5f}), translate({0, 0.5f, 0}), white);
   std::vector<Light> lights;
+  constexpr int kShadowedLights = 16;
   for (int i = 0; i < 26; ++i) {
     const float angle = 6.2831853f * static_cast<float>(i) / 26.0f;
     Light light = pointLight("l" + std::to_string(i),
                              {3 * std::cos(angle), 1.0f + 0.1f * i, 3 * std::sin(angle)},
                              ShadowFilter::Pcf, 64);
-    light.shadow.enabled = i < kMaxPointShadows;
+    light.shadow.enabled = i < kShadowedLights;
     lights.push_back(light);
   }
   const ViewCamera camera = lookFrom(scene, {0, 6, 6}, {0, 0, 0}, 64, 48);
@@ -481,7 +564,7 @@ TEST(Aovs, ChannelsAndManyLightsAcrossSeveralPasses) {
     float minimum = 1.0f;
     for (int y = 0; y < camera.height; ++y)
       for (int x = 0; x < camera.width; ++x) minimum = std::min(minimum, aovs.at(x, y, c));
-    if (i < kMaxPointShadows)
+    if (i < kShadowedLights)
       EXPECT_LT(minimum, 0.01f) << "light " << i;
     else
       EXPECT_EQ(minimum, 1.0f) << "light " << i;
@@ -494,16 +577,55 @@ TEST(Aovs, ChannelsAndManyLightsAcrossSeveralPasses) {
   EXPECT_GT(glm::dot(center.normal, camera.eye - center.position), 0.0f);
 }
 
-TEST(Shadows, TooManyShadowedPointLightsIsAnInputError) {
+// 300 shadowed point lights in a ring around a post: each light's shadow of the post falls on
+// the floor opposite it, so every visibility channel has shadow exactly there.
+TEST(Shadows, HundredsOfShadowedPointLightsInOneFrame) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(12.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeBox({0.2f, 1.0f, 0.2f}), translate({0, 1.0f, 0}), white);
+  std::vector<Light> lights;
+  constexpr int kLights = 300;
+  for (int i = 0; i < kLights; ++i) {
+    const float angle = 6.2831853f * static_cast<float>(i) / kLights;
+    Light light =
+        pointLight("l" + std::to_string(i), {2 * std::cos(angle), 1.5f, 2 * std::sin(angle)},
+                   ShadowFilter::Hard, 32);
+    light.intensity = 0.05f;
+    lights.push_back(light);
+  }
+  const ViewCamera camera = lookFrom(scene, {0, 9, 0.01f}, {0, 0, 0}, 96, 96);
+  const Frame frame = renderAovs(scene, lights, camera);
+  const FloatImage& aovs = *frame.aovs;
+  for (int i = 0; i < kLights; i += 7) {
+    const float angle = 6.2831853f * static_cast<float>(i) / kLights;
+    // Behind the post seen from the light, on the floor: shadowed; beside the light: lit.
+    const glm::vec3 behind{-0.6f * std::cos(angle), 0.0f, -0.6f * std::sin(angle)};
+    const glm::vec3 beside{1.0f * std::cos(angle), 0.0f, 1.0f * std::sin(angle)};
+    const int c = aovs.channelIndex("visibility.l" + std::to_string(i));
+    const glm::ivec2 b = project(camera, behind), l = project(camera, beside);
+    EXPECT_EQ(aovs.at(b.x, b.y, c), 0.0f) << "light " << i;
+    EXPECT_EQ(aovs.at(l.x, l.y, c), 1.0f) << "light " << i;
+  }
+}
+
+TEST(Shadows, MoreShadowTexturesThanTheShaderSamplesIsAnInputError) {
   Scene scene;
   addObject(scene, builder::makePlane(2.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(1.0f)));
   std::vector<Light> lights;
-  for (int i = 0; i <= kMaxPointShadows; ++i)
-    lights.push_back(pointLight("l" + std::to_string(i), {0, 1, 0}, ShadowFilter::Pcf, 16));
+  // Five distinct resolutions need five cube map arrays; the shader samples four.
+  for (int i = 0; i < 5; ++i)
+    lights.push_back(pointLight("l" + std::to_string(i), {0, 1, 0}, ShadowFilter::Pcf, 16 + i));
   const ViewCamera camera = lookFrom(scene, {0, 3, 1}, {0, 0, 0}, 16, 16);
   StageTimes times;
-  EXPECT_THROW(sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, {}, times),
-               InputError);
+  try {
+    sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, {}, times);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("use fewer distinct shadow resolutions"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -781,7 +903,11 @@ TEST(DebugOutputs, DumpedDistancesAreWhatTheLightingCompared) {
   addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
   addObject(scene, builder::makeSphere(0.5f, 32, 16), translate({0.3f, 1.2f, -0.2f}), white);
   const glm::vec3 lightPosition(0, 3, 0);
-  const Light light = pointLight("lamp", lightPosition, ShadowFilter::Hard, 256);
+  Light light = pointLight("lamp", lightPosition, ShadowFilter::Hard, 256);
+  // No normal offset: the lookup then stays on the ray through the receiver; a larger slope
+  // bias instead keeps the grazing floor free of acne.
+  light.shadow.normalBias = 0.0f;
+  light.shadow.slopeBias = 10.0f;
   RenderSettings settings;
   settings.aovs = true;
   settings.readShadowMaps = true;

@@ -1,83 +1,78 @@
 // Hostile and broken inputs through the real binary: files outside the scene's folder,
-// non-finite data, empty scenes, memory limits. Each refused input: exit status 2, one line,
-// no output file.
+// non-finite data, empty scenes, memory limits, broken glTF and lights files. Each refused
+// input: exit status 2, one line, no output file. Then what the environment can break: a full
+// disk, a GL error, a lost context (exit status 1, still no output file).
 #include <gtest/gtest.h>
-#include <stdlib.h>
-#include <sys/wait.h>
 
+#include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/gl_fault.h"
+#include "tests/support/run_binary.h"
+#include "tests/support/temp_folder.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+namespace test_support = omnishadow::test_support;
 using omnishadow::builder::FileFormat;
 using omnishadow::builder::GltfBuilder;
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string quoted(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test_support::filesIn;
+using test_support::readFile;
+using Result = test_support::RunResult;
 
 class RobustnessTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "omnishadow-robust-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    root_ = pattern;
     fs::create_directories(root_ / "scene");
     fs::create_directories(root_ / "out");
   }
-  void TearDown() override { fs::remove_all(root_); }
 
-  Result run(std::vector<std::string> args) {
-    std::string command =
-        "cd " + quoted((root_ / "out").string()) + " && " + quoted(OMNISHADOW_BINARY);
-    for (const std::string& arg : args) command += " " + quoted(arg);
-    command +=
-        " >" + quoted((root_ / "stdout").string()) + " 2>" + quoted((root_ / "stderr").string());
-    const int wait = std::system(command.c_str());
-    Result r;
-    r.status = WIFEXITED(wait) ? WEXITSTATUS(wait) : 128;
-    r.out = readText(root_ / "stdout");
-    r.err = readText(root_ / "stderr");
-    return r;
+  // `omnishadow args...` with out/ as the working directory, `environment` ("NAME=value") added
+  // to the test's and files limited to `fileSizeLimit` bytes.
+  Result run(const std::vector<std::string>& args, const std::vector<std::string>& environment = {},
+             std::optional<std::uint64_t> fileSizeLimit = std::nullopt) {
+    test_support::RunOptions options;
+    options.workingDirectory = root_ / "out";
+    options.environment = environment;
+    options.fileSizeLimit = fileSizeLimit;
+    return test_support::runOmnishadow(args, options);
   }
 
-  // A floor with a box, written as .gltf with an external .bin and PNG texture.
-  fs::path writeScene(const std::string& name = "scene.gltf") {
+  // A floor with a box, written as .gltf with an external .bin and PNG texture (or as `format`
+  // says), and beside it <stem>.lights.json, which a render reads by default: one light with a
+  // small shadow map. The texture is 4x4 texels, or the GL fault library's marker size when
+  // `glFault`.
+  fs::path writeScene(const std::string& name = "scene.gltf",
+                      FileFormat format = FileFormat::GltfExternal, bool glFault = false) {
     GltfBuilder b;
-    std::vector<std::uint8_t> pixels(4 * 4 * 4, 200);
+    const int w = glFault ? test_support::kGlFaultMarkerWidth : 4;
+    const int h = glFault ? test_support::kGlFaultMarkerHeight : 4;
+    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(w * h * 4), 200);
     omnishadow::builder::MaterialDesc m;
-    m.baseColorTexture = b.addTexture(4, 4, pixels, "tex");
+    m.baseColorTexture = b.addTexture(w, h, pixels, "tex");
     const int material = b.addMaterial(m);
     b.addNode("floor", {}, b.addMesh(omnishadow::builder::makePlane(4.0f), {.material = material}));
     b.addNode("box", {.translation = {0, 0.5f, 0}},
               b.addMesh(omnishadow::builder::makeBox(glm::vec3(0.5f)), {.material = material}));
     const fs::path path = root_ / "scene" / name;
-    b.write(path, FileFormat::GltfExternal);
+    b.write(path, format);
+    std::ofstream(path.parent_path() / (path.stem().string() + ".lights.json"))
+        << R"({"lights": [{"name": "key", "position": [1, 3, 1], "shadow": {"resolution": 32}}]})";
     return path;
   }
 
-  nlohmann::json readJson(const fs::path& path) { return nlohmann::json::parse(readText(path)); }
+  nlohmann::json readJson(const fs::path& path) { return nlohmann::json::parse(readFile(path)); }
   void writeJson(const fs::path& path, const nlohmann::json& json) {
     std::ofstream(path) << json.dump(2);
   }
@@ -91,7 +86,7 @@ class RobustnessTest : public ::testing::Test {
     return run(args);
   }
 
-  fs::path root_;
+  test_support::TempFolder root_{"omnishadow-robust"};
 };
 
 bool contains(const std::string& text, const std::string& part) {
@@ -217,6 +212,368 @@ TEST_F(RobustnessTest, HugeImagesAreRefusedBeforeDecoding) {
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_TRUE(contains(r.err, "images[0]")) << r.err;
   EXPECT_TRUE(outputEmpty());
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Broken glTF files through the CLI: one line naming the file and the glTF object or field
+
+namespace {
+
+using Json = nlohmann::json;
+
+std::string at(const std::string& array, int index) {
+  return array + "[" + std::to_string(index) + "]";
+}
+
+void writeBytes(const fs::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+std::string le32(std::uint32_t v) {
+  std::string bytes;
+  for (int shift = 0; shift < 32; shift += 8) bytes += static_cast<char>((v >> shift) & 0xff);
+  return bytes;
+}
+
+std::uint32_t readLe32(const std::string& bytes, std::size_t offset) {
+  std::uint32_t v = 0;
+  for (int i = 3; i >= 0; --i) v = v << 8 | static_cast<unsigned char>(bytes[offset + i]);
+  return v;
+}
+
+// Edits scene.gltf (written with an external .bin) and returns what the message must say after
+// "<scene>: ". Accessor and view indices are looked up, not assumed: the builder decides them.
+using GltfEdit = std::function<std::string(Json& gltf, const fs::path& folder)>;
+// Edits the bytes of scene.glb likewise.
+using GlbEdit = std::function<std::string(std::string& glb)>;
+
+struct BrokenScene {
+  std::string name;
+  GltfEdit gltf;  // one of the two
+  GlbEdit glb;
+};
+
+void PrintTo(const BrokenScene& c, std::ostream* os) {
+  *os << c.name;
+}
+
+// The floor (mesh 0, drawn first) and its accessors.
+int floorAttribute(const Json& gltf, const std::string& semantic) {
+  return gltf["meshes"][0]["primitives"][0]["attributes"][semantic];
+}
+int floorIndices(const Json& gltf) {
+  return gltf["meshes"][0]["primitives"][0]["indices"];
+}
+int viewOf(const Json& gltf, int accessor) {
+  return gltf["accessors"][accessor]["bufferView"];
+}
+
+const BrokenScene kBrokenScenes[] = {
+    {"MissingBuffer",
+     [](Json& gltf, const fs::path& folder) {
+       const std::string bin = gltf["buffers"][0]["uri"];
+       fs::remove(folder / bin);
+       return "buffers[0]: uri \"" + bin + "\": no such file";
+     },
+     {}},
+    {"MissingImage",
+     [](Json& gltf, const fs::path& folder) {
+       const std::string image = gltf["images"][0]["uri"];
+       fs::remove(folder / image);
+       return "images[0] \"tex\": cannot read or decode " + image;
+     },
+     {}},
+    {"AccessorPastItsBufferView",
+     [](Json& gltf, const fs::path&) {
+       const int accessor = floorAttribute(gltf, "NORMAL");
+       gltf["accessors"][accessor]["byteOffset"] = 4;
+       return at("accessors", accessor) + ": extends past the end of " +
+              at("bufferViews", viewOf(gltf, accessor));
+     },
+     {}},
+    {"AccessorCountPastItsBufferView",
+     [](Json& gltf, const fs::path&) {
+       const int accessor = floorIndices(gltf);
+       gltf["accessors"][accessor]["count"] = 600;
+       return at("accessors", accessor) + ": extends past the end of " +
+              at("bufferViews", viewOf(gltf, accessor));
+     },
+     {}},
+    {"BufferViewPastItsBuffer",
+     [](Json& gltf, const fs::path&) {
+       const int view = viewOf(gltf, floorIndices(gltf));
+       gltf["bufferViews"][view]["byteLength"] = gltf["buffers"][0]["byteLength"].get<int>() + 4;
+       return at("bufferViews", view) + ": extends past the end of buffers[0]";
+     },
+     {}},
+    {"StrideSmallerThanTheElement",
+     [](Json& gltf, const fs::path&) {
+       const int accessor = floorAttribute(gltf, "POSITION");
+       const int view = viewOf(gltf, accessor);
+       gltf["bufferViews"][view]["byteStride"] = 8;
+       return at("accessors", accessor) + ": byteStride 8 of " + at("bufferViews", view) +
+              " is smaller than the element size 12";
+     },
+     {}},
+    {"StrideNotAMultipleOf4",
+     [](Json& gltf, const fs::path&) {
+       const int view = viewOf(gltf, floorAttribute(gltf, "POSITION"));
+       gltf["bufferViews"][view]["byteStride"] = 14;
+       return at("bufferViews", view) + ": byteStride 14 is not a multiple of 4 from 4 to 252";
+     },
+     {}},
+    {"PositionAsUnsignedByte",
+     [](Json& gltf, const fs::path&) {
+       const int accessor = floorAttribute(gltf, "POSITION");
+       gltf["accessors"][accessor]["componentType"] = 5121;
+       return "meshes[0].primitives[0].attributes.POSITION: " + at("accessors", accessor) +
+              " has componentType UNSIGNED_BYTE; POSITION must be FLOAT";
+     },
+     {}},
+    {"NormalAsShort",
+     [](Json& gltf, const fs::path&) {
+       const int accessor = floorAttribute(gltf, "NORMAL");
+       gltf["accessors"][accessor]["componentType"] = 5122;
+       return "meshes[0].primitives[0].attributes.NORMAL: " + at("accessors", accessor) +
+              " has componentType SHORT; NORMAL must be FLOAT";
+     },
+     {}},
+    {"IndicesAsFloat",
+     [](Json& gltf, const fs::path&) {
+       const int accessor = floorIndices(gltf);
+       gltf["accessors"][accessor]["componentType"] = 5126;
+       return "meshes[0].primitives[0].indices: " + at("accessors", accessor) +
+              " must be SCALAR unsigned byte, short or int";
+     },
+     {}},
+    {"IndexNotBelowTheVertexCount",
+     [](Json& gltf, const fs::path& folder) {
+       const int accessor = floorIndices(gltf);
+       EXPECT_EQ(gltf["accessors"][accessor]["componentType"], 5125) << "expected 32-bit indices";
+       const Json& view = gltf["bufferViews"][viewOf(gltf, accessor)];
+       const std::size_t offset = view.value("byteOffset", std::size_t{0}) +
+                                  gltf["accessors"][accessor].value("byteOffset", std::size_t{0});
+       const int vertices = gltf["accessors"][floorAttribute(gltf, "POSITION")]["count"];
+       std::fstream bin(folder / gltf["buffers"][0]["uri"].get<std::string>(),
+                        std::ios::in | std::ios::out | std::ios::binary);
+       bin.seekp(static_cast<std::streamoff>(offset));
+       bin << le32(static_cast<std::uint32_t>(vertices));
+       return "meshes[0].primitives[0]: index " + std::to_string(vertices) + " >= vertex count " +
+              std::to_string(vertices);
+     },
+     {}},
+    {"DracoRequired",
+     [](Json& gltf, const fs::path&) {
+       gltf["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+       gltf["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+       return std::string("extensionsRequired: KHR_draco_mesh_compression is not supported");
+     },
+     {}},
+    {"MeshoptRequired",
+     [](Json& gltf, const fs::path&) {
+       gltf["extensionsUsed"] = {"EXT_meshopt_compression"};
+       gltf["extensionsRequired"] = {"EXT_meshopt_compression"};
+       return std::string("extensionsRequired: EXT_meshopt_compression is not supported");
+     },
+     {}},
+    {"TruncatedGlb",
+     {},
+     [](std::string& glb) {
+       const std::size_t size = glb.size();
+       glb.resize(size / 2);
+       return "GLB header: length " + std::to_string(size) + " is more than the file's " +
+              std::to_string(size / 2) + " bytes (truncated file?)";
+     }},
+    {"GlbShorterThanItsHeader",
+     {},
+     [](std::string& glb) {
+       glb.resize(10);
+       return std::string("truncated .glb: 10 bytes, less than the 12-byte header");
+     }},
+    {"BadGlbMagic",
+     {},
+     [](std::string& glb) {
+       glb[3] = 'X';
+       return std::string("not a binary glTF: it starts with \"glTX\", not the magic \"glTF\"");
+     }},
+    {"GlbJsonChunkPastTheEnd",
+     {},
+     [](std::string& glb) {
+       const auto length = static_cast<std::uint32_t>(glb.size() * 2);
+       glb.replace(12, 4, le32(length));
+       return "GLB chunk 0 (JSON) at byte 12: length " + std::to_string(length) +
+              " extends past the end of the " + std::to_string(glb.size()) + " bytes of the file";
+     }},
+    {"GlbBinChunkPastTheEnd",
+     {},
+     [](std::string& glb) {
+       const std::size_t binChunk = 20 + readLe32(glb, 12);
+       const auto length = static_cast<std::uint32_t>(glb.size());
+       glb.replace(binChunk, 4, le32(length));
+       return "GLB chunk 1 (BIN) at byte " + std::to_string(binChunk) + ": length " +
+              std::to_string(length) + " extends past the end of the " +
+              std::to_string(glb.size()) + " bytes of the file";
+     }},
+};
+
+class BrokenSceneTest : public RobustnessTest, public ::testing::WithParamInterface<BrokenScene> {};
+
+TEST_P(BrokenSceneTest, FailsWithOneLineNamingTheFileAndTheObject) {
+  const BrokenScene& c = GetParam();
+  fs::path scene;
+  std::string expected;
+  if (c.gltf) {
+    scene = writeScene("scene.gltf");
+    Json gltf = readJson(scene);
+    expected = c.gltf(gltf, scene.parent_path());
+    writeJson(scene, gltf);
+  } else {
+    scene = writeScene("scene.glb", FileFormat::Glb);
+    std::string glb = readFile(scene);
+    expected = c.glb(glb);
+    writeBytes(scene, glb);
+  }
+  const std::vector<std::string> inputs = filesIn(root_ / "scene");
+
+  const Result r = render(scene);
+
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(r.err, "omnishadow: " + scene.string() + ": " + expected + "\n");
+  EXPECT_EQ(r.out, "");
+  EXPECT_TRUE(outputEmpty());
+  EXPECT_EQ(filesIn(root_ / "scene"), inputs);
+}
+
+INSTANTIATE_TEST_SUITE_P(Robustness, BrokenSceneTest, ::testing::ValuesIn(kBrokenScenes),
+                         [](const ::testing::TestParamInfo<BrokenScene>& test) {
+                           return test.param.name;
+                         });
+
+// ---------------------------------------------------------------------------------------------
+// Lights files
+
+TEST_F(RobustnessTest, DuplicateLightNamesAreAnInputError) {
+  const fs::path scene = writeScene();
+  const fs::path lights = root_ / "scene" / "lights.json";
+  std::ofstream(lights) << R"({"lights": [{"name": "key", "position": [0, 2, 0]},
+                                         {"name": "key", "position": [1, 2, 0]}]})";
+  const Result r = render(scene, {"-l", lights.string()});
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(r.err, "omnishadow: " + lights.string() +
+                       ": lights[1].name: duplicate name \"key\" (also lights[0])\n");
+  EXPECT_TRUE(outputEmpty());
+}
+
+// ---------------------------------------------------------------------------------------------
+// A full disk: writes fail with EFBIG once a file would pass the limit, as with ENOSPC
+
+TEST_F(RobustnessTest, AFullDiskFailsTheRunAndLeavesNoFile) {
+  const fs::path scene = writeScene();
+  const std::vector<std::string> args = {"render", scene.string(), "--width", "32",    "--height",
+                                         "24",     "-o",           "a.png",   "--aov", "sub/c.exr"};
+  // The sizes the outputs have when they can be written: a.png fits in `limit` bytes, c.exr
+  // (32-bit float AOVs) does not, so the run fails half-way, with a.png written in full.
+  ASSERT_EQ(run(args).status, 0);
+  const std::uintmax_t png = fs::file_size(root_ / "out" / "a.png");
+  const std::uintmax_t aov = fs::file_size(root_ / "out" / "sub" / "c.exr");
+  ASSERT_GT(aov, png + 1);
+  fs::remove_all(root_ / "out");
+  fs::create_directory(root_ / "out");
+
+  // Nothing fits; a.png would be cut short (the PNG encoder does not notice by itself); a.png
+  // fits and c.exr does not.
+  for (const std::uintmax_t limit : {std::uintmax_t{0}, png / 2, png}) {
+    SCOPED_TRACE("file size limit " + std::to_string(limit));
+    const Result r = run(args, {}, limit);
+    EXPECT_EQ(r.status, 1) << r.err;
+    // The output that could not be written, by the name it was given.
+    const std::string failed = limit < png ? "a.png" : "sub/c.exr";
+    EXPECT_TRUE(r.err.starts_with("omnishadow: cannot write " + failed + ": ")) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(filesIn(root_ / "out"), std::vector<std::string>{}) << "partial or temporary files";
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// GL errors and lost contexts, made by the GL fault library (tests/support/gl_fault.cpp)
+
+// The environment that preloads the fault library with `fault` ("error", "reset" or "none").
+std::vector<std::string> glFault(const std::string& fault) {
+  const char* preload = std::getenv("LD_PRELOAD");
+  const char* asan = std::getenv("ASAN_OPTIONS");
+  return {"OMNISHADOW_GL_FAULT=" + fault,
+          std::string("LD_PRELOAD=") + OMNISHADOW_GL_FAULT_LIBRARY +
+              (preload && *preload ? std::string(":") + preload : ""),
+          // Under AddressSanitizer the runtime no longer comes first; it does not need to.
+          std::string("ASAN_OPTIONS=") + (asan && *asan ? std::string(asan) + ":" : "") +
+              "verify_asan_link_order=0"};
+}
+
+TEST_F(RobustnessTest, ShadowResolutionAboveTheGlCubeMapLimitIsAnInputError) {
+  // Real GLs allow the largest resolution a lights file may ask for (16384, llvmpipe too), so
+  // the library makes this one claim a smaller limit.
+  const fs::path scene = writeScene();
+  const fs::path lights = root_ / "scene" / "lights.json";
+  std::ofstream(lights)
+      << R"({"lights": [{"name": "big", "position": [0, 2, 0], "shadow": {"resolution": 512}}]})";
+  std::vector<std::string> environment = glFault("none");
+  environment.push_back("OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=256");
+  const Result r = run({"render", scene.string(), "-l", lights.string(), "-o", "a.png", "--width",
+                        "32", "--height", "24"},
+                       environment);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(r.err, "omnishadow: " + lights.string() +
+                       ": light \"big\": shadow.resolution 512 exceeds this GL's maximum cube map "
+                       "size 256\n");
+  EXPECT_TRUE(outputEmpty());
+}
+
+TEST_F(RobustnessTest, AGlErrorFailsTheRenderWithoutOutput) {
+  const fs::path scene = writeScene("scene.gltf", FileFormat::GltfExternal, true);
+  for (const auto& [fault, message] :
+       {std::pair<std::string, std::string>{"error", ": GL_INVALID_OPERATION"},
+        std::pair<std::string, std::string>{"reset", "the OpenGL context was lost during "}}) {
+    SCOPED_TRACE(fault);
+    const Result r = run({"render", scene.string(), "-o", "a.png", "--aov", "a.exr", "--width",
+                          "32", "--height", "24"},
+                         glFault(fault));
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(outputEmpty());
+  }
+  // Without the marker texture the same library changes nothing.
+  const fs::path plain = writeScene("plain.gltf");
+  const Result r = run({"render", plain.string(), "-o", "a.png", "--width", "32", "--height", "24"},
+                       glFault("error"));
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
+TEST_F(RobustnessTest, BatchGoesOnAfterAGlErrorOrALostContext) {
+  fs::create_directories(root_ / "batch");
+  for (const std::string name : {"a", "c"}) {
+    const fs::path scene = writeScene(name + ".glb", FileFormat::Glb);
+    fs::rename(scene, root_ / "batch" / scene.filename());
+  }
+  const fs::path bad = writeScene("b.glb", FileFormat::Glb, true);
+  fs::rename(bad, root_ / "batch" / "b.glb");
+
+  for (const std::string fault : {"error", "reset"}) {
+    SCOPED_TRACE(fault);
+    fs::remove_all(root_ / "out");
+    fs::create_directory(root_ / "out");
+    const Result r = run({"batch", (root_ / "batch").string(), "--out", (root_ / "out").string(),
+                          "--width", "32", "--height", "24"},
+                         glFault(fault));
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(filesIn(root_ / "out"), (std::vector<std::string>{"a.png", "c.png"})) << r.out;
+    EXPECT_NE(r.out.find("FAILED  b.glb"), std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("omnishadow: b.glb: "), std::string::npos) << r.err;
+    // The scene after the failure renders as it does on its own, in a fresh context.
+    EXPECT_EQ(readFile(root_ / "out" / "c.png"), readFile(root_ / "out" / "a.png"));
+  }
 }
 
 }  // namespace

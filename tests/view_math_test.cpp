@@ -1,6 +1,7 @@
 // Cube map face conventions and camera math, against the GL specification's tables.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
@@ -8,6 +9,7 @@
 #include "renderer/camera.h"
 #include "renderer/cube_faces.h"
 #include "renderer/errors.h"
+#include "renderer/shadow_views.h"
 
 using namespace omnishadow;
 
@@ -236,4 +238,125 @@ TEST(Camera, OverridesMoveAndAimTheCamera) {
   CameraRequest badFov;
   badFov.fovDegrees = 180.0f;
   EXPECT_THROW(resolveCamera(scene, badFov), InputError);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Spot and directional shadow projections (renderer/shadow_views.h)
+
+namespace {
+
+glm::vec3 projectToNdc(const glm::mat4& viewProjection, const glm::vec3& p) {
+  const glm::vec4 clip = viewProjection * glm::vec4(p, 1.0f);
+  return glm::vec3(clip) / clip.w;
+}
+
+}  // namespace
+
+TEST(SpotShadow, MapHoldsTheWholeOuterConeWithReversedDepth) {
+  Light light;
+  light.type = LightType::Spot;
+  light.position = {1, 2, 3};
+  light.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  light.outerConeAngle = glm::radians(40.0f);
+  const SpotShadowFrame frame = spotShadowFrame(light, 0.1f, 20.0f, 512);
+  EXPECT_FALSE(frame.coneClipped);
+  EXPECT_GT(frame.tanHalfFov, std::tan(light.outerConeAngle));
+  // Points on the outer cone's surface, all around it, land inside the map.
+  const glm::vec3 side = glm::normalize(glm::cross(light.direction, glm::vec3(0, 0, 1)));
+  for (int i = 0; i < 32; ++i) {
+    const glm::mat4 spin = glm::rotate(glm::mat4(1.0f), 6.2831853f * i / 32.0f, light.direction);
+    const glm::vec3 axis = glm::vec3(spin * glm::vec4(side, 0.0f));
+    const glm::vec3 onCone = glm::vec3(glm::rotate(glm::mat4(1.0f), light.outerConeAngle, axis) *
+                                       glm::vec4(light.direction, 0));
+    const glm::vec3 ndc = projectToNdc(frame.viewProjection, light.position + 5.0f * onCone);
+    EXPECT_LT(std::abs(ndc.x), 1.0f);
+    EXPECT_LT(std::abs(ndc.y), 1.0f);
+  }
+  // Near maps to depth 1, far to 0 (reversed), along the axis.
+  EXPECT_NEAR(projectToNdc(frame.viewProjection, light.position + 0.1f * light.direction).z, 1.0f,
+              1e-4f);
+  EXPECT_NEAR(projectToNdc(frame.viewProjection, light.position + 20.0f * light.direction).z, 0.0f,
+              1e-4f);
+}
+
+TEST(SpotShadow, ConesWiderThanOneMapAreClippedAndSaySo) {
+  Light light;
+  light.type = LightType::Spot;
+  light.outerConeAngle = glm::radians(89.0f);
+  EXPECT_TRUE(spotShadowFrame(light, 0.1f, 10.0f, 256).coneClipped);
+}
+
+TEST(Cascades, PracticalSplitMixesLogarithmicAndLinear) {
+  const std::vector<float> linear = cascadeSplits(1.0f, 101.0f, 4, 0.0f);
+  EXPECT_NEAR(linear[0], 26.0f, 1e-3f);
+  EXPECT_NEAR(linear[1], 51.0f, 1e-3f);
+  const std::vector<float> logarithmic = cascadeSplits(1.0f, 10000.0f, 4, 1.0f);
+  EXPECT_NEAR(logarithmic[0], 10.0f, 1e-2f);
+  EXPECT_NEAR(logarithmic[2], 1000.0f, 1.0f);
+  EXPECT_EQ(logarithmic[3], 10000.0f);
+  const std::vector<float> mixed = cascadeSplits(1.0f, 10000.0f, 3, 0.5f);
+  for (std::size_t i = 1; i < mixed.size(); ++i) EXPECT_GT(mixed[i], mixed[i - 1]);
+}
+
+TEST(Cascades, EachCascadeCoversItsSliceOfTheVisibleScene) {
+  Scene scene;
+  scene.bounds.extend(glm::vec3(-20, 0, -20));
+  scene.bounds.extend(glm::vec3(20, 5, 20));
+  CameraRequest request;
+  request.eye = glm::vec3(0, 3, 18);
+  request.target = glm::vec3(0, 0, 0);
+  request.width = 160;
+  request.height = 90;
+  const ViewCamera camera = resolveCamera(scene, request);
+  Light sun;
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
+  sun.shadow.cascades = 4;
+  sun.shadow.resolution = 1024;
+  const DirectionalShadowFrame frame = directionalShadowFrame(sun, camera, scene.bounds);
+  ASSERT_EQ(frame.cascades.size(), 4u);
+  // Random visible scene points: the cascade that their view depth selects holds them, with
+  // depth inside [0, 1]; nearer cascades have smaller texels.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  int checked = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const glm::vec3 p =
+        glm::mix(scene.bounds.min, scene.bounds.max, glm::vec3(u(rng), u(rng), u(rng)));
+    const glm::vec3 ndcCamera = projectToNdc(camera.projection * camera.view, p);
+    if (std::abs(ndcCamera.x) > 1 || std::abs(ndcCamera.y) > 1 || ndcCamera.z <= 0) continue;
+    const float viewDepth = -(camera.view * glm::vec4(p, 1.0f)).z;
+    const auto c = std::find_if(frame.cascades.begin(), frame.cascades.end(),
+                                [&](const Cascade& k) { return viewDepth <= k.viewDepthEnd; });
+    ASSERT_NE(c, frame.cascades.end());
+    const glm::vec3 ndc = projectToNdc(c->viewProjection, p);
+    EXPECT_LE(std::abs(ndc.x), 1.0f);
+    EXPECT_LE(std::abs(ndc.y), 1.0f);
+    EXPECT_GE(ndc.z, 0.0f);
+    EXPECT_LE(ndc.z, 1.0f);
+    ++checked;
+  }
+  EXPECT_GT(checked, 500);
+  for (std::size_t i = 1; i < frame.cascades.size(); ++i)
+    EXPECT_LT(frame.cascades[i - 1].texelSize, frame.cascades[i].texelSize);
+  // Any scene point, visible or not, lies within the maps' depth range: casters outside the
+  // camera's view still shadow what it sees.
+  EXPECT_LE(frame.nearToLight, frame.farFromLight);
+}
+
+TEST(Cascades, ShadowDistanceEndsTheLastCascade) {
+  Scene scene;
+  scene.bounds.extend(glm::vec3(-50, 0, -50));
+  scene.bounds.extend(glm::vec3(50, 5, 50));
+  CameraRequest request;
+  request.eye = glm::vec3(0, 3, 45);
+  request.target = glm::vec3(0, 0, 0);
+  const ViewCamera camera = resolveCamera(scene, request);
+  Light sun;
+  sun.type = LightType::Directional;
+  sun.direction = glm::vec3(0, -1, 0);
+  sun.shadow.cascades = 2;
+  sun.shadow.distance = 30.0f;
+  const DirectionalShadowFrame frame = directionalShadowFrame(sun, camera, scene.bounds);
+  EXPECT_EQ(frame.cascades.back().viewDepthEnd, 30.0f);
 }

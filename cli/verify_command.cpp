@@ -1,0 +1,393 @@
+#include "cli/verify_command.h"
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/render_job.h"
+#include "renderer/errors.h"
+#include "renderer/image_writer.h"
+#include "renderer/output_transaction.h"
+#include "renderer/renderer.h"
+#include "renderer/shadow_reference.h"
+#include "renderer/shadow_verification.h"
+
+namespace fs = std::filesystem;
+
+namespace omnishadow::cli {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// The shortest decimal that reads back as the same float, as `info --json` writes numbers.
+Json number(float value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::strtod(std::string(buffer, result.ptr).c_str(), nullptr);
+}
+
+void printWarnings(const std::vector<std::string>& warnings) {
+  for (const std::string& warning : warnings)
+    std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
+}
+
+void printStats(const StageTimes& times) {
+  std::fprintf(stderr, "stage          ms\n");
+  for (const auto& [stage, ms] : times.stages())
+    std::fprintf(stderr, "%-12s %8.1f\n", stage.c_str(), ms);
+  std::fprintf(stderr, "%-12s %8.1f\n", "total", times.total());
+}
+
+// The scene, lights and view options as a render job that only draws the AOVs.
+RenderJob jobFromOptions(const VerifyOptions& o) {
+  RenderJob job;
+  job.scene = o.scene.empty() ? fs::path(OMNISHADOW_DEMO_SCENE) : fs::path(o.scene);
+  job.lights = o.lights.empty() ? defaultLightsFile(job.scene) : fs::path(o.lights);
+  job.noGltfLights = o.noGltfLights;
+  job.allowExternalUris = o.allowExternalUris;
+  job.maxMemoryMiB = o.maxMemoryMiB;
+  job.sceneIndex = o.sceneIndex;
+  job.aovs = true;
+  validateJob(job);
+  job.camera.select = o.camera;
+  job.camera.eye = parseVec3("--eye", o.eye);
+  job.camera.target = parseVec3("--target", o.target);
+  job.camera.up = parseVec3("--up", o.up);
+  job.camera.fovDegrees = o.fov;
+  job.camera.width = o.width;
+  job.camera.height = o.height;
+  return job;
+}
+
+std::optional<double> parseMaxError(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  std::istringstream in(text);
+  double value = 0.0;
+  in >> value;
+  if (!in || in.peek() != EOF || !std::isfinite(value) || value < 0.0 || value > 1.0)
+    throw InputError("--max-error " + text +
+                     ": expected a fraction of evaluated points between 0 and 1, e.g. 0.0005");
+  return value;
+}
+
+void checkErrorImageName(const fs::path& path, const RenderJob& job, const LoadedJob& loaded) {
+  if (fs::is_directory(path))
+    throw InputError("--error-image " + path.string() + ": is a folder, expected a file name");
+  std::vector<std::string> inputs = loaded.scene.inputFiles;
+  inputs.push_back(job.lights.string());
+  const fs::path target = fs::weakly_canonical(fs::absolute(path));
+  for (const std::string& input : inputs)
+    if (!input.empty() && target == fs::weakly_canonical(fs::absolute(input)))
+      throw InputError(path.string() + ": refusing to overwrite an input file");
+}
+
+// The lights to check: all, or the one --light names.
+std::vector<LightToVerify> selectLights(const VerifyOptions& o, const LoadedJob& loaded) {
+  std::vector<LightToVerify> selected;
+  for (const Light& light : loaded.lights)
+    if (o.light.empty() || light.name == o.light)
+      selected.push_back({light, effectiveShadowFar(light, loaded.scene.bounds)});
+  if (selected.empty()) {
+    std::string names;
+    for (const Light& light : loaded.lights)
+      names += (names.empty() ? "\"" : ", \"") + light.name + "\"";
+    throw InputError("--light " + o.light + ": no such light (the scene's lights: " + names + ")");
+  }
+  return selected;
+}
+
+std::string percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4f%%", 100.0 * fraction);
+  return text;
+}
+
+std::string countAndPercent(std::int64_t n, double fraction) {
+  return std::to_string(n) + " (" + percent(fraction) + ")";
+}
+
+void printGroup(const char* label, const ClassCounts& c) {
+  if (c.evaluated == 0) {
+    std::printf("  %-9s %10d  %-10s %-22s %s\n", label, 0, "-", "-", "-");
+    return;
+  }
+  std::printf("  %-9s %10lld  %-10s %-22s %s\n", label, static_cast<long long>(c.evaluated),
+              percent(c.agreementRate()).c_str(),
+              countAndPercent(c.falseShadow, c.falseShadowRate()).c_str(),
+              countAndPercent(c.falseLight, c.falseLightRate()).c_str());
+}
+
+const Light& lightNamed(const std::vector<LightToVerify>& lights, const std::string& name) {
+  for (const LightToVerify& l : lights)
+    if (l.light.name == name) return l.light;
+  throw std::logic_error("no light " + name);
+}
+
+// First line naming what exceeds the bound, or empty.
+std::string firstFailure(const ShadowVerification& v, double maxError) {
+  for (const LightVerification& light : v.lights) {
+    if (!light.shadowed) continue;
+    const std::pair<const char*, double> rates[] = {
+        {"false shadow", light.interior.falseShadowRate()},
+        {"false light", light.interior.falseLightRate()}};
+    for (const auto& [what, rate] : rates)
+      if (rate > maxError)
+        return "light \"" + light.name + "\": interior " + what + " " + percent(rate) + " > " +
+               percent(maxError);
+  }
+  return {};
+}
+
+void printText(const RenderJob& job, const LoadedJob& loaded,
+               const std::vector<LightToVerify>& lights, const ShadowVerification& v,
+               const VerifySettings& settings, const std::optional<double>& maxError,
+               const fs::path& errorImagePath) {
+  const long long pixels = static_cast<long long>(v.width) * v.height;
+  std::printf("scene      %s\n", job.scene.c_str());
+  std::printf("view       %dx%d, %s\n", v.width, v.height, loaded.camera.description.c_str());
+  std::printf(
+      "rules      skip N.L < %g; edge band %g texels + filter; %d rays per point to a "
+      "light with a radius\n",
+      settings.grazing, settings.edgeTexels, settings.sourceSamples);
+  for (const LightVerification& result : v.lights) {
+    const Light& light = lightNamed(lights, result.name);
+    std::printf("\nlight \"%s\"  %s", result.name.c_str(), toString(light.type));
+    if (!result.shadowed) {
+      std::printf("  not shadowed (shadow.enabled is false): skipped\n");
+      continue;
+    }
+    std::printf("  %s  %d texels", toString(light.shadow.filter), light.shadow.resolution);
+    if (light.shadow.radius > 0.0f)
+      std::printf("  radius %g%s", light.shadow.radius,
+                  light.type == LightType::Directional ? " rad" : "");
+    std::printf("\n");
+    const SkipCounts& s = result.skipped;
+    std::printf("  evaluated  %lld of %lld pixels: %lld interior, %lld edge\n",
+                static_cast<long long>(result.interior.evaluated + result.edge.evaluated), pixels,
+                static_cast<long long>(result.interior.evaluated),
+                static_cast<long long>(result.edge.evaluated));
+    std::printf(
+        "  skipped    background %lld, out of range %lld, outside cone %lld, facing away "
+        "%lld, grazing %lld, beyond shadow far %lld\n",
+        static_cast<long long>(s.background), static_cast<long long>(s.outOfRange),
+        static_cast<long long>(s.outsideCone), static_cast<long long>(s.facingAway),
+        static_cast<long long>(s.grazing), static_cast<long long>(s.beyondShadowFar));
+    std::printf("  %-9s %10s  %-10s %-22s %s\n", "", "points", "agreement", "false shadow",
+                "false light");
+    printGroup("interior", result.interior);
+    printGroup("edge", result.edge);
+  }
+  std::printf("\n");
+  if (!errorImagePath.empty()) std::printf("error image  %s\n", errorImagePath.c_str());
+  if (maxError) {
+    const std::string failure = firstFailure(v, *maxError);
+    if (failure.empty())
+      std::printf("result     PASS: every interior error rate <= %s\n", percent(*maxError).c_str());
+    else
+      std::printf("result     FAIL: %s\n", failure.c_str());
+  }
+}
+
+Json groupJson(const ClassCounts& c) {
+  auto rate = [&](double r) { return c.evaluated > 0 ? Json(r) : Json(nullptr); };
+  return Json{{"evaluated", c.evaluated},
+              {"agree", c.agree},
+              {"falseShadow", c.falseShadow},
+              {"falseLight", c.falseLight},
+              {"agreementRate", rate(c.agreementRate())},
+              {"falseShadowRate", rate(c.falseShadowRate())},
+              {"falseLightRate", rate(c.falseLightRate())}};
+}
+
+void printJson(const RenderJob& job, const LoadedJob& loaded,
+               const std::vector<LightToVerify>& lights, const ShadowVerification& v,
+               const VerifySettings& settings, const std::optional<double>& maxError,
+               const fs::path& errorImagePath) {
+  Json out;
+  out["scene"] = job.scene.string();
+  out["width"] = v.width;
+  out["height"] = v.height;
+  out["camera"] = loaded.camera.description;
+  out["settings"] = Json{{"grazing", number(settings.grazing)},
+                         {"edgeTexels", number(settings.edgeTexels)},
+                         {"sourceSamples", settings.sourceSamples},
+                         {"maxError", maxError ? Json(*maxError) : Json(nullptr)}};
+  out["lights"] = Json::array();
+  for (const LightVerification& result : v.lights) {
+    const Light& light = lightNamed(lights, result.name);
+    Json entry{
+        {"name", result.name}, {"type", toString(light.type)}, {"shadowed", result.shadowed}};
+    if (!result.shadowed) {
+      for (const char* key :
+           {"filter", "resolution", "radius", "skipped", "interior", "edge", "pass"})
+        entry[key] = nullptr;
+      out["lights"].push_back(entry);
+      continue;
+    }
+    const SkipCounts& s = result.skipped;
+    entry["filter"] = toString(light.shadow.filter);
+    entry["resolution"] = light.shadow.resolution;
+    entry["radius"] = number(light.shadow.radius);
+    entry["skipped"] = Json{{"background", s.background},   {"outOfRange", s.outOfRange},
+                            {"outsideCone", s.outsideCone}, {"facingAway", s.facingAway},
+                            {"grazing", s.grazing},         {"beyondShadowFar", s.beyondShadowFar}};
+    entry["interior"] = groupJson(result.interior);
+    entry["edge"] = groupJson(result.edge);
+    entry["pass"] = !maxError || worstInteriorErrorRate(result) <= *maxError;
+    out["lights"].push_back(entry);
+  }
+  out["errorImage"] = errorImagePath.empty() ? Json(nullptr) : Json(errorImagePath.string());
+  out["pass"] = !maxError || firstFailure(v, *maxError).empty();
+  std::printf("%s\n", out.dump(2).c_str());
+}
+
+int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {
+  StageTimes times;
+  ScopedStage loadStage(times, "load");
+  const RenderJob job = jobFromOptions(o);
+  const std::optional<double> maxError = parseMaxError(o.maxError);
+  VerifySettings settings;
+  settings.grazing = o.grazing;
+  settings.edgeTexels = o.edgeTexels;
+  settings.sourceSamples = o.sourceSamples;
+  const int side = static_cast<int>(std::lround(std::sqrt(o.sourceSamples)));
+  if (side * side != o.sourceSamples)
+    throw InputError("--source-samples " + std::to_string(o.sourceSamples) +
+                     ": expected a square number (a stratified n x n pattern), e.g. 16, 64, 256");
+  settings.threads = o.threads;
+  const fs::path errorImagePath = o.errorImage;
+  if (!errorImagePath.empty() && lowerExtension(errorImagePath) != ".png")
+    throw InputError("--error-image " + errorImagePath.string() + ": expected a .png name");
+  LoadedJob loaded = loadJob(job);
+  warnings = loaded.warnings;
+  const std::vector<LightToVerify> lights = selectLights(o, loaded);
+  // Staging creates the file, so an unwritable --error-image fails here, before the render.
+  OutputTransaction transaction;
+  fs::path staged;
+  if (!errorImagePath.empty()) {
+    checkErrorImageName(errorImagePath, job, loaded);
+    try {
+      staged = transaction.stage(errorImagePath);
+    } catch (const RenderError& e) {
+      throw InputError(std::string("--error-image: ") + e.what());
+    }
+  }
+  loadStage.stop();
+
+  ScopedStage contextStage(times, "context");
+  ContextOptions contextOptions;
+  contextOptions.gpuIndex = o.gpu;
+  contextOptions.debug = o.verbose;
+  Renderer renderer(contextOptions);
+  if (o.verbose)
+    std::fprintf(stderr, "omnishadow: %s\nomnishadow: %s\n",
+                 renderer.context().platformDescription().c_str(),
+                 renderer.context().glDescription().c_str());
+  contextStage.stop();
+  const Frame frame = renderJob(renderer, job, loaded, times);
+  warnings = loaded.warnings;
+  if (!frame.aovs) throw RenderError("the renderer returned no AOVs");
+
+  ScopedStage referenceStage(times, "reference");
+  const ShadowReference reference(loaded.scene);
+  referenceStage.stop();
+  ScopedStage raysStage(times, "rays");
+  const ShadowVerification result =
+      verifyShadows(reference, loaded.scene.bounds, lights, *frame.aovs, loaded.camera, settings);
+  raysStage.stop();
+
+  if (!errorImagePath.empty()) {
+    ScopedStage encodeStage(times, "encode");
+    writePng(staged, result.width, result.height, 3,
+             errorImage(result, *frame.aovs, loaded.camera));
+    transaction.commit();
+  }
+  printWarnings(warnings);
+  if (o.json)
+    printJson(job, loaded, lights, result, settings, maxError, errorImagePath);
+  else
+    printText(job, loaded, lights, result, settings, maxError, errorImagePath);
+  if (o.stats) printStats(times);
+  return maxError && !firstFailure(result, *maxError).empty() ? 1 : 0;
+}
+
+}  // namespace
+
+void addVerifyCommand(CLI::App& app, VerifyOptions& o) {
+  CLI::App* verify = app.add_subcommand(
+      "verify",
+      "Check the renderer's shadows against exact ray casting (Embree): agreement, false shadow "
+      "and false light rates per light");
+  verify->add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb); default: the demo scene");
+  verify->add_option("-l,--lights", o.lights,
+                     "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
+  verify
+      ->add_option("--max-memory", o.maxMemoryMiB,
+                   "Memory the shadow maps of one frame may use, in MiB (default 4096)")
+      ->check(CLI::PositiveNumber);
+  verify->add_flag("--allow-external-uris", o.allowExternalUris,
+                   "Let the scene read buffers and images outside its own folder");
+  verify->add_flag("--no-gltf-lights", o.noGltfLights,
+                   "Ignore the scene's KHR_lights_punctual lights");
+  verify
+      ->add_option("--scene", o.sceneIndex,
+                   "Index of the glTF scene to render (default: the file's default scene)")
+      ->check(CLI::NonNegativeNumber);
+  verify->add_option("--camera", o.camera, "glTF camera by name or index (default: the first)");
+  verify->add_option("--eye", o.eye, "Camera position x,y,z (world units)");
+  verify->add_option("--target", o.target, "Point the camera looks at, x,y,z");
+  verify->add_option("--up", o.up, "Camera up vector x,y,z");
+  verify->add_option("--fov", o.fov, "Vertical field of view in degrees");
+  verify->add_option("--width", o.width, "Image width in pixels (default 1280)")
+      ->check(CLI::Range(1, 16384));
+  verify
+      ->add_option("--height", o.height,
+                   "Image height in pixels (default 720, or from the camera's aspect ratio)")
+      ->check(CLI::Range(1, 16384));
+  verify->add_option("--light", o.light, "Check only this light (default: every light)");
+  verify->add_option("--max-error", o.maxError,
+                     "Exit with status 1 when a light's interior false-shadow or false-light "
+                     "rate exceeds this fraction (e.g. 0.0005)");
+  verify->add_option("--error-image", o.errorImage,
+                     "Write a PNG: the scene in grey, false shadow red, false light blue, "
+                     "edge points dimmer");
+  verify
+      ->add_option("--grazing", o.grazing,
+                   "Skip points where N.L is below this (default 0.05, about 87 degrees)")
+      ->check(CLI::Range(0.0f, 1.0f));
+  verify
+      ->add_option("--edge-texels", o.edgeTexels,
+                   "Half-width of the shadow-edge band in shadow-map texels (default 3)")
+      ->check(CLI::Range(0.0f, 1000.0f));
+  verify
+      ->add_option("--source-samples", o.sourceSamples,
+                   "Rays per point to a light with a radius, a square number (default 64)")
+      ->check(CLI::Range(1, 4096));
+  verify
+      ->add_option("--threads", o.threads,
+                   "Threads casting rays (default: one per core); results do not depend on it")
+      ->check(CLI::NonNegativeNumber);
+  verify->add_flag("--json", o.json, "Print one JSON object (schema in the README)");
+  verify
+      ->add_option("--gpu", o.gpu,
+                   "EGL device index to render on (default: first hardware device, else software)")
+      ->check(CLI::NonNegativeNumber);
+  verify->add_flag("-v,--verbose", o.verbose, "Print the GL platform, vendor, renderer, version");
+  verify->add_flag("--stats", o.stats, "Print the time of each stage to stderr");
+}
+
+int runVerify(const VerifyOptions& o) {
+  std::vector<std::string> warnings;
+  try {
+    return verify(o, warnings);
+  } catch (...) {
+    printWarnings(warnings);  // they may explain the failure
+    throw;
+  }
+}
+
+}  // namespace omnishadow::cli

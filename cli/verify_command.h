@@ -1,0 +1,45 @@
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace omnishadow::cli {
+
+// Everything `omnishadow verify` accepts, as given on the command line. The scene, lights and
+// view options are those of `render`.
+struct VerifyOptions {
+  std::string scene;  // empty = the built-in demo scene
+  std::string lights;
+  bool noGltfLights = false;
+  bool allowExternalUris = false;
+  double maxMemoryMiB = 4096.0;
+  int sceneIndex = -1;
+  std::string camera;
+  std::string eye, target, up;  // "x,y,z"
+  std::optional<float> fov;
+  std::optional<int> width, height;
+  std::string light;     // empty = every light
+  std::string maxError;  // fraction; empty = no bound (parsed here for a one-line message)
+  std::string errorImage;
+  float grazing = 0.05f;
+  float edgeTexels = 3.0f;
+  int sourceSamples = 64;
+  int threads = 0;
+  bool json = false;
+  int gpu = -1;
+  bool verbose = false;
+  bool stats = false;
+};
+
+void addVerifyCommand(CLI::App& app, VerifyOptions& options);
+
+// Renders the AOVs, casts exact shadow rays and prints the comparison (README, "omnishadow
+// verify"). Returns 0, or 1 when an interior error rate exceeds --max-error. Throws
+// InputError/RenderError to the caller.
+int runVerify(const VerifyOptions& options);
+
+}  // namespace omnishadow::cli

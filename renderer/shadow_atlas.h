@@ -1,0 +1,100 @@
+#pragma once
+
+#include <array>
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/bounds.h"
+#include "renderer/camera.h"
+#include "renderer/cube_distances.h"
+#include "renderer/gl_resources.h"
+#include "renderer/light.h"
+
+namespace omnishadow {
+
+// Shadow maps of one frame live in a few array textures: point lights in cube map arrays,
+// spot lights and directional cascades in 2D arrays ("planar"). Lights whose maps share a
+// resolution, depth format and filter family share one texture (a group), so a frame with 256
+// shadowed point lights samples one or two textures instead of 256.
+
+enum class ShadowLayout { Cube, Planar };
+
+struct ShadowGroupKey {
+  ShadowLayout layout = ShadowLayout::Cube;
+  int resolution = 0;
+  DepthFormat format = DepthFormat::Float32;
+  bool moments = false;  // vsm: an RG32F moment texture with the same layers
+  bool operator==(const ShadowGroupKey& o) const {
+    return layout == o.layout && resolution == o.resolution && format == o.format &&
+           moments == o.moments;
+  }
+};
+
+// Groups per layout the lighting shader can sample (texture units, see shaders/shadows.glsl).
+inline constexpr int kMaxShadowGroups = 4;
+
+struct ShadowGroupPlan {
+  ShadowGroupKey key;
+  int layers = 0;  // cube map arrays: layer-faces, 6 per light
+};
+
+// One shadowed light: where its layers are and how they were projected.
+struct LightShadowPlan {
+  int light = -1;  // index into the frame's lights
+  int group = -1;  // index into ShadowAtlasPlan::groups
+  int firstLayer = 0;
+  int layerCount = 0;  // 6 (point), 1 (spot) or the cascade count (directional)
+  std::array<glm::mat4, 6> viewProjection{};
+  float near = 0.0f;        // point, spot: depth range along the view axis; directional: the range
+  float far = 0.0f;         // of distances along the light direction
+  float tanHalfFov = 0.0f;  // spot
+  std::array<float, 4> cascadeEnd{};    // directional: camera view depth per cascade
+  std::array<float, 4> cascadeTexel{};  // directional: world texel size per cascade
+  glm::vec3 position{0.0f};             // point: the cube's center
+};
+
+struct ShadowAtlasPlan {
+  std::vector<ShadowGroupPlan> groups;
+  std::vector<LightShadowPlan> lights;  // shadowed lights only, in light order
+  double bytes = 0.0;                   // GPU memory of all groups
+  std::vector<std::string> warnings;
+};
+
+struct ShadowLimits {
+  int maxArrayLayers = 2048;  // GL_MAX_ARRAY_TEXTURE_LAYERS
+};
+
+// Decides groups, layers and projections for every shadowed light. `far` of point and spot
+// lights is effectiveShadowFar(). Throws InputError when more groups are needed than the
+// shader can sample.
+ShadowAtlasPlan planShadowAtlas(const std::vector<Light>& lights, const ViewCamera& camera,
+                                const Bounds& sceneBounds, const ShadowLimits& limits);
+
+// Shadow far plane of a point or spot light: its `far` when set, else its range, else the
+// farthest corner of the scene.
+float effectiveShadowFar(const Light& light, const Bounds& sceneBounds);
+
+// GL textures of one group.
+struct ShadowGroupTextures {
+  ShadowGroupKey key;
+  int layers = 0;
+  gl::Texture depth;    // GL_TEXTURE_CUBE_MAP_ARRAY or GL_TEXTURE_2D_ARRAY
+  gl::Texture moments;  // same target, GL_RG32F, when key.moments
+};
+
+// Keeps group textures between renders (batch mode renders many similar scenes), up to a
+// budget; textures are reused only for an exact match of key and layer count.
+class ShadowTexturePool {
+ public:
+  ShadowGroupTextures take(const ShadowGroupPlan& plan);
+  void give(ShadowGroupTextures&& textures);
+
+ private:
+  std::vector<ShadowGroupTextures> free_;
+};
+
+// Distances along each texel's ray of one light's cube in a cube map array (point lights).
+CubeDistances readCubeDistances(const ShadowGroupTextures& group, const LightShadowPlan& light);
+
+}  // namespace omnishadow

@@ -1,0 +1,291 @@
+// Shadow terms of every light type from the frame's shadow atlas (renderer/shadow_atlas.h):
+// point lights in cube map arrays, spot lights and directional cascades in 2D arrays, each
+// group of lights sharing a texture. All maps store reversed depth (nearer = larger), so a
+// receiver is lit when its own depth is at least the stored one (GL_GEQUAL samplers).
+//
+// Bias (README, "Shadow settings"): the receiver moves along its geometric normal by
+// normalBias texels and towards the light by bias + texel * max(slopeBias * (1 - N.L),
+// minBias), a texel being the world size of one shadow-map texel at the receiver. Filter taps
+// lie in the receiver's tangent plane, so each compares against its own exact depth.
+//
+// The pass is compiled for the light types and filters the frame uses (SHADOW_CUBE,
+// SHADOW_PLANAR, SHADOW_<FILTER>, renderer/lighting_pass.cpp): llvmpipe runs both sides of
+// every branch with lane masks, so code for absent features would cost every pixel.
+const int MAX_SHADOW_GROUPS = 4;
+layout(binding = 8) uniform samplerCubeArrayShadow uCubeCompare[MAX_SHADOW_GROUPS];
+layout(binding = 12) uniform samplerCubeArray uCubeDepth[MAX_SHADOW_GROUPS];
+layout(binding = 16) uniform sampler2DArrayShadow uPlanarCompare[MAX_SHADOW_GROUPS];
+layout(binding = 20) uniform sampler2DArray uPlanarDepth[MAX_SHADOW_GROUPS];
+layout(binding = 24) uniform samplerCubeArray uCubeMoments[MAX_SHADOW_GROUPS];
+layout(binding = 28) uniform sampler2DArray uPlanarMoments[MAX_SHADOW_GROUPS];
+
+uniform mat4 uCameraView;  // directional lights pick their cascade by camera view depth
+
+// A world point as a light's shadow map sees it.
+struct MapPoint {
+  vec4 coord;       // cube: (direction, cube index); planar: (u, v, layer, -)
+  float reference;  // the point's own depth in the map's depth space, in [0, 1]
+  float axis;       // distance along the map's view axis (directional: along the light)
+  bool inside;      // false: outside the map, where everything is lit
+};
+
+int lightType(Light light) { return int(light.directionType.w); }
+int shadowGroup(Light light) { return int(light.radianceShadow.w); }
+
+MapPoint mapPoint(Light light, int cascade, vec3 Q) {
+  MapPoint m;
+  float near = light.shadowDepth.x, far = light.shadowDepth.y;
+#ifdef SHADOW_CUBE
+  if (lightType(light) == LIGHT_POINT) {
+    vec3 d = Q - light.positionRange.xyz;
+    m.axis = max(max(abs(d.x), abs(d.y)), max(abs(d.z), 1e-6));
+    // Receivers beyond `far` compare against the cleared depth 0 and so stay lit unless a
+    // caster within `far` hides them; receivers nearer than `near` are lit.
+    m.reference = clamp(near * (far - m.axis) / (m.axis * (far - near)), 0.0, 1.0);
+    m.coord = vec4(d, floor(light.shadowSoft.z / 6.0 + 0.5));
+    m.inside = true;
+    return m;
+  }
+#endif
+#ifdef SHADOW_PLANAR
+  vec4 clip = uShadowViewProjections[int(light.shadowProjection.y) + cascade] * vec4(Q, 1.0);
+  m.inside = clip.w > 0.0;
+  vec3 ndc = clip.xyz / max(clip.w, 1e-20);
+  vec2 uv = ndc.xy * 0.5 + 0.5;
+  m.inside = m.inside && all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
+  m.reference = clamp(ndc.z, 0.0, 1.0);
+  m.coord = vec4(uv, light.shadowSoft.z + float(cascade), 0.0);
+  m.axis = lightType(light) == LIGHT_SPOT ? clip.w : near + (1.0 - ndc.z) * (far - near);
+#endif
+  return m;
+}
+
+// Distance along the view axis of a stored depth (the inverse of the projections).
+float storedAxis(Light light, float depth) {
+  float near = light.shadowDepth.x, far = light.shadowDepth.y;
+  if (lightType(light) == LIGHT_DIRECTIONAL) return near + (1.0 - depth) * (far - near);
+  return near * far / (depth * (far - near) + near);
+}
+
+// Hardware comparison, bilinear where the light's filter asks for it (sampler state).
+float compareMap(Light light, MapPoint m) {
+  if (!m.inside) return 1.0;
+  int g = shadowGroup(light);
+#ifdef SHADOW_CUBE
+  if (lightType(light) == LIGHT_POINT) return texture(uCubeCompare[g], m.coord, m.reference);
+#endif
+#ifdef SHADOW_PLANAR
+  return texture(uPlanarCompare[g], vec4(m.coord.xyz, m.reference));
+#endif
+  return 1.0;
+}
+
+// The stored depth nearest to the point's texel (0 = nothing rendered there).
+float storedDepth(Light light, MapPoint m) {
+  if (!m.inside) return 0.0;
+  int g = shadowGroup(light);
+#ifdef SHADOW_CUBE
+  if (lightType(light) == LIGHT_POINT) return texture(uCubeDepth[g], m.coord).r;
+#endif
+#ifdef SHADOW_PLANAR
+  return texture(uPlanarDepth[g], m.coord.xyz).r;
+#endif
+  return 0.0;
+}
+
+float compareNearest(Light light, MapPoint m) {
+  return m.reference >= storedDepth(light, m) ? 1.0 : 0.0;
+}
+
+// World size of one shadow-map texel at P.
+float shadowTexel(Light light, int cascade, vec3 P) {
+  float resolution = light.spotFilter.w;
+  int type = lightType(light);
+  if (type == LIGHT_DIRECTIONAL) return light.cascadeTexel[cascade];
+  if (type == LIGHT_SPOT) {
+    float depth = dot(P - light.positionRange.xyz, normalize(light.directionType.xyz));
+    return 2.0 * max(depth, 1e-6) * light.shadowProjection.x / resolution;
+  }
+  vec3 d = P - light.positionRange.xyz;
+  return 2.0 * max(max(abs(d.x), abs(d.y)), abs(d.z)) / resolution;
+}
+
+const vec3 PCF_DISK_DIRECTIONS[20] = vec3[](
+    vec3(1, 1, 1), vec3(1, -1, 1), vec3(-1, -1, 1), vec3(-1, 1, 1),
+    vec3(1, 1, -1), vec3(1, -1, -1), vec3(-1, -1, -1), vec3(-1, 1, -1),
+    vec3(1, 1, 0), vec3(1, -1, 0), vec3(-1, -1, 0), vec3(-1, 1, 0),
+    vec3(1, 0, 1), vec3(-1, 0, 1), vec3(1, 0, -1), vec3(-1, 0, -1),
+    vec3(0, 1, 1), vec3(0, -1, 1), vec3(0, -1, -1), vec3(0, 1, -1));
+
+// Per-pixel rotation for sample disks (Jimenez's interleaved gradient noise): neighbouring
+// pixels get well-spread angles, and the result is the same on every run.
+float interleavedGradientNoise(vec2 pixel) {
+  return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
+}
+
+// Point i of n on a Vogel (golden angle) disk of radius 1, rotated by `angle`.
+vec2 vogelDisk(int i, int n, float angle) {
+  float r = sqrt((float(i) + 0.5) / float(n));
+  float theta = float(i) * 2.39996323 + angle;
+  return r * vec2(cos(theta), sin(theta));
+}
+
+void tangentFrame(vec3 N, out vec3 T, out vec3 B) {
+  T = normalize(cross(abs(N.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0), N));
+  B = cross(N, T);
+}
+
+// Percentage of `samples` rotated disk taps of `radius` (world) around Q that are lit.
+float diskCompare(Light light, int cascade, vec3 Q, vec3 N, float radius, int samples) {
+  vec3 T, B;
+  tangentFrame(N, T, B);
+  float angle = 6.28318531 * interleavedGradientNoise(gl_FragCoord.xy);
+  float sum = 0.0;
+  for (int i = 0; i < samples; ++i) {
+    vec2 o = vogelDisk(i, samples, angle) * radius;
+    sum += compareMap(light, mapPoint(light, cascade, Q + T * o.x + B * o.y));
+  }
+  return sum / float(samples);
+}
+
+// Percentage-closer soft shadows: the average blocker in a search region sized by the light's
+// radius gives the penumbra width (similar triangles), which sets the filter radius.
+float pcss(Light light, int cascade, vec3 Q, vec3 N, float texel, float receiverAxis) {
+  int samples = int(light.shadowBias.w);
+  float radius = light.shadowSoft.x;
+  bool directional = lightType(light) == LIGHT_DIRECTIONAL;
+  float near = light.shadowDepth.x;
+  // Blockers nearer than a fifth of the receiver distance are taken as that near.
+  float nearest = directional ? near : max(near, 0.2 * receiverAxis);
+  float spread = directional ? tan(radius) : radius / nearest;
+  float search = clamp(spread * (receiverAxis - nearest), texel, 32.0 * texel);
+
+  vec3 T, B;
+  tangentFrame(N, T, B);
+  float angle = 6.28318531 * interleavedGradientNoise(gl_FragCoord.xy);
+  float blockers = 0.0, blockerAxis = 0.0;
+  for (int i = 0; i < samples; ++i) {
+    vec2 o = vogelDisk(i, samples, angle) * search;
+    MapPoint m = mapPoint(light, cascade, Q + T * o.x + B * o.y);
+    float stored = storedDepth(light, m);
+    if (stored > m.reference) {
+      blockers += 1.0;
+      blockerAxis += storedAxis(light, stored);
+    }
+  }
+  if (blockers == 0.0) return 1.0;
+  blockerAxis /= blockers;
+  float penumbra = directional ? tan(radius) * (receiverAxis - blockerAxis)
+                               : radius * (receiverAxis - blockerAxis) / max(blockerAxis, 1e-6);
+  return diskCompare(light, cascade, Q, N, clamp(penumbra, texel, 32.0 * texel), samples);
+}
+
+// Chebyshev's upper bound on the lit fraction from filtered moments, with light-bleeding
+// reduction: bounds below `bleed` count as shadow and the rest is rescaled.
+float varianceShadow(Light light, MapPoint m, vec3 Q, float texel) {
+  if (!m.inside) return 1.0;
+  int g = shadowGroup(light);
+  float far = light.shadowDepth.y;
+  vec2 moments = vec2(1.0);
+  float t = 0.0;
+#ifdef SHADOW_CUBE
+  if (lightType(light) == LIGHT_POINT) {
+    moments = texture(uCubeMoments[g], m.coord).rg;
+    t = length(Q - light.positionRange.xyz) / far;
+  }
+#endif
+#ifdef SHADOW_PLANAR
+  if (lightType(light) != LIGHT_POINT) {
+    moments = texture(uPlanarMoments[g], m.coord.xyz).rg;
+    t = lightType(light) == LIGHT_SPOT ? length(Q - light.positionRange.xyz) / far
+                                       : 1.0 - m.reference;
+  }
+#endif
+  if (t <= moments.x) return 1.0;
+  float scale = lightType(light) == LIGHT_DIRECTIONAL ? far - light.shadowDepth.x : far;
+  float minVariance = 0.25 * (texel / scale) * (texel / scale);
+  float variance = max(moments.y - moments.x * moments.x, minVariance);
+  float d = t - moments.x;
+  float p = variance / (variance + d * d);
+  float bleed = light.shadowSoft.y;
+  return clamp((p - bleed) / (1.0 - bleed), 0.0, 1.0);
+}
+
+// The cascade of a directional light holding P, or -1 beyond the last one.
+int shadowCascade(Light light, vec3 P) {
+  if (lightType(light) != LIGHT_DIRECTIONAL) return 0;
+  float viewDepth = -(uCameraView * vec4(P, 1.0)).z;
+  int count = int(light.shadowSoft.w);
+  for (int c = 0; c < count; ++c)
+    if (viewDepth <= light.cascadeEnd[c]) return c;
+  return -1;
+}
+
+// Shadow term (1 = lit) of a light at P. Ngeom: geometric normal on the light's side; L: unit
+// direction towards the light.
+float shadowVisibility(Light light, vec3 P, vec3 Ngeom, vec3 L, float cameraDistance) {
+  if (shadowGroup(light) < 0) return 1.0;
+  int cascade = shadowCascade(light, P);
+  if (cascade < 0) return 1.0;  // beyond the directional light's shadow distance
+
+  float texel = shadowTexel(light, cascade, P);
+  float NdotL = clamp(dot(Ngeom, L), 0.0, 1.0);
+  float depthBias = light.shadowDepth.z +
+                    texel * max(light.shadowDepth.w * (1.0 - NdotL), light.shadowBias.x);
+  vec3 Q = P + Ngeom * (light.shadowBias.y * texel) + L * depthBias;
+
+  int filterMode = int(light.spotFilter.z);
+  float filterRadius = light.shadowBias.z * texel;
+  int samples = int(light.shadowBias.w);
+  MapPoint m = mapPoint(light, cascade, Q);
+  float visibility = 1.0;
+#ifdef SHADOW_HARD
+  if (filterMode == FILTER_HARD) visibility = m.inside ? compareNearest(light, m) : 1.0;
+#endif
+#ifdef SHADOW_PCF
+  if (filterMode == FILTER_PCF) visibility = compareMap(light, m);
+#endif
+#ifdef SHADOW_VSM
+  if (filterMode == FILTER_VSM) visibility = varianceShadow(light, m, Q, texel);
+#endif
+#ifdef SHADOW_POISSON
+  if (filterMode == FILTER_POISSON)
+    visibility = diskCompare(light, cascade, Q, Ngeom, filterRadius, samples);
+#endif
+#ifdef SHADOW_PCSS
+  if (filterMode == FILTER_PCSS) visibility = pcss(light, cascade, Q, Ngeom, texel, m.axis);
+#endif
+#ifdef SHADOW_PCF_DISK
+  if (filterMode == FILTER_PCF_DISK) {
+    // The classic 20 directions, radius growing with the distance to the camera.
+    float far = lightType(light) == LIGHT_DIRECTIONAL
+                    ? light.cascadeEnd[int(light.shadowSoft.w) - 1]
+                    : light.shadowDepth.y;
+    float radius = (1.0 + cameraDistance / far) * filterRadius;
+    float sum = 0.0;
+    for (int i = 0; i < 20; ++i) {
+      vec3 offset = PCF_DISK_DIRECTIONS[i];
+      offset -= Ngeom * dot(offset, Ngeom);
+      sum += compareMap(light, mapPoint(light, cascade, Q + offset * radius));
+    }
+    visibility = sum / 20.0;
+  }
+#endif
+  return visibility;
+}
+
+// Distance (over the map's far) of what the light's map holds in P's direction, 1 if nothing.
+float shadowDepthView(Light light, vec3 P) {
+  if (shadowGroup(light) < 0) return 1.0;
+  int cascade = max(shadowCascade(light, P), 0);
+  MapPoint m = mapPoint(light, cascade, P);
+  float stored = storedDepth(light, m);
+  if (stored <= 0.0) return 1.0;
+  float axis = storedAxis(light, stored);
+  float far = light.shadowDepth.y;
+  if (lightType(light) == LIGHT_POINT) {
+    vec3 d = P - light.positionRange.xyz;
+    return clamp(axis * length(d) / max(max(abs(d.x), abs(d.y)), abs(d.z)) / far, 0.0, 1.0);
+  }
+  return clamp(axis / far, 0.0, 1.0);
+}

@@ -1,0 +1,108 @@
+// An LD_PRELOAD library that makes the omnishadow binary meet a GL error or a lost context, so
+// that tests can check what one does to a render and to a batch without a hook in the product.
+//
+// It is armed by the upload of a texture of exactly kMarkerWidth x kMarkerHeight texels (a test
+// puts one in the scene that should fail). Once armed, depending on OMNISHADOW_GL_FAULT:
+//   error  the next glGetError() returns GL_INVALID_OPERATION;
+//   reset  the next glGetGraphicsResetStatus() returns GL_GUILTY_CONTEXT_RESET.
+// Either happens once; afterwards the real GL answers again, as it would for a fresh context.
+// OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=N makes glGetIntegerv report N as that limit, for
+// tests of what a GL with smaller cube maps refuses.
+//
+// The GL headers are left out on purpose: their prototypes would clash with these definitions.
+
+#include "tests/support/gl_fault.h"
+
+#include <dlfcn.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+
+namespace {
+
+using GLenum = unsigned int;
+using GLint = int;
+using GLuint = unsigned int;
+using GLsizei = int;
+
+constexpr GLenum kInvalidOperation = 0x0502;
+constexpr GLenum kGuiltyContextReset = 0x8253;
+constexpr GLenum kMaxCubeMapTextureSize = 0x851C;
+
+std::atomic<bool> armed{false};
+
+bool faultIs(const char* kind) {
+  const char* value = std::getenv("OMNISHADOW_GL_FAULT");
+  return value != nullptr && std::strcmp(value, kind) == 0;
+}
+
+void armOn(GLsizei width, GLsizei height) {
+  if (width == omnishadow::test_support::kGlFaultMarkerWidth &&
+      height == omnishadow::test_support::kGlFaultMarkerHeight)
+    armed = true;
+}
+
+template <typename F>
+F real(const char* name) {
+  return reinterpret_cast<F>(::dlsym(RTLD_NEXT, name));
+}
+
+}  // namespace
+
+extern "C" {
+
+__attribute__((visibility("default"))) void glTextureSubImage2D(GLuint texture, GLint level,
+                                                                GLint x, GLint y, GLsizei width,
+                                                                GLsizei height, GLenum format,
+                                                                GLenum type, const void* pixels) {
+  using Fn = void (*)(GLuint, GLint, GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, const void*);
+  static const Fn next = real<Fn>("glTextureSubImage2D");
+  armOn(width, height);
+  next(texture, level, x, y, width, height, format, type, pixels);
+}
+
+__attribute__((visibility("default"))) void glTexSubImage2D(GLenum target, GLint level, GLint x,
+                                                            GLint y, GLsizei width, GLsizei height,
+                                                            GLenum format, GLenum type,
+                                                            const void* pixels) {
+  using Fn = void (*)(GLenum, GLint, GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, const void*);
+  static const Fn next = real<Fn>("glTexSubImage2D");
+  armOn(width, height);
+  next(target, level, x, y, width, height, format, type, pixels);
+}
+
+__attribute__((visibility("default"))) void glTexImage2D(GLenum target, GLint level,
+                                                         GLint internalFormat, GLsizei width,
+                                                         GLsizei height, GLint border,
+                                                         GLenum format, GLenum type,
+                                                         const void* pixels) {
+  using Fn = void (*)(GLenum, GLint, GLint, GLsizei, GLsizei, GLint, GLenum, GLenum, const void*);
+  static const Fn next = real<Fn>("glTexImage2D");
+  armOn(width, height);
+  next(target, level, internalFormat, width, height, border, format, type, pixels);
+}
+
+__attribute__((visibility("default"))) void glGetIntegerv(GLenum name, GLint* data) {
+  using Fn = void (*)(GLenum, GLint*);
+  static const Fn next = real<Fn>("glGetIntegerv");
+  next(name, data);
+  const char* limit = std::getenv("OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE");
+  if (name == kMaxCubeMapTextureSize && limit != nullptr) *data = std::atoi(limit);
+}
+
+__attribute__((visibility("default"))) GLenum glGetError() {
+  using Fn = GLenum (*)();
+  static const Fn next = real<Fn>("glGetError");
+  if (faultIs("error") && armed.exchange(false)) return kInvalidOperation;
+  return next();
+}
+
+__attribute__((visibility("default"))) GLenum glGetGraphicsResetStatus() {
+  using Fn = GLenum (*)();
+  static const Fn next = real<Fn>("glGetGraphicsResetStatus");
+  if (faultIs("reset") && armed.exchange(false)) return kGuiltyContextReset;
+  return next();
+}
+
+}  // extern "C"
