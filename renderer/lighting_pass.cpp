@@ -4,6 +4,7 @@
 
 #include "renderer/errors.h"
 #include "renderer/gl_debug.h"
+#include "renderer/light_tiles.h"
 
 namespace omnishadow {
 namespace {
@@ -248,6 +249,35 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
   program_.set("uLightCount", static_cast<int>(data.size()));
 }
 
+namespace {
+
+// Grows `buffer` when needed and fills it with `words` (at least one word: empty SSBOs are
+// not bindable).
+void uploadWords(std::vector<std::uint32_t> words, gl::Buffer& buffer, GLsizeiptr& capacity) {
+  if (words.empty()) words.push_back(0);
+  const auto size = static_cast<GLsizeiptr>(words.size() * sizeof(std::uint32_t));
+  if (size > capacity) {
+    buffer = gl::createBuffer();
+    glNamedBufferStorage(buffer.get(), size, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    capacity = size;
+  }
+  glNamedBufferSubData(buffer.get(), 0, size, words.data());
+}
+
+}  // namespace
+
+void LightingPass::uploadTiles(const std::vector<ShadedLight>& lights, const ViewCamera& camera) {
+  std::vector<const Light*> list;
+  for (const ShadedLight& shaded : lights) list.push_back(shaded.light);
+  LightTiles tiles = buildLightTiles(list, camera);
+  uploadWords(std::move(tiles.ranges), tileRanges_, tileRangesSize_);
+  uploadWords(std::move(tiles.lights), tileLights_, tileLightsSize_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tileRanges_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, tileLights_.get());
+  program_.set("uTileSize", tiles.tileSize);
+  program_.set("uTileColumns", tiles.columns);
+}
+
 void LightingPass::drawScene(const GpuScene& scene, bool blended) {
   for (std::size_t index = 0; index < scene.draws().size(); ++index) {
     const GpuDraw& draw = scene.draws()[index];
@@ -309,6 +339,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   program_.set("uDebugLight", parameters.debugLight);
   program_.set("uCameraView", parameters.cascadeView ? *parameters.cascadeView : camera.view);
   uploadLights(lights, shadowGroups);
+  uploadTiles(lights, camera);
   glBindVertexArray(scene.vertexArray());
 
   glEnable(GL_DEPTH_TEST);

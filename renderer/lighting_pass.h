@@ -91,6 +91,7 @@ class LightingPass {
 
  private:
   void uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups);
+  void uploadTiles(const std::vector<ShadedLight>& lights, const ViewCamera& camera);
   void drawScene(const GpuScene& scene, bool blended);
 
   PassOutputs outputs_;
@@ -100,6 +101,8 @@ class LightingPass {
   GLsizeiptr lightBufferSize_ = 0;
   gl::Buffer viewProjectionBuffer_;
   GLsizeiptr viewProjectionBufferSize_ = 0;
+  gl::Buffer tileRanges_, tileLights_;
+  GLsizeiptr tileRangesSize_ = 0, tileLightsSize_ = 0;
 };
 
 }  // namespace omnishadow

@@ -38,6 +38,11 @@ uniform int uOcclusionTexCoord;
 uniform int uEmissiveTexCoord;
 
 uniform vec3 uCameraPosition;
+
+layout(std430, binding = 4) readonly buffer TileRanges { uint uTileRanges[]; };
+layout(std430, binding = 5) readonly buffer TileLights { uint uTileLights[]; };
+uniform int uTileSize;
+uniform int uTileColumns;
 uniform vec3 uAmbient;
 
 // 0 = beauty; 1 shadow, 2 depth, 3 normals, 4 albedo, 5 light count (renderer/lighting_pass.h)
@@ -115,7 +120,13 @@ void main() {
   int shadowedLights = 0;
   int contributing = 0;
   float depthView = 1.0;
-  for (int i = 0; i < uLightCount; ++i) {
+  // Only the lights that may reach this pixel's screen tile (renderer/light_tiles.h).
+  ivec2 tile = ivec2(gl_FragCoord.xy) / uTileSize;
+  int tileIndex = tile.y * uTileColumns + tile.x;
+  uint firstTileLight = uTileRanges[2 * tileIndex];
+  uint tileLightCount = uTileRanges[2 * tileIndex + 1];
+  for (uint k = 0u; k < tileLightCount; ++k) {
+    int i = int(uTileLights[firstTileLight + k]);
     Light light = uLights[i];
     vec3 L, radiance;
     float distance;

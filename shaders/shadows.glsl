@@ -100,12 +100,14 @@ float compareNearest(Light light, MapPoint m) {
 // World size of one shadow-map texel at P.
 float shadowTexel(Light light, int cascade, vec3 P) {
   float resolution = light.spotFilter.w;
+#ifdef SHADOW_PLANAR
   int type = lightType(light);
   if (type == LIGHT_DIRECTIONAL) return light.cascadeTexel[cascade];
   if (type == LIGHT_SPOT) {
     float depth = dot(P - light.positionRange.xyz, normalize(light.directionType.xyz));
     return 2.0 * max(depth, 1e-6) * light.shadowProjection.x / resolution;
   }
+#endif
   vec3 d = P - light.positionRange.xyz;
   return 2.0 * max(max(abs(d.x), abs(d.y)), abs(d.z)) / resolution;
 }
@@ -213,6 +215,9 @@ float varianceShadow(Light light, MapPoint m, vec3 Q, float texel) {
 
 // The cascade of a directional light holding P, or -1 beyond the last one.
 int shadowCascade(Light light, vec3 P) {
+#ifndef SHADOW_PLANAR
+  return 0;
+#endif
   if (lightType(light) != LIGHT_DIRECTIONAL) return 0;
   float viewDepth = -(uCameraView * vec4(P, 1.0)).z;
   int count = int(light.shadowSoft.w);

@@ -609,6 +609,54 @@ TEST(Shadows, HundredsOfShadowedPointLightsInOneFrame) {
   }
 }
 
+// A thousand unshadowed lights with ranges over a floor: the light-count debug view shows, per
+// pixel, how many lights reach it; screen tiles must not drop any (nor add any).
+TEST(Lighting, AThousandRangedLightsReachExactlyThePixelsInTheirRange) {
+  Scene scene;
+  addObject(scene, builder::makePlane(20.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(0.8f)));
+  std::vector<Light> lights;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-9.0f, 9.0f);
+  for (int i = 0; i < 1000; ++i) {
+    Light light =
+        pointLight("l" + std::to_string(i), {u(rng), 0.3f, u(rng)}, ShadowFilter::Pcf, 16);
+    light.shadow.enabled = false;
+    light.range = 0.8f;
+    light.intensity = 1.0f;
+    lights.push_back(light);
+  }
+  const ViewCamera camera = lookFrom(scene, {0, 14, 0.01f}, {0, 0, 0}, 128, 128, 70.0f);
+  StageTimes times;
+  RenderSettings settings;
+  settings.aovs = true;
+  const Frame frame =
+      sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, settings, times);
+  settings.aovs = false;
+  settings.debugView = DebugView::LightCount;
+  const Frame count =
+      sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, settings, times);
+  int checked = 0, reached = 0;
+  for (int y = 0; y < camera.height; y += 3) {
+    for (int x = 0; x < camera.width; x += 3) {
+      const AovPixel px = pixelAt(*frame.aovs, x, y, "l0");
+      if (px.coverage < 1.0f) continue;
+      int expected = 0;
+      bool borderline = false;
+      for (const Light& light : lights) {
+        const float d = glm::length(light.position - px.position);
+        borderline |= std::abs(d - light.range) < 1e-3f;
+        expected += d < light.range ? 1 : 0;
+      }
+      if (borderline) continue;
+      EXPECT_EQ(std::lround(count.beauty.at(x, y, 0) * 1000.0f), expected) << x << "," << y;
+      reached += expected > 0 ? 1 : 0;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(reached, 300);
+}
+
 TEST(Shadows, MoreShadowTexturesThanTheShaderSamplesIsAnInputError) {
   Scene scene;
   addObject(scene, builder::makePlane(2.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(1.0f)));

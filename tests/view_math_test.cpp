@@ -9,6 +9,7 @@
 #include "renderer/camera.h"
 #include "renderer/cube_faces.h"
 #include "renderer/errors.h"
+#include "renderer/light_tiles.h"
 #include "renderer/shadow_views.h"
 
 using namespace omnishadow;
@@ -359,4 +360,49 @@ TEST(Cascades, ShadowDistanceEndsTheLastCascade) {
   sun.shadow.distance = 30.0f;
   const DirectionalShadowFrame frame = directionalShadowFrame(sun, camera, scene.bounds);
   EXPECT_EQ(frame.cascades.back().viewDepthEnd, 30.0f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Screen tiles of lights (renderer/light_tiles.h)
+
+TEST(LightTiles, RangedLightsOnlyInTheTilesTheirSphereCovers) {
+  Scene scene;
+  scene.bounds.extend(glm::vec3(-10, 0, -10));
+  scene.bounds.extend(glm::vec3(10, 1, 10));
+  CameraRequest request;
+  request.eye = glm::vec3(0, 10, 0.001f);
+  request.target = glm::vec3(0, 0, 0);
+  request.fovDegrees = 90.0f;
+  request.width = 320;
+  request.height = 320;
+  const ViewCamera camera = resolveCamera(scene, request);
+  Light small, everywhere, behind, sun;
+  small.position = {5, 0, 5};  // lower right quadrant of the picture seen from above
+  small.range = 1.0f;
+  everywhere.position = {0, 1, 0};
+  behind.position = {0, 30, 0};  // above the camera, its range ends before the near plane
+  behind.range = 5.0f;
+  sun.type = LightType::Directional;
+  const LightTiles tiles = buildLightTiles({&small, &everywhere, &behind, &sun}, camera, 16);
+  ASSERT_EQ(tiles.columns, 20);
+  ASSERT_EQ(tiles.rows, 20);
+  int smallTiles = 0;
+  for (int t = 0; t < tiles.columns * tiles.rows; ++t) {
+    std::vector<std::uint32_t> list(
+        tiles.lights.begin() + tiles.ranges[2 * t],
+        tiles.lights.begin() + tiles.ranges[2 * t] + tiles.ranges[2 * t + 1]);
+    EXPECT_NE(std::find(list.begin(), list.end(), 1u), list.end());  // no range: everywhere
+    EXPECT_NE(std::find(list.begin(), list.end(), 3u), list.end());  // directional: everywhere
+    EXPECT_EQ(std::find(list.begin(), list.end(), 2u), list.end());  // out of view
+    if (std::find(list.begin(), list.end(), 0u) != list.end()) {
+      ++smallTiles;
+      // The sphere (radius 1 at 10 m, 90 degree view: 16 px per metre) covers pixels near
+      // (240, 80) counted from the bottom left.
+      const int x = (t % tiles.columns) * 16 + 8, y = (t / tiles.columns) * 16 + 8;
+      EXPECT_NEAR(x, 240, 40);
+      EXPECT_NEAR(y, 80, 40);
+    }
+  }
+  EXPECT_GE(smallTiles, 4);
+  EXPECT_LE(smallTiles, 25);
 }
