@@ -211,6 +211,57 @@ INSTANTIATE_TEST_SUITE_P(LightsAndFilters, SphereAbovePlane,
                            return name;
                          });
 
+// A shadow edge that crosses from the light's -Y cube face onto its +X face (the floor at
+// y = -1 changes face at x = 1): with seamless filtering the shadow has no lit seam and no
+// gap along the face boundary, for the filters whose taps cross it.
+class CubeFaceSeam : public ::testing::TestWithParam<ShadowFilter> {};
+
+TEST_P(CubeFaceSeam, ShadowEdgeCrossesTheFaceBoundaryWithoutSeamOrGap) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(8.0f), translate({0, -1, 0}), white);
+  const glm::vec3 boxMin(0.3f, -0.55f, -1.0f), boxMax(1.2f, -0.45f, 0.3f);
+  addObject(scene, builder::makeBox((boxMax - boxMin) * 0.5f), translate((boxMin + boxMax) * 0.5f),
+            white);
+  const Light light = pointLight("lamp", {0, 0, 0}, GetParam(), 512);
+  const ViewCamera camera =
+      lookFrom(scene, {1.0f, 2.0f, 1.4f}, {1.0f, -1.0f, 0.5f}, 240, 240, 40.0f);
+  const Frame frame = renderAovs(scene, {light}, camera);
+  // The shadow's edge on the floor is the box's top edge z = 0.3 at y = -0.45 seen from the
+  // light: z = 0.3 / 0.45. Two texels there are about 0.01 m; the disk filter spans more.
+  const float edge = 0.3f / 0.45f;
+  const float margin = GetParam() == ShadowFilter::PcfDisk ? 0.06f : 0.03f;
+  int shadowed = 0, lit = 0;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const AovPixel px = pixelAt(*frame.aovs, x, y, "lamp");
+      if (px.coverage < 1.0f || std::abs(px.position.y + 1.0f) > 1e-3f) continue;
+      if (std::abs(px.position.x - 1.0f) > 0.12f) continue;  // the band around the face edge
+      if (std::abs(px.position.z - edge) < margin) continue;
+      const bool blocked = segmentHitsBox(px.position, light.position, boxMin, boxMax);
+      if (blocked) {
+        ++shadowed;
+        EXPECT_LT(px.visibility, 0.01f) << "lit seam at " << px.position.x << ", " << px.position.z;
+      } else {
+        ++lit;
+        EXPECT_GT(px.visibility, 0.99f) << "gap at " << px.position.x << ", " << px.position.z;
+      }
+    }
+  }
+  EXPECT_GT(shadowed, 300);
+  EXPECT_GT(lit, 300);
+}
+
+INSTANTIATE_TEST_SUITE_P(Filters, CubeFaceSeam,
+                         ::testing::Values(ShadowFilter::Pcf, ShadowFilter::PcfDisk,
+                                           ShadowFilter::Poisson, ShadowFilter::Vsm),
+                         [](const ::testing::TestParamInfo<ShadowFilter>& param) {
+                           std::string name = toString(param.param);
+                           for (char& c : name)
+                             if (c == '-') c = '_';
+                           return name;
+                         });
+
 TEST(Shadows, PointsThatSeeTheLightAreLitEverywhereOnTheSphere) {
   // No self-shadowing (acne) on a curved surface: every point of the sphere whose normal faces
   // the light by more than a grazing angle is fully lit.
