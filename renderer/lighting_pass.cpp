@@ -168,6 +168,7 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
 LightingPass::LightingPass(Shading shading, PassOutputs outputs, const LightingFeatures& features)
     : outputs_(outputs),
       program_("scene.vert", "lighting.frag", variantDefines(shading, outputs, features)),
+      depthOnly_("scene.vert", "depth_only.frag"),
       cubeCompare_(makeCompareSampler(false)),
       planarCompare_(makeCompareSampler(true)),
       rawDepth_(makeRawSampler(GL_NEAREST)),
@@ -278,11 +279,16 @@ void LightingPass::uploadTiles(const std::vector<ShadedLight>& lights, const Vie
   program_.set("uTileColumns", tiles.columns);
 }
 
-void LightingPass::drawScene(const GpuScene& scene, bool blended) {
+void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram& program) {
+  const bool lighting = &program == &program_;
   for (std::size_t index = 0; index < scene.draws().size(); ++index) {
     const GpuDraw& draw = scene.draws()[index];
     const GpuMaterial& material = scene.materials()[draw.material];
-    if ((material.desc.alphaMode == AlphaMode::Blend) != blended) continue;
+    const AlphaMode mode = material.desc.alphaMode;
+    const DrawSet drawSet = mode == AlphaMode::Opaque ? DrawSet::Opaque
+                            : mode == AlphaMode::Mask ? DrawSet::Masked
+                                                      : DrawSet::Blended;
+    if (drawSet != set) continue;
     if (material.desc.doubleSided) {
       glDisable(GL_CULL_FACE);
     } else {
@@ -290,14 +296,16 @@ void LightingPass::drawScene(const GpuScene& scene, bool blended) {
       glCullFace(GL_BACK);
     }
     glFrontFace(draw.mirrored ? GL_CW : GL_CCW);
-    program_.set("uModel", draw.world);
-    program_.set("uNormalMatrix", draw.normalMatrix);
-    bindMaterial(program_, material);
+    program.set("uModel", draw.world);
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
-    program_.set("uHasTangents", range.hasTangents ? 1 : 0);
-    if (outputs_ == PassOutputs::Layers) {
-      program_.set("uObjectId", static_cast<float>(index));
-      program_.set("uMaterialId", static_cast<float>(draw.material));
+    if (lighting) {
+      program.set("uNormalMatrix", draw.normalMatrix);
+      bindMaterial(program, material);
+      program.set("uHasTangents", range.hasTangents ? 1 : 0);
+      if (outputs_ == PassOutputs::Layers) {
+        program.set("uObjectId", static_cast<float>(index));
+        program.set("uMaterialId", static_cast<float>(draw.material));
+      }
     }
     glDrawElementsBaseVertex(
         GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
@@ -343,10 +351,24 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   glBindVertexArray(scene.vertexArray());
 
   glEnable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  // Depth of the opaque surfaces first, so the expensive shading runs once per pixel instead
+  // of once per overlapping surface. Then opaque surfaces shade where their depth is the
+  // pre-pass's (no depth writes: early depth tests stay on), masked ones test and write as usual.
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_TRUE);
-  glDisable(GL_BLEND);
-  drawScene(scene, false);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  depthOnly_.use();
+  depthOnly_.set("uViewProjection", camera.projection * camera.view);
+  drawScene(scene, DrawSet::Opaque, depthOnly_);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  program_.use();
+  glDepthFunc(GL_GEQUAL);
+  glDepthMask(GL_FALSE);
+  drawScene(scene, DrawSet::Opaque, program_);
+  glDepthFunc(GL_GREATER);
+  glDepthMask(GL_TRUE);
+  drawScene(scene, DrawSet::Masked, program_);
 
   // Blended surfaces over the opaque frame, unsorted; the AOVs keep the opaque surfaces.
   if (outputs_ == PassOutputs::Layers) {
@@ -359,7 +381,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   for (int i = 1; i < targets.attachmentCount(); ++i)
     glColorMaski(static_cast<GLuint>(i), GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  drawScene(scene, true);
+  drawScene(scene, DrawSet::Blended, program_);
   for (int i = 1; i < targets.attachmentCount(); ++i)
     glColorMaski(static_cast<GLuint>(i), GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisablei(GL_BLEND, 0);

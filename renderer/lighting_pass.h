@@ -92,10 +92,12 @@ class LightingPass {
  private:
   void uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups);
   void uploadTiles(const std::vector<ShadedLight>& lights, const ViewCamera& camera);
-  void drawScene(const GpuScene& scene, bool blended);
+  enum class DrawSet { Opaque, Masked, Blended };
+  void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram& program);
 
   PassOutputs outputs_;
   ShaderProgram program_;
+  ShaderProgram depthOnly_;
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::Buffer lightBuffer_;
   GLsizeiptr lightBufferSize_ = 0;

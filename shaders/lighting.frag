@@ -139,7 +139,7 @@ void main() {
       vec3 Nlight = dot(Ngeom, L) >= 0.0 ? Ngeom : -Ngeom;
       shadow = shadowVisibility(light, vIn.worldPosition, Nlight, L, cameraDistance);
     }
-    if (shadowGroup(light) >= 0) {
+    if (reaches && shadowGroup(light) >= 0) {
       shadowSum += shadow;
       ++shadowedLights;
     }

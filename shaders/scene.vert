@@ -4,6 +4,10 @@ uniform mat4 uModel;
 uniform mat3 uNormalMatrix;
 uniform mat4 uViewProjection;
 
+// The depth pre-pass and the lighting pass must compute bit-identical depths (the lighting
+// pass tests GL_GEQUAL against the pre-pass).
+invariant gl_Position;
+
 out VertexData {
   vec3 worldPosition;
   vec3 worldNormal;
