@@ -9,6 +9,7 @@
 #include "renderer/errors.h"
 #include "renderer/gl_debug.h"
 #include "renderer/gpu_scene.h"
+#include "renderer/scene_fingerprint.h"
 #include "renderer/shadow_pass.h"
 #include "renderer/vsm_filter.h"
 
@@ -65,6 +66,7 @@ struct Renderer::Prepared {
   explicit Prepared(const Scene& s) : gpu(s) {}
   GpuScene gpu;
   LightingFeatures features;
+  std::uint64_t fingerprint = 0;  // shadowFingerprint() when the shadow cache is used
   ShadowAtlasPlan atlas;
   ShadowGroups groups;  // indexed like atlas.groups
   std::vector<ShadedLight> shaded;
@@ -92,12 +94,57 @@ ShadowPassStrategy Renderer::defaultShadowPass() const {
   return resolveShadowPassStrategy(ShadowPassStrategy::Auto, glRenderer_);
 }
 
+namespace {
+
+bool sameGroups(const std::vector<ShadowGroupPlan>& a, const std::vector<ShadowGroupPlan>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (!(a[i].key == b[i].key) || a[i].layers != b[i].layers) return false;
+  return true;
+}
+
+// Whether a light's map, rendered before with `before` and `plan`, is what `light` and `now`
+// would render again. Directional maps follow the camera and are always rendered.
+bool sameShadowMap(const Light& before, const LightShadowPlan& planBefore, const Light& light,
+                   const LightShadowPlan& now) {
+  if (light.type == LightType::Directional || before.type != light.type) return false;
+  const ShadowSettings& a = before.shadow;
+  const ShadowSettings& b = light.shadow;
+  return planBefore.group == now.group && planBefore.firstLayer == now.firstLayer &&
+         planBefore.layerCount == now.layerCount && planBefore.near == now.near &&
+         planBefore.far == now.far && planBefore.viewProjection == now.viewProjection &&
+         before.position == light.position && a.cullFace == b.cullFace &&
+         a.polygonOffsetFactor == b.polygonOffsetFactor &&
+         a.polygonOffsetUnits == b.polygonOffsetUnits && a.filter == b.filter &&
+         a.filterRadius == b.filterRadius;
+}
+
+}  // namespace
+
 void Renderer::renderShadows(Prepared& prepared, const Scene& scene,
                              const std::vector<Light>& lights, const ViewCamera& camera,
-                             const RenderSettings& settings) {
+                             const RenderSettings& settings, bool useCache, Frame* frame) {
   prepared.atlas = planShadowAtlas(lights, camera, scene.bounds, shadowLimits_);
-  for (const ShadowGroupPlan& group : prepared.atlas.groups)
-    prepared.groups.push_back(shadowTextures_.take(group));
+  const std::uint64_t fingerprint = useCache ? shadowFingerprint(scene) : 0;
+  prepared.fingerprint = fingerprint;
+  std::optional<ShadowCache> cache = std::move(shadowCache_);
+  shadowCache_.reset();
+  const bool reuse = useCache && cache && cache->scene == fingerprint &&
+                     sameGroups(cache->plan.groups, prepared.atlas.groups);
+  if (reuse) {
+    prepared.groups = std::move(cache->groups);
+  } else {
+    if (cache)
+      for (ShadowGroupTextures& group : cache->groups) shadowTextures_.give(std::move(group));
+    for (const ShadowGroupPlan& group : prepared.atlas.groups)
+      prepared.groups.push_back(shadowTextures_.take(group));
+  }
+  auto cachedPlan = [&](std::size_t light) -> const LightShadowPlan* {
+    if (!reuse || light >= cache->lights.size()) return nullptr;
+    for (const LightShadowPlan& plan : cache->plan.lights)
+      if (plan.light == static_cast<int>(light)) return &plan;
+    return nullptr;
+  };
   const ShadowPassStrategy strategy = resolveShadowPassStrategy(settings.shadowPass, glRenderer_);
   std::size_t next = 0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
@@ -106,8 +153,14 @@ void Renderer::renderShadows(Prepared& prepared, const Scene& scene,
         prepared.atlas.lights[next].light == static_cast<int>(i)) {
       const LightShadowPlan& plan = prepared.atlas.lights[next++];
       const ShadowGroupTextures& group = prepared.groups[plan.group];
-      shadowPass_->render(prepared.gpu, lights[i], plan, group, strategy);
-      if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
+      const LightShadowPlan* before = cachedPlan(i);
+      if (before && sameShadowMap(cache->lights[i], *before, lights[i], plan)) {
+        if (frame) ++frame->shadowMapsReused;
+      } else {
+        shadowPass_->render(prepared.gpu, lights[i], plan, group, strategy);
+        if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
+        if (frame) ++frame->shadowMapsRendered;
+      }
       s.shadow = &plan;
     }
     prepared.shaded.push_back(s);
@@ -262,7 +315,7 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
   upload.stop();
 
   ScopedStage shadowStage(times, "shadow maps");
-  renderShadows(prepared, scene, lights, camera, settings);
+  renderShadows(prepared, scene, lights, camera, settings, true, &frame);
   glFinish();
   shadowStage.stop();
 
@@ -318,7 +371,8 @@ Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
     }
   }
   gl::checkErrors("reading back the frame");
-  for (ShadowGroupTextures& group : prepared.groups) shadowTextures_.give(std::move(group));
+  shadowCache_ = ShadowCache{prepared.fingerprint, std::move(prepared.atlas), lights,
+                             std::move(prepared.groups)};
   return frame;
 }
 
@@ -328,7 +382,7 @@ std::vector<CubeDistances> Renderer::renderShadowDistances(const Scene& scene,
   Prepared prepared(scene);
   RenderSettings settings;
   settings.shadowPass = strategy;
-  renderShadows(prepared, scene, lights, ViewCamera{}, settings);
+  renderShadows(prepared, scene, lights, ViewCamera{}, settings, false, nullptr);
   std::vector<CubeDistances> out;
   for (const ShadedLight& s : prepared.shaded)
     if (s.shadow && s.light->type == LightType::Point)

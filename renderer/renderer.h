@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -70,6 +71,10 @@ struct Frame {
   std::vector<ShadowMapDump> shadowMaps;
   std::vector<LightView> lightViews;
   std::vector<std::string> warnings;
+  // Shadowed lights whose maps were rendered for this frame, and those kept from the previous
+  // render of the same scene (point and spot lights whose maps cannot have changed).
+  int shadowMapsRendered = 0;
+  int shadowMapsReused = 0;
 };
 
 // Owns the headless GL context and the compiled passes; renders frames of any scene. Not
@@ -100,7 +105,8 @@ class Renderer {
   LightingPass& lightingPass(Shading shading, PassOutputs outputs,
                              const LightingFeatures& features);
   void renderShadows(Prepared& prepared, const Scene& scene, const std::vector<Light>& lights,
-                     const ViewCamera& camera, const RenderSettings& settings);
+                     const ViewCamera& camera, const RenderSettings& settings, bool useCache,
+                     Frame* frame);
   FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                         const RenderSettings& settings, const PassParameters& parameters,
                         StageTimes* times);
@@ -111,6 +117,15 @@ class Renderer {
   std::unique_ptr<ShadowPass> shadowPass_;
   std::unique_ptr<class VsmFilter> vsmFilter_;
   ShadowTexturePool shadowTextures_;
+  // The last frame's shadow maps, kept for the next render of the same scene (batch jobs of
+  // one scene with several cameras): point and spot maps do not depend on the camera.
+  struct ShadowCache {
+    std::uint64_t scene = 0;
+    ShadowAtlasPlan plan;
+    std::vector<Light> lights;
+    ShadowGroups groups;
+  };
+  std::optional<ShadowCache> shadowCache_;
   ShadowLimits shadowLimits_;
   int maxCubeSize_ = 0, maxTextureSize_ = 0;
   std::string glRenderer_;

@@ -708,6 +708,47 @@ TEST(Lighting, AThousandRangedLightsReachExactlyThePixelsInTheirRange) {
   EXPECT_GT(reached, 300);
 }
 
+// Batch jobs that render one scene from several cameras keep the point and spot maps of the
+// previous render; directional maps follow the camera and are rendered again. The reused maps
+// give the same images as freshly rendered ones.
+TEST(Shadows, StaticShadowMapsAreReusedForTheSameSceneAndLights) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeSphere(0.5f, 24, 12), translate({0, 1, 0}), white);
+  Light spot = pointLight("spot", {1, 3, 0}, ShadowFilter::Pcf, 256);
+  spot.type = LightType::Spot;
+  spot.direction = glm::normalize(glm::vec3(-1, -3, 0));
+  spot.outerConeAngle = 0.8f;
+  Light sun = pointLight("sun", {0, 0, 0}, ShadowFilter::Pcf, 256);
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1, 0.2f));
+  sun.intensity = 1.0f;
+  const std::vector<Light> lights = {pointLight("lamp", {0, 3, 0}, ShadowFilter::Pcf, 128), spot,
+                                     sun};
+  Scene other = scene;
+  addObject(other, builder::makeBox(glm::vec3(0.3f)), translate({2, 0.3f, 2}), white);
+  const ViewCamera first = lookFrom(scene, {0, 6, 4}, {0, 0, 0}, 64, 48);
+  const ViewCamera second = lookFrom(scene, {4, 5, 0}, {0, 0, 0}, 64, 48);
+  StageTimes times;
+  Renderer& renderer = sharedRenderer();
+  const Frame a = renderer.render(scene, lights, glm::vec3(0.03f), first, {}, times);
+  const Frame reused = renderer.render(scene, lights, glm::vec3(0.03f), second, {}, times);
+  EXPECT_EQ(reused.shadowMapsReused, 2);    // lamp and spot
+  EXPECT_EQ(reused.shadowMapsRendered, 1);  // the sun
+  const Frame changed = renderer.render(other, lights, glm::vec3(0.03f), second, {}, times);
+  EXPECT_EQ(changed.shadowMapsReused, 0);  // another scene: everything rendered
+  Light moved = lights[0];
+  moved.position.x += 0.1f;
+  const Frame movedLight =
+      renderer.render(other, {moved, lights[1], lights[2]}, glm::vec3(0.03f), second, {}, times);
+  EXPECT_EQ(movedLight.shadowMapsReused, 1);  // the spot only
+  renderer.render(other, lights, glm::vec3(0.03f), second, {}, times);
+  const Frame fresh = renderer.render(scene, lights, glm::vec3(0.03f), second, {}, times);
+  EXPECT_EQ(fresh.shadowMapsReused, 0);
+  EXPECT_EQ(fresh.beauty.pixels, reused.beauty.pixels);
+}
+
 TEST(Shadows, MoreShadowTexturesThanTheShaderSamplesIsAnInputError) {
   Scene scene;
   addObject(scene, builder::makePlane(2.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(1.0f)));
