@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
@@ -16,6 +17,7 @@
 #include "renderer/errors.h"
 #include "renderer/gltf_loader.h"
 #include "renderer/renderer.h"
+#include "renderer/shadow_verification.h"
 #include "scenes/builder/gltf_builder.h"
 
 using namespace omnishadow;
@@ -1271,3 +1273,110 @@ TEST(Materials, TexturesLargerThanTheGlLimitAreDownscaledWithAWarning) {
       << frame.warnings[0];
   EXPECT_GT(frame.beauty.at(8, 8, 0), 0.0f);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Shadow quality against exact ray casting (the code behind `omnishadow verify`), with the
+// default bias settings: issue 3's bar for every light type and filter.
+
+namespace {
+
+struct QualityCase {
+  LightType type;
+  ShadowFilter filter;
+};
+
+Light qualityLight(LightType type, ShadowFilter filter) {
+  Light light = pointLight("light", {0.6f, 3.0f, 0.9f}, filter, 1024);
+  light.type = type;
+  if (type == LightType::Spot) {
+    light.position = {2.5f, 4.0f, 2.0f};
+    light.direction = glm::normalize(-light.position);
+    light.outerConeAngle = 0.7f;
+    light.intensity = 40.0f;
+  }
+  if (type == LightType::Directional) {
+    light.direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
+    light.intensity = 2.0f;
+    light.shadow.cascades = 2;
+  }
+  if (filter == ShadowFilter::Pcss)
+    light.shadow.radius = type == LightType::Directional ? 0.01f : 0.05f;
+  return light;
+}
+
+// Interior rates of one light on one scene, seen from one camera.
+LightVerification verifyOne(const Scene& scene, const Light& light, const ViewCamera& camera) {
+  const Frame frame = renderAovs(scene, {light}, camera);
+  const ShadowReference reference(scene);
+  const std::vector<LightToVerify> lights = {{light, effectiveShadowFar(light, scene.bounds)}};
+  return verifyShadows(reference, scene.bounds, lights, *frame.aovs, camera, {}).lights.at(0);
+}
+
+void expectIssueThreeBar(const LightVerification& v) {
+  std::printf(
+      "%s: interior %lld, agreement %.4f%%, false shadow %lld, false light %lld; "
+      "edge %lld, agreement %.2f%%\n",
+      ::testing::UnitTest::GetInstance()->current_test_info()->name(),
+      static_cast<long long>(v.interior.evaluated), 100.0 * v.interior.agreementRate(),
+      static_cast<long long>(v.interior.falseShadow), static_cast<long long>(v.interior.falseLight),
+      static_cast<long long>(v.edge.evaluated), 100.0 * v.edge.agreementRate());
+  EXPECT_GT(v.interior.evaluated, 5000);
+  EXPECT_GE(v.interior.agreementRate(), 0.999);
+  EXPECT_LE(v.interior.falseShadowRate(), 0.0005) << v.interior.falseShadow << " points";
+  EXPECT_LE(v.interior.falseLightRate(), 0.0005) << v.interior.falseLight << " points";
+}
+
+}  // namespace
+
+class ShadowQuality : public ::testing::TestWithParam<QualityCase> {};
+
+// A floor with a sphere, a box, a 2 cm thin wall touching the floor and a tilted slab.
+TEST_P(ShadowQuality, AgreesWithRayCastingWithDefaultBias) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(10.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeSphere(0.5f, 48, 24), translate({-1.0f, 0.8f, 0.0f}), white);
+  addObject(scene, builder::makeBox(glm::vec3(0.4f)), translate({1.0f, 0.4f, -0.5f}), white);
+  addObject(scene, builder::makeBox({0.6f, 0.5f, 0.01f}), translate({0.0f, 0.5f, 1.2f}), white);
+  addObject(scene, builder::makeBox({0.5f, 0.05f, 0.5f}),
+            glm::rotate(translate({0.5f, 1.2f, -1.5f}), 0.5f, glm::vec3(1, 0, 0)), white);
+  const Light light = qualityLight(GetParam().type, GetParam().filter);
+  const ViewCamera camera = lookFrom(scene, {3.5f, 4.5f, 5.0f}, {0, 0, 0}, 200, 150);
+  expectIssueThreeBar(verifyOne(scene, light, camera));
+}
+
+// A large plane lit 80 degrees from its normal: no acne.
+TEST_P(ShadowQuality, NoAcneOnAPlaneLitAtEightyDegrees) {
+  Scene scene;
+  addObject(scene, builder::makePlane(20.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(0.8f)));
+  addObject(scene, builder::makeBox(glm::vec3(0.3f)), translate({0, 0.3f, 0}),
+            addMaterial(scene, glm::vec4(0.8f)));
+  Light light = qualityLight(GetParam().type, GetParam().filter);
+  const glm::vec3 toLight =
+      glm::vec3(std::sin(glm::radians(80.0f)), std::cos(glm::radians(80.0f)), 0);
+  light.position = 6.0f * toLight;
+  light.direction = -toLight;
+  light.range = 0.0f;
+  const ViewCamera camera = lookFrom(scene, {-3.0f, 6.0f, 6.0f}, {0, 0, 0}, 200, 150);
+  const LightVerification v = verifyOne(scene, light, camera);
+  EXPECT_GT(v.interior.evaluated, 5000);
+  EXPECT_LE(v.interior.falseShadowRate(), 0.0005) << v.interior.falseShadow << " points";
+}
+
+std::vector<QualityCase> qualityCases() {
+  std::vector<QualityCase> cases;
+  for (const LightType type : {LightType::Point, LightType::Spot, LightType::Directional})
+    for (const ShadowFilter filter : {ShadowFilter::Hard, ShadowFilter::Pcf, ShadowFilter::PcfDisk,
+                                      ShadowFilter::Poisson, ShadowFilter::Pcss, ShadowFilter::Vsm})
+      cases.push_back({type, filter});
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(LightsAndFilters, ShadowQuality, ::testing::ValuesIn(qualityCases()),
+                         [](const ::testing::TestParamInfo<QualityCase>& param) {
+                           std::string name = std::string(toString(param.param.type)) + "_" +
+                                              toString(param.param.filter);
+                           for (char& c : name)
+                             if (c == '-') c = '_';
+                           return name;
+                         });
