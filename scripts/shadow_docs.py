@@ -417,7 +417,7 @@ interleaved runs of `omnishadow render --stats` with that light alone (stages "s
 "lighting", milliseconds of wall time, one frame), after an untimed warm-up round: llvmpipe
 compiles each shader variant at its first draw, inside these stages, and Mesa's shader cache
 (`~/.cache/mesa_shader_cache`) keeps it, so the timed runs do not include compiling (a cold
-first run costs 0.3 to 1.8 s more here). Every run is in `results.json` of the work folder.
+first run costs 0.2 to 1.8 s more here). Every run is in `results.json` of the work folder.
 
 {rates_table(demo_rows, True)}
 
