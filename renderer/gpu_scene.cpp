@@ -4,9 +4,14 @@
 #include <cmath>
 
 #include "renderer/errors.h"
+#include "renderer/mesh_topology.h"
 
 namespace omnishadow {
 namespace {
+
+// Instanced meshes are copied into the world-space caster stream while all their copies
+// together stay below this many vertices (12 bytes each); bigger ones are transformed per vertex.
+constexpr std::size_t kMaxCopiedInstanceVertices = std::size_t{1} << 16;
 
 // Interleaved vertex; attribute locations match shaders/scene_vertex.glsl.
 struct Vertex {
@@ -50,8 +55,10 @@ Image halved(const Image& in) {
 
 }  // namespace
 
-GpuScene::GpuScene(const Scene& scene) : vertexArray_(gl::createVertexArray()) {
+GpuScene::GpuScene(const Scene& scene)
+    : vertexArray_(gl::createVertexArray()), casterVertexArray_(gl::createVertexArray()) {
   uploadGeometry(scene);
+  uploadCasterStream(scene);
   uploadMaterials(scene);
 }
 
@@ -64,6 +71,7 @@ void GpuScene::uploadGeometry(const Scene& scene) {
     range.firstIndex = static_cast<GLsizei>(indices.size());
     range.indexCount = static_cast<GLsizei>(mesh.indices.size());
     range.hasTangents = !mesh.tangents.empty();
+    range.closed = isClosedSolid(mesh.positions, mesh.indices);
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
       Vertex v;
       v.position = mesh.positions[i];
@@ -116,6 +124,27 @@ void GpuScene::uploadGeometry(const Scene& scene) {
   models_ = gl::createBuffer();
   glNamedBufferStorage(models_.get(), static_cast<GLsizeiptr>(models.size() * sizeof(glm::mat4)),
                        models.data(), 0);
+}
+
+void GpuScene::uploadCasterStream(const Scene& scene) {
+  std::vector<std::size_t> instancesOf(scene.meshes.size(), 0);
+  for (const GpuDraw& draw : draws_) ++instancesOf[static_cast<std::size_t>(draw.mesh)];
+  std::vector<glm::vec3> world;
+  for (GpuDraw& draw : draws_) {
+    const Mesh& mesh = scene.meshes[static_cast<std::size_t>(draw.mesh)];
+    const std::size_t copies = instancesOf[static_cast<std::size_t>(draw.mesh)];
+    if (copies > 1 && copies * mesh.positions.size() > kMaxCopiedInstanceVertices) continue;
+    draw.casterBaseVertex = static_cast<GLint>(world.size());
+    for (const glm::vec3& p : mesh.positions) world.emplace_back(draw.world * glm::vec4(p, 1.0f));
+  }
+  casterPositions_ = gl::createBuffer();
+  glNamedBufferStorage(casterPositions_.get(),
+                       std::max<GLsizeiptr>(1, world.size() * sizeof(glm::vec3)),
+                       world.empty() ? nullptr : world.data(), 0);
+  const GLuint vao = casterVertexArray_.get();
+  glVertexArrayVertexBuffer(vao, 0, casterPositions_.get(), 0, sizeof(glm::vec3));
+  glVertexArrayElementBuffer(vao, indices_.get());
+  setAttribute(vao, 0, 3, 0);
 }
 
 GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool srgb) {

@@ -15,6 +15,9 @@ struct GpuMeshRange {
   GLsizei firstIndex = 0;  // in indices, not bytes
   GLsizei indexCount = 0;
   bool hasTangents = false;
+  // The mesh bounds a solid (isClosedSolid): from a light outside it only front faces can be
+  // nearest, so the shadow pass skips its back faces.
+  bool closed = false;
 };
 
 // A mesh instance ready to draw: its range, transform, material and world bounds.
@@ -26,6 +29,8 @@ struct GpuDraw {
   bool mirrored = false;         // negative determinant: front faces are clockwise
   glm::vec3 boundsCenter{0.0f};  // world-space bounding sphere, for culling
   float boundsRadius = 0.0f;
+  // First vertex of this draw's copy in the world-space caster stream; -1 when it has none.
+  GLint casterBaseVertex = -1;
 };
 
 // GL textures for one material; 0 where the material has no such texture.
@@ -43,6 +48,11 @@ class GpuScene {
   explicit GpuScene(const Scene& scene);
 
   GLuint vertexArray() const { return vertexArray_.get(); }
+  // Positions only (attribute 0), already in world space, with the same index buffer: the
+  // shadow pass draws opaque casters from it without a transform per vertex. Holds a copy per
+  // draw of each mesh drawn once, and of meshes small enough to copy for all their instances
+  // (GpuDraw::casterBaseVertex); the other draws use vertexArray() and modelBuffer().
+  GLuint casterVertexArray() const { return casterVertexArray_.get(); }
   // std430 array of mat4: draws()[i].world at index i.
   GLuint modelBuffer() const { return models_.get(); }
   const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
@@ -54,12 +64,13 @@ class GpuScene {
 
  private:
   void uploadGeometry(const Scene& scene);
+  void uploadCasterStream(const Scene& scene);
   void uploadMaterials(const Scene& scene);
   GLuint textureFor(const Scene& scene, const TextureSlot& slot, bool srgb);
   GLuint samplerFor(const Scene& scene, const TextureSlot& slot);
 
-  gl::VertexArray vertexArray_;
-  gl::Buffer vertices_, indices_, models_;
+  gl::VertexArray vertexArray_, casterVertexArray_;
+  gl::Buffer vertices_, indices_, models_, casterPositions_;
   std::vector<gl::Texture> textures_;  // indexed by 2 * image + srgb
   std::vector<gl::Sampler> samplers_;  // indexed by texture
   std::vector<GpuMeshRange> meshes_;

@@ -12,11 +12,12 @@
 #include "renderer/shadow_views.h"
 
 namespace omnishadow {
-namespace {
 
-GLenum depthFormat(DepthFormat format) {
+GLenum depthInternalFormat(DepthFormat format) {
   return format == DepthFormat::Fixed24 ? GL_DEPTH_COMPONENT24 : GL_DEPTH_COMPONENT32F;
 }
+
+namespace {
 
 double bytesPerTexel(const ShadowGroupKey& key) {
   return 4.0 + (key.moments ? 8.0 : 0.0);  // 24-bit depth is stored in 32 bits
@@ -146,7 +147,8 @@ ShadowGroupTextures ShadowTexturePool::take(const ShadowGroupPlan& plan) {
       plan.key.layout == ShadowLayout::Cube ? GL_TEXTURE_CUBE_MAP_ARRAY : GL_TEXTURE_2D_ARRAY;
   const int n = plan.key.resolution;
   textures.depth = gl::createTexture(target);
-  glTextureStorage3D(textures.depth.get(), 1, depthFormat(plan.key.format), n, n, plan.layers);
+  glTextureStorage3D(textures.depth.get(), 1, depthInternalFormat(plan.key.format), n, n,
+                     plan.layers);
   if (plan.key.moments) {
     textures.moments = gl::createTexture(target);
     glTextureStorage3D(textures.moments.get(), 1, GL_RG32F, n, n, plan.layers);

@@ -76,6 +76,9 @@ ShadowAtlasPlan planShadowAtlas(const std::vector<Light>& lights, const ViewCame
 float effectiveShadowFar(const Light& light, const Bounds& sceneBounds);
 
 // GL textures of one group.
+// The GL internal format of a depth format.
+GLenum depthInternalFormat(DepthFormat format);
+
 struct ShadowGroupTextures {
   ShadowGroupKey key;
   int layers = 0;

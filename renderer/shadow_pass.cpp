@@ -1,6 +1,7 @@
 #include "renderer/shadow_pass.h"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "renderer/gl_debug.h"
@@ -76,13 +77,16 @@ ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
 ShadowPass::ShadowPass() : framebuffer_(gl::createFramebuffer()) {}
 ShadowPass::~ShadowPass() = default;
 
-const ShaderProgram& ShadowPass::program(ShadowPassStrategy strategy, bool masked, bool moments) {
-  const int key = static_cast<int>(strategy) * 4 + (masked ? 2 : 0) + (moments ? 1 : 0);
+const ShaderProgram& ShadowPass::program(ShadowPassStrategy strategy, bool masked, bool moments,
+                                         bool worldPositions) {
+  const int key = static_cast<int>(strategy) * 8 + (worldPositions ? 4 : 0) + (masked ? 2 : 0) +
+                  (moments ? 1 : 0);
   auto& slot = programs_[key];
   if (!slot) {
     std::vector<std::string> defines;
     if (masked) defines.emplace_back("ALPHA_MASK");
     if (moments) defines.emplace_back("MOMENTS");
+    if (worldPositions) defines.emplace_back("WORLD_POSITIONS");
     std::string geometry;
     if (strategy == ShadowPassStrategy::Instanced) defines.emplace_back("LAYER_FROM_INSTANCE");
     if (strategy == ShadowPassStrategy::Geometry) {
@@ -110,18 +114,10 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
                         const ShadowGroupTextures& target, ShadowPassStrategy strategy) {
   const bool cube = target.key.layout == ShadowLayout::Cube;
   if (!cube || strategy == ShadowPassStrategy::Auto) strategy = ShadowPassStrategy::Six;
+  const bool layered = strategy != ShadowPassStrategy::Six;
   const bool moments = target.key.moments;
   const int n = target.key.resolution;
   const int views = plan.layerCount;
-
-  const float zero = 0.0f;
-  glClearTexSubImage(target.depth.get(), 0, 0, 0, plan.firstLayer, n, n, views, GL_DEPTH_COMPONENT,
-                     GL_FLOAT, &zero);
-  if (moments) {
-    const float far[2] = {1.0f, 1.0f};
-    glClearTexSubImage(target.moments.get(), 0, 0, 0, plan.firstLayer, n, n, views, GL_RG, GL_FLOAT,
-                       far);
-  }
 
   // Which views each object can touch: one bit per view.
   std::vector<Frustum> frusta;
@@ -133,39 +129,58 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
       if (frusta[v].touches(draws[d].boundsCenter, draws[d].boundsRadius)) viewMask[d] |= 1u << v;
 
   const ShadowSettings& settings = light.shadow;
-  auto bucketOf = [&](const GpuDraw& draw) {
-    const GpuMaterial& material = scene.materials()[draw.material];
-    if (settings.cullFace == CullFace::None || material.desc.doubleSided) return kNoCull;
-    return draw.mirrored ? kCullCw : kCullCcw;
-  };
   auto isMasked = [&](const GpuDraw& draw) {
     // Blended surfaces cast shadows where they are at least half opaque.
     return scene.materials()[draw.material].desc.alphaMode != AlphaMode::Opaque;
   };
+  // Along any ray from a point outside a closed solid the first surface is a front face, so
+  // its back faces cannot change a depth: they are skipped even with cullFace "none" (half the
+  // triangles to set up and rasterize). "Outside" keeps a margin of the near plane's reach
+  // (the frustum corner's distance at depth `near`), so that no front face is clipped away.
+  const float t = cube ? 1.0f : plan.tanHalfFov;
+  const float nearReach = plan.near * std::sqrt(1.0f + 2.0f * t * t);
+  auto seesOnlyFrontFaces = [&](const GpuDraw& draw) {
+    if (!scene.meshes()[draw.mesh].closed || isMasked(draw)) return false;
+    if (light.type == LightType::Directional) return true;  // the depth range holds the scene
+    return glm::distance(light.position, draw.boundsCenter) > draw.boundsRadius + nearReach;
+  };
+  auto bucketOf = [&](const GpuDraw& draw) {
+    const bool userCull =
+        settings.cullFace != CullFace::None && !scene.materials()[draw.material].desc.doubleSided;
+    if (!userCull && !(settings.cullFace == CullFace::None && seesOnlyFrontFaces(draw)))
+      return kNoCull;
+    return draw.mirrored ? kCullCw : kCullCcw;
+  };
 
-  // Multi-draw calls: (bucket, view or -1 for layered, first command, command count).
+  // Multi-draw calls: (bucket, view or -1 for layered, caster stream or not, first command,
+  // command count).
   struct Call {
-    int bucket, view, first, count;
+    int bucket, view;
+    bool world;
+    int first, count;
   };
   std::vector<Call> calls;
   std::vector<GLuint> commandWords, objects;
-  auto addCommand = [&](std::size_t d, GLuint firstView, GLuint viewCount) {
+  auto addCommand = [&](std::size_t d, GLuint firstView, GLuint viewCount, bool world) {
     const GpuMeshRange& range = scene.meshes()[draws[d].mesh];
     const DrawCommand c{static_cast<GLuint>(range.indexCount), viewCount,
-                        static_cast<GLuint>(range.firstIndex), range.baseVertex, firstView};
+                        static_cast<GLuint>(range.firstIndex),
+                        world ? draws[d].casterBaseVertex : range.baseVertex, firstView};
     const auto* words = reinterpret_cast<const GLuint*>(&c);
     commandWords.insert(commandWords.end(), words, words + 5);
     objects.push_back(static_cast<GLuint>(d));
     drawCount_ += viewCount;
   };
-  auto collect = [&](int bucket, int view) {
+  auto collect = [&](int bucket, int view, bool world) {
     const int first = static_cast<int>(objects.size());
     for (std::size_t d = 0; d < draws.size(); ++d) {
-      if (isMasked(draws[d]) || bucketOf(draws[d]) != bucket || viewMask[d] == 0) continue;
+      if (isMasked(draws[d]) || bucketOf(draws[d]) != bucket || viewMask[d] == 0 ||
+          (draws[d].casterBaseVertex >= 0) != world)
+        continue;
       if (view >= 0) {
-        if (viewMask[d] & (1u << view)) addCommand(d, 0, 1);
+        if (viewMask[d] & (1u << view)) addCommand(d, 0, 1, world);
       } else if (strategy == ShadowPassStrategy::Geometry) {
-        addCommand(d, 0, 1);
+        addCommand(d, 0, 1, world);
       } else {
         // Runs of consecutive faces become one command each.
         for (int v = 0; v < views;) {
@@ -175,17 +190,17 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
           }
           int end = v;
           while (end < views && (viewMask[d] & (1u << end))) ++end;
-          addCommand(d, static_cast<GLuint>(v), static_cast<GLuint>(end - v));
+          addCommand(d, static_cast<GLuint>(v), static_cast<GLuint>(end - v), world);
           v = end;
         }
       }
     }
     const int count = static_cast<int>(objects.size()) - first;
-    if (count > 0) calls.push_back({bucket, view, first, count});
+    if (count > 0) calls.push_back({bucket, view, world, first, count});
   };
-  const bool layered = strategy != ShadowPassStrategy::Six;
   for (int view = layered ? -1 : 0; view < (layered ? 0 : views); ++view)
-    for (int bucket = 0; bucket < kBucketCount; ++bucket) collect(bucket, view);
+    for (int bucket = 0; bucket < kBucketCount; ++bucket)
+      for (const bool world : {true, false}) collect(bucket, view, world);
   upload(commandWords, commands_, commandsCapacity_);
   upload(objects, drawObjects_, drawObjectsCapacity_);
 
@@ -206,23 +221,48 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(-settings.polygonOffsetFactor, -settings.polygonOffsetUnits);
   }
-  glBindVertexArray(scene.vertexArray());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, scene.modelBuffer());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, drawObjects_.get());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_.get());
 
+  // Layers are cleared through the framebuffer, not with glClearTexSubImage: llvmpipe then
+  // clears tile by tile in its rasterizer threads, in the pass that draws, instead of sweeping
+  // the texture on the calling thread first. Layered strategies attach views of just this
+  // light's layers (a layered attachment of the whole texture would clear every light).
+  const float zero = 0.0f;
+  const float farMoments[4] = {1.0f, 1.0f, 0.0f, 0.0f};
+  auto clearAttached = [&] {
+    glClearNamedFramebufferfv(fb, GL_DEPTH, 0, &zero);
+    if (moments) glClearNamedFramebufferfv(fb, GL_COLOR, 0, farMoments);
+  };
+  gl::Texture depthLayers, momentLayers;
+  auto layersView = [&](const gl::Texture& texture, GLenum format) {
+    GLuint id = 0;
+    glGenTextures(1, &id);
+    glTextureView(id, GL_TEXTURE_2D_ARRAY, texture.get(), format, 0, 1,
+                  static_cast<GLuint>(plan.firstLayer), static_cast<GLuint>(views));
+    return gl::Texture(id);
+  };
+  std::vector<bool> cleared(static_cast<std::size_t>(views), false);
   auto attach = [&](int view) {
     if (view < 0) {
-      glNamedFramebufferTexture(fb, GL_DEPTH_ATTACHMENT, target.depth.get(), 0);
-      glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, moments ? target.moments.get() : 0, 0);
-    } else {
-      glNamedFramebufferTextureLayer(fb, GL_DEPTH_ATTACHMENT, target.depth.get(), 0,
+      depthLayers = layersView(target.depth, depthInternalFormat(target.key.format));
+      glNamedFramebufferTexture(fb, GL_DEPTH_ATTACHMENT, depthLayers.get(), 0);
+      if (moments) momentLayers = layersView(target.moments, GL_RG32F);
+      glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, moments ? momentLayers.get() : 0, 0);
+      clearAttached();
+      return;
+    }
+    glNamedFramebufferTextureLayer(fb, GL_DEPTH_ATTACHMENT, target.depth.get(), 0,
+                                   plan.firstLayer + view);
+    if (moments)
+      glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, target.moments.get(), 0,
                                      plan.firstLayer + view);
-      if (moments)
-        glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, target.moments.get(), 0,
-                                       plan.firstLayer + view);
-      else
-        glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, 0, 0);
+    else
+      glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, 0, 0);
+    if (!cleared[static_cast<std::size_t>(view)]) {
+      clearAttached();
+      cleared[static_cast<std::size_t>(view)] = true;
     }
   };
   auto setCulling = [&](int bucket) {
@@ -237,7 +277,6 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
   auto prepare = [&](const ShaderProgram& p, int view) {
     p.use();
     p.set("uViewProjections", plan.viewProjection.data(), views);
-    p.set("uLayerBase", plan.firstLayer);
     p.set("uView", std::max(view, 0));
     if (moments) {
       p.set("uLightPosition", light.position);
@@ -246,11 +285,14 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
     }
   };
 
-  // Opaque casters: one multi-draw per (view, bucket).
-  int attachedView = -2;
-  const ShaderProgram& opaque = program(strategy, false, moments);
+  if (layered) attach(-1);
+  int attachedView = layered ? -1 : -2;
+
+  // Opaque casters: one multi-draw per (view, bucket, vertex source).
   for (const Call& call : calls) {
     if (call.view != attachedView) attach(attachedView = call.view);
+    const ShaderProgram& opaque = program(strategy, false, moments, call.world);
+    glBindVertexArray(call.world ? scene.casterVertexArray() : scene.vertexArray());
     prepare(opaque, call.view);
     opaque.set("uObject", -1);
     opaque.set("uDrawBase", call.first);
@@ -262,7 +304,8 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
   }
 
   // Alpha-tested casters, each with its own texture.
-  const ShaderProgram& masked = program(strategy, true, moments);
+  glBindVertexArray(scene.vertexArray());
+  const ShaderProgram& masked = program(strategy, true, moments, false);
   for (int view = layered ? -1 : 0; view < (layered ? 0 : views); ++view) {
     bool prepared = false;
     for (std::size_t d = 0; d < draws.size(); ++d) {
@@ -308,12 +351,18 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
       }
     }
   }
+  // Faces nothing was drawn into still need their clear.
+  if (!layered)
+    for (int view = 0; view < views; ++view)
+      if (!cleared[static_cast<std::size_t>(view)]) attach(view);
 
   glDisable(GL_POLYGON_OFFSET_FILL);
   glDisable(GL_CULL_FACE);
   glFrontFace(GL_CCW);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glNamedFramebufferTexture(fb, GL_DEPTH_ATTACHMENT, 0, 0);
+  glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, 0, 0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the shadow pass of light \"" + light.name + "\"");
 }

@@ -47,7 +47,8 @@ class ShadowPass {
 
  private:
   struct Variant;
-  const ShaderProgram& program(ShadowPassStrategy strategy, bool masked, bool moments);
+  const ShaderProgram& program(ShadowPassStrategy strategy, bool masked, bool moments,
+                               bool worldPositions);
   void upload(const std::vector<GLuint>& words, gl::Buffer& buffer, GLsizeiptr& capacity);
 
   std::map<int, std::unique_ptr<ShaderProgram>> programs_;

@@ -16,12 +16,14 @@ uniform int uMomentFromDepth;  // directional: the orthographic depth itself
 layout(location = 0) out vec2 outMoments;
 #endif
 
+#if defined(ALPHA_MASK) || defined(MOMENTS)
 in ShadowVertex {
   vec3 world;
   vec2 uv0;
   vec2 uv1;
   float alpha;
 } fIn;
+#endif
 
 void main() {
 #ifdef ALPHA_MASK

@@ -1,5 +1,7 @@
-// Shadow pass, vertex stage. Model matrices come from a buffer indexed per draw, so one
-// glMultiDrawElementsIndirect call draws every visible object. Variants:
+// Shadow pass, vertex stage. With WORLD_POSITIONS the positions are already in world space
+// (GpuScene::casterVertexArray); otherwise model matrices come from a buffer indexed per draw.
+// Either way one glMultiDrawElementsIndirect call draws every visible object. Layered variants
+// draw into a view of the light's own layers, so gl_Layer is the face. Variants:
 //   (none)              "six": one layer per pass, uViewProjections[uView];
 //   LAYER_FROM_INSTANCE "instanced": the instance picks the cube face and writes gl_Layer;
 //   GEOMETRY_LAYERS     "geometry": shadow_depth.geom projects each triangle to six layers.
@@ -16,25 +18,36 @@ uniform int uObject;    // >= 0: a single draw of this object; else uDrawObjects
 uniform int uDrawBase;  // multi-draw: the call's first entry in uDrawObjects
 uniform mat4 uViewProjections[6];
 uniform int uView;
-uniform int uLayerBase;
 
+#if defined(ALPHA_MASK) || defined(MOMENTS)
+#define SHADOW_VARYINGS
+#endif
+
+#ifdef SHADOW_VARYINGS
 out ShadowVertex {
   vec3 world;
   vec2 uv0;
   vec2 uv1;
   float alpha;
 } vOut;
+#endif
 
 void main() {
+#ifdef WORLD_POSITIONS
+  vec4 world = vec4(aPosition, 1.0);
+#else
   int object = uObject >= 0 ? uObject : int(uDrawObjects[uDrawBase + gl_DrawIDARB]);
   vec4 world = uModels[object] * vec4(aPosition, 1.0);
+#endif
+#ifdef SHADOW_VARYINGS
   vOut.world = world.xyz;
   vOut.uv0 = aUv0;
   vOut.uv1 = aUv1;
   vOut.alpha = aColor.a;
+#endif
 #if defined(LAYER_FROM_INSTANCE)
   int view = gl_BaseInstanceARB + gl_InstanceID;
-  gl_Layer = uLayerBase + view;
+  gl_Layer = view;
   gl_Position = uViewProjections[view] * world;
 #elif defined(GEOMETRY_LAYERS)
   gl_Position = world;

@@ -388,6 +388,14 @@ TEST(ShadowMap, AllShadowPassStrategiesWriteIdenticalTexels) {
     addObject(scene, i % 2 ? builder::makeSphere(0.3f, 16, 8) : builder::makeBox(glm::vec3(0.3f)),
               world, i % 3 ? grey : twoSided);
   }
+  // Instances of one mesh too large to copy for each (GpuScene's world-space caster stream):
+  // these draws are transformed per vertex, the others are not.
+  addObject(scene, builder::makeSphere(0.2f, 96, 48), translate({-1, 1.5f, -1}), grey);
+  for (int i = 0; i < 16; ++i) {
+    const glm::mat4 world = translate({u(rng), 1.2f + 0.1f * std::abs(u(rng)), u(rng)});
+    scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1});
+    scene.bounds.extend(scene.meshes.back().bounds.transformed(world));
+  }
   std::vector<Light> lights = {pointLight("a", {0, 2, 0}, ShadowFilter::Pcf, 128),
                                pointLight("b", {1.5f, 1, -1}, ShadowFilter::Pcf, 128),
                                pointLight("c", {-2, 0.8f, 2}, ShadowFilter::Pcf, 128)};
@@ -410,6 +418,63 @@ TEST(ShadowMap, AllShadowPassStrategiesWriteIdenticalTexels) {
                                 << kCubeFaceNames[face];
       }
     }
+  }
+}
+
+int differingTexels(const CubeDistances& a, const CubeDistances& b) {
+  int differing = 0;
+  for (int face = 0; face < kCubeFaceCount; ++face) {
+    EXPECT_EQ(a.faces[face].size(), b.faces[face].size());
+    for (std::size_t i = 0; i < std::min(a.faces[face].size(), b.faces[face].size()); ++i)
+      if (std::memcmp(&a.faces[face][i], &b.faces[face][i], sizeof(float)) != 0) ++differing;
+  }
+  return differing;
+}
+
+TEST(ShadowMap, SkippingTheBackFacesOfClosedCastersChangesNoTexel) {
+  // The shadow pass skips the back faces of closed solids that a light sees from outside
+  // (renderer/mesh_topology.h). The same scene with every mesh opened up (one triangle drawn
+  // twice: not closed any more, same pixels) draws all faces; the maps must not differ. The
+  // lights: one inside a closed box (its walls are back faces from there), one whose near plane
+  // cuts into a box, and lights out in the open.
+  Scene closed, open;
+  for (Scene* scene : {&closed, &open}) {
+    const int grey = addMaterial(*scene, glm::vec4(0.5f));
+    const int twoSided = addMaterial(*scene, glm::vec4(0.7f), true);
+    auto add = [&](builder::MeshData mesh, const glm::mat4& world, int material) {
+      if (scene == &open)
+        mesh.indices.insert(mesh.indices.end(), mesh.indices.begin(), mesh.indices.begin() + 3);
+      addObject(*scene, mesh, world, material);
+    };
+    add(builder::makeBox(glm::vec3(5.0f, 0.1f, 5.0f)), translate({0, -0.1f, 0}), grey);
+    add(builder::makeBox(glm::vec3(0.6f)), translate({2.5f, 0.8f, 2.5f}), grey);  // holds "c"
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-3.5f, 3.5f);
+    for (int i = 0; i < 30; ++i) {
+      glm::mat4 world = translate({u(rng), 0.4f + 0.2f * std::abs(u(rng)), u(rng)});
+      if (i % 4 == 0) world = glm::scale(world, glm::vec3(1, 1, -1));  // mirrored
+      const builder::MeshData mesh = i % 3 == 0   ? builder::makeBox(glm::vec3(0.25f))
+                                     : i % 3 == 1 ? builder::makeSphere(0.3f, 16, 8)
+                                                  : builder::makeCylinder(0.2f, 0.6f, 12);
+      add(mesh, world, i % 5 == 0 ? twoSided : grey);
+    }
+    // "b" is just outside this box's bounding sphere, but its near plane cuts the box open.
+    add(builder::makeBox(glm::vec3(0.5f)), translate({-1.0f, 1.0f, 0.0f}), grey);
+  }
+  std::vector<Light> lights = {pointLight("a", {0, 2.5f, 0}, ShadowFilter::Pcf, 128),
+                               pointLight("b", {-0.48f, 1.52f, 0.52f}, ShadowFilter::Pcf, 128),
+                               pointLight("c", {2.5f, 0.8f, 2.5f}, ShadowFilter::Pcf, 128),
+                               pointLight("d", {-3, 0.3f, 3}, ShadowFilter::Pcf, 128)};
+  lights[1].shadow.near = 0.3f;
+  for (const ShadowPassStrategy strategy :
+       {ShadowPassStrategy::Six, ShadowPassStrategy::Geometry}) {
+    const auto skipped = sharedRenderer().renderShadowDistances(closed, lights, strategy);
+    const auto drawn = sharedRenderer().renderShadowDistances(open, lights, strategy);
+    ASSERT_EQ(skipped.size(), lights.size());
+    ASSERT_EQ(drawn.size(), lights.size());
+    for (std::size_t l = 0; l < lights.size(); ++l)
+      EXPECT_EQ(differingTexels(skipped[l], drawn[l]), 0)
+          << toString(strategy) << ", light " << lights[l].name;
   }
 }
 

@@ -157,9 +157,12 @@ MeshData makeSphere(float radius, int segments, int rings) {
   for (int i = 0; i <= rings; ++i) {
     const float theta = kPi * static_cast<float>(i) / static_cast<float>(rings);
     for (int j = 0; j <= segments; ++j) {
-      const float phi = 2.0f * kPi * static_cast<float>(j) / static_cast<float>(segments);
-      const glm::vec3 n{std::sin(theta) * std::sin(phi), std::cos(theta),
-                        std::sin(theta) * std::cos(phi)};
+      // The seam's and the poles' copies get bit-identical positions (watertight: no
+      // cracks, and renderer/mesh_topology.cpp sees a closed solid).
+      const float phi =
+          2.0f * kPi * static_cast<float>(j % segments) / static_cast<float>(segments);
+      const float ring = i == 0 || i == rings ? 0.0f : std::sin(theta);
+      const glm::vec3 n{ring * std::sin(phi), std::cos(theta), ring * std::cos(phi)};
       mesh.positions.push_back(radius * n);
       mesh.normals.push_back(n);
       mesh.uvs.push_back({static_cast<float>(j) / static_cast<float>(segments),
@@ -204,8 +207,9 @@ MeshData makePlane(float size, int subdivisions) {
 MeshData makeCylinder(float radius, float height, int segments) {
   if (segments < 3) throw std::invalid_argument("makeCylinder: needs segments >= 3");
   MeshData mesh;
+  // The seam's copies at j = segments repeat j = 0 bit for bit (watertight).
   const auto angle = [segments](int j) {
-    return 2.0f * kPi * static_cast<float>(j) / static_cast<float>(segments);
+    return 2.0f * kPi * static_cast<float>(j % segments) / static_cast<float>(segments);
   };
   // Side: a top and a bottom vertex per segment edge, seam duplicated for the UVs.
   for (int j = 0; j <= segments; ++j) {
