@@ -4,7 +4,7 @@
 
 #include "renderer/errors.h"
 #include "renderer/gl_debug.h"
-#include "renderer/light_tiles.h"
+#include "renderer/light_clusters.h"
 
 namespace omnishadow {
 namespace {
@@ -267,16 +267,30 @@ void uploadWords(std::vector<std::uint32_t> words, gl::Buffer& buffer, GLsizeipt
 
 }  // namespace
 
-void LightingPass::uploadTiles(const std::vector<ShadedLight>& lights, const ViewCamera& camera) {
+void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
+                                  const ViewCamera& camera) {
   std::vector<const Light*> list;
   for (const ShadedLight& shaded : lights) list.push_back(shaded.light);
-  LightTiles tiles = buildLightTiles(list, camera);
-  uploadWords(std::move(tiles.ranges), tileRanges_, tileRangesSize_);
-  uploadWords(std::move(tiles.lights), tileLights_, tileLightsSize_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tileRanges_.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, tileLights_.get());
-  program_.set("uTileSize", tiles.tileSize);
-  program_.set("uTileColumns", tiles.columns);
+  // View depth along the camera axis: minus the view-space z.
+  const glm::vec4 depthRow(-camera.view[0][2], -camera.view[1][2], -camera.view[2][2],
+                           -camera.view[3][2]);
+  float farthest = 0.0f;
+  for (const GpuDraw& draw : scene.draws())
+    farthest = std::max(farthest,
+                        glm::dot(depthRow, glm::vec4(draw.boundsCenter, 1.0f)) + draw.boundsRadius);
+  LightClusters clusters = buildLightClusters(list, camera, farthest);
+  uploadWords(std::move(clusters.ranges), clusterRanges_, clusterRangesSize_);
+  uploadWords(std::move(clusters.lights), clusterLights_, clusterLightsSize_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, clusterRanges_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, clusterLights_.get());
+  program_.set("uTileSize", clusters.tileSize);
+  program_.set("uTileColumns", clusters.columns);
+  program_.set("uTileRows", clusters.rows);
+  program_.set("uSlices", clusters.slices);
+  program_.set("uSliceNear", clusters.sliceNear);
+  program_.set("uSliceScale", clusters.sliceScale);
+  program_.set("uViewDepth", depthRow);
+  program_.set("uGlobalLights", static_cast<int>(clusters.globalCount));
 }
 
 void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram& program) {
@@ -347,7 +361,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   program_.set("uDebugLight", parameters.debugLight);
   program_.set("uCameraView", parameters.cascadeView ? *parameters.cascadeView : camera.view);
   uploadLights(lights, shadowGroups);
-  uploadTiles(lights, camera);
+  uploadClusters(scene, lights, camera);
   glBindVertexArray(scene.vertexArray());
 
   glEnable(GL_DEPTH_TEST);

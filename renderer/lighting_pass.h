@@ -91,7 +91,8 @@ class LightingPass {
 
  private:
   void uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups);
-  void uploadTiles(const std::vector<ShadedLight>& lights, const ViewCamera& camera);
+  void uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
+                      const ViewCamera& camera);
   enum class DrawSet { Opaque, Masked, Blended };
   void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram& program);
 
@@ -103,8 +104,8 @@ class LightingPass {
   GLsizeiptr lightBufferSize_ = 0;
   gl::Buffer viewProjectionBuffer_;
   GLsizeiptr viewProjectionBufferSize_ = 0;
-  gl::Buffer tileRanges_, tileLights_;
-  GLsizeiptr tileRangesSize_ = 0, tileLightsSize_ = 0;
+  gl::Buffer clusterRanges_, clusterLights_;
+  GLsizeiptr clusterRangesSize_ = 0, clusterLightsSize_ = 0;
 };
 
 }  // namespace omnishadow

@@ -39,10 +39,17 @@ uniform int uEmissiveTexCoord;
 
 uniform vec3 uCameraPosition;
 
-layout(std430, binding = 4) readonly buffer TileRanges { uint uTileRanges[]; };
-layout(std430, binding = 5) readonly buffer TileLights { uint uTileLights[]; };
+// Light clusters (renderer/light_clusters.h).
+layout(std430, binding = 4) readonly buffer ClusterRanges { uint uClusterRanges[]; };
+layout(std430, binding = 5) readonly buffer ClusterLights { uint uClusterLights[]; };
 uniform int uTileSize;
 uniform int uTileColumns;
+uniform int uTileRows;
+uniform int uSlices;
+uniform float uSliceNear;
+uniform float uSliceScale;
+uniform vec4 uViewDepth;  // view depth of P: dot(uViewDepth.xyz, P) + uViewDepth.w
+uniform int uGlobalLights;
 uniform vec3 uAmbient;
 
 // 0 = beauty; 1 shadow, 2 depth, 3 normals, 4 albedo, 5 light count (renderer/lighting_pass.h)
@@ -120,13 +127,18 @@ void main() {
   int shadowedLights = 0;
   int contributing = 0;
   float depthView = 1.0;
-  // Only the lights that may reach this pixel's screen tile (renderer/light_tiles.h).
+  // The lights reaching everywhere, then those of this point's cluster (the lights whose
+  // range may reach it).
   ivec2 tile = ivec2(gl_FragCoord.xy) / uTileSize;
-  int tileIndex = tile.y * uTileColumns + tile.x;
-  uint firstTileLight = uTileRanges[2 * tileIndex];
-  uint tileLightCount = uTileRanges[2 * tileIndex + 1];
-  for (uint k = 0u; k < tileLightCount; ++k) {
-    int i = int(uTileLights[firstTileLight + k]);
+  float viewDepth = dot(uViewDepth.xyz, vIn.worldPosition) + uViewDepth.w;
+  int slice = int(clamp(floor(log(max(viewDepth, 1e-30) / uSliceNear) * uSliceScale), 0.0,
+                        float(uSlices - 1)));
+  int cluster = (slice * uTileRows + tile.y) * uTileColumns + tile.x;
+  uint firstClusterLight = uClusterRanges[2 * cluster];
+  uint lightCount = uint(uGlobalLights) + uClusterRanges[2 * cluster + 1];
+  for (uint k = 0u; k < lightCount; ++k) {
+    uint entry = k < uint(uGlobalLights) ? k : firstClusterLight + (k - uint(uGlobalLights));
+    int i = int(uClusterLights[entry]);
     Light light = uLights[i];
     vec3 L, radiance;
     float distance;

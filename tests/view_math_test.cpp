@@ -9,7 +9,7 @@
 #include "renderer/camera.h"
 #include "renderer/cube_faces.h"
 #include "renderer/errors.h"
-#include "renderer/light_tiles.h"
+#include "renderer/light_clusters.h"
 #include "renderer/shadow_views.h"
 
 using namespace omnishadow;
@@ -363,9 +363,14 @@ TEST(Cascades, ShadowDistanceEndsTheLastCascade) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Screen tiles of lights (renderer/light_tiles.h)
+// Light clusters (renderer/light_clusters.h)
 
-TEST(LightTiles, RangedLightsOnlyInTheTilesTheirSphereCovers) {
+std::vector<std::uint32_t> clusterList(const LightClusters& clusters, std::size_t cluster) {
+  const auto first = clusters.lights.begin() + clusters.ranges[2 * cluster];
+  return std::vector<std::uint32_t>(first, first + clusters.ranges[2 * cluster + 1]);
+}
+
+ViewCamera topDownCamera() {
   Scene scene;
   scene.bounds.extend(glm::vec3(-10, 0, -10));
   scene.bounds.extend(glm::vec3(10, 1, 10));
@@ -375,7 +380,11 @@ TEST(LightTiles, RangedLightsOnlyInTheTilesTheirSphereCovers) {
   request.fovDegrees = 90.0f;
   request.width = 320;
   request.height = 320;
-  const ViewCamera camera = resolveCamera(scene, request);
+  return resolveCamera(scene, request);
+}
+
+TEST(LightClusters, RangedLightsOnlyInTheClustersTheirSphereTouches) {
+  const ViewCamera camera = topDownCamera();
   Light small, everywhere, behind, sun;
   small.position = {5, 0, 5};  // lower right quadrant of the picture seen from above
   small.range = 1.0f;
@@ -383,26 +392,90 @@ TEST(LightTiles, RangedLightsOnlyInTheTilesTheirSphereCovers) {
   behind.position = {0, 30, 0};  // above the camera, its range ends before the near plane
   behind.range = 5.0f;
   sun.type = LightType::Directional;
-  const LightTiles tiles = buildLightTiles({&small, &everywhere, &behind, &sun}, camera, 16);
-  ASSERT_EQ(tiles.columns, 20);
-  ASSERT_EQ(tiles.rows, 20);
-  int smallTiles = 0;
-  for (int t = 0; t < tiles.columns * tiles.rows; ++t) {
-    std::vector<std::uint32_t> list(
-        tiles.lights.begin() + tiles.ranges[2 * t],
-        tiles.lights.begin() + tiles.ranges[2 * t] + tiles.ranges[2 * t + 1]);
-    EXPECT_NE(std::find(list.begin(), list.end(), 1u), list.end());  // no range: everywhere
-    EXPECT_NE(std::find(list.begin(), list.end(), 3u), list.end());  // directional: everywhere
+  const LightClusters clusters =
+      buildLightClusters({&small, &everywhere, &behind, &sun}, camera, 11.0f, 16, 24);
+  ASSERT_EQ(clusters.columns, 20);
+  ASSERT_EQ(clusters.rows, 20);
+  ASSERT_EQ(clusters.slices, 24);
+  // No range and directional: listed once for everyone.
+  ASSERT_EQ(clusters.globalCount, 2u);
+  EXPECT_EQ(clusters.lights[0], 1u);
+  EXPECT_EQ(clusters.lights[1], 3u);
+  int smallClusters = 0;
+  for (std::size_t c = 0; c < clusters.ranges.size() / 2; ++c) {
+    const std::vector<std::uint32_t> list = clusterList(clusters, c);
+    EXPECT_EQ(std::find(list.begin(), list.end(), 1u), list.end());
     EXPECT_EQ(std::find(list.begin(), list.end(), 2u), list.end());  // out of view
-    if (std::find(list.begin(), list.end(), 0u) != list.end()) {
-      ++smallTiles;
-      // The sphere (radius 1 at 10 m, 90 degree view: 16 px per metre) covers pixels near
-      // (240, 80) counted from the bottom left.
-      const int x = (t % tiles.columns) * 16 + 8, y = (t / tiles.columns) * 16 + 8;
-      EXPECT_NEAR(x, 240, 40);
-      EXPECT_NEAR(y, 80, 40);
-    }
+    if (std::find(list.begin(), list.end(), 0u) == list.end()) continue;
+    ++smallClusters;
+    // The sphere (radius 1 at 10 m, 90 degree view: 16 px per metre) covers pixels near
+    // (240, 80) counted from the bottom left, at view depths 9..11 m.
+    const int tile = static_cast<int>(c) % (clusters.columns * clusters.rows);
+    const int slice = static_cast<int>(c) / (clusters.columns * clusters.rows);
+    const int x = (tile % clusters.columns) * 16 + 8, y = (tile / clusters.columns) * 16 + 8;
+    EXPECT_NEAR(x, 240, 40);
+    EXPECT_NEAR(y, 80, 40);
+    EXPECT_GE(slice, clusterSlice(clusters, 9.0f) - 1);
+    EXPECT_LE(slice, clusterSlice(clusters, 11.0f) + 1);
   }
-  EXPECT_GE(smallTiles, 4);
-  EXPECT_LE(smallTiles, 25);
+  EXPECT_GE(smallClusters, 4);
+  EXPECT_LE(smallClusters, 25 * 3);
+}
+
+TEST(LightClusters, EveryPointFindsEveryLightThatReachesItInItsCluster) {
+  // Random ranged lights through a perspective and an orthographic view; random points in
+  // view: a light whose sphere holds the point must be in the point's cluster, and most
+  // clusters list far fewer lights than their screen tile would.
+  for (const bool orthographic : {false, true}) {
+    ViewCamera camera = topDownCamera();
+    if (orthographic) {
+      camera.orthographic = true;
+      camera.projection = reversedOrthographic(12.0f, 12.0f, 0.01f, 30.0f);
+    }
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-12.0f, 12.0f), h(-8.0f, 9.5f), r(0.3f, 3.0f);
+    std::vector<Light> storage(300);
+    std::vector<const Light*> lights;
+    for (Light& light : storage) {
+      light.position = {u(rng), h(rng), u(rng)};
+      light.range = r(rng);
+      lights.push_back(&light);
+    }
+    const LightClusters clusters = buildLightClusters(lights, camera, 20.0f, 16, 24);
+    const glm::mat4 inverse = glm::inverse(camera.projection * camera.view);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    auto viewDepthOf = [&](const glm::vec3& p) { return -(camera.view * glm::vec4(p, 1.0f)).z; };
+    int checked = 0, reached = 0;
+    std::size_t listed = 0;
+    for (int k = 0; k < 20000; ++k) {
+      // A random point of a random pixel's ray, at a view depth in 0.05..19.5.
+      const float px = unit(rng) * 320.0f, py = unit(rng) * 320.0f;
+      const glm::vec2 ndc(px / 160.0f - 1.0f, py / 160.0f - 1.0f);
+      const glm::vec4 h0 = inverse * glm::vec4(ndc, 1.0f, 1.0f);
+      const glm::vec4 h1 = inverse * glm::vec4(ndc, 0.5f, 1.0f);
+      const glm::vec3 a = glm::vec3(h0) / h0.w, b = glm::vec3(h1) / h1.w;
+      const float depth = 0.05f + 19.45f * unit(rng);
+      const float t = (depth - viewDepthOf(a)) / (viewDepthOf(b) - viewDepthOf(a));
+      const glm::vec3 p = a + t * (b - a);
+      const int tile = (static_cast<int>(py) / 16) * clusters.columns + static_cast<int>(px) / 16;
+      const std::size_t cluster = static_cast<std::size_t>(clusterSlice(clusters, depth)) *
+                                      clusters.columns * clusters.rows +
+                                  static_cast<std::size_t>(tile);
+      const std::vector<std::uint32_t> list = clusterList(clusters, cluster);
+      listed += list.size();
+      for (std::size_t i = 0; i < storage.size(); ++i) {
+        if (glm::distance(storage[i].position, p) >= storage[i].range * 0.9999f) continue;
+        ++reached;
+        EXPECT_NE(std::find(list.begin(), list.end(), static_cast<std::uint32_t>(i)), list.end())
+            << (orthographic ? "orthographic" : "perspective") << ": light " << i << " at pixel ("
+            << px << ", " << py << "), depth " << depth;
+      }
+      ++checked;
+    }
+    EXPECT_GT(reached, 2000);
+    // Lights reaching an average point: about 300 * 4/3 pi (r^3 averaged: 9.2) / (24 * 17.5 *
+    // 24 m^3) = 1.1; the clusters' conservative bounds list a few more.
+    EXPECT_LT(static_cast<double>(listed) / checked, 4.0)
+        << (orthographic ? "orthographic" : "perspective");
+  }
 }
