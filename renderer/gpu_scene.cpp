@@ -103,6 +103,13 @@ void GpuScene::uploadGeometry(const Scene& scene) {
   setAttribute(vao, 4, 2, offsetof(Vertex, uv1));
   setAttribute(vao, 5, 4, offsetof(Vertex, color));
 
+  std::vector<float> meshRadius;
+  for (const Mesh& mesh : scene.meshes) {
+    float radius = 0.0f;
+    for (const glm::vec3& p : mesh.positions)
+      radius = std::max(radius, glm::length(p - mesh.bounds.center()));
+    meshRadius.push_back(radius);
+  }
   const int defaultMaterial = static_cast<int>(scene.materials.size());
   for (const MeshInstance& instance : scene.instances) {
     const Mesh& mesh = scene.meshes[instance.mesh];
@@ -112,9 +119,16 @@ void GpuScene::uploadGeometry(const Scene& scene) {
     draw.world = instance.world;
     draw.normalMatrix = glm::transpose(glm::inverse(glm::mat3(instance.world)));
     draw.mirrored = glm::determinant(glm::mat3(instance.world)) < 0.0f;
-    const Bounds world = mesh.bounds.transformed(instance.world);
-    draw.boundsCenter = world.center();
-    draw.boundsRadius = world.radius();
+    // The sphere around the mesh's box center through its farthest vertex (tighter than the
+    // box's own sphere: a ball's radius instead of sqrt(3) times it), placed in the world and
+    // scaled by the transform's largest axis scale.
+    const glm::vec3 center = mesh.bounds.center();
+    const float radius = meshRadius[static_cast<std::size_t>(instance.mesh)];
+    const glm::mat3 linear(instance.world);
+    const float scale =
+        std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+    draw.boundsCenter = glm::vec3(instance.world * glm::vec4(center, 1.0f));
+    draw.boundsRadius = radius * scale * (1.0f + 1e-5f);
     draws_.push_back(draw);
   }
   // World matrices by draw index, for passes that draw many objects in one call.

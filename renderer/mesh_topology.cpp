@@ -1,26 +1,45 @@
 #include "renderer/mesh_topology.h"
 
 #include <algorithm>
+#include <cstring>
 #include <numeric>
-#include <tuple>
 
 namespace omnishadow {
 namespace {
 
-// One id per distinct position: split vertices (flat shading, UV seams) share an id.
+// One id per distinct position: split vertices (flat shading, UV seams) share an id. An open
+// addressing hash of the coordinates' bits (-0 and +0 are the same position) keeps this linear.
 std::vector<std::uint32_t> weldedIds(const std::vector<glm::vec3>& positions) {
-  std::vector<std::uint32_t> order(positions.size());
-  std::iota(order.begin(), order.end(), 0u);
-  auto key = [&](std::uint32_t i) {
-    return std::make_tuple(positions[i].x, positions[i].y, positions[i].z);
+  auto bits = [](float f) {
+    std::uint32_t b = 0;
+    f = f == 0.0f ? 0.0f : f;
+    std::memcpy(&b, &f, sizeof b);
+    return b;
   };
-  std::sort(order.begin(), order.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+  std::size_t size = 16;
+  while (size < 2 * positions.size()) size *= 2;
+  constexpr std::uint32_t kEmpty = 0xffffffffu;
+  std::vector<std::uint32_t> table(size, kEmpty);  // vertex index of each slot's first copy
   std::vector<std::uint32_t> ids(positions.size());
-  std::uint32_t id = 0;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    if (k > 0 && key(order[k]) != key(order[k - 1])) ++id;
-    ids[order[k]] = id;
+  std::uint32_t next = 0;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const std::uint32_t x = bits(positions[i].x), y = bits(positions[i].y),
+                        z = bits(positions[i].z);
+    std::uint64_t h =
+        (x * 0x9E3779B97F4A7C15ull) ^ (y * 0xC2B2AE3D27D4EB4Full) ^ (z * 0x165667B19E3779F9ull);
+    h ^= h >> 29;
+    for (std::size_t slot = h & (size - 1);; slot = (slot + 1) & (size - 1)) {
+      const std::uint32_t j = table[slot];
+      if (j == kEmpty) {
+        table[slot] = static_cast<std::uint32_t>(i);
+        ids[i] = next++;
+        break;
+      }
+      if (bits(positions[j].x) == x && bits(positions[j].y) == y && bits(positions[j].z) == z) {
+        ids[i] = ids[j];
+        break;
+      }
+    }
   }
   return ids;
 }
@@ -35,30 +54,47 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 bool isClosedSolid(const std::vector<glm::vec3>& positions,
                    const std::vector<std::uint32_t>& indices) {
   const std::vector<std::uint32_t> ids = weldedIds(positions);
-  std::vector<std::uint64_t> edges;
-  edges.reserve(indices.size());
   std::vector<std::uint32_t> parent(positions.size());
   std::iota(parent.begin(), parent.end(), 0u);
   std::vector<std::size_t> triangles;  // first index of each non-degenerate triangle
+  // Directed edges grouped by their first corner (counting sort): edgeStart[a] .. edgeStart[a+1]
+  // hold the second corners of the edges leaving a.
+  std::vector<std::uint32_t> edgeStart(positions.size() + 1, 0);
   for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
     const std::uint32_t v[3] = {ids[indices[t]], ids[indices[t + 1]], ids[indices[t + 2]]};
     // A triangle with two welded corners covers no area and bounds nothing.
     if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
     triangles.push_back(t);
     for (int e = 0; e < 3; ++e) {
-      edges.push_back(std::uint64_t{v[e]} << 32 | v[(e + 1) % 3]);
+      ++edgeStart[v[e] + 1];
       const std::uint32_t a = findRoot(parent, v[e]), b = findRoot(parent, v[(e + 1) % 3]);
       if (a != b) parent[a] = b;
     }
   }
   if (triangles.empty()) return false;
-
+  std::partial_sum(edgeStart.begin(), edgeStart.end(), edgeStart.begin());
+  std::vector<std::uint32_t> edgeEnd(edgeStart.back());
+  std::vector<std::uint32_t> filled(edgeStart.begin(), edgeStart.end() - 1);
+  for (const std::size_t t : triangles) {
+    const std::uint32_t v[3] = {ids[indices[t]], ids[indices[t + 1]], ids[indices[t + 2]]};
+    for (int e = 0; e < 3; ++e) edgeEnd[filled[v[e]]++] = v[(e + 1) % 3];
+  }
   // Each directed edge once, and its reverse once: every edge joins exactly two triangles that
-  // agree on which side is out.
-  std::sort(edges.begin(), edges.end());
-  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return false;
-  for (const std::uint64_t e : edges)
-    if (!std::binary_search(edges.begin(), edges.end(), e << 32 | e >> 32)) return false;
+  // agree on which side is out. (Sorted lists keep a vertex shared by thousands of triangles
+  // from costing its degree squared.)
+  const auto list = [&](std::uint32_t a) {
+    return std::make_pair(edgeEnd.begin() + edgeStart[a], edgeEnd.begin() + edgeStart[a + 1]);
+  };
+  for (std::uint32_t a = 0; a + 1 < edgeStart.size(); ++a) {
+    const auto [first, last] = list(a);
+    std::sort(first, last);
+    if (std::adjacent_find(first, last) != last) return false;
+  }
+  for (std::uint32_t a = 0; a + 1 < edgeStart.size(); ++a)
+    for (std::uint32_t k = edgeStart[a]; k < edgeStart[a + 1]; ++k) {
+      const auto [first, last] = list(edgeEnd[k]);
+      if (!std::binary_search(first, last, a)) return false;
+    }
 
   // Signed volume per connected piece, relative to a point of the piece (less cancellation
   // than relative to the origin). A piece turned inside out has a negative volume.
