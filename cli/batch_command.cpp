@@ -72,13 +72,7 @@ BatchDefaults defaultsFromOptions(const BatchOptions& o) {
   job.maxMemoryMiB = o.maxMemoryMiB;
   job.shadowPass = parseShadowPassStrategy(o.shadowPass);
   job.sceneIndex = o.sceneIndex;
-  job.camera.select = o.camera;
-  job.camera.eye = parseVec3("--eye", o.eye);
-  job.camera.target = parseVec3("--target", o.target);
-  job.camera.up = parseVec3("--up", o.up);
-  job.camera.fovDegrees = o.fov;
-  job.camera.width = o.width;
-  job.camera.height = o.height;
+  job.camera = cameraRequest(o.view);
   job.layers = parseLayers(o.aovLayers);
   job.exposure = o.exposure;
   job.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
@@ -305,13 +299,7 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
   batch->add_flag("--no-png", o.noPng, "Do not write <name>.png");
   batch->add_flag("--aov", o.aov, "Also write <name>.aov.exr");
   batch->add_option("--aov-layers", o.aovLayers, "Extra AOV layers, as for render (implies --aov)");
-  batch->add_option("--width", o.width, "Image width")->check(CLI::Range(1, 16384));
-  batch->add_option("--height", o.height, "Image height")->check(CLI::Range(1, 16384));
-  batch->add_option("--camera", o.camera, "glTF camera by name or index");
-  batch->add_option("--eye", o.eye, "Camera position x,y,z");
-  batch->add_option("--target", o.target, "Camera target x,y,z");
-  batch->add_option("--up", o.up, "Camera up x,y,z");
-  batch->add_option("--fov", o.fov, "Vertical field of view in degrees");
+  addViewOptions(*batch, o.view);
   batch->add_option("--exposure", o.exposure, "Exposure in stops");
   batch->add_option("--shading", o.shading, "pbr or phong")->check(CLI::IsMember({"pbr", "phong"}));
   batch

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "cli/view_options.h"
+
 namespace CLI {
 class App;
 }
@@ -17,9 +19,7 @@ struct BatchOptions {
   std::string lights;
   bool exr = false, noPng = false, aov = false;
   std::string aovLayers;
-  std::optional<int> width, height;
-  std::string camera, eye, target, up;
-  std::optional<float> fov;
+  ViewOptions view;
   float exposure = 0.0f;
   std::string shading = "pbr";
   bool noGltfLights = false;

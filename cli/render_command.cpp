@@ -62,13 +62,7 @@ RenderJob jobFromOptions(const RenderOptions& o) {
   job.lightViews = o.lightViews;
   job.lightViewSize = o.lightViewSize;
   validateJob(job);
-  job.camera.select = o.camera;
-  job.camera.eye = parseVec3("--eye", o.eye);
-  job.camera.target = parseVec3("--target", o.target);
-  job.camera.up = parseVec3("--up", o.up);
-  job.camera.fovDegrees = o.fov;
-  job.camera.width = o.width;
-  job.camera.height = o.height;
+  job.camera = cameraRequest(o.view);
   return job;
 }
 
@@ -141,17 +135,7 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
       ->add_option("--scene", o.sceneIndex,
                    "Index of the glTF scene to render (default: the file's default scene)")
       ->check(CLI::NonNegativeNumber);
-  render->add_option("--camera", o.camera, "glTF camera by name or index (default: the first)");
-  render->add_option("--eye", o.eye, "Camera position x,y,z (world units)");
-  render->add_option("--target", o.target, "Point the camera looks at, x,y,z");
-  render->add_option("--up", o.up, "Camera up vector x,y,z");
-  render->add_option("--fov", o.fov, "Vertical field of view in degrees");
-  render->add_option("--width", o.width, "Image width in pixels (default 1280)")
-      ->check(CLI::Range(1, 16384));
-  render
-      ->add_option("--height", o.height,
-                   "Image height in pixels (default 720, or from the camera's aspect ratio)")
-      ->check(CLI::Range(1, 16384));
+  addViewOptions(*render, o.view);
   render
       ->add_option("-o,--output", o.outputs,
                    "Output image: .png (8-bit sRGB) or .exr (linear half RGBA); repeatable "

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "cli/view_options.h"
+
 namespace CLI {
 class App;
 }
@@ -19,10 +21,7 @@ struct RenderOptions {
   double maxMemoryMiB = 4096.0;
   std::string shadowPass = "auto";
   int sceneIndex = -1;
-  std::string camera;
-  std::string eye, target, up;  // "x,y,z"
-  std::optional<float> fov;
-  std::optional<int> width, height;
+  ViewOptions view;
   std::vector<std::string> outputs;
   std::string aov;
   std::string aovLayers;   // comma-separated

@@ -53,13 +53,7 @@ RenderJob jobFromOptions(const VerifyOptions& o) {
   job.sceneIndex = o.sceneIndex;
   job.aovs = true;
   validateJob(job);
-  job.camera.select = o.camera;
-  job.camera.eye = parseVec3("--eye", o.eye);
-  job.camera.target = parseVec3("--target", o.target);
-  job.camera.up = parseVec3("--up", o.up);
-  job.camera.fovDegrees = o.fov;
-  job.camera.width = o.width;
-  job.camera.height = o.height;
+  job.camera = cameraRequest(o.view);
   return job;
 }
 
@@ -337,17 +331,7 @@ void addVerifyCommand(CLI::App& app, VerifyOptions& o) {
       ->add_option("--scene", o.sceneIndex,
                    "Index of the glTF scene to render (default: the file's default scene)")
       ->check(CLI::NonNegativeNumber);
-  verify->add_option("--camera", o.camera, "glTF camera by name or index (default: the first)");
-  verify->add_option("--eye", o.eye, "Camera position x,y,z (world units)");
-  verify->add_option("--target", o.target, "Point the camera looks at, x,y,z");
-  verify->add_option("--up", o.up, "Camera up vector x,y,z");
-  verify->add_option("--fov", o.fov, "Vertical field of view in degrees");
-  verify->add_option("--width", o.width, "Image width in pixels (default 1280)")
-      ->check(CLI::Range(1, 16384));
-  verify
-      ->add_option("--height", o.height,
-                   "Image height in pixels (default 720, or from the camera's aspect ratio)")
-      ->check(CLI::Range(1, 16384));
+  addViewOptions(*verify, o.view);
   verify->add_option("--light", o.light, "Check only this light (default: every light)");
   verify->add_option("--max-error", o.maxError,
                      "Exit with status 1 when a light's interior false-shadow or false-light "

@@ -3,6 +3,8 @@
 #include <optional>
 #include <string>
 
+#include "cli/view_options.h"
+
 namespace CLI {
 class App;
 }
@@ -18,10 +20,7 @@ struct VerifyOptions {
   bool allowExternalUris = false;
   double maxMemoryMiB = 4096.0;
   int sceneIndex = -1;
-  std::string camera;
-  std::string eye, target, up;  // "x,y,z"
-  std::optional<float> fov;
-  std::optional<int> width, height;
+  ViewOptions view;
   std::string light;     // empty = every light
   std::string maxError;  // fraction; empty = no bound (parsed here for a one-line message)
   std::string errorImage;
