@@ -2,7 +2,9 @@
 
 #include <GL/glcorearb.h>
 
+#include <algorithm>
 #include <utility>
+#include <vector>
 
 namespace omnishadow::gl {
 
@@ -73,6 +75,32 @@ inline Buffer createBuffer() {
   glCreateBuffers(1, &id);
   return Buffer(id);
 }
+
+// A buffer whose contents are replaced every frame (draw commands, light lists): its storage is
+// reallocated, doubling, only when new contents outgrow it, and it always has at least one byte
+// so that it can be bound.
+class StreamBuffer {
+ public:
+  GLuint get() const { return buffer_.get(); }
+  // Replaces the first `size` bytes of the buffer with `data`.
+  void upload(const void* data, GLsizeiptr size) {
+    const GLsizeiptr needed = std::max<GLsizeiptr>(size, 1);
+    if (needed > capacity_) {
+      capacity_ = std::max(needed, 2 * capacity_);
+      buffer_ = createBuffer();
+      glNamedBufferStorage(buffer_.get(), capacity_, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    }
+    if (size > 0) glNamedBufferSubData(buffer_.get(), 0, size, data);
+  }
+  template <typename T>
+  void upload(const std::vector<T>& items) {
+    upload(items.data(), static_cast<GLsizeiptr>(items.size() * sizeof(T)));
+  }
+
+ private:
+  Buffer buffer_;
+  GLsizeiptr capacity_ = 0;
+};
 inline Texture createTexture(GLenum target) {
   GLuint id = 0;
   glCreateTextures(target, 1, &id);

@@ -229,43 +229,15 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
                              static_cast<float>(s.resolution));
     data.push_back(g);
   }
-  const GLsizeiptr size = std::max<GLsizeiptr>(sizeof(GpuLight), data.size() * sizeof(GpuLight));
-  if (size > lightBufferSize_) {
-    lightBuffer_ = gl::createBuffer();
-    glNamedBufferStorage(lightBuffer_.get(), size, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    lightBufferSize_ = size;
-  }
-  if (!data.empty())
-    glNamedBufferSubData(lightBuffer_.get(), 0, data.size() * sizeof(GpuLight), data.data());
+  program_.set("uLightCount", static_cast<int>(data.size()));
+  // Blocks are bound with at least one element, even when nothing reads it.
+  if (data.empty()) data.emplace_back();
+  lightBuffer_.upload(data);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, lightBuffer_.get());
   if (viewProjections.empty()) viewProjections.emplace_back(1.0f);
-  const auto matrixBytes = static_cast<GLsizeiptr>(viewProjections.size() * sizeof(glm::mat4));
-  if (matrixBytes > viewProjectionBufferSize_) {
-    viewProjectionBuffer_ = gl::createBuffer();
-    glNamedBufferStorage(viewProjectionBuffer_.get(), matrixBytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    viewProjectionBufferSize_ = matrixBytes;
-  }
-  glNamedBufferSubData(viewProjectionBuffer_.get(), 0, matrixBytes, viewProjections.data());
+  viewProjectionBuffer_.upload(viewProjections);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, viewProjectionBuffer_.get());
-  program_.set("uLightCount", static_cast<int>(data.size()));
 }
-
-namespace {
-
-// Grows `buffer` when needed and fills it with `words` (at least one word: empty SSBOs are
-// not bindable).
-void uploadWords(std::vector<std::uint32_t> words, gl::Buffer& buffer, GLsizeiptr& capacity) {
-  if (words.empty()) words.push_back(0);
-  const auto size = static_cast<GLsizeiptr>(words.size() * sizeof(std::uint32_t));
-  if (size > capacity) {
-    buffer = gl::createBuffer();
-    glNamedBufferStorage(buffer.get(), size, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    capacity = size;
-  }
-  glNamedBufferSubData(buffer.get(), 0, size, words.data());
-}
-
-}  // namespace
 
 void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
                                   const ViewCamera& camera) {
@@ -279,8 +251,9 @@ void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<Shade
     farthest = std::max(farthest,
                         glm::dot(depthRow, glm::vec4(draw.boundsCenter, 1.0f)) + draw.boundsRadius);
   LightClusters clusters = buildLightClusters(list, camera, farthest);
-  uploadWords(std::move(clusters.ranges), clusterRanges_, clusterRangesSize_);
-  uploadWords(std::move(clusters.lights), clusterLights_, clusterLightsSize_);
+  if (clusters.lights.empty()) clusters.lights.push_back(0);  // bound with at least one element
+  clusterRanges_.upload(clusters.ranges);
+  clusterLights_.upload(clusters.lights);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, clusterRanges_.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, clusterLights_.get());
   program_.set("uTileSize", clusters.tileSize);

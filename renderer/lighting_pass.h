@@ -100,12 +100,7 @@ class LightingPass {
   ShaderProgram program_;
   ShaderProgram depthOnly_;
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
-  gl::Buffer lightBuffer_;
-  GLsizeiptr lightBufferSize_ = 0;
-  gl::Buffer viewProjectionBuffer_;
-  GLsizeiptr viewProjectionBufferSize_ = 0;
-  gl::Buffer clusterRanges_, clusterLights_;
-  GLsizeiptr clusterRangesSize_ = 0, clusterLightsSize_ = 0;
+  gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;
 };
 
 }  // namespace omnishadow

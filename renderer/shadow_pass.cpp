@@ -36,6 +36,22 @@ struct Frustum {
   }
 };
 
+// Calls visit(first, count) for each run of consecutive set bits among the low `views` bits of
+// `mask`: the faces one instanced draw can cover.
+template <typename Visit>
+void forEachFaceRun(unsigned mask, int views, Visit visit) {
+  for (int v = 0; v < views;) {
+    if (!(mask & (1u << v))) {
+      ++v;
+      continue;
+    }
+    int end = v;
+    while (end < views && (mask & (1u << end))) ++end;
+    visit(v, end - v);
+    v = end;
+  }
+}
+
 // Opaque draws are sorted into culling states: both sides, counter-clockwise or clockwise
 // front faces (mirrored transforms).
 enum Bucket { kNoCull = 0, kCullCcw, kCullCw, kBucketCount };
@@ -101,17 +117,6 @@ const ShaderProgram& ShadowPass::program(ShadowPassStrategy strategy, bool maske
   return *slot;
 }
 
-void ShadowPass::upload(const std::vector<GLuint>& words, gl::Buffer& buffer,
-                        GLsizeiptr& capacity) {
-  const auto size = static_cast<GLsizeiptr>(words.size() * sizeof(GLuint));
-  if (size > capacity) {
-    buffer = gl::createBuffer();
-    capacity = std::max<GLsizeiptr>(size, 2 * capacity);
-    glNamedBufferStorage(buffer.get(), capacity, nullptr, GL_DYNAMIC_STORAGE_BIT);
-  }
-  if (size > 0) glNamedBufferSubData(buffer.get(), 0, size, words.data());
-}
-
 void ShadowPass::render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
                         const ShadowGroupTextures& target, ShadowPassStrategy strategy) {
   const bool cube = target.key.layout == ShadowLayout::Cube;
@@ -153,6 +158,8 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
       return kNoCull;
     return draw.mirrored ? kCullCw : kCullCcw;
   };
+  std::vector<int> buckets(draws.size());
+  for (std::size_t d = 0; d < draws.size(); ++d) buckets[d] = bucketOf(draws[d]);
 
   // Multi-draw calls: (bucket, view or -1 for layered, caster stream or not, first command,
   // command count).
@@ -176,7 +183,7 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
   auto collect = [&](int bucket, int view, bool world) {
     const int first = static_cast<int>(objects.size());
     for (std::size_t d = 0; d < draws.size(); ++d) {
-      if (isMasked(draws[d]) || bucketOf(draws[d]) != bucket || viewMask[d] == 0 ||
+      if (isMasked(draws[d]) || buckets[d] != bucket || viewMask[d] == 0 ||
           (draws[d].casterBaseVertex >= 0) != world)
         continue;
       if (view >= 0) {
@@ -185,16 +192,9 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
         addCommand(d, 0, 1, world);
       } else {
         // Runs of consecutive faces become one command each.
-        for (int v = 0; v < views;) {
-          if (!(viewMask[d] & (1u << v))) {
-            ++v;
-            continue;
-          }
-          int end = v;
-          while (end < views && (viewMask[d] & (1u << end))) ++end;
-          addCommand(d, static_cast<GLuint>(v), static_cast<GLuint>(end - v), world);
-          v = end;
-        }
+        forEachFaceRun(viewMask[d], views, [&](int first, int count) {
+          addCommand(d, static_cast<GLuint>(first), static_cast<GLuint>(count), world);
+        });
       }
     }
     const int count = static_cast<int>(objects.size()) - first;
@@ -203,8 +203,8 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
   for (int view = layered ? -1 : 0; view < (layered ? 0 : views); ++view)
     for (int bucket = 0; bucket < kBucketCount; ++bucket)
       for (const bool world : {true, false}) collect(bucket, view, world);
-  upload(commandWords, commands_, commandsCapacity_);
-  upload(objects, drawObjects_, drawObjectsCapacity_);
+  commands_.upload(commandWords);
+  drawObjects_.upload(objects);
 
   // Fixed state of the whole light.
   const GLuint fb = framebuffer_.get();
@@ -328,7 +328,7 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
                  material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
       glBindTextureUnit(0, material.baseColor);
       glBindSampler(0, material.baseColorSampler);
-      setCulling(bucketOf(draw));
+      setCulling(buckets[d]);
       const GpuMeshRange& range = scene.meshes()[draw.mesh];
       const void* offset =
           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4);
@@ -338,19 +338,12 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
         drawCount_ += 1;
         continue;
       }
-      for (int v = 0; v < views;) {
-        if (!(viewMask[d] & (1u << v))) {
-          ++v;
-          continue;
-        }
-        int end = v;
-        while (end < views && (viewMask[d] & (1u << end))) ++end;
+      forEachFaceRun(viewMask[d], views, [&](int first, int count) {
         glDrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, range.indexCount,
-                                                      GL_UNSIGNED_INT, offset, end - v,
-                                                      range.baseVertex, static_cast<GLuint>(v));
-        drawCount_ += end - v;
-        v = end;
-      }
+                                                      GL_UNSIGNED_INT, offset, count,
+                                                      range.baseVertex, static_cast<GLuint>(first));
+        drawCount_ += count;
+      });
     }
   }
   // Faces nothing was drawn into still need their clear.

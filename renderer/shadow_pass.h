@@ -49,12 +49,10 @@ class ShadowPass {
   struct Variant;
   const ShaderProgram& program(ShadowPassStrategy strategy, bool masked, bool moments,
                                bool worldPositions);
-  void upload(const std::vector<GLuint>& words, gl::Buffer& buffer, GLsizeiptr& capacity);
 
   std::map<int, std::unique_ptr<ShaderProgram>> programs_;
   gl::Framebuffer framebuffer_;
-  gl::Buffer commands_, drawObjects_;
-  GLsizeiptr commandsCapacity_ = 0, drawObjectsCapacity_ = 0;
+  gl::StreamBuffer commands_, drawObjects_;
   long long drawCount_ = 0;
 };
 
