@@ -1,6 +1,7 @@
 #include "renderer/light_clusters.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -66,28 +67,25 @@ std::vector<Box> clusterBoxes(const LightClusters& clusters, const ViewCamera& c
     bounds[s] = clusters.sliceNear * std::exp(static_cast<float>(s) / clusters.sliceScale);
   std::vector<Box> boxes(static_cast<std::size_t>(clusters.columns) * clusters.rows *
                          clusters.slices);
+  // Normalized device coordinates spanned by tile `i` along an axis of `pixels`, half a pixel
+  // wider on each side.
   const float tile = static_cast<float>(clusters.tileSize);
+  auto ndcSpan = [&](int i, int pixels) {
+    const auto ndc = [&](float pixel) { return 2.0f * pixel / static_cast<float>(pixels) - 1.0f; };
+    return std::array<float, 2>{ndc(std::max(0.0f, static_cast<float>(i) * tile - 0.5f)),
+                                ndc(static_cast<float>(i + 1) * tile + 0.5f)};
+  };
   for (int s = 0; s < clusters.slices; ++s) {
     const float d0 = s == 0 ? 0.0f : bounds[s] * 0.999f;
     const float d1 = s == clusters.slices - 1 ? 2.0f * bounds[s + 1] : bounds[s + 1] * 1.001f;
     for (int y = 0; y < clusters.rows; ++y) {
-      const float y0 = 2.0f * std::max(0.0f, static_cast<float>(y) * tile - 0.5f) /
-                           static_cast<float>(camera.height) -
-                       1.0f;
-      const float y1 =
-          2.0f * (static_cast<float>(y + 1) * tile + 0.5f) / static_cast<float>(camera.height) -
-          1.0f;
+      const std::array<float, 2> ys = ndcSpan(y, camera.height);
       for (int x = 0; x < clusters.columns; ++x) {
-        const float x0 = 2.0f * std::max(0.0f, static_cast<float>(x) * tile - 0.5f) /
-                             static_cast<float>(camera.width) -
-                         1.0f;
-        const float x1 =
-            2.0f * (static_cast<float>(x + 1) * tile + 0.5f) / static_cast<float>(camera.width) -
-            1.0f;
+        const std::array<float, 2> xs = ndcSpan(x, camera.width);
         Box& box = boxes[(static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x];
         for (const float d : {d0, d1})
-          for (const float nx : {x0, x1})
-            for (const float ny : {y0, y1}) box.extend(at(nx, ny, d));
+          for (const float nx : xs)
+            for (const float ny : ys) box.extend(at(nx, ny, d));
       }
     }
   }
