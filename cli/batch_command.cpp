@@ -14,9 +14,9 @@
 #include <thread>
 
 #include "cli/batch_jobs.h"
-#include "renderer/errors.h"
-#include "renderer/image_writer.h"
-#include "renderer/renderer.h"
+#include "renderer/core/errors.h"
+#include "renderer/output/image_writer.h"
+#include "renderer/render/renderer.h"
 
 namespace fs = std::filesystem;
 
@@ -227,6 +227,7 @@ class BatchRunner {
       std::shared_ptr<LoadedJob> job = loaded.job;
       auto frame = std::make_shared<Frame>(renderJob(*renderer_, jobs_[i].job, *job, result.times));
       result.warnings = job->warnings;
+      result.warnings.insert(result.warnings.end(), frame->warnings.begin(), frame->warnings.end());
       const RenderJob& description = jobs_[i].job;
       auto encode = [&description, job, frame, &result] {
         const Clock::time_point encodeStart = Clock::now();

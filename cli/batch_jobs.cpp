@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "renderer/errors.h"
+#include "renderer/core/errors.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;

@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "cli/text_table.h"
-#include "renderer/errors.h"
-#include "renderer/image_diff.h"
-#include "renderer/image_writer.h"
-#include "renderer/output_transaction.h"
+#include "renderer/core/errors.h"
+#include "renderer/output/image_diff.h"
+#include "renderer/output/image_writer.h"
+#include "renderer/output/output_transaction.h"
 
 namespace fs = std::filesystem;
 

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "cli/text_table.h"
-#include "renderer/gltf_loader.h"
-#include "renderer/light.h"
-#include "renderer/lights_loader.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/light.h"
+#include "renderer/scene/lights_loader.h"
 
 namespace fs = std::filesystem;
 

@@ -10,7 +10,7 @@
 #include "cli/info_command.h"
 #include "cli/render_command.h"
 #include "cli/verify_command.h"
-#include "renderer/errors.h"
+#include "renderer/core/errors.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"omnishadow: headless glTF renderer with omnidirectional point-light shadows"};

@@ -9,9 +9,9 @@
 #include <thread>
 
 #include "cli/render_job.h"
-#include "renderer/errors.h"
-#include "renderer/image_writer.h"
-#include "renderer/renderer.h"
+#include "renderer/core/errors.h"
+#include "renderer/output/image_writer.h"
+#include "renderer/render/renderer.h"
 
 namespace fs = std::filesystem;
 
@@ -81,15 +81,15 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   Renderer renderer(contextOptions);
   if (o.verbose) {
     std::fprintf(stderr, "omnishadow: %s\nomnishadow: %s\n",
-                 renderer.context().platformDescription().c_str(),
-                 renderer.context().glDescription().c_str());
+                 renderer.platformDescription().c_str(),
+                 renderer.glDescription().c_str());
     std::fprintf(stderr, "omnishadow: scene %s, camera: %s, %dx%d\n", job.scene.c_str(),
                  loaded.camera.description.c_str(), loaded.camera.width, loaded.camera.height);
   }
   contextStage.stop();
 
   const Frame frame = renderJob(renderer, job, loaded, times);
-  warnings = loaded.warnings;
+  warnings.insert(warnings.end(), frame.warnings.begin(), frame.warnings.end());
 
   ScopedStage encodeStage(times, "encode");
   setEncoderThreads(static_cast<int>(std::thread::hardware_concurrency()));

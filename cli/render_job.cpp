@@ -1,19 +1,17 @@
 #include "cli/render_job.h"
 
-#include <GL/glcorearb.h>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "renderer/depth_dump.h"
-#include "renderer/display_transform.h"
-#include "renderer/errors.h"
-#include "renderer/gltf_loader.h"
-#include "renderer/lights_loader.h"
-#include "renderer/output_transaction.h"
+#include "renderer/output/depth_dump.h"
+#include "renderer/output/display_transform.h"
+#include "renderer/core/errors.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/lights_loader.h"
+#include "renderer/output/output_transaction.h"
 
 namespace fs = std::filesystem;
 
@@ -243,18 +241,8 @@ LoadedJob loadJob(const RenderJob& job) {
   return loaded;
 }
 
-Frame renderJob(Renderer& renderer, const RenderJob& job, LoadedJob& loaded, StageTimes& times) {
-  GLint maxCubeSize = 0, maxTextureSize = 0;
-  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &maxCubeSize);
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize);
-  for (const Light& light : loaded.lights) {
-    const bool cube = light.type == LightType::Point;
-    const int limit = cube ? maxCubeSize : maxTextureSize;
-    if (light.shadow.enabled && light.shadow.resolution > limit)
-      throw InputError(light.origin + ": light \"" + light.name + "\": shadow.resolution " +
-                       std::to_string(light.shadow.resolution) + " exceeds this GL's maximum " +
-                       (cube ? "cube map" : "texture") + " size " + std::to_string(limit));
-  }
+Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,
+                StageTimes& times) {
   RenderSettings settings;
   settings.shading = job.shading;
   settings.aovs = job.aovs || !job.aov.empty();
@@ -265,10 +253,8 @@ Frame renderJob(Renderer& renderer, const RenderJob& job, LoadedJob& loaded, Sta
   settings.lightViewSize = job.lightViews.empty() ? 0 : job.lightViewSize;
   settings.maxShadowMemoryMiB = job.maxMemoryMiB;
   settings.shadowPass = job.shadowPass;
-  Frame frame = renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera,
-                                settings, times);
-  loaded.warnings.insert(loaded.warnings.end(), frame.warnings.begin(), frame.warnings.end());
-  return frame;
+  return renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera, settings,
+                         times);
 }
 
 std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loaded,

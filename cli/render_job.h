@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "renderer/camera.h"
-#include "renderer/light.h"
-#include "renderer/renderer.h"
-#include "renderer/scene.h"
-#include "renderer/stage_timer.h"
+#include "renderer/view/camera.h"
+#include "renderer/scene/light.h"
+#include "renderer/render/renderer.h"
+#include "renderer/scene/scene.h"
+#include "renderer/core/stage_timer.h"
 
 namespace omnishadow::cli {
 
@@ -56,8 +56,10 @@ void validateJob(const RenderJob& job);
 // Reads the scene and lights file and resolves the camera. Throws InputError.
 LoadedJob loadJob(const RenderJob& job);
 
-// Renders on the renderer's (GL) thread. Throws InputError for limits of this GL.
-Frame renderJob(Renderer& renderer, const RenderJob& job, LoadedJob& loaded, StageTimes& times);
+// Renders on the renderer's (GL) thread. Throws InputError for limits of this GL. The frame's
+// warnings are the renderer's; the job's own are in `loaded`.
+Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,
+                StageTimes& times);
 
 // Encodes and writes every output of the job, all or nothing. CPU only; any thread.
 // Returns the files written.

@@ -9,12 +9,13 @@
 #include <sstream>
 
 #include "cli/render_job.h"
-#include "renderer/errors.h"
-#include "renderer/image_writer.h"
-#include "renderer/output_transaction.h"
-#include "renderer/renderer.h"
-#include "renderer/shadow_reference.h"
-#include "renderer/shadow_verification.h"
+#include "renderer/core/errors.h"
+#include "renderer/output/image_writer.h"
+#include "renderer/output/output_transaction.h"
+#include "renderer/render/renderer.h"
+#include "renderer/verify/shadow_reference.h"
+#include "renderer/verify/shadow_verification.h"
+#include "renderer/view/shadow_plan.h"
 
 namespace fs = std::filesystem;
 
@@ -279,11 +280,11 @@ int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {
   Renderer renderer(contextOptions);
   if (o.verbose)
     std::fprintf(stderr, "omnishadow: %s\nomnishadow: %s\n",
-                 renderer.context().platformDescription().c_str(),
-                 renderer.context().glDescription().c_str());
+                 renderer.platformDescription().c_str(),
+                 renderer.glDescription().c_str());
   contextStage.stop();
   const Frame frame = renderJob(renderer, job, loaded, times);
-  warnings = loaded.warnings;
+  warnings.insert(warnings.end(), frame.warnings.begin(), frame.warnings.end());
   if (!frame.aovs) throw RenderError("the renderer returned no AOVs");
 
   ScopedStage referenceStage(times, "reference");

@@ -3,7 +3,7 @@
 #include <optional>
 #include <string>
 
-#include "renderer/camera.h"
+#include "renderer/view/camera.h"
 
 namespace CLI {
 class App;

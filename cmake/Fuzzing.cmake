@@ -30,14 +30,14 @@ endfunction()
 
 omnishadow_fuzzer(fuzz_lights
   tests/fuzz/fuzz_lights.cpp
-  renderer/light.cpp
-  renderer/lights_loader.cpp)
+  renderer/scene/light.cpp
+  renderer/scene/lights_loader.cpp)
 
 omnishadow_fuzzer(fuzz_gltf
   tests/fuzz/fuzz_gltf.cpp
-  renderer/bounds.cpp
-  renderer/gltf_loader.cpp
-  renderer/tangents.cpp
-  renderer/light.cpp
-  renderer/lights_loader.cpp)
+  renderer/scene/bounds.cpp
+  renderer/scene/gltf_loader.cpp
+  renderer/scene/tangents.cpp
+  renderer/scene/light.cpp
+  renderer/scene/lights_loader.cpp)
 target_link_libraries(fuzz_gltf PRIVATE TinyGLTF::TinyGLTF)

@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "renderer/image_writer.h"
+#include "renderer/output/image_writer.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"

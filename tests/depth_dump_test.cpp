@@ -1,4 +1,4 @@
-#include "renderer/depth_dump.h"
+#include "renderer/output/depth_dump.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfEnvmap.h>
@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/cube_faces.h"
+#include "renderer/view/cube_faces.h"
 
 namespace omnishadow {
 namespace {

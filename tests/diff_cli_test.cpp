@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/image_writer.h"
+#include "renderer/output/image_writer.h"
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 

@@ -1,4 +1,4 @@
-#include "renderer/gltf_loader.h"
+#include "renderer/scene/gltf_loader.h"
 
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/errors.h"
+#include "renderer/core/errors.h"
 #include "scenes/builder/gltf_builder.h"
 
 namespace omnishadow {

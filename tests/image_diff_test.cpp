@@ -1,5 +1,5 @@
 // compareImages and the heat map on small constructed images whose answers are known exactly.
-#include "renderer/image_diff.h"
+#include "renderer/output/image_diff.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/errors.h"
+#include "renderer/core/errors.h"
 
 namespace omnishadow {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/image_writer.h"
+#include "renderer/output/image_writer.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/errors.h"
-#include "renderer/output_transaction.h"
+#include "renderer/core/errors.h"
+#include "renderer/output/output_transaction.h"
 
 namespace omnishadow {
 namespace {

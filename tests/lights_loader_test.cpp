@@ -1,4 +1,4 @@
-#include "renderer/lights_loader.h"
+#include "renderer/scene/lights_loader.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "renderer/errors.h"
-#include "renderer/light.h"
+#include "renderer/core/errors.h"
+#include "renderer/scene/light.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "renderer/mesh_topology.h"
+#include "renderer/scene/mesh_topology.h"
 
 #include <gtest/gtest.h>
 

@@ -12,12 +12,12 @@
 #include <memory>
 #include <random>
 
-#include "renderer/camera.h"
-#include "renderer/cube_faces.h"
-#include "renderer/errors.h"
-#include "renderer/gltf_loader.h"
-#include "renderer/renderer.h"
-#include "renderer/shadow_verification.h"
+#include "renderer/view/camera.h"
+#include "renderer/view/cube_faces.h"
+#include "renderer/core/errors.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/render/renderer.h"
+#include "renderer/verify/shadow_verification.h"
 #include "scenes/builder/gltf_builder.h"
 
 using namespace omnishadow;

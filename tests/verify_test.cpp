@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "renderer/image_writer.h"
-#include "renderer/shadow_reference.h"
-#include "renderer/shadow_verification.h"
+#include "renderer/output/image_writer.h"
+#include "renderer/verify/shadow_reference.h"
+#include "renderer/verify/shadow_verification.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"

@@ -6,11 +6,11 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
 
-#include "renderer/camera.h"
-#include "renderer/cube_faces.h"
-#include "renderer/errors.h"
-#include "renderer/light_clusters.h"
-#include "renderer/shadow_views.h"
+#include "renderer/view/camera.h"
+#include "renderer/view/cube_faces.h"
+#include "renderer/core/errors.h"
+#include "renderer/view/light_clusters.h"
+#include "renderer/view/shadow_views.h"
 
 using namespace omnishadow;
 

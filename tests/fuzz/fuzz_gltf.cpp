@@ -16,8 +16,8 @@
 #include <system_error>
 #include <typeinfo>
 
-#include "renderer/errors.h"
-#include "renderer/gltf_loader.h"
+#include "renderer/core/errors.h"
+#include "renderer/scene/gltf_loader.h"
 
 namespace {
 

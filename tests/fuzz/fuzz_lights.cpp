@@ -11,8 +11,8 @@
 #include <typeinfo>
 #include <vector>
 
-#include "renderer/errors.h"
-#include "renderer/lights_loader.h"
+#include "renderer/core/errors.h"
+#include "renderer/scene/lights_loader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

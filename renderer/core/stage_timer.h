@@ -1,0 +1,54 @@
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace omnishadow {
+
+// Wall time of the named stages of one render, in the order they first ran (--stats). A stage
+// that runs several times (lighting in several passes) is one row with its total.
+class StageTimes {
+ public:
+  void add(const std::string& stage, double milliseconds) {
+    for (auto& [name, total] : stages_)
+      if (name == stage) {
+        total += milliseconds;
+        return;
+      }
+    stages_.emplace_back(stage, milliseconds);
+  }
+  const std::vector<std::pair<std::string, double>>& stages() const { return stages_; }
+  double total() const {
+    double sum = 0;
+    for (const auto& stage : stages_) sum += stage.second;
+    return sum;
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>> stages_;
+};
+
+// Measures from construction to stop() (or destruction) and records it under `stage`.
+class ScopedStage {
+ public:
+  ScopedStage(StageTimes& times, std::string stage) : times_(times), stage_(std::move(stage)) {}
+  ~ScopedStage() { stop(); }
+  void stop() {
+    if (stopped_) return;
+    stopped_ = true;
+    const auto elapsed = std::chrono::steady_clock::now() - start_;
+    times_.add(stage_, std::chrono::duration<double, std::milli>(elapsed).count());
+  }
+  ScopedStage(const ScopedStage&) = delete;
+  ScopedStage& operator=(const ScopedStage&) = delete;
+
+ private:
+  StageTimes& times_;
+  std::string stage_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  bool stopped_ = false;
+};
+
+}  // namespace omnishadow

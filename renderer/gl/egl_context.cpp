@@ -1,0 +1,219 @@
+#include "renderer/gl/egl_context.h"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/glcorearb.h>
+
+#include <cstring>
+#include <optional>
+
+#include "renderer/core/errors.h"
+
+namespace omnishadow {
+namespace {
+
+const char* eglErrorName(EGLint error) {
+  switch (error) {
+    case EGL_SUCCESS:
+      return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CURRENT_SURFACE:
+      return "EGL_BAD_CURRENT_SURFACE";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_SURFACE:
+      return "EGL_BAD_SURFACE";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    case EGL_BAD_NATIVE_PIXMAP:
+      return "EGL_BAD_NATIVE_PIXMAP";
+    case EGL_BAD_NATIVE_WINDOW:
+      return "EGL_BAD_NATIVE_WINDOW";
+    case EGL_CONTEXT_LOST:
+      return "EGL_CONTEXT_LOST";
+    default:
+      return "unknown EGL error";
+  }
+}
+
+bool hasExtension(const char* list, const char* name) {
+  if (!list) return false;
+  const std::size_t length = std::strlen(name);
+  for (const char* p = list; (p = std::strstr(p, name)) != nullptr; p += length) {
+    const bool startOk = p == list || p[-1] == ' ';
+    const bool endOk = p[length] == ' ' || p[length] == '\0';
+    if (startOk && endOk) return true;
+  }
+  return false;
+}
+
+template <typename F>
+F loadProc(const char* name) {
+  return reinterpret_cast<F>(eglGetProcAddress(name));
+}
+
+struct Candidate {
+  std::string description;
+  EGLenum platform;
+  void* nativeDisplay;
+};
+
+}  // namespace
+
+struct EglContext::Impl {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLContext context = EGL_NO_CONTEXT;
+  std::string description;
+
+  // Returns an empty string on success, else why it failed.
+  std::string tryCreate(const Candidate& candidate, bool debug) {
+    auto getPlatformDisplay = loadProc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
+    if (!getPlatformDisplay) return "eglGetPlatformDisplayEXT is missing";
+    display = getPlatformDisplay(candidate.platform, candidate.nativeDisplay, nullptr);
+    if (display == EGL_NO_DISPLAY)
+      return std::string("eglGetPlatformDisplayEXT failed: ") + eglErrorName(eglGetError());
+    EGLint major = 0, minor = 0;
+    if (!eglInitialize(display, &major, &minor)) {
+      display = EGL_NO_DISPLAY;
+      return std::string("eglInitialize failed: ") + eglErrorName(eglGetError());
+    }
+    if (!eglBindAPI(EGL_OPENGL_API)) return fail("eglBindAPI(EGL_OPENGL_API)");
+
+    const char* extensions = eglQueryString(display, EGL_EXTENSIONS);
+    EGLConfig config = EGL_NO_CONFIG_KHR;
+    if (!hasExtension(extensions, "EGL_KHR_no_config_context")) {
+      const EGLint attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+      EGLint count = 0;
+      if (!eglChooseConfig(display, attributes, &config, 1, &count) || count == 0)
+        return fail("eglChooseConfig (no EGL_KHR_no_config_context)");
+    }
+    const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                        4,
+                                        EGL_CONTEXT_MINOR_VERSION,
+                                        5,
+                                        EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                        EGL_CONTEXT_OPENGL_DEBUG,
+                                        debug ? EGL_TRUE : EGL_FALSE,
+                                        EGL_NONE};
+    context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttributes);
+    if (context == EGL_NO_CONTEXT) return fail("eglCreateContext (OpenGL 4.5 core)");
+    if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context))
+      return fail("eglMakeCurrent without a surface");
+    description = candidate.description;
+    return {};
+  }
+
+  std::string fail(const std::string& what) {
+    std::string message = what + " failed: " + eglErrorName(eglGetError());
+    release();
+    return message;
+  }
+
+  void release() {
+    if (display == EGL_NO_DISPLAY) return;
+    eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
+    eglTerminate(display);
+    context = EGL_NO_CONTEXT;
+    display = EGL_NO_DISPLAY;
+  }
+};
+
+namespace {
+
+// EGL devices in the order they are tried: hardware first (or the one --gpu names).
+std::vector<Candidate> deviceCandidates(int gpuIndex, std::vector<std::string>& notes) {
+  const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  if (!hasExtension(clientExtensions, "EGL_EXT_platform_device")) {
+    notes.push_back("EGL device platform: not supported by this EGL (no EGL_EXT_platform_device)");
+    return {};
+  }
+  auto queryDevices = loadProc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
+  auto queryDeviceString = loadProc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
+  EGLDeviceEXT devices[32];
+  EGLint count = 0;
+  if (!queryDevices || !queryDevices(32, devices, &count) || count == 0) {
+    notes.push_back("EGL device platform: no devices");
+    return {};
+  }
+  if (gpuIndex >= count)
+    throw InputError("--gpu " + std::to_string(gpuIndex) + ": there are only " +
+                      std::to_string(count) + " EGL devices (0.." + std::to_string(count - 1) +
+                      ")");
+  std::vector<Candidate> hardware, software;
+  for (EGLint i = 0; i < count; ++i) {
+    if (gpuIndex >= 0 && i != gpuIndex) continue;
+    const char* extensions = queryDeviceString ? queryDeviceString(devices[i], EGL_EXTENSIONS) : "";
+    const bool isSoftware = hasExtension(extensions, "EGL_MESA_device_software");
+    std::string name = "EGL device " + std::to_string(i);
+    if (isSoftware) {
+      name += " (software)";
+    } else if (const char* drm = queryDeviceString
+                                     ? queryDeviceString(devices[i], EGL_DRM_DEVICE_FILE_EXT)
+                                     : nullptr) {
+      name += std::string(" (") + drm + ")";
+    } else {
+      eglGetError();  // the DRM query may fail on drivers without DRM; not an error
+    }
+    (isSoftware ? software : hardware).push_back({name, EGL_PLATFORM_DEVICE_EXT, devices[i]});
+  }
+  hardware.insert(hardware.end(), software.begin(), software.end());
+  return hardware;
+}
+
+}  // namespace
+
+EglContext::EglContext(const EglContextOptions& options) : impl_(std::make_unique<Impl>()) {
+  std::vector<std::string> attempts;
+  std::vector<Candidate> candidates = deviceCandidates(options.gpuIndex, attempts);
+  const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  if (options.gpuIndex < 0) {
+    if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless"))
+      candidates.push_back(
+          {"EGL surfaceless platform", EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY});
+    else
+      attempts.push_back(
+          "EGL surfaceless platform: not supported (no EGL_MESA_platform_surfaceless)");
+  }
+  for (const Candidate& candidate : candidates) {
+    const std::string why = impl_->tryCreate(candidate, options.debug);
+    if (why.empty()) return;
+    attempts.push_back(candidate.description + ": " + why);
+  }
+  std::string message = "cannot create a headless OpenGL 4.5 core context through EGL; tried: ";
+  for (std::size_t i = 0; i < attempts.size(); ++i) message += (i ? "; " : "") + attempts[i];
+  if (attempts.empty()) message += "nothing (no EGL platform available)";
+  throw RenderError(message);
+}
+
+EglContext::~EglContext() {
+  impl_->release();
+}
+
+const std::string& EglContext::platformDescription() const {
+  return impl_->description;
+}
+
+std::string EglContext::glDescription() const {
+  auto text = [](GLenum name) {
+    const auto* s = reinterpret_cast<const char*>(glGetString(name));
+    return std::string(s ? s : "?");
+  };
+  return text(GL_VENDOR) + " | " + text(GL_RENDERER) + " | " + text(GL_VERSION);
+}
+
+}  // namespace omnishadow

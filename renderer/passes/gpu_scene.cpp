@@ -1,0 +1,236 @@
+#include "renderer/passes/gpu_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/core/errors.h"
+#include "renderer/scene/mesh_topology.h"
+
+namespace omnishadow {
+namespace {
+
+// Instanced meshes are copied into the world-space caster stream while all their copies
+// together stay below this many vertices (12 bytes each); bigger ones are transformed per vertex.
+constexpr std::size_t kMaxCopiedInstanceVertices = std::size_t{1} << 16;
+
+// Interleaved vertex; attribute locations match shaders/scene_vertex.glsl.
+struct Vertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec4 tangent;
+  glm::vec2 uv0;
+  glm::vec2 uv1;
+  glm::vec4 color;
+};
+
+void setAttribute(GLuint vao, GLuint location, GLint size, GLuint offset) {
+  glEnableVertexArrayAttrib(vao, location);
+  glVertexArrayAttribFormat(vao, location, size, GL_FLOAT, GL_FALSE, offset);
+  glVertexArrayAttribBinding(vao, location, 0);
+}
+
+// Box-filtered half-size copy (a side of 1 stays 1).
+Image halved(const Image& in) {
+  Image out;
+  out.name = in.name;
+  out.width = std::max(1, in.width / 2);
+  out.height = std::max(1, in.height / 2);
+  out.rgba.resize(static_cast<std::size_t>(out.width) * out.height * 4);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x)
+      for (int c = 0; c < 4; ++c) {
+        int sum = 0, count = 0;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const int sx = std::min(2 * x + dx, in.width - 1),
+                      sy = std::min(2 * y + dy, in.height - 1);
+            sum += in.rgba[(static_cast<std::size_t>(sy) * in.width + sx) * 4 + c];
+            ++count;
+          }
+        out.rgba[(static_cast<std::size_t>(y) * out.width + x) * 4 + c] =
+            static_cast<std::uint8_t>((sum + count / 2) / count);
+      }
+  return out;
+}
+
+}  // namespace
+
+GpuScene::GpuScene(const Scene& scene)
+    : vertexArray_(gl::createVertexArray()), casterVertexArray_(gl::createVertexArray()) {
+  uploadGeometry(scene);
+  uploadCasterStream(scene);
+  uploadMaterials(scene);
+}
+
+void GpuScene::uploadGeometry(const Scene& scene) {
+  std::vector<Vertex> vertices;
+  std::vector<std::uint32_t> indices;
+  for (const Mesh& mesh : scene.meshes) {
+    GpuMeshRange range;
+    range.baseVertex = static_cast<GLint>(vertices.size());
+    range.firstIndex = static_cast<GLsizei>(indices.size());
+    range.indexCount = static_cast<GLsizei>(mesh.indices.size());
+    range.hasTangents = !mesh.tangents.empty();
+    range.closed = isClosedSolid(mesh.positions, mesh.indices);
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+      Vertex v;
+      v.position = mesh.positions[i];
+      v.normal = i < mesh.normals.size() ? mesh.normals[i] : glm::vec3(0, 1, 0);
+      v.tangent = i < mesh.tangents.size() ? mesh.tangents[i] : glm::vec4(1, 0, 0, 1);
+      v.uv0 = i < mesh.uv0.size() ? mesh.uv0[i] : glm::vec2(0.0f);
+      v.uv1 = i < mesh.uv1.size() ? mesh.uv1[i] : glm::vec2(0.0f);
+      v.color = i < mesh.colors.size() ? mesh.colors[i] : glm::vec4(1.0f);
+      vertices.push_back(v);
+    }
+    indices.insert(indices.end(), mesh.indices.begin(), mesh.indices.end());
+    meshes_.push_back(range);
+  }
+  vertices_ = gl::createBuffer();
+  indices_ = gl::createBuffer();
+  // Empty scenes still get valid (1-byte) buffers so the vertex array is complete.
+  glNamedBufferStorage(vertices_.get(), std::max<GLsizeiptr>(1, vertices.size() * sizeof(Vertex)),
+                       vertices.empty() ? nullptr : vertices.data(), 0);
+  glNamedBufferStorage(indices_.get(), std::max<GLsizeiptr>(1, indices.size() * 4),
+                       indices.empty() ? nullptr : indices.data(), 0);
+  const GLuint vao = vertexArray_.get();
+  glVertexArrayVertexBuffer(vao, 0, vertices_.get(), 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(vao, indices_.get());
+  setAttribute(vao, 0, 3, offsetof(Vertex, position));
+  setAttribute(vao, 1, 3, offsetof(Vertex, normal));
+  setAttribute(vao, 2, 4, offsetof(Vertex, tangent));
+  setAttribute(vao, 3, 2, offsetof(Vertex, uv0));
+  setAttribute(vao, 4, 2, offsetof(Vertex, uv1));
+  setAttribute(vao, 5, 4, offsetof(Vertex, color));
+
+  std::vector<float> meshRadius;
+  for (const Mesh& mesh : scene.meshes) {
+    float radius = 0.0f;
+    for (const glm::vec3& p : mesh.positions)
+      radius = std::max(radius, glm::length(p - mesh.bounds.center()));
+    meshRadius.push_back(radius);
+  }
+  const int defaultMaterial = static_cast<int>(scene.materials.size());
+  for (const MeshInstance& instance : scene.instances) {
+    const Mesh& mesh = scene.meshes[instance.mesh];
+    GpuDraw draw;
+    draw.mesh = instance.mesh;
+    draw.material = mesh.material >= 0 ? mesh.material : defaultMaterial;
+    draw.world = instance.world;
+    draw.normalMatrix = glm::transpose(glm::inverse(glm::mat3(instance.world)));
+    draw.mirrored = glm::determinant(glm::mat3(instance.world)) < 0.0f;
+    // The sphere around the mesh's box center through its farthest vertex (tighter than the
+    // box's own sphere: a ball's radius instead of sqrt(3) times it), placed in the world and
+    // scaled by the transform's largest axis scale.
+    const glm::vec3 center = mesh.bounds.center();
+    const float radius = meshRadius[static_cast<std::size_t>(instance.mesh)];
+    const glm::mat3 linear(instance.world);
+    const float scale =
+        std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
+    draw.boundsCenter = glm::vec3(instance.world * glm::vec4(center, 1.0f));
+    draw.boundsRadius = radius * scale * (1.0f + 1e-5f);
+    draws_.push_back(draw);
+  }
+  // World matrices by draw index, for passes that draw many objects in one call.
+  std::vector<glm::mat4> models;
+  for (const GpuDraw& draw : draws_) models.push_back(draw.world);
+  if (models.empty()) models.emplace_back(1.0f);
+  models_ = gl::createBuffer();
+  glNamedBufferStorage(models_.get(), static_cast<GLsizeiptr>(models.size() * sizeof(glm::mat4)),
+                       models.data(), 0);
+}
+
+void GpuScene::uploadCasterStream(const Scene& scene) {
+  std::vector<std::size_t> instancesOf(scene.meshes.size(), 0);
+  for (const GpuDraw& draw : draws_) ++instancesOf[static_cast<std::size_t>(draw.mesh)];
+  std::vector<glm::vec3> world;
+  for (GpuDraw& draw : draws_) {
+    const Mesh& mesh = scene.meshes[static_cast<std::size_t>(draw.mesh)];
+    const std::size_t copies = instancesOf[static_cast<std::size_t>(draw.mesh)];
+    if (copies > 1 && copies * mesh.positions.size() > kMaxCopiedInstanceVertices) continue;
+    draw.casterBaseVertex = static_cast<GLint>(world.size());
+    for (const glm::vec3& p : mesh.positions) world.emplace_back(draw.world * glm::vec4(p, 1.0f));
+  }
+  casterPositions_ = gl::createBuffer();
+  glNamedBufferStorage(casterPositions_.get(),
+                       std::max<GLsizeiptr>(1, world.size() * sizeof(glm::vec3)),
+                       world.empty() ? nullptr : world.data(), 0);
+  const GLuint vao = casterVertexArray_.get();
+  glVertexArrayVertexBuffer(vao, 0, casterPositions_.get(), 0, sizeof(glm::vec3));
+  glVertexArrayElementBuffer(vao, indices_.get());
+  setAttribute(vao, 0, 3, 0);
+}
+
+GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool srgb) {
+  if (slot.texture < 0) return 0;
+  const int imageIndex = scene.textures[slot.texture].image;
+  if (imageIndex < 0) return 0;
+  gl::Texture& texture = textures_[2 * imageIndex + (srgb ? 1 : 0)];
+  if (!texture) {
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    Image fitted;
+    const Image* source = &scene.images[imageIndex];
+    if (source->width > maxSize || source->height > maxSize) {
+      fitted = *source;
+      while (fitted.width > maxSize || fitted.height > maxSize) fitted = halved(fitted);
+      warnings_.push_back(
+          "images[" + std::to_string(imageIndex) + "] \"" + source->name +
+          "\": " + std::to_string(source->width) + "x" + std::to_string(source->height) +
+          " exceeds this GL's maximum texture size " + std::to_string(maxSize) +
+          "; downscaled to " + std::to_string(fitted.width) + "x" + std::to_string(fitted.height));
+      source = &fitted;
+    }
+    const Image& image = *source;
+    texture = gl::createTexture(GL_TEXTURE_2D);
+    const int levels =
+        1 + static_cast<int>(std::floor(std::log2(std::max(image.width, image.height))));
+    glTextureStorage2D(texture.get(), levels, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, image.width,
+                       image.height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // glTF's UV (0,0) is the top-left of the image and GL's texel row 0 is t = 0, so the
+    // image's first (top) row goes into row 0 unflipped.
+    glTextureSubImage2D(texture.get(), 0, 0, 0, image.width, image.height, GL_RGBA,
+                        GL_UNSIGNED_BYTE, image.rgba.data());
+    glGenerateTextureMipmap(texture.get());
+  }
+  return texture.get();
+}
+
+GLuint GpuScene::samplerFor(const Scene& scene, const TextureSlot& slot) {
+  if (slot.texture < 0) return 0;
+  gl::Sampler& sampler = samplers_[slot.texture];
+  if (!sampler) {
+    const SamplerDesc& desc = scene.textures[slot.texture].sampler;
+    sampler = gl::createSampler();
+    glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, desc.magFilter);
+    glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, desc.minFilter);
+    glSamplerParameteri(sampler.get(), GL_TEXTURE_WRAP_S, desc.wrapS);
+    glSamplerParameteri(sampler.get(), GL_TEXTURE_WRAP_T, desc.wrapT);
+  }
+  return sampler.get();
+}
+
+void GpuScene::uploadMaterials(const Scene& scene) {
+  textures_.resize(2 * scene.images.size());
+  samplers_.resize(scene.textures.size());
+  std::vector<Material> descs = scene.materials;
+  descs.emplace_back();  // glTF's default material: white, metallic 1, roughness 1
+  descs.back().name = "(default)";
+  for (const Material& desc : descs) {
+    GpuMaterial m;
+    m.desc = desc;
+    m.baseColor = textureFor(scene, desc.baseColorTexture, true);
+    m.baseColorSampler = samplerFor(scene, desc.baseColorTexture);
+    m.metallicRoughness = textureFor(scene, desc.metallicRoughnessTexture, false);
+    m.metallicRoughnessSampler = samplerFor(scene, desc.metallicRoughnessTexture);
+    m.normal = textureFor(scene, desc.normalTexture, false);
+    m.normalSampler = samplerFor(scene, desc.normalTexture);
+    m.occlusion = textureFor(scene, desc.occlusionTexture, false);
+    m.occlusionSampler = samplerFor(scene, desc.occlusionTexture);
+    m.emissive = textureFor(scene, desc.emissiveTexture, true);
+    m.emissiveSampler = samplerFor(scene, desc.emissiveTexture);
+    materials_.push_back(std::move(m));
+  }
+}
+
+}  // namespace omnishadow

@@ -1,0 +1,380 @@
+#include "renderer/passes/lighting_pass.h"
+
+#include <cmath>
+
+#include "renderer/core/errors.h"
+#include "renderer/gl/gl_debug.h"
+#include "renderer/view/light_clusters.h"
+
+namespace omnishadow {
+namespace {
+
+// std430 mirror of `Light` in shaders/lights.glsl.
+struct GpuLight {
+  glm::vec4 positionRange;
+  glm::vec4 directionType;
+  glm::vec4 radianceShadow;
+  glm::vec4 spotFilter;
+  glm::vec4 shadowDepth;
+  glm::vec4 shadowBias;
+  glm::vec4 shadowSoft;
+  glm::vec4 shadowProjection;
+  glm::vec4 cascadeEnd;
+  glm::vec4 cascadeTexel;
+};
+
+static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight must match the std430 layout of Light");
+
+// Texture units of the shadow samplers (shaders/shadows.glsl), kMaxShadowGroups each.
+constexpr GLuint kCubeCompareUnit = 8;
+constexpr GLuint kCubeDepthUnit = 12;
+constexpr GLuint kPlanarCompareUnit = 16;
+constexpr GLuint kPlanarDepthUnit = 20;
+constexpr GLuint kCubeMomentsUnit = 24;
+constexpr GLuint kPlanarMomentsUnit = 28;
+
+std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
+                                        const LightingFeatures& features) {
+  std::vector<std::string> defines;
+  if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
+  if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
+  const struct {
+    ShadowFilter filter;
+    const char* define;
+  } filters[] = {
+      {ShadowFilter::Hard, "SHADOW_HARD"},        {ShadowFilter::Pcf, "SHADOW_PCF"},
+      {ShadowFilter::PcfDisk, "SHADOW_PCF_DISK"}, {ShadowFilter::Poisson, "SHADOW_POISSON"},
+      {ShadowFilter::Pcss, "SHADOW_PCSS"},        {ShadowFilter::Vsm, "SHADOW_VSM"}};
+  for (const auto& f : filters)
+    if (features.filters & (1u << static_cast<unsigned>(f.filter))) defines.push_back(f.define);
+  if (features.debugDepth) defines.push_back("DEBUG_DEPTH");
+  if (shading == Shading::Phong) defines.push_back("SHADING_PHONG");
+  if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
+  if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
+  return defines;
+}
+
+int attachmentsFor(PassOutputs outputs) {
+  switch (outputs) {
+    case PassOutputs::Beauty:
+      return 1;
+    case PassOutputs::Aovs:
+      return 3 + kVisibilityPerPass / 4;
+    case PassOutputs::Layers:
+      return 3;
+  }
+  return 1;
+}
+
+// Spot and directional maps: outside the map is lit. With reversed depth that is a border
+// depth of 0, the cleared "nothing here" value (the shader also skips points outside).
+void clampToLitBorder(GLuint sampler) {
+  const float border[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (const GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glSamplerParameteri(sampler, wrap, GL_CLAMP_TO_BORDER);
+  glSamplerParameterfv(sampler, GL_TEXTURE_BORDER_COLOR, border);
+}
+
+gl::Sampler makeRawSampler(GLenum filter) {
+  gl::Sampler sampler = gl::createSampler();
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, filter);
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, filter);
+  for (const GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glSamplerParameteri(sampler.get(), wrap, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  return sampler;
+}
+
+gl::Sampler makeCompareSampler(bool planar) {
+  gl::Sampler sampler = gl::createSampler();
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  for (const GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glSamplerParameteri(sampler.get(), wrap, GL_CLAMP_TO_EDGE);
+  if (planar) clampToLitBorder(sampler.get());
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  // Reversed depth: the receiver is lit when its reference is at least the stored depth.
+  glSamplerParameteri(sampler.get(), GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL);
+  return sampler;
+}
+
+gl::Texture makeTarget(GLenum format, int width, int height) {
+  gl::Texture texture = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(texture.get(), 1, format, width, height);
+  return texture;
+}
+
+void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
+  const Material& d = m.desc;
+  program.set("uBaseColorFactor", d.baseColorFactor);
+  program.set("uMetallicFactor", d.metallicFactor);
+  program.set("uRoughnessFactor", d.roughnessFactor);
+  program.set("uEmissive", d.emissiveFactor * d.emissiveStrength);
+  program.set("uNormalScale", d.normalScale);
+  program.set("uOcclusionStrength", d.occlusionStrength);
+  program.set("uAlphaMode", static_cast<int>(d.alphaMode));
+  program.set("uAlphaCutoff", d.alphaCutoff);
+  const struct {
+    const char* uniform;
+    GLuint texture, sampler;
+    int texCoord;
+  } slots[] = {
+      {"uBaseColorTexCoord", m.baseColor, m.baseColorSampler, d.baseColorTexture.texCoord},
+      {"uMetallicRoughnessTexCoord", m.metallicRoughness, m.metallicRoughnessSampler,
+       d.metallicRoughnessTexture.texCoord},
+      {"uNormalTexCoord", m.normal, m.normalSampler, d.normalTexture.texCoord},
+      {"uOcclusionTexCoord", m.occlusion, m.occlusionSampler, d.occlusionTexture.texCoord},
+      {"uEmissiveTexCoord", m.emissive, m.emissiveSampler, d.emissiveTexture.texCoord},
+  };
+  for (GLuint unit = 0; unit < 5; ++unit) {
+    program.set(slots[unit].uniform, slots[unit].texture ? slots[unit].texCoord : -1);
+    glBindTextureUnit(unit, slots[unit].texture);
+    glBindSampler(unit, slots[unit].sampler);
+  }
+}
+
+}  // namespace
+
+FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
+    : width_(width), height_(height), framebuffer_(gl::createFramebuffer()) {
+  const int count = attachmentsFor(outputs);
+  std::vector<GLenum> drawBuffers;
+  for (int i = 0; i < count; ++i) {
+    colors_.push_back(makeTarget(GL_RGBA32F, width, height));
+    glNamedFramebufferTexture(framebuffer_.get(), GL_COLOR_ATTACHMENT0 + i, colors_.back().get(),
+                              0);
+    drawBuffers.push_back(GL_COLOR_ATTACHMENT0 + i);
+  }
+  depth_ = makeTarget(GL_DEPTH_COMPONENT32F, width, height);
+  glNamedFramebufferTexture(framebuffer_.get(), GL_DEPTH_ATTACHMENT, depth_.get(), 0);
+  glNamedFramebufferDrawBuffers(framebuffer_.get(), count, drawBuffers.data());
+  const GLenum status = glCheckNamedFramebufferStatus(framebuffer_.get(), GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    throw RenderError("cannot create a " + std::to_string(width) + "x" + std::to_string(height) +
+                      " framebuffer (status 0x" + std::to_string(status) + ")");
+}
+
+LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {
+  LightingFeatures features;
+  for (const Light& light : lights) {
+    if (!light.shadow.enabled) continue;
+    (light.type == LightType::Point ? features.cubeShadows : features.planarShadows) = true;
+    features.filters |= 1u << static_cast<unsigned>(light.shadow.filter);
+  }
+  features.debugDepth = debugView == DebugView::Depth;
+  return features;
+}
+
+LightingPass::LightingPass(Shading shading, PassOutputs outputs, const LightingFeatures& features)
+    : outputs_(outputs),
+      program_("scene.vert", "lighting.frag", variantDefines(shading, outputs, features)),
+      depthOnly_("scene.vert", "depth_only.frag"),
+      cubeCompare_(makeCompareSampler(false)),
+      planarCompare_(makeCompareSampler(true)),
+      rawDepth_(makeRawSampler(GL_NEAREST)),
+      moments_(makeRawSampler(GL_LINEAR)) {}
+
+void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
+                                const ShadowGroups& shadowGroups) {
+  // Each group takes the next slot of its layout's sampler arrays.
+  std::vector<int> slot(shadowGroups.size());
+  int cubeSlots = 0, planarSlots = 0;
+  for (std::size_t g = 0; g < shadowGroups.size(); ++g) {
+    const ShadowGroupTextures& group = shadowGroups[g];
+    const bool cube = group.key.layout == ShadowLayout::Cube;
+    const auto s = static_cast<GLuint>(slot[g] = cube ? cubeSlots++ : planarSlots++);
+    const GLuint compareUnit = (cube ? kCubeCompareUnit : kPlanarCompareUnit) + s;
+    const GLuint depthUnit = (cube ? kCubeDepthUnit : kPlanarDepthUnit) + s;
+    glBindTextureUnit(compareUnit, group.depth.get());
+    glBindSampler(compareUnit, cube ? cubeCompare_.get() : planarCompare_.get());
+    glBindTextureUnit(depthUnit, group.depth.get());
+    glBindSampler(depthUnit, rawDepth_.get());
+    if (group.moments) {
+      const GLuint momentsUnit = (cube ? kCubeMomentsUnit : kPlanarMomentsUnit) + s;
+      glBindTextureUnit(momentsUnit, group.moments.get());
+      glBindSampler(momentsUnit, moments_.get());
+    }
+  }
+
+  std::vector<GpuLight> data;
+  std::vector<glm::mat4> viewProjections;
+  for (const ShadedLight& shaded : lights) {
+    const Light& l = *shaded.light;
+    const ShadowSettings& s = l.shadow;
+    GpuLight g{};
+    g.positionRange = glm::vec4(l.position, l.range);
+    g.directionType = glm::vec4(glm::normalize(l.direction), static_cast<float>(l.type));
+    float group = -1.0f;
+    if (const LightShadowPlan* plan = shaded.shadow) {
+      group = static_cast<float>(slot[plan->group]);
+      g.shadowDepth = glm::vec4(plan->near, plan->far, s.bias, s.slopeBias);
+      g.shadowBias = glm::vec4(s.minBias, s.normalBias, s.filterRadius, s.samples);
+      g.shadowSoft = glm::vec4(s.radius, s.bleedReduction, plan->firstLayer, plan->layerCount);
+      g.shadowProjection =
+          glm::vec4(plan->tanHalfFov, static_cast<float>(viewProjections.size()), 0.0f, 0.0f);
+      for (int c = 0; c < 4; ++c) {
+        g.cascadeEnd[c] = plan->cascadeEnd[c];
+        g.cascadeTexel[c] = plan->cascadeTexel[c];
+      }
+      if (l.type != LightType::Point)
+        viewProjections.insert(viewProjections.end(), plan->viewProjection.begin(),
+                               plan->viewProjection.begin() + plan->layerCount);
+    }
+    g.radianceShadow = glm::vec4(l.color * l.intensity, group);
+    // KHR_lights_punctual's cone falloff as a scale and offset of cos(angle).
+    const float cosOuter = std::cos(l.outerConeAngle);
+    const float cosInner = std::cos(l.innerConeAngle);
+    const float scale = 1.0f / std::max(0.001f, cosInner - cosOuter);
+    g.spotFilter = glm::vec4(scale, -cosOuter * scale, static_cast<float>(s.filter),
+                             static_cast<float>(s.resolution));
+    data.push_back(g);
+  }
+  program_.set("uLightCount", static_cast<int>(data.size()));
+  // Blocks are bound with at least one element, even when nothing reads it.
+  if (data.empty()) data.emplace_back();
+  lightBuffer_.upload(data);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, lightBuffer_.get());
+  if (viewProjections.empty()) viewProjections.emplace_back(1.0f);
+  viewProjectionBuffer_.upload(viewProjections);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, viewProjectionBuffer_.get());
+}
+
+void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
+                                  const ViewCamera& camera) {
+  std::vector<const Light*> list;
+  for (const ShadedLight& shaded : lights) list.push_back(shaded.light);
+  // View depth along the camera axis: minus the view-space z.
+  const glm::vec4 depthRow(-camera.view[0][2], -camera.view[1][2], -camera.view[2][2],
+                           -camera.view[3][2]);
+  float farthest = 0.0f;
+  for (const GpuDraw& draw : scene.draws())
+    farthest = std::max(farthest,
+                        glm::dot(depthRow, glm::vec4(draw.boundsCenter, 1.0f)) + draw.boundsRadius);
+  LightClusters clusters = buildLightClusters(list, camera, farthest);
+  if (clusters.lights.empty()) clusters.lights.push_back(0);  // bound with at least one element
+  clusterRanges_.upload(clusters.ranges);
+  clusterLights_.upload(clusters.lights);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, clusterRanges_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, clusterLights_.get());
+  program_.set("uTileSize", clusters.tileSize);
+  program_.set("uTileColumns", clusters.columns);
+  program_.set("uTileRows", clusters.rows);
+  program_.set("uSlices", clusters.slices);
+  program_.set("uSliceNear", clusters.sliceNear);
+  program_.set("uSliceScale", clusters.sliceScale);
+  program_.set("uViewDepth", depthRow);
+  program_.set("uGlobalLights", static_cast<int>(clusters.globalCount));
+}
+
+void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram& program) {
+  const bool lighting = &program == &program_;
+  for (std::size_t index = 0; index < scene.draws().size(); ++index) {
+    const GpuDraw& draw = scene.draws()[index];
+    const GpuMaterial& material = scene.materials()[draw.material];
+    const AlphaMode mode = material.desc.alphaMode;
+    const DrawSet drawSet = mode == AlphaMode::Opaque ? DrawSet::Opaque
+                            : mode == AlphaMode::Mask ? DrawSet::Masked
+                                                      : DrawSet::Blended;
+    if (drawSet != set) continue;
+    if (material.desc.doubleSided) {
+      glDisable(GL_CULL_FACE);
+    } else {
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+    }
+    glFrontFace(draw.mirrored ? GL_CW : GL_CCW);
+    program.set("uModel", draw.world);
+    const GpuMeshRange& range = scene.meshes()[draw.mesh];
+    if (lighting) {
+      program.set("uNormalMatrix", draw.normalMatrix);
+      bindMaterial(program, material);
+      program.set("uHasTangents", range.hasTangents ? 1 : 0);
+      if (outputs_ == PassOutputs::Layers) {
+        program.set("uObjectId", static_cast<float>(index));
+        program.set("uMaterialId", static_cast<float>(draw.material));
+      }
+    }
+    glDrawElementsBaseVertex(
+        GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4),
+        range.baseVertex);
+  }
+}
+
+void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
+                          const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
+                          const glm::vec3& ambient, FrameTargets& targets,
+                          const PassParameters& parameters) {
+  glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
+  glViewport(0, 0, targets.width(), targets.height());
+  // Background: no coverage, lit (visibility 1), no object or material (id -1).
+  const float zero[4] = {0, 0, 0, 0};
+  const float lit[4] = {1, 1, 1, 1};
+  const float noIds[4] = {0, -1, -1, 0};
+  for (int i = 0; i < targets.attachmentCount(); ++i) {
+    const float* value = outputs_ == PassOutputs::Aovs && i >= 3 ? lit
+                         : outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0
+                             ? noIds
+                             : zero;
+    glClearNamedFramebufferfv(targets.framebuffer(), GL_COLOR, i, value);
+  }
+  const float clearDepth = 0.0f;
+  glClearNamedFramebufferfv(targets.framebuffer(), GL_DEPTH, 0, &clearDepth);
+
+  program_.use();
+  program_.set("uViewProjection", camera.projection * camera.view);
+  program_.set("uCameraPosition", camera.eye);
+  program_.set("uAmbient", ambient);
+  if (outputs_ == PassOutputs::Aovs) program_.set("uVisibilityBase", parameters.visibilityBase);
+  if (outputs_ == PassOutputs::Layers) {
+    program_.set("uLayerMode", parameters.layerMode);
+    program_.set("uLayerLight", parameters.layerLight);
+  }
+  program_.set("uDebugView", static_cast<int>(parameters.debugView));
+  program_.set("uDebugLight", parameters.debugLight);
+  program_.set("uCameraView", parameters.cascadeView ? *parameters.cascadeView : camera.view);
+  uploadLights(lights, shadowGroups);
+  uploadClusters(scene, lights, camera);
+  glBindVertexArray(scene.vertexArray());
+
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  // Depth of the opaque surfaces first, so the expensive shading runs once per pixel instead
+  // of once per overlapping surface. Then opaque surfaces shade where their depth is the
+  // pre-pass's (no depth writes: early depth tests stay on), masked ones test and write as usual.
+  glDepthFunc(GL_GREATER);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  depthOnly_.use();
+  depthOnly_.set("uViewProjection", camera.projection * camera.view);
+  drawScene(scene, DrawSet::Opaque, depthOnly_);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  program_.use();
+  glDepthFunc(GL_GEQUAL);
+  glDepthMask(GL_FALSE);
+  drawScene(scene, DrawSet::Opaque, program_);
+  glDepthFunc(GL_GREATER);
+  glDepthMask(GL_TRUE);
+  drawScene(scene, DrawSet::Masked, program_);
+
+  // Blended surfaces over the opaque frame, unsorted; the AOVs keep the opaque surfaces.
+  if (outputs_ == PassOutputs::Layers) {
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::checkErrors("a layer pass");
+    return;
+  }
+  glDepthMask(GL_FALSE);
+  glEnablei(GL_BLEND, 0);
+  glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  for (int i = 1; i < targets.attachmentCount(); ++i)
+    glColorMaski(static_cast<GLuint>(i), GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  drawScene(scene, DrawSet::Blended, program_);
+  for (int i = 1; i < targets.attachmentCount(); ++i)
+    glColorMaski(static_cast<GLuint>(i), GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDisablei(GL_BLEND, 0);
+  glDepthMask(GL_TRUE);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl::checkErrors("the lighting pass");
+}
+
+}  // namespace omnishadow

@@ -1,0 +1,102 @@
+#pragma once
+
+#include <vector>
+
+#include "renderer/view/camera.h"
+#include "renderer/gl/gl_resources.h"
+#include "renderer/passes/gpu_scene.h"
+#include "renderer/scene/light.h"
+#include "renderer/gl/shader_program.h"
+#include "renderer/passes/shadow_textures.h"
+#include "renderer/render/render_settings.h"
+
+namespace omnishadow {
+
+// Which render targets a lighting pass variant writes besides the beauty.
+enum class PassOutputs {
+  Beauty,  // attachment 0 only
+  Aovs,    // + position/distance, normal, visibility of 20 lights
+  Layers,  // + two layer targets: material layers or one light's diffuse and specular
+};
+
+// Per-pass choices of a lighting pass.
+struct PassParameters {
+  int visibilityBase = 0;  // Aovs: first light whose shadow term goes to the visibility targets
+  DebugView debugView = DebugView::None;
+  int debugLight = -1;  // DebugView::Depth: index of the shadowed point light shown
+  int layerMode = 0;    // Layers: 0 = albedo/roughness/metallic/ids, 1 = one light's split
+  int layerLight = -1;  // Layers, mode 1: the light
+  // Directional cascades were fitted to this camera; null = the camera being drawn.
+  const glm::mat4* cascadeView = nullptr;
+};
+
+// How many lights one lighting pass reports visibility for (5 RGBA32F targets).
+inline constexpr int kVisibilityPerPass = 20;
+// A light as the lighting pass sees it: its description plus where its shadow map is.
+struct ShadedLight {
+  const Light* light = nullptr;
+  const LightShadowPlan* shadow = nullptr;  // null = unshadowed
+};
+
+// The frame's shadow textures, indexed like ShadowAtlasPlan::groups.
+using ShadowGroups = std::vector<ShadowGroupTextures>;
+
+// Render targets of one frame, RGBA32F each: 0 is linear premultiplied RGBA; for Aovs also
+// 1: world position + camera distance, 2: camera-facing normal, 3..7: visibility of 20 lights;
+// for Layers 1 and 2 hold the layer values.
+class FrameTargets {
+ public:
+  FrameTargets(int width, int height, PassOutputs outputs);
+  GLuint framebuffer() const { return framebuffer_.get(); }
+  GLuint color(int attachment) const { return colors_[attachment].get(); }
+  int attachmentCount() const { return static_cast<int>(colors_.size()); }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  int width_, height_;
+  gl::Framebuffer framebuffer_;
+  std::vector<gl::Texture> colors_;
+  gl::Texture depth_;
+};
+
+// What a lighting pass variant is compiled for besides its outputs: the shadow layouts and
+// filters present in the frame, and the depth debug view. Absent features compile out.
+struct LightingFeatures {
+  bool cubeShadows = false;
+  bool planarShadows = false;
+  unsigned filters = 0;  // bit per ShadowFilter
+  bool debugDepth = false;
+  bool operator==(const LightingFeatures& o) const {
+    return cubeShadows == o.cubeShadows && planarShadows == o.planarShadows &&
+           filters == o.filters && debugDepth == o.debugDepth;
+  }
+};
+
+LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView);
+
+class LightingPass {
+ public:
+  LightingPass(Shading shading, PassOutputs outputs, const LightingFeatures& features);
+
+  // Draws opaque and masked surfaces, then blended ones (unsorted, depth writes off, AOV
+  // targets untouched); layer passes draw no blended surfaces.
+  void render(const GpuScene& scene, const ViewCamera& camera,
+              const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
+              const glm::vec3& ambient, FrameTargets& targets, const PassParameters& parameters);
+
+ private:
+  void uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups);
+  void uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
+                      const ViewCamera& camera);
+  enum class DrawSet { Opaque, Masked, Blended };
+  void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram& program);
+
+  PassOutputs outputs_;
+  ShaderProgram program_;
+  ShaderProgram depthOnly_;
+  gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
+  gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;
+};
+
+}  // namespace omnishadow

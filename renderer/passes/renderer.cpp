@@ -1,0 +1,432 @@
+#include "renderer/render/renderer.h"
+
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <utility>
+
+#include "renderer/core/errors.h"
+#include "renderer/gl/egl_context.h"
+#include "renderer/gl/gl_debug.h"
+#include "renderer/passes/gpu_scene.h"
+#include "renderer/passes/lighting_pass.h"
+#include "renderer/passes/shadow_pass.h"
+#include "renderer/passes/shadow_textures.h"
+#include "renderer/passes/vsm_filter.h"
+#include "renderer/render/frame_plan.h"
+#include "renderer/scene/scene_fingerprint.h"
+
+namespace omnishadow {
+namespace {
+
+// Reads attachment `index` as RGBA floats, top row first unless `glRowOrder`.
+std::vector<float> readAttachment(const FrameTargets& targets, int index, bool glRowOrder) {
+  const int w = targets.width(), h = targets.height();
+  std::vector<float> pixels(static_cast<std::size_t>(w) * h * 4);
+  glGetTextureImage(targets.color(index), 0, GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(pixels.size() * sizeof(float)), pixels.data());
+  if (glRowOrder) return pixels;
+  const std::size_t row = static_cast<std::size_t>(w) * 4;
+  for (int y = 0; y < h / 2; ++y)
+    std::swap_ranges(pixels.begin() + y * row, pixels.begin() + (y + 1) * row,
+                     pixels.begin() + (h - 1 - y) * row);
+  return pixels;
+}
+
+// Copies `count` channels starting at `from` of an RGBA buffer into the image from `to` on.
+void copyChannels(const std::vector<float>& rgba, int from, int count, FloatImage& image, int to) {
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  const std::size_t stride = image.channels.size();
+  for (std::size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < count; ++c) image.pixels[i * stride + to + c] = rgba[i * 4 + from + c];
+}
+
+}  // namespace
+
+class Renderer::Impl {
+ public:
+  explicit Impl(const ContextOptions& options);
+
+  Frame render(const Scene& scene, const std::vector<Light>& lights, const glm::vec3& ambient,
+               const ViewCamera& camera, const RenderSettings& settings, StageTimes& times);
+  std::vector<CubeDistances> renderShadowDistances(const Scene& scene,
+                                                   const std::vector<Light>& lights,
+                                                   ShadowPassStrategy strategy);
+
+  const RenderLimits& limits() const { return limits_; }
+  const EglContext& context() const { return context_; }
+
+ private:
+  struct Prepared;
+  LightingPass& lightingPass(Shading shading, PassOutputs outputs,
+                             const LightingFeatures& features);
+  void renderShadows(Prepared& prepared, ShadowAtlasPlan plan, const Scene& scene,
+                     const std::vector<Light>& lights, const RenderSettings& settings,
+                     bool useCache, Frame* frame);
+  std::vector<ShadowMapDump> readShadowMaps(const Prepared& prepared, StageTimes& times);
+  void drawImages(Prepared& prepared, const std::vector<Light>& lights, const ViewCamera& camera,
+                  const glm::vec3& ambient, const RenderSettings& settings, int debugLight,
+                  Frame& frame, StageTimes& times);
+  FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                        const RenderSettings& settings, const PassParameters& parameters,
+                        StageTimes* times);
+  void drawAovs(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                const RenderSettings& settings, FloatImage& aovs, StageTimes& times);
+  std::vector<LightView> drawLightViews(Prepared& prepared, const ViewCamera& camera,
+                                        const glm::vec3& ambient, const RenderSettings& settings);
+
+  EglContext context_;
+  std::unique_ptr<ShadowPass> shadowPass_;
+  std::unique_ptr<VsmFilter> vsmFilter_;
+  ShadowTexturePool shadowTextures_;
+  // The last frame's shadow maps, kept for the next render of the same scene (batch jobs of
+  // one scene with several cameras): point and spot maps do not depend on the camera.
+  struct ShadowCache {
+    std::uint64_t scene = 0;
+    ShadowAtlasPlan plan;
+    std::vector<Light> lights;
+    ShadowGroups groups;
+  };
+  std::optional<ShadowCache> shadowCache_;
+  RenderLimits limits_;
+  std::string glRenderer_;
+  struct PassKey {
+    Shading shading;
+    PassOutputs outputs;
+    LightingFeatures features;
+  };
+  std::vector<std::pair<PassKey, std::unique_ptr<LightingPass>>> lightingPasses_;
+};
+
+// The scene on the GPU with its shadow maps, shared by every view of one render.
+struct Renderer::Impl::Prepared {
+  explicit Prepared(const Scene& s) : gpu(s) {}
+  GpuScene gpu;
+  LightingFeatures features;
+  std::uint64_t fingerprint = 0;  // shadowFingerprint() when the shadow cache is used
+  ShadowAtlasPlan atlas;
+  ShadowGroups groups;  // indexed like atlas.groups
+  std::vector<ShadedLight> shaded;
+};
+
+Renderer::Impl::Impl(const ContextOptions& options)
+    : context_(EglContextOptions{options.gpuIndex, options.debug}) {
+  if (options.debug) gl::enableDebugOutput();
+  // Reversed depth with a [0,1] clip range keeps float depth precise from near to far.
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+  shadowPass_ = std::make_unique<ShadowPass>();
+  vsmFilter_ = std::make_unique<VsmFilter>();
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &limits_.maxArrayLayers);
+  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &limits_.maxCubeMapSize);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &limits_.maxTextureSize);
+  glRenderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  gl::checkErrors("context setup");
+}
+
+namespace {
+
+bool sameGroups(const std::vector<ShadowGroupPlan>& a, const std::vector<ShadowGroupPlan>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (!(a[i].key == b[i].key) || a[i].layers != b[i].layers) return false;
+  return true;
+}
+
+// Whether a light's map, rendered before with `before` and `plan`, is what `light` and `now`
+// would render again. Directional maps follow the camera and are always rendered.
+bool sameShadowMap(const Light& before, const LightShadowPlan& planBefore, const Light& light,
+                   const LightShadowPlan& now) {
+  if (light.type == LightType::Directional || before.type != light.type) return false;
+  const ShadowSettings& a = before.shadow;
+  const ShadowSettings& b = light.shadow;
+  return planBefore.group == now.group && planBefore.firstLayer == now.firstLayer &&
+         planBefore.layerCount == now.layerCount && planBefore.near == now.near &&
+         planBefore.far == now.far && planBefore.viewProjection == now.viewProjection &&
+         before.position == light.position && a.cullFace == b.cullFace &&
+         a.polygonOffsetFactor == b.polygonOffsetFactor &&
+         a.polygonOffsetUnits == b.polygonOffsetUnits && a.filter == b.filter &&
+         a.filterRadius == b.filterRadius;
+}
+
+}  // namespace
+
+void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, const Scene& scene,
+                                   const std::vector<Light>& lights,
+                                   const RenderSettings& settings, bool useCache, Frame* frame) {
+  prepared.atlas = std::move(atlas);
+  const std::uint64_t fingerprint = useCache ? shadowFingerprint(scene) : 0;
+  prepared.fingerprint = fingerprint;
+  std::optional<ShadowCache> cache = std::move(shadowCache_);
+  shadowCache_.reset();
+  const bool reuse = useCache && cache && cache->scene == fingerprint &&
+                     sameGroups(cache->plan.groups, prepared.atlas.groups);
+  if (reuse) {
+    prepared.groups = std::move(cache->groups);
+  } else {
+    if (cache)
+      for (ShadowGroupTextures& group : cache->groups) shadowTextures_.give(std::move(group));
+    for (const ShadowGroupPlan& group : prepared.atlas.groups)
+      prepared.groups.push_back(shadowTextures_.take(group));
+  }
+  auto cachedPlan = [&](std::size_t light) -> const LightShadowPlan* {
+    if (!reuse || light >= cache->lights.size()) return nullptr;
+    for (const LightShadowPlan& plan : cache->plan.lights)
+      if (plan.light == static_cast<int>(light)) return &plan;
+    return nullptr;
+  };
+  const ShadowPassStrategy strategy = resolveShadowPassStrategy(settings.shadowPass, glRenderer_);
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    ShadedLight s{&lights[i], nullptr};
+    if (next < prepared.atlas.lights.size() &&
+        prepared.atlas.lights[next].light == static_cast<int>(i)) {
+      const LightShadowPlan& plan = prepared.atlas.lights[next++];
+      const ShadowGroupTextures& group = prepared.groups[plan.group];
+      const LightShadowPlan* before = cachedPlan(i);
+      if (before && sameShadowMap(cache->lights[i], *before, lights[i], plan)) {
+        if (frame) ++frame->shadowMapsReused;
+      } else {
+        shadowPass_->render(prepared.gpu, lights[i], plan, group, strategy);
+        if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
+        if (frame) ++frame->shadowMapsRendered;
+      }
+      s.shadow = &plan;
+    }
+    prepared.shaded.push_back(s);
+  }
+}
+
+LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
+                                     const LightingFeatures& features) {
+  for (auto& [key, pass] : lightingPasses_)
+    if (key.shading == shading && key.outputs == outputs && key.features == features) return *pass;
+  lightingPasses_.emplace_back(PassKey{shading, outputs, features},
+                               std::make_unique<LightingPass>(shading, outputs, features));
+  return *lightingPasses_.back().second;
+}
+
+FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& camera,
+                                const glm::vec3& ambient, const RenderSettings& settings,
+                                const PassParameters& parameters, StageTimes* times) {
+  StageTimes unused;
+  StageTimes& stages = times ? *times : unused;
+  FrameTargets targets(camera.width, camera.height, PassOutputs::Beauty);
+  {
+    ScopedStage stage(stages, "lighting");
+    lightingPass(settings.shading, PassOutputs::Beauty, prepared.features)
+        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
+                parameters);
+    glFinish();
+  }
+  ScopedStage readback(stages, "readback");
+  FloatImage image{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
+  image.pixels = readAttachment(targets, 0, camera.glRowOrder);
+  return image;
+}
+
+void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                        const RenderSettings& settings, FloatImage& aovs, StageTimes& times) {
+  const int lightCount = static_cast<int>(prepared.shaded.size());
+  const bool flip = camera.glRowOrder;
+  // One pass gives the fixed channels and the visibility of 20 lights; more lights take more.
+  FrameTargets targets(camera.width, camera.height, PassOutputs::Aovs);
+  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, prepared.features);
+  const int passes = std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass);
+  for (int p = 0; p < passes; ++p) {
+    PassParameters parameters;
+    parameters.visibilityBase = p * kVisibilityPerPass;
+    {
+      ScopedStage stage(times, "lighting");
+      pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
+                  parameters);
+      glFinish();
+    }
+    ScopedStage readback(times, "readback");
+    if (p == 0) {
+      copyChannels(readAttachment(targets, 0, flip), 0, 4, aovs, 0);
+      const std::vector<float> position = readAttachment(targets, 1, flip);
+      copyChannels(position, 0, 3, aovs, 4);
+      copyChannels(readAttachment(targets, 2, flip), 0, 3, aovs, 7);
+      copyChannels(position, 3, 1, aovs, 10);
+    }
+    for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
+      const int first = parameters.visibilityBase + target * 4;
+      if (first >= lightCount) break;
+      copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
+                   aovs, kFixedAovChannels + first);
+    }
+  }
+
+  const AovLayers& layers = settings.layers;
+  if (!layers.any()) return;
+  FrameTargets layerTargets(camera.width, camera.height, PassOutputs::Layers);
+  LightingPass& layerPass = lightingPass(settings.shading, PassOutputs::Layers, prepared.features);
+  auto runLayerPass = [&](int mode, int light) {
+    PassParameters parameters;
+    parameters.layerMode = mode;
+    parameters.layerLight = light;
+    ScopedStage stage(times, "layers");
+    layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
+                     parameters);
+    return std::make_pair(readAttachment(layerTargets, 1, flip),
+                          readAttachment(layerTargets, 2, flip));
+  };
+  int next = kFixedAovChannels + lightCount;
+  if (layers.albedo || layers.roughness || layers.metallic || layers.objectId ||
+      layers.materialId) {
+    const auto [a, b] = runLayerPass(0, -1);  // a: albedo.rgb, roughness; b: metallic, ids
+    if (layers.albedo) copyChannels(a, 0, 3, aovs, std::exchange(next, next + 3));
+    if (layers.roughness) copyChannels(a, 3, 1, aovs, next++);
+    if (layers.metallic) copyChannels(b, 0, 1, aovs, next++);
+    if (layers.objectId) copyChannels(b, 1, 1, aovs, next++);
+    if (layers.materialId) copyChannels(b, 2, 1, aovs, next++);
+  }
+  if (layers.diffuse || layers.specular) {
+    for (int light = 0; light < lightCount; ++light) {
+      const auto [diffuse, specular] = runLayerPass(1, light);
+      if (layers.diffuse) copyChannels(diffuse, 0, 3, aovs, std::exchange(next, next + 3));
+      if (layers.specular) copyChannels(specular, 0, 3, aovs, std::exchange(next, next + 3));
+    }
+  }
+}
+
+Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& lights,
+                             const glm::vec3& ambient, const ViewCamera& camera,
+                             const RenderSettings& settings, StageTimes& times) {
+  // Everything that can be refused is refused here, before any GL allocation.
+  FramePlan plan = planFrame(scene, lights, camera, settings, limits_);
+  Frame frame;
+  frame.warnings = std::move(plan.warnings);
+
+  ScopedStage shaders(times, "shaders");
+  const LightingFeatures features = lightingFeatures(lights, settings.debugView);
+  lightingPass(settings.shading, PassOutputs::Beauty, features);  // compiled once per variant
+  shaders.stop();
+
+  ScopedStage upload(times, "upload");
+  Prepared prepared(scene);
+  prepared.features = features;
+  frame.warnings.insert(frame.warnings.end(), prepared.gpu.warnings().begin(),
+                        prepared.gpu.warnings().end());
+  glFinish();
+  upload.stop();
+
+  ScopedStage shadowStage(times, "shadow maps");
+  renderShadows(prepared, std::move(plan.shadows), scene, lights, settings, true, &frame);
+  glFinish();
+  shadowStage.stop();
+
+  if (settings.readShadowMaps) frame.shadowMaps = readShadowMaps(prepared, times);
+  drawImages(prepared, lights, camera, ambient, settings, plan.debugLight, frame, times);
+  if (settings.lightViewSize > 0) {
+    ScopedStage stage(times, "light views");
+    frame.lightViews = drawLightViews(prepared, camera, ambient, settings);
+  }
+  gl::checkErrors("reading back the frame");
+  shadowCache_ = ShadowCache{prepared.fingerprint, std::move(prepared.atlas), lights,
+                             std::move(prepared.groups)};
+  return frame;
+}
+
+std::vector<ShadowMapDump> Renderer::Impl::readShadowMaps(const Prepared& prepared,
+                                                         StageTimes& times) {
+  ScopedStage readback(times, "readback");
+  std::vector<ShadowMapDump> dumps;
+  for (const ShadedLight& s : prepared.shaded)
+    if (s.shadow && s.light->type == LightType::Point)
+      dumps.push_back({s.light->name, s.shadow->far,
+                       readCubeDistances(prepared.groups[s.shadow->group], *s.shadow)});
+  return dumps;
+}
+
+void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& lights,
+                                const ViewCamera& camera, const glm::vec3& ambient,
+                                const RenderSettings& settings, int debugLight, Frame& frame,
+                                StageTimes& times) {
+  if (settings.aovs) {
+    FloatImage aovs{camera.width, camera.height, aovChannels(lights, settings.layers), {}};
+    aovs.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height *
+                       aovs.channels.size());
+    drawAovs(prepared, camera, ambient, settings, aovs, times);
+    frame.aovs = std::move(aovs);
+  }
+  if (!settings.aovs || settings.debugView != DebugView::None) {
+    PassParameters parameters;
+    parameters.debugView = settings.debugView;
+    parameters.debugLight = debugLight;
+    frame.beauty = drawBeauty(prepared, camera, ambient, settings, parameters, &times);
+    return;
+  }
+  // The AOV pass already drew the beauty.
+  frame.beauty = FloatImage{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
+  frame.beauty.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height * 4);
+  const std::size_t stride = frame.aovs->channels.size();
+  for (std::size_t i = 0; i < frame.beauty.pixels.size() / 4; ++i)
+    for (int c = 0; c < 4; ++c) frame.beauty.pixels[i * 4 + c] = frame.aovs->pixels[i * stride + c];
+}
+
+std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const ViewCamera& camera,
+                                                      const glm::vec3& ambient,
+                                                      const RenderSettings& settings) {
+  std::vector<LightView> views;
+  for (const ShadedLight& s : prepared.shaded) {
+    if (s.light->type != LightType::Point) continue;
+    for (int face = 0; face < kCubeFaceCount; ++face) {
+      ViewCamera view;
+      view.width = view.height = settings.lightViewSize;
+      view.eye = s.light->position;
+      view.view = cubeFaceView(static_cast<CubeFace>(face), s.light->position);
+      view.projection = reversedPerspective(glm::radians(90.0f), 1.0f, s.light->shadow.near, 0.0f);
+      view.glRowOrder = true;
+      PassParameters parameters;
+      parameters.cascadeView = &camera.view;  // directional cascades stay those of the frame
+      views.push_back({s.light->name, static_cast<CubeFace>(face),
+                       drawBeauty(prepared, view, ambient, settings, parameters, nullptr)});
+    }
+  }
+  return views;
+}
+
+std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(
+    const Scene& scene, const std::vector<Light>& lights, ShadowPassStrategy strategy) {
+  Prepared prepared(scene);
+  RenderSettings settings;
+  settings.shadowPass = strategy;
+  ShadowAtlasPlan plan = planShadowAtlas(lights, ViewCamera{}, scene.bounds,
+                                         ShadowLimits{limits_.maxArrayLayers});
+  renderShadows(prepared, std::move(plan), scene, lights, settings, false, nullptr);
+  std::vector<CubeDistances> out;
+  for (const ShadedLight& s : prepared.shaded)
+    if (s.shadow && s.light->type == LightType::Point)
+      out.push_back(readCubeDistances(prepared.groups[s.shadow->group], *s.shadow));
+  for (ShadowGroupTextures& group : prepared.groups) shadowTextures_.give(std::move(group));
+  return out;
+}
+
+Renderer::Renderer(const ContextOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+Renderer::~Renderer() = default;
+
+const RenderLimits& Renderer::limits() const { return impl_->limits(); }
+
+const std::string& Renderer::platformDescription() const {
+  return impl_->context().platformDescription();
+}
+
+std::string Renderer::glDescription() const { return impl_->context().glDescription(); }
+
+Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
+                       const glm::vec3& ambient, const ViewCamera& camera,
+                       const RenderSettings& settings, StageTimes& times) {
+  return impl_->render(scene, lights, ambient, camera, settings, times);
+}
+
+std::vector<CubeDistances> Renderer::renderShadowDistances(const Scene& scene,
+                                                           const std::vector<Light>& lights,
+                                                           ShadowPassStrategy strategy) {
+  return impl_->renderShadowDistances(scene, lights, strategy);
+}
+
+}  // namespace omnishadow

@@ -1,0 +1,41 @@
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/gl/gl_resources.h"
+#include "renderer/passes/gpu_scene.h"
+#include "renderer/scene/light.h"
+#include "renderer/gl/shader_program.h"
+#include "renderer/passes/shadow_textures.h"
+#include "renderer/render/render_settings.h"
+
+namespace omnishadow {
+
+// What `auto` means on a GL renderer (its GL_RENDERER string).
+ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
+                                             const std::string& glRenderer);
+
+// Renders depth (and vsm moments) of one light's layers. Spot lights and directional cascades
+// are always drawn one layer per pass; the strategy applies to point lights. Opaque casters
+// are drawn with glMultiDrawElementsIndirect; alpha-tested ones one by one with their texture.
+class ShadowPass {
+ public:
+  ShadowPass();
+  ~ShadowPass();
+
+  void render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
+              const ShadowGroupTextures& target, ShadowPassStrategy strategy);
+
+ private:
+  const ShaderProgram& program(ShadowPassStrategy strategy, bool masked, bool moments,
+                               bool worldPositions);
+
+  std::map<int, std::unique_ptr<ShaderProgram>> programs_;
+  gl::Framebuffer framebuffer_;
+  gl::StreamBuffer commands_, drawObjects_;
+};
+
+}  // namespace omnishadow

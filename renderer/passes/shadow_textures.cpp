@@ -1,0 +1,79 @@
+#include "renderer/passes/shadow_textures.h"
+
+#include <limits>
+
+#include "renderer/gl/gl_debug.h"
+#include "renderer/view/cube_faces.h"
+
+namespace omnishadow {
+
+GLenum depthInternalFormat(DepthFormat format) {
+  return format == DepthFormat::Fixed24 ? GL_DEPTH_COMPONENT24 : GL_DEPTH_COMPONENT32F;
+}
+
+ShadowGroupTextures ShadowTexturePool::take(const ShadowGroupPlan& plan) {
+  for (auto it = free_.begin(); it != free_.end(); ++it) {
+    if (!(it->key == plan.key) || it->layers != plan.layers) continue;
+    ShadowGroupTextures textures = std::move(*it);
+    free_.erase(it);
+    return textures;
+  }
+  ShadowGroupTextures textures;
+  textures.key = plan.key;
+  textures.layers = plan.layers;
+  const GLenum target =
+      plan.key.layout == ShadowLayout::Cube ? GL_TEXTURE_CUBE_MAP_ARRAY : GL_TEXTURE_2D_ARRAY;
+  const int n = plan.key.resolution;
+  textures.depth = gl::createTexture(target);
+  glTextureStorage3D(textures.depth.get(), 1, depthInternalFormat(plan.key.format), n, n,
+                     plan.layers);
+  if (plan.key.moments) {
+    textures.moments = gl::createTexture(target);
+    glTextureStorage3D(textures.moments.get(), 1, GL_RG32F, n, n, plan.layers);
+  }
+  gl::checkErrors("allocating shadow maps");
+  return textures;
+}
+
+void ShadowTexturePool::give(ShadowGroupTextures&& textures) {
+  // Enough for the groups of one frame; older textures are deleted.
+  constexpr std::size_t kPoolSize = 8;
+  if (!textures.depth) return;
+  free_.push_back(std::move(textures));
+  if (free_.size() > kPoolSize) free_.erase(free_.begin());
+}
+
+CubeDistances readCubeDistances(const ShadowGroupTextures& group, const LightShadowPlan& light) {
+  CubeDistances out;
+  const int n = group.key.resolution;
+  out.resolution = n;
+  const std::size_t texels = static_cast<std::size_t>(n) * n;
+  for (int face = 0; face < kCubeFaceCount; ++face) {
+    std::vector<float> depth(texels);
+    glGetTextureSubImage(group.depth.get(), 0, 0, 0, light.firstLayer + face, n, n, 1,
+                         GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(texels * sizeof(float)),
+                         depth.data());
+    std::vector<float>& distances = out.faces[face];
+    distances.resize(texels);
+    const glm::mat4 toWorldDirection = glm::inverse(cubeFaceView(static_cast<CubeFace>(face), {}));
+    for (int row = 0; row < n; ++row) {
+      for (int column = 0; column < n; ++column) {
+        const std::size_t i = static_cast<std::size_t>(row) * n + column;
+        if (depth[i] <= 0.0f) {
+          distances[i] = std::numeric_limits<float>::infinity();
+          continue;
+        }
+        // Texel center on the face plane at axis distance 1, back to a world direction.
+        const float x = (2.0f * (static_cast<float>(column) + 0.5f) / static_cast<float>(n)) - 1.0f;
+        const float y = (2.0f * (static_cast<float>(row) + 0.5f) / static_cast<float>(n)) - 1.0f;
+        const glm::vec3 direction = glm::vec3(toWorldDirection * glm::vec4(x, y, -1.0f, 0.0f));
+        const float axis = cubeDepthToAxisDistance(depth[i], light.near, light.far);
+        distances[i] = axis * glm::length(direction);
+      }
+    }
+  }
+  gl::checkErrors("reading back a shadow map");
+  return out;
+}
+
+}  // namespace omnishadow

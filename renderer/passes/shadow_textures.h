@@ -1,0 +1,40 @@
+#pragma once
+
+#include <GL/glcorearb.h>
+
+#include <vector>
+
+#include "renderer/gl/gl_resources.h"
+#include "renderer/scene/light.h"
+#include "renderer/view/cube_distances.h"
+#include "renderer/view/shadow_plan.h"
+
+namespace omnishadow {
+
+// The GL internal format of a depth format.
+GLenum depthInternalFormat(DepthFormat format);
+
+// GL textures of one group.
+
+struct ShadowGroupTextures {
+  ShadowGroupKey key;
+  int layers = 0;
+  gl::Texture depth;    // GL_TEXTURE_CUBE_MAP_ARRAY or GL_TEXTURE_2D_ARRAY
+  gl::Texture moments;  // same target, GL_RG32F, when key.moments
+};
+
+// Keeps group textures between renders (batch mode renders many similar scenes), up to a
+// budget; textures are reused only for an exact match of key and layer count.
+class ShadowTexturePool {
+ public:
+  ShadowGroupTextures take(const ShadowGroupPlan& plan);
+  void give(ShadowGroupTextures&& textures);
+
+ private:
+  std::vector<ShadowGroupTextures> free_;
+};
+
+// Distances along each texel's ray of one light's cube in a cube map array (point lights).
+CubeDistances readCubeDistances(const ShadowGroupTextures& group, const LightShadowPlan& light);
+
+}  // namespace omnishadow

@@ -1,0 +1,24 @@
+#include "renderer/render/frame.h"
+
+namespace omnishadow {
+
+std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers) {
+  std::vector<std::string> channels = {"R",   "G",   "B",   "A",   "P.X", "P.Y",
+                                       "P.Z", "N.X", "N.Y", "N.Z", "Z"};
+  for (const Light& light : lights) channels.push_back("visibility." + light.name);
+  if (layers.albedo)
+    for (const char* c : {"R", "G", "B"}) channels.push_back(std::string("albedo.") + c);
+  if (layers.roughness) channels.push_back("roughness");
+  if (layers.metallic) channels.push_back("metallic");
+  if (layers.objectId) channels.push_back("objectId");
+  if (layers.materialId) channels.push_back("materialId");
+  for (const Light& light : lights) {
+    if (layers.diffuse)
+      for (const char* c : {"R", "G", "B"}) channels.push_back("diffuse." + light.name + "." + c);
+    if (layers.specular)
+      for (const char* c : {"R", "G", "B"}) channels.push_back("specular." + light.name + "." + c);
+  }
+  return channels;
+}
+
+}  // namespace omnishadow

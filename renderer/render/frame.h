@@ -1,0 +1,50 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/output/image_writer.h"
+#include "renderer/render/render_settings.h"
+#include "renderer/scene/light.h"
+#include "renderer/view/cube_distances.h"
+#include "renderer/view/cube_faces.h"
+
+namespace omnishadow {
+
+// A point light's shadow map as the lighting pass sampled it.
+struct ShadowMapDump {
+  std::string light;
+  float far = 0.0f;
+  CubeDistances distances;
+};
+
+// The lit scene seen from one cube face of a point light, in GL texel layout like the dumps.
+struct LightView {
+  std::string light;
+  CubeFace face;
+  FloatImage beauty;
+};
+
+// What one render produces, read back to the CPU; first row = top of the picture.
+struct Frame {
+  FloatImage beauty;  // R,G,B,A: linear, premultiplied, A = coverage
+  // R,G,B,A, P.X,P.Y,P.Z, N.X,N.Y,N.Z, Z, visibility.<light> per light (README, "Outputs"),
+  // then the requested layers.
+  std::optional<FloatImage> aovs;
+  std::vector<ShadowMapDump> shadowMaps;
+  std::vector<LightView> lightViews;
+  std::vector<std::string> warnings;
+  // Shadowed lights whose maps were rendered for this frame, and those kept from the previous
+  // render of the same scene (point and spot lights whose maps cannot have changed).
+  int shadowMapsRendered = 0;
+  int shadowMapsReused = 0;
+};
+
+// The fixed channels at the start of Frame::aovs: R G B A P.X P.Y P.Z N.X N.Y N.Z Z.
+inline constexpr int kFixedAovChannels = 11;
+
+// Channel names of Frame::aovs for these lights and layers, in order.
+std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers);
+
+}  // namespace omnishadow

@@ -1,0 +1,55 @@
+#include "renderer/render/frame_plan.h"
+
+#include <cstdio>
+
+#include "renderer/core/errors.h"
+
+namespace omnishadow {
+namespace {
+
+void checkResolutions(const std::vector<Light>& lights, const RenderLimits& limits) {
+  for (const Light& light : lights) {
+    if (!light.shadow.enabled) continue;
+    const bool cube = light.type == LightType::Point;
+    const int limit = cube ? limits.maxCubeMapSize : limits.maxTextureSize;
+    if (light.shadow.resolution > limit)
+      throw InputError(light.origin + ": light \"" + light.name + "\": shadow.resolution " +
+                       std::to_string(light.shadow.resolution) + " exceeds this GL's maximum " +
+                       (cube ? "cube map" : "texture") + " size " + std::to_string(limit));
+  }
+}
+
+int findDebugLight(const std::vector<Light>& lights, const RenderSettings& settings) {
+  if (settings.debugView != DebugView::Depth) return -1;
+  for (std::size_t i = 0; i < lights.size(); ++i)
+    if (lights[i].shadow.enabled &&
+        (settings.debugLight.empty() || lights[i].name == settings.debugLight))
+      return static_cast<int>(i);
+  throw InputError(settings.debugLight.empty()
+                       ? "--debug-view depth: no light casts a shadow"
+                       : "--debug-light " + settings.debugLight +
+                             ": no shadowed light has that name");
+}
+
+}  // namespace
+
+FramePlan planFrame(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
+                    const RenderSettings& settings, const RenderLimits& limits) {
+  checkResolutions(lights, limits);
+  FramePlan plan;
+  plan.shadows = planShadowAtlas(lights, camera, scene.bounds, ShadowLimits{limits.maxArrayLayers});
+  const double shadowMiB = plan.shadows.bytes / (1024.0 * 1024.0);
+  if (shadowMiB > settings.maxShadowMemoryMiB) {
+    char message[256];
+    std::snprintf(message, sizeof message,
+                  "the shadow maps need %.0f MiB, more than the %.0f MiB allowed "
+                  "(--max-memory): lower shadow.resolution",
+                  shadowMiB, settings.maxShadowMemoryMiB);
+    throw InputError(message);
+  }
+  plan.warnings = plan.shadows.warnings;
+  plan.debugLight = findDebugLight(lights, settings);
+  return plan;
+}
+
+}  // namespace omnishadow

@@ -1,0 +1,26 @@
+#include "renderer/render/render_settings.h"
+
+namespace omnishadow {
+
+const char* toString(ShadowPassStrategy strategy) {
+  switch (strategy) {
+    case ShadowPassStrategy::Auto:
+      return "auto";
+    case ShadowPassStrategy::Six:
+      return "six";
+    case ShadowPassStrategy::Geometry:
+      return "geometry";
+    case ShadowPassStrategy::Instanced:
+      return "instanced";
+  }
+  return "?";
+}
+
+ShadowPassStrategy parseShadowPassStrategy(const std::string& name) {
+  for (const ShadowPassStrategy s :
+       {ShadowPassStrategy::Six, ShadowPassStrategy::Geometry, ShadowPassStrategy::Instanced})
+    if (name == toString(s)) return s;
+  return ShadowPassStrategy::Auto;
+}
+
+}  // namespace omnishadow

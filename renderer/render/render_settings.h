@@ -1,0 +1,64 @@
+#pragma once
+
+#include <string>
+
+namespace omnishadow {
+
+enum class Shading { Pbr, Phong };
+
+// What replaces the beauty image (--debug-view). The values are part of the C++/GLSL contract
+// (renderer/passes/shader_contract.h injects them into lighting.frag).
+enum class DebugView { None = 0, Shadow, Depth, Normals, Albedo, LightCount };
+
+// How a point light's six cube faces are rendered (--shadow-pass). All of them write the same
+// texels; they differ in speed, which depends on the driver (docs/performance.md).
+enum class ShadowPassStrategy {
+  Auto,       // the renderer's choice for its driver (today always Six, see shadow_pass.cpp)
+  Six,        // one pass per face, objects culled per face on the CPU
+  Geometry,   // one pass, a geometry shader copies each triangle to six layers (the classic)
+  Instanced,  // one pass, instances pick the face and write gl_Layer from the vertex shader;
+              // objects are culled per face too (runs of faces per object)
+};
+
+const char* toString(ShadowPassStrategy strategy);
+// "auto", "six", "geometry" or "instanced"; anything else is Auto (the CLI checks the spelling).
+ShadowPassStrategy parseShadowPassStrategy(const std::string& name);
+
+// Optional AOV layers (--aov-layers), appended to Frame::aovs after the fixed channels.
+struct AovLayers {
+  bool albedo = false;      // albedo.R/G/B
+  bool roughness = false;   // roughness
+  bool metallic = false;    // metallic
+  bool diffuse = false;     // diffuse.<light>.R/G/B
+  bool specular = false;    // specular.<light>.R/G/B
+  bool objectId = false;    // objectId: index into Scene::instances, -1 = background
+  bool materialId = false;  // materialId: index into Scene::materials (the default material is
+                            // Scene::materials.size()), -1 = background
+  bool any() const {
+    return albedo || roughness || metallic || diffuse || specular || objectId || materialId;
+  }
+};
+
+struct RenderSettings {
+  Shading shading = Shading::Pbr;
+  bool aovs = false;  // fill Frame::aovs
+  AovLayers layers;   // with aovs
+  DebugView debugView = DebugView::None;
+  std::string debugLight;       // DebugView::Depth: light name; empty = the first shadowed one
+  bool readShadowMaps = false;  // fill Frame::shadowMaps
+  int lightViewSize = 0;        // > 0: fill Frame::lightViews with images of this size
+  // Shadow maps may use at most this much memory (MiB); more is an InputError before any GL
+  // allocation, naming the size needed.
+  double maxShadowMemoryMiB = 4096.0;
+  ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
+};
+
+// What the device allows, queried once when the renderer is made. Frame planning checks a
+// frame against these before any GL call.
+struct RenderLimits {
+  int maxCubeMapSize = 16384;   // GL_MAX_CUBE_MAP_TEXTURE_SIZE
+  int maxTextureSize = 16384;   // GL_MAX_TEXTURE_SIZE
+  int maxArrayLayers = 2048;    // GL_MAX_ARRAY_TEXTURE_LAYERS
+};
+
+}  // namespace omnishadow

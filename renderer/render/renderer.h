@@ -1,0 +1,57 @@
+#pragma once
+
+#include <glm/glm.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/core/stage_timer.h"
+#include "renderer/render/frame.h"
+#include "renderer/render/render_settings.h"
+#include "renderer/scene/light.h"
+#include "renderer/scene/scene.h"
+#include "renderer/view/camera.h"
+#include "renderer/view/cube_distances.h"
+
+namespace omnishadow {
+
+struct ContextOptions {
+  int gpuIndex = -1;   // EGL device index (--gpu); -1 = hardware devices first, then software
+  bool debug = false;  // debug context + KHR_debug messages printed to stderr (--verbose)
+};
+
+// Owns the headless GL context and the compiled passes; renders frames of any scene. Not
+// thread-safe: use it from the thread that created it. This header is the whole interface to
+// the GPU: nothing in it, or in what it includes, names a GL type.
+class Renderer {
+ public:
+  // Throws RenderError when no context can be made, InputError for a --gpu that does not exist.
+  explicit Renderer(const ContextOptions& options);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // What this device allows; planFrame() checks a frame against it.
+  const RenderLimits& limits() const;
+  // "EGL device 0 (NVIDIA ...)" or "EGL surfaceless platform", for --verbose.
+  const std::string& platformDescription() const;
+  // GL_VENDOR, GL_RENDERER, GL_VERSION as one line.
+  std::string glDescription() const;
+
+  // Renders the scene with `lights` (already merged and uniquely named). Stage times go to
+  // `times`: shaders, upload, shadow maps, lighting, readback. Throws InputError, before any GL
+  // call, for settings the scene cannot satisfy on this device (planFrame()).
+  Frame render(const Scene& scene, const std::vector<Light>& lights, const glm::vec3& ambient,
+               const ViewCamera& camera, const RenderSettings& settings, StageTimes& times);
+
+  // Depth cube maps of the shadowed point lights, as distances, e.g. for tests.
+  std::vector<CubeDistances> renderShadowDistances(
+      const Scene& scene, const std::vector<Light>& lights,
+      ShadowPassStrategy strategy = ShadowPassStrategy::Auto);
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace omnishadow

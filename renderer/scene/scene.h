@@ -1,0 +1,130 @@
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/scene/bounds.h"
+#include "renderer/scene/light.h"
+
+namespace omnishadow {
+
+// CPU-side scene: plain data, filled by the glTF loader, consumed by the GPU upload.
+
+struct Image {
+  std::string name;
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba;  // 8-bit RGBA, first row = top of the picture (as in the file)
+};
+
+// glTF sampler codes (GL enums), with glTF's defaults.
+struct SamplerDesc {
+  int magFilter = 0x2601;  // GL_LINEAR
+  int minFilter = 0x2703;  // GL_LINEAR_MIPMAP_LINEAR
+  int wrapS = 0x2901;      // GL_REPEAT
+  int wrapT = 0x2901;
+};
+
+struct Texture {
+  int image = -1;  // index into Scene::images
+  SamplerDesc sampler;
+};
+
+enum class AlphaMode { Opaque, Mask, Blend };
+
+// Texture slot of a material; texture = -1 when unused. texCoord selects TEXCOORD_n (0 or 1).
+struct TextureSlot {
+  int texture = -1;
+  int texCoord = 0;
+};
+
+struct Material {
+  std::string name;
+  glm::vec4 baseColorFactor{1.0f};
+  TextureSlot baseColorTexture;  // sRGB
+  float metallicFactor = 1.0f;
+  float roughnessFactor = 1.0f;
+  TextureSlot metallicRoughnessTexture;  // linear; G = roughness, B = metallic
+  TextureSlot normalTexture;
+  float normalScale = 1.0f;
+  TextureSlot occlusionTexture;  // linear; R = occlusion
+  float occlusionStrength = 1.0f;
+  glm::vec3 emissiveFactor{0.0f};
+  float emissiveStrength = 1.0f;  // KHR_materials_emissive_strength
+  TextureSlot emissiveTexture;    // sRGB
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;
+  bool doubleSided = false;
+};
+
+// One glTF primitive as an indexed triangle list, in the mesh's local space.
+// Every attribute array is either empty or has positions.size() entries.
+struct Mesh {
+  std::string name;  // "<mesh name>/<primitive index>"
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;   // always filled (generated when the file has none)
+  std::vector<glm::vec4> tangents;  // xyz + handedness; filled when normal mapping is possible
+  std::vector<glm::vec2> uv0;
+  std::vector<glm::vec2> uv1;
+  std::vector<glm::vec4> colors;  // COLOR_0 as linear RGBA
+  std::vector<std::uint32_t> indices;
+  int material = -1;  // index into Scene::materials; -1 = the glTF default material
+  Bounds bounds;      // local space
+};
+
+// A mesh placed in the world by a node.
+struct MeshInstance {
+  int mesh = -1;  // index into Scene::meshes
+  glm::mat4 world{1.0f};
+  int node = -1;  // glTF node index
+};
+
+// A glTF camera as placed by a node that references it.
+struct Camera {
+  std::string name;  // the camera's name, or else its node's name
+  std::string nodeName;
+  int index = -1;  // glTF camera index
+  bool orthographic = false;
+  float yfov = 0.8f;               // radians (perspective)
+  float aspectRatio = 0.0f;        // 0 = unspecified
+  float xmag = 1.0f, ymag = 1.0f;  // half extents (orthographic)
+  float znear = 0.01f;
+  float zfar = 0.0f;      // 0 = infinite (perspective)
+  glm::mat4 world{1.0f};  // camera-to-world; the camera looks down its local -Z, +Y up
+};
+
+// What the file held, beyond what the chosen scene draws; filled by the loader, reported by
+// `omnishadow info`.
+struct SourceSummary {
+  std::string format;  // "gltf" or "glb" (by content, not by the file name)
+  // The glTF `asset` fields as given (empty when absent).
+  std::string version, minVersion, generator, copyright;
+  int sceneCount = 0;      // glTF scenes in the file
+  int sceneIndex = -1;     // the scene loaded; -1 when the file has no scenes (all roots drawn)
+  int fileNodes = 0;       // nodes in the file
+  int reachedNodes = 0;    // nodes reached from the loaded scene's roots
+  int gltfMeshes = 0;      // glTF meshes in the file
+  int gltfPrimitives = 0;  // primitives of all of them, of any mode
+};
+
+struct Scene {
+  std::string path;  // file it was loaded from, for messages
+  SourceSummary source;
+  // The scene file and every external file it references (buffers, images), so that outputs
+  // never overwrite an input.
+  std::vector<std::string> inputFiles;
+  std::vector<Image> images;
+  std::vector<Texture> textures;
+  std::vector<Material> materials;
+  std::vector<Mesh> meshes;
+  std::vector<MeshInstance> instances;
+  std::vector<Camera> cameras;  // sorted by glTF camera index, then by node traversal order
+  std::vector<Light> lights;    // KHR_lights_punctual, world space, origin = "glTF"
+  Bounds bounds;                // world space, all instances
+  std::vector<std::string> warnings;
+};
+
+}  // namespace omnishadow

@@ -1,0 +1,322 @@
+#include "renderer/verify/shadow_reference.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "renderer/core/errors.h"
+
+namespace omnishadow {
+namespace {
+
+// Geometry mask bits: shadow rays see every caster, camera rays only what the AOVs show.
+constexpr unsigned kCastsShadow = 1u;
+constexpr unsigned kInAovs = 2u;
+
+constexpr int kGlClampToEdge = 0x812F;
+constexpr int kGlMirroredRepeat = 0x8370;
+
+// What the alpha filter needs of one cut-out instance, copied so that the reference does not
+// depend on the Scene's lifetime.
+struct Cutout {
+  std::vector<std::uint32_t> indices;  // 3 per triangle, in Embree's primitive order
+  std::vector<float> vertexAlpha;      // baseColorFactor.a * COLOR_0.a
+  std::vector<glm::vec2> uv;           // the base color texture's set; empty = no texture
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> texelAlpha;  // row 0 = top = v 0, as GL samples glTF images
+  int wrapS = 0, wrapT = 0;
+  float cutoff = 0.5f;
+};
+
+// GL's nearest-texel addressing: the integer texel, then the wrap mode on integers.
+int wrapTexel(float coordinate, int size, int mode) {
+  const double scaled = std::floor(static_cast<double>(coordinate) * size);
+  if (!std::isfinite(scaled)) return 0;
+  const long long i = static_cast<long long>(std::clamp(scaled, -1e15, 1e15));
+  if (mode == kGlClampToEdge) return static_cast<int>(std::clamp<long long>(i, 0, size - 1));
+  if (mode == kGlMirroredRepeat) {
+    const long long period = 2LL * size;
+    const long long j = ((i % period) + period) % period;
+    return static_cast<int>(j < size ? j : period - 1 - j);
+  }
+  return static_cast<int>(((i % size) + size) % size);
+}
+
+// Whether the hit at barycentrics (u, v) of triangle `primitive` is opaque enough to cast.
+bool castsAt(const Cutout& c, unsigned primitive, float u, float v) {
+  const std::uint32_t i0 = c.indices[3 * primitive], i1 = c.indices[3 * primitive + 1],
+                      i2 = c.indices[3 * primitive + 2];
+  const float w = 1.0f - u - v;
+  float alpha = w * c.vertexAlpha[i0] + u * c.vertexAlpha[i1] + v * c.vertexAlpha[i2];
+  if (!c.uv.empty() && c.width > 0 && c.height > 0) {
+    const glm::vec2 uv = w * c.uv[i0] + u * c.uv[i1] + v * c.uv[i2];
+    const int x = wrapTexel(uv.x, c.width, c.wrapS);
+    const int y = wrapTexel(uv.y, c.height, c.wrapT);
+    alpha *= static_cast<float>(c.texelAlpha[static_cast<std::size_t>(y) * c.width + x]) / 255.0f;
+  }
+  return alpha >= c.cutoff;  // the shadow pass discards alpha < cutoff
+}
+
+void alphaFilter(const RTCFilterFunctionNArguments* args) {
+  const Cutout& cutout = *static_cast<const Cutout*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    if (!castsAt(cutout, RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                 RTCHitN_v(args->hit, args->N, i)))
+      args->valid[i] = 0;
+  }
+}
+
+Cutout makeCutout(const Scene& scene, const Mesh& mesh, const Material& material,
+                  std::vector<std::uint32_t> indices) {
+  Cutout c;
+  c.indices = std::move(indices);
+  c.cutoff = material.alphaMode == AlphaMode::Mask ? material.alphaCutoff : 0.5f;
+  c.vertexAlpha.assign(mesh.positions.size(), material.baseColorFactor.a);
+  for (std::size_t i = 0; i < mesh.colors.size() && i < c.vertexAlpha.size(); ++i)
+    c.vertexAlpha[i] *= mesh.colors[i].a;
+  const TextureSlot& slot = material.baseColorTexture;
+  if (slot.texture < 0 || slot.texture >= static_cast<int>(scene.textures.size())) return c;
+  const Texture& texture = scene.textures[slot.texture];
+  if (texture.image < 0 || texture.image >= static_cast<int>(scene.images.size())) return c;
+  const Image& image = scene.images[texture.image];
+  const std::size_t texels = static_cast<std::size_t>(image.width) * image.height;
+  if (image.width <= 0 || image.height <= 0 || image.rgba.size() < texels * 4) return c;
+  c.width = image.width;
+  c.height = image.height;
+  c.texelAlpha.resize(texels);
+  for (std::size_t i = 0; i < texels; ++i) c.texelAlpha[i] = image.rgba[i * 4 + 3];
+  c.wrapS = texture.sampler.wrapS;
+  c.wrapT = texture.sampler.wrapT;
+  // A missing set samples (0, 0), as an unbound vertex attribute does on the GPU.
+  const std::vector<glm::vec2>& uv = slot.texCoord == 1 ? mesh.uv1 : mesh.uv0;
+  c.uv = uv.size() == mesh.positions.size() ? uv : std::vector<glm::vec2>(mesh.positions.size());
+  return c;
+}
+
+// Orthonormal tangents of a unit vector (Duff et al. 2017, "Building an Orthonormal Basis,
+// Revisited").
+void tangents(const glm::vec3& n, glm::vec3& t1, glm::vec3& t2) {
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float b = n.x * n.y * a;
+  t1 = {1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
+  t2 = {b, sign + n.y * n.y * a, -n.y};
+}
+
+// Centers of an n x n grid on the unit square, mapped to the unit disk by Shirley and Chiu's
+// concentric map, which keeps the strata compact and equal in area.
+const std::vector<glm::vec2>& diskPattern(int n) {
+  thread_local std::vector<glm::vec2> pattern;
+  thread_local int patternSize = 0;
+  if (patternSize == n) return pattern;
+  pattern.clear();
+  constexpr float kQuarterPi = 0.78539816339744831f;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const float a = 2.0f * (static_cast<float>(i) + 0.5f) / static_cast<float>(n) - 1.0f;
+      const float b = 2.0f * (static_cast<float>(j) + 0.5f) / static_cast<float>(n) - 1.0f;
+      if (a == 0.0f && b == 0.0f) {
+        pattern.emplace_back(0.0f);
+        continue;
+      }
+      float r, phi;
+      if (std::abs(a) > std::abs(b)) {
+        r = a;
+        phi = kQuarterPi * (b / a);
+      } else {
+        r = b;
+        phi = 2.0f * kQuarterPi - kQuarterPi * (a / b);
+      }
+      pattern.emplace_back(r * std::cos(phi), r * std::sin(phi));
+    }
+  patternSize = n;
+  return pattern;
+}
+
+RTCRay makeRay(const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar,
+               unsigned mask) {
+  RTCRay ray{};
+  ray.org_x = origin.x;
+  ray.org_y = origin.y;
+  ray.org_z = origin.z;
+  ray.dir_x = direction.x;
+  ray.dir_y = direction.y;
+  ray.dir_z = direction.z;
+  ray.tnear = tnear;
+  ray.tfar = tfar;
+  ray.mask = mask;
+  ray.flags = 0;
+  return ray;
+}
+
+}  // namespace
+
+struct ShadowReference::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<std::unique_ptr<Cutout>> cutouts;  // geometry user data; must outlive the scene
+  std::string error;                             // the last message from Embree
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+
+  std::optional<RTCRayHit> cast(const glm::vec3& origin, const glm::vec3& direction, float tnear,
+                                float tfar, unsigned mask) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rayHit{};
+    rayHit.ray = makeRay(origin, direction, tnear, tfar, mask);
+    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &context, &rayHit);
+    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    return rayHit;
+  }
+};
+
+ShadowReference::ShadowReference(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  Impl& impl = *impl_;
+  impl.device = rtcNewDevice(nullptr);
+  if (!impl.device)
+    throw RenderError("Embree: cannot create a device (" +
+                      std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+  rtcSetDeviceErrorFunction(
+      impl.device,
+      [](void* user, RTCError, const char* message) {
+        static_cast<Impl*>(user)->error = message ? message : "unknown error";
+      },
+      &impl);
+  impl.scene = rtcNewScene(impl.device);
+  // Robust traversal: a shadow ray through a shared edge must not slip between two triangles.
+  rtcSetSceneFlags(impl.scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(impl.scene, RTC_BUILD_QUALITY_HIGH);
+
+  for (const MeshInstance& instance : scene.instances) {
+    if (instance.mesh < 0 || instance.mesh >= static_cast<int>(scene.meshes.size())) continue;
+    const Mesh& mesh = scene.meshes[instance.mesh];
+    std::vector<std::uint32_t> indices;
+    indices.reserve(mesh.indices.size());
+    for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+      const std::uint32_t a = mesh.indices[i], b = mesh.indices[i + 1], c = mesh.indices[i + 2];
+      if (a < mesh.positions.size() && b < mesh.positions.size() && c < mesh.positions.size())
+        indices.insert(indices.end(), {a, b, c});
+    }
+    if (indices.empty()) continue;
+
+    RTCGeometry geometry = rtcNewGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                3 * sizeof(float), mesh.positions.size()));
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+      const glm::vec3 p = glm::vec3(instance.world * glm::vec4(mesh.positions[i], 1.0f));
+      vertices[3 * i] = p.x;
+      vertices[3 * i + 1] = p.y;
+      vertices[3 * i + 2] = p.z;
+    }
+    auto* triangles = static_cast<std::uint32_t*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(std::uint32_t), indices.size() / 3));
+    std::copy(indices.begin(), indices.end(), triangles);
+
+    const bool hasMaterial =
+        mesh.material >= 0 && mesh.material < static_cast<int>(scene.materials.size());
+    const AlphaMode mode =
+        hasMaterial ? scene.materials[mesh.material].alphaMode : AlphaMode::Opaque;
+    rtcSetGeometryMask(geometry, mode == AlphaMode::Blend ? kCastsShadow : kCastsShadow | kInAovs);
+    if (mode != AlphaMode::Opaque) {
+      impl.cutouts.push_back(std::make_unique<Cutout>(
+          makeCutout(scene, mesh, scene.materials[mesh.material], std::move(indices))));
+      rtcSetGeometryUserData(geometry, impl.cutouts.back().get());
+      rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
+      rtcSetGeometryOccludedFilterFunction(geometry, alphaFilter);
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(impl.scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(impl.scene);
+  if (rtcGetDeviceError(impl.device) != RTC_ERROR_NONE)
+    throw RenderError("Embree: cannot build the scene: " + impl.error);
+
+  if (!scene.bounds.empty())
+    epsilon_ = std::max(1e-4f * glm::length(scene.bounds.max - scene.bounds.min), 1e-6f);
+}
+
+ShadowReference::~ShadowReference() = default;
+
+bool ShadowReference::occluded(const glm::vec3& origin, const glm::vec3& direction, float tnear,
+                               float tfar) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = makeRay(origin, direction, tnear, tfar, kCastsShadow);
+  rtcOccluded1(impl_->scene, &context, &ray);
+  // Embree marks an occluded ray by setting tfar to -inf.
+  return ray.tfar < 0.0f;
+}
+
+std::optional<SurfaceHit> ShadowReference::intersect(const glm::vec3& origin,
+                                                     const glm::vec3& direction, float tnear,
+                                                     float tfar) const {
+  const std::optional<RTCRayHit> hit = impl_->cast(origin, direction, tnear, tfar, kInAovs);
+  if (!hit) return std::nullopt;
+  const glm::vec3 n{hit->hit.Ng_x, hit->hit.Ng_y, hit->hit.Ng_z};
+  const float length = glm::length(n);
+  if (!(length > 0.0f)) return std::nullopt;
+  return SurfaceHit{hit->ray.tfar, n / length};
+}
+
+float ShadowReference::visibility(const Light& light, const glm::vec3& point,
+                                  const glm::vec3& normal, int sourceSamples) const {
+  const glm::vec3 origin = point + normal * epsilon_;
+  const float radius = light.shadow.radius;
+  const bool directional = light.type == LightType::Directional;
+  constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+  if (radius <= 0.0f) {
+    if (directional) return occluded(origin, -light.direction, epsilon_, kInfinity) ? 0.0f : 1.0f;
+    const glm::vec3 toLight = light.position - origin;
+    const float distance = glm::length(toLight);
+    if (!(distance > epsilon_)) return 1.0f;
+    return occluded(origin, toLight / distance, epsilon_, distance) ? 0.0f : 1.0f;
+  }
+
+  const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(std::max(sourceSamples, 1)))));
+  const std::vector<glm::vec2>& pattern = diskPattern(n);
+  int lit = 0;
+  glm::vec3 t1, t2;
+  if (directional) {
+    // The sun seen as a disk of angular radius `radius`: directions through a disk at unit
+    // distance of radius tan(radius).
+    const glm::vec3 L = glm::normalize(-light.direction);
+    tangents(L, t1, t2);
+    const float spread = std::tan(std::min(radius, 1.5f));
+    for (const glm::vec2& s : pattern) {
+      const glm::vec3 d = glm::normalize(L + spread * (s.x * t1 + s.y * t2));
+      lit += occluded(origin, d, epsilon_, kInfinity) ? 0 : 1;
+    }
+  } else {
+    const glm::vec3 axis = point - light.position;
+    const float axisLength = glm::length(axis);
+    tangents(axisLength > 0.0f ? axis / axisLength : glm::vec3(0.0f, 0.0f, 1.0f), t1, t2);
+    for (const glm::vec2& s : pattern) {
+      const glm::vec3 target = light.position + radius * (s.x * t1 + s.y * t2);
+      const glm::vec3 d = target - origin;
+      const float distance = glm::length(d);
+      if (!(distance > epsilon_)) {
+        ++lit;
+        continue;
+      }
+      lit += occluded(origin, d / distance, epsilon_, distance) ? 0 : 1;
+    }
+  }
+  return static_cast<float>(lit) / static_cast<float>(pattern.size());
+}
+
+}  // namespace omnishadow

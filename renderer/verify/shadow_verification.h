@@ -1,0 +1,114 @@
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/scene/bounds.h"
+#include "renderer/view/camera.h"
+#include "renderer/output/image_writer.h"
+#include "renderer/scene/light.h"
+#include "renderer/verify/shadow_reference.h"
+
+namespace omnishadow {
+
+// Compares the shadow term a renderer used (the visibility.<light> AOV) with exact shadow rays,
+// pixel by pixel, and counts agreement, false shadow (acne, over-darkening) and false light
+// (leaks, peter-panning), apart for points near a shadow boundary. CPU only. The rules are
+// documented in the README ("omnishadow verify").
+
+struct VerifySettings {
+  float grazing = 0.05f;    // points with N.L (shading or geometric normal) below are skipped
+  float edgeTexels = 3.0f;  // half-width of the shadow-edge band, in shadow-map texels
+  int sourceSamples = 64;   // rays per point towards a light with shadow.radius > 0
+  int threads = 0;          // 0 = one per core; results do not depend on it
+};
+
+// One light to check, with the far distance its point or spot shadow map was rendered with
+// (effectiveShadowFar()).
+struct LightToVerify {
+  Light light;
+  float shadowFar = 0.0f;
+};
+
+// What became of one pixel for one light. The first six are skipped, the last three evaluated.
+enum class Verdict : std::uint8_t {
+  Background,       // no geometry
+  OutOfRange,       // beyond the light's range
+  OutsideCone,      // outside a spot light's outer cone
+  FacingAway,       // N.L <= 0
+  Grazing,          // N.L below VerifySettings::grazing
+  BeyondShadowFar,  // beyond the shadow's far distance (directional: shadow.distance)
+  Agree,
+  FalseShadow,  // the renderer shadowed it, the rays reach the light
+  FalseLight,   // the renderer lit it, the rays are blocked
+};
+
+struct PointVerdict {
+  Verdict verdict = Verdict::Background;
+  bool edge = false;       // near a shadow boundary (evaluated points only)
+  float reference = 1.0f;  // fraction of the light the rays reach (evaluated points only)
+};
+
+struct SkipCounts {
+  std::int64_t background = 0, outOfRange = 0, outsideCone = 0, facingAway = 0, grazing = 0,
+               beyondShadowFar = 0;
+};
+
+struct ClassCounts {
+  std::int64_t evaluated = 0, agree = 0, falseShadow = 0, falseLight = 0;
+  // Fractions of `evaluated`; 0 when nothing was evaluated.
+  double agreementRate() const { return rate(agree); }
+  double falseShadowRate() const { return rate(falseShadow); }
+  double falseLightRate() const { return rate(falseLight); }
+
+ private:
+  double rate(std::int64_t n) const {
+    return evaluated > 0 ? static_cast<double>(n) / static_cast<double>(evaluated) : 0.0;
+  }
+};
+
+struct LightVerification {
+  std::string name;
+  LightType type = LightType::Point;
+  bool shadowed = true;  // false: shadow.enabled is off; nothing was evaluated
+  SkipCounts skipped;
+  ClassCounts interior, edge;
+  std::vector<PointVerdict> points;  // width x height, row 0 = top; empty when not shadowed
+};
+
+struct ShadowVerification {
+  int width = 0, height = 0;
+  std::vector<LightVerification> lights;
+};
+
+// World size of one shadow-map texel at `point`, across the light's view: a point light's cube
+// face texel 2 max(|d.x|, |d.y|, |d.z|) / resolution (d = point - light); a spot light's
+// 2 |d| tan(outerConeAngle) / resolution; a directional light's map is taken to span the scene
+// bounds across the light (the widest extent / resolution, conservative for cascades).
+float shadowTexelWorldSize(const Light& light, const glm::vec3& point, const Bounds& sceneBounds);
+
+// Half-width in world units of the band around a shadow boundary within which a point counts as
+// an edge point: edgeTexels texels, plus the filter's own reach (pcf 1 texel, pcf-disk
+// filterRadius x (1 + cameraDistance / shadowFar) texels, poisson and vsm filterRadius texels,
+// pcss the light's radius in world units for point and spot lights).
+float edgeBandWidth(const Light& light, const glm::vec3& point, float cameraDistance,
+                    float shadowFar, const Bounds& sceneBounds, float edgeTexels);
+
+// Checks every pixel of `aovs` (Frame::aovs: A, P.X/Y/Z, N.X/Y/Z, Z and visibility.<name> for
+// every light in `lights`) rendered from `camera`. Throws RenderError when a channel is missing.
+ShadowVerification verifyShadows(const ShadowReference& reference, const Bounds& sceneBounds,
+                                 const std::vector<LightToVerify>& lights, const FloatImage& aovs,
+                                 const ViewCamera& camera, const VerifySettings& settings);
+
+// The largest interior false-shadow or false-light rate over the shadowed lights.
+double worstInteriorErrorRate(const LightVerification& light);
+
+// RGB, 8 bits, width x height: the scene in grey (darker where the rays find shadow), red where
+// the renderer shadows a lit point, blue where it lights a shadowed one; magenta when lights
+// disagree both ways; errors at edge points are dimmer.
+std::vector<std::uint8_t> errorImage(const ShadowVerification& verification, const FloatImage& aovs,
+                                     const ViewCamera& camera);
+
+}  // namespace omnishadow

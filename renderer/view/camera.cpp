@@ -1,0 +1,150 @@
+#include "renderer/view/camera.h"
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "renderer/core/errors.h"
+
+namespace omnishadow {
+namespace {
+
+// Automatic framing looks at the scene from the front (+Z), somewhat above, like a person
+// standing in front of a table: the habitual view of glTF's +Y up, +Z forward models.
+constexpr glm::vec3 kAutoViewDirection{0.0f, 0.45f, 1.0f};
+constexpr float kAutoFovDegrees = 45.0f;
+
+std::optional<int> parseIndex(const std::string& text) {
+  if (text.empty() || text.size() > 9) return std::nullopt;
+  for (char c : text)
+    if (c < '0' || c > '9') return std::nullopt;
+  return std::stoi(text);
+}
+
+const Camera* findCamera(const Scene& scene, const std::string& select) {
+  if (scene.cameras.empty() && select.empty()) return nullptr;
+  if (select.empty()) return &scene.cameras.front();
+  const auto index = parseIndex(select);
+  for (const Camera& camera : scene.cameras) {
+    if (index ? camera.index == *index : (camera.name == select || camera.nodeName == select))
+      return &camera;
+  }
+  std::string known;
+  for (const Camera& camera : scene.cameras) {
+    known += known.empty() ? "" : ", ";
+    known += std::to_string(camera.index) + " \"" + camera.name + "\"";
+  }
+  throw InputError("--camera " + select + ": " + scene.path + " has no such camera" +
+                   (known.empty() ? " (it has none)" : " (cameras: " + known + ")"));
+}
+
+glm::mat4 lookAtChecked(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up) {
+  const glm::vec3 forward = target - eye;
+  if (glm::length(forward) < 1e-6f)
+    throw InputError("--eye/--target: the eye and the target are the same point");
+  if (glm::length(glm::cross(glm::normalize(forward), glm::normalize(up))) < 1e-4f)
+    throw InputError("--up: the up vector is parallel to the view direction");
+  return glm::lookAt(eye, target, up);
+}
+
+}  // namespace
+
+glm::mat4 reversedPerspective(float yfov, float aspect, float znear, float zfar) {
+  const float f = 1.0f / std::tan(yfov * 0.5f);
+  glm::mat4 p(0.0f);
+  p[0][0] = f / aspect;
+  p[1][1] = f;
+  p[2][3] = -1.0f;
+  if (zfar > 0.0f) {
+    p[2][2] = znear / (zfar - znear);
+    p[3][2] = zfar * znear / (zfar - znear);
+  } else {
+    p[3][2] = znear;  // depth = znear / distance
+  }
+  return p;
+}
+
+glm::mat4 reversedOrthographic(float xmag, float ymag, float znear, float zfar) {
+  glm::mat4 p(1.0f);
+  p[0][0] = 1.0f / xmag;
+  p[1][1] = 1.0f / ymag;
+  p[2][2] = 1.0f / (zfar - znear);  // depth = (zfar - distance) / (zfar - znear)
+  p[3][2] = zfar / (zfar - znear);
+  return p;
+}
+
+ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
+  ViewCamera out;
+  const Camera* camera = findCamera(scene, request.select);
+
+  // Image size: the camera's aspect ratio fills in the side the user did not give.
+  const float aspectHint = camera ? camera->aspectRatio : 0.0f;
+  out.width = request.width.value_or(kDefaultWidth);
+  out.height = request.height.value_or(kDefaultHeight);
+  if (aspectHint > 0.0f && !request.height)
+    out.height =
+        std::max(1, static_cast<int>(std::lround(static_cast<float>(out.width) / aspectHint)));
+  else if (aspectHint > 0.0f && request.height && !request.width)
+    out.width = std::max(
+        1, static_cast<int>(std::lround(static_cast<float>(*request.height) * aspectHint)));
+  const float aspect = static_cast<float>(out.width) / static_cast<float>(out.height);
+
+  glm::vec3 eye, forward, up;
+  float yfov;
+  std::optional<glm::vec3> lookAtPoint;  // what an --eye alone keeps looking at
+  const float sceneRadius = std::max(scene.bounds.radius(), 1e-3f);
+  if (camera) {
+    eye = glm::vec3(camera->world[3]);
+    forward = -glm::normalize(glm::vec3(camera->world[2]));
+    up = glm::normalize(glm::vec3(camera->world[1]));
+    yfov = camera->yfov;
+    out.orthographic = camera->orthographic;
+    out.znear = camera->znear;
+    out.zfar = camera->zfar;
+    out.description = "glTF camera " + std::to_string(camera->index) + " \"" + camera->name + "\"";
+  } else {
+    yfov = glm::radians(request.fovDegrees.value_or(kAutoFovDegrees));
+    const glm::vec3 center = scene.bounds.empty() ? glm::vec3(0.0f) : scene.bounds.center();
+    // Distance at which the bounding sphere fits the narrower field of view.
+    const float halfFov = 0.5f * std::min(yfov, 2.0f * std::atan(std::tan(yfov * 0.5f) * aspect));
+    const float distance = sceneRadius / std::sin(halfFov) * 1.02f;
+    forward = -glm::normalize(kAutoViewDirection);
+    eye = center - forward * distance;
+    lookAtPoint = center;
+    up = glm::vec3(0.0f, 1.0f, 0.0f);
+    out.znear = std::max(distance - sceneRadius, distance * 1e-3f) * 0.5f;
+    out.zfar = 0.0f;
+    out.description = "automatic framing of the scene bounds";
+  }
+
+  if (request.fovDegrees) {
+    if (!(*request.fovDegrees > 0.0f && *request.fovDegrees < 180.0f))
+      throw InputError("--fov: expected degrees in (0, 180)");
+    yfov = glm::radians(*request.fovDegrees);
+  }
+  glm::vec3 target = eye + forward;
+  if (request.eye) {
+    eye = *request.eye;
+    if (!request.target) target = lookAtPoint.value_or(eye + forward);
+  }
+  if (request.target) target = *request.target;
+  if (request.up) up = *request.up;
+  if (request.eye || request.target || request.up) {
+    if (request.eye || request.target) out.description += " with --eye/--target";
+    // An explicit view always gets a near plane proportional to the scene, as the glTF one
+    // was chosen for the original position.
+    if (!camera) out.znear = std::min(out.znear, sceneRadius * 1e-3f);
+  }
+  if (glm::length(up) < 1e-6f) throw InputError("--up: expected a non-zero vector");
+
+  out.eye = eye;
+  out.view = lookAtChecked(eye, target, up);
+  if (out.orthographic) {
+    const float ymag = camera->ymag;
+    out.projection = reversedOrthographic(ymag * aspect, ymag, out.znear, out.zfar);
+  } else {
+    out.projection = reversedPerspective(yfov, aspect, out.znear, out.zfar);
+  }
+  return out;
+}
+
+}  // namespace omnishadow

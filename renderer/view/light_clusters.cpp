@@ -1,0 +1,164 @@
+#include "renderer/view/light_clusters.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace omnishadow {
+namespace {
+
+struct TileRect {
+  int x0, y0, x1, y1;  // inclusive tile coordinates
+};
+
+// Tiles the light's range sphere may cover: its view-space bounding box projected, or every
+// tile when the sphere reaches the camera's near plane.
+TileRect coveredTiles(const glm::vec3& c, float r, const ViewCamera& camera,
+                      const LightClusters& clusters) {
+  const TileRect all{0, 0, clusters.columns - 1, clusters.rows - 1};
+  if (!camera.orthographic && -c.z - r < camera.znear) return all;
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 corner =
+        c + r * glm::vec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
+    const glm::vec4 clip = camera.projection * glm::vec4(corner, 1.0f);
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    lo = glm::min(lo, ndc);
+    hi = glm::max(hi, ndc);
+  }
+  if (hi.x < -1.0f || hi.y < -1.0f || lo.x > 1.0f || lo.y > 1.0f) return {0, 0, -1, -1};
+  const auto tile = [&](float ndc, int pixels, int count) {
+    const float pixel = (ndc * 0.5f + 0.5f) * static_cast<float>(pixels);
+    return std::clamp(static_cast<int>(std::floor(pixel / static_cast<float>(clusters.tileSize))),
+                      0, count - 1);
+  };
+  return {tile(lo.x, camera.width, clusters.columns), tile(lo.y, camera.height, clusters.rows),
+          tile(hi.x, camera.width, clusters.columns), tile(hi.y, camera.height, clusters.rows)};
+}
+
+struct Box {
+  glm::vec3 lo{std::numeric_limits<float>::max()};
+  glm::vec3 hi{std::numeric_limits<float>::lowest()};
+  void extend(const glm::vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  bool touchesSphere(const glm::vec3& c, float r) const {
+    const glm::vec3 d = glm::max(glm::max(lo - c, c - hi), glm::vec3(0.0f));
+    return glm::dot(d, d) <= r * r;
+  }
+};
+
+// View-space bounding boxes of every cluster. Depth bounds are widened a little so that a
+// fragment whose slice rounds to a neighbour still finds its lights there; the first slice
+// starts at the camera and the last one reaches well past the farthest geometry.
+std::vector<Box> clusterBoxes(const LightClusters& clusters, const ViewCamera& camera) {
+  const glm::mat4 inverse = glm::inverse(camera.projection);
+  // The view-space point of normalized device coordinates (x, y) at view depth d.
+  auto at = [&](float x, float y, float d) {
+    const glm::vec4 h = inverse * glm::vec4(x, y, camera.orthographic ? 0.5f : 1.0f, 1.0f);
+    glm::vec3 p = glm::vec3(h) / h.w;
+    if (camera.orthographic) return glm::vec3(p.x, p.y, -d);
+    return p * (d / -p.z);
+  };
+  std::vector<float> bounds(static_cast<std::size_t>(clusters.slices) + 1);
+  for (int s = 0; s <= clusters.slices; ++s)
+    bounds[s] = clusters.sliceNear * std::exp(static_cast<float>(s) / clusters.sliceScale);
+  std::vector<Box> boxes(static_cast<std::size_t>(clusters.columns) * clusters.rows *
+                         clusters.slices);
+  // Normalized device coordinates spanned by tile `i` along an axis of `pixels`, half a pixel
+  // wider on each side.
+  const float tile = static_cast<float>(clusters.tileSize);
+  auto ndcSpan = [&](int i, int pixels) {
+    const auto ndc = [&](float pixel) { return 2.0f * pixel / static_cast<float>(pixels) - 1.0f; };
+    return std::array<float, 2>{ndc(std::max(0.0f, static_cast<float>(i) * tile - 0.5f)),
+                                ndc(static_cast<float>(i + 1) * tile + 0.5f)};
+  };
+  for (int s = 0; s < clusters.slices; ++s) {
+    const float d0 = s == 0 ? 0.0f : bounds[s] * 0.999f;
+    const float d1 = s == clusters.slices - 1 ? 2.0f * bounds[s + 1] : bounds[s + 1] * 1.001f;
+    for (int y = 0; y < clusters.rows; ++y) {
+      const std::array<float, 2> ys = ndcSpan(y, camera.height);
+      for (int x = 0; x < clusters.columns; ++x) {
+        const std::array<float, 2> xs = ndcSpan(x, camera.width);
+        Box& box = boxes[(static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x];
+        for (const float d : {d0, d1})
+          for (const float nx : xs)
+            for (const float ny : ys) box.extend(at(nx, ny, d));
+      }
+    }
+  }
+  return boxes;
+}
+
+}  // namespace
+
+int clusterSlice(const LightClusters& clusters, float depth) {
+  const float s =
+      std::floor(std::log(std::max(depth, 1e-30f) / clusters.sliceNear) * clusters.sliceScale);
+  return static_cast<int>(std::clamp(s, 0.0f, static_cast<float>(clusters.slices - 1)));
+}
+
+LightClusters buildLightClusters(const std::vector<const Light*>& lights, const ViewCamera& camera,
+                                 float farthestDepth, int tileSize, int slices) {
+  LightClusters clusters;
+  clusters.tileSize = tileSize;
+  clusters.columns = (camera.width + tileSize - 1) / tileSize;
+  clusters.rows = (camera.height + tileSize - 1) / tileSize;
+  clusters.slices = slices;
+  // Logarithmic slices (clusters about as deep as they are wide) from a thousandth of the
+  // scene's depth, or the near plane, to its far end; nearer points share the first slice.
+  const float far = std::max({farthestDepth, camera.znear * 2.0f, 1e-3f});
+  clusters.sliceNear = std::max(camera.znear, far * 1e-3f);
+  clusters.sliceScale =
+      static_cast<float>(slices) / std::log(std::max(far / clusters.sliceNear, 1.0001f));
+
+  // (cluster, light) pairs of the ranged lights, in light order.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  std::vector<Box> boxes;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const Light& light = *lights[i];
+    if (light.type == LightType::Directional || light.range <= 0.0f) {
+      clusters.lights.push_back(static_cast<std::uint32_t>(i));
+      continue;
+    }
+    const glm::vec3 c = glm::vec3(camera.view * glm::vec4(light.position, 1.0f));
+    const float r = light.range;
+    if (-c.z + r < camera.znear) continue;  // wholly behind the camera
+    const TileRect rect = coveredTiles(c, r, camera, clusters);
+    if (rect.x1 < rect.x0) continue;
+    if (boxes.empty()) boxes = clusterBoxes(clusters, camera);
+    const int s0 = clusterSlice(clusters, -c.z - r), s1 = clusterSlice(clusters, -c.z + r);
+    for (int s = std::max(0, s0 - 1); s <= std::min(slices - 1, s1 + 1); ++s)
+      for (int y = rect.y0; y <= rect.y1; ++y)
+        for (int x = rect.x0; x <= rect.x1; ++x) {
+          const std::size_t index =
+              (static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x;
+          if (boxes[index].touchesSphere(c, r))
+            pairs.emplace_back(static_cast<std::uint32_t>(index), static_cast<std::uint32_t>(i));
+        }
+  }
+  clusters.globalCount = static_cast<std::uint32_t>(clusters.lights.size());
+
+  // Counting sort by cluster keeps the light order within each cluster.
+  const std::size_t count =
+      static_cast<std::size_t>(clusters.columns) * clusters.rows * clusters.slices;
+  std::vector<std::uint32_t> sizes(count, 0);
+  for (const auto& [cluster, light] : pairs) ++sizes[cluster];
+  clusters.ranges.resize(2 * count);
+  std::uint32_t next = clusters.globalCount;
+  for (std::size_t k = 0; k < count; ++k) {
+    clusters.ranges[2 * k] = next;
+    clusters.ranges[2 * k + 1] = 0;
+    next += sizes[k];
+  }
+  clusters.lights.resize(next);
+  for (const auto& [cluster, light] : pairs) {
+    const std::uint32_t slot = clusters.ranges[2 * cluster] + clusters.ranges[2 * cluster + 1]++;
+    clusters.lights[slot] = light;
+  }
+  return clusters;
+}
+
+}  // namespace omnishadow
