@@ -18,6 +18,7 @@
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/render/renderer.h"
 #include "renderer/verify/shadow_verification.h"
+#include "renderer/view/shadow_plan.h"
 #include "scenes/builder/gltf_builder.h"
 
 using namespace omnishadow;
@@ -1315,9 +1316,7 @@ TEST(Batch, ManyScenesInOneContextDoNotGrowMemory) {
 
 TEST(Materials, TexturesLargerThanTheGlLimitAreDownscaledWithAWarning) {
   // One row wider than any GL allows (llvmpipe and NVIDIA: 16384 or 32768): cheap in memory.
-  GLint maxSize = 0;
-  sharedRenderer();
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  const int maxSize = sharedRenderer().limits().maxTextureSize;
   Scene scene;
   Image image;
   image.name = "wide";
