@@ -6,11 +6,13 @@
 #include <vector>
 
 #include "renderer/gl/gl_resources.h"
-#include "renderer/passes/gpu_scene.h"
-#include "renderer/scene/light.h"
+#include "renderer/gl/raster_state.h"
 #include "renderer/gl/shader_program.h"
+#include "renderer/passes/gpu_scene.h"
 #include "renderer/passes/shadow_textures.h"
 #include "renderer/render/render_settings.h"
+#include "renderer/scene/light.h"
+#include "renderer/view/shadow_draws.h"
 
 namespace omnishadow {
 
@@ -30,8 +32,13 @@ class ShadowPass {
               const ShadowGroupTextures& target, ShadowPassStrategy strategy);
 
  private:
+  struct LightPass;
   const ShaderProgram& program(ShadowPassStrategy strategy, bool masked, bool moments,
                                bool worldPositions);
+  static gl::RasterState rasterState(const ShadowSettings& settings, bool moments, int resolution);
+  static void prepare(const LightPass& pass, const ShaderProgram& p, int view);
+  void drawOpaque(const LightPass& pass, const ShadowDrawList& draws);
+  void drawMasked(const LightPass& pass, const ShadowDrawList& draws, const CasterCulling& culling);
 
   std::map<int, std::unique_ptr<ShaderProgram>> programs_;
   gl::Framebuffer framebuffer_;

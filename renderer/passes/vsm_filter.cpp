@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "renderer/gl/gl_debug.h"
+#include "renderer/gl/raster_state.h"
 
 namespace omnishadow {
 
@@ -31,10 +32,10 @@ void VsmFilter::blur(const ShadowGroupTextures& group, const LightShadowPlan& pl
   const GLuint fb = framebuffer_.get();
   glBindFramebuffer(GL_FRAMEBUFFER, fb);
   glNamedFramebufferDrawBuffer(fb, GL_COLOR_ATTACHMENT0);
-  glViewport(0, 0, n, n);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
+  gl::RasterState state;
+  state.depth.test = false;  // a fullscreen triangle, no depth attachment
+  state.viewport = {0, 0, n, n};
+  state.apply();
   glBindVertexArray(empty_.get());
   program_.use();
   program_.set("uRadius", taps);
@@ -56,7 +57,7 @@ void VsmFilter::blur(const ShadowGroupTextures& group, const LightShadowPlan& pl
     glDrawArrays(GL_TRIANGLES, 0, 3);
   }
   glBindTextureUnit(0, 0);
-  glEnable(GL_DEPTH_TEST);
+  gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("filtering the vsm moments of a light");
 }

@@ -1,0 +1,67 @@
+#include "renderer/passes/shadow_layer_binding.h"
+
+namespace omnishadow {
+
+ShadowLayerBinding::ShadowLayerBinding(GLuint framebuffer, const ShadowGroupTextures& target,
+                                       int firstLayer, int layerCount)
+    : framebuffer_(framebuffer),
+      target_(target),
+      firstLayer_(firstLayer),
+      layerCount_(layerCount),
+      cleared_(static_cast<std::size_t>(layerCount), false) {}
+
+gl::Texture ShadowLayerBinding::layersView(const gl::Texture& texture, GLenum format) const {
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  glTextureView(id, GL_TEXTURE_2D_ARRAY, texture.get(), format, 0, 1,
+                static_cast<GLuint>(firstLayer_), static_cast<GLuint>(layerCount_));
+  return gl::Texture(id);
+}
+
+void ShadowLayerBinding::clear() {
+  const float zero = 0.0f;
+  const float farMoments[4] = {1.0f, 1.0f, 0.0f, 0.0f};
+  glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &zero);
+  if (target_.key.moments) glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, farMoments);
+}
+
+void ShadowLayerBinding::bind(int layer) {
+  if (layer == bound_) return;
+  bound_ = layer;
+  const bool moments = target_.key.moments;
+  if (layer == kAllLayers) {
+    depthLayers_ = layersView(target_.depth, depthInternalFormat(target_.key.format));
+    glNamedFramebufferTexture(framebuffer_, GL_DEPTH_ATTACHMENT, depthLayers_.get(), 0);
+    if (moments) momentLayers_ = layersView(target_.moments, GL_RG32F);
+    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, moments ? momentLayers_.get() : 0,
+                              0);
+    clear();
+    allCleared_ = true;
+    return;
+  }
+  glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, target_.depth.get(), 0,
+                                 firstLayer_ + layer);
+  if (moments)
+    glNamedFramebufferTextureLayer(framebuffer_, GL_COLOR_ATTACHMENT0, target_.moments.get(), 0,
+                                   firstLayer_ + layer);
+  else
+    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, 0, 0);
+  if (!cleared_[static_cast<std::size_t>(layer)]) {
+    clear();
+    cleared_[static_cast<std::size_t>(layer)] = true;
+  }
+}
+
+void ShadowLayerBinding::clearUnbound() {
+  if (allCleared_) return;
+  for (int layer = 0; layer < layerCount_; ++layer)
+    if (!cleared_[static_cast<std::size_t>(layer)]) bind(layer);
+}
+
+void ShadowLayerBinding::detach() {
+  glNamedFramebufferTexture(framebuffer_, GL_DEPTH_ATTACHMENT, 0, 0);
+  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, 0, 0);
+  bound_ = kAllLayers - 1;
+}
+
+}  // namespace omnishadow

@@ -1,0 +1,78 @@
+#include "renderer/view/caster_culling.h"
+
+#include <cmath>
+
+namespace omnishadow {
+
+ViewFrustum::ViewFrustum(const glm::mat4& m) {
+  const glm::vec4 r0(m[0][0], m[1][0], m[2][0], m[3][0]);
+  const glm::vec4 r1(m[0][1], m[1][1], m[2][1], m[3][1]);
+  const glm::vec4 r2(m[0][2], m[1][2], m[2][2], m[3][2]);
+  const glm::vec4 r3(m[0][3], m[1][3], m[2][3], m[3][3]);
+  // Reversed [0,1] depth: the near plane is z = w, the far plane z = 0.
+  planes_ = {r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2};
+  for (glm::vec4& p : planes_) p /= glm::length(glm::vec3(p));
+}
+
+bool ViewFrustum::touches(const glm::vec3& center, float radius) const {
+  for (const glm::vec4& p : planes_)
+    if (glm::dot(glm::vec3(p), center) + p.w < -radius) return false;
+  return true;
+}
+
+ShadowCullingLight shadowCullingLight(const Light& light, const LightShadowPlan& plan, bool cube) {
+  ShadowCullingLight culling;
+  culling.type = light.type;
+  culling.position = light.position;
+  culling.cullFace = light.shadow.cullFace;
+  culling.viewProjections.assign(plan.viewProjection.begin(),
+                                 plan.viewProjection.begin() + plan.layerCount);
+  culling.near = plan.near;
+  culling.tanHalfFov = cube ? 1.0f : plan.tanHalfFov;
+  return culling;
+}
+
+unsigned casterViewMask(const std::vector<ViewFrustum>& views, const glm::vec3& center,
+                        float radius) {
+  unsigned mask = 0u;
+  for (std::size_t v = 0; v < views.size(); ++v)
+    if (views[v].touches(center, radius)) mask |= 1u << v;
+  return mask;
+}
+
+bool seesOnlyFrontFaces(const ShadowCaster& caster, const ShadowCullingLight& light) {
+  // Along any ray from a point outside a closed solid the first surface is a front face, so
+  // its back faces cannot change a depth: they are skipped even with cullFace "none" (half the
+  // triangles to set up and rasterize). "Outside" keeps a margin of the near plane's reach
+  // (the frustum corner's distance at depth `near`), so that no front face is clipped away.
+  // Masked casters are not solid where their texture cuts holes.
+  if (!caster.closed || caster.masked) return false;
+  if (light.type == LightType::Directional) return true;  // the depth range holds the scene
+  const float t = light.tanHalfFov;
+  const float nearReach = light.near * std::sqrt(1.0f + 2.0f * t * t);
+  return glm::distance(light.position, caster.center) > caster.radius + nearReach;
+}
+
+CullBucket cullBucket(const ShadowCaster& caster, const ShadowCullingLight& light) {
+  const bool userCull = light.cullFace != CullFace::None && !caster.doubleSided;
+  if (!userCull && !(light.cullFace == CullFace::None && seesOnlyFrontFaces(caster, light)))
+    return CullBucket::None;
+  return caster.mirrored ? CullBucket::Cw : CullBucket::Ccw;
+}
+
+CasterCulling cullCasters(const std::vector<ShadowCaster>& casters,
+                          const ShadowCullingLight& light) {
+  std::vector<ViewFrustum> views;
+  views.reserve(light.viewProjections.size());
+  for (const glm::mat4& viewProjection : light.viewProjections) views.emplace_back(viewProjection);
+  CasterCulling culling;
+  culling.viewMask.reserve(casters.size());
+  culling.bucket.reserve(casters.size());
+  for (const ShadowCaster& caster : casters) {
+    culling.viewMask.push_back(casterViewMask(views, caster.center, caster.radius));
+    culling.bucket.push_back(cullBucket(caster, light));
+  }
+  return culling;
+}
+
+}  // namespace omnishadow

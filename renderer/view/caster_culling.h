@@ -1,0 +1,73 @@
+#pragma once
+
+#include <array>
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "renderer/scene/light.h"
+#include "renderer/view/shadow_plan.h"
+
+namespace omnishadow {
+
+// Which of a light's shadow views (cube faces, the spot map, cascades) each caster can touch,
+// and how its triangles may be culled there. Plain data in and out: the shadow pass turns the
+// answer into draws.
+
+// The six clip-space planes of a view-projection with a [0,1] depth range, normalized.
+class ViewFrustum {
+ public:
+  explicit ViewFrustum(const glm::mat4& viewProjection);
+  // Conservative: true may still miss the view, false never does.
+  bool touches(const glm::vec3& center, float radius) const;
+
+ private:
+  std::array<glm::vec4, 6> planes_;
+};
+
+// What culling needs to know of one caster (a draw of the scene).
+struct ShadowCaster {
+  glm::vec3 center{0.0f};  // world-space bounding sphere
+  float radius = 0.0f;
+  bool masked = false;       // alpha-tested or blended: its texture decides coverage
+  bool closed = false;       // its mesh bounds a solid (isClosedSolid)
+  bool doubleSided = false;  // its material's doubleSided
+  bool mirrored = false;     // negative determinant: front faces are clockwise
+};
+
+// What culling needs to know of one light and its views.
+struct ShadowCullingLight {
+  LightType type = LightType::Point;
+  glm::vec3 position{0.0f};
+  CullFace cullFace = CullFace::None;  // the light's shadow.cullFace
+  std::vector<glm::mat4> viewProjections;
+  float near = 0.0f;        // depth range start along the view axis
+  float tanHalfFov = 1.0f;  // of each view; cube faces are 90 degrees
+};
+
+// `cube`: the light's layers are cube faces (else planar: spot or cascades).
+ShadowCullingLight shadowCullingLight(const Light& light, const LightShadowPlan& plan, bool cube);
+
+// Culling states opaque casters are sorted into: both sides drawn, or back faces culled with
+// counter-clockwise or clockwise front faces (mirrored transforms). The values order the draws.
+enum class CullBucket { None = 0, Ccw, Cw };
+inline constexpr int kCullBucketCount = 3;
+
+// Bit v set: the caster's sphere touches view v.
+unsigned casterViewMask(const std::vector<ViewFrustum>& views, const glm::vec3& center,
+                        float radius);
+
+// True when no back face of the caster can be nearest to the light, so that culling back faces
+// changes no depth even where the user asked for no culling.
+bool seesOnlyFrontFaces(const ShadowCaster& caster, const ShadowCullingLight& light);
+
+CullBucket cullBucket(const ShadowCaster& caster, const ShadowCullingLight& light);
+
+// Per caster, in caster order.
+struct CasterCulling {
+  std::vector<unsigned> viewMask;
+  std::vector<CullBucket> bucket;
+};
+CasterCulling cullCasters(const std::vector<ShadowCaster>& casters,
+                          const ShadowCullingLight& light);
+
+}  // namespace omnishadow

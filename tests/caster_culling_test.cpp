@@ -1,0 +1,238 @@
+// Which shadow views a caster reaches, how it may be culled, and how its draws are batched.
+#include "renderer/view/caster_culling.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "renderer/view/cube_faces.h"
+#include "renderer/view/shadow_draws.h"
+#include "renderer/view/shadow_views.h"
+
+using namespace omnishadow;
+
+namespace {
+
+constexpr unsigned kAllFaces = 0x3fu;
+
+unsigned faceBit(CubeFace face) {
+  return 1u << static_cast<int>(face);
+}
+
+// A point light at `position` with near 0.1 and far 100, like the shadow plan makes it.
+ShadowCullingLight pointLight(const glm::vec3& position, CullFace cullFace = CullFace::None) {
+  ShadowCullingLight light;
+  light.type = LightType::Point;
+  light.position = position;
+  light.cullFace = cullFace;
+  light.near = 0.1f;
+  light.tanHalfFov = 1.0f;
+  const glm::mat4 projection = cubeFaceProjection(light.near, 100.0f);
+  for (int face = 0; face < kCubeFaceCount; ++face)
+    light.viewProjections.push_back(projection *
+                                    cubeFaceView(static_cast<CubeFace>(face), position));
+  return light;
+}
+
+// A spot light at the origin looking down -z, outer cone 30 degrees, near 0.5, far 20.
+ShadowCullingLight spotLight() {
+  Light spot;
+  spot.type = LightType::Spot;
+  spot.direction = {0.0f, 0.0f, -1.0f};
+  spot.outerConeAngle = 0.5235988f;
+  const SpotShadowFrame frame = spotShadowFrame(spot, 0.5f, 20.0f, 512);
+  ShadowCullingLight light;
+  light.type = LightType::Spot;
+  light.position = spot.position;
+  light.near = 0.5f;
+  light.tanHalfFov = frame.tanHalfFov;
+  light.viewProjections = {frame.viewProjection};
+  return light;
+}
+
+unsigned maskOf(const ShadowCullingLight& light, const glm::vec3& center, float radius) {
+  ShadowCaster caster;
+  caster.center = center;
+  caster.radius = radius;
+  return cullCasters({caster}, light).viewMask[0];
+}
+
+}  // namespace
+
+TEST(CasterCulling, SphereInsideOneCubeFaceTouchesThatFaceOnly) {
+  const glm::vec3 at(2.0f, -1.0f, 3.0f);
+  const ShadowCullingLight light = pointLight(at);
+  EXPECT_EQ(maskOf(light, at + glm::vec3(5, 0, 0), 0.5f), faceBit(CubeFace::PosX));
+  EXPECT_EQ(maskOf(light, at + glm::vec3(-5, 0, 0), 0.5f), faceBit(CubeFace::NegX));
+  EXPECT_EQ(maskOf(light, at + glm::vec3(0, 5, 0), 0.5f), faceBit(CubeFace::PosY));
+  EXPECT_EQ(maskOf(light, at + glm::vec3(0, -5, 0), 0.5f), faceBit(CubeFace::NegY));
+  EXPECT_EQ(maskOf(light, at + glm::vec3(0, 0, 5), 0.5f), faceBit(CubeFace::PosZ));
+  EXPECT_EQ(maskOf(light, at + glm::vec3(0, 0, -5), 0.5f), faceBit(CubeFace::NegZ));
+}
+
+TEST(CasterCulling, SphereStraddlingAFaceBoundaryTouchesBothFaces) {
+  const ShadowCullingLight light = pointLight(glm::vec3(0.0f));
+  // On the plane x = z between +x and +z.
+  EXPECT_EQ(maskOf(light, {5, 0, 5}, 0.5f), faceBit(CubeFace::PosX) | faceBit(CubeFace::PosZ));
+  // On the corner direction (1, 1, 1): three faces.
+  EXPECT_EQ(maskOf(light, {5, 5, 5}, 0.5f),
+            faceBit(CubeFace::PosX) | faceBit(CubeFace::PosY) | faceBit(CubeFace::PosZ));
+}
+
+TEST(CasterCulling, SphereContainingTheLightTouchesAllSixFaces) {
+  const ShadowCullingLight light = pointLight(glm::vec3(1.0f, 2.0f, 3.0f));
+  EXPECT_EQ(maskOf(light, {1.5f, 2.0f, 3.0f}, 2.0f), kAllFaces);
+}
+
+TEST(CasterCulling, SphereOutsideTheDepthRangeTouchesNoFace) {
+  const ShadowCullingLight light = pointLight(glm::vec3(0.0f));
+  EXPECT_EQ(maskOf(light, {150, 0, 0}, 1.0f), 0u);  // beyond far = 100
+  EXPECT_EQ(maskOf(light, {0, 0, -101}, 0.5f), 0u);
+  // Tiny and closer than near = 0.1, off the light itself: between all near planes.
+  EXPECT_EQ(maskOf(light, {0.03f, 0.02f, 0.0f}, 0.001f), 0u);
+  // Just reaching across far: still drawn.
+  EXPECT_EQ(maskOf(light, {100.5f, 0, 0}, 1.0f), faceBit(CubeFace::PosX));
+}
+
+TEST(CasterCulling, SpotFrustum) {
+  const ShadowCullingLight light = spotLight();
+  EXPECT_EQ(maskOf(light, {0, 0, -5}, 0.5f), 1u);     // on the axis
+  EXPECT_EQ(maskOf(light, {0, 0, 5}, 0.5f), 0u);      // behind the light
+  EXPECT_EQ(maskOf(light, {0, 0, -0.2f}, 0.1f), 0u);  // before the near plane
+  EXPECT_EQ(maskOf(light, {0, 0, -25}, 1.0f), 0u);    // beyond far
+  EXPECT_EQ(maskOf(light, {10, 0, -5}, 0.5f), 0u);    // far outside the cone
+  EXPECT_EQ(maskOf(light, {3.2f, 0, -5}, 0.5f), 1u);  // reaching in from the cone's side
+  EXPECT_EQ(maskOf(light, {0, 0, 2.0f}, 2.7f), 1u);   // from behind, across the near plane
+}
+
+TEST(CasterCulling, PlanarViewsAreTestedEachOnTheirOwn) {
+  // Two cascades: orthographic boxes side by side along x.
+  ShadowCullingLight light;
+  light.type = LightType::Directional;
+  const glm::mat4 flip(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 0, 0, 1, 1);  // z -> 1 - z
+  const auto box = [&](float left, float right) {
+    // x in [left, right], y in [-1, 1], depth along -z from 0 to 10, reversed.
+    glm::mat4 m(1.0f);
+    m[0][0] = 2.0f / (right - left);
+    m[3][0] = -(right + left) / (right - left);
+    m[2][2] = -0.1f;
+    return flip * m;
+  };
+  light.viewProjections = {box(-2, 0), box(0, 2)};
+  EXPECT_EQ(maskOf(light, {-1, 0, -5}, 0.2f), 1u);
+  EXPECT_EQ(maskOf(light, {1, 0, -5}, 0.2f), 2u);
+  EXPECT_EQ(maskOf(light, {0, 0, -5}, 0.2f), 3u);
+  EXPECT_EQ(maskOf(light, {5, 0, -5}, 0.2f), 0u);
+  EXPECT_EQ(maskOf(light, {1, 0, -15}, 0.2f), 0u);
+}
+
+TEST(CasterCulling, BucketsFollowTheLightsCullFaceAndTheMaterial) {
+  ShadowCaster open;
+  open.center = {5, 0, 0};
+  open.radius = 1.0f;
+  EXPECT_EQ(cullBucket(open, pointLight({0, 0, 0}, CullFace::None)), CullBucket::None);
+  EXPECT_EQ(cullBucket(open, pointLight({0, 0, 0}, CullFace::Back)), CullBucket::Ccw);
+  EXPECT_EQ(cullBucket(open, pointLight({0, 0, 0}, CullFace::Front)), CullBucket::Ccw);
+  ShadowCaster mirrored = open;
+  mirrored.mirrored = true;
+  EXPECT_EQ(cullBucket(mirrored, pointLight({0, 0, 0}, CullFace::Back)), CullBucket::Cw);
+  ShadowCaster twoSided = open;
+  twoSided.doubleSided = true;
+  EXPECT_EQ(cullBucket(twoSided, pointLight({0, 0, 0}, CullFace::Back)), CullBucket::None);
+}
+
+TEST(CasterCulling, ClosedSolidsSeenFromOutsideDropTheirBackFaces) {
+  const ShadowCullingLight light = pointLight({0, 0, 0}, CullFace::None);
+  ShadowCaster solid;
+  solid.center = {5, 0, 0};
+  solid.radius = 1.0f;
+  solid.closed = true;
+  EXPECT_TRUE(seesOnlyFrontFaces(solid, light));
+  EXPECT_EQ(cullBucket(solid, light), CullBucket::Ccw);
+  solid.mirrored = true;
+  EXPECT_EQ(cullBucket(solid, light), CullBucket::Cw);
+
+  // The light inside the solid, or the near plane's corners reaching into it: both sides.
+  ShadowCaster around = solid;
+  around.center = {0.5f, 0, 0};
+  EXPECT_FALSE(seesOnlyFrontFaces(around, light));
+  ShadowCaster grazing = solid;
+  grazing.center = {1.1f, 0, 0};  // 0.1 from the light; the near corner reaches 0.1 * sqrt(3)
+  EXPECT_FALSE(seesOnlyFrontFaces(grazing, light));
+  grazing.center = {1.2f, 0, 0};
+  EXPECT_TRUE(seesOnlyFrontFaces(grazing, light));
+
+  // Alpha-tested solids have holes; a double-sided material alone does not matter.
+  ShadowCaster masked = solid;
+  masked.masked = true;
+  EXPECT_EQ(cullBucket(masked, light), CullBucket::None);
+  ShadowCaster twoSided = solid;
+  twoSided.doubleSided = true;
+  twoSided.mirrored = false;
+  EXPECT_EQ(cullBucket(twoSided, light), CullBucket::Ccw);
+
+  // Directional depth ranges hold the whole scene: always outside.
+  ShadowCullingLight sun;
+  sun.type = LightType::Directional;
+  EXPECT_TRUE(seesOnlyFrontFaces(around, sun));
+}
+
+TEST(ShadowDraws, FaceRunsAreConsecutiveSetBits) {
+  std::vector<std::pair<int, int>> runs;
+  forEachFaceRun(0b101101u, 6, [&](int first, int count) { runs.push_back({first, count}); });
+  EXPECT_EQ(runs, (std::vector<std::pair<int, int>>{{0, 1}, {2, 2}, {5, 1}}));
+  runs.clear();
+  forEachFaceRun(0b1000000u, 6, [&](int first, int count) { runs.push_back({first, count}); });
+  EXPECT_TRUE(runs.empty());  // bits beyond the views are ignored
+}
+
+TEST(ShadowDraws, BatchesPerViewBucketAndSource) {
+  std::vector<ShadowCaster> casters(4);
+  casters[2].masked = true;
+  std::vector<CasterGeometry> geometry = {
+      {30, 0, 0, -1}, {60, 30, 100, 500}, {90, 90, 200, -1}, {120, 180, 300, -1}};
+  CasterCulling culling;
+  culling.viewMask = {0b000011u, 0b000010u, 0b000001u, 0u};
+  culling.bucket = {CullBucket::Ccw, CullBucket::None, CullBucket::None, CullBucket::None};
+
+  const ShadowDrawList perView =
+      buildShadowDraws(casters, geometry, culling, 6, ShadowLayering::PerView);
+  // View 0: caster 0 (Ccw, scene vertices); view 1: caster 1 (None, world stream), caster 0.
+  ASSERT_EQ(perView.opaque.size(), 3u);
+  EXPECT_EQ(perView.opaque[0].view, 0);
+  EXPECT_EQ(perView.opaque[0].bucket, CullBucket::Ccw);
+  EXPECT_FALSE(perView.opaque[0].world);
+  EXPECT_EQ(perView.opaque[1].view, 1);
+  EXPECT_EQ(perView.opaque[1].bucket, CullBucket::None);
+  EXPECT_TRUE(perView.opaque[1].world);
+  EXPECT_EQ(perView.opaque[2].view, 1);
+  EXPECT_EQ(perView.objects, (std::vector<std::uint32_t>{0, 1, 0}));
+  EXPECT_EQ(perView.commands[1].baseVertex, 500);  // world stream copy
+  EXPECT_EQ(perView.commands[1].count, 60u);
+  EXPECT_EQ(perView.commands[1].firstIndex, 30u);
+  ASSERT_EQ(perView.masked.size(), 1u);
+  EXPECT_EQ(perView.masked[0].view, 0);
+  EXPECT_EQ(perView.masked[0].caster, 2);
+  EXPECT_EQ(perView.masked[0].instances, 1u);
+
+  const ShadowDrawList instanced =
+      buildShadowDraws(casters, geometry, culling, 6, ShadowLayering::Instanced);
+  ASSERT_EQ(instanced.commands.size(), 2u);
+  EXPECT_EQ(instanced.opaque[0].view, -1);
+  EXPECT_EQ(instanced.commands[1].instanceCount, 2u);  // caster 0 on faces 0 and 1
+  EXPECT_EQ(instanced.commands[1].baseInstance, 0u);
+  EXPECT_EQ(instanced.commands[0].instanceCount, 1u);  // caster 1 on face 1
+  EXPECT_EQ(instanced.commands[0].baseInstance, 1u);
+  ASSERT_EQ(instanced.masked.size(), 1u);
+  EXPECT_EQ(instanced.masked[0].instances, 0b000001u);
+
+  const ShadowDrawList geometryShader =
+      buildShadowDraws(casters, geometry, culling, 6, ShadowLayering::Geometry);
+  ASSERT_EQ(geometryShader.commands.size(), 2u);
+  for (const IndirectDrawCommand& c : geometryShader.commands) {
+    EXPECT_EQ(c.instanceCount, 1u);
+    EXPECT_EQ(c.baseInstance, 0u);
+  }
+}
