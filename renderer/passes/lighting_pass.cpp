@@ -1,6 +1,7 @@
 #include "renderer/passes/lighting_pass.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "renderer/core/errors.h"
 #include "renderer/gl/gl_debug.h"
@@ -52,6 +53,12 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
   return defines;
+}
+
+std::string hex(GLenum value) {
+  char text[16];
+  std::snprintf(text, sizeof text, "0x%04X", static_cast<unsigned>(value));
+  return text;
 }
 
 int attachmentsFor(PassOutputs outputs) {
@@ -151,7 +158,7 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
   const GLenum status = glCheckNamedFramebufferStatus(framebuffer_.get(), GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE)
     throw RenderError("cannot create a " + std::to_string(width) + "x" + std::to_string(height) +
-                      " framebuffer (status 0x" + std::to_string(status) + ")");
+                      " framebuffer (status " + hex(status) + ")");
 }
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {
