@@ -33,7 +33,21 @@ class ShaderProgram {
   std::string name_;
 };
 
-// The full source text a shader file expands to (for tests and error messages).
+// A shader file expanded for the driver. GLSL's `#line N S` names a source string by number,
+// not by file, so the expansion numbers its files: `files[S]` is the file of source string S,
+// the expanded file itself being 0. Every line of the text then reports its own file and line.
+struct ShaderSource {
+  std::string text;
+  std::vector<std::string> files;
+};
+ShaderSource expandShader(const std::string& file, const std::vector<std::string>& defines);
+
+// Just the text of expandShader().
 std::string expandShaderSource(const std::string& file, const std::vector<std::string>& defines);
+
+// A driver's compile log made readable: "S:L(C)" locations (Mesa's format) become
+// "file:L(C)", and a legend lists every source string number with its file for drivers that
+// write locations differently.
+std::string describeShaderLog(const std::string& log, const std::vector<std::string>& files);
 
 }  // namespace omnishadow
