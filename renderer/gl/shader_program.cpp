@@ -140,14 +140,33 @@ ShaderProgram::ShaderProgram(const std::string& vertexFile, const std::string& f
   if (!ok)
     throw RenderError("internal error: cannot link " + name_ + ":\n" +
                       infoLog(program_.get(), glGetProgramiv, glGetProgramInfoLog));
+
+  // Every active uniform once; arrays are listed as "name[0]" and set by their plain name too.
+  GLint count = 0, longest = 0;
+  glGetProgramiv(program_.get(), GL_ACTIVE_UNIFORMS, &count);
+  glGetProgramiv(program_.get(), GL_ACTIVE_UNIFORM_MAX_LENGTH, &longest);
+  std::string name(static_cast<std::size_t>(std::max(longest, 1)), '\0');
+  for (GLint i = 0; i < count; ++i) {
+    GLsizei length = 0;
+    GLint size = 0;
+    GLenum type = 0;
+    glGetActiveUniform(program_.get(), static_cast<GLuint>(i), longest, &length, &size, &type,
+                       name.data());
+    const std::string uniform = name.substr(0, static_cast<std::size_t>(length));
+    const GLint at = glGetUniformLocation(program_.get(), uniform.c_str());
+    if (at < 0) continue;  // a member of a uniform block
+    locations_.emplace(uniform, at);
+    if (uniform.ends_with("[0]")) locations_.emplace(uniform.substr(0, uniform.size() - 3), at);
+  }
 }
 
 void ShaderProgram::use() const {
   glUseProgram(program_.get());
 }
 
-GLint ShaderProgram::location(const char* uniform) const {
-  return glGetUniformLocation(program_.get(), uniform);
+GLint ShaderProgram::location(std::string_view uniform) const {
+  const auto found = locations_.find(uniform);
+  return found == locations_.end() ? -1 : found->second;
 }
 
 void ShaderProgram::set(const char* u, int v) const {
