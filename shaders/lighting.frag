@@ -15,11 +15,11 @@ in VertexData {
   vec4 color;
 } vIn;
 
-layout(binding = 0) uniform sampler2D uBaseColorTexture;
-layout(binding = 1) uniform sampler2D uMetallicRoughnessTexture;
-layout(binding = 2) uniform sampler2D uNormalTexture;
-layout(binding = 3) uniform sampler2D uOcclusionTexture;
-layout(binding = 4) uniform sampler2D uEmissiveTexture;
+layout(binding = BASE_COLOR_UNIT) uniform sampler2D uBaseColorTexture;
+layout(binding = METALLIC_ROUGHNESS_UNIT) uniform sampler2D uMetallicRoughnessTexture;
+layout(binding = NORMAL_UNIT) uniform sampler2D uNormalTexture;
+layout(binding = OCCLUSION_UNIT) uniform sampler2D uOcclusionTexture;
+layout(binding = EMISSIVE_UNIT) uniform sampler2D uEmissiveTexture;
 
 uniform vec4 uBaseColorFactor;
 uniform float uMetallicFactor;
@@ -39,9 +39,9 @@ uniform int uEmissiveTexCoord;
 
 uniform vec3 uCameraPosition;
 
-// Light clusters (renderer/light_clusters.h).
-layout(std430, binding = 4) readonly buffer ClusterRanges { uint uClusterRanges[]; };
-layout(std430, binding = 5) readonly buffer ClusterLights { uint uClusterLights[]; };
+// Light clusters (renderer/view/light_clusters.h).
+layout(std430, binding = CLUSTER_RANGES_BINDING) readonly buffer ClusterRanges { uint uClusterRanges[]; };
+layout(std430, binding = CLUSTER_LIGHTS_BINDING) readonly buffer ClusterLights { uint uClusterLights[]; };
 uniform int uTileSize;
 uniform int uTileColumns;
 uniform int uTileRows;
@@ -52,13 +52,11 @@ uniform vec4 uViewDepth;  // view depth of P: dot(uViewDepth.xyz, P) + uViewDept
 uniform int uGlobalLights;
 uniform vec3 uAmbient;
 
-// 0 = beauty; 1 shadow, 2 depth, 3 normals, 4 albedo, 5 light count (renderer/lighting_pass.h)
-uniform int uDebugView;
+uniform int uDebugView;  // DEBUG_VIEW_*: DebugView in renderer/render/render_settings.h
 uniform int uDebugLight;  // the light --debug-view depth shows
 
 layout(location = 0) out vec4 outBeauty;
 #ifdef WRITE_AOVS
-const int VISIBILITY_OUTPUTS = 5;
 layout(location = 1) out vec4 outPositionDistance;  // P.xyz, camera distance
 layout(location = 2) out vec4 outNormal;            // shading normal facing the camera
 layout(location = 3) out vec4 outVisibility[VISIBILITY_OUTPUTS];
@@ -179,11 +177,11 @@ void main() {
 #endif
   }
 
-  if (uDebugView == 1) color = vec3(shadowedLights > 0 ? shadowSum / float(shadowedLights) : 1.0);
-  if (uDebugView == 2) color = vec3(depthView);
-  if (uDebugView == 3) color = facingNormal * 0.5 + 0.5;
-  if (uDebugView == 4) color = baseColor.rgb;
-  if (uDebugView == 5) color = vec3(float(contributing) / float(max(uLightCount, 1)));
+  if (uDebugView == DEBUG_VIEW_SHADOW) color = vec3(shadowedLights > 0 ? shadowSum / float(shadowedLights) : 1.0);
+  if (uDebugView == DEBUG_VIEW_DEPTH) color = vec3(depthView);
+  if (uDebugView == DEBUG_VIEW_NORMALS) color = facingNormal * 0.5 + 0.5;
+  if (uDebugView == DEBUG_VIEW_ALBEDO) color = baseColor.rgb;
+  if (uDebugView == DEBUG_VIEW_LIGHT_COUNT) color = vec3(float(contributing) / float(max(uLightCount, 1)));
   outBeauty = vec4(color * alpha, alpha);  // premultiplied, A = coverage
 #ifdef WRITE_AOVS
   outPositionDistance = vec4(vIn.worldPosition, cameraDistance);

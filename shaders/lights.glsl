@@ -1,16 +1,5 @@
-// Punctual lights as KHR_lights_punctual defines them. Layout mirrors GpuLight in
-// renderer/lighting_pass.cpp (std430).
-const int LIGHT_POINT = 0;
-const int LIGHT_SPOT = 1;
-const int LIGHT_DIRECTIONAL = 2;
-
-const int FILTER_HARD = 0;
-const int FILTER_PCF = 1;
-const int FILTER_PCF_DISK = 2;
-const int FILTER_POISSON = 3;
-const int FILTER_PCSS = 4;
-const int FILTER_VSM = 5;
-
+// Punctual lights as KHR_lights_punctual defines them. Layout mirrors contract::GpuLight;
+// LIGHT_*, FILTER_* and the bindings come from renderer/passes/shader_contract.h.
 struct Light {
   vec4 positionRange;     // world position, range (0 = unlimited)
   vec4 directionType;     // direction the light travels, type
@@ -24,14 +13,14 @@ struct Light {
   vec4 cascadeTexel;      // directional: world size of a texel in each cascade
 };
 
-layout(std430, binding = 0) readonly buffer LightBuffer {
+layout(std430, binding = LIGHTS_BINDING) readonly buffer LightBuffer {
   Light uLights[];
 };
 uniform int uLightCount;
 
 // Spot lights: one view-projection; directional: one per cascade. Kept out of `Light` so the
 // shading loop's copy of a light stays small.
-layout(std430, binding = 3) readonly buffer ShadowViewProjections {
+layout(std430, binding = SHADOW_VIEW_PROJECTIONS_BINDING) readonly buffer ShadowViewProjections {
   mat4 uShadowViewProjections[];
 };
 

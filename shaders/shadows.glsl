@@ -1,4 +1,4 @@
-// Shadow terms of every light type from the frame's shadow atlas (renderer/shadow_atlas.h):
+// Shadow terms of every light type from the frame's shadow atlas (renderer/view/shadow_plan.h):
 // point lights in cube map arrays, spot lights and directional cascades in 2D arrays, each
 // group of lights sharing a texture. All maps store reversed depth (nearer = larger), so a
 // receiver is lit when its own depth is at least the stored one (GL_GEQUAL samplers).
@@ -9,15 +9,16 @@
 // lie in the receiver's tangent plane, so each compares against its own exact depth.
 //
 // The pass is compiled for the light types and filters the frame uses (SHADOW_CUBE,
-// SHADOW_PLANAR, SHADOW_<FILTER>, renderer/lighting_pass.cpp): llvmpipe runs both sides of
+// SHADOW_PLANAR, SHADOW_<FILTER>, renderer/passes/lighting_pass.cpp): llvmpipe runs both sides of
 // every branch with lane masks, so code for absent features would cost every pixel.
-const int MAX_SHADOW_GROUPS = 4;
-layout(binding = 8) uniform samplerCubeArrayShadow uCubeCompare[MAX_SHADOW_GROUPS];
-layout(binding = 12) uniform samplerCubeArray uCubeDepth[MAX_SHADOW_GROUPS];
-layout(binding = 16) uniform sampler2DArrayShadow uPlanarCompare[MAX_SHADOW_GROUPS];
-layout(binding = 20) uniform sampler2DArray uPlanarDepth[MAX_SHADOW_GROUPS];
-layout(binding = 24) uniform samplerCubeArray uCubeMoments[MAX_SHADOW_GROUPS];
-layout(binding = 28) uniform sampler2DArray uPlanarMoments[MAX_SHADOW_GROUPS];
+//
+// Each sampler array's first unit and MAX_SHADOW_GROUPS come from shader_contract.h.
+layout(binding = CUBE_COMPARE_UNIT) uniform samplerCubeArrayShadow uCubeCompare[MAX_SHADOW_GROUPS];
+layout(binding = CUBE_DEPTH_UNIT) uniform samplerCubeArray uCubeDepth[MAX_SHADOW_GROUPS];
+layout(binding = PLANAR_COMPARE_UNIT) uniform sampler2DArrayShadow uPlanarCompare[MAX_SHADOW_GROUPS];
+layout(binding = PLANAR_DEPTH_UNIT) uniform sampler2DArray uPlanarDepth[MAX_SHADOW_GROUPS];
+layout(binding = CUBE_MOMENTS_UNIT) uniform samplerCubeArray uCubeMoments[MAX_SHADOW_GROUPS];
+layout(binding = PLANAR_MOMENTS_UNIT) uniform sampler2DArray uPlanarMoments[MAX_SHADOW_GROUPS];
 
 uniform mat4 uCameraView;  // directional lights pick their cascade by camera view depth
 

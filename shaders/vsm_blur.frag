@@ -1,6 +1,6 @@
 // One direction of a separable Gaussian over a layer of vsm moments. Filtering the moments
 // (not depth) is what makes variance shadow maps soft without per-pixel taps when sampling.
-layout(binding = 0) uniform sampler2DArray uSource;
+layout(binding = VSM_SOURCE_UNIT) uniform sampler2DArray uSource;
 uniform int uLayer;
 uniform ivec2 uStep;     // (1, 0) or (0, 1)
 uniform int uRadius;     // taps on each side

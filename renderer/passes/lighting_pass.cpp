@@ -1,37 +1,18 @@
 #include "renderer/passes/lighting_pass.h"
 
 #include <cmath>
+#include <cstdio>
+#include <type_traits>
 
 #include "renderer/core/errors.h"
 #include "renderer/gl/gl_debug.h"
+#include "renderer/passes/shader_contract.h"
 #include "renderer/view/light_clusters.h"
 
 namespace omnishadow {
 namespace {
 
-// std430 mirror of `Light` in shaders/lights.glsl.
-struct GpuLight {
-  glm::vec4 positionRange;
-  glm::vec4 directionType;
-  glm::vec4 radianceShadow;
-  glm::vec4 spotFilter;
-  glm::vec4 shadowDepth;
-  glm::vec4 shadowBias;
-  glm::vec4 shadowSoft;
-  glm::vec4 shadowProjection;
-  glm::vec4 cascadeEnd;
-  glm::vec4 cascadeTexel;
-};
-
-static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight must match the std430 layout of Light");
-
-// Texture units of the shadow samplers (shaders/shadows.glsl), kMaxShadowGroups each.
-constexpr GLuint kCubeCompareUnit = 8;
-constexpr GLuint kCubeDepthUnit = 12;
-constexpr GLuint kPlanarCompareUnit = 16;
-constexpr GLuint kPlanarDepthUnit = 20;
-constexpr GLuint kCubeMomentsUnit = 24;
-constexpr GLuint kPlanarMomentsUnit = 28;
+using contract::GpuLight;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features) {
@@ -51,7 +32,13 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if (shading == Shading::Phong) defines.push_back("SHADING_PHONG");
   if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
-  return defines;
+  return contract::withShaderContract(std::move(defines));
+}
+
+std::string hex(GLenum value) {
+  char text[16];
+  std::snprintf(text, sizeof text, "0x%04X", static_cast<unsigned>(value));
+  return text;
 }
 
 int attachmentsFor(PassOutputs outputs) {
@@ -126,10 +113,17 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
       {"uOcclusionTexCoord", m.occlusion, m.occlusionSampler, d.occlusionTexture.texCoord},
       {"uEmissiveTexCoord", m.emissive, m.emissiveSampler, d.emissiveTexture.texCoord},
   };
-  for (GLuint unit = 0; unit < 5; ++unit) {
-    program.set(slots[unit].uniform, slots[unit].texture ? slots[unit].texCoord : -1);
-    glBindTextureUnit(unit, slots[unit].texture);
-    glBindSampler(unit, slots[unit].sampler);
+  // In unit order: slot i is unit kBaseColorUnit + i.
+  static_assert(contract::kMetallicRoughnessUnit == contract::kBaseColorUnit + 1 &&
+                contract::kNormalUnit == contract::kBaseColorUnit + 2 &&
+                contract::kOcclusionUnit == contract::kBaseColorUnit + 3 &&
+                contract::kEmissiveUnit == contract::kBaseColorUnit + 4 &&
+                contract::kMaterialUnits == 5);
+  for (int i = 0; i < contract::kMaterialUnits; ++i) {
+    const auto unit = static_cast<GLuint>(contract::kBaseColorUnit + i);
+    program.set(slots[i].uniform, slots[i].texture ? slots[i].texCoord : -1);
+    glBindTextureUnit(unit, slots[i].texture);
+    glBindSampler(unit, slots[i].sampler);
   }
 }
 
@@ -151,7 +145,7 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
   const GLenum status = glCheckNamedFramebufferStatus(framebuffer_.get(), GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE)
     throw RenderError("cannot create a " + std::to_string(width) + "x" + std::to_string(height) +
-                      " framebuffer (status 0x" + std::to_string(status) + ")");
+                      " framebuffer (status " + hex(status) + ")");
 }
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {
@@ -168,7 +162,7 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
 LightingPass::LightingPass(Shading shading, PassOutputs outputs, const LightingFeatures& features)
     : outputs_(outputs),
       program_("scene.vert", "lighting.frag", variantDefines(shading, outputs, features)),
-      depthOnly_("scene.vert", "depth_only.frag"),
+      depthOnly_("scene.vert", "depth_only.frag", contract::shaderContractDefines()),
       cubeCompare_(makeCompareSampler(false)),
       planarCompare_(makeCompareSampler(true)),
       rawDepth_(makeRawSampler(GL_NEAREST)),
@@ -182,15 +176,18 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
   for (std::size_t g = 0; g < shadowGroups.size(); ++g) {
     const ShadowGroupTextures& group = shadowGroups[g];
     const bool cube = group.key.layout == ShadowLayout::Cube;
-    const auto s = static_cast<GLuint>(slot[g] = cube ? cubeSlots++ : planarSlots++);
-    const GLuint compareUnit = (cube ? kCubeCompareUnit : kPlanarCompareUnit) + s;
-    const GLuint depthUnit = (cube ? kCubeDepthUnit : kPlanarDepthUnit) + s;
+    const int s = slot[g] = cube ? cubeSlots++ : planarSlots++;
+    const auto compareUnit =
+        static_cast<GLuint>((cube ? contract::kCubeCompareUnit : contract::kPlanarCompareUnit) + s);
+    const auto depthUnit =
+        static_cast<GLuint>((cube ? contract::kCubeDepthUnit : contract::kPlanarDepthUnit) + s);
     glBindTextureUnit(compareUnit, group.depth.get());
     glBindSampler(compareUnit, cube ? cubeCompare_.get() : planarCompare_.get());
     glBindTextureUnit(depthUnit, group.depth.get());
     glBindSampler(depthUnit, rawDepth_.get());
     if (group.moments) {
-      const GLuint momentsUnit = (cube ? kCubeMomentsUnit : kPlanarMomentsUnit) + s;
+      const auto momentsUnit = static_cast<GLuint>(
+          (cube ? contract::kCubeMomentsUnit : contract::kPlanarMomentsUnit) + s);
       glBindTextureUnit(momentsUnit, group.moments.get());
       glBindSampler(momentsUnit, moments_.get());
     }
@@ -233,10 +230,11 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
   // Blocks are bound with at least one element, even when nothing reads it.
   if (data.empty()) data.emplace_back();
   lightBuffer_.upload(data);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, lightBuffer_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kLightsBinding, lightBuffer_.get());
   if (viewProjections.empty()) viewProjections.emplace_back(1.0f);
   viewProjectionBuffer_.upload(viewProjections);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, viewProjectionBuffer_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kShadowViewProjectionsBinding,
+                   viewProjectionBuffer_.get());
 }
 
 void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
@@ -251,11 +249,13 @@ void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<Shade
     farthest = std::max(farthest,
                         glm::dot(depthRow, glm::vec4(draw.boundsCenter, 1.0f)) + draw.boundsRadius);
   LightClusters clusters = buildLightClusters(list, camera, farthest);
+  static_assert(std::is_same_v<decltype(clusters.ranges)::value_type, contract::GpuClusterIndex> &&
+                std::is_same_v<decltype(clusters.lights)::value_type, contract::GpuClusterIndex>);
   if (clusters.lights.empty()) clusters.lights.push_back(0);  // bound with at least one element
   clusterRanges_.upload(clusters.ranges);
   clusterLights_.upload(clusters.lights);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, clusterRanges_.get());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, clusterLights_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kClusterRangesBinding, clusterRanges_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kClusterLightsBinding, clusterLights_.get());
   program_.set("uTileSize", clusters.tileSize);
   program_.set("uTileColumns", clusters.columns);
   program_.set("uTileRows", clusters.rows);

@@ -2,13 +2,14 @@
 
 #include <vector>
 
-#include "renderer/view/camera.h"
 #include "renderer/gl/gl_resources.h"
-#include "renderer/passes/gpu_scene.h"
-#include "renderer/scene/light.h"
 #include "renderer/gl/shader_program.h"
+#include "renderer/passes/gpu_scene.h"
+#include "renderer/passes/shader_contract.h"
 #include "renderer/passes/shadow_textures.h"
 #include "renderer/render/render_settings.h"
+#include "renderer/scene/light.h"
+#include "renderer/view/camera.h"
 
 namespace omnishadow {
 
@@ -30,8 +31,8 @@ struct PassParameters {
   const glm::mat4* cascadeView = nullptr;
 };
 
-// How many lights one lighting pass reports visibility for (5 RGBA32F targets).
-inline constexpr int kVisibilityPerPass = 20;
+// How many lights one lighting pass reports visibility for (one per channel of RGBA32F targets).
+inline constexpr int kVisibilityPerPass = contract::kVisibilityPerPass;
 // A light as the lighting pass sees it: its description plus where its shadow map is.
 struct ShadedLight {
   const Light* light = nullptr;

@@ -4,11 +4,12 @@
 
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
+#include "renderer/passes/shader_contract.h"
 
 namespace omnishadow {
 
 VsmFilter::VsmFilter()
-    : program_("fullscreen.vert", "vsm_blur.frag"),
+    : program_("fullscreen.vert", "vsm_blur.frag", contract::shaderContractDefines()),
       framebuffer_(gl::createFramebuffer()),
       empty_(gl::createVertexArray()) {}
 
@@ -40,23 +41,24 @@ void VsmFilter::blur(const ShadowGroupTextures& group, const LightShadowPlan& pl
   program_.use();
   program_.set("uRadius", taps);
   program_.set("uSigma", std::max(0.5f, radiusTexels * 0.5f));
-  glBindSampler(0, 0);
+  constexpr auto unit = static_cast<GLuint>(contract::kVsmSourceUnit);
+  glBindSampler(unit, 0);
   const GLint horizontal = program_.location("uStep");
   for (int layer = 0; layer < plan.layerCount; ++layer) {
     glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, scratch_.get(), 0, 0);
-    glBindTextureUnit(0, view.get());
+    glBindTextureUnit(unit, view.get());
     program_.set("uLayer", layer);
     glProgramUniform2i(program_.id(), horizontal, 1, 0);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 
     glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, group.moments.get(), 0,
                                    plan.firstLayer + layer);
-    glBindTextureUnit(0, scratch_.get());
+    glBindTextureUnit(unit, scratch_.get());
     program_.set("uLayer", 0);
     glProgramUniform2i(program_.id(), horizontal, 0, 1);
     glDrawArrays(GL_TRIANGLES, 0, 3);
   }
-  glBindTextureUnit(0, 0);
+  glBindTextureUnit(unit, 0);
   gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("filtering the vsm moments of a light");

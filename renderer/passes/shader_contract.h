@@ -1,0 +1,157 @@
+#pragma once
+
+// The contract between the passes and their shaders: texture units, buffer bindings, array
+// limits, enum values and the std430 layouts both sides read. C++ is the only place these
+// numbers are written. shaderContractDefines() hands them to every program of the passes as
+// preprocessor macros, so a shader says `layout(binding = CUBE_COMPARE_UNIT)` and can never
+// drift from the unit the C++ side binds. GL-free on purpose: tests and planning code may check
+// the limits without a context.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/render/render_settings.h"
+#include "renderer/scene/light.h"
+#include "renderer/view/shadow_plan.h"
+
+namespace omnishadow::contract {
+
+// Material textures of the lighting pass, one unit per glTF texture slot.
+inline constexpr int kBaseColorUnit = 0;
+inline constexpr int kMetallicRoughnessUnit = 1;
+inline constexpr int kNormalUnit = 2;
+inline constexpr int kOcclusionUnit = 3;
+inline constexpr int kEmissiveUnit = 4;
+inline constexpr int kMaterialUnits = 5;
+
+// The moments layer the VSM blur reads (its own program, so it may reuse unit 0).
+inline constexpr int kVsmSourceUnit = 0;
+
+// Shadow sampler arrays: each takes kMaxShadowGroups consecutive units, one per group. They
+// start past the material units so the lighting pass never rebinds a material unit.
+inline constexpr int kMaxShadowGroups = omnishadow::kMaxShadowGroups;
+inline constexpr int kCubeCompareUnit = 8;
+inline constexpr int kCubeDepthUnit = kCubeCompareUnit + kMaxShadowGroups;
+inline constexpr int kPlanarCompareUnit = kCubeDepthUnit + kMaxShadowGroups;
+inline constexpr int kPlanarDepthUnit = kPlanarCompareUnit + kMaxShadowGroups;
+inline constexpr int kCubeMomentsUnit = kPlanarDepthUnit + kMaxShadowGroups;
+inline constexpr int kPlanarMomentsUnit = kCubeMomentsUnit + kMaxShadowGroups;
+static_assert(kMaterialUnits <= kCubeCompareUnit, "material and shadow units overlap");
+// llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
+static_assert(kPlanarMomentsUnit + kMaxShadowGroups <= 32, "shadow units beyond 32");
+
+// Shader storage buffer bindings. Models and DrawObjects are the shadow pass's
+// (shaders/shadow_depth.vert); the rest are the lighting pass's.
+inline constexpr int kLightsBinding = 0;
+inline constexpr int kModelsBinding = 1;
+inline constexpr int kDrawObjectsBinding = 2;
+inline constexpr int kShadowViewProjectionsBinding = 3;
+inline constexpr int kClusterRangesBinding = 4;
+inline constexpr int kClusterLightsBinding = 5;
+
+// The lighting pass reports the shadow term of this many lights per pass in RGBA targets.
+inline constexpr int kVisibilityOutputs = 5;
+inline constexpr int kVisibilityPerPass = 4 * kVisibilityOutputs;
+
+// A directional light's cascade ends and texel sizes travel as one vec4 each.
+inline constexpr int kMaxCascades = 4;
+static_assert(std::tuple_size_v<decltype(LightShadowPlan::cascadeEnd)> == kMaxCascades &&
+                  std::tuple_size_v<decltype(LightShadowPlan::cascadeTexel)> == kMaxCascades,
+              "GpuLight::cascadeEnd/cascadeTexel hold one vec4 of cascades");
+
+// std430 mirror of `Light` in shaders/lights.glsl: only vec4 members, so C++ and std430 agree
+// on every offset as long as each stays a multiple of 16. The shader indexes lights by this
+// stride; the asserts below break the build before a reordering breaks the picture.
+struct GpuLight {
+  glm::vec4 positionRange;     // world position, range (0 = unlimited)
+  glm::vec4 directionType;     // direction the light travels, LightType
+  glm::vec4 radianceShadow;    // color * intensity, shadow group slot (-1 = unshadowed)
+  glm::vec4 spotFilter;        // cone scale, cone offset, ShadowFilter, shadow resolution
+  glm::vec4 shadowDepth;       // near, far, constant bias (world), slope bias (texels)
+  glm::vec4 shadowBias;        // min bias (texels), normal bias (texels), filter radius, samples
+  glm::vec4 shadowSoft;        // source radius, vsm bleed reduction, first layer, layer count
+  glm::vec4 shadowProjection;  // spot: tan(half fov); first entry in the view projections
+  glm::vec4 cascadeEnd;        // directional: camera view depth where each cascade ends
+  glm::vec4 cascadeTexel;      // directional: world size of a texel in each cascade
+};
+static_assert(sizeof(glm::vec4) == 16 && alignof(glm::vec4) <= 16, "glm::vec4 is not a vec4");
+static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight must match the std430 layout of Light");
+static_assert(sizeof(GpuLight) % 16 == 0, "std430 arrays of Light have a 16-byte stride");
+static_assert(offsetof(GpuLight, positionRange) == 0 * 16);
+static_assert(offsetof(GpuLight, directionType) == 1 * 16);
+static_assert(offsetof(GpuLight, radianceShadow) == 2 * 16);
+static_assert(offsetof(GpuLight, spotFilter) == 3 * 16);
+static_assert(offsetof(GpuLight, shadowDepth) == 4 * 16);
+static_assert(offsetof(GpuLight, shadowBias) == 5 * 16);
+static_assert(offsetof(GpuLight, shadowSoft) == 6 * 16);
+static_assert(offsetof(GpuLight, shadowProjection) == 7 * 16);
+static_assert(offsetof(GpuLight, cascadeEnd) == 8 * 16);
+static_assert(offsetof(GpuLight, cascadeTexel) == 9 * 16);
+
+// ShadowViewProjections (shaders/lights.glsl) and Models (shaders/shadow_depth.vert) are std430
+// arrays of mat4: a 64-byte stride, column-major like glm.
+static_assert(sizeof(glm::mat4) == 64 && sizeof(glm::mat4) % 16 == 0,
+              "glm::mat4 must match a std430 mat4");
+
+// ClusterRanges and ClusterLights (shaders/lighting.frag) are std430 arrays of uint: ranges as
+// (first, count) pairs, then light indices.
+using GpuClusterIndex = std::uint32_t;
+static_assert(sizeof(GpuClusterIndex) == 4, "a GLSL uint is 4 bytes");
+
+// The numbers above as "NAME VALUE" entries for ShaderProgram's defines, plus the enum values
+// the shaders compare against (LIGHT_*, FILTER_*, DEBUG_VIEW_*).
+inline std::vector<std::string> shaderContractDefines() {
+  const auto define = [](const char* name, int value) {
+    return std::string(name) + " " + std::to_string(value);
+  };
+  const auto e = [](auto value) { return static_cast<int>(value); };
+  return {
+      define("BASE_COLOR_UNIT", kBaseColorUnit),
+      define("METALLIC_ROUGHNESS_UNIT", kMetallicRoughnessUnit),
+      define("NORMAL_UNIT", kNormalUnit),
+      define("OCCLUSION_UNIT", kOcclusionUnit),
+      define("EMISSIVE_UNIT", kEmissiveUnit),
+      define("VSM_SOURCE_UNIT", kVsmSourceUnit),
+      define("MAX_SHADOW_GROUPS", kMaxShadowGroups),
+      define("CUBE_COMPARE_UNIT", kCubeCompareUnit),
+      define("CUBE_DEPTH_UNIT", kCubeDepthUnit),
+      define("PLANAR_COMPARE_UNIT", kPlanarCompareUnit),
+      define("PLANAR_DEPTH_UNIT", kPlanarDepthUnit),
+      define("CUBE_MOMENTS_UNIT", kCubeMomentsUnit),
+      define("PLANAR_MOMENTS_UNIT", kPlanarMomentsUnit),
+      define("LIGHTS_BINDING", kLightsBinding),
+      define("MODELS_BINDING", kModelsBinding),
+      define("DRAW_OBJECTS_BINDING", kDrawObjectsBinding),
+      define("SHADOW_VIEW_PROJECTIONS_BINDING", kShadowViewProjectionsBinding),
+      define("CLUSTER_RANGES_BINDING", kClusterRangesBinding),
+      define("CLUSTER_LIGHTS_BINDING", kClusterLightsBinding),
+      define("VISIBILITY_OUTPUTS", kVisibilityOutputs),
+      define("LIGHT_POINT", e(LightType::Point)),
+      define("LIGHT_SPOT", e(LightType::Spot)),
+      define("LIGHT_DIRECTIONAL", e(LightType::Directional)),
+      define("FILTER_HARD", e(ShadowFilter::Hard)),
+      define("FILTER_PCF", e(ShadowFilter::Pcf)),
+      define("FILTER_PCF_DISK", e(ShadowFilter::PcfDisk)),
+      define("FILTER_POISSON", e(ShadowFilter::Poisson)),
+      define("FILTER_PCSS", e(ShadowFilter::Pcss)),
+      define("FILTER_VSM", e(ShadowFilter::Vsm)),
+      define("DEBUG_VIEW_NONE", e(DebugView::None)),
+      define("DEBUG_VIEW_SHADOW", e(DebugView::Shadow)),
+      define("DEBUG_VIEW_DEPTH", e(DebugView::Depth)),
+      define("DEBUG_VIEW_NORMALS", e(DebugView::Normals)),
+      define("DEBUG_VIEW_ALBEDO", e(DebugView::Albedo)),
+      define("DEBUG_VIEW_LIGHT_COUNT", e(DebugView::LightCount)),
+  };
+}
+
+// A program's own variant defines followed by the contract.
+inline std::vector<std::string> withShaderContract(std::vector<std::string> defines) {
+  for (std::string& define : shaderContractDefines()) defines.push_back(std::move(define));
+  return defines;
+}
+
+}  // namespace omnishadow::contract
