@@ -36,6 +36,7 @@ omnishadow_fuzzer(fuzz_lights
 omnishadow_fuzzer(fuzz_gltf
   tests/fuzz/fuzz_gltf.cpp
   renderer/scene/bounds.cpp
+  renderer/scene/camera_checks.cpp
   renderer/scene/gltf_accessors.cpp
   renderer/scene/gltf_context.cpp
   renderer/scene/gltf_file_safety.cpp

@@ -7,7 +7,10 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <optional>
 #include <set>
+#include <sstream>
+#include <utility>
 
+#include "renderer/scene/camera_checks.h"
 #include "renderer/scene/gltf_primitives.h"
 
 namespace omnishadow::gltf_detail {
@@ -116,6 +119,35 @@ Camera convertCamera(const Context& ctx, std::size_t nodeIndex, const glm::mat4&
   return camera;
 }
 
+std::string number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+// A broken camera does not fail the load: other viewers load such files, and a camera that is
+// never rendered from must not keep the rest of the scene from rendering (see cameraProblem()).
+// A perspective camera without a positive yfov or znear gets the default (convertCamera);
+// one whose projection would still divide by zero or overflow (orthographic xmag or ymag 0,
+// zfar <= znear) is refused by resolveCamera() if a render selects it. Both are warned about.
+void warnAboutCamera(const Context& ctx, const Camera& camera) {
+  const tinygltf::Camera& source = ctx.model.cameras[static_cast<std::size_t>(camera.index)];
+  const std::string object = at("cameras", static_cast<std::size_t>(camera.index));
+  if (!camera.orthographic) {
+    if (!(source.perspective.yfov > 0.0)) {
+      ctx.warn(object + ": perspective yfov " + number(source.perspective.yfov) +
+               " is not positive; using " + number(camera.yfov));
+    }
+    if (!(source.perspective.znear > 0.0)) {
+      ctx.warn(object + ": perspective znear " + number(source.perspective.znear) +
+               " is not positive; using " + number(camera.znear));
+    }
+  }
+  if (const std::string problem = cameraProblem(camera); !problem.empty()) {
+    ctx.warn(object + ": " + problem + "; rendering from this camera will fail");
+  }
+}
+
 bool isFinite(const glm::mat4& m) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
@@ -203,10 +235,17 @@ class SceneBuilder {
             ctx_.scene.meshes[static_cast<std::size_t>(mesh)].bounds.transformed(world));
       }
     }
-    if (node.camera >= 0) ctx_.scene.cameras.push_back(convertCamera(ctx_, nodeIndex, world));
+    if (node.camera >= 0) addCamera(nodeIndex, world);
     if (const int light = lightOf(ctx_, nodeIndex); light >= 0) {
       ctx_.scene.lights.push_back(convertLight(ctx_, light, world, lightNames_));
     }
+  }
+
+  void addCamera(std::size_t nodeIndex, const glm::mat4& world) {
+    Camera camera = convertCamera(ctx_, nodeIndex, world);
+    // Warned about once per glTF camera, however many nodes place it.
+    if (checkedCameras_.insert(camera.index).second) warnAboutCamera(ctx_, camera);
+    ctx_.scene.cameras.push_back(std::move(camera));
   }
 
   // Each glTF primitive becomes one Scene mesh however many nodes use it.
@@ -226,6 +265,7 @@ class SceneBuilder {
   Context& ctx_;
   std::vector<std::vector<int>> meshOf_;  // [glTF mesh][primitive] -> Scene::meshes index
   std::set<std::string> lightNames_;
+  std::set<int> checkedCameras_;  // glTF camera indices
 };
 
 }  // namespace
