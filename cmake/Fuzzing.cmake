@@ -36,7 +36,15 @@ omnishadow_fuzzer(fuzz_lights
 omnishadow_fuzzer(fuzz_gltf
   tests/fuzz/fuzz_gltf.cpp
   renderer/scene/bounds.cpp
+  renderer/scene/camera_checks.cpp
+  renderer/scene/gltf_accessors.cpp
+  renderer/scene/gltf_context.cpp
+  renderer/scene/gltf_file_safety.cpp
   renderer/scene/gltf_loader.cpp
+  renderer/scene/gltf_materials.cpp
+  renderer/scene/gltf_nodes.cpp
+  renderer/scene/gltf_primitives.cpp
+  renderer/scene/gltf_reader.cpp
   renderer/scene/tangents.cpp
   renderer/scene/light.cpp
   renderer/scene/lights_loader.cpp)

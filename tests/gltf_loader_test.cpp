@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -12,11 +13,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <iterator>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "renderer/core/errors.h"
+#include "renderer/scene/camera_checks.h"
 #include "scenes/builder/gltf_builder.h"
 
 namespace omnishadow {
@@ -735,6 +738,129 @@ TEST_F(GltfLoaderTest, CamerasHaveNamesIndicesAndWorldPlacement) {
   EXPECT_EQ(orthoCamera.ymag, 1.0f);
   EXPECT_EQ(orthoCamera.znear, 0.5f);
   EXPECT_EQ(orthoCamera.zfar, 50.0f);
+}
+
+// Adds a glTF orthographic camera and a root node that places it; returns the camera index.
+int addOrthographicCamera(GltfBuilder& builder, double xmag, double ymag, double znear,
+                          double zfar) {
+  tinygltf::Model& model = builder.model();
+  tinygltf::Camera camera;
+  camera.type = "orthographic";
+  camera.orthographic.xmag = xmag;
+  camera.orthographic.ymag = ymag;
+  camera.orthographic.znear = znear;
+  camera.orthographic.zfar = zfar;
+  model.cameras.push_back(camera);
+  const int index = static_cast<int>(model.cameras.size()) - 1;
+  builder.addNode("ortho" + std::to_string(index), Transform{});
+  model.nodes.back().camera = index;
+  return index;
+}
+
+TEST_F(GltfLoaderTest, BrokenCamerasLoadWithAWarningAndAreRefusedWhenRenderedFrom) {
+  GltfBuilder builder;
+  builder.addNode("triangle", Transform{}, builder.addMesh(triangleMesh()));
+  builder.addPerspectiveCamera("fine", {0, 0, 5}, {0, 0, 0}, 0.8f, 1.5f, 0.1f, 100.0f);
+  addOrthographicCamera(builder, 1.0, 0.0, 0.1, 10.0);                                 // 1
+  addOrthographicCamera(builder, 0.0, 1.0, 0.1, 10.0);                                 // 2
+  addOrthographicCamera(builder, 1.0, 1.0, 2.0, 2.0);                                  // 3
+  addOrthographicCamera(builder, 1.0, 1.0, 5.0, 1.0);                                  // 4
+  builder.addPerspectiveCamera("flat", {0, 0, 5}, {0, 0, 0}, 0.8f, 1.5f, 0.5f, 0.5f);  // 5
+  builder.addPerspectiveCamera("inside", {0, 0, 5}, {0, 0, 0}, 0.8f, 1.5f, 2.0f, 1.0f);
+  addOrthographicCamera(builder, 2.0, 1.0, 0.0, 10.0);  // 7: znear 0 is fine for these
+  const fs::path file = path("scene.gltf");
+  builder.write(file, FileFormat::GltfEmbedded);
+
+  // The file loads: its triangle and every camera are there.
+  const Scene scene = loadGltf(file);
+  EXPECT_EQ(drawnTriangles(scene), 1u);
+  ASSERT_EQ(scene.cameras.size(), 8u);
+  const std::string problems[] = {
+      "",
+      "orthographic ymag must be non-zero",
+      "orthographic xmag must be non-zero",
+      "orthographic zfar 2 must be greater than znear 2",
+      "orthographic zfar 1 must be greater than znear 5",
+      "perspective zfar 0.5 must be greater than znear 0.5",
+      "perspective zfar 1 must be greater than znear 2",
+      "",
+  };
+  for (const Camera& camera : scene.cameras) {
+    const std::string& problem = problems[camera.index];
+    const std::string object = file.string() + ": cameras[" + std::to_string(camera.index) + "]";
+    EXPECT_EQ(cameraProblem(camera), problem) << object;
+    if (problem.empty()) {
+      EXPECT_NO_THROW(checkCameraUsable(scene, camera)) << object;
+      EXPECT_FALSE(anyWarningContains(scene, object)) << object;
+      // What the projection divides by.
+      const float depth = camera.zfar - camera.znear;
+      EXPECT_TRUE(camera.orthographic
+                      ? std::isfinite(1.0f / camera.ymag) && std::isfinite(1.0f / depth) &&
+                            std::isfinite(camera.zfar / depth)
+                      : std::isfinite(1.0f / std::tan(camera.yfov * 0.5f)) &&
+                            std::isfinite(camera.znear / depth))
+          << object;
+      continue;
+    }
+    // Rendering from it fails with a one-line message naming the file and the camera...
+    EXPECT_EQ(inputError([&] { checkCameraUsable(scene, camera); }), object + ": " + problem);
+    // ...and loading it warned, once.
+    const std::string warning = object + ": " + problem + "; rendering from this camera will fail";
+    EXPECT_EQ(std::count(scene.warnings.begin(), scene.warnings.end(), warning), 1) << warning;
+  }
+}
+
+TEST_F(GltfLoaderTest, CameraValuesOutsideFloatRangeAreRefused) {
+  Scene scene;
+  scene.path = "hand-made.gltf";
+  Camera ortho;
+  ortho.index = 3;
+  ortho.orthographic = true;
+  ortho.znear = 0.0f;
+  ortho.zfar = 10.0f;
+  ortho.ymag = 1e-39f;  // 1 / ymag overflows
+  EXPECT_EQ(inputError([&] { checkCameraUsable(scene, ortho); }),
+            "hand-made.gltf: cameras[3]: orthographic ymag 1e-39 is too close to zero");
+  ortho.ymag = 1.0f;
+  ortho.zfar = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(cameraProblem(ortho), "orthographic zfar must be a finite number");
+  ortho.zfar = 1e-39f;  // greater than znear, but 1 / (zfar - znear) overflows
+  EXPECT_EQ(cameraProblem(ortho), "orthographic zfar 1e-39 must be greater than znear 0");
+
+  Camera perspective;
+  perspective.index = 0;
+  EXPECT_EQ(cameraProblem(perspective), "");  // the defaults: infinite far plane
+  perspective.yfov = 0.0f;
+  EXPECT_EQ(cameraProblem(perspective), "perspective yfov must be non-zero");
+  perspective.yfov = -1.0f;
+  EXPECT_EQ(cameraProblem(perspective), "perspective yfov must be positive");
+  perspective.yfov = 0.8f;
+  perspective.znear = 0.0f;
+  EXPECT_EQ(cameraProblem(perspective), "perspective znear must be non-zero");
+  perspective.znear = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(cameraProblem(perspective), "perspective znear must be a finite number");
+}
+
+TEST_F(GltfLoaderTest, PerspectiveCamerasWithoutPositiveYfovOrZnearGetDefaultsAndAWarning) {
+  // Written by hand: tinygltf leaves a yfov of 0 out when it writes, and then it is missing.
+  const fs::path file = path("scene.gltf");
+  std::ofstream(file) << R"({"asset": {"version": "2.0"},
+    "cameras": [{"type": "perspective", "perspective": {"yfov": 0, "znear": -1}}],
+    "nodes": [{"camera": 0}, {"camera": 0}], "scenes": [{"nodes": [0, 1]}]})";
+  const Scene scene = loadGltf(file);
+  ASSERT_EQ(scene.cameras.size(), 2u);
+  const Camera& camera = scene.cameras[0];
+  EXPECT_EQ(camera.yfov, Camera{}.yfov);
+  EXPECT_EQ(camera.znear, Camera{}.znear);
+  EXPECT_EQ(cameraProblem(camera), "");
+  // Once each, although two nodes place the camera.
+  const std::string object = file.string() + ": cameras[0]: ";
+  EXPECT_EQ(std::count(scene.warnings.begin(), scene.warnings.end(),
+                       object + "perspective yfov 0 is not positive; using 0.8"),
+            1);
+  EXPECT_EQ(std::count(scene.warnings.begin(), scene.warnings.end(),
+                       object + "perspective znear -1 is not positive; using 0.01"),
+            1);
 }
 
 TEST_F(GltfLoaderTest, KhrLightsArePlacedInWorldSpace) {

@@ -4,6 +4,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "renderer/core/errors.h"
+#include "renderer/scene/camera_checks.h"
 
 namespace omnishadow {
 namespace {
@@ -46,6 +47,13 @@ glm::mat4 lookAtChecked(const glm::vec3& eye, const glm::vec3& target, const glm
   return glm::lookAt(eye, target, up);
 }
 
+bool isFinite(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
 }  // namespace
 
 glm::mat4 reversedPerspective(float yfov, float aspect, float znear, float zfar) {
@@ -75,6 +83,10 @@ glm::mat4 reversedOrthographic(float xmag, float ymag, float znear, float zfar) 
 ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
   ViewCamera out;
   const Camera* camera = findCamera(scene, request.select);
+  // A broken glTF camera (orthographic ymag 0, zfar <= znear, ...) is refused here, when it is
+  // rendered from, and not when the file is loaded: like other viewers, the loader accepts the
+  // file (with a warning), so that its other cameras and automatic framing still work.
+  if (camera) checkCameraUsable(scene, *camera);
 
   // Image size: the camera's aspect ratio fills in the side the user did not give.
   const float aspectHint = camera ? camera->aspectRatio : 0.0f;
@@ -143,6 +155,13 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
     out.projection = reversedOrthographic(ymag * aspect, ymag, out.znear, out.zfar);
   } else {
     out.projection = reversedPerspective(yfov, aspect, out.znear, out.zfar);
+  }
+  // checkCameraUsable() rules out what makes the projection divide by zero; this catches what
+  // is left, e.g. a ymag so small that ymag * aspect underflows.
+  if (camera && !isFinite(out.projection)) {
+    throw InputError(scene.path + ": cameras[" + std::to_string(camera->index) +
+                     "]: the projection for a " + std::to_string(out.width) + "x" +
+                     std::to_string(out.height) + " image is not finite");
   }
   return out;
 }

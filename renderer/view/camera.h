@@ -40,7 +40,8 @@ inline constexpr int kDefaultHeight = 720;
 // unless --target is also given; --target turns it to look there; --up sets the roll.
 // Image size: --width/--height, else 1280x720, with the missing side following the camera's
 // aspect ratio when the glTF camera has one. Throws InputError for an unknown camera or
-// impossible overrides (eye == target, up parallel to the view direction, fov out of (0,180)).
+// impossible overrides (eye == target, up parallel to the view direction, fov out of (0,180)),
+// and for a glTF camera whose projection would not be finite (cameraProblem()).
 ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request);
 
 // Reversed-depth projections for a [0,1] clip range. zfar = 0 gives an infinite far plane.

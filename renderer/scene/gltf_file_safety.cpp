@@ -1,0 +1,202 @@
+#include "renderer/scene/gltf_file_safety.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <tuple>
+#include <utility>
+
+namespace omnishadow::gltf_detail {
+
+namespace {
+
+// Images may not exceed this many texels per side or in all: a 64k x 64k PNG is a few KB of
+// file but 16 GiB once decoded, so the header is checked before anything is allocated.
+constexpr std::uint32_t kMaxImageSide = 32768;
+constexpr std::uint64_t kMaxImageTexels = std::uint64_t{1} << 28;  // 1 GiB of RGBA8
+// Nor may a header claim more than its data can hold: stb_image allocates for the header before
+// it finds the data missing (a 400-byte JPEG can claim 16384 x 16384: 1 GiB, then decoded).
+// Deflate expands at most 1032 times, so a PNG's unfiltered rows fit in 1032 bytes per byte of
+// file; a JPEG codes each 8x8 block with at least one bit, so it holds 512 texels per byte.
+constexpr std::uint64_t kMaxPngExpansion = 1032;
+constexpr std::uint64_t kMaxJpegTexelsPerByte = 512;
+
+bool isPng(const unsigned char* b, std::size_t size) {
+  return size >= 8 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0;
+}
+bool isJpeg(const unsigned char* b, std::size_t size) {
+  return size >= 2 && b[0] == 0xFF && b[1] == 0xD8;
+}
+
+}  // namespace
+
+// glTF images are PNG or JPEG, and only those reach stb_image: its other decoders would take
+// almost any bytes for a TGA (a format without a signature) of any size.
+bool isPngOrJpeg(const unsigned char* b, std::size_t size) {
+  return isPng(b, size) || isJpeg(b, size);
+}
+
+namespace {
+
+// Width and height of the JPEG frame that stb_image decodes (stbi__decode_jpeg_header): after
+// SOI, markers may follow fill bytes (0xFF) and junk; DQT, DHT, DRI, APPn and COM segments are
+// skipped by their length; any other marker before SOF0, SOF1 or SOF2 stops stb. nullopt when
+// there is no such frame, which stb does not decode either.
+std::optional<std::pair<std::uint32_t, std::uint32_t>> jpegFrameSize(const unsigned char* b,
+                                                                     std::size_t size) {
+  auto be16 = [&](std::size_t at) { return std::uint32_t{b[at]} << 8 | b[at + 1]; };
+  constexpr int kNoMarker = 0xFF;
+  std::size_t at = 2;
+  const auto marker = [&]() -> int {
+    if (at >= size) return 0;  // stb reads zeros past the end
+    if (b[at++] != 0xFF) return kNoMarker;
+    while (at < size && b[at] == 0xFF) ++at;
+    return at < size ? b[at++] : 0;
+  };
+  int m = marker();
+  while (m != 0xC0 && m != 0xC1 && m != 0xC2) {
+    const bool skipped =
+        m == 0xC4 || m == 0xDB || m == 0xDD || (m >= 0xE0 && m <= 0xEF) || m == 0xFE;
+    if (!skipped || at + 2 > size || be16(at) < 2) return std::nullopt;
+    at += be16(at);
+    do {
+      if (at >= size) return std::nullopt;
+      m = marker();
+    } while (m == kNoMarker);
+  }
+  // Length, precision, height, width.
+  if (at + 7 > size) return std::nullopt;
+  return std::make_pair(be16(at + 5), be16(at + 3));
+}
+
+}  // namespace
+
+// Empty string when a PNG or JPEG may be decoded, else why not.
+std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
+  auto be32 = [&](std::size_t at) {
+    return std::uint32_t{bytes[at]} << 24 | std::uint32_t{bytes[at + 1]} << 16 |
+           std::uint32_t{bytes[at + 2]} << 8 | bytes[at + 3];
+  };
+  std::uint32_t width = 0, height = 0;
+  std::uint64_t rawBytes = 0;     // PNG: the unfiltered rows
+  std::uint64_t neededBytes = 0;  // the least data that can hold the image
+  std::string format;
+  if (isPng(bytes, size)) {
+    // IHDR, which stb requires first: width, height, bit depth, color type. Shorter files and
+    // other color types fail in stb before it allocates.
+    if (size < 29) return {};
+    const unsigned depth = bytes[24], colorType = bytes[25];
+    const std::uint64_t channels = colorType == 0 || colorType == 3 ? 1
+                                   : colorType == 4                 ? 2
+                                   : colorType == 2                 ? 3
+                                   : colorType == 6                 ? 4
+                                                                    : 0;
+    if (channels == 0) return {};
+    width = be32(16);
+    height = be32(20);
+    rawBytes = (1 + (std::uint64_t{width} * channels * depth + 7) / 8) * height;
+    neededBytes = (rawBytes + kMaxPngExpansion - 1) / kMaxPngExpansion;
+    format = "PNG";
+  } else if (isJpeg(bytes, size)) {
+    const auto frame = jpegFrameSize(bytes, size);
+    if (!frame) return "no JPEG frame header that can be decoded";
+    std::tie(width, height) = *frame;
+    neededBytes =
+        (std::uint64_t{width} * height + kMaxJpegTexelsPerByte - 1) / kMaxJpegTexelsPerByte;
+    format = "JPEG";
+  } else {
+    return {};
+  }
+  const std::string texels = std::to_string(width) + "x" + std::to_string(height) + " texels";
+  if (width > kMaxImageSide || height > kMaxImageSide ||
+      std::uint64_t{width} * height > kMaxImageTexels) {
+    return texels + " is too large (at most " + std::to_string(kMaxImageSide) + " per side and " +
+           std::to_string(kMaxImageTexels) + " in all)";
+  }
+  // stb sizes its buffer for a PNG's rows with an int (16-bit RGBA at the limit overflows it).
+  if (rawBytes > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
+    return texels + " of " + std::to_string(bytes[24]) + "-bit channels is too large";
+  }
+  if (neededBytes > size) {
+    return texels + " cannot be in " + std::to_string(size) + " bytes of " + format +
+           " (at least " + std::to_string(neededBytes) + " needed)";
+  }
+  // Every PNG chunk up to IEND must lie within the data: stb reserves memory for an IDAT
+  // chunk's declared length before reading it (a 70-byte PNG from the fuzzer declared 1 GiB).
+  for (std::size_t at = 8; format == "PNG";) {
+    if (size - at < 12 || be32(at) > size - at - 12) {
+      return "a PNG chunk at byte " + std::to_string(at) + " extends past the end of the " +
+             std::to_string(size) + " bytes";
+    }
+    if (std::memcmp(bytes + at + 4, "IEND", 4) == 0) break;
+    at += 12 + std::size_t{be32(at)};
+  }
+  return {};
+}
+
+// tinygltf 2.7 hands an image stored in a bufferView to the decoder without checking that the
+// view lies inside its buffer, so a broken file could make stb read past the end. Those images
+// are skipped here and decoded by convertImages() after the bounds check; images from URIs
+// (bytes tinygltf read itself) are decoded as usual.
+bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
+                    int width, int height, const unsigned char* bytes, int size, void*) {
+  if (image->bufferView >= 0) return true;
+  const auto length = static_cast<std::size_t>(std::max(size, 0));
+  if (!isPngOrJpeg(bytes, length)) {
+    // Worded like tinygltf's message for data stb cannot decode.
+    if (error) {
+      *error += "Unknown image format for image[" + std::to_string(index) +
+                "]: glTF images are PNG or JPEG\n";
+    }
+    return false;
+  }
+  if (const std::string why = imageTooLarge(bytes, length); !why.empty()) {
+    if (error) *error += "images[" + std::to_string(index) + "]: " + why + "\n";
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, error, warning, width, height, bytes, size, nullptr);
+}
+
+namespace {
+
+// Records why `filepath` may not be read, or returns true.
+bool permitted(UriPolicy& policy, const std::string& filepath) {
+  namespace fs = std::filesystem;
+  if (filepath.find("://") != std::string::npos) {
+    policy.violation =
+        "\"" + filepath + "\": only data: URIs and relative file paths are supported";
+    return false;
+  }
+  if (policy.allowExternal) return true;
+  std::error_code ec;
+  const fs::path resolved = fs::weakly_canonical(fs::absolute(filepath), ec);
+  const fs::path relative = resolved.lexically_relative(policy.folder);
+  if (!ec && !relative.empty() && *relative.begin() != "..") return true;
+  policy.violation =
+      "\"" + filepath + "\" is outside the scene's folder; pass --allow-external-uris to read it";
+  return false;
+}
+
+}  // namespace
+
+// tinygltf looks for a URI beside the scene and then in the working directory; both lookups
+// and the read itself go through the policy.
+bool existsWithinFolder(const std::string& filepath, void* user) {
+  auto* policy = static_cast<UriPolicy*>(user);
+  if (!tinygltf::FileExists(filepath, nullptr)) return false;
+  return permitted(*policy, filepath);
+}
+
+bool readWithinFolder(std::vector<unsigned char>* out, std::string* error,
+                      const std::string& filepath, void* user) {
+  auto* policy = static_cast<UriPolicy*>(user);
+  if (!permitted(*policy, filepath)) {
+    if (error) *error = policy->violation;
+    return false;
+  }
+  return tinygltf::ReadWholeFile(out, error, filepath, nullptr);
+}
+
+}  // namespace omnishadow::gltf_detail

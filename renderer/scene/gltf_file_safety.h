@@ -1,0 +1,40 @@
+// Internal to the scene library: what the glTF loader lets a file make it read and decode.
+#pragma once
+
+#include <tiny_gltf.h>
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace omnishadow::gltf_detail {
+
+// glTF images are PNG or JPEG, and only those reach stb_image: its other decoders would take
+// almost any bytes for a TGA (a format without a signature) of any size.
+bool isPngOrJpeg(const unsigned char* b, std::size_t size);
+
+// Empty string when a PNG or JPEG may be decoded, else why not.
+std::string imageTooLarge(const unsigned char* bytes, std::size_t size);
+
+// tinygltf's image loader (TinyGLTF::SetImageLoader): decodes images read from URIs after the
+// checks above and leaves those in bufferViews to the loader, which checks their bounds first.
+bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
+                    int width, int height, const unsigned char* bytes, int size, void*);
+
+// Where external files may come from: the scene's folder (and below), unless the user allows
+// any path. Files a .gltf names are read only through this check, so a downloaded scene cannot
+// make the renderer read /etc/passwd or ../../secrets into a texture.
+struct UriPolicy {
+  std::filesystem::path folder;  // canonical
+  bool allowExternal = false;
+  std::string violation;  // the first refused path, for the error message
+};
+
+// tinygltf's file callbacks (FsCallbacks::FileExists and ReadWholeFile), with a UriPolicy as
+// their user data: external files are looked up and read only where the policy permits.
+bool existsWithinFolder(const std::string& filepath, void* user);
+bool readWithinFolder(std::vector<unsigned char>* out, std::string* error,
+                      const std::string& filepath, void* user);
+
+}  // namespace omnishadow::gltf_detail

@@ -1,0 +1,183 @@
+#include "renderer/scene/gltf_materials.h"
+
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "renderer/scene/gltf_accessors.h"
+#include "renderer/scene/gltf_file_safety.h"
+
+namespace omnishadow::gltf_detail {
+
+namespace {
+
+// Decodes an image stored in a bufferView (see decodeUriImage) into a copy of its description.
+tinygltf::Image decodeBufferViewImage(const Context& ctx, std::size_t index,
+                                      const std::string& object) {
+  const tinygltf::Image& source = ctx.model.images[index];
+  std::size_t length = 0;
+  const unsigned char* bytes = bufferViewData(ctx, object, source.bufferView, &length);
+  if (length == 0 || length > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    ctx.fail(object, "bufferView " + std::to_string(source.bufferView) + " has " +
+                         std::to_string(length) + " bytes");
+  }
+  if (!isPngOrJpeg(bytes, length)) {
+    ctx.fail(object, "unknown image format: glTF images are PNG or JPEG");
+  }
+  if (const std::string why = imageTooLarge(bytes, length); !why.empty()) ctx.fail(object, why);
+  tinygltf::Image decoded = source;
+  std::string error, warning;
+  if (!tinygltf::LoadImageData(&decoded, static_cast<int>(index), &error, &warning, 0, 0, bytes,
+                               static_cast<int>(length), nullptr)) {
+    const std::vector<std::string> lines = nonEmptyLines(error);
+    ctx.fail(object, lines.empty() ? "cannot decode the image data" : lines.front());
+  }
+  return decoded;
+}
+
+// Any channel count (1 = gray, 2 = gray + alpha) and 8 or 16 bits to RGBA8.
+std::vector<std::uint8_t> toRgba8(const Context& ctx, const tinygltf::Image& decoded,
+                                  const std::string& object) {
+  const auto pixels =
+      static_cast<std::size_t>(decoded.width) * static_cast<std::size_t>(decoded.height);
+  const int channels = decoded.component;
+  const int bytes = decoded.bits / 8;
+  if (channels < 1 || channels > 4 || (decoded.bits != 8 && decoded.bits != 16) ||
+      decoded.image.size() < pixels * static_cast<std::size_t>(channels * bytes)) {
+    ctx.fail(object, "unsupported pixel format (" + std::to_string(channels) + " channels, " +
+                         std::to_string(decoded.bits) + " bits)");
+  }
+  const unsigned char* data = decoded.image.data();
+  const auto sample = [&](std::size_t index) -> std::uint8_t {
+    if (bytes == 1) return data[index];
+    std::uint16_t value;
+    std::memcpy(&value, data + 2 * index, 2);
+    return static_cast<std::uint8_t>((value * 255u + 32767u) / 65535u);
+  };
+  std::vector<std::uint8_t> rgba(pixels * 4);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    const std::size_t in = p * static_cast<std::size_t>(channels);
+    std::uint8_t* out = &rgba[p * 4];
+    const bool gray = channels <= 2;
+    out[0] = sample(in);
+    out[1] = gray ? out[0] : sample(in + 1);
+    out[2] = gray ? out[0] : sample(in + 2);
+    out[3] = channels == 2 ? sample(in + 1) : channels == 4 ? sample(in + 3) : 255;
+  }
+  return rgba;
+}
+
+}  // namespace
+
+void convertImages(Context& ctx) {
+  for (std::size_t i = 0; i < ctx.model.images.size(); ++i) {
+    const tinygltf::Image& source = ctx.model.images[i];
+    const bool externalFile = !source.uri.empty() && !tinygltf::IsDataURI(source.uri);
+    Image image;
+    image.name = !source.name.empty() ? source.name
+                 : externalFile       ? source.uri
+                                      : "image" + std::to_string(i);
+    const std::string object = at("images", i) + " \"" + image.name + "\"";
+    tinygltf::Image fromBufferView;
+    if (source.bufferView >= 0) fromBufferView = decodeBufferViewImage(ctx, i, object);
+    const tinygltf::Image& decoded = source.bufferView >= 0 ? fromBufferView : source;
+    if (decoded.image.empty() || decoded.width <= 0 || decoded.height <= 0) {
+      // tinygltf only warns when an external image is missing or undecodable.
+      ctx.fail(object, externalFile ? "cannot read or decode " + source.uri
+                                    : "cannot decode the image data");
+    }
+    image.width = decoded.width;
+    image.height = decoded.height;
+    image.rgba = toRgba8(ctx, decoded, object);
+    ctx.scene.images.push_back(std::move(image));
+  }
+}
+
+void convertTextures(Context& ctx) {
+  const SamplerDesc defaults;
+  for (std::size_t i = 0; i < ctx.model.textures.size(); ++i) {
+    const tinygltf::Texture& source = ctx.model.textures[i];
+    const std::string object = at("textures", i);
+    Texture texture;
+    if (source.source >= 0) {
+      ctx.checkIndex(object, "image", source.source, ctx.model.images.size());
+      texture.image = source.source;
+    } else {
+      // Images in formats we do not read come through extensions (KTX2, WebP).
+      ctx.warn(object + ": no image in a supported format; the texture is ignored");
+    }
+    if (source.sampler >= 0) {
+      ctx.checkIndex(object, "sampler", source.sampler, ctx.model.samplers.size());
+      const tinygltf::Sampler& sampler =
+          ctx.model.samplers[static_cast<std::size_t>(source.sampler)];
+      texture.sampler.magFilter = sampler.magFilter >= 0 ? sampler.magFilter : defaults.magFilter;
+      texture.sampler.minFilter = sampler.minFilter >= 0 ? sampler.minFilter : defaults.minFilter;
+      texture.sampler.wrapS = sampler.wrapS;
+      texture.sampler.wrapT = sampler.wrapT;
+    }
+    ctx.scene.textures.push_back(texture);
+  }
+}
+
+namespace {
+
+// NormalTextureInfo, OcclusionTextureInfo and TextureInfo share these fields but no base class.
+template <typename Info>
+TextureSlot textureSlot(const Context& ctx, const std::string& object, const Info& info) {
+  if (info.index < 0) return {};
+  ctx.checkIndex(object, "texture", info.index, ctx.model.textures.size());
+  if (info.texCoord < 0 || info.texCoord > 1) {
+    ctx.warn(object + ": TEXCOORD_" + std::to_string(info.texCoord) +
+             " is not supported; the texture is ignored");
+    return {};
+  }
+  if (ctx.scene.textures[static_cast<std::size_t>(info.index)].image < 0) return {};
+  return {info.index, info.texCoord};
+}
+
+}  // namespace
+
+void convertMaterials(Context& ctx) {
+  for (std::size_t i = 0; i < ctx.model.materials.size(); ++i) {
+    const tinygltf::Material& source = ctx.model.materials[i];
+    const std::string object = at("materials", i);
+    const tinygltf::PbrMetallicRoughness& pbr = source.pbrMetallicRoughness;
+    Material material;
+    material.name = source.name;
+    material.baseColorFactor = factor<4>(pbr.baseColorFactor, material.baseColorFactor);
+    material.baseColorTexture =
+        textureSlot(ctx, object + ".baseColorTexture", pbr.baseColorTexture);
+    material.metallicFactor = static_cast<float>(pbr.metallicFactor);
+    material.roughnessFactor = static_cast<float>(pbr.roughnessFactor);
+    material.metallicRoughnessTexture =
+        textureSlot(ctx, object + ".metallicRoughnessTexture", pbr.metallicRoughnessTexture);
+    material.normalTexture = textureSlot(ctx, object + ".normalTexture", source.normalTexture);
+    material.normalScale = static_cast<float>(source.normalTexture.scale);
+    material.occlusionTexture =
+        textureSlot(ctx, object + ".occlusionTexture", source.occlusionTexture);
+    material.occlusionStrength = static_cast<float>(source.occlusionTexture.strength);
+    material.emissiveFactor = factor<3>(source.emissiveFactor, material.emissiveFactor);
+    material.emissiveTexture =
+        textureSlot(ctx, object + ".emissiveTexture", source.emissiveTexture);
+    const auto strength = source.extensions.find("KHR_materials_emissive_strength");
+    if (strength != source.extensions.end() && strength->second.IsObject() &&
+        strength->second.Get("emissiveStrength").IsNumber()) {
+      material.emissiveStrength =
+          static_cast<float>(strength->second.Get("emissiveStrength").GetNumberAsDouble());
+    }
+    if (source.alphaMode == "MASK") {
+      material.alphaMode = AlphaMode::Mask;
+    } else if (source.alphaMode == "BLEND") {
+      material.alphaMode = AlphaMode::Blend;
+    } else if (source.alphaMode != "OPAQUE" && !source.alphaMode.empty()) {
+      ctx.warn(object + ": unknown alphaMode \"" + source.alphaMode + "\"; using OPAQUE");
+    }
+    material.alphaCutoff = static_cast<float>(source.alphaCutoff);
+    material.doubleSided = source.doubleSided;
+    ctx.scene.materials.push_back(std::move(material));
+  }
+}
+
+}  // namespace omnishadow::gltf_detail

@@ -1,0 +1,17 @@
+// Internal to the scene library: glTF mesh primitives to Scene meshes.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+
+#include "renderer/scene/gltf_context.h"
+
+namespace omnishadow::gltf_detail {
+
+// meshes[meshIndex].primitives[primIndex] as a triangle list with normals (generated when
+// missing) and tangents (generated for normal-mapped materials); nullopt, with a warning, for
+// primitives that are not drawn (points, lines, no or non-finite POSITION). Materials must have
+// been converted.
+std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::size_t primIndex);
+
+}  // namespace omnishadow::gltf_detail

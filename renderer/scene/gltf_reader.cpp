@@ -1,0 +1,202 @@
+#include "renderer/scene/gltf_reader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <string_view>
+
+#include "renderer/core/errors.h"
+#include "renderer/scene/gltf_context.h"
+#include "renderer/scene/gltf_file_safety.h"
+
+namespace omnishadow::gltf_detail {
+
+namespace {
+
+// -----------------------------------------------------------------------------------------------
+// The .glb container
+
+constexpr std::uint32_t kGlbJsonChunk = 0x4E4F534A;  // "JSON", little-endian
+constexpr std::uint32_t kGlbBinChunk = 0x004E4942;   // "BIN\0"
+
+std::uint32_t le32(const unsigned char* b) {
+  return std::uint32_t{b[0]} | std::uint32_t{b[1]} << 8 | std::uint32_t{b[2]} << 16 |
+         std::uint32_t{b[3]} << 24;
+}
+
+// The bytes as text where they are printable, else as \xNN, for messages.
+std::string printable(const unsigned char* bytes, std::size_t size) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string text;
+  for (std::size_t i = 0; i < size; ++i) {
+    const unsigned char c = bytes[i];
+    if (c >= 0x20 && c < 0x7F && c != '"' && c != '\\') {
+      text += static_cast<char>(c);
+    } else {
+      text += std::string("\\x") + kHex[c >> 4] + kHex[c & 15];
+    }
+  }
+  return text;
+}
+
+// tinygltf says "Invalid glTF binary." for any broken header or chunk length; this says which
+// field is wrong and where, from the 12-byte header and the 8-byte chunk headers alone.
+void checkGlbLayout(std::ifstream& in, const std::string& file, std::uint64_t fileSize) {
+  const auto fail = [&](const std::string& problem) { throw InputError(file + ": " + problem); };
+  if (fileSize < 12) {
+    fail("truncated .glb: " + std::to_string(fileSize) + " bytes, less than the 12-byte header");
+  }
+  unsigned char header[12];
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(header), sizeof header)) {
+    fail(std::string("cannot read glTF file: ") + std::strerror(errno));
+  }
+  const std::uint32_t version = le32(header + 4), length = le32(header + 8);
+  if (version != 2) {
+    fail("GLB header: version " + std::to_string(version) + " is not supported (expected 2)");
+  }
+  if (length > fileSize) {
+    fail("GLB header: length " + std::to_string(length) + " is more than the file's " +
+         std::to_string(fileSize) + " bytes (truncated file?)");
+  }
+  std::uint64_t at = 12;
+  for (int index = 0; at < length; ++index) {
+    const std::string chunk = "GLB chunk " + std::to_string(index);
+    const std::string where = " at byte " + std::to_string(at);
+    if (length - at < 8) fail(chunk + where + ": truncated chunk header");
+    unsigned char chunkHeader[8];
+    in.seekg(static_cast<std::streamoff>(at));
+    if (!in.read(reinterpret_cast<char*>(chunkHeader), sizeof chunkHeader)) {
+      fail(std::string("cannot read glTF file: ") + std::strerror(errno));
+    }
+    const std::uint32_t chunkLength = le32(chunkHeader), type = le32(chunkHeader + 4);
+    const std::string name = (type == kGlbJsonChunk  ? chunk + " (JSON)"
+                              : type == kGlbBinChunk ? chunk + " (BIN)"
+                                                     : chunk) +
+                             where;
+    if (index == 0 && type != kGlbJsonChunk) {
+      fail(name + ": type \"" + printable(chunkHeader + 4, 4) +
+           "\", but the first chunk must be JSON");
+    }
+    if (chunkLength > length - at - 8) {
+      fail(name + ": length " + std::to_string(chunkLength) + " extends past the end of the " +
+           std::to_string(length) + " bytes of the file");
+    }
+    at += 8 + std::uint64_t{chunkLength};
+  }
+  if (length <= 12) fail("GLB: no JSON chunk");
+}
+
+// tinygltf stops at the first buffer or bufferView it cannot use without saying which one. It
+// appends every one it has parsed before going on to the next, so the number parsed so far is
+// the index of the one that failed.
+std::string locateParseError(const tinygltf::Model& model, const std::string& message) {
+  static constexpr std::string_view kNotFound = "File not found : ";
+  if (message.starts_with(kNotFound)) {
+    return at("buffers", model.buffers.size()) + ": uri \"" + message.substr(kNotFound.size()) +
+           "\": no such file";
+  }
+  static constexpr std::string_view kBufferErrors[] = {"File read error",
+                                                       "File is empty",
+                                                       "File size mismatch",
+                                                       "Failed to decode 'uri'",
+                                                       "Invalid binary data in `Buffer'",
+                                                       "'uri' is missing"};
+  for (std::string_view prefix : kBufferErrors) {
+    if (message.starts_with(prefix)) return at("buffers", model.buffers.size()) + ": " + message;
+  }
+  if (message.starts_with("Invalid `byteStride' value")) {
+    return at("bufferViews", model.bufferViews.size()) + ": byteStride " +
+           message.substr(message.rfind(' ') + 1) + " is not a multiple of 4 from 4 to 252";
+  }
+  return message;
+}
+
+bool hasGlbExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".glb";
+}
+
+}  // namespace
+
+tinygltf::Model readModel(const std::filesystem::path& path, const std::string& file,
+                          std::vector<std::string>& warnings, bool* isBinary,
+                          bool allowExternalUris) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) {
+    throw InputError(file + ": cannot read glTF file: no such file");
+  }
+  if (std::filesystem::is_directory(status)) {
+    throw InputError(file + ": cannot read glTF file: is a directory");
+  }
+  unsigned char magic[4] = {};
+  // Decided by content, not by extension: some tools write .glb data under a .gltf name.
+  bool binary = false;
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(file + ": cannot read glTF file: " + std::strerror(errno));
+    in.read(reinterpret_cast<char*>(magic), sizeof magic);
+    const auto got = static_cast<std::size_t>(in.gcount());
+    const std::uint64_t size = std::filesystem::file_size(path, ec);
+    binary = got == 4 && std::memcmp(magic, "glTF", 4) == 0;
+    if (binary) {
+      in.clear();
+      checkGlbLayout(in, file, ec ? 0 : size);
+    } else if (hasGlbExtension(path)) {
+      // JSON under a .glb name is read as such; anything else would only give a JSON syntax
+      // error about what is really a broken binary header.
+      std::size_t first = 0;
+      while (first < got && std::isspace(magic[first])) ++first;
+      if (first == got || magic[first] != '{') {
+        throw InputError(file + ": not a binary glTF: it starts with \"" + printable(magic, got) +
+                         "\", not the magic \"glTF\"");
+      }
+    }
+  }
+  *isBinary = binary;
+
+  tinygltf::TinyGLTF reader;
+  reader.SetImageLoader(decodeUriImage, nullptr);
+  UriPolicy policy{std::filesystem::weakly_canonical(std::filesystem::absolute(path)).parent_path(),
+                   allowExternalUris,
+                   {}};
+  tinygltf::FsCallbacks files{&existsWithinFolder, &tinygltf::ExpandFilePath, &readWithinFolder,
+                              &tinygltf::WriteWholeFile, &policy};
+  reader.SetFsCallbacks(files);
+  tinygltf::Model model;
+  std::string error, warning;
+  bool ok = false;
+  try {
+    ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path.string())
+                : reader.LoadASCIIFromFile(&model, &error, &warning, path.string());
+  } catch (const std::exception& e) {
+    throw InputError(file + ": " + e.what());
+  }
+  // tinygltf tolerates an image it could not read; a refused file is an error all the same.
+  if (!policy.violation.empty()) throw InputError(file + ": uri " + policy.violation);
+  if (!ok) {
+    std::vector<std::string> lines = nonEmptyLines(error);
+    if (lines.empty()) lines = nonEmptyLines(warning);
+    throw InputError(
+        file + ": " +
+        (lines.empty() ? "not a valid glTF file" : locateParseError(model, lines.front())));
+  }
+  // On success tinygltf's error text only holds tolerated oddities, so it is a warning too.
+  // tinygltf repeats a message for every object it applies to; once each is enough.
+  std::set<std::string> seen;
+  for (const std::string* text : {&error, &warning}) {
+    for (const std::string& line : nonEmptyLines(*text)) {
+      if (seen.insert(line).second) warnings.push_back(file + ": " + line);
+    }
+  }
+  return model;
+}
+
+}  // namespace omnishadow::gltf_detail
