@@ -6,12 +6,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "renderer/core/errors.h"
 #include "renderer/output/depth_dump.h"
 #include "renderer/output/display_transform.h"
-#include "renderer/core/errors.h"
+#include "renderer/output/output_transaction.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/lights_loader.h"
-#include "renderer/output/output_transaction.h"
 
 namespace fs = std::filesystem;
 

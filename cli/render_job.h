@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "renderer/view/camera.h"
-#include "renderer/scene/light.h"
-#include "renderer/render/renderer.h"
-#include "renderer/scene/scene.h"
 #include "renderer/core/stage_timer.h"
+#include "renderer/render/renderer.h"
+#include "renderer/scene/light.h"
+#include "renderer/scene/scene.h"
+#include "renderer/view/camera.h"
 
 namespace omnishadow::cli {
 

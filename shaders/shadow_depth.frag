@@ -3,7 +3,7 @@
 // cut-out shadows. With MOMENTS (vsm lights) the first two moments of the receiver metric go to
 // a color layer: distance / far for point and spot lights, linear depth for directional ones.
 #ifdef ALPHA_MASK
-layout(binding = 0) uniform sampler2D uBaseColorTexture;
+layout(binding = BASE_COLOR_UNIT) uniform sampler2D uBaseColorTexture;
 uniform vec4 uBaseColorFactor;
 uniform int uHasBaseColorTexture;
 uniform int uBaseColorTexCoord;

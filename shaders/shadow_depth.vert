@@ -11,8 +11,8 @@
 #endif
 #include "scene_vertex.glsl"
 
-layout(std430, binding = 1) readonly buffer Models { mat4 uModels[]; };
-layout(std430, binding = 2) readonly buffer DrawObjects { uint uDrawObjects[]; };
+layout(std430, binding = MODELS_BINDING) readonly buffer Models { mat4 uModels[]; };
+layout(std430, binding = DRAW_OBJECTS_BINDING) readonly buffer DrawObjects { uint uDrawObjects[]; };
 
 uniform int uObject;    // >= 0: a single draw of this object; else uDrawObjects per draw
 uniform int uDrawBase;  // multi-draw: the call's first entry in uDrawObjects

@@ -12,12 +12,12 @@
 #include <memory>
 #include <random>
 
+#include "renderer/core/errors.h"
+#include "renderer/render/renderer.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/verify/shadow_verification.h"
 #include "renderer/view/camera.h"
 #include "renderer/view/cube_faces.h"
-#include "renderer/core/errors.h"
-#include "renderer/scene/gltf_loader.h"
-#include "renderer/render/renderer.h"
-#include "renderer/verify/shadow_verification.h"
 #include "renderer/view/shadow_plan.h"
 #include "scenes/builder/gltf_builder.h"
 

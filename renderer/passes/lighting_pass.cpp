@@ -6,6 +6,7 @@
 
 #include "renderer/core/errors.h"
 #include "renderer/gl/gl_debug.h"
+#include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/view/light_clusters.h"
 
@@ -276,13 +277,10 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
                             : mode == AlphaMode::Mask ? DrawSet::Masked
                                                       : DrawSet::Blended;
     if (drawSet != set) continue;
-    if (material.desc.doubleSided) {
-      glDisable(GL_CULL_FACE);
-    } else {
-      glEnable(GL_CULL_FACE);
-      glCullFace(GL_BACK);
-    }
-    glFrontFace(draw.mirrored ? GL_CW : GL_CCW);
+    // A mirrored transform turns the winding around, so front faces are the clockwise ones.
+    gl::CullState{!material.desc.doubleSided, GL_BACK,
+                  static_cast<GLenum>(draw.mirrored ? GL_CW : GL_CCW)}
+        .apply();
     program.set("uModel", draw.world);
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
     if (lighting) {
@@ -306,7 +304,6 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
                           const glm::vec3& ambient, FrameTargets& targets,
                           const PassParameters& parameters) {
   glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
-  glViewport(0, 0, targets.width(), targets.height());
   // Background: no coverage, lit (visibility 1), no object or material (id -1).
   const float zero[4] = {0, 0, 0, 0};
   const float lit[4] = {1, 1, 1, 1};
@@ -337,42 +334,41 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   uploadClusters(scene, lights, camera);
   glBindVertexArray(scene.vertexArray());
 
-  glEnable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
   // Depth of the opaque surfaces first, so the expensive shading runs once per pixel instead
   // of once per overlapping surface. Then opaque surfaces shade where their depth is the
   // pre-pass's (no depth writes: early depth tests stay on), masked ones test and write as usual.
-  glDepthFunc(GL_GREATER);
-  glDepthMask(GL_TRUE);
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  gl::RasterState state;
+  state.viewport = {0, 0, targets.width(), targets.height()};
+  state.color.rgba = {false, false, false, false};
+  state.apply();
   depthOnly_.use();
   depthOnly_.set("uViewProjection", camera.projection * camera.view);
   drawScene(scene, DrawSet::Opaque, depthOnly_);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  state.color.rgba = {true, true, true, true};
+  state.depth.func = GL_GEQUAL;
+  state.depth.write = false;
+  state.apply();
   program_.use();
-  glDepthFunc(GL_GEQUAL);
-  glDepthMask(GL_FALSE);
   drawScene(scene, DrawSet::Opaque, program_);
-  glDepthFunc(GL_GREATER);
-  glDepthMask(GL_TRUE);
+  state.depth = gl::DepthState{};
+  state.depth.apply();
   drawScene(scene, DrawSet::Masked, program_);
 
   // Blended surfaces over the opaque frame, unsorted; the AOVs keep the opaque surfaces.
   if (outputs_ == PassOutputs::Layers) {
+    gl::RasterState::restoreDefaults();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     gl::checkErrors("a layer pass");
     return;
   }
-  glDepthMask(GL_FALSE);
-  glEnablei(GL_BLEND, 0);
-  glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-  for (int i = 1; i < targets.attachmentCount(); ++i)
-    glColorMaski(static_cast<GLuint>(i), GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  state.depth.write = false;
+  state.blend.buffers = 1u;  // premultiplied "over" into the beauty only
+  state.blend.sourceColor = state.blend.sourceAlpha = GL_ONE;
+  state.blend.destinationColor = state.blend.destinationAlpha = GL_ONE_MINUS_SRC_ALPHA;
+  for (int i = 1; i < targets.attachmentCount(); ++i) state.color.offBuffers |= 1u << i;
+  state.apply();
   drawScene(scene, DrawSet::Blended, program_);
-  for (int i = 1; i < targets.attachmentCount(); ++i)
-    glColorMaski(static_cast<GLuint>(i), GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glDisablei(GL_BLEND, 0);
-  glDepthMask(GL_TRUE);
+  gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the lighting pass");
 }

@@ -154,8 +154,8 @@ bool sameShadowMap(const Light& before, const LightShadowPlan& planBefore, const
 }  // namespace
 
 void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, const Scene& scene,
-                                   const std::vector<Light>& lights,
-                                   const RenderSettings& settings, bool useCache, Frame* frame) {
+                                   const std::vector<Light>& lights, const RenderSettings& settings,
+                                   bool useCache, Frame* frame) {
   prepared.atlas = std::move(atlas);
   const std::uint64_t fingerprint = useCache ? shadowFingerprint(scene) : 0;
   prepared.fingerprint = fingerprint;
@@ -200,7 +200,7 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
 }
 
 LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
-                                     const LightingFeatures& features) {
+                                           const LightingFeatures& features) {
   for (auto& [key, pass] : lightingPasses_)
     if (key.shading == shading && key.outputs == outputs && key.features == features) return *pass;
   lightingPasses_.emplace_back(PassKey{shading, outputs, features},
@@ -209,8 +209,8 @@ LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
 }
 
 FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& camera,
-                                const glm::vec3& ambient, const RenderSettings& settings,
-                                const PassParameters& parameters, StageTimes* times) {
+                                      const glm::vec3& ambient, const RenderSettings& settings,
+                                      const PassParameters& parameters, StageTimes* times) {
   StageTimes unused;
   StageTimes& stages = times ? *times : unused;
   FrameTargets targets(camera.width, camera.height, PassOutputs::Beauty);
@@ -227,8 +227,9 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
   return image;
 }
 
-void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
-                        const RenderSettings& settings, FloatImage& aovs, StageTimes& times) {
+void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
+                              const glm::vec3& ambient, const RenderSettings& settings,
+                              FloatImage& aovs, StageTimes& times) {
   const int lightCount = static_cast<int>(prepared.shaded.size());
   const bool flip = camera.glRowOrder;
   // One pass gives the fixed channels and the visibility of 20 lights; more lights take more.
@@ -332,7 +333,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
 }
 
 std::vector<ShadowMapDump> Renderer::Impl::readShadowMaps(const Prepared& prepared,
-                                                         StageTimes& times) {
+                                                          StageTimes& times) {
   ScopedStage readback(times, "readback");
   std::vector<ShadowMapDump> dumps;
   for (const ShadedLight& s : prepared.shaded)
@@ -390,13 +391,14 @@ std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const 
   return views;
 }
 
-std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(
-    const Scene& scene, const std::vector<Light>& lights, ShadowPassStrategy strategy) {
+std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(const Scene& scene,
+                                                                 const std::vector<Light>& lights,
+                                                                 ShadowPassStrategy strategy) {
   Prepared prepared(scene);
   RenderSettings settings;
   settings.shadowPass = strategy;
-  ShadowAtlasPlan plan = planShadowAtlas(lights, ViewCamera{}, scene.bounds,
-                                         ShadowLimits{limits_.maxArrayLayers});
+  ShadowAtlasPlan plan =
+      planShadowAtlas(lights, ViewCamera{}, scene.bounds, ShadowLimits{limits_.maxArrayLayers});
   renderShadows(prepared, std::move(plan), scene, lights, settings, false, nullptr);
   std::vector<CubeDistances> out;
   for (const ShadedLight& s : prepared.shaded)
@@ -409,13 +411,17 @@ std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(
 Renderer::Renderer(const ContextOptions& options) : impl_(std::make_unique<Impl>(options)) {}
 Renderer::~Renderer() = default;
 
-const RenderLimits& Renderer::limits() const { return impl_->limits(); }
+const RenderLimits& Renderer::limits() const {
+  return impl_->limits();
+}
 
 const std::string& Renderer::platformDescription() const {
   return impl_->context().platformDescription();
 }
 
-std::string Renderer::glDescription() const { return impl_->context().glDescription(); }
+std::string Renderer::glDescription() const {
+  return impl_->context().glDescription();
+}
 
 Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
                        const glm::vec3& ambient, const ViewCamera& camera,

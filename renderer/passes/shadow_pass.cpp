@@ -5,6 +5,7 @@
 
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
+#include "renderer/passes/shader_contract.h"
 #include "renderer/passes/shadow_layer_binding.h"
 #include "renderer/view/caster_culling.h"
 #include "renderer/view/shadow_draws.h"
@@ -43,8 +44,8 @@ const ShaderProgram& ShadowPass::program(ShadowPassStrategy strategy, bool maske
       defines.emplace_back("GEOMETRY_LAYERS");
       geometry = "shadow_depth.geom";
     }
-    slot = std::make_unique<ShaderProgram>("shadow_depth.vert", "shadow_depth.frag", defines,
-                                           geometry);
+    slot = std::make_unique<ShaderProgram>("shadow_depth.vert", "shadow_depth.frag",
+                                           contract::withShaderContract(defines), geometry);
   }
   return *slot;
 }
@@ -119,8 +120,8 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
   rasterState(light.shadow, moments, target.key.resolution).apply();
   glNamedFramebufferDrawBuffer(fb, moments ? GL_COLOR_ATTACHMENT0 : GL_NONE);
   glNamedFramebufferReadBuffer(fb, GL_NONE);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, scene.modelBuffer());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, drawObjects_.get());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kModelsBinding, scene.modelBuffer());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kDrawObjectsBinding, drawObjects_.get());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_.get());
 
   ShadowLayerBinding layers(fb, target, plan.firstLayer, plan.layerCount);
@@ -199,7 +200,7 @@ void ShadowPass::drawMasked(const LightPass& pass, const ShadowDrawList& draws,
     masked.set("uBaseColorTexCoord", material.desc.baseColorTexture.texCoord);
     masked.set("uAlphaCutoff",
                material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
-    glBindTextureUnit(0, material.baseColor);
+    glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);
     glBindSampler(0, material.baseColorSampler);
     cullStateOf(culling.bucket[static_cast<std::size_t>(draw.caster)], pass.light.shadow.cullFace)
         .apply();

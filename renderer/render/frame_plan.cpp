@@ -25,10 +25,9 @@ int findDebugLight(const std::vector<Light>& lights, const RenderSettings& setti
     if (lights[i].shadow.enabled &&
         (settings.debugLight.empty() || lights[i].name == settings.debugLight))
       return static_cast<int>(i);
-  throw InputError(settings.debugLight.empty()
-                       ? "--debug-view depth: no light casts a shadow"
-                       : "--debug-light " + settings.debugLight +
-                             ": no shadowed light has that name");
+  throw InputError(settings.debugLight.empty() ? "--debug-view depth: no light casts a shadow"
+                                               : "--debug-light " + settings.debugLight +
+                                                     ": no shadowed light has that name");
 }
 
 }  // namespace

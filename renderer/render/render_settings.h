@@ -56,9 +56,9 @@ struct RenderSettings {
 // What the device allows, queried once when the renderer is made. Frame planning checks a
 // frame against these before any GL call.
 struct RenderLimits {
-  int maxCubeMapSize = 16384;   // GL_MAX_CUBE_MAP_TEXTURE_SIZE
-  int maxTextureSize = 16384;   // GL_MAX_TEXTURE_SIZE
-  int maxArrayLayers = 2048;    // GL_MAX_ARRAY_TEXTURE_LAYERS
+  int maxCubeMapSize = 16384;  // GL_MAX_CUBE_MAP_TEXTURE_SIZE
+  int maxTextureSize = 16384;  // GL_MAX_TEXTURE_SIZE
+  int maxArrayLayers = 2048;   // GL_MAX_ARRAY_TEXTURE_LAYERS
 };
 
 }  // namespace omnishadow

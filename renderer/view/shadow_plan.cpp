@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "renderer/view/cube_faces.h"
 #include "renderer/core/errors.h"
+#include "renderer/view/cube_faces.h"
 #include "renderer/view/shadow_views.h"
 
 namespace omnishadow {

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "renderer/scene/bounds.h"
-#include "renderer/view/camera.h"
 #include "renderer/scene/light.h"
+#include "renderer/view/camera.h"
 
 namespace omnishadow {
 
