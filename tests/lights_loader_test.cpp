@@ -603,6 +603,17 @@ class LightsFileTest : public testing::Test {
     return path;
   }
 
+  // The message of the InputError that loading `path` throws; "(no error)" when none.
+  static std::string loadError(const std::filesystem::path& path) {
+    std::vector<std::string> warnings;
+    try {
+      omnishadow::loadLightsFile(path, warnings);
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "(no error)";
+  }
+
   std::filesystem::path directory_;
 };
 
@@ -620,49 +631,25 @@ TEST_F(LightsFileTest, LoadsFileAndUsesItsPathAsOrigin) {
 
 TEST_F(LightsFileTest, LabelsContentErrorsWithThePath) {
   const auto path = write("bad.json", "{\n  \"ambient\": 1\n}\n");
-  std::vector<std::string> warnings;
-  try {
-    omnishadow::loadLightsFile(path, warnings);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& error) {
-    EXPECT_EQ(std::string(error.what()),
-              path.string() + ": ambient: expected an array of 3 finite numbers >= 0");
-  }
+  EXPECT_EQ(loadError(path),
+            path.string() + ": ambient: expected an array of 3 finite numbers >= 0");
 }
 
 TEST_F(LightsFileTest, ReportsMissingFile) {
   const auto path = directory_ / "missing.json";
-  std::vector<std::string> warnings;
-  try {
-    omnishadow::loadLightsFile(path, warnings);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& error) {
-    EXPECT_EQ(std::string(error.what()),
-              path.string() + ": cannot read lights file: No such file or directory");
-  }
+  EXPECT_EQ(loadError(path),
+            path.string() + ": cannot read lights file: No such file or directory");
 }
 
 TEST_F(LightsFileTest, ReportsDirectory) {
-  std::vector<std::string> warnings;
-  try {
-    omnishadow::loadLightsFile(directory_, warnings);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& error) {
-    EXPECT_EQ(std::string(error.what()),
-              directory_.string() + ": cannot read lights file: Is a directory");
-  }
+  EXPECT_EQ(loadError(directory_),
+            directory_.string() + ": cannot read lights file: Is a directory");
 }
 
 TEST_F(LightsFileTest, RejectsEmptyFile) {
   const auto path = write("empty.json", "");
-  std::vector<std::string> warnings;
-  try {
-    omnishadow::loadLightsFile(path, warnings);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& error) {
-    const std::string prefix = path.string() + ":1:1: JSON syntax error: ";
-    EXPECT_EQ(std::string(error.what()).substr(0, prefix.size()), prefix);
-  }
+  const std::string prefix = path.string() + ":1:1: JSON syntax error: ";
+  EXPECT_EQ(loadError(path).substr(0, prefix.size()), prefix);
 }
 
 }  // namespace
