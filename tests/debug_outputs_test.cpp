@@ -139,7 +139,6 @@ using test_support::filesIn;
 using test_support::pngSize;
 using test_support::readFile;
 
-
 // An EXR as OpenEXR itself sees it: size, channel names and types, envmap, and the "Z" values.
 struct ExrFile {
   int width = 0, height = 0;
