@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "cli/batch_jobs.h"
+#include "cli/common_options.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/image_writer.h"
 #include "renderer/render/renderer.h"
@@ -62,16 +63,12 @@ bool allOutputsExist(const RenderJob& job) {
 BatchDefaults defaultsFromOptions(const BatchOptions& o) {
   BatchDefaults d;
   d.out = o.out;
-  d.lights = o.lights;
+  d.lights = o.input.lights;
   d.png = !o.noPng;
   d.exr = o.exr;
   d.aov = o.aov || !o.aovLayers.empty();
   RenderJob& job = d.job;
-  job.noGltfLights = o.noGltfLights;
-  job.allowExternalUris = o.allowExternalUris;
-  job.maxMemoryMiB = o.maxMemoryMiB;
-  job.shadowPass = parseShadowPassStrategy(o.shadowPass);
-  job.sceneIndex = o.sceneIndex;
+  applySceneSettings(o.input, job);
   job.camera = cameraRequest(o.view);
   job.layers = parseLayers(o.aovLayers);
   job.exposure = o.exposure;
@@ -188,11 +185,8 @@ class BatchRunner {
   };
 
   void makeRenderer() {
-    ContextOptions context;
-    context.gpuIndex = options_.gpu;
-    context.debug = options_.verbose;
     renderer_.reset();
-    renderer_ = std::make_unique<Renderer>(context);
+    renderer_ = openRenderer(options_.device);
   }
 
   bool skipped(std::size_t i) const {
@@ -293,9 +287,7 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
                    "Folders (all .gltf/.glb below), quoted globs, scene files or manifest .json")
       ->required();
   batch->add_option("-o,--out", o.out, "Output folder; mirrors the input tree")->required();
-  batch->add_option("-l,--lights", o.lights,
-                    "One lights file for every scene (default: <scene>.lights.json, else "
-                    "lights.json in the scene's folder)");
+  addSceneInputOptions(*batch, o.input, SceneInputCommand::Batch);
   batch->add_flag("--exr", o.exr, "Also write <name>.exr (linear half RGBA)");
   batch->add_flag("--no-png", o.noPng, "Do not write <name>.png");
   batch->add_flag("--aov", o.aov, "Also write <name>.aov.exr");
@@ -303,20 +295,6 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
   addViewOptions(*batch, o.view);
   batch->add_option("--exposure", o.exposure, "Exposure in stops");
   batch->add_option("--shading", o.shading, "pbr or phong")->check(CLI::IsMember({"pbr", "phong"}));
-  batch
-      ->add_option("--shadow-pass", o.shadowPass,
-                   "How point-light cube maps are rendered: six, geometry, instanced or auto "
-                   "(default: the fastest measured on this driver)")
-      ->check(CLI::IsMember({"auto", "six", "geometry", "instanced"}));
-  batch
-      ->add_option("--max-memory", o.maxMemoryMiB,
-                   "Memory the shadow maps of one frame may use, in MiB (default 4096)")
-      ->check(CLI::PositiveNumber);
-  batch->add_flag("--allow-external-uris", o.allowExternalUris,
-                  "Let scenes read buffers and images outside their own folders");
-  batch->add_flag("--no-gltf-lights", o.noGltfLights,
-                  "Ignore the scenes' KHR_lights_punctual lights");
-  batch->add_option("--scene", o.sceneIndex, "glTF scene index")->check(CLI::NonNegativeNumber);
   batch->add_flag("--skip-existing", o.skipExisting, "Skip jobs whose outputs all exist (resume)");
   batch->add_option("--shard", o.shard, "Render only shard K of N (K/N, 0 <= K < N)");
   batch
@@ -325,8 +303,7 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
       ->check(CLI::Range(0, 256));
   batch->add_option("--report", o.report, "Write a JSON report of every job");
   batch->add_flag("-q,--quiet", o.quiet, "No progress or log lines (failures still on stderr)");
-  batch->add_option("--gpu", o.gpu, "EGL device index")->check(CLI::NonNegativeNumber);
-  batch->add_flag("-v,--verbose", o.verbose, "GL debug messages");
+  addDeviceOptions(*batch, o.device, false);
 }
 
 int runBatch(const BatchOptions& o) {

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/common_options.h"
 #include "cli/view_options.h"
 
 namespace CLI {
@@ -16,24 +17,18 @@ namespace omnishadow::cli {
 struct BatchOptions {
   std::vector<std::string> inputs;
   std::string out;
-  std::string lights;
+  SceneInputOptions input;  // its scene is unused: the scenes are the inputs
   bool exr = false, noPng = false, aov = false;
   std::string aovLayers;
   ViewOptions view;
   float exposure = 0.0f;
   std::string shading = "pbr";
-  bool noGltfLights = false;
-  bool allowExternalUris = false;
-  double maxMemoryMiB = 4096.0;
-  std::string shadowPass = "auto";
-  int sceneIndex = -1;
   bool skipExisting = false;
   std::string shard;
   int jobs = -1;  // -1 = number of cores
   std::string report;
   bool quiet = false;
-  int gpu = -1;
-  bool verbose = false;
+  DeviceOptions device;  // without --stats
 };
 
 void addBatchCommand(CLI::App& app, BatchOptions& options);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -104,11 +105,13 @@ class ManifestJob {
       fail(field, "expected a finite number");
     return v->get<double>();
   }
-  std::optional<int> positiveInt(const char* field, int max) const {
+  // An integer in [min, max], checked before the conversion (1e12 is no int).
+  std::optional<int> integer(const char* field, int min, int max) const {
     const auto n = number(field);
     if (!n) return std::nullopt;
-    if (*n != std::floor(*n) || *n < 1 || *n > max)
-      fail(field, "expected an integer in [1, " + std::to_string(max) + "]");
+    if (*n != std::floor(*n) || *n < min || *n > max)
+      fail(field,
+           "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]");
     return static_cast<int>(*n);
   }
   std::optional<bool> boolean(const char* field) const {
@@ -177,19 +180,16 @@ RenderJob manifestJob(const ManifestJob& m, const fs::path& folder, const BatchD
   if (const auto target = m.vec3("target")) job.camera.target = target;
   if (const auto up = m.vec3("up")) job.camera.up = up;
   if (const auto fov = m.number("fov")) job.camera.fovDegrees = static_cast<float>(*fov);
-  if (const auto width = m.positiveInt("width", 16384)) job.camera.width = width;
-  if (const auto height = m.positiveInt("height", 16384)) job.camera.height = height;
+  if (const auto width = m.integer("width", 1, 16384)) job.camera.width = width;
+  if (const auto height = m.integer("height", 1, 16384)) job.camera.height = height;
   if (const auto exposure = m.number("exposure")) job.exposure = static_cast<float>(*exposure);
   if (const auto shading = m.string("shading")) {
     if (*shading != "pbr" && *shading != "phong")
       m.fail("shading", "expected \"pbr\" or \"phong\"");
     job.shading = *shading == "phong" ? Shading::Phong : Shading::Pbr;
   }
-  if (const auto index = m.number("sceneIndex")) {
-    if (*index != std::floor(*index) || *index < 0)
-      m.fail("sceneIndex", "expected an integer >= 0");
-    job.sceneIndex = static_cast<int>(*index);
-  }
+  if (const auto index = m.integer("sceneIndex", 0, std::numeric_limits<int>::max()))
+    job.sceneIndex = *index;
   if (const auto noGltfLights = m.boolean("noGltfLights")) job.noGltfLights = *noGltfLights;
   return job;
 }

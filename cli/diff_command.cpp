@@ -14,6 +14,8 @@
 #include <system_error>
 #include <vector>
 
+#include "cli/common_options.h"
+#include "cli/render_job.h"
 #include "cli/text_table.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/image_diff.h"
@@ -49,12 +51,6 @@ Tolerance tolerance(const DiffCommandOptions& o) {
   if (!std::isnan(o.maxAbs)) t.maxAbs = o.maxAbs;
   if (!std::isnan(o.maxFailingFraction)) t.maxFailingFraction = o.maxFailingFraction;
   return t;
-}
-
-std::string lowerExtension(const fs::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension;
 }
 
 // PNG and other integer formats are read normalized to 0..1, so their peak is 1; an EXR's is
@@ -143,23 +139,19 @@ void checkExists(const std::string& path) {
 // ---------------------------------------------------------------------------------------------
 // JSON
 
-Json number(double value) {
-  return std::isfinite(value) ? Json(value) : Json(nullptr);
-}
-
 Json optionalNumber(const std::optional<double>& value) {
-  return value ? number(*value) : Json(nullptr);
+  return value ? jsonNumber(*value) : Json(nullptr);
 }
 
 Json toJson(const DiffStats& s) {
   Json j;
   j["channels"] = s.channels;
-  j["maxAbs"] = number(s.maxAbs);
-  j["meanAbs"] = number(s.meanAbs);
-  j["rmse"] = number(s.rmse);
-  j["psnr"] = number(s.psnr);
+  j["maxAbs"] = jsonNumber(s.maxAbs);
+  j["meanAbs"] = jsonNumber(s.meanAbs);
+  j["rmse"] = jsonNumber(s.rmse);
+  j["psnr"] = jsonNumber(s.psnr);
   j["failingPixels"] = s.failingPixels;
-  j["failingFraction"] = number(s.failingFraction);
+  j["failingFraction"] = jsonNumber(s.failingFraction);
   j["maxAt"] = s.maxX >= 0 ? Json::array({s.maxX, s.maxY}) : Json(nullptr);
   return j;
 }
@@ -184,7 +176,7 @@ Json imageJson(const std::string& file, const FloatImage& image) {
 
 Json heatMapJson(const std::optional<fs::path>& file, double scale) {
   if (!file) return nullptr;
-  return {{"file", file->string()}, {"scale", number(scale)}};
+  return {{"file", file->string()}, {"scale", jsonNumber(scale)}};
 }
 
 void printJson(const Json& doc) {
@@ -257,8 +249,8 @@ int diffFiles(const DiffCommandOptions& o) {
     doc["a"] = imageJson(o.a, a);
     doc["b"] = imageJson(o.b, b);
     doc["channels"] = result.overall.channels;
-    doc["threshold"] = number(o.threshold);
-    doc["peak"] = number(result.peak);
+    doc["threshold"] = jsonNumber(o.threshold);
+    doc["peak"] = jsonNumber(result.peak);
     doc["tolerance"] = toleranceJson(t);
     doc["overall"] = toJson(result.overall);
     doc["perChannel"] = perChannelJson(result);
@@ -379,7 +371,7 @@ int diffFolders(const DiffCommandOptions& o) {
       j["width"] = r ? Json(r->width) : Json(nullptr);
       j["height"] = r ? Json(r->height) : Json(nullptr);
       j["channels"] = r ? Json(r->overall.channels) : Json(nullptr);
-      j["peak"] = r ? number(r->peak) : Json(nullptr);
+      j["peak"] = r ? jsonNumber(r->peak) : Json(nullptr);
       j["overall"] = r ? toJson(r->overall) : Json(nullptr);
       j["perChannel"] = r ? perChannelJson(*r) : Json::array();
       j["heatMap"] = heatMapJson(pair.heatMap, pair.scale);
@@ -389,7 +381,7 @@ int diffFolders(const DiffCommandOptions& o) {
     doc["mode"] = "folders";
     doc["a"] = o.a;
     doc["b"] = o.b;
-    doc["threshold"] = number(o.threshold);
+    doc["threshold"] = jsonNumber(o.threshold);
     doc["tolerance"] = toleranceJson(t);
     doc["pairs"] = list;
     doc["onlyInA"] = onlyA;

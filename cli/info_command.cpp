@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/render_job.h"
 #include "cli/text_table.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/light.h"
@@ -35,20 +36,15 @@ struct Info {
   std::uint64_t triangles = 0, drawnTriangles = 0, vertices = 0;
 };
 
-// The lights file used when --lights is not given, as in `omnishadow render`.
-fs::path defaultLightsFile(const fs::path& scene) {
-  fs::path candidate = scene.parent_path() / (scene.stem().string() + ".lights.json");
-  return fs::exists(candidate) ? candidate : fs::path();
-}
-
 Info gather(const InfoOptions& o, std::vector<std::string>& warnings) {
   Info info;
-  info.file = o.scene;
-  const fs::path scenePath(o.scene);
-  const fs::path lightsPath = o.lights.empty() ? defaultLightsFile(scenePath) : fs::path(o.lights);
+  info.file = o.input.scene;
+  const fs::path scenePath(o.input.scene);
+  const fs::path lightsPath =
+      o.input.lights.empty() ? defaultLightsFile(scenePath) : fs::path(o.input.lights);
   GltfLoadOptions loadOptions;
-  loadOptions.sceneIndex = o.sceneIndex;
-  loadOptions.allowExternalUris = o.allowExternalUris;
+  loadOptions.sceneIndex = o.input.sceneIndex;
+  loadOptions.allowExternalUris = o.input.allowExternalUris;
   info.scene = loadGltf(scenePath, loadOptions);
   warnings.insert(warnings.end(), info.scene.warnings.begin(), info.scene.warnings.end());
   if (!lightsPath.empty()) info.setup = loadLightsFile(lightsPath, warnings);
@@ -72,21 +68,8 @@ Info gather(const InfoOptions& o, std::vector<std::string>& warnings) {
 // ---------------------------------------------------------------------------------------------
 // Values as both formats show them
 
-// The shortest decimal that reads back as the same float: 0.8f is 0.8, not 0.800000011920929.
-std::string shortest(float value) {
-  if (!std::isfinite(value)) return std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf";
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
-
-Json number(float value) {
-  if (!std::isfinite(value)) return nullptr;
-  return std::strtod(shortest(value).c_str(), nullptr);
-}
-
 Json vec3(const glm::vec3& v) {
-  return Json::array({number(v.x), number(v.y), number(v.z)});
+  return Json::array({jsonNumber(v.x), jsonNumber(v.y), jsonNumber(v.z)});
 }
 
 Json stringOrNull(const std::string& text) {
@@ -113,16 +96,10 @@ float degrees(float radians) {
   return std::strtof(readable(radians * 57.295779513082320876f).c_str(), nullptr);
 }
 
+// glTF's spelling, in the order of AlphaMode.
 const char* toString(AlphaMode mode) {
-  switch (mode) {
-    case AlphaMode::Opaque:
-      return "OPAQUE";
-    case AlphaMode::Mask:
-      return "MASK";
-    case AlphaMode::Blend:
-      return "BLEND";
-  }
-  return "?";
+  static const char* const names[] = {"OPAQUE", "MASK", "BLEND"};
+  return names[static_cast<int>(mode)];
 }
 
 // A material's texture slots in the order the report lists them.
@@ -195,13 +172,13 @@ Json toJson(const Info& info) {
     Json textures = Json::object();
     for (const auto& [slot, texture] : textureSlots(m))
       textures[slot] = texture->texture >= 0 ? Json(texture->texture) : Json(nullptr);
-    materials.push_back(
-        {{"index", i},
-         {"name", m.name},
-         {"alphaMode", toString(m.alphaMode)},
-         {"alphaCutoff", m.alphaMode == AlphaMode::Mask ? number(m.alphaCutoff) : Json(nullptr)},
-         {"doubleSided", m.doubleSided},
-         {"textures", textures}});
+    materials.push_back({{"index", i},
+                         {"name", m.name},
+                         {"alphaMode", toString(m.alphaMode)},
+                         {"alphaCutoff", m.alphaMode == AlphaMode::Mask ? jsonNumber(m.alphaCutoff)
+                                                                        : Json(nullptr)},
+                         {"doubleSided", m.doubleSided},
+                         {"textures", textures}});
   }
   doc["materials"] = materials;
 
@@ -220,19 +197,19 @@ Json toJson(const Info& info) {
   Json cameras = Json::array();
   for (const Camera& c : scene.cameras) {
     const Json none = nullptr;
-    cameras.push_back(
-        {{"index", c.index},
-         {"name", c.name},
-         {"node", c.nodeName},
-         {"type", c.orthographic ? "orthographic" : "perspective"},
-         {"yfovDegrees", c.orthographic ? none : number(degrees(c.yfov))},
-         {"aspectRatio", !c.orthographic && c.aspectRatio > 0.0f ? number(c.aspectRatio) : none},
-         {"xmag", c.orthographic ? number(c.xmag) : none},
-         {"ymag", c.orthographic ? number(c.ymag) : none},
-         {"znear", number(c.znear)},
-         {"zfar", c.zfar > 0.0f ? number(c.zfar) : none},
-         {"position", vec3(cameraPosition(c))},
-         {"direction", vec3(cameraDirection(c))}});
+    cameras.push_back({{"index", c.index},
+                       {"name", c.name},
+                       {"node", c.nodeName},
+                       {"type", c.orthographic ? "orthographic" : "perspective"},
+                       {"yfovDegrees", c.orthographic ? none : jsonNumber(degrees(c.yfov))},
+                       {"aspectRatio",
+                        !c.orthographic && c.aspectRatio > 0.0f ? jsonNumber(c.aspectRatio) : none},
+                       {"xmag", c.orthographic ? jsonNumber(c.xmag) : none},
+                       {"ymag", c.orthographic ? jsonNumber(c.ymag) : none},
+                       {"znear", jsonNumber(c.znear)},
+                       {"zfar", c.zfar > 0.0f ? jsonNumber(c.zfar) : none},
+                       {"position", vec3(cameraPosition(c))},
+                       {"direction", vec3(cameraDirection(c))}});
   }
   doc["cameras"] = cameras;
 
@@ -246,18 +223,18 @@ Json toJson(const Info& info) {
                       {"position", hasPosition(l) ? vec3(l.position) : none},
                       {"direction", hasDirection(l) ? vec3(l.direction) : none},
                       {"color", vec3(l.color)},
-                      {"intensity", number(l.intensity)},
-                      {"range", l.range > 0.0f ? number(l.range) : none},
-                      {"innerConeAngle", spot ? number(l.innerConeAngle) : none},
-                      {"outerConeAngle", spot ? number(l.outerConeAngle) : none},
+                      {"intensity", jsonNumber(l.intensity)},
+                      {"range", l.range > 0.0f ? jsonNumber(l.range) : none},
+                      {"innerConeAngle", spot ? jsonNumber(l.innerConeAngle) : none},
+                      {"outerConeAngle", spot ? jsonNumber(l.outerConeAngle) : none},
                       {"shadow",
                        {{"enabled", l.shadow.enabled},
                         {"resolution", l.shadow.resolution},
                         {"filter", toString(l.shadow.filter)},
-                        {"near", number(l.shadow.near)},
-                        {"far", l.shadow.far > 0.0f ? number(l.shadow.far) : none},
-                        {"bias", number(l.shadow.bias)},
-                        {"slopeBias", number(l.shadow.slopeBias)}}}});
+                        {"near", jsonNumber(l.shadow.near)},
+                        {"far", l.shadow.far > 0.0f ? jsonNumber(l.shadow.far) : none},
+                        {"bias", jsonNumber(l.shadow.bias)},
+                        {"slopeBias", jsonNumber(l.shadow.slopeBias)}}}});
   }
   doc["lights"] = lights;
   doc["ambient"] = info.setup ? vec3(info.setup->ambient) : Json(nullptr);
@@ -376,34 +353,20 @@ void printText(const Info& info) {
 void addInfoCommand(CLI::App& app, InfoOptions& o) {
   CLI::App* info = app.add_subcommand(
       "info", "Describe a glTF scene and its lights as a render would use them (no GL needed)");
-  info->add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
-  info->add_option("-l,--lights", o.lights,
-                   "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
+  addSceneInputOptions(*info, o.input, SceneInputCommand::Info);
   info->add_flag("--json", o.json, "Print one JSON object (schema in the README)");
-  info->add_flag("--allow-external-uris", o.allowExternalUris,
-                 "Let the scene read buffers and images outside its own folder");
-  info->add_option("--scene", o.sceneIndex,
-                   "Index of the glTF scene to describe (default: the file's default scene)")
-      ->check(CLI::NonNegativeNumber);
 }
 
 int runInfo(const InfoOptions& o) {
-  std::vector<std::string> warnings;
-  Info info;
-  try {
-    info = gather(o, warnings);
-  } catch (...) {
-    // As in render: the warnings so far may explain the failure.
-    for (const std::string& warning : warnings)
-      std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
-    throw;
-  }
-  if (o.json) {
-    std::printf("%s\n", toJson(info).dump(2, ' ', false, Json::error_handler_t::replace).c_str());
-  } else {
-    printText(info);
-  }
-  return 0;
+  // As in render: the warnings so far may explain a failure.
+  return runPrintingWarnings([&](std::vector<std::string>& warnings) {
+    const Info info = gather(o, warnings);
+    if (o.json)
+      std::printf("%s\n", toJson(info).dump(2, ' ', false, Json::error_handler_t::replace).c_str());
+    else
+      printText(info);
+    return 0;
+  });
 }
 
 }  // namespace omnishadow::cli

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "cli/common_options.h"
+
 namespace CLI {
 class App;
 }
@@ -10,10 +12,7 @@ namespace omnishadow::cli {
 
 // Everything `omnishadow info` accepts, as given on the command line.
 struct InfoOptions {
-  std::string scene;
-  std::string lights;
-  int sceneIndex = -1;
-  bool allowExternalUris = false;
+  SceneInputOptions input;  // its render settings are unused
   bool json = false;
 };
 

@@ -52,8 +52,8 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("batch")) return omnishadow::cli::runBatch(batch);
     // 0 within the tolerances, 1 not; InputError (2) for unreadable or incomparable images.
     if (app.got_subcommand("diff")) return omnishadow::cli::runDiff(diff);
-    // 0 within --max-error, 1 not.
-    if (app.got_subcommand("verify")) return omnishadow::cli::runVerify(verify);
+    // 0 within --max-error, 1 not. require_subcommand(1) leaves no other command.
+    return omnishadow::cli::runVerify(verify);
   } catch (const omnishadow::InputError& e) {
     std::fprintf(stderr, "omnishadow: %s\n", e.what());
     return 2;
@@ -61,5 +61,4 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "omnishadow: %s\n", e.what());
     return 1;
   }
-  return 2;
 }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/common_options.h"
 #include "cli/view_options.h"
 
 namespace CLI {
@@ -14,13 +15,7 @@ namespace omnishadow::cli {
 
 // Everything `omnishadow render` accepts, as given on the command line.
 struct RenderOptions {
-  std::string scene;  // empty = the built-in demo scene
-  std::string lights;
-  bool noGltfLights = false;
-  bool allowExternalUris = false;
-  double maxMemoryMiB = 4096.0;
-  std::string shadowPass = "auto";
-  int sceneIndex = -1;
+  SceneInputOptions input;
   ViewOptions view;
   std::vector<std::string> outputs;
   std::string aov;
@@ -32,9 +27,7 @@ struct RenderOptions {
   std::string debugLight;
   float exposure = 0.0f;
   std::string shading = "pbr";
-  int gpu = -1;
-  bool verbose = false;
-  bool stats = false;
+  DeviceOptions device;
 };
 
 void addRenderCommand(CLI::App& app, RenderOptions& options);

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
 #include "renderer/core/errors.h"
 #include "renderer/output/depth_dump.h"
@@ -92,30 +93,24 @@ fs::path defaultLightsFile(const fs::path& scene) {
 
 AovLayers parseLayers(const std::string& list) {
   AovLayers layers;
+  const std::pair<const char*, bool AovLayers::*> names[] = {
+      {"albedo", &AovLayers::albedo},        {"roughness", &AovLayers::roughness},
+      {"metallic", &AovLayers::metallic},    {"diffuse", &AovLayers::diffuse},
+      {"specular", &AovLayers::specular},    {"objectId", &AovLayers::objectId},
+      {"materialId", &AovLayers::materialId}};
   std::istringstream in(list);
   std::string name;
   while (std::getline(in, name, ',')) {
-    if (name == "all") {
-      layers = {true, true, true, true, true, true, true};
-    } else if (name == "albedo") {
-      layers.albedo = true;
-    } else if (name == "roughness") {
-      layers.roughness = true;
-    } else if (name == "metallic") {
-      layers.metallic = true;
-    } else if (name == "diffuse") {
-      layers.diffuse = true;
-    } else if (name == "specular") {
-      layers.specular = true;
-    } else if (name == "objectId") {
-      layers.objectId = true;
-    } else if (name == "materialId") {
-      layers.materialId = true;
-    } else {
+    bool known = name == "all";
+    for (const auto& [layer, member] : names)
+      if (name == "all" || name == layer) {
+        layers.*member = true;
+        known = true;
+      }
+    if (!known)
       throw InputError("--aov-layers " + list + ": unknown layer \"" + name +
                        "\" (expected albedo, roughness, metallic, diffuse, specular, objectId, "
                        "materialId or all)");
-    }
   }
   return layers;
 }

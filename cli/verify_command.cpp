@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli/common_options.h"
 #include "cli/render_job.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/image_writer.h"
@@ -24,34 +25,9 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-// The shortest decimal that reads back as the same float, as `info --json` writes numbers.
-Json number(float value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::strtod(std::string(buffer, result.ptr).c_str(), nullptr);
-}
-
-void printWarnings(const std::vector<std::string>& warnings) {
-  for (const std::string& warning : warnings)
-    std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
-}
-
-void printStats(const StageTimes& times) {
-  std::fprintf(stderr, "stage          ms\n");
-  for (const auto& [stage, ms] : times.stages())
-    std::fprintf(stderr, "%-12s %8.1f\n", stage.c_str(), ms);
-  std::fprintf(stderr, "%-12s %8.1f\n", "total", times.total());
-}
-
 // The scene, lights and view options as a render job that only draws the AOVs.
 RenderJob jobFromOptions(const VerifyOptions& o) {
-  RenderJob job;
-  job.scene = o.scene.empty() ? fs::path(OMNISHADOW_DEMO_SCENE) : fs::path(o.scene);
-  job.lights = o.lights.empty() ? defaultLightsFile(job.scene) : fs::path(o.lights);
-  job.noGltfLights = o.noGltfLights;
-  job.allowExternalUris = o.allowExternalUris;
-  job.maxMemoryMiB = o.maxMemoryMiB;
-  job.sceneIndex = o.sceneIndex;
+  RenderJob job = sceneJob(o.input);
   job.aovs = true;
   validateJob(job);
   job.camera = cameraRequest(o.view);
@@ -207,8 +183,8 @@ void printJson(const RenderJob& job, const LoadedJob& loaded,
   out["width"] = v.width;
   out["height"] = v.height;
   out["camera"] = loaded.camera.description;
-  out["settings"] = Json{{"grazing", number(settings.grazing)},
-                         {"edgeTexels", number(settings.edgeTexels)},
+  out["settings"] = Json{{"grazing", jsonNumber(settings.grazing)},
+                         {"edgeTexels", jsonNumber(settings.edgeTexels)},
                          {"sourceSamples", settings.sourceSamples},
                          {"maxError", maxError ? Json(*maxError) : Json(nullptr)}};
   out["lights"] = Json::array();
@@ -226,7 +202,7 @@ void printJson(const RenderJob& job, const LoadedJob& loaded,
     const SkipCounts& s = result.skipped;
     entry["filter"] = toString(light.shadow.filter);
     entry["resolution"] = light.shadow.resolution;
-    entry["radius"] = number(light.shadow.radius);
+    entry["radius"] = jsonNumber(light.shadow.radius);
     entry["skipped"] = Json{{"background", s.background},   {"outOfRange", s.outOfRange},
                             {"outsideCone", s.outsideCone}, {"facingAway", s.facingAway},
                             {"grazing", s.grazing},         {"beyondShadowFar", s.beyondShadowFar}};
@@ -274,16 +250,9 @@ int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {
   loadStage.stop();
 
   ScopedStage contextStage(times, "context");
-  ContextOptions contextOptions;
-  contextOptions.gpuIndex = o.gpu;
-  contextOptions.debug = o.verbose;
-  Renderer renderer(contextOptions);
-  if (o.verbose)
-    std::fprintf(stderr, "omnishadow: %s\nomnishadow: %s\n",
-                 renderer.platformDescription().c_str(),
-                 renderer.glDescription().c_str());
+  const std::unique_ptr<Renderer> renderer = openRenderer(o.device);
   contextStage.stop();
-  const Frame frame = renderJob(renderer, job, loaded, times);
+  const Frame frame = renderJob(*renderer, job, loaded, times);
   warnings.insert(warnings.end(), frame.warnings.begin(), frame.warnings.end());
   if (!frame.aovs) throw RenderError("the renderer returned no AOVs");
 
@@ -306,7 +275,7 @@ int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {
     printJson(job, loaded, lights, result, settings, maxError, errorImagePath);
   else
     printText(job, loaded, lights, result, settings, maxError, errorImagePath);
-  if (o.stats) printStats(times);
+  if (o.device.stats) printStats(times);
   return maxError && !firstFailure(result, *maxError).empty() ? 1 : 0;
 }
 
@@ -317,21 +286,7 @@ void addVerifyCommand(CLI::App& app, VerifyOptions& o) {
       "verify",
       "Check the renderer's shadows against exact ray casting (Embree): agreement, false shadow "
       "and false light rates per light");
-  verify->add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb); default: the demo scene");
-  verify->add_option("-l,--lights", o.lights,
-                     "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
-  verify
-      ->add_option("--max-memory", o.maxMemoryMiB,
-                   "Memory the shadow maps of one frame may use, in MiB (default 4096)")
-      ->check(CLI::PositiveNumber);
-  verify->add_flag("--allow-external-uris", o.allowExternalUris,
-                   "Let the scene read buffers and images outside its own folder");
-  verify->add_flag("--no-gltf-lights", o.noGltfLights,
-                   "Ignore the scene's KHR_lights_punctual lights");
-  verify
-      ->add_option("--scene", o.sceneIndex,
-                   "Index of the glTF scene to render (default: the file's default scene)")
-      ->check(CLI::NonNegativeNumber);
+  addSceneInputOptions(*verify, o.input, SceneInputCommand::Verify);
   addViewOptions(*verify, o.view);
   verify->add_option("--light", o.light, "Check only this light (default: every light)");
   verify->add_option("--max-error", o.maxError,
@@ -357,22 +312,12 @@ void addVerifyCommand(CLI::App& app, VerifyOptions& o) {
                    "Threads casting rays (default: one per core); results do not depend on it")
       ->check(CLI::NonNegativeNumber);
   verify->add_flag("--json", o.json, "Print one JSON object (schema in the README)");
-  verify
-      ->add_option("--gpu", o.gpu,
-                   "EGL device index to render on (default: first hardware device, else software)")
-      ->check(CLI::NonNegativeNumber);
-  verify->add_flag("-v,--verbose", o.verbose, "Print the GL platform, vendor, renderer, version");
-  verify->add_flag("--stats", o.stats, "Print the time of each stage to stderr");
+  addDeviceOptions(*verify, o.device, true);
 }
 
 int runVerify(const VerifyOptions& o) {
-  std::vector<std::string> warnings;
-  try {
-    return verify(o, warnings);
-  } catch (...) {
-    printWarnings(warnings);  // they may explain the failure
-    throw;
-  }
+  return runPrintingWarnings(
+      [&](std::vector<std::string>& warnings) { return verify(o, warnings); });
 }
 
 }  // namespace omnishadow::cli

@@ -3,6 +3,7 @@
 #include <optional>
 #include <string>
 
+#include "cli/common_options.h"
 #include "cli/view_options.h"
 
 namespace CLI {
@@ -14,12 +15,7 @@ namespace omnishadow::cli {
 // Everything `omnishadow verify` accepts, as given on the command line. The scene, lights and
 // view options are those of `render`.
 struct VerifyOptions {
-  std::string scene;  // empty = the built-in demo scene
-  std::string lights;
-  bool noGltfLights = false;
-  bool allowExternalUris = false;
-  double maxMemoryMiB = 4096.0;
-  int sceneIndex = -1;
+  SceneInputOptions input;
   ViewOptions view;
   std::string light;     // empty = every light
   std::string maxError;  // fraction; empty = no bound (parsed here for a one-line message)
@@ -29,9 +25,7 @@ struct VerifyOptions {
   int sourceSamples = 64;
   int threads = 0;
   bool json = false;
-  int gpu = -1;
-  bool verbose = false;
-  bool stats = false;
+  DeviceOptions device;
 };
 
 void addVerifyCommand(CLI::App& app, VerifyOptions& options);

@@ -24,8 +24,7 @@
 
 #include "renderer/output/image_writer.h"
 #include "scenes/builder/gltf_builder.h"
-#include "tests/support/run_binary.h"
-#include "tests/support/temp_folder.h"
+#include "tests/support/cli_fixture.h"
 
 namespace omnishadow {
 namespace {
@@ -38,35 +37,6 @@ using nlohmann::json;
 // ---------------------------------------------------------------------------------------------
 // Inputs
 
-struct SceneSpec {
-  bool gltfLight = true;  // KHR_lights_punctual point light "lamp"
-  FileFormat format = FileFormat::GltfEmbedded;
-  float boxX = 0.0f;  // moves the box, so that scenes of one test render differently
-};
-
-// A textured floor and a box standing on it; cameras "main" (glTF camera 0) and "top".
-void writeScene(const fs::path& path, const SceneSpec& spec = {}) {
-  fs::create_directories(path.parent_path());
-  GltfBuilder b;
-  std::vector<std::uint8_t> checker;
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) {
-      const std::uint8_t v = (x + y) % 2 ? 220 : 90;
-      checker.insert(checker.end(), {v, v, v, 255});
-    }
-  builder::MaterialDesc floor{.name = "floor", .roughness = 0.8f};
-  floor.baseColorTexture = b.addTexture(8, 8, checker, "checker");
-  const int box = b.addMaterial({.name = "box", .baseColor = {0.8f, 0.2f, 0.1f, 1.0f}});
-  b.addNode("floor", {}, b.addMesh(builder::makePlane(6.0f), {.material = b.addMaterial(floor)}));
-  b.addNode("box", {.translation = {spec.boxX, 0.5f, 0.0f}},
-            b.addMesh(builder::makeBox(glm::vec3(0.5f)), {.material = box}));
-  b.addPerspectiveCamera("main", {0.0f, 2.5f, 4.5f}, {0.0f, 0.3f, 0.0f}, 0.8f);
-  b.addPerspectiveCamera("top", {0.0f, 6.0f, 1.0f}, {0.0f, 0.0f, 0.0f}, 0.8f);
-  if (spec.gltfLight)
-    b.addLight("lamp", "point", {1.5f, 3.0f, 1.0f}, {0.0f, -1.0f, 0.0f}, glm::vec3(1.0f), 30.0f);
-  b.write(path, spec.format);
-}
-
 // A lights file with one cheaply shadowed point light; `extra` is spliced into the light.
 std::string lightsJson(const std::string& name, const std::string& position = "-1.5, 3, 1.5",
                        const std::string& extra = "") {
@@ -74,37 +44,19 @@ std::string lightsJson(const std::string& name, const std::string& position = "-
          R"(], "intensity": 20, )" + extra + R"("shadow": {"resolution": 32}}]})";
 }
 
-// `count` shadowed point lights: more than one frame can sample once count > 16.
-// Shadowed point lights of distinct resolutions: past four, more cube map arrays than a frame
-// samples, an error found only once the GL context is up.
-std::string distinctResolutionLights(int count) {
-  std::string text = R"({"lights": [)";
-  for (int i = 0; i < count; ++i)
-    text += (i ? ", " : "") + std::string(R"({"position": [)") + std::to_string(i - count / 2) +
-            R"(, 3, 1], "shadow": {"resolution": )" + std::to_string(16 + i) + "}}";
-  return text + "]}";
-}
-
 // ---------------------------------------------------------------------------------------------
 // Reading results
 
+using SceneSpec = test_support::BoxSceneSpec;
+using test_support::contains;
+using test_support::distinctResolutionLights;
 using test_support::filesIn;
+using test_support::pngSize;
 using test_support::readFile;
+using test_support::sameBytes;
+using test_support::writeBoxScene;
 
 using Names = std::vector<std::string>;
-
-std::pair<std::uint32_t, std::uint32_t> pngSize(const fs::path& path) {
-  const std::string bytes = readFile(path);
-  EXPECT_GE(bytes.size(), 24u) << path;
-  EXPECT_EQ(bytes.substr(0, 8), "\x89PNG\r\n\x1a\n") << path;
-  if (bytes.size() < 24) return {};
-  auto u32 = [&](std::size_t at) {
-    std::uint32_t v = 0;
-    for (std::size_t i = 0; i < 4; ++i) v = v << 8 | static_cast<unsigned char>(bytes[at + i]);
-    return v;
-  };
-  return {u32(16), u32(20)};
-}
 
 Names visibilityChannels(const fs::path& aovFile) {
   const FloatImage image = readImage(aovFile);
@@ -122,18 +74,6 @@ double meanOfRgb(const fs::path& path) {
     for (int x = 0; x < image.width; ++x)
       for (int c = 0; c < 3; ++c) sum += image.at(x, y, c);
   return sum / (3.0 * image.width * image.height);
-}
-
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-}
-
-::testing::AssertionResult sameBytes(const fs::path& a, const fs::path& b) {
-  const std::string x = readFile(a), y = readFile(b);
-  if (x.empty()) return ::testing::AssertionFailure() << a << " is empty or missing";
-  if (x == y) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << a << " and " << b << " differ";
 }
 
 std::vector<std::string> linesOf(const std::string& text) {
@@ -198,19 +138,9 @@ std::set<std::string> keysOf(const json& object) {
 // ---------------------------------------------------------------------------------------------
 // Running the binary
 
-class BatchTest : public ::testing::Test {
+class BatchTest : public test_support::CliFixture {
  protected:
-  using Run = test_support::RunResult;  // not ::testing::Test::Run()
-
-  void SetUp() override {
-    fs::create_directory(in_);
-    fs::create_directory(out_);
-  }
-
-  // `omnishadow args...` with out/ as the working directory.
-  Run run(const std::vector<std::string>& args) {
-    return test_support::runOmnishadow(args, test_support::RunOptions::in(out_));
-  }
+  BatchTest() : CliFixture("omnishadow-batch") {}
 
   // `omnishadow batch args... --width 64 --height 48`; --out is the caller's.
   Run batch(std::vector<std::string> args) {
@@ -219,18 +149,8 @@ class BatchTest : public ::testing::Test {
     return run(args);
   }
 
-  fs::path input(const std::string& name) const { return in_ / name; }
-  fs::path output(const std::string& name) const { return out_ / name; }
-  std::string in(const std::string& name) const { return input(name).string(); }
-
-  fs::path writeText(const std::string& name, const std::string& text) {
-    fs::create_directories(input(name).parent_path());
-    std::ofstream(input(name), std::ios::binary) << text;
-    return input(name);
-  }
-
   fs::path scene(const std::string& name, const SceneSpec& spec = {}) {
-    writeScene(input(name), spec);
+    writeBoxScene(input(name), spec);
     return input(name);
   }
 
@@ -248,9 +168,6 @@ class BatchTest : public ::testing::Test {
     const fs::path p = path.get<std::string>();
     return fs::weakly_canonical(p.is_absolute() ? p : out_ / p);
   }
-
-  test_support::TempFolder root_{"omnishadow-batch"};
-  fs::path in_ = root_ / "in", out_ = root_ / "out";
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -632,6 +549,8 @@ const std::pair<const char*, const char*> kManifests[] = {
     {"syntax.json", "{\"jobs\": [{\"scene\": \"s/a.gltf\",}]}"},
     {"jobs-not-array.json", R"({"jobs": {"scene": "s/a.gltf"}})"},
     {"jpeg.json", R"({"jobs": [{"scene": "s/a.gltf", "outputs": ["a.jpg"]}]})"},
+    {"huge-scene-index.json",
+     R"({"jobs": [{"scene": "s/a.gltf"}, {"scene": "s/b.glb", "sceneIndex": 1e12}]})"},
 };
 
 const UsageCase kUsageCases[] = {
@@ -659,19 +578,13 @@ const UsageCase kUsageCases[] = {
      {"$in/jobs-not-array.json", "--out", "$out/o"},
      "$in/jobs-not-array.json: jobs"},
     {"ManifestJpegOutput", {"$in/jpeg.json", "--out", "$out/o"}, ""},
+    // Larger than any int: refused before the conversion, not converted.
+    {"ManifestSceneIndexBeyondInt",
+     {"$in/huge-scene-index.json", "--out", "$out/o"},
+     "$in/huge-scene-index.json: jobs[1].sceneIndex: expected an integer in [0, "},
 };
 
-class BatchUsageTest : public BatchTest, public ::testing::WithParamInterface<UsageCase> {
- protected:
-  std::string substituted(std::string text) const {
-    const std::pair<std::string, std::string> names[] = {{"$in", in_.string()},
-                                                         {"$out", out_.string()}};
-    for (const auto& [name, value] : names)
-      for (std::size_t at; (at = text.find(name)) != std::string::npos;)
-        text.replace(at, name.size(), value);
-    return text;
-  }
-};
+class BatchUsageTest : public BatchTest, public ::testing::WithParamInterface<UsageCase> {};
 
 TEST_P(BatchUsageTest, ExitsWithStatus2AndRendersNothing) {
   const UsageCase& c = GetParam();

@@ -20,8 +20,7 @@
 
 #include "renderer/output/image_writer.h"
 #include "scenes/builder/gltf_builder.h"
-#include "tests/support/run_binary.h"
-#include "tests/support/temp_folder.h"
+#include "tests/support/cli_fixture.h"
 
 namespace omnishadow {
 namespace {
@@ -40,75 +39,17 @@ constexpr const char* kKeyLights = R"({
   ]
 })";
 
-struct SceneSpec {
-  bool cameras = true;       // "main" (glTF camera 0) and "top" (camera 1)
-  float aspectRatio = 0.0f;  // of "main"; 0 = none
-  bool gltfLight = true;     // KHR_lights_punctual point light "lamp", above and right
-  FileFormat format = FileFormat::GltfEmbedded;
-};
-
-// A textured floor and a box standing on it; the lamp casts the box's shadow onto the floor.
-void writeScene(const fs::path& path, const SceneSpec& spec = {}) {
-  GltfBuilder b;
-  std::vector<std::uint8_t> checker;
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) {
-      const std::uint8_t v = (x + y) % 2 ? 220 : 90;
-      checker.insert(checker.end(), {v, v, v, 255});
-    }
-  builder::MaterialDesc floor{.name = "floor", .roughness = 0.8f};
-  floor.baseColorTexture = b.addTexture(8, 8, checker, "checker");
-  const int box = b.addMaterial({.name = "box", .baseColor = {0.8f, 0.2f, 0.1f, 1.0f}});
-  b.addNode("floor", {}, b.addMesh(builder::makePlane(6.0f), {.material = b.addMaterial(floor)}));
-  b.addNode("box", {.translation = {0.0f, 0.5f, 0.0f}},
-            b.addMesh(builder::makeBox(glm::vec3(0.5f)), {.material = box}));
-  if (spec.cameras) {
-    b.addPerspectiveCamera("main", {0.0f, 2.5f, 4.5f}, {0.0f, 0.3f, 0.0f}, 0.8f, spec.aspectRatio);
-    b.addPerspectiveCamera("top", {0.0f, 6.0f, 1.0f}, {0.0f, 0.0f, 0.0f}, 0.8f);
-  }
-  if (spec.gltfLight)
-    b.addLight("lamp", "point", {1.5f, 3.0f, 1.0f}, {0.0f, -1.0f, 0.0f}, glm::vec3(1.0f), 30.0f);
-  b.write(path, spec.format);
-}
-
-// `count` shadowed point lights in a row.
-// Five shadowed point lights of five resolutions: five cube map arrays, one more than a frame
-// samples, an error found only when rendering.
-std::string tooManyShadowTextures() {
-  std::string json = R"({"lights": [)";
-  for (int i = 0; i < 5; ++i)
-    json += (i ? ", " : "") + std::string(R"({"position": [)") + std::to_string(i) +
-            R"(, 3, 1], "shadow": {"resolution": )" + std::to_string(16 + i) + "}}";
-  return json + "]}";
-}
-
-
 // ---------------------------------------------------------------------------------------------
 // Reading results
 
+using SceneSpec = test_support::BoxSceneSpec;
+using test_support::contains;
 using test_support::filesIn;
+using test_support::pngHeader;
+using test_support::PngHeader;
 using test_support::readFile;
-
-// The IHDR fields of a PNG, read from the file itself (readImage converts to float).
-struct PngHeader {
-  std::uint32_t width = 0, height = 0;
-  int bitDepth = 0, colorType = 0;  // color type 2 = RGB
-};
-
-PngHeader pngHeader(const fs::path& path) {
-  const std::string bytes = readFile(path);
-  EXPECT_GE(bytes.size(), 33u);
-  EXPECT_EQ(bytes.substr(0, 8), "\x89PNG\r\n\x1a\n");
-  EXPECT_EQ(bytes.substr(12, 4), "IHDR");
-  if (bytes.size() < 33) return {};
-  auto u32 = [&](std::size_t at) {
-    std::uint32_t v = 0;
-    for (std::size_t i = 0; i < 4; ++i) v = v << 8 | static_cast<unsigned char>(bytes[at + i]);
-    return v;
-  };
-  return {u32(16), u32(20), static_cast<unsigned char>(bytes[24]),
-          static_cast<unsigned char>(bytes[25])};
-}
+using test_support::sameBytes;
+using test_support::writeBoxScene;
 
 std::vector<std::string> sortedChannels(const FloatImage& image) {
   std::vector<std::string> channels = image.channels;
@@ -138,63 +79,22 @@ double channelVariance(const FloatImage& image, int channel) {
   return sum / (static_cast<double>(image.width) * image.height);
 }
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-}
-
-::testing::AssertionResult sameBytes(const fs::path& a, const fs::path& b) {
-  const std::string x = readFile(a), y = readFile(b);
-  if (x.empty()) return ::testing::AssertionFailure() << a << " is empty or missing";
-  if (x == y) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << a << " and " << b << " differ";
-}
-
 // ---------------------------------------------------------------------------------------------
 // Running the binary
 
-class CliTest : public ::testing::Test {
+class CliTest : public test_support::CliFixture {
  protected:
-  using Run = test_support::RunResult;  // not ::testing::Test::Run()
-
-  void SetUp() override {
-    fs::create_directory(in_);
-    fs::create_directory(out_);
-  }
-
-  // `omnishadow args...` with out/ as the working directory; `environment` ("NAME=value")
-  // is set for the run only.
-  Run run(const std::vector<std::string>& args, const std::vector<std::string>& environment = {}) {
-    test_support::RunOptions options;
-    options.workingDirectory = out_;
-    options.environment = environment;
-    return test_support::runOmnishadow(args, options);
-  }
+  CliTest() : CliFixture("omnishadow-cli") {}
 
   // `omnishadow render args... --width 96 --height 64`, expected to succeed.
   Run render(std::vector<std::string> args) {
-    args.insert(args.begin(), "render");
-    args.insert(args.end(), {"--width", "96", "--height", "64"});
-    Run result = run(args);
-    EXPECT_EQ(result.status, 0) << result.err;
-    return result;
-  }
-
-  fs::path input(const std::string& name) const { return in_ / name; }
-  fs::path output(const std::string& name) const { return out_ / name; }
-
-  fs::path writeText(const std::string& name, const std::string& text) {
-    std::ofstream(input(name), std::ios::binary) << text;
-    return input(name);
+    return runSucceeding("render", std::move(args), {"--width", "96", "--height", "64"});
   }
 
   fs::path scene(const std::string& name = "scene.gltf", const SceneSpec& spec = {}) {
-    writeScene(input(name), spec);
+    writeBoxScene(input(name), spec);
     return input(name);
   }
-
-  test_support::TempFolder root_{"omnishadow-cli"};
-  fs::path in_ = root_ / "in", out_ = root_ / "out";
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -214,18 +114,7 @@ void PrintTo(const ErrorCase& c, std::ostream* os) {
   *os << c.name;
 }
 
-class CliErrorTest : public CliTest, public ::testing::WithParamInterface<ErrorCase> {
- protected:
-  std::string substituted(std::string text) const {
-    const std::pair<std::string, std::string> names[] = {{"$scene", input("scene.gltf").string()},
-                                                         {"$lights", input("lights.json").string()},
-                                                         {"$in", in_.string()}};
-    for (const auto& [name, value] : names)
-      for (std::size_t at; (at = text.find(name)) != std::string::npos;)
-        text.replace(at, name.size(), value);
-    return text;
-  }
-};
+class CliErrorTest : public CliTest, public ::testing::WithParamInterface<ErrorCase> {};
 
 const ErrorCase kErrorCases[] = {
     {"NoSubcommand", kKeyLights, {}, 2, "A subcommand is required", ErrorCase::Contains},
@@ -302,16 +191,16 @@ const ErrorCase kErrorCases[] = {
      2,
      "--eye 1,2: expected 3 comma-separated finite numbers",
      ErrorCase::OneLine},
-    // The message says which EGL devices exist, or what was tried when there are none.
+    // A usage error: one line naming --gpu and the EGL devices that exist; no output.
     {"NoSuchGpu",
      kKeyLights,
      {"render", "$scene", "--gpu", "99", "-o", "a.png"},
-     1,
-     "EGL device",
+     2,
+     "omnishadow: --gpu 99: there are only ",
      ErrorCase::OneLine},
     // Found only once the GL context is up, just before rendering.
     {"TooManyShadowTextures",
-     tooManyShadowTextures(),
+     test_support::distinctResolutionLights(5),
      {"render", "$scene", "-l", "$lights", "--no-gltf-lights", "-o", "a.png", "--aov", "a.exr"},
      2,
      "the point lights' shadow maps need more than 4 textures",
@@ -368,7 +257,7 @@ TEST_F(CliTest, OutputThatIsAFolderIsRejectedBeforeRendering) {
 }
 
 TEST_F(CliTest, RefusesToOverwriteATextureTheSceneReads) {
-  writeScene(in_ / "scene.gltf", {.format = FileFormat::GltfExternal});
+  writeBoxScene(in_ / "scene.gltf", {.format = FileFormat::GltfExternal});
   const std::vector<std::string> inputs = filesIn(in_);
   const auto texture = std::find_if(inputs.begin(), inputs.end(),
                                     [](const std::string& name) { return name.ends_with(".png"); });
@@ -390,7 +279,7 @@ TEST_F(CliTest, FailedRunRemovesTheFoldersItCreated) {
 
 TEST_F(CliTest, WarningsAreStillPrintedWhenTheRunFails) {
   const fs::path scenePath = scene("scene.gltf");
-  std::string lights = tooManyShadowTextures();
+  std::string lights = test_support::distinctResolutionLights(5);
   lights.insert(1, R"("colour": 1, )");
   const fs::path lightsPath = writeText("lights.json", lights);
   const Run r = run({"render", scenePath.string(), "-l", lightsPath.string(), "--no-gltf-lights"});
@@ -514,6 +403,25 @@ TEST_F(CliTest, StatsNameEveryStage) {
         std::regex_search(r.err, std::regex(std::string("(^|\n)") + stage + " +[0-9]+\\.[0-9]\n")))
         << "no time for " << stage << " in:\n"
         << r.err;
+  }
+}
+
+// More than 20 lights with AOVs: lighting runs in several passes, yet --stats sums each stage
+// into one row.
+TEST_F(CliTest, StatsNameEachStageOnceWhenLightingRunsInSeveralPasses) {
+  std::string lights = R"({"lights": [)";
+  for (int i = 0; i < 24; ++i)
+    lights += (i ? ", " : "") + std::string(R"({"position": [)") + std::to_string(i % 6 - 3) +
+              ", 3, " + std::to_string(i / 6) + R"(], "intensity": 2, "shadow": false})";
+  const fs::path lightsPath = writeText("many.lights.json", lights + "]}");
+  const Run r = render({scene().string(), "-l", lightsPath.string(), "--no-gltf-lights", "-o",
+                        "a.png", "--aov", "a.exr", "--stats"});
+  for (const char* stage :
+       {"load", "context", "upload", "lighting", "readback", "encode", "total"}) {
+    const std::regex row(std::string("(^|\n)") + stage + " +[0-9]+\\.[0-9]\n");
+    const auto rows = std::distance(std::sregex_iterator(r.err.begin(), r.err.end(), row),
+                                    std::sregex_iterator());
+    EXPECT_EQ(rows, 1) << stage << " in:\n" << r.err;
   }
 }
 

@@ -28,8 +28,7 @@
 
 #include "renderer/output/image_writer.h"
 #include "scenes/builder/gltf_builder.h"
-#include "tests/support/run_binary.h"
-#include "tests/support/temp_folder.h"
+#include "tests/support/cli_fixture.h"
 
 namespace omnishadow {
 namespace {
@@ -135,22 +134,10 @@ void writeSixBoxes(const fs::path& path) {
 // ---------------------------------------------------------------------------------------------
 // Reading results
 
+using test_support::contains;
 using test_support::filesIn;
+using test_support::pngSize;
 using test_support::readFile;
-
-// Width and height from a PNG's IHDR.
-std::pair<std::uint32_t, std::uint32_t> pngSize(const fs::path& path) {
-  const std::string bytes = readFile(path);
-  EXPECT_GE(bytes.size(), 33u) << path;
-  EXPECT_EQ(bytes.substr(0, 8), "\x89PNG\r\n\x1a\n") << path;
-  if (bytes.size() < 33) return {0, 0};
-  auto u32 = [&](std::size_t at) {
-    std::uint32_t v = 0;
-    for (std::size_t i = 0; i < 4; ++i) v = v << 8 | static_cast<unsigned char>(bytes[at + i]);
-    return v;
-  };
-  return {u32(16), u32(20)};
-}
 
 // An EXR as OpenEXR itself sees it: size, channel names and types, envmap, and the "Z" values.
 struct ExrFile {
@@ -187,11 +174,6 @@ ExrFile readExr(const fs::path& path) {
   return exr;
 }
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-}
-
 // The per-light files --dump-depth writes for a light of this (file-safe) name.
 std::vector<std::string> dumpFiles(const std::string& light) {
   std::vector<std::string> files = {light + "_cube.exr", light + "_cross.png"};
@@ -208,39 +190,15 @@ std::vector<std::string> sorted(std::vector<std::string> names) {
 // ---------------------------------------------------------------------------------------------
 // Running the binary
 
-class DebugOutputsTest : public ::testing::Test {
+class DebugOutputsTest : public test_support::CliFixture {
  protected:
-  using Run = test_support::RunResult;  // not ::testing::Test::Run()
-
-  void SetUp() override {
-    fs::create_directory(in_);
-    fs::create_directory(out_);
-  }
-
-  // `omnishadow args...` with out/ as the working directory.
-  Run run(const std::vector<std::string>& args) {
-    return test_support::runOmnishadow(args, test_support::RunOptions::in(out_));
-  }
+  DebugOutputsTest() : CliFixture("omnishadow-debug") {}
 
   // `omnishadow render args... --width 64 --height 48 --no-gltf-lights`, expected to succeed.
   Run render(std::vector<std::string> args) {
-    args.insert(args.begin(), "render");
-    args.insert(args.end(), {"--width", "64", "--height", "48", "--no-gltf-lights"});
-    Run result = run(args);
-    EXPECT_EQ(result.status, 0) << result.err;
-    return result;
+    return runSucceeding("render", std::move(args),
+                         {"--width", "64", "--height", "48", "--no-gltf-lights"});
   }
-
-  fs::path input(const std::string& name) const { return in_ / name; }
-  fs::path output(const std::string& name) const { return out_ / name; }
-
-  fs::path writeText(const std::string& name, const std::string& text) {
-    std::ofstream(input(name), std::ios::binary) << text;
-    return input(name);
-  }
-
-  test_support::TempFolder root_{"omnishadow-debug"};
-  fs::path in_ = root_ / "in", out_ = root_ / "out";
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -557,18 +515,7 @@ void PrintTo(const ErrorCase& c, std::ostream* os) {
 }
 
 class DebugOutputsErrorTest : public DebugOutputsTest,
-                              public ::testing::WithParamInterface<ErrorCase> {
- protected:
-  std::string substituted(std::string text) const {
-    const std::pair<std::string, std::string> names[] = {{"$scene", input("scene.gltf").string()},
-                                                         {"$lights", input("lights.json").string()},
-                                                         {"$in", in_.string()}};
-    for (const auto& [name, value] : names)
-      for (std::size_t at; (at = text.find(name)) != std::string::npos;)
-        text.replace(at, name.size(), value);
-    return text;
-  }
-};
+                              public ::testing::WithParamInterface<ErrorCase> {};
 
 constexpr const char* kClashingLights = R"({"lights": [
   {"name": "a b", "position": [-1, 3, 1], "shadow": {"resolution": 32}},

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "renderer/view/cube_faces.h"
+#include "tests/support/temp_folder.h"
 
 namespace omnishadow {
 namespace {
@@ -33,27 +34,8 @@ namespace fs = std::filesystem;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // A fresh folder per test, removed afterwards even when the test fails.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = info ? info->name() : "x";
-    std::replace(name.begin(), name.end(), '/', '_');
-    path_ =
-        fs::temp_directory_path() / ("omnishadow_depth_dump_test_" + std::to_string(::getpid()) +
-                                     "_" + std::to_string(counter++) + "_" + name);
-    fs::remove_all(path_);
-    fs::create_directory(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
+struct TempDir : test_support::TempFolder {
+  TempDir() : TempFolder("omnishadow-depth-dump") {}
 };
 
 CubeFace faceAt(int face) {
@@ -66,14 +48,20 @@ float code(int face, int column, int row, int n) {
   return static_cast<float>(face * 1000 + row * n + column + 1);
 }
 
-CubeDistances encodedCube(int n) {
+// An n x n cube whose texels hold value(face, column, row, n).
+template <typename Value>
+CubeDistances cubeOf(int n, Value value) {
   CubeDistances cube;
   cube.resolution = n;
   for (int face = 0; face < kCubeFaceCount; ++face)
     for (int row = 0; row < n; ++row)
       for (int column = 0; column < n; ++column)
-        cube.faces[face].push_back(code(face, column, row, n));
+        cube.faces[face].push_back(static_cast<float>(value(face, column, row, n)));
   return cube;
+}
+
+CubeDistances encodedCube(int n) {
+  return cubeOf(n, code);
 }
 
 // For the 8-bit files: texel index + 1 (1..6n^2 <= 150 for n = 5) with far = 255 turns into
@@ -84,13 +72,7 @@ int greyCode(int face, int column, int row, int n) {
 }
 
 CubeDistances greyCodedCube(int n) {
-  CubeDistances cube;
-  cube.resolution = n;
-  for (int face = 0; face < kCubeFaceCount; ++face)
-    for (int row = 0; row < n; ++row)
-      for (int column = 0; column < n; ++column)
-        cube.faces[face].push_back(static_cast<float>(greyCode(face, column, row, n)));
-  return cube;
+  return cubeOf(n, greyCode);
 }
 
 std::string faceFile(const std::string& light, int face, const std::string& extension) {

@@ -21,6 +21,7 @@
 
 #include "renderer/core/errors.h"
 #include "renderer/output/output_transaction.h"
+#include "tests/support/temp_folder.h"
 
 namespace omnishadow {
 namespace {
@@ -28,33 +29,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // A fresh folder per test, removed afterwards even when the test fails.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    // Parameterised test names contain '/', which would nest folders that cleanup misses.
-    std::string name = info ? info->name() : "x";
-    std::replace(name.begin(), name.end(), '/', '_');
-    path_ = fs::temp_directory_path() / ("omnishadow_image_test_" + std::to_string(::getpid()) +
-                                         "_" + std::to_string(counter++) + "_" + name);
-    fs::remove_all(path_);
-    fs::create_directory(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    // A test may have made a folder read-only; restore so that remove_all can clean it.
-    for (auto it = fs::recursive_directory_iterator(path_, ignored);
-         it != fs::recursive_directory_iterator(); it.increment(ignored)) {
-      if (it->is_directory(ignored)) fs::permissions(it->path(), fs::perms::owner_all, ignored);
-    }
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
+struct TempDir : test_support::TempFolder {
+  TempDir() : TempFolder("omnishadow-image") {}
 };
 
 std::vector<std::uint8_t> testPattern(int width, int height, int channels) {
@@ -409,14 +385,21 @@ TEST(OutputTransactionTest, FileInPlaceOfFolderThrowsAndLeavesNothing) {
 }
 
 TEST(OutputTransactionTest, ReadOnlyFolderThrowsAndLeavesNothing) {
-  if (::geteuid() == 0) GTEST_SKIP() << "root ignores permission bits";
+  // Root (as in CI) ignores permission bits: the read-only folder is checked for other users.
+  if (::geteuid() != 0) {
+    TempDir dir;
+    const fs::path locked = dir / "locked";
+    fs::create_directory(locked);
+    fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+    expectStageFails(locked / "out.png");
+    fs::permissions(locked, fs::perms::owner_all);
+    EXPECT_TRUE(folderContents(locked).empty());
+  }
+  // What no user, root included, may create: a file in /proc, a name longer than NAME_MAX.
+  expectStageFails(fs::path("/proc") / "omnishadow-out.png");
   TempDir dir;
-  const fs::path locked = dir / "locked";
-  fs::create_directory(locked);
-  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
-  expectStageFails(locked / "out.png");
-  fs::permissions(locked, fs::perms::owner_all);
-  EXPECT_TRUE(folderContents(locked).empty());
+  expectStageFails(dir / (std::string(300, 'x') + ".png"));
+  EXPECT_TRUE(folderContents(dir.path()).empty());
 }
 
 TEST(OutputTransactionTest, CommitOfUnwrittenStageThrowsAndPublishesNothing) {

@@ -55,6 +55,23 @@ void expectVec3(const glm::vec3& actual, float x, float y, float z) {
   EXPECT_NEAR(actual.z, z, 1e-6f);
 }
 
+// The shadow settings most tests look at; `enabled` is expected true.
+struct ExpectedShadow {
+  int resolution;
+  float near, far, bias, slopeBias;
+  ShadowFilter filter;
+};
+
+void expectShadow(const ShadowSettings& actual, const ExpectedShadow& expected) {
+  EXPECT_TRUE(actual.enabled);
+  EXPECT_EQ(actual.resolution, expected.resolution);
+  EXPECT_FLOAT_EQ(actual.near, expected.near);
+  EXPECT_FLOAT_EQ(actual.far, expected.far);
+  EXPECT_FLOAT_EQ(actual.bias, expected.bias);
+  EXPECT_FLOAT_EQ(actual.slopeBias, expected.slopeBias);
+  EXPECT_EQ(actual.filter, expected.filter);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Valid files
 
@@ -75,13 +92,12 @@ TEST(LightsLoader, ParsesTheDocumentedExample) {
   expectVec3(lamp.color, 1.0f, 0.9f, 0.8f);
   EXPECT_FLOAT_EQ(lamp.intensity, 40.0f);
   EXPECT_FLOAT_EQ(lamp.range, 20.0f);
-  EXPECT_TRUE(lamp.shadow.enabled);
-  EXPECT_EQ(lamp.shadow.resolution, 1024);
-  EXPECT_FLOAT_EQ(lamp.shadow.near, 0.05f);
-  EXPECT_FLOAT_EQ(lamp.shadow.far, 20.0f);
-  EXPECT_FLOAT_EQ(lamp.shadow.bias, 0.02f);
-  EXPECT_FLOAT_EQ(lamp.shadow.slopeBias, 2.0f);
-  EXPECT_EQ(lamp.shadow.filter, ShadowFilter::Pcf);
+  expectShadow(lamp.shadow, {.resolution = 1024,
+                             .near = 0.05f,
+                             .far = 20.0f,
+                             .bias = 0.02f,
+                             .slopeBias = 2.0f,
+                             .filter = ShadowFilter::Pcf});
   EXPECT_EQ(lamp.origin, "lights.json");
 }
 
@@ -106,13 +122,12 @@ TEST(LightsLoader, EmptyLightGetsEveryDefault) {
   EXPECT_FLOAT_EQ(light.range, 0.0f);
   EXPECT_FLOAT_EQ(light.innerConeAngle, 0.0f);
   EXPECT_FLOAT_EQ(light.outerConeAngle, kPi / 4);
-  EXPECT_TRUE(light.shadow.enabled);
-  EXPECT_EQ(light.shadow.resolution, 1024);
-  EXPECT_FLOAT_EQ(light.shadow.near, 0.05f);
-  EXPECT_FLOAT_EQ(light.shadow.far, 0.0f);
-  EXPECT_FLOAT_EQ(light.shadow.bias, 0.0f);
-  EXPECT_FLOAT_EQ(light.shadow.slopeBias, 2.0f);
-  EXPECT_EQ(light.shadow.filter, ShadowFilter::Pcf);
+  expectShadow(light.shadow, {.resolution = 1024,
+                              .near = 0.05f,
+                              .far = 0.0f,
+                              .bias = 0.0f,
+                              .slopeBias = 2.0f,
+                              .filter = ShadowFilter::Pcf});
   EXPECT_EQ(light.origin, "lights.json");
 }
 
@@ -174,13 +189,12 @@ TEST(LightsLoader, ShadowFalseDisablesShadow) {
 TEST(LightsLoader, ShadowObjectOverridesOnlyWhatItNames) {
   const Light light =
       parse(R"({"lights": [{"shadow": {"resolution": 512, "filter": "hard"}}]})").lights.at(0);
-  EXPECT_TRUE(light.shadow.enabled);
-  EXPECT_EQ(light.shadow.resolution, 512);
-  EXPECT_EQ(light.shadow.filter, ShadowFilter::Hard);
-  EXPECT_FLOAT_EQ(light.shadow.near, 0.05f);
-  EXPECT_FLOAT_EQ(light.shadow.far, 0.0f);
-  EXPECT_FLOAT_EQ(light.shadow.bias, 0.0f);
-  EXPECT_FLOAT_EQ(light.shadow.slopeBias, 2.0f);
+  expectShadow(light.shadow, {.resolution = 512,
+                              .near = 0.05f,
+                              .far = 0.0f,
+                              .bias = 0.0f,
+                              .slopeBias = 2.0f,
+                              .filter = ShadowFilter::Hard});
 }
 
 TEST(LightsLoader, ShadowObjectCanBeDisabled) {
@@ -589,6 +603,17 @@ class LightsFileTest : public testing::Test {
     return path;
   }
 
+  // The message of the InputError that loading `path` throws; "(no error)" when none.
+  static std::string loadError(const std::filesystem::path& path) {
+    std::vector<std::string> warnings;
+    try {
+      omnishadow::loadLightsFile(path, warnings);
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "(no error)";
+  }
+
   std::filesystem::path directory_;
 };
 
@@ -606,49 +631,25 @@ TEST_F(LightsFileTest, LoadsFileAndUsesItsPathAsOrigin) {
 
 TEST_F(LightsFileTest, LabelsContentErrorsWithThePath) {
   const auto path = write("bad.json", "{\n  \"ambient\": 1\n}\n");
-  std::vector<std::string> warnings;
-  try {
-    omnishadow::loadLightsFile(path, warnings);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& error) {
-    EXPECT_EQ(std::string(error.what()),
-              path.string() + ": ambient: expected an array of 3 finite numbers >= 0");
-  }
+  EXPECT_EQ(loadError(path),
+            path.string() + ": ambient: expected an array of 3 finite numbers >= 0");
 }
 
 TEST_F(LightsFileTest, ReportsMissingFile) {
   const auto path = directory_ / "missing.json";
-  std::vector<std::string> warnings;
-  try {
-    omnishadow::loadLightsFile(path, warnings);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& error) {
-    EXPECT_EQ(std::string(error.what()),
-              path.string() + ": cannot read lights file: No such file or directory");
-  }
+  EXPECT_EQ(loadError(path),
+            path.string() + ": cannot read lights file: No such file or directory");
 }
 
 TEST_F(LightsFileTest, ReportsDirectory) {
-  std::vector<std::string> warnings;
-  try {
-    omnishadow::loadLightsFile(directory_, warnings);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& error) {
-    EXPECT_EQ(std::string(error.what()),
-              directory_.string() + ": cannot read lights file: Is a directory");
-  }
+  EXPECT_EQ(loadError(directory_),
+            directory_.string() + ": cannot read lights file: Is a directory");
 }
 
 TEST_F(LightsFileTest, RejectsEmptyFile) {
   const auto path = write("empty.json", "");
-  std::vector<std::string> warnings;
-  try {
-    omnishadow::loadLightsFile(path, warnings);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& error) {
-    const std::string prefix = path.string() + ":1:1: JSON syntax error: ";
-    EXPECT_EQ(std::string(error.what()).substr(0, prefix.size()), prefix);
-  }
+  const std::string prefix = path.string() + ":1:1: JSON syntax error: ";
+  EXPECT_EQ(loadError(path).substr(0, prefix.size()), prefix);
 }
 
 }  // namespace

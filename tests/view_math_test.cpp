@@ -6,9 +6,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
 
+#include "renderer/core/errors.h"
 #include "renderer/view/camera.h"
 #include "renderer/view/cube_faces.h"
-#include "renderer/core/errors.h"
 #include "renderer/view/light_clusters.h"
 #include "renderer/view/shadow_views.h"
 
@@ -16,9 +16,25 @@ using namespace omnishadow;
 
 namespace {
 
+// A point through a view-projection matrix, to normalized device coordinates.
 glm::vec3 project(const glm::mat4& viewProjection, const glm::vec3& p) {
   const glm::vec4 clip = viewProjection * glm::vec4(p, 1.0f);
   return glm::vec3(clip) / clip.w;
+}
+
+// An empty scene whose bounds reach from `low` to `high`.
+Scene boundedScene(const glm::vec3& low, const glm::vec3& high) {
+  Scene scene;
+  scene.bounds.extend(low);
+  scene.bounds.extend(high);
+  return scene;
+}
+
+// The camera at `eye` aimed at the origin; `request` gives any other setting.
+ViewCamera cameraAtOrigin(const Scene& scene, const glm::vec3& eye, CameraRequest request = {}) {
+  request.eye = eye;
+  request.target = glm::vec3(0, 0, 0);
+  return resolveCamera(scene, request);
 }
 
 }  // namespace
@@ -244,15 +260,6 @@ TEST(Camera, OverridesMoveAndAimTheCamera) {
 // ---------------------------------------------------------------------------------------------
 // Spot and directional shadow projections (renderer/shadow_views.h)
 
-namespace {
-
-glm::vec3 projectToNdc(const glm::mat4& viewProjection, const glm::vec3& p) {
-  const glm::vec4 clip = viewProjection * glm::vec4(p, 1.0f);
-  return glm::vec3(clip) / clip.w;
-}
-
-}  // namespace
-
 TEST(SpotShadow, MapHoldsTheWholeOuterConeWithReversedDepth) {
   Light light;
   light.type = LightType::Spot;
@@ -269,14 +276,14 @@ TEST(SpotShadow, MapHoldsTheWholeOuterConeWithReversedDepth) {
     const glm::vec3 axis = glm::vec3(spin * glm::vec4(side, 0.0f));
     const glm::vec3 onCone = glm::vec3(glm::rotate(glm::mat4(1.0f), light.outerConeAngle, axis) *
                                        glm::vec4(light.direction, 0));
-    const glm::vec3 ndc = projectToNdc(frame.viewProjection, light.position + 5.0f * onCone);
+    const glm::vec3 ndc = project(frame.viewProjection, light.position + 5.0f * onCone);
     EXPECT_LT(std::abs(ndc.x), 1.0f);
     EXPECT_LT(std::abs(ndc.y), 1.0f);
   }
   // Near maps to depth 1, far to 0 (reversed), along the axis.
-  EXPECT_NEAR(projectToNdc(frame.viewProjection, light.position + 0.1f * light.direction).z, 1.0f,
+  EXPECT_NEAR(project(frame.viewProjection, light.position + 0.1f * light.direction).z, 1.0f,
               1e-4f);
-  EXPECT_NEAR(projectToNdc(frame.viewProjection, light.position + 20.0f * light.direction).z, 0.0f,
+  EXPECT_NEAR(project(frame.viewProjection, light.position + 20.0f * light.direction).z, 0.0f,
               1e-4f);
 }
 
@@ -300,15 +307,8 @@ TEST(Cascades, PracticalSplitMixesLogarithmicAndLinear) {
 }
 
 TEST(Cascades, EachCascadeCoversItsSliceOfTheVisibleScene) {
-  Scene scene;
-  scene.bounds.extend(glm::vec3(-20, 0, -20));
-  scene.bounds.extend(glm::vec3(20, 5, 20));
-  CameraRequest request;
-  request.eye = glm::vec3(0, 3, 18);
-  request.target = glm::vec3(0, 0, 0);
-  request.width = 160;
-  request.height = 90;
-  const ViewCamera camera = resolveCamera(scene, request);
+  const Scene scene = boundedScene({-20, 0, -20}, {20, 5, 20});
+  const ViewCamera camera = cameraAtOrigin(scene, {0, 3, 18}, {.width = 160, .height = 90});
   Light sun;
   sun.type = LightType::Directional;
   sun.direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
@@ -324,13 +324,13 @@ TEST(Cascades, EachCascadeCoversItsSliceOfTheVisibleScene) {
   for (int i = 0; i < 4000; ++i) {
     const glm::vec3 p =
         glm::mix(scene.bounds.min, scene.bounds.max, glm::vec3(u(rng), u(rng), u(rng)));
-    const glm::vec3 ndcCamera = projectToNdc(camera.projection * camera.view, p);
+    const glm::vec3 ndcCamera = project(camera.projection * camera.view, p);
     if (std::abs(ndcCamera.x) > 1 || std::abs(ndcCamera.y) > 1 || ndcCamera.z <= 0) continue;
     const float viewDepth = -(camera.view * glm::vec4(p, 1.0f)).z;
     const auto c = std::find_if(frame.cascades.begin(), frame.cascades.end(),
                                 [&](const Cascade& k) { return viewDepth <= k.viewDepthEnd; });
     ASSERT_NE(c, frame.cascades.end());
-    const glm::vec3 ndc = projectToNdc(c->viewProjection, p);
+    const glm::vec3 ndc = project(c->viewProjection, p);
     EXPECT_LE(std::abs(ndc.x), 1.0f);
     EXPECT_LE(std::abs(ndc.y), 1.0f);
     EXPECT_GE(ndc.z, 0.0f);
@@ -346,13 +346,8 @@ TEST(Cascades, EachCascadeCoversItsSliceOfTheVisibleScene) {
 }
 
 TEST(Cascades, ShadowDistanceEndsTheLastCascade) {
-  Scene scene;
-  scene.bounds.extend(glm::vec3(-50, 0, -50));
-  scene.bounds.extend(glm::vec3(50, 5, 50));
-  CameraRequest request;
-  request.eye = glm::vec3(0, 3, 45);
-  request.target = glm::vec3(0, 0, 0);
-  const ViewCamera camera = resolveCamera(scene, request);
+  const Scene scene = boundedScene({-50, 0, -50}, {50, 5, 50});
+  const ViewCamera camera = cameraAtOrigin(scene, {0, 3, 45});
   Light sun;
   sun.type = LightType::Directional;
   sun.direction = glm::vec3(0, -1, 0);
@@ -371,16 +366,8 @@ std::vector<std::uint32_t> clusterList(const LightClusters& clusters, std::size_
 }
 
 ViewCamera topDownCamera() {
-  Scene scene;
-  scene.bounds.extend(glm::vec3(-10, 0, -10));
-  scene.bounds.extend(glm::vec3(10, 1, 10));
-  CameraRequest request;
-  request.eye = glm::vec3(0, 10, 0.001f);
-  request.target = glm::vec3(0, 0, 0);
-  request.fovDegrees = 90.0f;
-  request.width = 320;
-  request.height = 320;
-  return resolveCamera(scene, request);
+  return cameraAtOrigin(boundedScene({-10, 0, -10}, {10, 1, 10}), {0, 10, 0.001f},
+                        {.fovDegrees = 90.0f, .width = 320, .height = 320});
 }
 
 TEST(LightClusters, RangedLightsOnlyInTheClustersTheirSphereTouches) {

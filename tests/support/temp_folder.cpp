@@ -24,6 +24,10 @@ TempFolder::TempFolder(const std::string& prefix) {
 TempFolder::~TempFolder() {
   // A test that failed half-way may have left anything in there; none of it may stop teardown.
   std::error_code ignored;
+  // A test may have made a folder read-only; restore so that remove_all can clean it.
+  for (auto it = fs::recursive_directory_iterator(path_, ignored);
+       it != fs::recursive_directory_iterator(); it.increment(ignored))
+    if (it->is_directory(ignored)) fs::permissions(it->path(), fs::perms::owner_all, ignored);
   fs::remove_all(path_, ignored);
 }
 

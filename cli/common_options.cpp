@@ -1,0 +1,113 @@
+#include "cli/common_options.h"
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "cli/render_job.h"
+#include "renderer/render/renderer.h"
+
+namespace fs = std::filesystem;
+
+namespace omnishadow::cli {
+
+void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand command) {
+  const bool renders = command != SceneInputCommand::Info;
+  if (command == SceneInputCommand::Info)
+    app.add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
+  else if (command != SceneInputCommand::Batch)
+    app.add_option("scene", o.scene, "glTF 2.0 scene (.gltf or .glb); default: the demo scene");
+  app.add_option(
+      "-l,--lights", o.lights,
+      command == SceneInputCommand::Batch
+          ? "One lights file for every scene (default: <scene>.lights.json, else "
+            "lights.json in the scene's folder)"
+          : "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
+  if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
+    app.add_option("--shadow-pass", o.shadowPass,
+                   "How point-light cube maps are rendered: six, geometry, instanced or auto "
+                   "(default; six, the fastest measured on llvmpipe, on every driver for now)")
+        ->check(CLI::IsMember({"auto", "six", "geometry", "instanced"}));
+  if (renders)
+    app.add_option("--max-memory", o.maxMemoryMiB,
+                   "Memory the shadow maps of one frame may use, in MiB (default 4096)")
+        ->check(CLI::PositiveNumber);
+  app.add_flag("--allow-external-uris", o.allowExternalUris,
+               "Let the scene read buffers and images outside its own folder");
+  if (renders)
+    app.add_flag("--no-gltf-lights", o.noGltfLights,
+                 "Ignore the scene's KHR_lights_punctual lights");
+  app.add_option("--scene", o.sceneIndex,
+                 renders ? "Index of the glTF scene to render (default: the file's default scene)"
+                         : "Index of the glTF scene to describe (default: the file's default "
+                           "scene)")
+      ->check(CLI::NonNegativeNumber);
+}
+
+RenderJob sceneJob(const SceneInputOptions& o) {
+  RenderJob job;
+  job.scene = o.scene.empty() ? fs::path(OMNISHADOW_DEMO_SCENE) : fs::path(o.scene);
+  job.lights = o.lights.empty() ? defaultLightsFile(job.scene) : fs::path(o.lights);
+  applySceneSettings(o, job);
+  return job;
+}
+
+void applySceneSettings(const SceneInputOptions& o, RenderJob& job) {
+  job.noGltfLights = o.noGltfLights;
+  job.allowExternalUris = o.allowExternalUris;
+  job.maxMemoryMiB = o.maxMemoryMiB;
+  job.shadowPass = parseShadowPassStrategy(o.shadowPass);
+  job.sceneIndex = o.sceneIndex;
+}
+
+void addDeviceOptions(CLI::App& app, DeviceOptions& o, bool withStats) {
+  app.add_option("--gpu", o.gpu,
+                 "EGL device index to render on (default: first hardware device, else software)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("-v,--verbose", o.verbose,
+               "Print the GL platform, vendor, renderer, version and GL debug messages");
+  if (withStats) app.add_flag("--stats", o.stats, "Print the time of each stage to stderr");
+}
+
+std::unique_ptr<Renderer> openRenderer(const DeviceOptions& o) {
+  ContextOptions context;
+  context.gpuIndex = o.gpu;
+  context.debug = o.verbose;
+  auto renderer = std::make_unique<Renderer>(context);
+  if (o.verbose)
+    std::fprintf(stderr, "omnishadow: %s\nomnishadow: %s\n",
+                 renderer->platformDescription().c_str(), renderer->glDescription().c_str());
+  return renderer;
+}
+
+void printWarnings(const std::vector<std::string>& warnings) {
+  for (const std::string& warning : warnings)
+    std::fprintf(stderr, "omnishadow: warning: %s\n", warning.c_str());
+}
+
+void printStats(const StageTimes& times) {
+  std::fprintf(stderr, "stage          ms\n");
+  for (const auto& [stage, ms] : times.stages())
+    std::fprintf(stderr, "%-12s %8.1f\n", stage.c_str(), ms);
+  std::fprintf(stderr, "%-12s %8.1f\n", "total", times.total());
+}
+
+std::string shortestDecimal(float value) {
+  if (!std::isfinite(value)) return std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf";
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+nlohmann::ordered_json jsonNumber(float value) {
+  if (!std::isfinite(value)) return nullptr;
+  return std::strtod(shortestDecimal(value).c_str(), nullptr);
+}
+
+nlohmann::ordered_json jsonNumber(double value) {
+  return std::isfinite(value) ? nlohmann::ordered_json(value) : nlohmann::ordered_json(nullptr);
+}
+
+}  // namespace omnishadow::cli
