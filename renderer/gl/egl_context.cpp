@@ -180,6 +180,12 @@ std::vector<Candidate> deviceCandidates(int gpuIndex, std::vector<std::string>& 
 EglContext::EglContext(const EglContextOptions& options) : impl_(std::make_unique<Impl>()) {
   std::vector<std::string> attempts;
   std::vector<Candidate> candidates = deviceCandidates(options.gpuIndex, attempts);
+  // Asking for a device that is not there is a usage error, also where EGL lists none at all.
+  if (options.gpuIndex >= 0 && candidates.empty())
+    throw InputError("--gpu " + std::to_string(options.gpuIndex) +
+                     ": there are no EGL devices (" +
+                     (attempts.empty() ? std::string("none listed") : attempts.front()) +
+                     "); leave --gpu out to use the surfaceless platform");
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (options.gpuIndex < 0) {
     if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless"))
