@@ -301,6 +301,18 @@ TEST_F(CliTest, NoEglContextSaysWhatWasTried) {
   EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
 }
 
+TEST_F(CliTest, GpuWhereEglListsNoDeviceIsAUsageError) {
+  // Without a vendor library EGL lists no device at all: asking for one is still the user's
+  // mistake (exit 2, one line naming --gpu), not a failure of the renderer.
+  const fs::path scenePath = scene("scene.gltf");
+  const Run r = run({"render", scenePath.string(), "--gpu", "0", "-o", "a.png"},
+                    {"__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/vendor.json"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "omnishadow: --gpu 0: there are no EGL devices")) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
+}
+
 TEST_F(CliTest, RefusesToOverwriteAnInput) {
   // Outputs are checked before the scene is read, so this input need not even be a scene.
   const fs::path precious = writeText("picture.png", "precious bytes");

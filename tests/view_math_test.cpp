@@ -217,6 +217,28 @@ TEST(Camera, FirstGltfCameraByDefaultAndSelectionByNameOrIndex) {
   }
 }
 
+TEST(Camera, ABrokenCameraIsRefusedOnlyWhenRenderedFrom) {
+  // The loader accepts a file with a broken camera (with a warning); resolveCamera() refuses to
+  // render from it, naming the camera, and the scene's other cameras still render.
+  Scene scene = sceneWithBounds();
+  scene.cameras.push_back(gltfCamera(0, "good", {0, 1, 5}, 0.0f));
+  Camera broken = gltfCamera(1, "flat", {5, 1, 0}, 0.0f);
+  broken.orthographic = true;
+  broken.xmag = 1.0f;
+  broken.ymag = 0.0f;
+  broken.zfar = 10.0f;
+  scene.cameras.push_back(broken);
+  EXPECT_EQ(resolveCamera(scene, {}).eye, glm::vec3(0, 1, 5));
+  CameraRequest request;
+  request.select = "flat";
+  try {
+    resolveCamera(scene, request);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "test.gltf: cameras[1]: orthographic ymag must be non-zero");
+  }
+}
+
 TEST(Camera, SizeFollowsTheCameraAspectRatio) {
   Scene scene = sceneWithBounds();
   scene.cameras.push_back(gltfCamera(0, "square", {0, 1, 5}, 1.0f));
