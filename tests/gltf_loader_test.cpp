@@ -134,16 +134,7 @@ class GltfLoaderTest : public ::testing::Test {
 // Raw buffer access for files the builder cannot express directly.
 int addRawView(tinygltf::Model& model, const std::vector<unsigned char>& bytes,
                std::size_t stride = 0) {
-  std::vector<unsigned char>& data = model.buffers.at(0).data;
-  while (data.size() % 4 != 0) data.push_back(0);
-  tinygltf::BufferView view;
-  view.buffer = 0;
-  view.byteOffset = data.size();
-  view.byteLength = bytes.size();
-  view.byteStride = stride;
-  data.insert(data.end(), bytes.begin(), bytes.end());
-  model.bufferViews.push_back(view);
-  return static_cast<int>(model.bufferViews.size()) - 1;
+  return builder::appendBufferView(model, bytes, 0, stride);
 }
 
 int addRawAccessor(tinygltf::Model& model, int view, std::size_t offset, int componentType,

@@ -71,14 +71,13 @@ Light pointLight(const std::string& name, glm::vec3 position, ShadowFilter filte
 
 ViewCamera lookFrom(const Scene& scene, glm::vec3 eye, glm::vec3 target, int width, int height,
                     float fov = 60.0f, glm::vec3 up = {0, 1, 0}) {
-  CameraRequest request;
-  request.eye = eye;
-  request.target = target;
-  request.up = up;
-  request.fovDegrees = fov;
-  request.width = width;
-  request.height = height;
-  return resolveCamera(scene, request);
+  return resolveCamera(scene, {.select = {},
+                               .eye = eye,
+                               .target = target,
+                               .up = up,
+                               .fovDegrees = fov,
+                               .width = width,
+                               .height = height});
 }
 
 // The pixel (column, row from the top) where a world point appears.

@@ -63,6 +63,7 @@ void clampToLitBorder(GLuint sampler) {
   glSamplerParameterfv(sampler, GL_TEXTURE_BORDER_COLOR, border);
 }
 
+// Clamped to the edge; with `filter` for raw reads (depth as a number, VSM moments).
 gl::Sampler makeRawSampler(GLenum filter) {
   gl::Sampler sampler = gl::createSampler();
   glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, filter);
@@ -73,12 +74,9 @@ gl::Sampler makeRawSampler(GLenum filter) {
   return sampler;
 }
 
+// Hardware depth comparison with bilinear weights (the 2x2 PCF of every tap).
 gl::Sampler makeCompareSampler(bool planar) {
-  gl::Sampler sampler = gl::createSampler();
-  glSamplerParameteri(sampler.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glSamplerParameteri(sampler.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  for (const GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-    glSamplerParameteri(sampler.get(), wrap, GL_CLAMP_TO_EDGE);
+  gl::Sampler sampler = makeRawSampler(GL_LINEAR);
   if (planar) clampToLitBorder(sampler.get());
   glSamplerParameteri(sampler.get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
   // Reversed depth: the receiver is lit when its reference is at least the stored depth.

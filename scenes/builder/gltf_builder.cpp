@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <exception>
 #include <fstream>
+#include <functional>
 #include <glm/gtc/type_ptr.hpp>
 #include <limits>
 #include <numbers>
@@ -62,22 +65,6 @@ void alignTo4(std::vector<unsigned char>& data) {
   while (data.size() % 4 != 0) data.push_back(0);
 }
 
-// Appends `bytes` to buffer 0 (created if needed) as a new, 4-byte aligned buffer view.
-// target 0 = none (e.g. an image in a .glb).
-int appendBufferView(tinygltf::Model& model, const std::vector<unsigned char>& bytes, int target) {
-  if (model.buffers.empty()) model.buffers.emplace_back();
-  std::vector<unsigned char>& data = model.buffers[0].data;
-  alignTo4(data);
-  tinygltf::BufferView view;
-  view.buffer = 0;
-  view.byteOffset = data.size();
-  view.byteLength = bytes.size();
-  view.target = target;
-  data.insert(data.end(), bytes.begin(), bytes.end());
-  model.bufferViews.push_back(std::move(view));
-  return static_cast<int>(model.bufferViews.size()) - 1;
-}
-
 std::vector<double> toDoubles(const float* values, int count) {
   return std::vector<double>(values, values + count);
 }
@@ -119,27 +106,56 @@ void writeFile(const std::filesystem::path& path, const std::vector<unsigned cha
 
 }  // namespace
 
+int runGenerator(int argc, char** argv, int minArguments, int maxArguments, const char* usage,
+                 const std::function<void(char** arguments)>& generate) {
+  const int given = argc - 1;
+  if (given < minArguments || given > maxArguments) {
+    std::fprintf(stderr, "usage: %s\n", usage);
+    return 2;
+  }
+  try {
+    generate(argv);
+  } catch (const std::exception& e) {
+    const std::string program(usage, std::strcspn(usage, " "));
+    std::fprintf(stderr, "%s: %s\n", program.c_str(), e.what());
+    return 1;
+  }
+  return 0;
+}
+
+int appendBufferView(tinygltf::Model& model, const std::vector<unsigned char>& bytes, int target,
+                     std::size_t byteStride) {
+  if (model.buffers.empty()) model.buffers.emplace_back();
+  std::vector<unsigned char>& data = model.buffers[0].data;
+  alignTo4(data);
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = data.size();
+  view.byteLength = bytes.size();
+  view.byteStride = byteStride;
+  view.target = target;
+  data.insert(data.end(), bytes.begin(), bytes.end());
+  model.bufferViews.push_back(std::move(view));
+  return static_cast<int>(model.bufferViews.size()) - 1;
+}
+
 // -----------------------------------------------------------------------------------------------
 // Procedural meshes
 
+const BoxFace kBoxFaces[6] = {
+    {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+    {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+    {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}},
+};
+
 MeshData makeBox(glm::vec3 halfExtents) {
-  // Each face: outward normal n and in-plane axes u, v with cross(u, v) = n, so that corners
-  // listed as (-u,-v), (+u,-v), (+u,+v), (-u,+v) run counter-clockwise seen from outside.
-  struct Face {
-    glm::vec3 n, u, v;
-  };
-  static constexpr Face kFaces[] = {
-      {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-      {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
-      {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}},
-  };
   static constexpr float kCorners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   MeshData mesh;
-  for (const Face& face : kFaces) {
+  for (const BoxFace& face : kBoxFaces) {
     const std::uint32_t base = vertexCount(mesh);
     for (const auto& c : kCorners) {
-      mesh.positions.push_back((face.n + c[0] * face.u + c[1] * face.v) * halfExtents);
-      mesh.normals.push_back(face.n);
+      mesh.positions.push_back((face.normal + c[0] * face.u + c[1] * face.v) * halfExtents);
+      mesh.normals.push_back(face.normal);
       // glTF's v axis points down the image.
       mesh.uvs.push_back({0.5f * (c[0] + 1.0f), 0.5f * (1.0f - c[1])});
     }

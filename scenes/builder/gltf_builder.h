@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <string>
@@ -21,6 +22,14 @@ struct MeshData {
   std::vector<std::uint32_t> indices;  // may be empty (non-indexed)
 };
 
+// The six faces of an axis-aligned box: outward normal and in-plane axes u, v with
+// cross(u, v) = normal, so that corners (-u,-v), (+u,-v), (+u,+v), (-u,+v) run
+// counter-clockwise seen from outside.
+struct BoxFace {
+  glm::vec3 normal, u, v;
+};
+extern const BoxFace kBoxFaces[6];
+
 // Counter-clockwise triangles seen from outside, unit normals, UVs in [0,1].
 MeshData makeBox(glm::vec3 halfExtents);
 MeshData makeSphere(float radius, int segments, int rings);
@@ -28,6 +37,17 @@ MeshData makeSphere(float radius, int segments, int rings);
 MeshData makePlane(float size, int subdivisions = 1);
 // Cylinder along +Y from y=0 to y=height, capped.
 MeshData makeCylinder(float radius, float height, int segments);
+
+// Appends `bytes` to buffer 0 (created if needed) as a new buffer view, 4-byte aligned so that
+// any accessor may start at it; returns the view's index. target 0 = none (e.g. an image).
+// What every scene generator's main() does: outside [minArguments, maxArguments] arguments it
+// prints "usage: <usage>" and returns 2; otherwise it runs `generate`, and an exception from it
+// is printed after the program's name (usage's first word) and returns 1.
+int runGenerator(int argc, char** argv, int minArguments, int maxArguments, const char* usage,
+                 const std::function<void(char** arguments)>& generate);
+
+int appendBufferView(tinygltf::Model& model, const std::vector<unsigned char>& bytes,
+                     int target = 0, std::size_t byteStride = 0);
 
 struct MaterialDesc {
   std::string name;

@@ -50,20 +50,13 @@ void writeScene(const std::filesystem::path& folder, int index, std::mt19937& rn
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 4) {
-    std::fprintf(stderr, "usage: make_bench_scenes FOLDER COUNT SEED [SHADOW_RESOLUTION]\n");
-    return 2;
-  }
-  try {
-    const std::filesystem::path folder = argv[1];
-    std::filesystem::create_directories(folder);
-    const int count = std::stoi(argv[2]);
-    std::mt19937 rng(static_cast<unsigned>(std::stoul(argv[3])));
-    const int resolution = argc > 4 ? std::stoi(argv[4]) : 256;
-    for (int i = 0; i < count; ++i) writeScene(folder, i, rng, resolution);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "make_bench_scenes: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+  return runGenerator(argc, argv, 3, 4, "make_bench_scenes FOLDER COUNT SEED [SHADOW_RESOLUTION]",
+                      [&](char** arguments) {
+                        const std::filesystem::path folder = arguments[1];
+                        std::filesystem::create_directories(folder);
+                        const int count = std::stoi(arguments[2]);
+                        std::mt19937 rng(static_cast<unsigned>(std::stoul(arguments[3])));
+                        const int resolution = argc > 4 ? std::stoi(arguments[4]) : 256;
+                        for (int i = 0; i < count; ++i) writeScene(folder, i, rng, resolution);
+                      });
 }

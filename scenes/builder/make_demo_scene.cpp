@@ -121,17 +121,9 @@ void build(GltfBuilder& b) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: make_demo_scene OUTPUT.gltf\n");
-    return 2;
-  }
-  try {
+  return runGenerator(argc, argv, 1, 1, "make_demo_scene OUTPUT.gltf", [](char** arguments) {
     GltfBuilder builder;
     build(builder);
-    builder.write(argv[1], FileFormat::GltfEmbedded);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "make_demo_scene: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    builder.write(arguments[1], FileFormat::GltfEmbedded);
+  });
 }

@@ -152,16 +152,8 @@ MeshData torus(float major, float minor, int around, int tube) {  // 2 around tu
 
 // A box with every face split into n x n quads: 12 n^2 triangles.
 MeshData box(glm::vec3 half, int n) {
-  struct Face {
-    glm::vec3 normal, u, v;
-  };
-  static constexpr Face kFaces[] = {
-      {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-      {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
-      {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}},
-  };
   MeshData m;
-  for (const Face& f : kFaces) {
+  for (const BoxFace& f : kBoxFaces) {
     const auto base = static_cast<std::uint32_t>(m.positions.size());
     for (int i = 0; i <= n; ++i) {
       for (int j = 0; j <= n; ++j) {
@@ -171,7 +163,9 @@ MeshData box(glm::vec3 half, int n) {
         m.normals.push_back(f.normal);
       }
     }
-    const auto at = [&](int i, int j) { return base + static_cast<std::uint32_t>(i * (n + 1) + j); };
+    const auto at = [&](int i, int j) {
+      return base + static_cast<std::uint32_t>(i * (n + 1) + j);
+    };
     for (int i = 0; i < n; ++i) {
       for (int j = 0; j < n; ++j) {
         m.indices.insert(m.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i, j),
@@ -249,7 +243,9 @@ MeshData quadGrid(glm::vec3 origin, glm::vec3 u, glm::vec3 v, int nu, int nv) {
   return m;
 }
 
-std::size_t triangleCount(const MeshData& m) { return m.indices.size() / 3; }
+std::size_t triangleCount(const MeshData& m) {
+  return m.indices.size() / 3;
+}
 
 PrimitiveOptions primitive(const MeshData& m, int material) {
   PrimitiveOptions p;
@@ -324,7 +320,8 @@ void run(const Options& o) {
     m.metallic = i % 5 == 0 ? 0.8f : 0.0f;
     palette.push_back(b.addMaterial(m));
   }
-  MaterialDesc floorMat{.name = "floor", .baseColor = {0.55f, 0.5f, 0.45f, 1.0f}, .roughness = 0.8f};
+  MaterialDesc floorMat{
+      .name = "floor", .baseColor = {0.55f, 0.5f, 0.45f, 1.0f}, .roughness = 0.8f};
   MaterialDesc wallMat{.name = "walls", .baseColor = {0.7f, 0.7f, 0.68f, 1.0f}, .roughness = 0.9f};
   const int floorMaterial = b.addMaterial(floorMat);
   const int wallMaterial = b.addMaterial(wallMat);
@@ -366,8 +363,10 @@ void run(const Options& o) {
   };
   const auto randomShape = [&]() {
     const float u = rng.unit();
-    return u < 0.4f ? Shape::Sphere : u < 0.7f ? Shape::Box : u < 0.85f ? Shape::Torus
-                                                                        : Shape::Cylinder;
+    return u < 0.4f    ? Shape::Sphere
+           : u < 0.7f  ? Shape::Box
+           : u < 0.85f ? Shape::Torus
+                       : Shape::Cylinder;
   };
   // Floor objects on a jittered grid of cells (one object per cell, no overlaps).
   {
@@ -397,17 +396,22 @@ void run(const Options& o) {
       const float size = maxR * rng.range(0.55f, 0.9f);
       const float jitter = std::min(cw, cd) * 0.5f - size;
       const float margin = size * 1.35f;  // keep rotated shapes out of the walls
-      const glm::vec3 at{
-          std::clamp(x0 + cw * 0.5f + rng.range(-jitter, jitter) * 0.8f, -kHalfW + margin, kHalfW - margin),
-          0.0f,
-          std::clamp(z0 + cd * 0.5f + rng.range(-jitter, jitter) * 0.8f, -kHalfD + margin, kHalfD - margin)};
+      const glm::vec3 at{std::clamp(x0 + cw * 0.5f + rng.range(-jitter, jitter) * 0.8f,
+                                    -kHalfW + margin, kHalfW - margin),
+                         0.0f,
+                         std::clamp(z0 + cd * 0.5f + rng.range(-jitter, jitter) * 0.8f,
+                                    -kHalfD + margin, kHalfD - margin)};
       if (nearCamera(at, size)) continue;
       float lift = size;  // resting on the floor
       if (shape == Shape::Box) lift = size * 0.8f;
       if (shape == Shape::Torus) lift = size * 0.28f;
       if (shape == Shape::Cylinder) lift = 0.0f;
       const float centerY = shape == Shape::Cylinder ? size * 0.8f : lift;
-      objects.push_back({shape, {at.x, centerY, at.z}, size * 1.3f, size, {at.x, lift, at.z},
+      objects.push_back({shape,
+                         {at.x, centerY, at.z},
+                         size * 1.3f,
+                         size,
+                         {at.x, lift, at.z},
                          rng.range(0.0f, 2.0f * kPi)});
     }
   }
@@ -426,8 +430,12 @@ void run(const Options& o) {
       const Shape shape = rng.unit() < 0.5f ? Shape::Sphere : Shape::Box;
       const float size = s.size * rng.range(0.4f, 0.6f);
       const float lift = top + (shape == Shape::Box ? size * 0.8f : size);
-      objects.push_back({shape, {s.base.x, lift, s.base.z}, size * 1.3f, size,
-                         {s.base.x, lift, s.base.z}, rng.range(0.0f, 2.0f * kPi)});
+      objects.push_back({shape,
+                         {s.base.x, lift, s.base.z},
+                         size * 1.3f,
+                         size,
+                         {s.base.x, lift, s.base.z},
+                         rng.range(0.0f, 2.0f * kPi)});
     }
   }
   // Hanging objects on a jittered 3D grid in the upper part of the room.
@@ -448,10 +456,12 @@ void run(const Options& o) {
       if (placed >= hanging) break;
       const float m = std::min({cw, cd, ch});
       const Shape shape = randomShape();
-      const float size = 0.45f * m * rng.range(0.5f, 0.85f) / (shape == Shape::Cylinder ? 1.3f : 1.0f);
-      const glm::vec3 at{-kHalfW + cw * (static_cast<float>(c % cols) + rng.range(0.35f, 0.65f)),
-                         low + ch * (static_cast<float>(c / (cols * rows)) + rng.range(0.35f, 0.65f)),
-                         -kHalfD + cd * (static_cast<float>((c / cols) % rows) + rng.range(0.35f, 0.65f))};
+      const float size =
+          0.45f * m * rng.range(0.5f, 0.85f) / (shape == Shape::Cylinder ? 1.3f : 1.0f);
+      const glm::vec3 at{
+          -kHalfW + cw * (static_cast<float>(c % cols) + rng.range(0.35f, 0.65f)),
+          low + ch * (static_cast<float>(c / (cols * rows)) + rng.range(0.35f, 0.65f)),
+          -kHalfD + cd * (static_cast<float>((c / cols) % rows) + rng.range(0.35f, 0.65f))};
       if (glm::length(at - eye) < 1.5f + size) continue;
       const glm::vec3 base = shape == Shape::Cylinder ? at - glm::vec3(0, size * 0.8f, 0) : at;
       objects.push_back({shape, at, size * 1.3f, size, base, rng.range(0.0f, 2.0f * kPi)});
@@ -467,7 +477,8 @@ void run(const Options& o) {
     const long share = remaining / static_cast<long>(objects.size() - i);
     MeshData m;
     if (obj.yaw < 0.0f) {  // pillar
-      const int stacks = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(share) / 4.0)), 1, 60);
+      const int stacks =
+          std::clamp(static_cast<int>(std::sqrt(static_cast<double>(share) / 4.0)), 1, 60);
       m = cylinder(obj.size, H, std::max(6, 2 * stacks), stacks);
     } else {
       m = shapeMesh(obj.shape, obj.size, share);
@@ -483,7 +494,8 @@ void run(const Options& o) {
         t.rotation = t.rotation * glm::angleAxis(obj.yaw * 0.5f, glm::vec3(1, 0, 0));
     }
     const std::string name = "object" + std::to_string(i);
-    const int material = palette[static_cast<std::size_t>(rng.below(static_cast<int>(palette.size())))];
+    const int material =
+        palette[static_cast<std::size_t>(rng.below(static_cast<int>(palette.size())))];
     b.addNode(name, t, b.addMesh(m, primitive(m, material), name));
   }
 
@@ -499,8 +511,9 @@ void run(const Options& o) {
       bool inside = false;
       for (const Object& obj : objects) {
         const bool pillar = obj.yaw < 0.0f;
-        const float distance = pillar ? glm::length(glm::vec2(p.x - obj.center.x, p.z - obj.center.z))
-                                      : glm::length(p - obj.center);
+        const float distance = pillar
+                                   ? glm::length(glm::vec2(p.x - obj.center.x, p.z - obj.center.z))
+                                   : glm::length(p - obj.center);
         if (distance < (pillar ? obj.size : obj.radius) + 0.15f) {
           inside = true;
           break;
@@ -566,7 +579,8 @@ void run(const Options& o) {
   out << "{\n  \"ambient\": [0.02, 0.02, 0.02],\n  \"lights\": [\n";
   for (std::size_t i = 0; i < lights.size(); ++i) {
     const float warm = rng.unit();  // from cool white to warm white
-    const glm::vec3 color = glm::mix(glm::vec3(0.75f, 0.85f, 1.0f), glm::vec3(1.0f, 0.85f, 0.7f), warm);
+    const glm::vec3 color =
+        glm::mix(glm::vec3(0.75f, 0.85f, 1.0f), glm::vec3(1.0f, 0.85f, 0.7f), warm);
     const glm::vec3& p = lights[i];
     std::string rangeField;
     if (range > 0.0f) {
@@ -588,22 +602,17 @@ void run(const Options& o) {
   out.close();
   if (!out) throw std::runtime_error("cannot write " + lightsPath.string());
 
-  std::printf("%s: %ld triangles, %zu objects, %zu lights at %d^2, range %s, "
-              "%.1f lights reach a point on average, seed %u\n",
-              o.output.string().c_str(), triangles, objects.size() + 6, lights.size(),
-              o.resolution, range > 0.0f ? (std::to_string(range) + " m").c_str() : "none",
-              reach, o.seed);
+  std::printf(
+      "%s: %ld triangles, %zu objects, %zu lights at %d^2, range %s, "
+      "%.1f lights reach a point on average, seed %u\n",
+      o.output.string().c_str(), triangles, objects.size() + 6, lights.size(), o.resolution,
+      range > 0.0f ? (std::to_string(range) + " m").c_str() : "none", reach, o.seed);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   const Options options = parseOptions(argc, argv);
-  try {
-    run(options);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "make_shadow_bench_scene: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+  return runGenerator(argc, argv, 0, argc, "make_shadow_bench_scene OUT.gltf [OPTIONS]",
+                      [&](char**) { run(options); });
 }

@@ -39,8 +39,8 @@ void thinCaster(const std::filesystem::path& file) {
   // 1.5 m wide, 1 m tall, 2 cm thick, its foot on the floor (y = 0), facing -z and +z.
   b.addNode("board", {{0.0f, 0.5f, 0.0f}},
             b.addMesh(makeBox({0.75f, 0.5f, 0.01f}), {.material = grey(b, "board", 0.5f)}));
-  b.addPerspectiveCamera("contact", {1.1f, 0.9f, 1.6f}, {0.0f, 0.05f, 0.25f},
-                         glm::radians(45.0f), 16.0f / 9.0f, 0.05f);
+  b.addPerspectiveCamera("contact", {1.1f, 0.9f, 1.6f}, {0.0f, 0.05f, 0.25f}, glm::radians(45.0f),
+                         16.0f / 9.0f, 0.05f);
   // Close-up of the board's foot from its shadowed side: the middle 80 cm of the contact line
   // and the floor up to about 60 cm behind it, no outer shadow edge in view.
   b.addPerspectiveCamera("foot", {0.25f, 0.3f, 0.6f}, {0.0f, 0.0f, 0.05f}, glm::radians(45.0f),
@@ -51,18 +51,10 @@ void thinCaster(const std::filesystem::path& file) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: make_shadow_quality_scenes FOLDER\n");
-    return 2;
-  }
-  try {
-    const std::filesystem::path folder = argv[1];
+  return runGenerator(argc, argv, 1, 1, "make_shadow_quality_scenes FOLDER", [](char** arguments) {
+    const std::filesystem::path folder = arguments[1];
     std::filesystem::create_directories(folder);
     grazingPlane(folder / "grazing-plane.glb");
     thinCaster(folder / "thin-caster.glb");
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "make_shadow_quality_scenes: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+  });
 }
