@@ -198,6 +198,13 @@ TEST(ImageReaderTest, OtherFormatsAreReadThroughTheOpenImageIOPlugin) {
 
   std::ofstream(dir / "junk.tif") << "neither PNG, EXR nor anything else";
   EXPECT_THROW(readImage(dir / "junk.tif"), InputError);
+  try {
+    readImage(dir / "missing.png");
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              (dir / "missing.png").string() + ": cannot read image: cannot open the file");
+  }
 }
 
 // The whole point: `omnishadow diff` of PNG and EXR files maps no OpenImageIO library; a TIFF

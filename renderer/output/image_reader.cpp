@@ -17,6 +17,7 @@ namespace omnishadow {
 FloatImage readImage(const std::filesystem::path& path) {
   const std::string name = path.string();
   std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(name + ": cannot read image: cannot open the file");
   char magic[8] = {};
   in.read(magic, sizeof magic);
   const auto got = static_cast<std::size_t>(in.gcount());
