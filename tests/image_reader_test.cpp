@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,11 @@ struct PngVariant {
   int colorType, bitDepth;
   bool interlaced = false, transparency = false;
 };
+
+// gtest names the parameter by this instead of dumping its bytes (padding included).
+void PrintTo(const PngVariant& variant, std::ostream* out) {
+  *out << variant.name;
+}
 
 // A 13x7 PNG of `variant` written with libpng: samples cover the whole range of the bit depth;
 // palettes have 16 entries; transparency adds a tRNS chunk.
