@@ -26,7 +26,7 @@ while (($#)); do
     --peers) peers=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --no-doc) doc=0; shift ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     *) echo "bench-peers: unknown argument $1" >&2; exit 2 ;;
   esac
 done
