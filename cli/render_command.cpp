@@ -10,6 +10,7 @@
 
 #include "cli/common_options.h"
 #include "cli/render_job.h"
+#include "cli/steady_frames.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/image_writer.h"
 #include "renderer/render/renderer.h"
@@ -82,6 +83,7 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   if (!frame.lightViews.empty())
     std::printf("wrote %zu light views to %s\n", frame.lightViews.size(), job.lightViews.c_str());
   if (o.device.stats) printStats(times);
+  if (o.repeat > 0) printSteadyFrames(*renderer, job, loaded, o.repeat);
   return 0;
 }
 
@@ -119,6 +121,12 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
   render->add_option(
       "--debug-light", o.debugLight,
       "Light shown by --debug-view depth (default: the first shadowed light, of any type)");
+  render
+      ->add_option("--repeat", o.repeat,
+                   "Time N more frames of the same job after the one written (lights moved by "
+                   "1 mm every other frame, so every frame renders its shadow maps) and print "
+                   "their median stage times to stderr as \"steady ...\" lines")
+      ->check(CLI::Range(0, 100000));
   render->add_option("--exposure", o.exposure,
                      "Exposure in stops applied to the beauty images (default 0)");
   render->add_option("--shading", o.shading, "pbr (glTF metallic-roughness) or phong (Blinn-Phong)")

@@ -27,6 +27,7 @@ struct RenderOptions {
   std::string debugLight;
   float exposure = 0.0f;
   std::string shading = "pbr";
+  int repeat = 0;  // --repeat: frames timed after the written one (steady_frames.h)
   DeviceOptions device;
 };
 

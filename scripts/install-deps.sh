@@ -11,6 +11,8 @@ packages=(
   # libraries
   libtinygltf-dev libglm-dev libopenimageio-dev libopenexr-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev
+  # PNG and EXR without OpenImageIO on the start-up path (OpenImageIO is a plugin for the rest)
+  libpng-dev libdeflate-dev
   # exact shadow rays for `omnishadow verify`
   libembree-dev
   # fuzzing (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes

@@ -6,8 +6,6 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfThreading.h>
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -23,6 +21,7 @@
 #include "renderer/core/errors.h"
 #include "renderer/output/exr_memory_stream.h"
 #include "renderer/output/output_transaction.h"
+#include "renderer/output/png_encoder.h"
 
 namespace omnishadow {
 namespace {
@@ -36,13 +35,6 @@ std::string cannotWrite(const std::filesystem::path& path, std::string reason) {
        at += final.size())
     reason.replace(at, temporary.size(), final);
   return "cannot write " + final + ": " + reason;
-}
-
-// OIIO keeps errors per object and globally; whichever is set explains the failure.
-std::string oiioReason(const std::string& objectError) {
-  if (!objectError.empty()) return objectError;
-  std::string global = OIIO::geterror();
-  return global.empty() ? "unknown OpenImageIO error" : global;
 }
 
 std::size_t pixelCount(int width, int height) {
@@ -128,32 +120,8 @@ int FloatImage::channelIndex(const std::string& name) const {
 void writePng(const std::filesystem::path& path, int width, int height, int channels,
               const std::vector<std::uint8_t>& pixels) {
   validatePng(width, height, channels, pixels);
-  // Created by format name, not by extension, so temporaries and odd names still get PNG.
-  auto output = OIIO::ImageOutput::create("png");
-  if (!output) throw RenderError(cannotWrite(path, oiioReason("")));
-  // Encoded in memory and written by writeFileBytes: OIIO's PNG writer does not notice a write
-  // that fails (a full disk), and would leave a short file that looks complete.
-  std::vector<unsigned char> encoded;
-  OIIO::Filesystem::IOVecOutput memory(encoded);
-  if (!output->set_ioproxy(&memory))
-    throw RenderError(cannotWrite(path, oiioReason(output->geterror())));
-  // A bare spec: OIIO 2.4's PNG writer turns extra attributes (DateTime, Software,
-  // XResolution, oiio:ColorSpace...) into tEXt/tIME/pHYs/gAMA chunks, and adds none of its own
-  // beyond a constant oFFs(0,0), so identical pixels give identical bytes.
-  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-  // Our pixels already hold straight alpha, as PNG requires; without this OIIO would treat them
-  // as premultiplied and divide colour by alpha. "oiio:" hints are not written to the file.
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  if (!output->open(path.string(), spec))
-    throw RenderError(cannotWrite(path, oiioReason(output->geterror())));
-  if (!output->write_image(OIIO::TypeDesc::UINT8, pixels.data())) {
-    std::string reason = oiioReason(output->geterror());
-    output->close();
-    throw RenderError(cannotWrite(path, reason));
-  }
-  // close() flushes the final IDAT/IEND.
-  if (!output->close()) throw RenderError(cannotWrite(path, oiioReason(output->geterror())));
-  writeFileBytes(path, {reinterpret_cast<const char*>(encoded.data()), encoded.size()});
+  // Encoded in memory and written by writeFileBytes, which notices a full disk.
+  writeFileBytes(path, encodePng(width, height, channels, pixels));
 }
 
 void writeFileBytes(const std::filesystem::path& path, std::string_view bytes) {
@@ -194,30 +162,6 @@ void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPix
 
 void setEncoderThreads(int threads) {
   Imf::setGlobalThreadCount(threads);
-}
-
-FloatImage readImage(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  auto fail = [&](const std::string& reason) {
-    return InputError(name + ": cannot read image: " + reason);
-  };
-  // Return the stored values: OIIO would otherwise premultiply PNG colour by alpha on read.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  auto input = OIIO::ImageInput::open(name, &config);
-  if (!input) throw fail(oiioReason(""));
-  const OIIO::ImageSpec& spec = input->spec();
-  FloatImage image;
-  image.width = spec.width;
-  image.height = spec.height;
-  image.channels.assign(spec.channelnames.begin(), spec.channelnames.end());
-  image.channels.resize(static_cast<std::size_t>(spec.nchannels));
-  image.pixels.resize(pixelCount(spec.width, spec.height) *
-                      static_cast<std::size_t>(spec.nchannels));
-  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
-    throw fail(oiioReason(input->geterror()));
-  input->close();
-  return image;
 }
 
 }  // namespace omnishadow

@@ -44,7 +44,8 @@ void writeFileBytes(const std::filesystem::path& path, std::string_view bytes);
 // Output bytes do not depend on it. Call once at start-up: it sets OpenEXR's global pool.
 void setEncoderThreads(int threads);
 
-// Reads any image OpenImageIO understands (PNG, EXR, ...) as float, for tests and tools.
+// Reads an image as float, for tests and tools: PNG and OpenEXR directly (png_decoder.h,
+// exr_reader.h), any other format OpenImageIO understands through its plugin (oiio_plugin.h).
 // Throws InputError when unreadable.
 FloatImage readImage(const std::filesystem::path& path);
 

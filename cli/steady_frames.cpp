@@ -1,0 +1,48 @@
+#include "cli/steady_frames.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "renderer/core/errors.h"
+
+namespace omnishadow::cli {
+namespace {
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace
+
+void printSteadyFrames(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,
+                       int repeat) {
+  LoadedJob moved = loaded;
+  for (Light& light : moved.lights) light.position.x += 0.001f;
+  std::map<std::string, std::vector<double>> stages;
+  std::vector<std::string> order;
+  std::vector<double> frames;
+  for (int i = 0; i < repeat; ++i) {
+    StageTimes times;
+    const Frame frame = renderJob(renderer, job, i % 2 == 0 ? moved : loaded, times);
+    if (frame.shadowMapsReused != 0)
+      throw RenderError("--repeat: a shadow map was reused, so the frame time would be too low");
+    double sum = 0.0;
+    for (const auto& [stage, ms] : times.stages()) {
+      if (!stages.count(stage)) order.push_back(stage);
+      stages[stage].push_back(ms);
+      if (stage == "shadow maps" || stage == "lighting" || stage == "readback") sum += ms;
+    }
+    frames.push_back(sum);
+  }
+  std::fprintf(stderr, "steady frames %d\n", repeat);
+  for (const std::string& stage : order)
+    std::fprintf(stderr, "steady %-12s %8.1f\n", stage.c_str(), median(stages[stage]));
+  std::fprintf(stderr, "steady frame %8.1f\n", median(frames));
+}
+
+}  // namespace omnishadow::cli
