@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/batch_worker.h"
 #include "cli/common_options.h"
 #include "cli/view_options.h"
 
@@ -29,6 +30,7 @@ struct BatchOptions {
   std::string report;
   bool quiet = false;
   DeviceOptions device;  // without --stats
+  BatchWorkerOptions worker;  // --job-timeout, --in-process, --gpus
 };
 
 void addBatchCommand(CLI::App& app, BatchOptions& options);
