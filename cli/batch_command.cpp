@@ -187,6 +187,7 @@ class BatchRunner {
       upcoming.pop_front();
       feed.started(i);
       const bool rendered = renderOne(i);
+      feed.rendered(i);
       if (!rendered && stopOnRenderError_) {
         stopped = true;
         break;
@@ -367,8 +368,8 @@ int runBatch(const BatchOptions& o) {
     WorkerPoolOptions pool;
     pool.devices = {o.device};
     pool.jobTimeoutSeconds = o.worker.jobTimeout;
-    const int threads = o.jobs >= 0 ? o.jobs
-                                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads =
+        o.jobs >= 0 ? o.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     pool.jobsPerWorker = 2 * static_cast<std::size_t>(threads) + 2;
     std::vector<std::size_t> todo(jobs.size());
     std::iota(todo.begin(), todo.end(), std::size_t{0});

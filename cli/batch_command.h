@@ -29,7 +29,7 @@ struct BatchOptions {
   int jobs = -1;  // -1 = number of cores
   std::string report;
   bool quiet = false;
-  DeviceOptions device;  // without --stats
+  DeviceOptions device;       // without --stats
   BatchWorkerOptions worker;  // --job-timeout, --in-process, --gpus
 };
 

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -15,7 +16,6 @@
 #include <cstring>
 #include <deque>
 #include <map>
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -139,6 +139,7 @@ class PipeFeed : public JobFeed {
     }
   }
   void started(std::size_t index) override { send({{"started", index}}); }
+  void rendered(std::size_t index) override { send({{"rendered", index}}); }
   void finished(std::size_t index, const JobResult& result) override {
     send({{"finished", index}, {"result", resultToJson(result)}});
   }
@@ -195,12 +196,16 @@ struct Worker {
   pid_t pid = -1;
   int toWorker = -1, fromWorker = -1;
   std::unique_ptr<LineReader> reader;
-  std::vector<std::size_t> held;                        // sent, not finished; in sending order
-  std::map<std::size_t, Clock::time_point> startedAt;   // held jobs the worker started
-  bool solo = false;     // runs one suspect alone: nothing else is sent until it finishes
+  std::vector<std::size_t> held;  // sent, not finished; in sending order
+  // The job on the worker's GL thread (loading or rendering it), since when.
+  std::optional<std::pair<std::size_t, Clock::time_point>> rendering;
+  std::vector<std::size_t> encoding;  // rendered, not finished; in order
+  Clock::time_point lastEvent;
+  bool anyStarted = false;
+  bool solo = false;  // runs one suspect alone: nothing else is sent until it finishes
   bool inputClosed = false;
   bool anyResult = false;
-  std::optional<std::pair<std::string, bool>> fatal;    // message, usage error
+  std::optional<std::pair<std::string, bool>> fatal;  // message, usage error
 };
 
 class WorkerPool {
@@ -299,16 +304,24 @@ class WorkerPool {
     }
   }
 
+  // When the worker's job will have run past the limit, if it has one in hand: on the GL thread,
+  // from when it started there; or, when the GL thread waits for the oldest job's outputs to be
+  // written, from the worker's last sign of life.
+  std::optional<Clock::time_point> deadline(const Worker& w) const {
+    if (options_.jobTimeoutSeconds <= 0.0 || w.pid < 0) return std::nullopt;
+    const auto limit = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(options_.jobTimeoutSeconds));
+    if (w.rendering) return w.rendering->second + limit;
+    if (!w.encoding.empty()) return w.lastEvent + limit;
+    return std::nullopt;
+  }
+
   int pollTimeoutMs() const {
-    if (options_.jobTimeoutSeconds <= 0.0) return -1;
     std::optional<Clock::time_point> first;
     for (const Worker& w : slots_)
-      for (const auto& [job, start] : w.startedAt)
-        if (!first || start < *first) first = start;
+      if (const auto d = deadline(w); d && (!first || *d < *first)) first = d;
     if (!first) return -1;
-    const auto deadline = *first + std::chrono::duration<double>(options_.jobTimeoutSeconds);
-    const double ms =
-        std::chrono::duration<double, std::milli>(deadline - Clock::now()).count();
+    const double ms = std::chrono::duration<double, std::milli>(*first - Clock::now()).count();
     return std::max(0, static_cast<int>(std::ceil(ms)));
   }
 
@@ -337,12 +350,17 @@ class WorkerPool {
 
   void handle(Worker& w, const std::string& line) {
     const json message = json::parse(line);
+    w.lastEvent = Clock::now();
     if (message.contains("started")) {
-      w.startedAt[message["started"].get<std::size_t>()] = Clock::now();
+      w.rendering = {message["started"].get<std::size_t>(), w.lastEvent};
+      w.anyStarted = true;
+    } else if (message.contains("rendered")) {
+      w.encoding.push_back(message["rendered"].get<std::size_t>());
+      w.rendering.reset();
     } else if (message.contains("finished")) {
       const std::size_t job = message["finished"].get<std::size_t>();
       w.held.erase(std::remove(w.held.begin(), w.held.end(), job), w.held.end());
-      w.startedAt.erase(job);
+      w.encoding.erase(std::remove(w.encoding.begin(), w.encoding.end(), job), w.encoding.end());
       w.solo = false;
       w.anyResult = true;
       deathsWithoutProgress_ = 0;
@@ -370,15 +388,15 @@ class WorkerPool {
     while (::waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
     }
     const std::vector<std::size_t> held = w.held;
-    const bool solo = w.solo, anyStarted = !w.startedAt.empty(), anyResult = w.anyResult;
+    const bool solo = w.solo, anyStarted = w.anyStarted, anyResult = w.anyResult;
     const auto fatal = w.fatal;
     release(w);
     if (fatal) {
       if (fatal->second) throw InputError(fatal->first);
       throw RenderError(fatal->first);
     }
-    const bool clean = WIFEXITED(status) && (WEXITSTATUS(status) == 0 ||
-                                             WEXITSTATUS(status) == kExitForFreshContext);
+    const bool clean = WIFEXITED(status) &&
+                       (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitForFreshContext);
     if (clean) {
       // Jobs sent after it stopped for a fresh context: the next worker takes them, in order.
       queue_.insert(queue_.begin(), held.begin(), held.end());
@@ -397,25 +415,22 @@ class WorkerPool {
   }
 
   void checkTimeouts() {
-    if (options_.jobTimeoutSeconds <= 0.0) return;
-    const auto limit = std::chrono::duration<double>(options_.jobTimeoutSeconds);
     for (Worker& w : slots_) {
-      if (w.pid < 0) continue;
-      // The job started first is the one that hangs: the ones before it have finished.
-      std::optional<std::pair<Clock::time_point, std::size_t>> oldest;
-      for (const auto& [job, start] : w.startedAt)
-        if (!oldest || start < oldest->first) oldest = {start, job};
-      if (!oldest || Clock::now() - oldest->first < limit) continue;
-      const std::size_t hung = oldest->second;
+      const auto due = deadline(w);
+      if (!due || Clock::now() < *due) continue;
+      const bool writing = !w.rendering;
+      const std::size_t hung = writing ? w.encoding.front() : w.rendering->first;
       std::vector<std::size_t> others;
       for (std::size_t held : w.held)
         if (held != hung) others.push_back(held);
       stop(w);
+      // Jobs held up behind the one that hangs render again in the next worker.
       queue_.insert(queue_.begin(), others.begin(), others.end());
       char seconds[32];
       std::snprintf(seconds, sizeof seconds, "%g", options_.jobTimeoutSeconds);
-      fail(hung, std::string("timed out after ") + seconds +
-                     " s (--job-timeout); the render worker was stopped");
+      fail(hung, std::string("timed out after ") + seconds + " s (--job-timeout) while " +
+                     (writing ? "writing its outputs" : "loading or rendering it") +
+                     "; the render worker was stopped");
     }
   }
 

@@ -33,6 +33,8 @@ class JobFeed {
   virtual std::optional<std::size_t> next(bool wait) = 0;
   // The GL thread starts on the job (loading it, if no worker thread has, then rendering it).
   virtual void started(std::size_t index) = 0;
+  // The GL thread is done with it; its outputs may still be being written.
+  virtual void rendered(std::size_t index) = 0;
   virtual void finished(std::size_t index, const JobResult& result) = 0;
 };
 
@@ -45,6 +47,7 @@ class ListFeed : public JobFeed {
     return next_ < count_ ? std::optional<std::size_t>(next_++) : std::nullopt;
   }
   void started(std::size_t) override {}
+  void rendered(std::size_t) override {}
   void finished(std::size_t index, const JobResult& result) override { finished_(index, result); }
 
  private:
