@@ -17,8 +17,10 @@
 #include "cli/batch_jobs.h"
 #include "cli/batch_worker.h"
 #include "cli/common_options.h"
+#include "cli/shard_env.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/image_writer.h"
+#include "renderer/render/gpu_choice.h"
 #include "renderer/render/renderer.h"
 
 namespace fs = std::filesystem;
@@ -332,7 +334,11 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
   batch->add_option("--exposure", o.exposure, "Exposure in stops");
   batch->add_option("--shading", o.shading, "pbr or phong")->check(CLI::IsMember({"pbr", "phong"}));
   batch->add_flag("--skip-existing", o.skipExisting, "Skip jobs whose outputs all exist (resume)");
-  batch->add_option("--shard", o.shard, "Render only shard K of N (K/N, 0 <= K < N)");
+  batch->add_option("--shard", o.shard,
+                    "Render only shard K of N (K/N, 0 <= K < N), or auto: from the Slurm array "
+                    "or Kubernetes indexed Job variables");
+  batch->add_option("--shard-count", o.shardCount, "N for --shard auto (needed on Kubernetes)")
+      ->check(CLI::Range(1, 1 << 20));
   batch
       ->add_option("--jobs", o.jobs,
                    "Worker threads for loading and encoding (default: cores; 0 = none)")
@@ -347,12 +353,18 @@ int runBatch(const BatchOptions& o) {
   const Clock::time_point start = Clock::now();
   const BatchDefaults defaults = defaultsFromOptions(o);
   std::vector<BatchEntry> jobs = collectJobs(o.inputs, defaults);
-  if (!o.shard.empty()) jobs = selectShard(std::move(jobs), parseShard(o.shard));
+  const std::string shard = resolveShard(o.shard, o.shardCount, processEnvironment());
+  if (!shard.empty()) jobs = selectShard(std::move(jobs), parseShard(shard));
   if (!o.report.empty() && fs::is_directory(o.report))
     throw InputError("--report " + o.report + ": is a folder, expected a file name");
 
   if (o.worker.inProcess && o.worker.jobTimeout > 0.0)
     throw InputError("--job-timeout: needs a worker process; leave out --in-process");
+  if (o.worker.inProcess && !o.worker.gpus.empty())
+    throw InputError("--gpus: needs worker processes; leave out --in-process");
+  if (!o.worker.gpus.empty() && o.device.gpu != "auto")
+    throw InputError("--gpus: chooses the devices itself; leave out --gpu");
+  parseGpuRequest(o.device.gpu);  // a malformed --gpu is a usage error before any worker starts
 
   setEncoderThreads(0);  // the batch's own workers encode in parallel already
   Progress progress(jobs.size(), ::isatty(STDOUT_FILENO) != 0, o.quiet);
@@ -367,6 +379,14 @@ int runBatch(const BatchOptions& o) {
   } else {
     WorkerPoolOptions pool;
     pool.devices = {o.device};
+    if (!o.worker.gpus.empty()) {
+      pool.devices.clear();
+      for (const int index : resolveGpus(o.worker.gpus)) {
+        DeviceOptions device = o.device;
+        device.gpu = std::to_string(index);
+        pool.devices.push_back(device);
+      }
+    }
     pool.jobTimeoutSeconds = o.worker.jobTimeout;
     const int threads =
         o.jobs >= 0 ? o.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -385,7 +405,7 @@ int runBatch(const BatchOptions& o) {
   for (const JobResult& r : results) ++counts[static_cast<int>(r.status)];
   progress.summary(counts[0], counts[1], counts[2]);
   if (!o.report.empty())
-    writeReport(o.report, jobs, results, o.shard, millisecondsSince(start) / 1000.0);
+    writeReport(o.report, jobs, results, shard, millisecondsSince(start) / 1000.0);
   return counts[2] == 0 ? 0 : 1;
 }
 

@@ -26,7 +26,8 @@ struct BatchOptions {
   std::string shading = "pbr";
   bool skipExisting = false;
   std::string shard;
-  int jobs = -1;  // -1 = number of cores
+  int shardCount = 0;  // --shard-count, for --shard auto
+  int jobs = -1;       // -1 = number of cores
   std::string report;
   bool quiet = false;
   DeviceOptions device;       // without --stats

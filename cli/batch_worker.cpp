@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <map>
@@ -20,6 +21,8 @@
 #include <string>
 
 #include "renderer/core/errors.h"
+#include "renderer/render/gpu_choice.h"
+#include "renderer/render/gpu_devices.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -476,6 +479,54 @@ void addBatchWorkerOptions(CLI::App& app, BatchWorkerOptions& o) {
       ->check(CLI::PositiveNumber);
   app.add_flag("--in-process", o.inProcess,
                "Render in the batch's own process: no worker, so a crash or hang stops the batch");
+  app.add_option("--gpus", o.gpus,
+                 "One worker per device, pulling from one queue: all, or a list of --gpu values "
+                 "such as 0,1 or cuda:0,cuda:1 (a device named twice gets two workers)");
+}
+
+std::vector<int> resolveGpus(const std::string& list) {
+  int pipeFds[2];
+  if (::pipe(pipeFds) != 0) throw RenderError(std::string("pipe: ") + std::strerror(errno));
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const pid_t pid = ::fork();
+  if (pid < 0) throw RenderError(std::string("fork: ") + std::strerror(errno));
+  if (pid == 0) {
+    ::close(pipeFds[0]);
+    json answer;
+    try {
+      const char* visible = std::getenv("CUDA_VISIBLE_DEVICES");
+      answer["devices"] = chooseGpus(list, listGpuDevices(false),
+                                     visible ? std::optional<std::string>(visible) : std::nullopt);
+    } catch (const InputError& e) {
+      answer = {{"error", e.what()}, {"usage", true}};
+    } catch (const std::exception& e) {
+      answer = {{"error", e.what()}, {"usage", false}};
+    }
+    try {
+      writeAll(pipeFds[1], answer.dump());
+    } catch (const std::exception&) {
+    }
+    ::_exit(0);
+  }
+  ::close(pipeFds[1]);
+  std::string text;
+  char buffer[4096];
+  ssize_t n;
+  while ((n = ::read(pipeFds[0], buffer, sizeof buffer)) > 0 || (n < 0 && errno == EINTR))
+    if (n > 0) text.append(buffer, static_cast<std::size_t>(n));
+  ::close(pipeFds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  const json answer = json::parse(text, nullptr, false);
+  if (answer.is_discarded() || !answer.is_object())
+    throw RenderError("--gpus: listing the EGL devices failed (" + describeDeath(status) + ")");
+  if (answer.contains("error")) {
+    if (answer["usage"].get<bool>()) throw InputError(answer["error"].get<std::string>());
+    throw RenderError(answer["error"].get<std::string>());
+  }
+  return answer["devices"].get<std::vector<int>>();
 }
 
 void runInWorkers(const std::vector<std::size_t>& todo, const WorkerPoolOptions& options,

@@ -18,9 +18,10 @@ namespace omnishadow::cli {
 struct BatchWorkerOptions {
   double jobTimeout = 0.0;  // seconds; 0 = no limit
   bool inProcess = false;   // render in the batch's own process: no isolation, no timeout
+  std::string gpus;         // "all" or a list of --gpu values: one worker each; "" = --gpu's
 };
 
-// Adds --job-timeout and --in-process.
+// Adds --job-timeout, --in-process and --gpus.
 void addBatchWorkerOptions(CLI::App& app, BatchWorkerOptions& options);
 
 // Where a batch runner takes its jobs from and where it sends what became of them: a list in
@@ -54,6 +55,11 @@ class ListFeed : public JobFeed {
   std::size_t count_, next_ = 0;
   std::function<void(std::size_t, const JobResult&)> finished_;
 };
+
+// The EGL device indices --gpus names (renderer/render/gpu_choice.h), under this process's
+// CUDA_VISIBLE_DEVICES. The devices are listed in a short-lived child process: loading a GPU
+// driver here would make every later fork unsafe. Throws InputError like chooseGpus.
+std::vector<int> resolveGpus(const std::string& list);
 
 // Renders the feed's jobs on `device` in the calling process. Returns true when it stopped early
 // after a render error (the context may be lost) so that a fresh process carries on.
