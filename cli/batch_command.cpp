@@ -20,6 +20,7 @@
 #include "cli/shard_env.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/image_writer.h"
+#include "renderer/output/output_transaction.h"
 #include "renderer/render/gpu_choice.h"
 #include "renderer/render/renderer.h"
 
@@ -388,6 +389,10 @@ int runBatch(const BatchOptions& o) {
       }
     }
     pool.jobTimeoutSeconds = o.worker.jobTimeout;
+    pool.abandoned = [&jobs](std::size_t i, int pid) {
+      for (const fs::path& output : jobs[i].job.outputFiles())
+        OutputTransaction::removeTemporariesOf(output, pid);
+    };
     const int threads =
         o.jobs >= 0 ? o.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     pool.jobsPerWorker = 2 * static_cast<std::size_t>(threads) + 2;

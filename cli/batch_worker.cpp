@@ -393,6 +393,7 @@ class WorkerPool {
     const std::vector<std::size_t> held = w.held;
     const bool solo = w.solo, anyStarted = w.anyStarted, anyResult = w.anyResult;
     const auto fatal = w.fatal;
+    const pid_t pid = w.pid;
     release(w);
     if (fatal) {
       if (fatal->second) throw InputError(fatal->first);
@@ -400,6 +401,7 @@ class WorkerPool {
     }
     const bool clean = WIFEXITED(status) &&
                        (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == kExitForFreshContext);
+    if (!clean) abandon(held, pid);
     if (clean) {
       // Jobs sent after it stopped for a fresh context: the next worker takes them, in order.
       queue_.insert(queue_.begin(), held.begin(), held.end());
@@ -426,7 +428,10 @@ class WorkerPool {
       std::vector<std::size_t> others;
       for (std::size_t held : w.held)
         if (held != hung) others.push_back(held);
+      const pid_t pid = w.pid;
+      const std::vector<std::size_t> held = w.held;
       stop(w);
+      abandon(held, pid);
       // Jobs held up behind the one that hangs render again in the next worker.
       queue_.insert(queue_.begin(), others.begin(), others.end());
       char seconds[32];
@@ -435,6 +440,11 @@ class WorkerPool {
                      (writing ? "writing its outputs" : "loading or rendering it") +
                      "; the render worker was stopped");
     }
+  }
+
+  void abandon(const std::vector<std::size_t>& jobs, pid_t pid) {
+    if (options_.abandoned)
+      for (const std::size_t job : jobs) options_.abandoned(job, static_cast<int>(pid));
   }
 
   void stop(Worker& w) {

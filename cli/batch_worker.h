@@ -69,6 +69,9 @@ struct WorkerPoolOptions {
   std::vector<DeviceOptions> devices;  // one worker process each
   double jobTimeoutSeconds = 0.0;      // 0 = no limit
   std::size_t jobsPerWorker = 8;       // handed out ahead: enough to keep its threads busy
+  // Called for each job a worker held when it was killed or died: removes what it may have
+  // half written (its temporaries; the final names are only ever renamed into place).
+  std::function<void(std::size_t job, int pid)> abandoned;
 };
 
 // Runs the jobs `todo` (indices into the caller's job list) in worker processes forked from this
