@@ -598,7 +598,8 @@ TEST_F(RobustnessTest, BatchGoesOnAfterAWorkerCrashOrHang) {
     fs::remove_all(root_ / "out");
     fs::create_directory(root_ / "out");
     std::vector<std::string> args = batch;
-    args.insert(args.end(), {"--job-timeout", "4"});
+    // Generous: a worker's first job also compiles the shaders, slowly under the sanitizers.
+    args.insert(args.end(), {"--job-timeout", "8"});
     const Result r = run(args, glFault(fault));
     EXPECT_EQ(r.status, 1) << r.err;
     EXPECT_EQ(filesIn(root_ / "out"), (std::vector<std::string>{"a.png", "c.png"})) << r.out;
@@ -611,7 +612,7 @@ TEST_F(RobustnessTest, BatchGoesOnAfterAWorkerCrashOrHang) {
     const std::string error = report["jobs"][1]["error"];
     if (fault == "hang") {
       EXPECT_EQ(error,
-                "timed out after 4 s (--job-timeout) while loading or rendering it; the render "
+                "timed out after 8 s (--job-timeout) while loading or rendering it; the render "
                 "worker was stopped");
     } else {
       // Under AddressSanitizer its SEGV handler turns the signal into exit status 1.
