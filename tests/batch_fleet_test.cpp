@@ -3,6 +3,7 @@
 // 32-texel shadow maps).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -113,6 +114,37 @@ TEST_F(BatchFleetTest, TwoWorkersFromOneQueueRenderWhatOneDoes) {
   EXPECT_EQ(missing.status, 2);
   EXPECT_TRUE(missing.err.starts_with("omnishadow: --gpu 99: there are only ")) << missing.err;
   EXPECT_FALSE(fs::exists(output("missing")));
+}
+
+TEST_F(BatchFleetTest, InProcessRendersWhatTheWorkerDoes) {
+  ASSERT_EQ(batch("worker", {}).status, 0);
+  const Run inProcess = batch("in-process", {"--in-process"});
+  ASSERT_EQ(inProcess.status, 0) << inProcess.err;
+  for (const std::string file : {"a.png", "b.png", "c.png", "d.png"})
+    EXPECT_TRUE(sameBytes(output("worker") / file, output("in-process") / file)) << file;
+
+  // A worker's own usage error (a device that is not there) is the batch's, before any job.
+  const Run noDevice = batch("no-device", {"--gpu", "99"});
+  EXPECT_EQ(noDevice.status, 2);
+  EXPECT_TRUE(noDevice.err.starts_with("omnishadow: --gpu 99: there are only ")) << noDevice.err;
+  EXPECT_EQ(std::count(noDevice.err.begin(), noDevice.err.end(), '\n'), 1) << noDevice.err;
+  EXPECT_FALSE(fs::exists(output("no-device")));
+
+  const std::pair<std::vector<std::string>, std::string> usage[] = {
+      {{"--in-process", "--job-timeout", "5"},
+       "omnishadow: --job-timeout: needs a worker process; leave out --in-process\n"},
+      {{"--in-process", "--gpus", "all"},
+       "omnishadow: --gpus: needs worker processes; leave out --in-process\n"},
+      {{"--gpus", "0", "--gpu", "0"},
+       "omnishadow: --gpus: chooses the devices itself; leave out --gpu\n"},
+      {{"--gpu", "first"},
+       "omnishadow: --gpu first: expected auto, an EGL device index (0, 1, ...) or cuda:N\n"}};
+  for (const auto& [args, message] : usage) {
+    const Run r = batch("usage", args);
+    EXPECT_EQ(r.status, 2) << args.front();
+    EXPECT_EQ(r.err, message);
+    EXPECT_FALSE(fs::exists(output("usage")));
+  }
 }
 
 TEST_F(BatchFleetTest, DevicesListsWhatGpuChoosesFrom) {
