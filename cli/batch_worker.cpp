@@ -407,10 +407,16 @@ class WorkerPool {
       queue_.insert(queue_.begin(), held.begin(), held.end());
       return;
     }
-    if (!solo && !anyStarted && !anyResult && ++deathsWithoutProgress_ >= kMaxDeathsWithoutProgress)
-      throw RenderError(describeDeath(status) + " " + std::to_string(deathsWithoutProgress_) +
-                        " times before it started a job");
-    if (held.size() == 1 && (solo || anyStarted)) {
+    if (!anyStarted && !anyResult) {
+      // It died before it started a job (making its context, say): no job is to blame.
+      if (++deathsWithoutProgress_ >= kMaxDeathsWithoutProgress)
+        throw RenderError(describeDeath(status) + " " + std::to_string(deathsWithoutProgress_) +
+                          " times before it started a job");
+      std::deque<std::size_t>& from = solo ? suspects_ : queue_;
+      from.insert(from.begin(), held.begin(), held.end());
+      return;
+    }
+    if (held.size() == 1) {
       fail(held.front(), describeDeath(status));
       return;
     }

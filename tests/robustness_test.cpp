@@ -637,4 +637,25 @@ TEST_F(RobustnessTest, BatchGoesOnAfterAWorkerCrashOrHang) {
   EXPECT_EQ(readJson(root_ / "report.json")["summary"]["skipped"], 2);
 }
 
+// A worker that cannot even make its context is not restarted forever: after three deaths in a
+// row before any job started, the batch fails, with the reason and without output.
+TEST_F(RobustnessTest, BatchGivesUpOnAWorkerThatDiesBeforeAnyJob) {
+  fs::create_directories(root_ / "batch");
+  const fs::path scene = writeScene("a.glb", FileFormat::Glb);
+  fs::rename(scene, root_ / "batch" / "a.glb");
+  const Result r = run({"batch", (root_ / "batch").string(), "--out", (root_ / "out").string(),
+                        "--width", "32", "--height", "24"},
+                       glFault("crash-context"));
+  EXPECT_EQ(r.status, 1) << r.err;
+  // Under AddressSanitizer its SEGV handler turns the signal into exit status 1.
+  EXPECT_TRUE(contains(r.err,
+                       "omnishadow: the render worker crashed (signal 11, Segmentation fault) 3 "
+                       "times before it started a job\n") ||
+              contains(r.err,
+                       "omnishadow: the render worker exited with status 1 3 times before it "
+                       "started a job\n"))
+      << r.err;
+  EXPECT_TRUE(outputEmpty());
+}
+
 }  // namespace
