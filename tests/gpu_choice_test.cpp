@@ -122,6 +122,9 @@ TEST(GpuChoiceTest, GpusAllOrAList) {
   EXPECT_EQ(chooseGpus("all", threeGpusAndSoftware(), {}), (Indices{0, 1, 2}));
   EXPECT_EQ(chooseGpus("all", threeGpusAndSoftware(), "1,0"), (Indices{2, 1}));
   EXPECT_EQ(chooseGpus("all", mesaOnly(), {}), (Indices{0}));
+  EXPECT_EQ(errorOf([] { chooseGpus("all", threeGpusAndSoftware(), "1,7"); }),
+            "--gpus all: CUDA_VISIBLE_DEVICES=1,7: no EGL device is CUDA device 7; the EGL devices "
+            "are 0 (GPU C, cuda:2), 1 (GPU A, cuda:0), 2 (GPU B, cuda:1), 3 (software)");
   std::vector<GpuDevice> software(1);
   software[0].software = true;
   EXPECT_EQ(chooseGpus("all", software, {}), (Indices{0}));

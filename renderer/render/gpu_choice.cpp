@@ -147,8 +147,14 @@ std::vector<int> chooseGpus(const std::string& list, const std::vector<GpuDevice
     const auto visible =
         cudaVisibleDevices ? visibleCudaNumbers(*cudaVisibleDevices) : std::nullopt;
     if (visible && anyCuda(devices)) {
-      for (int cuda : *visible)
-        if (const GpuDevice* device = withCuda(devices, cuda)) chosen.push_back(device->index);
+      for (int cuda : *visible) {
+        const GpuDevice* device = withCuda(devices, cuda);
+        if (!device)
+          throw InputError("--gpus all: CUDA_VISIBLE_DEVICES=" + *cudaVisibleDevices +
+                           ": no EGL device is CUDA device " + std::to_string(cuda) + "; " +
+                           existing(devices));
+        chosen.push_back(device->index);
+      }
     } else {
       for (const GpuDevice& device : devices)
         if (!device.software) chosen.push_back(device.index);
