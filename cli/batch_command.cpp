@@ -11,12 +11,17 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <thread>
 
 #include "cli/batch_jobs.h"
+#include "cli/batch_worker.h"
 #include "cli/common_options.h"
+#include "cli/shard_env.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/image_writer.h"
+#include "renderer/output/output_transaction.h"
+#include "renderer/render/gpu_choice.h"
 #include "renderer/render/renderer.h"
 
 namespace fs = std::filesystem;
@@ -30,16 +35,7 @@ double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-enum class Status { Rendered, Skipped, Failed };
-
-struct JobResult {
-  Status status = Status::Failed;
-  std::string error;
-  std::vector<fs::path> outputs;
-  std::vector<std::string> warnings;
-  StageTimes times;
-  double milliseconds = 0.0;  // load + render + encode
-};
+using Status = JobStatus;
 
 // A job loaded on a worker thread, with how long loading took.
 struct Loaded {
@@ -154,28 +150,56 @@ void writeReport(const fs::path& path, const std::vector<BatchEntry>& jobs,
   if (!out.flush()) throw RenderError("cannot write the report " + path.string());
 }
 
-// Renders the jobs in order on this (the GL) thread. Loading runs up to `workers` jobs ahead
-// and encoding up to `workers` jobs behind, on other threads; with 0 workers everything runs
-// here. Results come back in job order.
+// Renders the feed's jobs in order on this (the GL) thread. Loading runs up to `workers` jobs
+// ahead and encoding up to `workers` jobs behind, on other threads; with 0 workers everything
+// runs here. Results go to the feed in the order the jobs came.
 class BatchRunner {
  public:
-  BatchRunner(const std::vector<BatchEntry>& jobs, const BatchOptions& options)
-      : jobs_(jobs), options_(options), results_(jobs.size()) {
+  // `stopOnRenderError`: after a render error (the context may be lost) stop and let a fresh
+  // process go on, rather than make a new context here.
+  BatchRunner(const std::vector<BatchEntry>& jobs, const BatchOptions& options,
+              const DeviceOptions& device, bool stopOnRenderError)
+      : jobs_(jobs),
+        options_(options),
+        device_(device),
+        stopOnRenderError_(stopOnRenderError),
+        results_(jobs.size()) {
     workers_ = options.jobs >= 0
                    ? options.jobs
                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   }
 
-  std::vector<JobResult> run(Progress& progress) {
+  // Returns true when it stopped early after a render error.
+  bool run(JobFeed& feed) {
     makeRenderer();
-    for (std::size_t i = 0; i < jobs_.size(); ++i) {
-      prefetch(i);
-      renderOne(i);
+    std::deque<std::size_t> upcoming;
+    bool stopped = false;
+    while (true) {
+      topUp(feed, upcoming);
+      if (upcoming.empty()) {
+        // Nothing ready: hand back what is finished before waiting, since a feed may hand out
+        // the next jobs only once results come back.
+        while (!encoding_.empty()) finishOldest(feed);
+        const std::optional<std::size_t> next = feed.next(true);
+        if (!next) break;
+        upcoming.push_back(*next);
+        topUp(feed, upcoming);
+      }
+      prefetch(upcoming);
+      const std::size_t i = upcoming.front();
+      upcoming.pop_front();
+      feed.started(i);
+      const bool rendered = renderOne(i);
+      feed.rendered(i);
+      if (!rendered && stopOnRenderError_) {
+        stopped = true;
+        break;
+      }
       // With no workers this finishes each job at once (its encoding was deferred to here).
-      while (encoding_.size() > static_cast<std::size_t>(workers_)) finishOldest(progress);
+      while (encoding_.size() > static_cast<std::size_t>(workers_)) finishOldest(feed);
     }
-    while (!encoding_.empty()) finishOldest(progress);
-    return std::move(results_);
+    while (!encoding_.empty()) finishOldest(feed);
+    return stopped;
   }
 
  private:
@@ -186,28 +210,39 @@ class BatchRunner {
 
   void makeRenderer() {
     renderer_.reset();
-    renderer_ = openRenderer(options_.device);
+    renderer_ = openRenderer(device_);
+  }
+
+  // Takes the jobs the feed has ready, up to the ones to load ahead.
+  void topUp(JobFeed& feed, std::deque<std::size_t>& upcoming) {
+    while (upcoming.size() <= static_cast<std::size_t>(workers_))
+      if (const std::optional<std::size_t> next = feed.next(false)) {
+        upcoming.push_back(*next);
+      } else {
+        return;
+      }
   }
 
   bool skipped(std::size_t i) const {
     return options_.skipExisting && allOutputsExist(jobs_[i].job);
   }
 
-  void prefetch(std::size_t current) {
+  void prefetch(const std::deque<std::size_t>& upcoming) {
     if (workers_ == 0) return;
-    for (std::size_t i = current; i < jobs_.size() && i <= current + workers_; ++i) {
+    for (const std::size_t i : upcoming) {
       if (loading_.count(i) || skipped(i)) continue;
       const RenderJob& job = jobs_[i].job;
       loading_.emplace(i, std::async(std::launch::async, [&job] { return load(job); }));
     }
   }
 
-  void renderOne(std::size_t i) {
+  // False after a render error.
+  bool renderOne(std::size_t i) {
     JobResult& result = results_[i];
     if (skipped(i)) {
       result.status = Status::Skipped;
       encoding_.push_back({i, {}});
-      return;
+      return true;
     }
     try {
       Loaded loaded;
@@ -235,10 +270,12 @@ class BatchRunner {
     } catch (const RenderError& e) {
       // A GL error or a lost context may leave the context unusable: start a fresh one.
       fail(i, e.what());
-      makeRenderer();
+      if (!stopOnRenderError_) makeRenderer();
+      return false;
     } catch (const std::exception& e) {
       fail(i, e.what());
     }
+    return true;
   }
 
   template <typename F>
@@ -252,7 +289,7 @@ class BatchRunner {
     encoding_.push_back({i, {}});
   }
 
-  void finishOldest(Progress& progress) {
+  void finishOldest(JobFeed& feed) {
     Pending pending = std::move(encoding_.front());
     encoding_.pop_front();
     JobResult& result = results_[pending.index];
@@ -265,11 +302,13 @@ class BatchRunner {
       }
     }
     if (result.status != Status::Skipped) result.milliseconds = result.times.total();
-    progress.finished(jobs_[pending.index].name, result);
+    feed.finished(pending.index, result);
   }
 
   const std::vector<BatchEntry>& jobs_;
   const BatchOptions& options_;
+  const DeviceOptions& device_;
+  bool stopOnRenderError_;
   std::vector<JobResult> results_;
   int workers_ = 0;
   std::unique_ptr<Renderer> renderer_;
@@ -296,7 +335,11 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
   batch->add_option("--exposure", o.exposure, "Exposure in stops");
   batch->add_option("--shading", o.shading, "pbr or phong")->check(CLI::IsMember({"pbr", "phong"}));
   batch->add_flag("--skip-existing", o.skipExisting, "Skip jobs whose outputs all exist (resume)");
-  batch->add_option("--shard", o.shard, "Render only shard K of N (K/N, 0 <= K < N)");
+  batch->add_option("--shard", o.shard,
+                    "Render only shard K of N (K/N, 0 <= K < N), or auto: from the Slurm array "
+                    "or Kubernetes indexed Job variables");
+  batch->add_option("--shard-count", o.shardCount, "N for --shard auto (needed on Kubernetes)")
+      ->check(CLI::Range(1, 1 << 20));
   batch
       ->add_option("--jobs", o.jobs,
                    "Worker threads for loading and encoding (default: cores; 0 = none)")
@@ -304,26 +347,70 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
   batch->add_option("--report", o.report, "Write a JSON report of every job");
   batch->add_flag("-q,--quiet", o.quiet, "No progress or log lines (failures still on stderr)");
   addDeviceOptions(*batch, o.device, false);
+  addBatchWorkerOptions(*batch, o.worker);
 }
 
 int runBatch(const BatchOptions& o) {
   const Clock::time_point start = Clock::now();
   const BatchDefaults defaults = defaultsFromOptions(o);
   std::vector<BatchEntry> jobs = collectJobs(o.inputs, defaults);
-  if (!o.shard.empty()) jobs = selectShard(std::move(jobs), parseShard(o.shard));
+  const std::string shard = resolveShard(o.shard, o.shardCount, processEnvironment());
+  if (!shard.empty()) jobs = selectShard(std::move(jobs), parseShard(shard));
   if (!o.report.empty() && fs::is_directory(o.report))
     throw InputError("--report " + o.report + ": is a folder, expected a file name");
 
+  if (o.worker.inProcess && o.worker.jobTimeout > 0.0)
+    throw InputError("--job-timeout: needs a worker process; leave out --in-process");
+  if (o.worker.inProcess && !o.worker.gpus.empty())
+    throw InputError("--gpus: needs worker processes; leave out --in-process");
+  if (!o.worker.gpus.empty() && o.device.gpu != "auto")
+    throw InputError("--gpus: chooses the devices itself; leave out --gpu");
+  parseGpuRequest(o.device.gpu);  // a malformed --gpu is a usage error before any worker starts
+
   setEncoderThreads(0);  // the batch's own workers encode in parallel already
   Progress progress(jobs.size(), ::isatty(STDOUT_FILENO) != 0, o.quiet);
-  BatchRunner runner(jobs, o);
-  const std::vector<JobResult> results = runner.run(progress);
+  std::vector<JobResult> results(jobs.size());
+  const auto finished = [&](std::size_t i, const JobResult& result) {
+    results[i] = result;
+    progress.finished(jobs[i].name, result);
+  };
+  if (o.worker.inProcess) {
+    ListFeed feed(jobs.size(), finished);
+    BatchRunner(jobs, o, o.device, false).run(feed);
+  } else {
+    WorkerPoolOptions pool;
+    pool.devices = {o.device};
+    if (!o.worker.gpus.empty()) {
+      pool.devices.clear();
+      for (const int index : resolveGpus(o.worker.gpus)) {
+        DeviceOptions device = o.device;
+        device.gpu = std::to_string(index);
+        pool.devices.push_back(device);
+      }
+    }
+    pool.jobTimeoutSeconds = o.worker.jobTimeout;
+    pool.abandoned = [&jobs](std::size_t i, int pid) {
+      for (const fs::path& output : jobs[i].job.outputFiles())
+        OutputTransaction::removeTemporariesOf(output, pid);
+    };
+    const int threads =
+        o.jobs >= 0 ? o.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    pool.jobsPerWorker = 2 * static_cast<std::size_t>(threads) + 2;
+    std::vector<std::size_t> todo(jobs.size());
+    std::iota(todo.begin(), todo.end(), std::size_t{0});
+    runInWorkers(
+        todo, pool,
+        [&](const DeviceOptions& device, JobFeed& feed) {
+          return BatchRunner(jobs, o, device, true).run(feed);
+        },
+        finished);
+  }
 
   std::size_t counts[3] = {0, 0, 0};
   for (const JobResult& r : results) ++counts[static_cast<int>(r.status)];
   progress.summary(counts[0], counts[1], counts[2]);
   if (!o.report.empty())
-    writeReport(o.report, jobs, results, o.shard, millisecondsSince(start) / 1000.0);
+    writeReport(o.report, jobs, results, shard, millisecondsSince(start) / 1000.0);
   return counts[2] == 0 ? 0 : 1;
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/batch_worker.h"
 #include "cli/common_options.h"
 #include "cli/view_options.h"
 
@@ -25,10 +26,12 @@ struct BatchOptions {
   std::string shading = "pbr";
   bool skipExisting = false;
   std::string shard;
-  int jobs = -1;  // -1 = number of cores
+  int shardCount = 0;  // --shard-count, for --shard auto
+  int jobs = -1;       // -1 = number of cores
   std::string report;
   bool quiet = false;
-  DeviceOptions device;  // without --stats
+  DeviceOptions device;       // without --stats
+  BatchWorkerOptions worker;  // --job-timeout, --in-process, --gpus
 };
 
 void addBatchCommand(CLI::App& app, BatchOptions& options);

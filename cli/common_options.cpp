@@ -7,6 +7,8 @@
 #include <cstdlib>
 
 #include "cli/render_job.h"
+#include "renderer/render/gpu_choice.h"
+#include "renderer/render/gpu_devices.h"
 #include "renderer/render/renderer.h"
 
 namespace fs = std::filesystem;
@@ -64,16 +66,26 @@ void applySceneSettings(const SceneInputOptions& o, RenderJob& job) {
 
 void addDeviceOptions(CLI::App& app, DeviceOptions& o, bool withStats) {
   app.add_option("--gpu", o.gpu,
-                 "EGL device index to render on (default: first hardware device, else software)")
-      ->check(CLI::NonNegativeNumber);
+                 "EGL device to render on: an index (see `omnishadow devices`), cuda:N, or auto "
+                 "(default: the first CUDA_VISIBLE_DEVICES device when set, else the first "
+                 "hardware device, else software)");
   app.add_flag("-v,--verbose", o.verbose,
                "Print the GL platform, vendor, renderer, version and GL debug messages");
   if (withStats) app.add_flag("--stats", o.stats, "Print the time of each stage to stderr");
 }
 
+int resolveGpu(const std::string& gpu) {
+  const GpuRequest request = parseGpuRequest(gpu);
+  const char* visible = std::getenv("CUDA_VISIBLE_DEVICES");
+  // Listing the devices loads every EGL driver: not needed for the default order.
+  if (request.kind == GpuRequest::Kind::Auto && visible == nullptr) return -1;
+  return chooseGpu(request, listGpuDevices(false),
+                   visible ? std::optional<std::string>(visible) : std::nullopt);
+}
+
 std::unique_ptr<Renderer> openRenderer(const DeviceOptions& o) {
   ContextOptions context;
-  context.gpuIndex = o.gpu;
+  context.gpuIndex = resolveGpu(o.gpu);
   context.debug = o.verbose;
   auto renderer = std::make_unique<Renderer>(context);
   if (o.verbose)

@@ -47,13 +47,17 @@ void applySceneSettings(const SceneInputOptions& options, RenderJob& job);
 
 // The GL device options that `render`, `verify` and `batch` share.
 struct DeviceOptions {
-  int gpu = -1;  // -1 = the first hardware device, else software
+  std::string gpu = "auto";  // auto, an EGL device index or cuda:N (resolveGpu)
   bool verbose = false;
   bool stats = false;
 };
 
 // Adds --gpu and -v/--verbose, and --stats where `withStats`.
 void addDeviceOptions(CLI::App& app, DeviceOptions& options, bool withStats);
+
+// The EGL device index that --gpu names, -1 for the default order (renderer/render/gpu_choice.h),
+// under this process's CUDA_VISIBLE_DEVICES. Throws InputError naming the devices that exist.
+int resolveGpu(const std::string& gpu);
 
 // A renderer on the options' device; with --verbose it prints the GL platform and version.
 // Throws InputError for a --gpu that does not exist.

@@ -6,9 +6,11 @@
 #include <exception>
 
 #include "cli/batch_command.h"
+#include "cli/devices_command.h"
 #include "cli/diff_command.h"
 #include "cli/info_command.h"
 #include "cli/render_command.h"
+#include "cli/report_merge.h"
 #include "cli/verify_command.h"
 #include "renderer/core/errors.h"
 
@@ -26,6 +28,10 @@ int main(int argc, char** argv) {
   omnishadow::cli::addDiffCommand(app, diff);
   omnishadow::cli::VerifyOptions verify;
   omnishadow::cli::addVerifyCommand(app, verify);
+  omnishadow::cli::DevicesOptions devices;
+  omnishadow::cli::addDevicesCommand(app, devices);
+  omnishadow::cli::ReportMergeOptions reportMerge;
+  omnishadow::cli::addReportCommand(app, reportMerge);
 
   try {
     app.parse(argc, argv);
@@ -50,6 +56,8 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("render")) return omnishadow::cli::runRender(render);
     if (app.got_subcommand("info")) return omnishadow::cli::runInfo(info);
     if (app.got_subcommand("batch")) return omnishadow::cli::runBatch(batch);
+    if (app.got_subcommand("devices")) return omnishadow::cli::runDevices(devices);
+    if (app.got_subcommand("report")) return omnishadow::cli::runReportMerge(reportMerge);
     // 0 within the tolerances, 1 not; InputError (2) for unreadable or incomparable images.
     if (app.got_subcommand("diff")) return omnishadow::cli::runDiff(diff);
     // 0 within --max-error, 1 not. require_subcommand(1) leaves no other command.

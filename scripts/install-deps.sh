@@ -19,6 +19,8 @@ packages=(
   clang libclang-rt-14-dev
   # OpenImageIO's CMake config refers to its command-line tools (and they are handy: idiff, iinfo)
   openimageio-tools
+  # the Debian package (scripts/package.sh): the man page from --help
+  help2man
 )
 
 missing=()

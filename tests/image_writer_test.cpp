@@ -335,6 +335,23 @@ TEST(OutputTransactionTest, DestructionWithoutCommitLeavesNothing) {
   EXPECT_TRUE(folderContents(dir.path()).empty());
 }
 
+TEST(OutputTransactionTest, TheTemporariesOfAKilledProcessCanBeRemoved) {
+  TempDir dir;
+  // What a process 4242 killed while writing render.png leaves, beside other files.
+  for (const char* name :
+       {".render.png.tmp-4242-0.png", ".render.png.tmp-4242-17.png", ".render.png.tmp-42420-0.png",
+        ".render.exr.tmp-4242-1.exr", ".other.png.tmp-4242-2.png", "render.png"})
+    std::ofstream(dir / name) << "x";
+  OutputTransaction::removeTemporariesOf(dir / "render.png", 4242);
+  std::vector<std::string> left;
+  for (const fs::path& path : folderContents(dir.path())) left.push_back(path.filename());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left,
+            (std::vector<std::string>{".other.png.tmp-4242-2.png", ".render.exr.tmp-4242-1.exr",
+                                      ".render.png.tmp-42420-0.png", "render.png"}));
+  OutputTransaction::removeTemporariesOf(dir / "missing" / "render.png", 4242);  // no folder
+}
+
 TEST(OutputTransactionTest, TemporariesAreUniquePerCallAndTransaction) {
   TempDir dir;
   OutputTransaction first;

@@ -4,6 +4,7 @@
 // disk, a GL error, a lost context (exit status 1, still no output file).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -574,6 +575,87 @@ TEST_F(RobustnessTest, BatchGoesOnAfterAGlErrorOrALostContext) {
     // The scene after the failure renders as it does on its own, in a fresh context.
     EXPECT_EQ(readFile(root_ / "out" / "c.png"), readFile(root_ / "out" / "a.png"));
   }
+}
+
+// A crash or a hang in one scene costs that scene only: its worker process is replaced and the
+// jobs around it render, in a fresh process, as they do on their own.
+TEST_F(RobustnessTest, BatchGoesOnAfterAWorkerCrashOrHang) {
+  fs::create_directories(root_ / "batch");
+  for (const std::string name : {"a", "c"}) {
+    const fs::path scene = writeScene(name + ".glb", FileFormat::Glb);
+    fs::rename(scene, root_ / "batch" / scene.filename());
+  }
+  const fs::path bad = writeScene("b.glb", FileFormat::Glb, true);
+  fs::rename(bad, root_ / "batch" / "b.glb");
+  const std::vector<std::string> batch = {"batch",    (root_ / "batch").string(),
+                                          "--out",    (root_ / "out").string(),
+                                          "--width",  "32",
+                                          "--height", "24",
+                                          "--report", (root_ / "report.json").string()};
+
+  for (const std::string fault : {"crash", "hang"}) {
+    SCOPED_TRACE(fault);
+    fs::remove_all(root_ / "out");
+    fs::create_directory(root_ / "out");
+    std::vector<std::string> args = batch;
+    // Generous: a worker's first job also compiles the shaders, slowly under the sanitizers.
+    args.insert(args.end(), {"--job-timeout", "8"});
+    const Result r = run(args, glFault(fault));
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(filesIn(root_ / "out"), (std::vector<std::string>{"a.png", "c.png"})) << r.out;
+    EXPECT_EQ(readFile(root_ / "out" / "c.png"), readFile(root_ / "out" / "a.png"));
+    const nlohmann::json report = readJson(root_ / "report.json");
+    ASSERT_EQ(report["jobs"].size(), 3u) << report.dump(2);
+    EXPECT_EQ(report["jobs"][0]["status"], "rendered");
+    EXPECT_EQ(report["jobs"][1]["status"], "failed");
+    EXPECT_EQ(report["jobs"][2]["status"], "rendered");
+    const std::string error = report["jobs"][1]["error"];
+    if (fault == "hang") {
+      EXPECT_EQ(error,
+                "timed out after 8 s (--job-timeout) while loading or rendering it; the render "
+                "worker was stopped");
+    } else {
+      // Under AddressSanitizer its SEGV handler turns the signal into exit status 1.
+      EXPECT_TRUE(error == "the render worker crashed (signal 11, Segmentation fault)" ||
+                  error == "the render worker exited with status 1")
+          << error;
+    }
+    EXPECT_NE(r.out.find("FAILED  b.glb: " + error), std::string::npos) << r.out;
+    EXPECT_EQ(report["summary"]["failed"], 1);
+  }
+
+  // Resuming renders the one that failed, and only it.
+  fs::last_write_time(root_ / "out" / "a.png",
+                      fs::file_time_type::clock::now() - std::chrono::hours(1));
+  const auto before = fs::last_write_time(root_ / "out" / "a.png");
+  std::vector<std::string> args = batch;
+  args.push_back("--skip-existing");
+  const Result resumed = run(args, glFault("none"));
+  EXPECT_EQ(resumed.status, 0) << resumed.err;
+  EXPECT_EQ(filesIn(root_ / "out"), (std::vector<std::string>{"a.png", "b.png", "c.png"}));
+  EXPECT_EQ(fs::last_write_time(root_ / "out" / "a.png"), before);
+  EXPECT_EQ(readJson(root_ / "report.json")["summary"]["skipped"], 2);
+}
+
+// A worker that cannot even make its context is not restarted forever: after three deaths in a
+// row before any job started, the batch fails, with the reason and without output.
+TEST_F(RobustnessTest, BatchGivesUpOnAWorkerThatDiesBeforeAnyJob) {
+  fs::create_directories(root_ / "batch");
+  const fs::path scene = writeScene("a.glb", FileFormat::Glb);
+  fs::rename(scene, root_ / "batch" / "a.glb");
+  const Result r = run({"batch", (root_ / "batch").string(), "--out", (root_ / "out").string(),
+                        "--width", "32", "--height", "24"},
+                       glFault("crash-context"));
+  EXPECT_EQ(r.status, 1) << r.err;
+  // Under AddressSanitizer its SEGV handler turns the signal into exit status 1.
+  EXPECT_TRUE(contains(r.err,
+                       "omnishadow: the render worker crashed (signal 11, Segmentation fault) 3 "
+                       "times before it started a job\n") ||
+              contains(r.err,
+                       "omnishadow: the render worker exited with status 1 3 times before it "
+                       "started a job\n"))
+      << r.err;
+  EXPECT_TRUE(outputEmpty());
 }
 
 }  // namespace

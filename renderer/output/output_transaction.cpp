@@ -172,4 +172,16 @@ void OutputTransaction::commit() {
   }
 }
 
+void OutputTransaction::removeTemporariesOf(const fs::path& finalPath, int pid) noexcept {
+  // The names temporaryName() gives, for any counter value.
+  const std::string prefix =
+      "." + finalPath.filename().string() + ".tmp-" + std::to_string(pid) + "-";
+  const std::string extension = finalPath.extension().string();
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(folderOf(finalPath), error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with(prefix) && name.ends_with(extension)) removeQuietly(entry.path());
+  }
+}
+
 }  // namespace omnishadow

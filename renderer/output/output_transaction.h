@@ -30,6 +30,11 @@ class OutputTransaction {
   // it, so that a message says "cannot write out/a.png", not the hidden temporary's name.
   static std::filesystem::path finalPathOf(const std::filesystem::path& path);
 
+  // Removes the temporaries that process `pid` staged for `finalPath` and never committed: what
+  // a process killed while writing leaves (a batch worker past --job-timeout, or one that
+  // crashed). Errors are ignored: this is cleanup.
+  static void removeTemporariesOf(const std::filesystem::path& finalPath, int pid) noexcept;
+
  private:
   struct Entry {
     std::filesystem::path temporary;

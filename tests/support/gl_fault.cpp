@@ -5,7 +5,12 @@
 // puts one in the scene that should fail). Once armed, depending on OMNISHADOW_GL_FAULT:
 //   error  the next glGetError() returns GL_INVALID_OPERATION;
 //   reset  the next glGetGraphicsResetStatus() returns GL_GUILTY_CONTEXT_RESET.
-// Either happens once; afterwards the real GL answers again, as it would for a fresh context.
+//   crash  the upload itself raises SIGSEGV, as a driver bug would;
+//   hang   the upload never returns (the batch's --job-timeout tests).
+// And, without any marker:
+//   crash-context  eglCreateContext raises SIGSEGV, as a driver that cannot start would.
+// error and reset happen once; afterwards the real GL answers again, as it would for a fresh
+// context.
 // OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=N makes glGetIntegerv report N as that limit, for
 // tests of what a GL with smaller cube maps refuses.
 //
@@ -14,8 +19,10 @@
 #include "tests/support/gl_fault.h"
 
 #include <dlfcn.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 
@@ -39,8 +46,12 @@ bool faultIs(const char* kind) {
 
 void armOn(GLsizei width, GLsizei height) {
   if (width == omnishadow::test_support::kGlFaultMarkerWidth &&
-      height == omnishadow::test_support::kGlFaultMarkerHeight)
+      height == omnishadow::test_support::kGlFaultMarkerHeight) {
     armed = true;
+    if (faultIs("crash")) std::raise(SIGSEGV);
+    if (faultIs("hang"))
+      for (;;) ::pause();
+  }
 }
 
 template <typename F>
@@ -81,6 +92,14 @@ __attribute__((visibility("default"))) void glTexImage2D(GLenum target, GLint le
   static const Fn next = real<Fn>("glTexImage2D");
   armOn(width, height);
   next(target, level, internalFormat, width, height, border, format, type, pixels);
+}
+
+__attribute__((visibility("default"))) void* eglCreateContext(void* display, void* config,
+                                                              void* share, const int* attributes) {
+  using Fn = void* (*)(void*, void*, void*, const int*);
+  static const Fn next = real<Fn>("eglCreateContext");
+  if (faultIs("crash-context")) std::raise(SIGSEGV);
+  return next(display, config, share, attributes);
 }
 
 __attribute__((visibility("default"))) void glGetIntegerv(GLenum name, GLint* data) {
