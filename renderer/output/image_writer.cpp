@@ -125,9 +125,11 @@ int FloatImage::channelIndex(const std::string& name) const {
   return found == channels.end() ? -1 : static_cast<int>(found - channels.begin());
 }
 
-void writePng(const std::filesystem::path& path, int width, int height, int channels,
-              const std::vector<std::uint8_t>& pixels) {
-  validatePng(width, height, channels, pixels);
+namespace {
+
+// 8 or 16 bits per channel (`type`), from `pixels` of that type.
+void encodePng(const std::filesystem::path& path, int width, int height, int channels,
+               OIIO::TypeDesc type, const void* pixels) {
   // Created by format name, not by extension, so temporaries and odd names still get PNG.
   auto output = OIIO::ImageOutput::create("png");
   if (!output) throw RenderError(cannotWrite(path, oiioReason("")));
@@ -140,13 +142,13 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
   // A bare spec: OIIO 2.4's PNG writer turns extra attributes (DateTime, Software,
   // XResolution, oiio:ColorSpace...) into tEXt/tIME/pHYs/gAMA chunks, and adds none of its own
   // beyond a constant oFFs(0,0), so identical pixels give identical bytes.
-  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+  OIIO::ImageSpec spec(width, height, channels, type);
   // Our pixels already hold straight alpha, as PNG requires; without this OIIO would treat them
   // as premultiplied and divide colour by alpha. "oiio:" hints are not written to the file.
   spec.attribute("oiio:UnassociatedAlpha", 1);
   if (!output->open(path.string(), spec))
     throw RenderError(cannotWrite(path, oiioReason(output->geterror())));
-  if (!output->write_image(OIIO::TypeDesc::UINT8, pixels.data())) {
+  if (!output->write_image(type, pixels)) {
     std::string reason = oiioReason(output->geterror());
     output->close();
     throw RenderError(cannotWrite(path, reason));
@@ -154,6 +156,22 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
   // close() flushes the final IDAT/IEND.
   if (!output->close()) throw RenderError(cannotWrite(path, oiioReason(output->geterror())));
   writeFileBytes(path, {reinterpret_cast<const char*>(encoded.data()), encoded.size()});
+}
+
+}  // namespace
+
+void writePng(const std::filesystem::path& path, int width, int height, int channels,
+              const std::vector<std::uint8_t>& pixels) {
+  validatePng(width, height, channels, pixels);
+  encodePng(path, width, height, channels, OIIO::TypeDesc::UINT8, pixels.data());
+}
+
+void writePng16(const std::filesystem::path& path, int width, int height,
+                const std::vector<std::uint16_t>& pixels) {
+  if (width <= 0 || height <= 0 || pixels.size() != pixelCount(width, height))
+    throw std::invalid_argument("writePng16: pixel buffer size does not match " +
+                                std::to_string(width) + "x" + std::to_string(height));
+  encodePng(path, width, height, 1, OIIO::TypeDesc::UINT16, pixels.data());
 }
 
 void writeFileBytes(const std::filesystem::path& path, std::string_view bytes) {
