@@ -13,6 +13,7 @@
 #include "renderer/output/display_transform.h"
 #include "renderer/output/id_index.h"
 #include "renderer/output/output_transaction.h"
+#include "renderer/render/aov_layer_names.h"
 #include "renderer/scene/drawable_check.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/lights_loader.h"
@@ -73,21 +74,10 @@ fs::path defaultLightsFile(const fs::path& scene) {
 
 AovLayers parseLayers(const std::string& list) {
   AovLayers layers;
-  const std::pair<const char*, bool AovLayers::*> names[] = {
-      {"albedo", &AovLayers::albedo},        {"roughness", &AovLayers::roughness},
-      {"metallic", &AovLayers::metallic},    {"diffuse", &AovLayers::diffuse},
-      {"specular", &AovLayers::specular},    {"objectId", &AovLayers::objectId},
-      {"materialId", &AovLayers::materialId}};
   std::istringstream in(list);
   std::string name;
   while (std::getline(in, name, ',')) {
-    bool known = name == "all";
-    for (const auto& [layer, member] : names)
-      if (name == "all" || name == layer) {
-        layers.*member = true;
-        known = true;
-      }
-    if (!known)
+    if (!enableAovLayer(layers, name))
       throw InputError("--aov-layers " + list + ": unknown layer \"" + name +
                        "\" (expected albedo, roughness, metallic, diffuse, specular, objectId, "
                        "materialId or all)");

@@ -97,6 +97,24 @@ class Renderer:
         max_memory: float = 4096.0,
         shadow_pass: str = "auto",
     ) -> Frame: ...
+    def verify(
+        self,
+        scene: Scene,
+        lights: LightsSource = None,
+        *,
+        light: str = "",
+        camera: CameraSpec = None,
+        width: int | None = None,
+        height: int | None = None,
+        shading: str = "pbr",
+        grazing: float = 0.05,
+        edge_texels: float = 3.0,
+        source_samples: int = 64,
+        max_error: float | None = None,
+        no_gltf_lights: bool = False,
+        max_memory: float = 4096.0,
+        shadow_pass: str = "auto",
+    ) -> dict[str, Any]: ...
 
 def load_scene(
     path: PathLike,

@@ -106,10 +106,12 @@ void bindFrame(py::module_& m) {
 }
 
 void bindRenderer(py::module_& m) {
-  py::class_<PyRenderer>(m, "Renderer",
-                         "A headless GL context and its compiled passes. Reuse one for many "
-                         "renders (like `omnishadow batch`). It belongs to the thread that made "
-                         "it: a call from another thread raises RenderError.")
+  py::class_<PyRenderer> renderer(
+      m, "Renderer",
+      "A headless GL context and its compiled passes. Reuse one for many "
+      "renders (like `omnishadow batch`). It belongs to the thread that made "
+      "it: a call from another thread raises RenderError.");
+  renderer
       .def(py::init<const py::object&, bool>(), py::arg("gpu") = py::none(),
            py::arg("verbose") = false,
            "gpu: EGL device index (None = the first hardware device, else software). Raises "
@@ -151,6 +153,39 @@ void bindRenderer(py::module_& m) {
           "names ([] = the fixed channels). masks: compute annotation masks (Frame.masks). aa: "
           "beauty samples per pixel (1, 4, 8 or 16; "
           "AOVs, ids, masks and depth stay exact). The GIL is released while it renders.");
+  renderer.def(
+      "verify",
+      [](PyRenderer& r, const PyScene& scene, const py::object& lights, const std::string& light,
+         const py::object& camera, const py::object& width, const py::object& height,
+         const std::string& shading, float grazing, float edgeTexels, int sourceSamples,
+         const py::object& maxError, bool noGltfLights, double maxMemory,
+         const std::string& shadowPass) {
+        PyRenderOptions o;
+        o.camera = camera;
+        o.width = width;
+        o.height = height;
+        o.shading = shading;
+        o.noGltfLights = noGltfLights;
+        o.maxMemoryMiB = maxMemory;
+        o.shadowPass = shadowPass;
+        PyVerifyOptions v;
+        v.grazing = grazing;
+        v.edgeTexels = edgeTexels;
+        v.sourceSamples = sourceSamples;
+        v.maxError = maxError;
+        return r.verify(scene, lights, o, light, v);
+      },
+      py::arg("scene"), py::arg("lights") = py::none(), py::kw_only(), py::arg("light") = "",
+      py::arg("camera") = py::none(), py::arg("width") = py::none(), py::arg("height") = py::none(),
+      py::arg("shading") = "pbr", py::arg("grazing") = 0.05f, py::arg("edge_texels") = 3.0f,
+      py::arg("source_samples") = 64, py::arg("max_error") = py::none(),
+      py::arg("no_gltf_lights") = false, py::arg("max_memory") = 4096.0,
+      py::arg("shadow_pass") = "auto",
+      "Renders like render() and checks each light's shadows (or only `light`) against exact "
+      "shadow rays, like `omnishadow verify --json`: {'width', 'height', 'camera', 'lights': "
+      "[{name, type, shadowed, filter, resolution, radius, skipped, interior, edge, pass}], "
+      "'pass', 'warnings'}; interior and edge hold evaluated, agree, falseShadow, falseLight and "
+      "their rates. max_error (a fraction) bounds the interior error rates for 'pass'.");
 }
 
 }  // namespace

@@ -24,6 +24,7 @@ struct PyFrame {
   StageTimes times;
   float exposure = 0.0f;
   std::vector<std::string> warnings;  // the scene's, the lights', then the renderer's
+  std::vector<Light> lights;          // as rendered: merged, or the headlight
 
   pybind11::array_t<float> beauty() const;
   pybind11::array_t<std::uint8_t> toSrgb8(const pybind11::object& exposure) const;

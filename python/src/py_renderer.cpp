@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "renderer/core/errors.h"
+#include "renderer/render/aov_layer_names.h"
 #include "renderer/view/headlight.h"
 
 namespace py = pybind11;
@@ -17,20 +18,9 @@ namespace {
 // always there).
 AovLayers aovLayers(const py::object& aovs) {
   AovLayers layers;
-  const std::pair<const char*, bool AovLayers::*> names[] = {
-      {"albedo", &AovLayers::albedo},        {"roughness", &AovLayers::roughness},
-      {"metallic", &AovLayers::metallic},    {"diffuse", &AovLayers::diffuse},
-      {"specular", &AovLayers::specular},    {"objectId", &AovLayers::objectId},
-      {"materialId", &AovLayers::materialId}};
   for (const std::string& name : aovs.cast<std::vector<std::string>>()) {
-    bool known = name == "all" || name == "P" || name == "N" || name == "Z" ||
-                 name == "visibility" || name == "beauty";
-    for (const auto& [layer, member] : names)
-      if (name == "all" || name == layer) {
-        layers.*member = true;
-        known = true;
-      }
-    if (!known)
+    const bool fixed = name == "P" || name == "N" || name == "Z" || name == "visibility";
+    if (!enableAovLayer(layers, name) && !fixed)
       throw InputError("aovs: unknown layer \"" + name +
                        "\" (expected albedo, roughness, metallic, diffuse, specular, objectId, "
                        "materialId or all; P, N, Z and visibility are always there)");
@@ -128,6 +118,7 @@ PyFrame PyRenderer::render(const PyScene& scene, const py::object& lights,
     loadStage.stop();
     out.frame = renderer_->render(*scene.scene, merged, loadedLights.setup.ambient, out.camera,
                                   settings, out.times);
+    out.lights = std::move(merged);
   }
   out.warnings.insert(out.warnings.end(), out.frame.warnings.begin(), out.frame.warnings.end());
   return out;

@@ -30,6 +30,14 @@ struct PyRenderOptions {
   std::string shadowPass = "auto";
 };
 
+// verify()'s options, the CLI's verify options.
+struct PyVerifyOptions {
+  float grazing = 0.05f;
+  float edgeTexels = 3.0f;
+  int sourceSamples = 64;
+  pybind11::object maxError = pybind11::none();  // fraction; None = no pass/fail bound
+};
+
 class PyRenderer {
  public:
   PyRenderer(const pybind11::object& gpu, bool verbose);
@@ -37,6 +45,12 @@ class PyRenderer {
   // Loads `lights` when it is not a Lights object yet, renders with the GIL released.
   PyFrame render(const PyScene& scene, const pybind11::object& lights,
                  const PyRenderOptions& options);
+  // The shadow agreement table of `omnishadow verify --json` for a render with these options:
+  // {"width", "height", "camera", "lights": [{name, type, shadowed, filter, resolution, radius,
+  // skipped, interior, edge, pass}], "pass"}.
+  pybind11::dict verify(const PyScene& scene, const pybind11::object& lights,
+                        const PyRenderOptions& options, const std::string& light,
+                        const PyVerifyOptions& verify);
   std::string platform() const;
   std::string gl() const;
 

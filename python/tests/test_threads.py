@@ -45,20 +45,20 @@ def test_each_thread_may_own_a_renderer(demo_scene):
 
 
 def test_gil_is_released_while_rendering(renderer, demo_scene):
-    # A Python thread keeps running while the main thread renders.
-    ticks = []
+    # A Python thread keeps counting while the main thread renders; were the GIL held for the
+    # whole render, it could not count at all.
+    count = [0]
     stop = threading.Event()
 
-    def count():
+    def spin():
         while not stop.is_set():
-            ticks.append(1)
-            stop.wait(0.001)
+            count[0] += 1
 
-    counter = threading.Thread(target=count)
+    counter = threading.Thread(target=spin)
     counter.start()
-    before = len(ticks)
-    renderer.render(demo_scene, width=128, height=128, aovs=["all"])
-    during = len(ticks) - before
+    before = count[0]
+    renderer.render(demo_scene, width=256, height=256, aovs=["all"], aa=4)
+    during = count[0] - before
     stop.set()
     counter.join()
-    assert during > 5
+    assert during > 100
