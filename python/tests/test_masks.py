@@ -87,3 +87,13 @@ def test_masks_need_the_objectid_layer(renderer, quads):
     frame = renderer.render(omnishadow.load_scene(quads), width=W, height=H)
     with pytest.raises(KeyError, match="no AOVs"):
         frame.masks
+
+
+def test_mask_files_are_outputs_of_the_job(binary, quads, tmp_path):
+    # A mask file named like another output is refused before rendering, nothing written.
+    status, _, stderr = run_cli(binary, "render", quads, "--width", W, "--height", H,
+                                "-o", tmp_path / "m.instances.png", "--masks", tmp_path / "m")
+    assert status == 2
+    assert stderr.strip() == (f"omnishadow: {tmp_path / 'm.instances.png'}: the same file is "
+                              "given twice as output")
+    assert list(tmp_path.iterdir()) == []
