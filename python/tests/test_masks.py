@@ -97,3 +97,38 @@ def test_mask_files_are_outputs_of_the_job(binary, quads, tmp_path):
     assert stderr.strip() == (f"omnishadow: {tmp_path / 'm.instances.png'}: the same file is "
                               "given twice as output")
     assert list(tmp_path.iterdir()) == []
+
+
+PERSPECTIVE_CASES = {
+    "tilted": ([(-9.3, -4.1, 0.2), (-1.7, -5.2, -1.3), (-2.9, 3.7, 0.9), (-8.2, 2.9, 0)], False),
+    # A strip of floor from far in front of the camera (z = 10) to behind it: the GPU clips it
+    # at the near plane (z = 9.5) inside the view, the CPU coverage must clip it the same way.
+    "through_near_plane": ([(-0.5, -0.2, -6.0), (-0.5, -0.2, 13.0), (0.5, -0.2, 13.0),
+                            (0.5, -0.2, -6.0)], False),
+    # Seen from behind: culled when single-sided, drawn when double-sided.
+    "back_single": ([(2.2, 1.1, 1.0), (2.2, 4.3, 1.0), (6.8, 4.3, 1.0), (6.8, 1.1, 1.0)], False),
+    "back_double": ([(2.2, 1.1, 1.0), (2.2, 4.3, 1.0), (6.8, 4.3, 1.0), (6.8, 1.1, 1.0)], True),
+}
+
+
+@pytest.mark.parametrize("name", PERSPECTIVE_CASES)
+def test_unoccluded_pixels_match_the_gpu_under_perspective(renderer, tmp_path, name):
+    # Alone in the scene, an instance's visible pixels are all the pixels it covers: the CPU
+    # coverage (perspective, near-plane clipping, culling) must count exactly the GPU's.
+    corners, double_sided = PERSPECTIVE_CASES[name]
+    scene = QuadScene(48, 36, perspective_yfov=1.0)
+    material = scene.material("m", double_sided=double_sided)
+    scene.add_corners(corners, node=name, material=material)
+    frame = renderer.render(omnishadow.load_scene(scene.write(tmp_path / "p.gltf")), width=48,
+                            height=36, masks=True)
+    entry = frame.masks["index"]["instances"][0]
+    if name == "back_single":
+        assert (entry["pixels"], entry["unoccludedPixels"]) == (0, 0)
+        assert entry["visibleFraction"] is None
+        return
+    assert entry["pixels"] > 20
+    assert entry["unoccludedPixels"] == entry["pixels"]
+    assert entry["visibleFraction"] == 1.0
+    if name == "through_near_plane":  # the clipped edge is in view: the bottom rows are empty
+        rows = np.nonzero(frame.masks["instances"].any(axis=1))[0]
+        assert rows.max() < 35
