@@ -36,6 +36,8 @@ RenderJob jobFromOptions(const RenderOptions& o) {
     }
   }
   job.aov = o.aov;
+  job.masks = o.masks;
+  job.antialiasing = o.antialiasing;
   job.layers = parseLayers(o.aovLayers);
   job.exposure = o.exposure;
   job.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
@@ -77,6 +79,7 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
     for (const fs::path& path : list)
       std::printf("wrote %s (%dx%d)\n", path.c_str(), loaded.camera.width, loaded.camera.height);
   if (!job.aov.empty()) std::printf("wrote %s (AOVs)\n", job.aov.c_str());
+  if (!job.masks.empty()) std::printf("wrote %s.* (annotation masks)\n", job.masks.c_str());
   if (!frame.shadowMaps.empty())
     std::printf("wrote the shadow maps of %zu lights to %s\n", frame.shadowMaps.size(),
                 job.dumpDepth.c_str());
@@ -104,6 +107,15 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
   render->add_option("--aov-layers", o.aovLayers,
                      "Extra AOV layers, comma-separated: albedo, roughness, metallic, diffuse, "
                      "specular, objectId, materialId, or all (needs --aov)");
+  render->add_option("--masks", o.masks,
+                     "Write annotation masks: STEM.instances.png and STEM.semantic.png (16-bit, "
+                     "0 = background) and STEM.masks.json (ids, classes, boxes, visible "
+                     "fractions)");
+  render
+      ->add_option("--aa", o.antialiasing,
+                   "Anti-aliased beauty: 1 (default), 4, 8 or 16 samples per pixel; AOVs, ids, "
+                   "masks, depth and visibility stay exact (the pixel center's surface)")
+      ->check(CLI::IsMember({1, 4, 8, 16}));
   render->add_option(
       "--dump-depth", o.dumpDepth,
       "Write every shadow map to this folder (EXR distances, PNG previews, cube map, cross)");

@@ -19,6 +19,10 @@ struct RenderOptions {
   ViewOptions view;
   std::vector<std::string> outputs;
   std::string aov;
+  // --masks stem
+  std::string masks;
+  // --aa
+  int antialiasing = 1;
   std::string aovLayers;   // comma-separated
   std::string dumpDepth;   // folder
   std::string lightViews;  // folder

@@ -8,29 +8,21 @@
 #include <utility>
 
 #include "renderer/core/errors.h"
+#include "renderer/output/annotation_masks.h"
 #include "renderer/output/depth_dump.h"
 #include "renderer/output/display_transform.h"
+#include "renderer/output/id_index.h"
 #include "renderer/output/output_transaction.h"
+#include "renderer/render/aov_layer_names.h"
+#include "renderer/scene/drawable_check.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/lights_loader.h"
+#include "renderer/view/headlight.h"
 
 namespace fs = std::filesystem;
 
 namespace omnishadow::cli {
 namespace {
-
-// A light so that a scene without any still shows something: at the camera, slightly above.
-Light headlight(const ViewCamera& camera, const Bounds& bounds) {
-  Light light;
-  light.name = "headlight";
-  const glm::vec3 up = glm::vec3(glm::inverse(camera.view)[1]);
-  const float radius = std::max(bounds.radius(), 1e-3f);
-  light.position = camera.eye + up * radius * 0.3f;
-  const float distance = glm::length(bounds.center() - light.position);
-  light.intensity = distance * distance;  // about 1 lux at the scene center
-  light.origin = "default";
-  return light;
-}
 
 // Resolves `.`/`..`/symlinks of the existing part, so that two spellings of one file compare
 // equal even when the file does not exist yet.
@@ -56,18 +48,7 @@ void checkFileSafeNames(const std::vector<Light>& lights) {
 
 // objectId/materialId values and what they stand for, next to the AOV file.
 void writeIdSidecar(const fs::path& path, const Scene& scene, OutputTransaction& transaction) {
-  nlohmann::ordered_json ids;
-  ids["objectId"] = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
-    const MeshInstance& instance = scene.instances[i];
-    ids["objectId"].push_back(
-        {{"id", i}, {"node", instance.node}, {"mesh", scene.meshes[instance.mesh].name}});
-  }
-  ids["materialId"] = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < scene.materials.size(); ++i)
-    ids["materialId"].push_back({{"id", i}, {"name", scene.materials[i].name}});
-  ids["materialId"].push_back({{"id", scene.materials.size()}, {"name", "(default)"}});
-  ids["background"] = -1;
+  const nlohmann::ordered_json ids = idIndex(scene);
   std::ofstream out(transaction.stage(path));
   out << ids.dump(2) << "\n";
   if (!out.flush()) throw RenderError("cannot write " + path.string());
@@ -93,21 +74,10 @@ fs::path defaultLightsFile(const fs::path& scene) {
 
 AovLayers parseLayers(const std::string& list) {
   AovLayers layers;
-  const std::pair<const char*, bool AovLayers::*> names[] = {
-      {"albedo", &AovLayers::albedo},        {"roughness", &AovLayers::roughness},
-      {"metallic", &AovLayers::metallic},    {"diffuse", &AovLayers::diffuse},
-      {"specular", &AovLayers::specular},    {"objectId", &AovLayers::objectId},
-      {"materialId", &AovLayers::materialId}};
   std::istringstream in(list);
   std::string name;
   while (std::getline(in, name, ',')) {
-    bool known = name == "all";
-    for (const auto& [layer, member] : names)
-      if (name == "all" || name == layer) {
-        layers.*member = true;
-        known = true;
-      }
-    if (!known)
+    if (!enableAovLayer(layers, name))
       throw InputError("--aov-layers " + list + ": unknown layer \"" + name +
                        "\" (expected albedo, roughness, metallic, diffuse, specular, objectId, "
                        "materialId or all)");
@@ -142,6 +112,8 @@ std::vector<fs::path> RenderJob::outputFiles() const {
   all.insert(all.end(), exr.begin(), exr.end());
   if (!aov.empty()) all.push_back(aov);
   if (!aov.empty() && (layers.objectId || layers.materialId)) all.push_back(idSidecarPath(*this));
+  if (!masks.empty())
+    for (const fs::path& file : annotationMaskFiles(masks)) all.push_back(file);
   return all;
 }
 
@@ -205,9 +177,7 @@ LoadedJob loadJob(const RenderJob& job) {
   loadOptions.allowExternalUris = job.allowExternalUris;
   loaded.scene = loadGltf(job.scene, loadOptions);
   checkNotAnInput(job, loaded.scene.inputFiles);
-  if (loaded.scene.instances.empty())
-    throw InputError(job.scene.string() + ": the scene draws no triangles (" +
-                     std::to_string(loaded.scene.source.reachedNodes) + " nodes reached)");
+  requireTriangles(loaded.scene);
   loaded.warnings = loaded.scene.warnings;
   if (!job.lights.empty()) loaded.setup = loadLightsFile(job.lights, loaded.warnings);
   loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
@@ -215,8 +185,7 @@ LoadedJob loadJob(const RenderJob& job) {
   loaded.camera = resolveCamera(loaded.scene, job.camera);
   if (loaded.lights.empty()) {
     loaded.lights.push_back(headlight(loaded.camera, loaded.scene.bounds));
-    loaded.warnings.push_back(
-        "no lights in the scene or a lights file: using a headlight at the camera");
+    loaded.warnings.push_back(kHeadlightWarning);
   }
   if (!job.dumpDepth.empty() || !job.lightViews.empty()) {
     checkFileSafeNames(loaded.lights);
@@ -242,12 +211,17 @@ Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loade
   settings.shading = job.shading;
   settings.aovs = job.aovs || !job.aov.empty();
   settings.layers = job.layers;
+  if (!job.masks.empty()) {  // masks are made from the objectId layer
+    settings.aovs = true;
+    settings.layers.objectId = true;
+  }
   settings.debugView = job.debugView;
   settings.debugLight = job.debugLight;
   settings.readShadowMaps = !job.dumpDepth.empty();
   settings.lightViewSize = job.lightViews.empty() ? 0 : job.lightViewSize;
   settings.maxShadowMemoryMiB = job.maxMemoryMiB;
   settings.shadowPass = job.shadowPass;
+  settings.antialiasing = job.antialiasing;
   return renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera, settings,
                          times);
 }
@@ -269,7 +243,12 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
     const FloatImage exposed = applyExposure(frame.beauty, job.exposure);
     for (const fs::path& path : job.exr) writeExr(stage(path), exposed, ExrPixelType::Half);
   }
-  if (frame.aovs) writeExr(stage(job.aov), *frame.aovs, ExrPixelType::Float);
+  if (frame.aovs && !job.aov.empty()) writeExr(stage(job.aov), *frame.aovs, ExrPixelType::Float);
+  if (!job.masks.empty()) {
+    for (const fs::path& file : annotationMaskFiles(job.masks)) written.push_back(file);
+    writeAnnotationMasks(annotationMasks(loaded.scene, loaded.camera, *frame.aovs), job.masks,
+                         transaction);
+  }
   if (job.layers.objectId || job.layers.materialId) {
     written.push_back(idSidecarPath(job));
     writeIdSidecar(idSidecarPath(job), loaded.scene, transaction);

@@ -25,6 +25,10 @@ struct RenderJob {
   std::filesystem::path aov;
   bool aovs = false;  // fill Frame::aovs even without an AOV file (`verify` reads them)
   AovLayers layers;
+  // --masks stem: instance and semantic masks and their index (renderer/output/annotation_masks.h)
+  std::filesystem::path masks;
+  // --aa: beauty samples per pixel
+  int antialiasing = 1;
   float exposure = 0.0f;
   Shading shading = Shading::Pbr;
   DebugView debugView = DebugView::None;

@@ -15,6 +15,8 @@ packages=(
   libpng-dev libdeflate-dev
   # exact shadow rays for `omnishadow verify`
   libembree-dev
+  # the Python module (python/) and its tests: Debian's python3 with NumPy and pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest
   # fuzzing (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes
   clang libclang-rt-14-dev
   # OpenImageIO's CMake config refers to its command-line tools (and they are handy: idiff, iinfo)

@@ -50,7 +50,7 @@ void addObject(Scene& scene, const builder::MeshData& data, const glm::mat4& wor
   mesh.material = material;
   for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
   scene.meshes.push_back(mesh);
-  scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1});
+  scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1, {}, {}});
   scene.bounds.extend(mesh.bounds.transformed(world));
 }
 
@@ -393,7 +393,7 @@ TEST(ShadowMap, AllShadowPassStrategiesWriteIdenticalTexels) {
   addObject(scene, builder::makeSphere(0.2f, 96, 48), translate({-1, 1.5f, -1}), grey);
   for (int i = 0; i < 16; ++i) {
     const glm::mat4 world = translate({u(rng), 1.2f + 0.1f * std::abs(u(rng)), u(rng)});
-    scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1});
+    scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1, {}, {}});
     scene.bounds.extend(scene.meshes.back().bounds.transformed(world));
   }
   std::vector<Light> lights = {pointLight("a", {0, 2, 0}, ShadowFilter::Pcf, 128),

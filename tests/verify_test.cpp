@@ -53,7 +53,8 @@ Mesh square(float height, float x0, float z0, float x1, float z1, int material,
 
 void add(Scene& scene, const Mesh& mesh) {
   scene.meshes.push_back(mesh);
-  scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, glm::mat4(1.0f), -1});
+  scene.instances.push_back(
+      {static_cast<int>(scene.meshes.size()) - 1, glm::mat4(1.0f), -1, {}, {}});
   scene.bounds.extend(mesh.bounds);
 }
 

@@ -31,6 +31,10 @@ enum class ExrPixelType { Half, Float };
 void writePng(const std::filesystem::path& path, int width, int height, int channels,
               const std::vector<std::uint8_t>& pixels);
 
+// 16-bit grey PNG (annotation masks: one id per pixel), byte-identical like writePng.
+void writePng16(const std::filesystem::path& path, int width, int height,
+                const std::vector<std::uint16_t>& pixels);
+
 // OpenEXR, ZIP compressed, channels named as given (OpenEXR stores them sorted by name),
 // no time stamps. Throws RenderError when the file cannot be written.
 void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type);

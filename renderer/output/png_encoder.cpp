@@ -81,11 +81,11 @@ struct CompressorDeleter {
   void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
 };
 
-}  // namespace
-
-std::string encodePng(int width, int height, int channels, const std::vector<std::uint8_t>& pixels,
-                      const PngEncoding& encoding) {
-  const std::size_t bpp = static_cast<std::size_t>(channels);
+// `bitDepth` 8 or 16; `bytes` hold the samples as PNG stores them (16-bit ones big-endian).
+std::string encode(int width, int height, int channels, int bitDepth, const std::uint8_t* bytes,
+                   const PngEncoding& encoding) {
+  // Filters work on bytes, comparing each with the same byte of the pixel to its left.
+  const std::size_t bpp = static_cast<std::size_t>(channels * bitDepth / 8);
   const std::size_t rowBytes = static_cast<std::size_t>(width) * bpp;
   const auto rows = static_cast<std::size_t>(height);
 
@@ -95,7 +95,7 @@ std::string encodePng(int width, int height, int channels, const std::vector<std
   std::array<std::vector<std::uint8_t>, 5> candidates;
   for (auto& candidate : candidates) candidate.resize(rowBytes);
   for (std::size_t y = 0; y < rows; ++y) {
-    const std::uint8_t* row = pixels.data() + y * rowBytes;
+    const std::uint8_t* row = bytes + y * rowBytes;
     const std::uint8_t* previous = y > 0 ? row - rowBytes : zeros.data();
     std::uint8_t* out = filtered.data() + y * (rowBytes + 1);
     int best = encoding.filter;
@@ -129,8 +129,8 @@ std::string encodePng(int width, int height, int channels, const std::vector<std
   std::string header;
   appendBigEndian(header, static_cast<std::uint32_t>(width));
   appendBigEndian(header, static_cast<std::uint32_t>(height));
-  header +=
-      {8, kColorType[channels], 0, 0, 0};  // bit depth, colour type, deflate, filters, no interlace
+  // bit depth, colour type, deflate, filters, no interlace
+  header += {static_cast<char>(bitDepth), kColorType[channels], 0, 0, 0};
 
   std::string png("\x89PNG\r\n\x1a\n", 8);
   png.reserve(png.size() + 25 + compressed.size() + 12 + 12);
@@ -141,6 +141,23 @@ std::string encodePng(int width, int height, int channels, const std::vector<std
     appendChunk(png, "IDAT", std::string_view(compressed).substr(at, kMaxChunk));
   appendChunk(png, "IEND", {});
   return png;
+}
+
+}  // namespace
+
+std::string encodePng(int width, int height, int channels, const std::vector<std::uint8_t>& pixels,
+                      const PngEncoding& encoding) {
+  return encode(width, height, channels, 8, pixels.data(), encoding);
+}
+
+std::string encodePng16(int width, int height, const std::vector<std::uint16_t>& pixels,
+                        const PngEncoding& encoding) {
+  std::vector<std::uint8_t> bigEndian(pixels.size() * 2);
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    bigEndian[2 * i] = static_cast<std::uint8_t>(pixels[i] >> 8);
+    bigEndian[2 * i + 1] = static_cast<std::uint8_t>(pixels[i] & 0xff);
+  }
+  return encode(width, height, 1, 16, bigEndian.data(), encoding);
 }
 
 }  // namespace omnishadow

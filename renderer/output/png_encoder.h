@@ -26,4 +26,8 @@ inline constexpr int kDefaultPngLevel = 2;
 std::string encodePng(int width, int height, int channels, const std::vector<std::uint8_t>& pixels,
                       const PngEncoding& encoding = {});
 
+// The same for a 16-bit grey PNG (instance and semantic masks), one sample per pixel.
+std::string encodePng16(int width, int height, const std::vector<std::uint16_t>& pixels,
+                        const PngEncoding& encoding = {});
+
 }  // namespace omnishadow

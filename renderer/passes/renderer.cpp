@@ -15,6 +15,7 @@
 #include "renderer/passes/shadow_pass.h"
 #include "renderer/passes/shadow_textures.h"
 #include "renderer/passes/vsm_filter.h"
+#include "renderer/render/antialiasing.h"
 #include "renderer/render/frame_plan.h"
 #include "renderer/scene/scene_fingerprint.h"
 
@@ -72,6 +73,9 @@ class Renderer::Impl {
   FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                         const RenderSettings& settings, const PassParameters& parameters,
                         StageTimes* times);
+  FloatImage drawAntialiasedBeauty(Prepared& prepared, const ViewCamera& camera,
+                                   const glm::vec3& ambient, const RenderSettings& settings,
+                                   const PassParameters& parameters, StageTimes& times);
   void drawAovs(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                 const RenderSettings& settings, FloatImage& aovs, StageTimes& times);
   std::vector<LightView> drawLightViews(Prepared& prepared, const ViewCamera& camera,
@@ -227,6 +231,31 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
   return image;
 }
 
+// The mean of the beauty through each sample offset (one offset, the pixel center, without
+// anti-aliasing); the shadow maps are shared by every sample.
+FloatImage Renderer::Impl::drawAntialiasedBeauty(Prepared& prepared, const ViewCamera& camera,
+                                                 const glm::vec3& ambient,
+                                                 const RenderSettings& settings,
+                                                 const PassParameters& parameters,
+                                                 StageTimes& times) {
+  if (settings.antialiasing == 1)
+    return drawBeauty(prepared, camera, ambient, settings, parameters, &times);
+  const std::vector<glm::vec2> offsets = antialiasingOffsets(settings.antialiasing);
+  FloatImage sum;
+  for (const glm::vec2& offset : offsets) {
+    const FloatImage sample =
+        drawBeauty(prepared, jitteredCamera(camera, offset), ambient, settings, parameters, &times);
+    if (sum.pixels.empty()) {
+      sum = sample;
+      continue;
+    }
+    for (std::size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += sample.pixels[i];
+  }
+  const float scale = 1.0f / static_cast<float>(offsets.size());
+  for (float& value : sum.pixels) value *= scale;
+  return sum;
+}
+
 void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
                               const glm::vec3& ambient, const RenderSettings& settings,
                               FloatImage& aovs, StageTimes& times) {
@@ -354,11 +383,11 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     drawAovs(prepared, camera, ambient, settings, aovs, times);
     frame.aovs = std::move(aovs);
   }
-  if (!settings.aovs || settings.debugView != DebugView::None) {
+  if (!settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1) {
     PassParameters parameters;
     parameters.debugView = settings.debugView;
     parameters.debugLight = debugLight;
-    frame.beauty = drawBeauty(prepared, camera, ambient, settings, parameters, &times);
+    frame.beauty = drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times);
     return;
   }
   // The AOV pass already drew the beauty.

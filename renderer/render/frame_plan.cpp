@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "renderer/core/errors.h"
+#include "renderer/render/antialiasing.h"
 
 namespace omnishadow {
 namespace {
@@ -35,6 +36,7 @@ int findDebugLight(const std::vector<Light>& lights, const RenderSettings& setti
 FramePlan planFrame(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
                     const RenderSettings& settings, const RenderLimits& limits) {
   checkResolutions(lights, limits);
+  checkAntialiasingSampleCount(settings.antialiasing);
   FramePlan plan;
   plan.shadows = planShadowAtlas(lights, camera, scene.bounds, ShadowLimits{limits.maxArrayLayers});
   const double shadowMiB = plan.shadows.bytes / (1024.0 * 1024.0);

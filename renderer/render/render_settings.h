@@ -51,6 +51,7 @@ struct RenderSettings {
   // allocation, naming the size needed.
   double maxShadowMemoryMiB = 4096.0;
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
+  int antialiasing = 1;  // --aa: beauty samples per pixel, 1, 4, 8 or 16 (render/antialiasing.h)
 };
 
 // What the device allows, queried once when the renderer is made. Frame planning checks a

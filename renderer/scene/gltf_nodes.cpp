@@ -17,6 +17,13 @@ namespace omnishadow::gltf_detail {
 
 namespace {
 
+// The node's extras "class" when it is a string (annotation masks group instances by it).
+std::string extrasClass(const tinygltf::Node& node) {
+  if (!node.extras.IsObject() || !node.extras.Has("class")) return {};
+  const tinygltf::Value& value = node.extras.Get("class");
+  return value.IsString() ? value.Get<std::string>() : std::string();
+}
+
 glm::mat4 localMatrix(const Context& ctx, std::size_t nodeIndex) {
   const tinygltf::Node& node = ctx.model.nodes[nodeIndex];
   const std::string object = at("nodes", nodeIndex);
@@ -230,7 +237,8 @@ class SceneBuilder {
       for (std::size_t p = 0; p < meshOf_[meshIndex].size(); ++p) {
         const int mesh = sceneMesh(meshIndex, p);
         if (mesh < 0) continue;
-        ctx_.scene.instances.push_back({mesh, world, static_cast<int>(nodeIndex)});
+        ctx_.scene.instances.push_back(
+            {mesh, world, static_cast<int>(nodeIndex), node.name, extrasClass(node)});
         ctx_.scene.bounds.extend(
             ctx_.scene.meshes[static_cast<std::size_t>(mesh)].bounds.transformed(world));
       }

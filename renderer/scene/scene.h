@@ -80,6 +80,8 @@ struct MeshInstance {
   int mesh = -1;  // index into Scene::meshes
   glm::mat4 world{1.0f};
   int node = -1;  // glTF node index
+  std::string nodeName;
+  std::string className;  // the node's extras "class" (a string), for semantic masks; else empty
 };
 
 // A glTF camera as placed by a node that references it.

@@ -1,0 +1,48 @@
+#pragma once
+
+// The inputs of a Python render: scenes, lights and camera requests, converted from Python
+// values with the CLI's loaders and the CLI's messages.
+
+#include <pybind11/pybind11.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/scene/light.h"
+#include "renderer/scene/scene.h"
+#include "renderer/view/camera.h"
+
+namespace omnishadow::python {
+
+// A loaded scene, shared (read only) by every frame rendered from it.
+struct PyScene {
+  std::shared_ptr<const Scene> scene;
+};
+
+// A lights file's content: the lights, the ambient term and the loader's warnings.
+struct PyLights {
+  LightSetup setup;
+  std::vector<std::string> warnings;
+  std::string label;  // the file, or the label given for Python data
+};
+
+// loadGltf() with the CLI's checks (a scene that draws no triangles is refused). `time` and
+// `animation` are accepted for the interface's sake and refused with an InputError until the
+// renderer poses animated scenes.
+PyScene loadScene(const std::string& path, const pybind11::object& sceneIndex,
+                  const pybind11::object& time, const pybind11::object& animation,
+                  bool allowExternalUris);
+
+// A lights file path (str or os.PathLike), a dict with the lights file's schema, or a list of
+// light dicts (the file's "lights" array). Python data goes through the lights file parser, so
+// it is validated with the same messages, `label` standing for the file name.
+PyLights loadLights(const pybind11::object& source, const std::string& label);
+
+// None, a glTF camera name (str) or index (int), or a dict with any of "select", "eye",
+// "target", "up" (3 numbers each) and "fov" (degrees), like --camera, --eye, --target, --up,
+// --fov. Image size from width/height (None = the CLI's default).
+CameraRequest cameraRequest(const pybind11::object& camera, const pybind11::object& width,
+                            const pybind11::object& height);
+
+}  // namespace omnishadow::python

@@ -1,0 +1,134 @@
+"""Annotation masks (--masks and render(masks=True)) are exact on constructed scenes."""
+
+import json
+
+import numpy as np
+import pytest
+
+import omnishadow
+from conftest import run_cli
+from gltf_scene import QuadScene
+
+W, H = 32, 24
+
+
+@pytest.fixture(scope="module")
+def quads(tmp_path_factory):
+    scene = QuadScene(W, H)
+    wood = scene.material("wood")
+    scene.add_quad(2, 2, 12, 10, node="table", cls="furniture", material=wood)      # 0
+    scene.add_quad(8, 6, 16, 14, z=1.0, node="cup", mesh="cup_mesh")                # 1, in front
+    scene.add_quad(20, 15, 30, 20, mesh="plate")                                     # 2, no name
+    scene.add_quad(20, 2, 24, 6, node="chair", cls="furniture", material=wood)      # 3
+    scene.add_quad(3, 3, 5, 5, z=-1.0, node="hidden")                                # 4, behind
+    scene.add_quad(40, 2, 44, 6, node="offscreen")                                   # 5
+    return scene.write(tmp_path_factory.mktemp("masks") / "quads.gltf")
+
+
+def expected_masks():
+    instances = np.zeros((H, W), np.uint16)
+    instances[2:10, 2:12] = 1
+    instances[6:14, 8:16] = 2
+    instances[15:20, 20:30] = 3
+    instances[2:6, 20:24] = 4
+    # Classes in name order: cup, furniture, hidden, offscreen, plate.
+    class_of = {0: 0, 1: 2, 2: 1, 3: 5, 4: 2}
+    semantic = np.vectorize(class_of.get)(instances).astype(np.uint16)
+    return instances, semantic
+
+
+def test_masks_and_index_are_exact(renderer, quads):
+    frame = renderer.render(omnishadow.load_scene(quads), width=W, height=H, masks=True)
+    masks = frame.masks
+    instances, semantic = expected_masks()
+    assert masks["instances"].dtype == np.uint16
+    np.testing.assert_array_equal(masks["instances"], instances)
+    np.testing.assert_array_equal(masks["semantic"], semantic)
+
+    index = masks["index"]
+    assert index["background"] == 0
+    assert index["classes"] == [{"id": 1, "name": "cup"}, {"id": 2, "name": "furniture"},
+                                {"id": 3, "name": "hidden"}, {"id": 4, "name": "offscreen"},
+                                {"id": 5, "name": "plate"}]
+    entries = index["instances"]
+    assert [e["id"] for e in entries] == [1, 2, 3, 4, 5, 6]
+    assert [e["class"] for e in entries] == ["furniture", "cup", "plate", "furniture", "hidden",
+                                             "offscreen"]
+    assert [e["nodeName"] for e in entries] == ["table", "cup", "", "chair", "hidden",
+                                                "offscreen"]
+    assert entries[1]["mesh"] == "cup_mesh"
+    assert entries[0]["material"] == "wood" and entries[1]["material"] == "(default)"
+    # The table loses the 4 x 4 pixels the cup hides: 80 - 16 visible of 80.
+    assert [e["pixels"] for e in entries] == [64, 64, 50, 16, 0, 0]
+    assert [e["unoccludedPixels"] for e in entries] == [80, 64, 50, 16, 4, 0]
+    assert [e["visibleFraction"] for e in entries] == [0.8, 1.0, 1.0, 1.0, 0.0, None]
+    assert [e["bbox"] for e in entries] == [[2, 2, 12, 10], [8, 6, 16, 14], [20, 15, 30, 20],
+                                            [20, 2, 24, 6], None, None]
+
+
+def test_cli_writes_the_same_masks(binary, renderer, quads, tmp_path):
+    status, _, stderr = run_cli(binary, "render", quads, "--width", W, "--height", H,
+                                "-o", tmp_path / "beauty.png", "--masks", tmp_path / "m")
+    assert status == 0, stderr
+    frame = renderer.render(omnishadow.load_scene(quads), width=W, height=H, masks=True)
+    masks = frame.masks
+    for name, key in [("m.instances.png", "instances"), ("m.semantic.png", "semantic")]:
+        image, channels = omnishadow.read_image(tmp_path / name)
+        assert image.shape == (H, W, 1)
+        np.testing.assert_array_equal(np.round(image[:, :, 0] * 65535).astype(np.uint16),
+                                      masks[key], err_msg=name)
+    assert json.loads((tmp_path / "m.masks.json").read_text()) == masks["index"]
+    frame.save_masks(tmp_path / "py")
+    for suffix in (".instances.png", ".semantic.png", ".masks.json"):
+        assert (tmp_path / ("py" + suffix)).read_bytes() == (tmp_path / ("m" + suffix)).read_bytes()
+
+
+def test_masks_need_the_objectid_layer(renderer, quads):
+    frame = renderer.render(omnishadow.load_scene(quads), width=W, height=H)
+    with pytest.raises(KeyError, match="no AOVs"):
+        frame.masks
+
+
+def test_mask_files_are_outputs_of_the_job(binary, quads, tmp_path):
+    # A mask file named like another output is refused before rendering, nothing written.
+    status, _, stderr = run_cli(binary, "render", quads, "--width", W, "--height", H,
+                                "-o", tmp_path / "m.instances.png", "--masks", tmp_path / "m")
+    assert status == 2
+    assert stderr.strip() == (f"omnishadow: {tmp_path / 'm.instances.png'}: the same file is "
+                              "given twice as output")
+    assert list(tmp_path.iterdir()) == []
+
+
+PERSPECTIVE_CASES = {
+    "tilted": ([(-9.3, -4.1, 0.2), (-1.7, -5.2, -1.3), (-2.9, 3.7, 0.9), (-8.2, 2.9, 0)], False),
+    # A strip of floor from far in front of the camera (z = 10) to behind it: the GPU clips it
+    # at the near plane (z = 9.5) inside the view, the CPU coverage must clip it the same way.
+    "through_near_plane": ([(-0.5, -0.2, -6.0), (-0.5, -0.2, 13.0), (0.5, -0.2, 13.0),
+                            (0.5, -0.2, -6.0)], False),
+    # Seen from behind: culled when single-sided, drawn when double-sided.
+    "back_single": ([(2.2, 1.1, 1.0), (2.2, 4.3, 1.0), (6.8, 4.3, 1.0), (6.8, 1.1, 1.0)], False),
+    "back_double": ([(2.2, 1.1, 1.0), (2.2, 4.3, 1.0), (6.8, 4.3, 1.0), (6.8, 1.1, 1.0)], True),
+}
+
+
+@pytest.mark.parametrize("name", PERSPECTIVE_CASES)
+def test_unoccluded_pixels_match_the_gpu_under_perspective(renderer, tmp_path, name):
+    # Alone in the scene, an instance's visible pixels are all the pixels it covers: the CPU
+    # coverage (perspective, near-plane clipping, culling) must count exactly the GPU's.
+    corners, double_sided = PERSPECTIVE_CASES[name]
+    scene = QuadScene(48, 36, perspective_yfov=1.0)
+    material = scene.material("m", double_sided=double_sided)
+    scene.add_corners(corners, node=name, material=material)
+    frame = renderer.render(omnishadow.load_scene(scene.write(tmp_path / "p.gltf")), width=48,
+                            height=36, masks=True)
+    entry = frame.masks["index"]["instances"][0]
+    if name == "back_single":
+        assert (entry["pixels"], entry["unoccludedPixels"]) == (0, 0)
+        assert entry["visibleFraction"] is None
+        return
+    assert entry["pixels"] > 20
+    assert entry["unoccludedPixels"] == entry["pixels"]
+    assert entry["visibleFraction"] == 1.0
+    if name == "through_near_plane":  # the clipped edge is in view: the bottom rows are empty
+        rows = np.nonzero(frame.masks["instances"].any(axis=1))[0]
+        assert rows.max() < 35
