@@ -102,8 +102,9 @@ class Renderer::Impl {
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
 struct Renderer::Impl::Prepared {
-  explicit Prepared(const Scene& s) : gpu(s) {}
+  explicit Prepared(const Scene& s) : gpu(s), bounds(s.bounds) {}
   GpuScene gpu;
+  Bounds bounds;  // the scene's, for defaults that follow its scale
   LightingFeatures features;
   std::uint64_t fingerprint = 0;  // shadowFingerprint() when the shadow cache is used
   ShadowAtlasPlan atlas;
@@ -380,7 +381,8 @@ std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const 
       view.width = view.height = settings.lightViewSize;
       view.eye = s.light->position;
       view.view = cubeFaceView(static_cast<CubeFace>(face), s.light->position);
-      view.projection = reversedPerspective(glm::radians(90.0f), 1.0f, s.light->shadow.near, 0.0f);
+      view.projection = reversedPerspective(glm::radians(90.0f), 1.0f,
+                                            effectiveShadowNear(*s.light, prepared.bounds), 0.0f);
       view.glRowOrder = true;
       PassParameters parameters;
       parameters.cascadeView = &camera.view;  // directional cascades stay those of the frame

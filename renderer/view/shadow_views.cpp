@@ -92,13 +92,15 @@ DirectionalShadowFrame directionalShadowFrame(const Light& light, const ViewCame
   }
   if (sceneBounds.empty()) sceneMin = sceneMax = glm::vec3(0.0f);
   // A margin keeps surfaces exactly on the bounds off the clip planes.
-  const float margin = 1e-3f * std::max(1e-3f, glm::length(sceneMax - sceneMin));
+  const float margin = 1e-3f * std::max(glm::length(sceneMax - sceneMin), 1e-30f);
   const float nearZ = -sceneMax.z - margin;  // view-space z is negative in front
   const float farZ = -sceneMin.z + margin;
   frame.nearToLight = nearZ;
   frame.farFromLight = farZ;
 
-  const float cameraNear = std::max(camera.znear, 1e-4f);
+  // The floor only guards a zero camera near; relative to the scene, so any scale gets the same
+  // splits.
+  const float cameraNear = std::max(camera.znear, 1e-6f * std::max(farthestViewDepth, 1e-30f));
   float end = light.shadow.distance > 0.0f ? light.shadow.distance : farthestViewDepth * 1.001f;
   end = std::max(end, cameraNear * 2.0f);
   const int count = std::clamp(light.shadow.cascades, 1, 4);
