@@ -339,6 +339,14 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   // pre-pass's (no depth writes: early depth tests stay on), masked ones test and write as usual.
   gl::RasterState state;
   state.viewport = {0, 0, targets.width(), targets.height()};
+  if (parameters.blendedOnly) {
+    state.apply();
+    drawScene(scene, DrawSet::Blended, program_);
+    gl::RasterState::restoreDefaults();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::checkErrors("a pass over the blended surfaces");
+    return;
+  }
   state.color.rgba = {false, false, false, false};
   state.apply();
   depthOnly_.use();

@@ -43,6 +43,47 @@ void copyChannels(const std::vector<float>& rgba, int from, int count, FloatImag
     for (int c = 0; c < count; ++c) image.pixels[i * stride + to + c] = rgba[i * 4 + from + c];
 }
 
+// Replaces the RGBA pixels of `into` where `mask` is set by those of `from`.
+void mergePixels(const std::vector<float>& from, const std::vector<std::uint8_t>& mask,
+                 std::vector<float>& into) {
+  for (std::size_t i = 0; i < mask.size(); ++i)
+    if (mask[i]) std::copy_n(from.begin() + i * 4, 4, into.begin() + i * 4);
+}
+
+bool hasBlendedSurfaces(const GpuScene& scene) {
+  for (const GpuDraw& draw : scene.draws())
+    if (scene.materials()[draw.material].desc.alphaMode == AlphaMode::Blend) return true;
+  return false;
+}
+
+// The pixels of `aovs` that blended surfaces cover (A > 0) and no opaque one does (no camera
+// distance): the AOV pass leaves them without P and N. Their channels from P.X on are replaced
+// by those of `drawBlended()`, the AOVs of the front-most blended surfaces. Returns the mask,
+// empty when no pixel is such.
+template <typename DrawBlended>
+std::vector<std::uint8_t> blendedOnlyPixels(const GpuScene& scene, FloatImage& aovs,
+                                            DrawBlended drawBlended) {
+  if (!hasBlendedSurfaces(scene)) return {};
+  const std::size_t count = static_cast<std::size_t>(aovs.width) * aovs.height;
+  const std::size_t stride = aovs.channels.size();
+  constexpr int kA = 3, kPx = 4, kZ = 10;
+  std::vector<std::uint8_t> mask(count, 0);
+  bool any = false;
+  for (std::size_t i = 0; i < count; ++i) {
+    mask[i] = aovs.pixels[i * stride + kA] > 0.0f && aovs.pixels[i * stride + kZ] == 0.0f;
+    any = any || mask[i];
+  }
+  if (!any) return {};
+  const FloatImage blended = drawBlended();
+  for (std::size_t i = 0; i < count; ++i) {
+    mask[i] = mask[i] && blended.pixels[i * stride + kZ] > 0.0f;
+    if (mask[i])
+      std::copy(blended.pixels.begin() + i * stride + kPx,
+                blended.pixels.begin() + (i + 1) * stride, aovs.pixels.begin() + i * stride + kPx);
+  }
+  return mask;
+}
+
 }  // namespace
 
 class Renderer::Impl {
@@ -237,31 +278,41 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
   FrameTargets targets(camera.width, camera.height, PassOutputs::Aovs);
   LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, prepared.features);
   const int passes = std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass);
-  for (int p = 0; p < passes; ++p) {
-    PassParameters parameters;
-    parameters.visibilityBase = p * kVisibilityPerPass;
-    {
-      ScopedStage stage(times, "lighting");
-      pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
-                  parameters);
-      glFinish();
+  auto fill = [&](FloatImage& image, bool blendedOnly) {
+    for (int p = 0; p < passes; ++p) {
+      PassParameters parameters;
+      parameters.visibilityBase = p * kVisibilityPerPass;
+      parameters.blendedOnly = blendedOnly;
+      {
+        ScopedStage stage(times, "lighting");
+        pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
+                    parameters);
+        glFinish();
+      }
+      ScopedStage readback(times, "readback");
+      if (p == 0) {
+        copyChannels(readAttachment(targets, 0, flip), 0, 4, image, 0);
+        const std::vector<float> position = readAttachment(targets, 1, flip);
+        copyChannels(position, 0, 3, image, 4);
+        copyChannels(readAttachment(targets, 2, flip), 0, 3, image, 7);
+        copyChannels(position, 3, 1, image, 10);
+      }
+      for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
+        const int first = parameters.visibilityBase + target * 4;
+        if (first >= lightCount) break;
+        copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
+                     image, kFixedAovChannels + first);
+      }
     }
-    ScopedStage readback(times, "readback");
-    if (p == 0) {
-      copyChannels(readAttachment(targets, 0, flip), 0, 4, aovs, 0);
-      const std::vector<float> position = readAttachment(targets, 1, flip);
-      copyChannels(position, 0, 3, aovs, 4);
-      copyChannels(readAttachment(targets, 2, flip), 0, 3, aovs, 7);
-      copyChannels(position, 3, 1, aovs, 10);
-    }
-    for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
-      const int first = parameters.visibilityBase + target * 4;
-      if (first >= lightCount) break;
-      copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
-                   aovs, kFixedAovChannels + first);
-    }
-  }
-
+  };
+  fill(aovs, false);
+  // Pixels only blended surfaces cover (A > 0, no opaque distance) take P, N, Z, visibility and
+  // the layers of the front-most blended surface (README, "Outputs").
+  const std::vector<std::uint8_t> blendedOnly = blendedOnlyPixels(prepared.gpu, aovs, [&] {
+    FloatImage blended = aovs;
+    fill(blended, true);
+    return blended;
+  });
   const AovLayers& layers = settings.layers;
   if (!layers.any()) return;
   FrameTargets layerTargets(camera.width, camera.height, PassOutputs::Layers);
@@ -273,8 +324,15 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
     ScopedStage stage(times, "layers");
     layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
                      parameters);
-    return std::make_pair(readAttachment(layerTargets, 1, flip),
-                          readAttachment(layerTargets, 2, flip));
+    auto result = std::make_pair(readAttachment(layerTargets, 1, flip),
+                                 readAttachment(layerTargets, 2, flip));
+    if (blendedOnly.empty()) return result;
+    parameters.blendedOnly = true;
+    layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
+                     parameters);
+    mergePixels(readAttachment(layerTargets, 1, flip), blendedOnly, result.first);
+    mergePixels(readAttachment(layerTargets, 2, flip), blendedOnly, result.second);
+    return result;
   };
   int next = kFixedAovChannels + lightCount;
   if (layers.albedo || layers.roughness || layers.metallic || layers.objectId ||
