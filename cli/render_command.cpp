@@ -114,11 +114,13 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
       ->check(CLI::Range(1, 16384));
   render
       ->add_option("--debug-view", o.debugView,
-                   "Replace the beauty by: shadow, depth, normals, albedo or lightcount")
-      ->check(CLI::IsMember({"none", "shadow", "depth", "normals", "albedo", "lightcount"}));
+                   "Replace the beauty by: shadow, depth, normals, albedo, lightcount or cascade")
+      ->check(
+          CLI::IsMember({"none", "shadow", "depth", "normals", "albedo", "lightcount", "cascade"}));
   render->add_option(
       "--debug-light", o.debugLight,
-      "Light shown by --debug-view depth (default: the first shadowed light, of any type)");
+      "Light shown by --debug-view depth (default: the first shadowed light, of any type) or "
+      "cascade (default: the first shadowed directional light)");
   render->add_option("--exposure", o.exposure,
                      "Exposure in stops applied to the beauty images (default 0)");
   render->add_option("--shading", o.shading, "pbr (glTF metallic-roughness) or phong (Blinn-Phong)")

@@ -134,6 +134,7 @@ DebugView parseDebugView(const std::string& name) {
   if (name == "normals") return DebugView::Normals;
   if (name == "albedo") return DebugView::Albedo;
   if (name == "lightcount") return DebugView::LightCount;
+  if (name == "cascade") return DebugView::Cascade;
   return DebugView::None;
 }
 
@@ -188,8 +189,9 @@ void validateJob(const RenderJob& job) {
         throw InputError(all[i].string() + ": the same file is given twice as output");
   }
   if (job.layers.any() && job.aov.empty()) throw InputError("--aov-layers: needs --aov FILE.exr");
-  if (!job.debugLight.empty() && job.debugView != DebugView::Depth)
-    throw InputError("--debug-light: only used with --debug-view depth");
+  if (!job.debugLight.empty() && job.debugView != DebugView::Depth &&
+      job.debugView != DebugView::Cascade)
+    throw InputError("--debug-light: only used with --debug-view depth or cascade");
   checkFolderOption("--dump-depth", job.dumpDepth);
   checkFolderOption("--light-views", job.lightViews);
   if (!std::isfinite(job.exposure))

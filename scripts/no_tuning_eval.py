@@ -92,7 +92,7 @@ def stage(model_path, bounds, out_dir):
             im["uri"] = "model/" + im["uri"]
     if binary is not None:
         with open(os.path.join(copy, "glb-binary.bin"), "wb") as f:
-            f.write(binary)
+            f.write(binary[:doc["buffers"][0]["byteLength"]])  # without the chunk's padding
         doc["buffers"][0]["uri"] = "model/glb-binary.bin"
 
     lo, hi = bounds["min"], bounds["max"]
@@ -201,7 +201,17 @@ def main():
     ap.add_argument("--extra", default="", help="extra shadow settings for every light, JSON "
                     "(e.g. '{\"normalBias\": 2}'), to measure alternatives; default: none")
     ap.add_argument("--out", required=True)
+    ap.add_argument("--summarize-only", action="store_true",
+                    help="only rebuild <out>/summary.md from <out>/results.jsonl")
     args = ap.parse_args()
+    if args.summarize_only:
+        rows = [json.loads(line) for line in open(os.path.join(args.out, "results.jsonl"))]
+        labels = sorted({r["model"] for r in rows})
+        lines = summarize(rows, args, [(m, None) for m in labels], [])
+        with open(os.path.join(args.out, "summary.md"), "w") as f:
+            f.write("\n".join(lines) + "\n")
+        print("\n".join(lines))
+        return
 
     binary = os.path.join(args.build_dir, "omnishadow")
     roots = [r for r in args.roots.split(",") if r and os.path.isdir(r)]

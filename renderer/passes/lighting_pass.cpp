@@ -156,7 +156,8 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
     (light.type == LightType::Point ? features.cubeShadows : features.planarShadows) = true;
     features.filters |= 1u << static_cast<unsigned>(light.shadow.filter);
   }
-  features.debugDepth = debugView == DebugView::Depth;
+  // The cascade view reads the debug light's cascade where the depth view reads its map.
+  features.debugDepth = debugView == DebugView::Depth || debugView == DebugView::Cascade;
   return features;
 }
 
