@@ -149,8 +149,14 @@ std::vector<fs::path> RenderJob::outputFiles() const {
 std::vector<fs::path> RenderJob::perLightFiles(const std::vector<Light>& rendered) const {
   std::vector<fs::path> files;
   for (const Light& light : rendered) {
-    if (light.type != LightType::Point) continue;
     const std::string name = fileSafeName(light.name);
+    if (light.type != LightType::Point) {
+      if (lightViews.empty() || !light.shadow.enabled) continue;
+      if (light.type == LightType::Spot) files.push_back(lightViews / (name + "_spot.png"));
+      for (int c = 0; light.type == LightType::Directional && c < light.shadow.cascades; ++c)
+        files.push_back(lightViews / (name + "_cascade" + std::to_string(c) + ".png"));
+      continue;
+    }
     for (const char* face : kCubeFaceNames) {
       if (!lightViews.empty()) files.push_back(lightViews / (name + "_" + face + ".png"));
       if (!dumpDepth.empty() && light.shadow.enabled)
@@ -280,8 +286,9 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
     writePointShadowDump(job.dumpDepth, fileSafeName(dump.light), dump.distances, dump.far,
                          transaction);
   for (const LightView& view : frame.lightViews) {
-    const fs::path path = job.lightViews / (fileSafeName(view.light) + "_" +
-                                            kCubeFaceNames[static_cast<int>(view.face)] + ".png");
+    const std::string suffix =
+        view.planar.empty() ? kCubeFaceNames[static_cast<int>(view.face)] : view.planar;
+    const fs::path path = job.lightViews / (fileSafeName(view.light) + "_" + suffix + ".png");
     writePng(stage(path), view.beauty.width, view.beauty.height, 3,
              toSrgb8(view.beauty, job.exposure));
   }

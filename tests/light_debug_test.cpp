@@ -101,3 +101,59 @@ TEST(CascadeDebugView, NeedsAShadowedDirectionalLight) {
     EXPECT_STREQ(e.what(), "--debug-view cascade: no directional light casts a shadow");
   }
 }
+
+// --light-views for spot and directional lights: a red box under a spot light on a grey floor
+// is in the middle of the spot's view (the map's own projection), and a sun with two cascades
+// gives one view per cascade.
+TEST(PlanarLightViews, SpotSeesWhatItsMapSeesAndEachCascadeHasOne) {
+  Scene scene;
+  Material grey, red;
+  grey.baseColorFactor = {0.6f, 0.6f, 0.6f, 1.0f};
+  red.baseColorFactor = {0.9f, 0.05f, 0.05f, 1.0f};
+  grey.metallicFactor = red.metallicFactor = 0.0f;
+  scene.materials = {grey, red};
+  auto add = [&](const builder::MeshData& d, const glm::mat4& world, int material) {
+    Mesh mesh;
+    mesh.positions = d.positions;
+    mesh.normals = d.normals;
+    mesh.uv0 = d.uvs;
+    mesh.indices = d.indices;
+    mesh.material = material;
+    for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
+    scene.meshes.push_back(mesh);
+    scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1});
+    scene.bounds.extend(mesh.bounds.transformed(world));
+  };
+  add(builder::makePlane(10.0f), glm::mat4(1.0f), 0);
+  add(builder::makeBox({0.3f, 0.3f, 0.3f}), glm::translate(glm::mat4(1.0f), {1.0f, 0.3f, 0.0f}), 1);
+  Light spot;
+  spot.name = "spot";
+  spot.type = LightType::Spot;
+  spot.position = {1.0f, 4.0f, 0.0f};
+  spot.direction = {0.0f, -1.0f, 0.0f};
+  spot.outerConeAngle = 0.6f;
+  spot.intensity = 30.0f;
+  Light sun = sunWithCascades(2);
+  CameraRequest request;
+  request.width = 64;
+  request.height = 48;
+  const ViewCamera camera = resolveCamera(scene, request);
+  RenderSettings settings;
+  settings.lightViewSize = 32;
+  StageTimes times;
+  const Frame frame =
+      contextForThisProgram().render(scene, {spot, sun}, glm::vec3(0.03f), camera, settings, times);
+  ASSERT_EQ(frame.lightViews.size(), 3u);
+  EXPECT_EQ(frame.lightViews[0].light, "spot");
+  EXPECT_EQ(frame.lightViews[0].planar, "spot");
+  EXPECT_EQ(frame.lightViews[1].planar, "cascade0");
+  EXPECT_EQ(frame.lightViews[2].planar, "cascade1");
+  const FloatImage& view = frame.lightViews[0].beauty;
+  ASSERT_EQ(view.width, 32);
+  ASSERT_EQ(view.height, 32);
+  EXPECT_GT(view.at(16, 16, 0), 4.0f * view.at(16, 16, 1));  // the red box top
+  // Near the edge of the cone: the lit grey floor.
+  const float r = view.at(16, 4, 0), g = view.at(16, 4, 1);
+  EXPECT_GT(g, 0.0f);
+  EXPECT_NEAR(r / g, 1.0f, 0.05f);
+}

@@ -17,6 +17,7 @@
 #include "renderer/passes/vsm_filter.h"
 #include "renderer/render/frame_plan.h"
 #include "renderer/scene/scene_fingerprint.h"
+#include "renderer/view/shadow_views.h"
 
 namespace omnishadow {
 namespace {
@@ -433,7 +434,21 @@ std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const 
                                                       const RenderSettings& settings) {
   std::vector<LightView> views;
   for (const ShadedLight& s : prepared.shaded) {
-    if (s.light->type != LightType::Point) continue;
+    if (s.light->type != LightType::Point) {
+      if (!s.shadow) continue;  // only a shadowed light has a map to look through
+      for (int layer = 0; layer < s.shadow->layerCount; ++layer) {
+        const ViewCamera view =
+            planarLightCamera(*s.light, s.shadow->viewProjection[layer], s.shadow->near,
+                              s.shadow->far, settings.lightViewSize);
+        PassParameters parameters;
+        parameters.cascadeView = &camera.view;
+        views.push_back(
+            {s.light->name, CubeFace::PosX,
+             drawBeauty(prepared, view, ambient, settings, parameters, nullptr),
+             s.light->type == LightType::Spot ? "spot" : "cascade" + std::to_string(layer)});
+      }
+      continue;
+    }
     for (int face = 0; face < kCubeFaceCount; ++face) {
       ViewCamera view;
       view.width = view.height = settings.lightViewSize;

@@ -19,11 +19,14 @@ struct ShadowMapDump {
   CubeDistances distances;
 };
 
-// The lit scene seen from one cube face of a point light, in GL texel layout like the dumps.
+// The lit scene seen from one cube face of a point light, in GL texel layout like the dumps,
+// or through a spot light's map or one directional cascade (`planar` names it: "spot",
+// "cascade0", ...; empty for cube faces).
 struct LightView {
   std::string light;
   CubeFace face;
   FloatImage beauty;
+  std::string planar;
 };
 
 // What one render produces, read back to the CPU; first row = top of the picture.

@@ -49,6 +49,29 @@ SpotShadowFrame spotShadowFrame(const Light& light, float near, float far, int r
   return frame;
 }
 
+ViewCamera planarLightCamera(const Light& light, const glm::mat4& viewProjection, float near,
+                             float far, int size) {
+  ViewCamera camera;
+  camera.width = camera.height = size;
+  camera.glRowOrder = true;
+  camera.orthographic = light.type == LightType::Directional;
+  const glm::vec3 direction = glm::normalize(light.direction);
+  if (camera.orthographic) {
+    // The centre of the map's near plane (reversed depth: NDC z = 1).
+    const glm::vec4 eye = glm::inverse(viewProjection) * glm::vec4(0.0f, 0.0f, 1.0f, 1.0f);
+    camera.eye = glm::vec3(eye) / eye.w;
+    camera.znear = 1e-3f * (far - near);
+  } else {
+    camera.eye = light.position;
+    camera.znear = near;
+  }
+  camera.zfar = camera.orthographic ? far - near : far;
+  camera.view = glm::lookAt(camera.eye, camera.eye + direction, upFor(direction));
+  camera.projection = viewProjection * glm::inverse(camera.view);
+  camera.description = "light view of \"" + light.name + "\"";
+  return camera;
+}
+
 std::vector<float> cascadeSplits(float near, float far, int count, float lambda) {
   std::vector<float> splits;
   for (int i = 1; i <= count; ++i) {
