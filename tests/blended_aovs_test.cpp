@@ -10,6 +10,7 @@
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/view/camera.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
 
 using namespace omnishadow;
 
@@ -62,16 +63,7 @@ TEST(BlendedAovs, PaneOverBackgroundDescribesThePaneAndOverABoxTheBox) {
   glass.doubleSided = true;
   scene.materials = {glass, Material{}};
   auto add = [&](const builder::MeshData& d, const glm::mat4& world, int material) {
-    Mesh mesh;
-    mesh.positions = d.positions;
-    mesh.normals = d.normals;
-    mesh.uv0 = d.uvs;
-    mesh.indices = d.indices;
-    mesh.material = material;
-    for (const glm::vec3& v : mesh.positions) mesh.bounds.extend(v);
-    scene.meshes.push_back(mesh);
-    scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1});
-    scene.bounds.extend(mesh.bounds.transformed(world));
+    test::placeMesh(scene, d, world, material);
   };
   // The pane: the XZ plane turned to face +Z, at z = 0; the box behind its right half.
   add(builder::makePlane(2.0f),

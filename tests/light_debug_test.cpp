@@ -7,6 +7,7 @@
 #include "renderer/render/renderer.h"
 #include "renderer/view/camera.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
 
 using namespace omnishadow;
 
@@ -22,17 +23,7 @@ struct LongFloor {
   Scene scene;
   ViewCamera camera;
   LongFloor() {
-    const builder::MeshData plane = builder::makePlane(60.0f);
-    Mesh mesh;
-    mesh.positions = plane.positions;
-    mesh.normals = plane.normals;
-    mesh.uv0 = plane.uvs;
-    mesh.indices = plane.indices;
-    mesh.material = -1;
-    for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
-    scene.meshes.push_back(mesh);
-    scene.instances.push_back({0, glm::mat4(1.0f), -1});
-    scene.bounds = mesh.bounds;
+    test::placeMesh(scene, builder::makePlane(60.0f), glm::mat4(1.0f), -1);
     CameraRequest request;
     request.eye = glm::vec3(0.0f, 1.5f, 29.0f);
     request.target = glm::vec3(0.0f, 0.0f, 0.0f);
@@ -113,16 +104,7 @@ TEST(PlanarLightViews, SpotSeesWhatItsMapSeesAndEachCascadeHasOne) {
   grey.metallicFactor = red.metallicFactor = 0.0f;
   scene.materials = {grey, red};
   auto add = [&](const builder::MeshData& d, const glm::mat4& world, int material) {
-    Mesh mesh;
-    mesh.positions = d.positions;
-    mesh.normals = d.normals;
-    mesh.uv0 = d.uvs;
-    mesh.indices = d.indices;
-    mesh.material = material;
-    for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
-    scene.meshes.push_back(mesh);
-    scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1});
-    scene.bounds.extend(mesh.bounds.transformed(world));
+    test::placeMesh(scene, d, world, material);
   };
   add(builder::makePlane(10.0f), glm::mat4(1.0f), 0);
   add(builder::makeBox({0.3f, 0.3f, 0.3f}), glm::translate(glm::mat4(1.0f), {1.0f, 0.3f, 0.0f}), 1);

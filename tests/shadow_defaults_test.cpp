@@ -13,6 +13,7 @@
 #include "renderer/view/camera.h"
 #include "renderer/view/shadow_plan.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
 
 using namespace omnishadow;
 
@@ -33,18 +34,7 @@ int greyMaterial(Scene& scene) {
   return static_cast<int>(scene.materials.size()) - 1;
 }
 
-void place(Scene& scene, const builder::MeshData& data, const glm::mat4& world, int material) {
-  Mesh mesh;
-  mesh.positions = data.positions;
-  mesh.normals = data.normals;
-  mesh.uv0 = data.uvs;
-  mesh.indices = data.indices;
-  mesh.material = material;
-  for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
-  scene.meshes.push_back(mesh);
-  scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1});
-  scene.bounds.extend(mesh.bounds.transformed(world));
-}
+constexpr auto place = test::placeMesh;
 
 // Everything a render needs, at one scale: the geometry, the lights and the camera all scale
 // together; point and spot intensities by scale^2, so the irradiance stays the same.
