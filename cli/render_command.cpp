@@ -79,6 +79,9 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   if (!frame.shadowMaps.empty())
     std::printf("wrote the shadow maps of %zu lights to %s\n", frame.shadowMaps.size(),
                 job.dumpDepth.c_str());
+  if (!frame.planarShadowMaps.empty())
+    std::printf("wrote %zu spot maps and cascades to %s\n", frame.planarShadowMaps.size(),
+                job.dumpDepth.c_str());
   if (!frame.lightViews.empty())
     std::printf("wrote %zu light views to %s\n", frame.lightViews.size(), job.lightViews.c_str());
   if (o.device.stats) printStats(times);

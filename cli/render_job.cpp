@@ -151,10 +151,16 @@ std::vector<fs::path> RenderJob::perLightFiles(const std::vector<Light>& rendere
   for (const Light& light : rendered) {
     const std::string name = fileSafeName(light.name);
     if (light.type != LightType::Point) {
-      if (lightViews.empty() || !light.shadow.enabled) continue;
-      if (light.type == LightType::Spot) files.push_back(lightViews / (name + "_spot.png"));
+      if (!light.shadow.enabled) continue;
+      std::vector<std::string> planar;
+      if (light.type == LightType::Spot) planar.push_back(name + "_spot");
       for (int c = 0; light.type == LightType::Directional && c < light.shadow.cascades; ++c)
-        files.push_back(lightViews / (name + "_cascade" + std::to_string(c) + ".png"));
+        planar.push_back(name + "_cascade" + std::to_string(c));
+      for (const std::string& base : planar) {
+        if (!lightViews.empty()) files.push_back(lightViews / (base + ".png"));
+        if (!dumpDepth.empty())
+          for (const char* ext : {".exr", ".png"}) files.push_back(dumpDepth / (base + ext));
+      }
       continue;
     }
     for (const char* face : kCubeFaceNames) {
@@ -285,6 +291,9 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
   for (const ShadowMapDump& dump : frame.shadowMaps)
     writePointShadowDump(job.dumpDepth, fileSafeName(dump.light), dump.distances, dump.far,
                          transaction);
+  for (const PlanarShadowMapDump& dump : frame.planarShadowMaps)
+    writePlanarShadowDump(job.dumpDepth, fileSafeName(dump.light) + "_" + dump.planar,
+                          dump.resolution, dump.distances, dump.far, transaction);
   for (const LightView& view : frame.lightViews) {
     const std::string suffix =
         view.planar.empty() ? kCubeFaceNames[static_cast<int>(view.face)] : view.planar;

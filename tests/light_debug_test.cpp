@@ -1,4 +1,5 @@
-// Debugging outputs for directional and spot lights (issue 18): the cascade debug view.
+// Debugging outputs for directional and spot lights (issue 18): the cascade debug view, light
+// views and depth dumps of spot maps and cascades.
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -96,7 +97,7 @@ TEST(CascadeDebugView, NeedsAShadowedDirectionalLight) {
 // --light-views for spot and directional lights: a red box under a spot light on a grey floor
 // is in the middle of the spot's view (the map's own projection), and a sun with two cascades
 // gives one view per cascade.
-TEST(PlanarLightViews, SpotSeesWhatItsMapSeesAndEachCascadeHasOne) {
+TEST(PlanarLightViews, SpotAndCascadesHaveViewsAndDepthDumps) {
   Scene scene;
   Material grey, red;
   grey.baseColorFactor = {0.6f, 0.6f, 0.6f, 1.0f};
@@ -122,6 +123,7 @@ TEST(PlanarLightViews, SpotSeesWhatItsMapSeesAndEachCascadeHasOne) {
   const ViewCamera camera = resolveCamera(scene, request);
   RenderSettings settings;
   settings.lightViewSize = 32;
+  settings.readShadowMaps = true;
   StageTimes times;
   const Frame frame =
       contextForThisProgram().render(scene, {spot, sun}, glm::vec3(0.03f), camera, settings, times);
@@ -130,6 +132,17 @@ TEST(PlanarLightViews, SpotSeesWhatItsMapSeesAndEachCascadeHasOne) {
   EXPECT_EQ(frame.lightViews[0].planar, "spot");
   EXPECT_EQ(frame.lightViews[1].planar, "cascade0");
   EXPECT_EQ(frame.lightViews[2].planar, "cascade1");
+  // --dump-depth: the spot map holds the box top (3.4 m along its axis) under the light and
+  // the floor (4 m) near the cone's edge; each cascade has its own map.
+  ASSERT_EQ(frame.planarShadowMaps.size(), 3u);
+  const PlanarShadowMapDump& map = frame.planarShadowMaps[0];
+  EXPECT_EQ(map.planar, "spot");
+  ASSERT_EQ(map.resolution, spot.shadow.resolution);
+  const int n = map.resolution;
+  EXPECT_NEAR(map.distances[static_cast<std::size_t>(n / 2) * n + n / 2], 3.4f, 0.01f);
+  EXPECT_NEAR(map.distances[static_cast<std::size_t>(n / 2) * n + n / 8], 4.0f, 0.01f);
+  EXPECT_EQ(frame.planarShadowMaps[1].planar, "cascade0");
+  EXPECT_EQ(frame.planarShadowMaps[2].planar, "cascade1");
   const FloatImage& view = frame.lightViews[0].beauty;
   ASSERT_EQ(view.width, 32);
   ASSERT_EQ(view.height, 32);

@@ -108,6 +108,8 @@ class Renderer::Impl {
                      const std::vector<Light>& lights, const RenderSettings& settings,
                      bool useCache, Frame* frame);
   std::vector<ShadowMapDump> readShadowMaps(const Prepared& prepared, StageTimes& times);
+  std::vector<PlanarShadowMapDump> readPlanarShadowMaps(const Prepared& prepared,
+                                                        StageTimes& times);
   void drawImages(Prepared& prepared, const std::vector<Light>& lights, const ViewCamera& camera,
                   const glm::vec3& ambient, const RenderSettings& settings, int debugLight,
                   Frame& frame, StageTimes& times);
@@ -381,6 +383,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   shadowStage.stop();
 
   if (settings.readShadowMaps) frame.shadowMaps = readShadowMaps(prepared, times);
+  if (settings.readShadowMaps) frame.planarShadowMaps = readPlanarShadowMaps(prepared, times);
   drawImages(prepared, lights, camera, ambient, settings, plan.debugLight, frame, times);
   if (settings.lightViewSize > 0) {
     ScopedStage stage(times, "light views");
@@ -400,6 +403,22 @@ std::vector<ShadowMapDump> Renderer::Impl::readShadowMaps(const Prepared& prepar
     if (s.shadow && s.light->type == LightType::Point)
       dumps.push_back({s.light->name, s.shadow->far,
                        readCubeDistances(prepared.groups[s.shadow->group], *s.shadow)});
+  return dumps;
+}
+
+std::vector<PlanarShadowMapDump> Renderer::Impl::readPlanarShadowMaps(const Prepared& prepared,
+                                                                      StageTimes& times) {
+  ScopedStage readback(times, "readback");
+  std::vector<PlanarShadowMapDump> dumps;
+  for (const ShadedLight& s : prepared.shaded) {
+    if (!s.shadow || s.light->type == LightType::Point) continue;
+    const bool directional = s.light->type == LightType::Directional;
+    for (int layer = 0; layer < s.shadow->layerCount; ++layer)
+      dumps.push_back(
+          {s.light->name, directional ? "cascade" + std::to_string(layer) : "spot",
+           s.light->shadow.resolution, directional ? s.shadow->far - s.shadow->near : s.shadow->far,
+           readPlanarDistances(prepared.groups[s.shadow->group], *s.shadow, layer, directional)});
+  }
   return dumps;
 }
 
