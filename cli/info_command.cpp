@@ -231,7 +231,7 @@ Json toJson(const Info& info) {
                        {{"enabled", l.shadow.enabled},
                         {"resolution", l.shadow.resolution},
                         {"filter", toString(l.shadow.filter)},
-                        {"near", jsonNumber(l.shadow.near)},
+                        {"near", l.shadow.near > 0.0f ? jsonNumber(l.shadow.near) : none},
                         {"far", l.shadow.far > 0.0f ? jsonNumber(l.shadow.far) : none},
                         {"bias", jsonNumber(l.shadow.bias)},
                         {"slopeBias", jsonNumber(l.shadow.slopeBias)}}}});

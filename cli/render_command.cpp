@@ -83,6 +83,9 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   if (!frame.shadowMaps.empty())
     std::printf("wrote the shadow maps of %zu lights to %s\n", frame.shadowMaps.size(),
                 job.dumpDepth.c_str());
+  if (!frame.planarShadowMaps.empty())
+    std::printf("wrote %zu spot maps and cascades to %s\n", frame.planarShadowMaps.size(),
+                job.dumpDepth.c_str());
   if (!frame.lightViews.empty())
     std::printf("wrote %zu light views to %s\n", frame.lightViews.size(), job.lightViews.c_str());
   if (o.device.stats) printStats(times);
@@ -128,11 +131,13 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
       ->check(CLI::Range(1, 16384));
   render
       ->add_option("--debug-view", o.debugView,
-                   "Replace the beauty by: shadow, depth, normals, albedo or lightcount")
-      ->check(CLI::IsMember({"none", "shadow", "depth", "normals", "albedo", "lightcount"}));
+                   "Replace the beauty by: shadow, depth, normals, albedo, lightcount or cascade")
+      ->check(
+          CLI::IsMember({"none", "shadow", "depth", "normals", "albedo", "lightcount", "cascade"}));
   render->add_option(
       "--debug-light", o.debugLight,
-      "Light shown by --debug-view depth (default: the first shadowed light, of any type)");
+      "Light shown by --debug-view depth (default: the first shadowed light, of any type) or "
+      "cascade (default: the first shadowed directional light)");
   render
       ->add_option("--repeat", o.repeat,
                    "Time N more frames of the same job after the one written (lights moved by "

@@ -104,6 +104,7 @@ DebugView parseDebugView(const std::string& name) {
   if (name == "normals") return DebugView::Normals;
   if (name == "albedo") return DebugView::Albedo;
   if (name == "lightcount") return DebugView::LightCount;
+  if (name == "cascade") return DebugView::Cascade;
   return DebugView::None;
 }
 
@@ -120,8 +121,20 @@ std::vector<fs::path> RenderJob::outputFiles() const {
 std::vector<fs::path> RenderJob::perLightFiles(const std::vector<Light>& rendered) const {
   std::vector<fs::path> files;
   for (const Light& light : rendered) {
-    if (light.type != LightType::Point) continue;
     const std::string name = fileSafeName(light.name);
+    if (light.type != LightType::Point) {
+      if (!light.shadow.enabled) continue;
+      std::vector<std::string> planar;
+      if (light.type == LightType::Spot) planar.push_back(name + "_spot");
+      for (int c = 0; light.type == LightType::Directional && c < light.shadow.cascades; ++c)
+        planar.push_back(name + "_cascade" + std::to_string(c));
+      for (const std::string& base : planar) {
+        if (!lightViews.empty()) files.push_back(lightViews / (base + ".png"));
+        if (!dumpDepth.empty())
+          for (const char* ext : {".exr", ".png"}) files.push_back(dumpDepth / (base + ext));
+      }
+      continue;
+    }
     for (const char* face : kCubeFaceNames) {
       if (!lightViews.empty()) files.push_back(lightViews / (name + "_" + face + ".png"));
       if (!dumpDepth.empty() && light.shadow.enabled)
@@ -160,8 +173,9 @@ void validateJob(const RenderJob& job) {
         throw InputError(all[i].string() + ": the same file is given twice as output");
   }
   if (job.layers.any() && job.aov.empty()) throw InputError("--aov-layers: needs --aov FILE.exr");
-  if (!job.debugLight.empty() && job.debugView != DebugView::Depth)
-    throw InputError("--debug-light: only used with --debug-view depth");
+  if (!job.debugLight.empty() && job.debugView != DebugView::Depth &&
+      job.debugView != DebugView::Cascade)
+    throw InputError("--debug-light: only used with --debug-view depth or cascade");
   checkFolderOption("--dump-depth", job.dumpDepth);
   checkFolderOption("--light-views", job.lightViews);
   if (!std::isfinite(job.exposure))
@@ -256,9 +270,13 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
   for (const ShadowMapDump& dump : frame.shadowMaps)
     writePointShadowDump(job.dumpDepth, fileSafeName(dump.light), dump.distances, dump.far,
                          transaction);
+  for (const PlanarShadowMapDump& dump : frame.planarShadowMaps)
+    writePlanarShadowDump(job.dumpDepth, fileSafeName(dump.light) + "_" + dump.planar,
+                          dump.resolution, dump.distances, dump.far, transaction);
   for (const LightView& view : frame.lightViews) {
-    const fs::path path = job.lightViews / (fileSafeName(view.light) + "_" +
-                                            kCubeFaceNames[static_cast<int>(view.face)] + ".png");
+    const std::string suffix =
+        view.planar.empty() ? kCubeFaceNames[static_cast<int>(view.face)] : view.planar;
+    const fs::path path = job.lightViews / (fileSafeName(view.light) + "_" + suffix + ".png");
     writePng(stage(path), view.beauty.width, view.beauty.height, 3,
              toSrgb8(view.beauty, job.exposure));
   }

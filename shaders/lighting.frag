@@ -125,6 +125,7 @@ void main() {
   int shadowedLights = 0;
   int contributing = 0;
   float depthView = 1.0;
+  int debugCascade = -1;
   // The lights reaching everywhere, then those of this point's cluster (the lights whose
   // range may reach it).
   ivec2 tile = ivec2(gl_FragCoord.xy) / uTileSize;
@@ -155,6 +156,7 @@ void main() {
     }
 #ifdef DEBUG_DEPTH
     if (i == uDebugLight) depthView = shadowDepthView(light, vIn.worldPosition);
+    if (i == uDebugLight) debugCascade = shadowCascade(light, vIn.worldPosition);
 #endif
 #ifdef WRITE_AOVS
     int slot = i - uVisibilityBase;
@@ -181,6 +183,7 @@ void main() {
   if (uDebugView == DEBUG_VIEW_DEPTH) color = vec3(depthView);
   if (uDebugView == DEBUG_VIEW_NORMALS) color = facingNormal * 0.5 + 0.5;
   if (uDebugView == DEBUG_VIEW_ALBEDO) color = baseColor.rgb;
+  if (uDebugView == DEBUG_VIEW_CASCADE) color = cascadeDebugColor(debugCascade, color);
   if (uDebugView == DEBUG_VIEW_LIGHT_COUNT) color = vec3(float(contributing) / float(max(uLightCount, 1)));
   outBeauty = vec4(color * alpha, alpha);  // premultiplied, A = coverage
 #ifdef WRITE_AOVS

@@ -295,3 +295,12 @@ float shadowDepthView(Light light, vec3 P) {
   }
   return clamp(axis / far, 0.0, 1.0);
 }
+
+// --debug-view cascade: the debug light's cascade as a hue (0 red, 1 green, 2 blue, 3 yellow),
+// the shaded picture kept as brightness so the scene stays readable; grey beyond the last one.
+vec3 cascadeDebugColor(int cascade, vec3 shaded) {
+  const vec3 hues[4] = vec3[](vec3(1.0, 0.2, 0.2), vec3(0.2, 1.0, 0.2), vec3(0.2, 0.35, 1.0),
+                              vec3(1.0, 0.9, 0.2));
+  float brightness = 0.35 + 0.65 * clamp(dot(shaded, vec3(0.2126, 0.7152, 0.0722)), 0.0, 1.0);
+  return (cascade < 0 ? vec3(0.5) : hues[clamp(cascade, 0, 3)]) * brightness;
+}

@@ -123,7 +123,7 @@ TEST(LightsLoader, EmptyLightGetsEveryDefault) {
   EXPECT_FLOAT_EQ(light.innerConeAngle, 0.0f);
   EXPECT_FLOAT_EQ(light.outerConeAngle, kPi / 4);
   expectShadow(light.shadow, {.resolution = 1024,
-                              .near = 0.05f,
+                              .near = 0.0f,
                               .far = 0.0f,
                               .bias = 0.0f,
                               .slopeBias = 2.0f,
@@ -190,7 +190,7 @@ TEST(LightsLoader, ShadowObjectOverridesOnlyWhatItNames) {
   const Light light =
       parse(R"({"lights": [{"shadow": {"resolution": 512, "filter": "hard"}}]})").lights.at(0);
   expectShadow(light.shadow, {.resolution = 512,
-                              .near = 0.05f,
+                              .near = 0.0f,
                               .far = 0.0f,
                               .bias = 0.0f,
                               .slopeBias = 2.0f,
@@ -439,16 +439,16 @@ const ErrorCase kErrorCases[] = {
      "lights[0].shadow.near: expected a finite number > 0, got 0"},
     {"NearNegative", R"({"lights": [{"shadow": {"near": -0.1}}]})",
      "lights[0].shadow.near: expected a finite number > 0, got -0.1"},
-    {"FarBelowDefaultNear", R"({"lights": [{"shadow": {"far": 0.01}}]})",
-     "lights[0].shadow.far: expected a number greater than near (0.05), got 0.01"},
     {"FarZero", R"({"lights": [{"shadow": {"far": 0}}]})",
-     "lights[0].shadow.far: expected a number greater than near (0.05), got 0"},
+     "lights[0].shadow.far: expected a finite number > 0, got 0"},
+    {"FarNegative", R"({"lights": [{"shadow": {"far": -1}}]})",
+     "lights[0].shadow.far: expected a finite number > 0, got -1"},
     {"FarBelowGivenNear", R"({"lights": [{"shadow": {"near": 1, "far": 0.5}}]})",
      "lights[0].shadow.far: expected a number greater than near (1), got 0.5"},
     {"FarEqualsNear", R"({"lights": [{"shadow": {"far": 2, "near": 2}}]})",
      "lights[0].shadow.far: expected a number greater than near (2), got 2"},
     {"FarString", R"({"lights": [{"shadow": {"far": "auto"}}]})",
-     R"(lights[0].shadow.far: expected a number greater than near (0.05), got "auto")"},
+     R"(lights[0].shadow.far: expected a finite number > 0, got "auto")"},
     {"BiasNegative", R"({"lights": [{"shadow": {"bias": -0.1}}]})",
      "lights[0].shadow.bias: expected a finite number >= 0, got -0.1"},
     {"SlopeBiasNegative", R"({"lights": [{"shadow": {"slopeBias": -1}}]})",
@@ -653,3 +653,9 @@ TEST_F(LightsFileTest, RejectsEmptyFile) {
 }
 
 }  // namespace
+
+TEST(LightsLoader, FarAloneNeedsOnlyToBePositiveWhenNearIsAutomatic) {
+  const Light light = parse(R"({"lights": [{"shadow": {"far": 0.01}}]})").lights.at(0);
+  EXPECT_FLOAT_EQ(light.shadow.far, 0.01f);
+  EXPECT_FLOAT_EQ(light.shadow.near, 0.0f);  // derived at render time (effectiveShadowNear)
+}

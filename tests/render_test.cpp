@@ -20,6 +20,7 @@
 #include "renderer/view/cube_faces.h"
 #include "renderer/view/shadow_plan.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
 
 using namespace omnishadow;
 
@@ -42,16 +43,7 @@ int addMaterial(Scene& scene, glm::vec4 color, bool doubleSided = false) {
 }
 
 void addObject(Scene& scene, const builder::MeshData& data, const glm::mat4& world, int material) {
-  Mesh mesh;
-  mesh.positions = data.positions;
-  mesh.normals = data.normals;
-  mesh.uv0 = data.uvs;
-  mesh.indices = data.indices;
-  mesh.material = material;
-  for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
-  scene.meshes.push_back(mesh);
-  scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1, {}, {}});
-  scene.bounds.extend(mesh.bounds.transformed(world));
+  test::placeMesh(scene, data, world, material);
 }
 
 glm::mat4 translate(glm::vec3 t) {

@@ -72,6 +72,21 @@ void writeFace(const fs::path& folder, const std::string& lightName, int face,
   writePng(transaction.stage(folder / (base + ".png")), n, n, 1, preview);
 }
 
+}  // namespace
+
+void writePlanarShadowDump(const fs::path& folder, const std::string& base, int resolution,
+                           const std::vector<float>& distances, float far,
+                           OutputTransaction& transaction) {
+  writeExr(transaction.stage(folder / (base + ".exr")),
+           FloatImage{resolution, resolution, {"Z"}, distances}, ExrPixelType::Float);
+  std::vector<std::uint8_t> preview(distances.size());
+  std::transform(distances.begin(), distances.end(), preview.begin(),
+                 [far](float distance) { return grey(distance, far); });
+  writePng(transaction.stage(folder / (base + ".png")), resolution, resolution, 1, preview);
+}
+
+namespace {
+
 // Every pixel of an OpenEXR cube map (faces +X -X +Y -Y +Z -Z stacked vertically, each in
 // OpenEXR's orientation), filled with the texel that GL sampling finds in the pixel's direction.
 std::vector<float> openExrCubePixels(const CubeDistances& distances) {

@@ -2,9 +2,10 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
-#include "renderer/view/cube_distances.h"
 #include "renderer/output/output_transaction.h"
+#include "renderer/view/cube_distances.h"
 
 namespace omnishadow {
 
@@ -25,6 +26,13 @@ namespace omnishadow {
 void writePointShadowDump(const std::filesystem::path& folder, const std::string& lightName,
                           const CubeDistances& distances, float far,
                           OutputTransaction& transaction);
+
+// Writes a spot light's map or one directional cascade (--dump-depth DIR) through
+// `transaction`: <base>.exr (float32, channel "Z", the distances as given, GL texel rows) and
+// <base>.png (8-bit grey preview, distance / far, nothing = white).
+void writePlanarShadowDump(const std::filesystem::path& folder, const std::string& base,
+                           int resolution, const std::vector<float>& distances, float far,
+                           OutputTransaction& transaction);
 
 // A light name made safe for a file name: characters other than letters, digits, '-', '_'
 // and '.' become '_'; an empty result becomes "light".

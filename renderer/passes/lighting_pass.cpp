@@ -154,7 +154,8 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
     (light.type == LightType::Point ? features.cubeShadows : features.planarShadows) = true;
     features.filters |= 1u << static_cast<unsigned>(light.shadow.filter);
   }
-  features.debugDepth = debugView == DebugView::Depth;
+  // The cascade view reads the debug light's cascade where the depth view reads its map.
+  features.debugDepth = debugView == DebugView::Depth || debugView == DebugView::Cascade;
   return features;
 }
 
@@ -337,6 +338,14 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   // pre-pass's (no depth writes: early depth tests stay on), masked ones test and write as usual.
   gl::RasterState state;
   state.viewport = {0, 0, targets.width(), targets.height()};
+  if (parameters.blendedOnly) {
+    state.apply();
+    drawScene(scene, DrawSet::Blended, program_);
+    gl::RasterState::restoreDefaults();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::checkErrors("a pass over the blended surfaces");
+    return;
+  }
   state.color.rgba = {false, false, false, false};
   state.apply();
   depthOnly_.use();

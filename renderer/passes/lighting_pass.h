@@ -29,6 +29,9 @@ struct PassParameters {
   int layerLight = -1;  // Layers, mode 1: the light
   // Directional cascades were fitted to this camera; null = the camera being drawn.
   const glm::mat4* cascadeView = nullptr;
+  // Aovs, Layers: draw only the blended surfaces, the front-most one per pixel, unblended (the
+  // AOVs of pixels no opaque surface covers, renderer.cpp).
+  bool blendedOnly = false;
 };
 
 // How many lights one lighting pass reports visibility for (one per channel of RGBA32F targets).

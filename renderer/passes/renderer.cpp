@@ -18,6 +18,7 @@
 #include "renderer/render/antialiasing.h"
 #include "renderer/render/frame_plan.h"
 #include "renderer/scene/scene_fingerprint.h"
+#include "renderer/view/shadow_views.h"
 
 namespace omnishadow {
 namespace {
@@ -44,6 +45,47 @@ void copyChannels(const std::vector<float>& rgba, int from, int count, FloatImag
     for (int c = 0; c < count; ++c) image.pixels[i * stride + to + c] = rgba[i * 4 + from + c];
 }
 
+// Replaces the RGBA pixels of `into` where `mask` is set by those of `from`.
+void mergePixels(const std::vector<float>& from, const std::vector<std::uint8_t>& mask,
+                 std::vector<float>& into) {
+  for (std::size_t i = 0; i < mask.size(); ++i)
+    if (mask[i]) std::copy_n(from.begin() + i * 4, 4, into.begin() + i * 4);
+}
+
+bool hasBlendedSurfaces(const GpuScene& scene) {
+  for (const GpuDraw& draw : scene.draws())
+    if (scene.materials()[draw.material].desc.alphaMode == AlphaMode::Blend) return true;
+  return false;
+}
+
+// The pixels of `aovs` that blended surfaces cover (A > 0) and no opaque one does (no camera
+// distance): the AOV pass leaves them without P and N. Their channels from P.X on are replaced
+// by those of `drawBlended()`, the AOVs of the front-most blended surfaces. Returns the mask,
+// empty when no pixel is such.
+template <typename DrawBlended>
+std::vector<std::uint8_t> blendedOnlyPixels(const GpuScene& scene, FloatImage& aovs,
+                                            DrawBlended drawBlended) {
+  if (!hasBlendedSurfaces(scene)) return {};
+  const std::size_t count = static_cast<std::size_t>(aovs.width) * aovs.height;
+  const std::size_t stride = aovs.channels.size();
+  constexpr int kA = 3, kPx = 4, kZ = 10;
+  std::vector<std::uint8_t> mask(count, 0);
+  bool any = false;
+  for (std::size_t i = 0; i < count; ++i) {
+    mask[i] = aovs.pixels[i * stride + kA] > 0.0f && aovs.pixels[i * stride + kZ] == 0.0f;
+    any = any || mask[i];
+  }
+  if (!any) return {};
+  const FloatImage blended = drawBlended();
+  for (std::size_t i = 0; i < count; ++i) {
+    mask[i] = mask[i] && blended.pixels[i * stride + kZ] > 0.0f;
+    if (mask[i])
+      std::copy(blended.pixels.begin() + i * stride + kPx,
+                blended.pixels.begin() + (i + 1) * stride, aovs.pixels.begin() + i * stride + kPx);
+  }
+  return mask;
+}
+
 }  // namespace
 
 class Renderer::Impl {
@@ -67,6 +109,8 @@ class Renderer::Impl {
                      const std::vector<Light>& lights, const RenderSettings& settings,
                      bool useCache, Frame* frame);
   std::vector<ShadowMapDump> readShadowMaps(const Prepared& prepared, StageTimes& times);
+  std::vector<PlanarShadowMapDump> readPlanarShadowMaps(const Prepared& prepared,
+                                                        StageTimes& times);
   void drawImages(Prepared& prepared, const std::vector<Light>& lights, const ViewCamera& camera,
                   const glm::vec3& ambient, const RenderSettings& settings, int debugLight,
                   Frame& frame, StageTimes& times);
@@ -106,8 +150,9 @@ class Renderer::Impl {
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
 struct Renderer::Impl::Prepared {
-  explicit Prepared(const Scene& s) : gpu(s) {}
+  explicit Prepared(const Scene& s) : gpu(s), bounds(s.bounds) {}
   GpuScene gpu;
+  Bounds bounds;  // the scene's, for defaults that follow its scale
   LightingFeatures features;
   std::uint64_t fingerprint = 0;  // shadowFingerprint() when the shadow cache is used
   ShadowAtlasPlan atlas;
@@ -265,31 +310,41 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
   FrameTargets targets(camera.width, camera.height, PassOutputs::Aovs);
   LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, prepared.features);
   const int passes = std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass);
-  for (int p = 0; p < passes; ++p) {
-    PassParameters parameters;
-    parameters.visibilityBase = p * kVisibilityPerPass;
-    {
-      ScopedStage stage(times, "lighting");
-      pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
-                  parameters);
-      glFinish();
+  auto fill = [&](FloatImage& image, bool blendedOnly) {
+    for (int p = 0; p < passes; ++p) {
+      PassParameters parameters;
+      parameters.visibilityBase = p * kVisibilityPerPass;
+      parameters.blendedOnly = blendedOnly;
+      {
+        ScopedStage stage(times, "lighting");
+        pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
+                    parameters);
+        glFinish();
+      }
+      ScopedStage readback(times, "readback");
+      if (p == 0) {
+        copyChannels(readAttachment(targets, 0, flip), 0, 4, image, 0);
+        const std::vector<float> position = readAttachment(targets, 1, flip);
+        copyChannels(position, 0, 3, image, 4);
+        copyChannels(readAttachment(targets, 2, flip), 0, 3, image, 7);
+        copyChannels(position, 3, 1, image, 10);
+      }
+      for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
+        const int first = parameters.visibilityBase + target * 4;
+        if (first >= lightCount) break;
+        copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
+                     image, kFixedAovChannels + first);
+      }
     }
-    ScopedStage readback(times, "readback");
-    if (p == 0) {
-      copyChannels(readAttachment(targets, 0, flip), 0, 4, aovs, 0);
-      const std::vector<float> position = readAttachment(targets, 1, flip);
-      copyChannels(position, 0, 3, aovs, 4);
-      copyChannels(readAttachment(targets, 2, flip), 0, 3, aovs, 7);
-      copyChannels(position, 3, 1, aovs, 10);
-    }
-    for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
-      const int first = parameters.visibilityBase + target * 4;
-      if (first >= lightCount) break;
-      copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
-                   aovs, kFixedAovChannels + first);
-    }
-  }
-
+  };
+  fill(aovs, false);
+  // Pixels only blended surfaces cover (A > 0, no opaque distance) take P, N, Z, visibility and
+  // the layers of the front-most blended surface (README, "Outputs").
+  const std::vector<std::uint8_t> blendedOnly = blendedOnlyPixels(prepared.gpu, aovs, [&] {
+    FloatImage blended = aovs;
+    fill(blended, true);
+    return blended;
+  });
   const AovLayers& layers = settings.layers;
   if (!layers.any()) return;
   FrameTargets layerTargets(camera.width, camera.height, PassOutputs::Layers);
@@ -301,8 +356,15 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
     ScopedStage stage(times, "layers");
     layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
                      parameters);
-    return std::make_pair(readAttachment(layerTargets, 1, flip),
-                          readAttachment(layerTargets, 2, flip));
+    auto result = std::make_pair(readAttachment(layerTargets, 1, flip),
+                                 readAttachment(layerTargets, 2, flip));
+    if (blendedOnly.empty()) return result;
+    parameters.blendedOnly = true;
+    layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
+                     parameters);
+    mergePixels(readAttachment(layerTargets, 1, flip), blendedOnly, result.first);
+    mergePixels(readAttachment(layerTargets, 2, flip), blendedOnly, result.second);
+    return result;
   };
   int next = kFixedAovChannels + lightCount;
   if (layers.albedo || layers.roughness || layers.metallic || layers.objectId ||
@@ -350,6 +412,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   shadowStage.stop();
 
   if (settings.readShadowMaps) frame.shadowMaps = readShadowMaps(prepared, times);
+  if (settings.readShadowMaps) frame.planarShadowMaps = readPlanarShadowMaps(prepared, times);
   drawImages(prepared, lights, camera, ambient, settings, plan.debugLight, frame, times);
   if (settings.lightViewSize > 0) {
     ScopedStage stage(times, "light views");
@@ -369,6 +432,22 @@ std::vector<ShadowMapDump> Renderer::Impl::readShadowMaps(const Prepared& prepar
     if (s.shadow && s.light->type == LightType::Point)
       dumps.push_back({s.light->name, s.shadow->far,
                        readCubeDistances(prepared.groups[s.shadow->group], *s.shadow)});
+  return dumps;
+}
+
+std::vector<PlanarShadowMapDump> Renderer::Impl::readPlanarShadowMaps(const Prepared& prepared,
+                                                                      StageTimes& times) {
+  ScopedStage readback(times, "readback");
+  std::vector<PlanarShadowMapDump> dumps;
+  for (const ShadedLight& s : prepared.shaded) {
+    if (!s.shadow || s.light->type == LightType::Point) continue;
+    const bool directional = s.light->type == LightType::Directional;
+    for (int layer = 0; layer < s.shadow->layerCount; ++layer)
+      dumps.push_back(
+          {s.light->name, directional ? "cascade" + std::to_string(layer) : "spot",
+           s.light->shadow.resolution, directional ? s.shadow->far - s.shadow->near : s.shadow->far,
+           readPlanarDistances(prepared.groups[s.shadow->group], *s.shadow, layer, directional)});
+  }
   return dumps;
 }
 
@@ -403,13 +482,28 @@ std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const 
                                                       const RenderSettings& settings) {
   std::vector<LightView> views;
   for (const ShadedLight& s : prepared.shaded) {
-    if (s.light->type != LightType::Point) continue;
+    if (s.light->type != LightType::Point) {
+      if (!s.shadow) continue;  // only a shadowed light has a map to look through
+      for (int layer = 0; layer < s.shadow->layerCount; ++layer) {
+        const ViewCamera view =
+            planarLightCamera(*s.light, s.shadow->viewProjection[layer], s.shadow->near,
+                              s.shadow->far, settings.lightViewSize);
+        PassParameters parameters;
+        parameters.cascadeView = &camera.view;
+        views.push_back(
+            {s.light->name, CubeFace::PosX,
+             drawBeauty(prepared, view, ambient, settings, parameters, nullptr),
+             s.light->type == LightType::Spot ? "spot" : "cascade" + std::to_string(layer)});
+      }
+      continue;
+    }
     for (int face = 0; face < kCubeFaceCount; ++face) {
       ViewCamera view;
       view.width = view.height = settings.lightViewSize;
       view.eye = s.light->position;
       view.view = cubeFaceView(static_cast<CubeFace>(face), s.light->position);
-      view.projection = reversedPerspective(glm::radians(90.0f), 1.0f, s.light->shadow.near, 0.0f);
+      view.projection = reversedPerspective(glm::radians(90.0f), 1.0f,
+                                            effectiveShadowNear(*s.light, prepared.bounds), 0.0f);
       view.glRowOrder = true;
       PassParameters parameters;
       parameters.cascadeView = &camera.view;  // directional cascades stay those of the frame

@@ -43,6 +43,25 @@ void ShadowTexturePool::give(ShadowGroupTextures&& textures) {
   if (free_.size() > kPoolSize) free_.erase(free_.begin());
 }
 
+std::vector<float> readPlanarDistances(const ShadowGroupTextures& group,
+                                       const LightShadowPlan& light, int layer, bool orthographic) {
+  const int n = group.key.resolution;
+  const std::size_t texels = static_cast<std::size_t>(n) * n;
+  std::vector<float> depth(texels);
+  glGetTextureSubImage(group.depth.get(), 0, 0, 0, light.firstLayer + layer, n, n, 1,
+                       GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(texels * sizeof(float)),
+                       depth.data());
+  gl::checkErrors("reading back a shadow map");
+  const float near = light.near, far = light.far;
+  for (float& d : depth) {
+    if (d <= 0.0f)
+      d = std::numeric_limits<float>::infinity();
+    else  // the inverses of reversedOrthographicBox and reversedPerspective
+      d = orthographic ? (1.0f - d) * (far - near) : near * far / (d * (far - near) + near);
+  }
+  return depth;
+}
+
 CubeDistances readCubeDistances(const ShadowGroupTextures& group, const LightShadowPlan& light) {
   CubeDistances out;
   const int n = group.key.resolution;

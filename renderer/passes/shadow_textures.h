@@ -34,6 +34,11 @@ class ShadowTexturePool {
   std::vector<ShadowGroupTextures> free_;
 };
 
+// One layer of a spot light's map or a directional cascade as distances (PlanarShadowMapDump):
+// along the view axis (perspective) or from the near plane (orthographic), +inf where empty.
+std::vector<float> readPlanarDistances(const ShadowGroupTextures& group,
+                                       const LightShadowPlan& light, int layer, bool orthographic);
+
 // Distances along each texel's ray of one light's cube in a cube map array (point lights).
 CubeDistances readCubeDistances(const ShadowGroupTextures& group, const LightShadowPlan& light);
 

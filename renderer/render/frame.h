@@ -19,11 +19,25 @@ struct ShadowMapDump {
   CubeDistances distances;
 };
 
-// The lit scene seen from one cube face of a point light, in GL texel layout like the dumps.
+// A spot light's map or one directional cascade as the lighting pass sampled it.
+struct PlanarShadowMapDump {
+  std::string light;
+  std::string planar;  // "spot" or "cascade<i>"
+  int resolution = 0;
+  float far = 0.0f;  // the distance the previews show as white
+  // resolution^2 texels in GL rows (row 0 = t 0): distance along the map's view axis from the
+  // light (spot) or from the map's near plane along the light (directional); +inf = nothing.
+  std::vector<float> distances;
+};
+
+// The lit scene seen from one cube face of a point light, in GL texel layout like the dumps,
+// or through a spot light's map or one directional cascade (`planar` names it: "spot",
+// "cascade0", ...; empty for cube faces).
 struct LightView {
   std::string light;
   CubeFace face;
   FloatImage beauty;
+  std::string planar;
 };
 
 // What one render produces, read back to the CPU; first row = top of the picture.
@@ -33,6 +47,7 @@ struct Frame {
   // then the requested layers.
   std::optional<FloatImage> aovs;
   std::vector<ShadowMapDump> shadowMaps;
+  std::vector<PlanarShadowMapDump> planarShadowMaps;  // with shadowMaps: spot maps, cascades
   std::vector<LightView> lightViews;
   std::vector<std::string> warnings;
   // Shadowed lights whose maps were rendered for this frame, and those kept from the previous

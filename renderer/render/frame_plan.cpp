@@ -20,7 +20,19 @@ void checkResolutions(const std::vector<Light>& lights, const RenderLimits& limi
   }
 }
 
+int findCascadeDebugLight(const std::vector<Light>& lights, const RenderSettings& settings) {
+  for (std::size_t i = 0; i < lights.size(); ++i)
+    if (lights[i].shadow.enabled && lights[i].type == LightType::Directional &&
+        (settings.debugLight.empty() || lights[i].name == settings.debugLight))
+      return static_cast<int>(i);
+  throw InputError(settings.debugLight.empty()
+                       ? "--debug-view cascade: no directional light casts a shadow"
+                       : "--debug-light " + settings.debugLight +
+                             ": no shadowed directional light has that name");
+}
+
 int findDebugLight(const std::vector<Light>& lights, const RenderSettings& settings) {
+  if (settings.debugView == DebugView::Cascade) return findCascadeDebugLight(lights, settings);
   if (settings.debugView != DebugView::Depth) return -1;
   for (std::size_t i = 0; i < lights.size(); ++i)
     if (lights[i].shadow.enabled &&

@@ -8,7 +8,7 @@ enum class Shading { Pbr, Phong };
 
 // What replaces the beauty image (--debug-view). The values are part of the C++/GLSL contract
 // (renderer/passes/shader_contract.h injects them into lighting.frag).
-enum class DebugView { None = 0, Shadow, Depth, Normals, Albedo, LightCount };
+enum class DebugView { None = 0, Shadow, Depth, Normals, Albedo, LightCount, Cascade };
 
 // How a point light's six cube faces are rendered (--shadow-pass). All of them write the same
 // texels; they differ in speed, which depends on the driver (docs/performance.md).
@@ -45,6 +45,7 @@ struct RenderSettings {
   AovLayers layers;   // with aovs
   DebugView debugView = DebugView::None;
   std::string debugLight;       // DebugView::Depth: light name; empty = the first shadowed one
+                                // (DebugView::Cascade: the first shadowed directional one)
   bool readShadowMaps = false;  // fill Frame::shadowMaps
   int lightViewSize = 0;        // > 0: fill Frame::lightViews with images of this size
   // Shadow maps may use at most this much memory (MiB); more is an InputError before any GL

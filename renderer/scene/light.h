@@ -31,7 +31,7 @@ enum class DepthFormat { Float32, Fixed24 };
 struct ShadowSettings {
   bool enabled = true;
   int resolution = 1024;    // texels per cube face or 2D map edge
-  float near = 0.05f;       // world units (point, spot)
+  float near = 0.0f;        // world units (point, spot); 0 = from the light and scene scale
   float far = 0.0f;         // world units; 0 = the light's range, or the scene bounds if unlimited
   float bias = 0.0f;        // constant bias in world units
   float slopeBias = 2.0f;   // texels: max(slopeBias * (1 - N.L), minBias)

@@ -341,6 +341,8 @@ ShadowSettings readShadow(const Reader& reader) {
   if (auto field = reader.field("far")) {
     // Compared as stored (float): a far plane that rounds onto the near plane is no range at all.
     const auto far = finiteNumber(field->value());
+    if (shadow.near == 0.0f && (!far || !(static_cast<float>(*far) > 0.0f)))
+      field->failGot("expected a finite number > 0");
     if (!far || !(static_cast<float>(*far) > shadow.near)) {
       field->failGot("expected a number greater than near (" + formatNumber(shadow.near) + ")");
     }

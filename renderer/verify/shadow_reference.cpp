@@ -246,7 +246,7 @@ ShadowReference::ShadowReference(const Scene& scene) : impl_(std::make_unique<Im
     throw RenderError("Embree: cannot build the scene: " + impl.error);
 
   if (!scene.bounds.empty())
-    epsilon_ = std::max(1e-4f * glm::length(scene.bounds.max - scene.bounds.min), 1e-6f);
+    epsilon_ = std::max(1e-4f * glm::length(scene.bounds.max - scene.bounds.min), 1e-30f);
 }
 
 ShadowReference::~ShadowReference() = default;

@@ -103,7 +103,8 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
   glm::vec3 eye, forward, up;
   float yfov;
   std::optional<glm::vec3> lookAtPoint;  // what an --eye alone keeps looking at
-  const float sceneRadius = std::max(scene.bounds.radius(), 1e-3f);
+  // Any positive size frames the same picture at its own scale; only a point-like scene needs one.
+  const float sceneRadius = scene.bounds.radius() > 0.0f ? scene.bounds.radius() : 1.0f;
   if (camera) {
     eye = glm::vec3(camera->world[3]);
     forward = -glm::normalize(glm::vec3(camera->world[2]));

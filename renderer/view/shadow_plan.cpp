@@ -38,6 +38,23 @@ float effectiveShadowFar(const Light& light, const Bounds& sceneBounds) {
   return std::max(farthest * 1.01f, light.shadow.near * 2.0f);
 }
 
+float effectiveShadowNear(const Light& light, const Bounds& sceneBounds) {
+  if (light.shadow.near > 0.0f) return light.shadow.near;
+  const float far = effectiveShadowFar(light, sceneBounds);
+  float outside = 0.0f;  // distance from the light to the scene's box, 0 inside it
+  if (!sceneBounds.empty()) {
+    const glm::vec3 nearest = glm::clamp(light.position, sceneBounds.min, sceneBounds.max);
+    outside = glm::length(nearest - light.position);
+  }
+  // A cube face's axis distance is at least 1/sqrt(3) of the distance; a spot map's view depth
+  // at least cos(half angle) of it, for points inside its frustum.
+  const float axisShare = light.type == LightType::Spot
+                              ? std::cos(std::min(light.outerConeAngle, kMaxSpotShadowHalfAngle))
+                              : 0.57735026919f;
+  const float near = std::max(0.5f * outside * axisShare, kAutoNearFraction * far);
+  return far > 0.0f ? std::min(near, 0.5f * far) : 1.0f;
+}
+
 ShadowAtlasPlan planShadowAtlas(const std::vector<Light>& lights, const ViewCamera& camera,
                                 const Bounds& sceneBounds, const ShadowLimits& limits) {
   ShadowAtlasPlan plan;
@@ -76,7 +93,7 @@ ShadowAtlasPlan planShadowAtlas(const std::vector<Light>& lights, const ViewCame
       case LightType::Point: {
         key.layout = ShadowLayout::Cube;
         shadow.layerCount = kCubeFaceCount;
-        shadow.near = light.shadow.near;
+        shadow.near = effectiveShadowNear(light, sceneBounds);
         shadow.far = effectiveShadowFar(light, sceneBounds);
         shadow.position = light.position;
         const glm::mat4 projection = cubeFaceProjection(shadow.near, shadow.far);
@@ -88,7 +105,7 @@ ShadowAtlasPlan planShadowAtlas(const std::vector<Light>& lights, const ViewCame
       case LightType::Spot: {
         key.layout = ShadowLayout::Planar;
         shadow.layerCount = 1;
-        shadow.near = light.shadow.near;
+        shadow.near = effectiveShadowNear(light, sceneBounds);
         shadow.far = effectiveShadowFar(light, sceneBounds);
         shadow.position = light.position;
         const SpotShadowFrame frame =

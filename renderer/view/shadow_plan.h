@@ -73,4 +73,12 @@ ShadowAtlasPlan planShadowAtlas(const std::vector<Light>& lights, const ViewCame
 // farthest corner of the scene.
 float effectiveShadowFar(const Light& light, const Bounds& sceneBounds);
 
+// Shadow near plane of a point or spot light: its `near` when set, else a length that scales
+// with the scene and the light (README, "Scale-free defaults"): half of what the nearest point
+// of the scene bounds can be along the map's view axis (so nothing in the scene is clipped when
+// the light is outside it), but at least kAutoNearFraction of the far plane (so float depth
+// keeps its precision when the light is inside the scene), and at most half the far plane.
+inline constexpr float kAutoNearFraction = 1e-3f;
+float effectiveShadowNear(const Light& light, const Bounds& sceneBounds);
+
 }  // namespace omnishadow

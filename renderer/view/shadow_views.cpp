@@ -49,6 +49,29 @@ SpotShadowFrame spotShadowFrame(const Light& light, float near, float far, int r
   return frame;
 }
 
+ViewCamera planarLightCamera(const Light& light, const glm::mat4& viewProjection, float near,
+                             float far, int size) {
+  ViewCamera camera;
+  camera.width = camera.height = size;
+  camera.glRowOrder = true;
+  camera.orthographic = light.type == LightType::Directional;
+  const glm::vec3 direction = glm::normalize(light.direction);
+  if (camera.orthographic) {
+    // The centre of the map's near plane (reversed depth: NDC z = 1).
+    const glm::vec4 eye = glm::inverse(viewProjection) * glm::vec4(0.0f, 0.0f, 1.0f, 1.0f);
+    camera.eye = glm::vec3(eye) / eye.w;
+    camera.znear = 1e-3f * (far - near);
+  } else {
+    camera.eye = light.position;
+    camera.znear = near;
+  }
+  camera.zfar = camera.orthographic ? far - near : far;
+  camera.view = glm::lookAt(camera.eye, camera.eye + direction, upFor(direction));
+  camera.projection = viewProjection * glm::inverse(camera.view);
+  camera.description = "light view of \"" + light.name + "\"";
+  return camera;
+}
+
 std::vector<float> cascadeSplits(float near, float far, int count, float lambda) {
   std::vector<float> splits;
   for (int i = 1; i <= count; ++i) {
@@ -92,13 +115,15 @@ DirectionalShadowFrame directionalShadowFrame(const Light& light, const ViewCame
   }
   if (sceneBounds.empty()) sceneMin = sceneMax = glm::vec3(0.0f);
   // A margin keeps surfaces exactly on the bounds off the clip planes.
-  const float margin = 1e-3f * std::max(1e-3f, glm::length(sceneMax - sceneMin));
+  const float margin = 1e-3f * std::max(glm::length(sceneMax - sceneMin), 1e-30f);
   const float nearZ = -sceneMax.z - margin;  // view-space z is negative in front
   const float farZ = -sceneMin.z + margin;
   frame.nearToLight = nearZ;
   frame.farFromLight = farZ;
 
-  const float cameraNear = std::max(camera.znear, 1e-4f);
+  // The floor only guards a zero camera near; relative to the scene, so any scale gets the same
+  // splits.
+  const float cameraNear = std::max(camera.znear, 1e-6f * std::max(farthestViewDepth, 1e-30f));
   float end = light.shadow.distance > 0.0f ? light.shadow.distance : farthestViewDepth * 1.001f;
   end = std::max(end, cameraNear * 2.0f);
   const int count = std::clamp(light.shadow.cascades, 1, 4);

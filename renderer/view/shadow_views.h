@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "renderer/scene/bounds.h"
-#include "renderer/view/camera.h"
 #include "renderer/scene/light.h"
+#include "renderer/view/camera.h"
 
 namespace omnishadow {
 
@@ -52,6 +52,12 @@ std::vector<float> cascadeSplits(float near, float far, int count, float lambda)
 // scene point from the camera).
 DirectionalShadowFrame directionalShadowFrame(const Light& light, const ViewCamera& camera,
                                               const Bounds& sceneBounds);
+
+// A camera that sees what one layer of a spot or directional light's map sees (--light-views):
+// `viewProjection` of that layer split into a view from the map's near plane along the light
+// and the projection that remains, size x size pixels, rows in GL order like the map.
+ViewCamera planarLightCamera(const Light& light, const glm::mat4& viewProjection, float near,
+                             float far, int size);
 
 // Off-center orthographic projection with reversed depth: view-space z = -near maps to 1,
 // -far to 0.
