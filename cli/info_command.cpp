@@ -141,6 +141,14 @@ Json toJson(const Info& info) {
                   {"minVersion", stringOrNull(source.minVersion)},
                   {"generator", stringOrNull(source.generator)},
                   {"copyright", stringOrNull(source.copyright)}};
+  Json extensions = Json::array();
+  for (const ExtensionUse& e : source.extensions) {
+    extensions.push_back({{"name", e.name},
+                          {"required", e.required},
+                          {"supported", e.supported},
+                          {"drawnInstead", e.supported ? Json(nullptr) : Json(e.drawnInstead)}});
+  }
+  doc["extensions"] = extensions;
   doc["scene"] = {{"index", source.sceneIndex >= 0 ? Json(source.sceneIndex) : Json(nullptr)},
                   {"count", source.sceneCount}};
   doc["counts"] = {
@@ -260,6 +268,15 @@ void printText(const Info& info) {
   std::string format = source.format + ", glTF " + (source.version.empty() ? "?" : source.version);
   if (!source.generator.empty()) format += ", generator \"" + source.generator + "\"";
   printField("format", format);
+  printField("extensions", source.extensions.empty() ? std::string("none")
+                                                     : std::to_string(source.extensions.size()));
+  TextTable extensionRows;
+  for (const ExtensionUse& e : source.extensions) {
+    extensionRows.push_back(
+        {e.name, e.required ? "required" : "used",
+         e.supported ? "supported" : "not supported: drawn instead: " + e.drawnInstead});
+  }
+  printTable(extensionRows);
   printField("scene", (source.sceneIndex >= 0 ? std::to_string(source.sceneIndex) : "none") + " (" +
                           plural(static_cast<std::uint64_t>(source.sceneCount), "scene", "scenes") +
                           " in the file)");

@@ -102,17 +102,27 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
   program.set("uOcclusionStrength", d.occlusionStrength);
   program.set("uAlphaMode", static_cast<int>(d.alphaMode));
   program.set("uAlphaCutoff", d.alphaCutoff);
+  program.set("uUnlit", d.unlit ? 1 : 0);
+  program.set("uSpecularGlossiness", d.specularGlossiness ? 1 : 0);
+  program.set("uSpecularFactor", d.specularFactor);
+  program.set("uGlossinessFactor", d.glossinessFactor);
+  const TextureSlot& specularOrMetallic =
+      d.specularGlossiness ? d.specularGlossinessTexture : d.metallicRoughnessTexture;
   const struct {
     const char* uniform;
+    const char* transform;
     GLuint texture, sampler;
-    int texCoord;
+    const TextureSlot& slot;
   } slots[] = {
-      {"uBaseColorTexCoord", m.baseColor, m.baseColorSampler, d.baseColorTexture.texCoord},
-      {"uMetallicRoughnessTexCoord", m.metallicRoughness, m.metallicRoughnessSampler,
-       d.metallicRoughnessTexture.texCoord},
-      {"uNormalTexCoord", m.normal, m.normalSampler, d.normalTexture.texCoord},
-      {"uOcclusionTexCoord", m.occlusion, m.occlusionSampler, d.occlusionTexture.texCoord},
-      {"uEmissiveTexCoord", m.emissive, m.emissiveSampler, d.emissiveTexture.texCoord},
+      {"uBaseColorTexCoord", "uBaseColorUvTransform", m.baseColor, m.baseColorSampler,
+       d.baseColorTexture},
+      {"uMetallicRoughnessTexCoord", "uMetallicRoughnessUvTransform", m.metallicRoughness,
+       m.metallicRoughnessSampler, specularOrMetallic},
+      {"uNormalTexCoord", "uNormalUvTransform", m.normal, m.normalSampler, d.normalTexture},
+      {"uOcclusionTexCoord", "uOcclusionUvTransform", m.occlusion, m.occlusionSampler,
+       d.occlusionTexture},
+      {"uEmissiveTexCoord", "uEmissiveUvTransform", m.emissive, m.emissiveSampler,
+       d.emissiveTexture},
   };
   // In unit order: slot i is unit kBaseColorUnit + i.
   static_assert(contract::kMetallicRoughnessUnit == contract::kBaseColorUnit + 1 &&
@@ -122,7 +132,8 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
                 contract::kMaterialUnits == 5);
   for (int i = 0; i < contract::kMaterialUnits; ++i) {
     const auto unit = static_cast<GLuint>(contract::kBaseColorUnit + i);
-    program.set(slots[i].uniform, slots[i].texture ? slots[i].texCoord : -1);
+    program.set(slots[i].uniform, slots[i].texture ? slots[i].slot.texCoord : -1);
+    program.set(slots[i].transform, slots[i].slot.uvTransform);
     glBindTextureUnit(unit, slots[i].texture);
     glBindSampler(unit, slots[i].sampler);
   }
