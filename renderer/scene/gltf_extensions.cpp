@@ -45,6 +45,8 @@ constexpr KnownExtension kKnownExtensions[] = {
     // Everything else.
     {"KHR_animation_pointer", NotSupported, "the static pose"},
     {"KHR_node_visibility", NotSupported, "every node, visible"},
+    {"KHR_interactivity", NotSupported, "the static scene; its behaviour graphs do not run"},
+    {"KHR_node_selectability", NotSupported, "every node (selection is for interactive viewers)"},
     {"KHR_xmp_json_ld", NotSupported, "the scene; its metadata is not read"},
     {"EXT_lights_image_based", NotSupported, "the punctual lights and ambient only"},
     {"MSFT_lod", NotSupported, "the full-detail meshes"},
