@@ -61,6 +61,14 @@ std::vector<ExtensionUse> checkExtensions(const Context& ctx) {
   return uses;
 }
 
+std::string firstUnsupportedRequired(const std::vector<std::string>& required) {
+  for (const std::string& name : required) {
+    const KnownExtension* known = findKnownExtension(name);
+    if (!known || known->status != ExtensionStatus::Supported) return name;
+  }
+  return {};
+}
+
 std::vector<bool> imagesOnlyInExtensions(const Context& ctx) {
   std::vector<bool> viaExtension(ctx.model.images.size(), false);
   std::vector<bool> viaSource(ctx.model.images.size(), false);

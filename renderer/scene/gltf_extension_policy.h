@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "renderer/scene/gltf_context.h"
@@ -13,6 +14,10 @@ namespace omnishadow::gltf_detail {
 // extension the loader cannot draw; warns once for each used one it draws without, saying what
 // is drawn instead. Returns every listed extension, for SourceSummary::extensions.
 std::vector<ExtensionUse> checkExtensions(const Context& ctx);
+
+// The first of `required` that the loader cannot draw (as checkExtensions would refuse it), or
+// an empty string.
+std::string firstUnsupportedRequired(const std::vector<std::string>& required);
 
 // For each image of the file: true when only texture extensions (KHR_texture_basisu and the
 // like) reference it, so that it is never decoded and textures use their fallback `source`.
