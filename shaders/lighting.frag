@@ -42,6 +42,9 @@ uniform mat3 uMetallicRoughnessUvTransform;
 uniform mat3 uNormalUvTransform;
 uniform mat3 uOcclusionUvTransform;
 uniform mat3 uEmissiveUvTransform;
+// The normal texture's X and Y axes in the mesh's tangent frame (upper 2x2; identity without a
+// transform): a rotated or mirrored texture turns the normals it stores with it.
+uniform mat3 uNormalTextureAxes;
 uniform int uUnlit;  // KHR_materials_unlit: the base color as is
 // KHR_materials_pbrSpecularGlossiness: the base color is the diffuse color, and the
 // metallic-roughness unit holds the specular-glossiness texture.
@@ -123,7 +126,7 @@ void main() {
     vec3 T = normalize(vIn.worldTangent.xyz - N * dot(N, vIn.worldTangent.xyz));
     vec3 B = cross(N, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
     vec3 tangentNormal = texture(uNormalTexture, uvFor(uNormalTexCoord, uNormalUvTransform)).xyz * 2.0 - 1.0;
-    tangentNormal.xy *= uNormalScale;
+    tangentNormal.xy = mat2(uNormalTextureAxes) * tangentNormal.xy * uNormalScale;
     N = normalize(mat3(T, B, N) * tangentNormal);
   }
   vec3 facingNormal = dot(N, V) < 0.0 ? -N : N;

@@ -298,6 +298,63 @@ TEST(TextureTransformRender, MaskedShadowsAndCoverageFollowTheTransform) {
   EXPECT_EQ(shadowedFarLeft, 0) << "the shadow pass drew the untransformed (left) half";
 }
 
+// A normal texture seen through KHR_texture_transform turns the normals it stores with it: a
+// plane whose uniform normal texture (tilted towards the texture's +X) is rotated or mirrored by
+// the extension shades like the same plane with those UVs baked into TEXCOORD_0 (its tangents
+// then generated from them), and unlike the plane without the transform.
+TEST(TextureTransformRender, NormalTexturesTurnWithTheirTransform) {
+  test_support::TempFolder folder("omnishadow-material-render");
+  const auto shadingNormal = [&](const std::vector<glm::vec2>& uvs, const Value* transform) {
+    GltfBuilder builder;
+    MaterialDesc desc;
+    desc.normalTexture = builder.addTexture(1, 1, {204, 128, 230, 255}, "tilted");  // (.6, 0, .8)
+    PrimitiveOptions options;
+    options.material = builder.addMaterial(desc);
+    if (transform)
+      builder.model().materials[0].normalTexture.extensions["KHR_texture_transform"] = *transform;
+    builder::MeshData plane = builder::makePlane(2.0f);
+    plane.uvs = uvs;
+    builder.addNode("plane", {}, builder.addMesh(plane, options));
+    const fs::path file = folder / "plane.gltf";
+    builder.write(file, FileFormat::GltfEmbedded);
+    const Scene scene = loadGltf(file);
+    const ViewCamera camera = lookFrom(scene, {0, 3, 0}, {0, 0, 0}, 16, 16, 30.0f, {0, 0, -1});
+    const Frame frame = render(scene, {}, camera);
+    const int n = frame.aovs->channelIndex("N.X");
+    return glm::vec3(frame.aovs->at(8, 8, n), frame.aovs->at(8, 8, n + 1),
+                     frame.aovs->at(8, 8, n + 2));
+  };
+  const std::vector<glm::vec2> uvs = builder::makePlane(2.0f).uvs;
+  const struct {
+    glm::vec2 offset;
+    float rotation;
+    glm::vec2 scale;
+  } cases[] = {{{0.0f, 0.0f}, 0.9f, {1.5f, 1.5f}},
+               {{1.0f, 0.0f}, 0.0f, {-1.0f, 1.0f}},
+               {{0.2f, 0.3f}, -2.0f, {1.0f, 1.0f}}};
+  const glm::vec3 plain = shadingNormal(uvs, nullptr);
+  for (const auto& c : cases) {
+    const Value transform(Value::Object{
+        {"offset", Value(Value::Array{Value(double{c.offset.x}), Value(double{c.offset.y})})},
+        {"rotation", Value(double{c.rotation})},
+        {"scale", Value(Value::Array{Value(double{c.scale.x}), Value(double{c.scale.y})})}});
+    const glm::vec3 transformed = shadingNormal(uvs, &transform);
+    // The same mapping as a matrix, baked into the vertices' UVs.
+    const float co = std::cos(c.rotation), si = std::sin(c.rotation);
+    std::vector<glm::vec2> baked;
+    for (const glm::vec2 uv : uvs) {
+      baked.emplace_back(c.scale.x * co * uv.x + c.scale.y * si * uv.y + c.offset.x,
+                         -c.scale.x * si * uv.x + c.scale.y * co * uv.y + c.offset.y);
+    }
+    const glm::vec3 expected = shadingNormal(baked, nullptr);
+    EXPECT_LT(glm::length(transformed - expected), 2e-3f)
+        << "rotation " << c.rotation << ": (" << transformed.x << ", " << transformed.y << ", "
+        << transformed.z << ") vs (" << expected.x << ", " << expected.y << ", " << expected.z
+        << ")";
+    EXPECT_GT(glm::length(expected - plain), 0.3f) << "rotation " << c.rotation;
+  }
+}
+
 // A floor of a specular-glossiness material under a sun straight above, seen from straight
 // above through a narrow lens (so V = L = N to within 1.5 degrees): the spec's BRDF gives
 // diffuse (1 - F0) * diffuse * (1 - max(F0)) / pi * E and specular F0 * D * Vis * E with
