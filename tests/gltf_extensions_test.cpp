@@ -328,6 +328,45 @@ TEST_F(ImageExtensionsTest, BasisuTexturesDrawTheirFallbackSource) {
   EXPECT_FALSE(scene.source.extensions[0].required);
 }
 
+// The same in a .glb, the KTX2 image in a bufferView of the binary chunk.
+TEST_F(GltfExtensionsTest, BasisuImagesInABinaryFileAreNotDecodedEither) {
+  GltfBuilder builder;
+  MaterialDesc material;
+  material.baseColorTexture = builder.addTexture(1, 1, {0, 255, 0, 255}, "png");
+  PrimitiveOptions options;
+  options.material = builder.addMaterial(material);
+  builder.addNode("quad", {}, builder.addMesh(quad(), options));
+  tinygltf::Model& model = builder.model();
+  const std::vector<unsigned char> ktx2 = {0xAB, 'K',  'T',  'X',  ' ', '2', '0', 0xBB,
+                                           0x0D, 0x0A, 0x1A, 0x0A, 1,   2,   3,   4};
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = model.buffers[0].data.size();
+  view.byteLength = ktx2.size();
+  model.buffers[0].data.insert(model.buffers[0].data.end(), ktx2.begin(), ktx2.end());
+  model.bufferViews.push_back(view);
+  tinygltf::Image image;
+  image.bufferView = static_cast<int>(model.bufferViews.size()) - 1;
+  image.mimeType = "image/ktx2";
+  model.images.push_back(image);
+  model.textures[0].extensions["KHR_texture_basisu"] =
+      object({{"source", Value(static_cast<int>(model.images.size()) - 1)}});
+  model.extensionsUsed = {"KHR_texture_basisu"};
+  const fs::path path = folder / "scene.glb";
+  builder.write(path, FileFormat::Glb);
+  const Scene scene = loadGltf(path);
+  EXPECT_EQ(scene.textures[0].image, 0);
+  EXPECT_EQ(scene.images[0].rgba, (std::vector<std::uint8_t>{0, 255, 0, 255}));
+  EXPECT_EQ(warningsAbout(scene, "KHR_texture_basisu").size(), 1u);
+
+  model.textures[0].source = -1;
+  builder.write(path, FileFormat::Glb);
+  EXPECT_EQ(inputError([&] { loadGltf(path); }),
+            path.string() +
+                ": textures[0]: its image is KTX2 (KHR_texture_basisu), which cannot be decoded, "
+                "and it has no PNG or JPEG fallback source");
+}
+
 TEST_F(ImageExtensionsTest, BasisuTexturesWithoutFallbackAreRefusedNamingTheExtension) {
   Json gltf = writeBasisScene();
   gltf["textures"][0].erase("source");
