@@ -102,6 +102,11 @@ const char* toString(AlphaMode mode) {
   return names[static_cast<int>(mode)];
 }
 
+// How a material is shaded: the core model or the extension that replaces it.
+const char* shadingModel(const Material& m) {
+  return m.unlit ? "unlit" : m.specularGlossiness ? "specularGlossiness" : "metallicRoughness";
+}
+
 // A material's texture slots in the order the report lists them.
 std::vector<std::pair<const char*, const TextureSlot*>> textureSlots(const Material& m) {
   return {{"baseColor", &m.baseColorTexture},
@@ -186,6 +191,7 @@ Json toJson(const Info& info) {
                          {"alphaCutoff", m.alphaMode == AlphaMode::Mask ? jsonNumber(m.alphaCutoff)
                                                                         : Json(nullptr)},
                          {"doubleSided", m.doubleSided},
+                         {"model", shadingModel(m)},
                          {"textures", textures}});
   }
   doc["materials"] = materials;
@@ -313,6 +319,8 @@ void printText(const Info& info) {
     rows.push_back({std::to_string(i), quoted(m.name), alpha,
                     m.doubleSided ? "double-sided" : "single-sided",
                     textures.empty() ? "no textures" : "textures " + textures});
+    // Only materials an extension reshades say so, keeping the common rows short.
+    if (m.unlit || m.specularGlossiness) rows.back().push_back(shadingModel(m));
   }
   printTable(rows);
 

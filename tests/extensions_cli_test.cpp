@@ -98,6 +98,21 @@ TEST_F(ExtensionsCliTest, RequiredExtensionsThatCannotBeDrawnAreRefusedWithoutOu
   expectRefused(run({"info", scene.string(), "--json"}), message);
 }
 
+TEST_F(ExtensionsCliTest, InfoSaysHowEachMaterialIsShaded) {
+  const fs::path unlit = kScenes / "UnlitTest/UnlitTest.glb";
+  Run r = run({"info", unlit.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "  0  \"Orange\"  OPAQUE  single-sided  no textures  unlit\n"));
+  EXPECT_TRUE(contains(r.out, "\n  KHR_materials_unlit  required  supported\n"));
+  r = run({"info", unlit.string(), "--json"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(Json::parse(r.out)["materials"][1]["model"], "unlit");
+  r = run(
+      {"info", (kScenes / "TextureTransformTest/TextureTransformTest.gltf").string(), "--json"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(Json::parse(r.out)["materials"][0]["model"], "metallicRoughness");
+}
+
 // UnlitTest's two materials are KHR_materials_unlit with base colors (1, 0.2176376, 0) and
 // (0, 0.2176376, 1), linear. Unlit, a pixel is its base color whatever the light, so after the
 // display transform (exposure 0, clamp, the sRGB curve, rounding to 8 bits) every covered pixel

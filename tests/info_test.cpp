@@ -178,8 +178,8 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(keys(doc["counts"]["primitives"]), (Keys{"file", "drawn"}));
   EXPECT_EQ(keys(doc["bounds"]), (Keys{"min", "max", "center", "size"}));
   ASSERT_FALSE(doc["materials"].empty());
-  EXPECT_EQ(keys(doc["materials"][0]),
-            (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "textures"}));
+  EXPECT_EQ(keys(doc["materials"][0]), (Keys{"index", "name", "alphaMode", "alphaCutoff",
+                                             "doubleSided", "model", "textures"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
