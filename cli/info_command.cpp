@@ -102,6 +102,11 @@ const char* toString(AlphaMode mode) {
   return names[static_cast<int>(mode)];
 }
 
+// How a material is shaded: the core model or the extension that replaces it.
+const char* shadingModel(const Material& m) {
+  return m.unlit ? "unlit" : m.specularGlossiness ? "specularGlossiness" : "metallicRoughness";
+}
+
 // A material's texture slots in the order the report lists them.
 std::vector<std::pair<const char*, const TextureSlot*>> textureSlots(const Material& m) {
   return {{"baseColor", &m.baseColorTexture},
@@ -141,6 +146,14 @@ Json toJson(const Info& info) {
                   {"minVersion", stringOrNull(source.minVersion)},
                   {"generator", stringOrNull(source.generator)},
                   {"copyright", stringOrNull(source.copyright)}};
+  Json extensions = Json::array();
+  for (const ExtensionUse& e : source.extensions) {
+    extensions.push_back({{"name", e.name},
+                          {"required", e.required},
+                          {"supported", e.supported},
+                          {"drawnInstead", e.supported ? Json(nullptr) : Json(e.drawnInstead)}});
+  }
+  doc["extensions"] = extensions;
   doc["scene"] = {{"index", source.sceneIndex >= 0 ? Json(source.sceneIndex) : Json(nullptr)},
                   {"count", source.sceneCount}};
   doc["counts"] = {
@@ -178,6 +191,7 @@ Json toJson(const Info& info) {
                          {"alphaCutoff", m.alphaMode == AlphaMode::Mask ? jsonNumber(m.alphaCutoff)
                                                                         : Json(nullptr)},
                          {"doubleSided", m.doubleSided},
+                         {"model", shadingModel(m)},
                          {"textures", textures}});
   }
   doc["materials"] = materials;
@@ -260,6 +274,15 @@ void printText(const Info& info) {
   std::string format = source.format + ", glTF " + (source.version.empty() ? "?" : source.version);
   if (!source.generator.empty()) format += ", generator \"" + source.generator + "\"";
   printField("format", format);
+  printField("extensions", source.extensions.empty() ? std::string("none")
+                                                     : std::to_string(source.extensions.size()));
+  TextTable extensionRows;
+  for (const ExtensionUse& e : source.extensions) {
+    extensionRows.push_back(
+        {e.name, e.required ? "required" : "used",
+         e.supported ? "supported" : "not supported: drawn instead: " + e.drawnInstead});
+  }
+  printTable(extensionRows);
   printField("scene", (source.sceneIndex >= 0 ? std::to_string(source.sceneIndex) : "none") + " (" +
                           plural(static_cast<std::uint64_t>(source.sceneCount), "scene", "scenes") +
                           " in the file)");
@@ -296,6 +319,8 @@ void printText(const Info& info) {
     rows.push_back({std::to_string(i), quoted(m.name), alpha,
                     m.doubleSided ? "double-sided" : "single-sided",
                     textures.empty() ? "no textures" : "textures " + textures});
+    // Only materials an extension reshades say so, keeping the common rows short.
+    if (m.unlit || m.specularGlossiness) rows.back().push_back(shadingModel(m));
   }
   printTable(rows);
 

@@ -1,4 +1,5 @@
-// glTF 2.0 metallic-roughness BRDF (Appendix B of the specification): Lambert diffuse,
+// glTF 2.0 BRDF (Appendix B of the specification), for metallic-roughness and
+// specular-glossiness materials: Lambert diffuse,
 // GGX distribution, height-correlated Smith visibility, Schlick Fresnel.
 const float PI = 3.14159265358979;
 
@@ -22,9 +23,10 @@ vec3 fresnelSchlick(vec3 f0, float VdotH) {
 }
 
 // Outgoing radiance towards V for light arriving from L with the given radiance, split into
-// its diffuse and specular parts (the per-light AOV layers report them separately).
-void shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metallic,
-              float roughness, out vec3 diffuse, out vec3 specular) {
+// its diffuse and specular parts (the per-light AOV layers report them separately): Lambert
+// diffuse of diffuseWeight * diffuseColor where Fresnel leaves light over, GGX specular from f0.
+void shadeBrdf(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 diffuseColor, float diffuseWeight,
+               vec3 f0, float roughness, out vec3 diffuse, out vec3 specular) {
   diffuse = vec3(0.0);
   specular = vec3(0.0);
   float NdotL = dot(N, L);
@@ -34,12 +36,27 @@ void shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metal
   float NdotH = max(dot(N, H), 0.0);
   float VdotH = max(dot(V, H), 0.0);
   float alpha = max(roughness * roughness, 1e-3);
-  vec3 f0 = mix(vec3(0.04), baseColor, metallic);
   vec3 F = fresnelSchlick(f0, VdotH);
   vec3 irradiance = radiance * NdotL;
-  diffuse = (1.0 - F) * (1.0 - metallic) * baseColor / PI * irradiance;
+  diffuse = (1.0 - F) * diffuseWeight * diffuseColor / PI * irradiance;
   specular = F * distributionGgx(NdotH, alpha) *
              visibilitySmithGgxCorrelated(NdotV, NdotL, alpha) * irradiance;
+}
+
+// Metallic-roughness: metals have no diffuse and tint their reflection; dielectrics reflect 4%.
+void shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metallic,
+              float roughness, out vec3 diffuse, out vec3 specular) {
+  shadeBrdf(N, V, L, radiance, baseColor, 1.0 - metallic, mix(vec3(0.04), baseColor, metallic),
+            roughness, diffuse, specular);
+}
+
+// KHR_materials_pbrSpecularGlossiness as its specification defines it: F0 is the specular
+// color, the diffuse color is scaled by 1 - max(specular), roughness is 1 - glossiness.
+void shadeSpecularGlossiness(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 diffuseColor,
+                             vec3 specularColor, float roughness, out vec3 diffuse,
+                             out vec3 specular) {
+  float weight = 1.0 - max(specularColor.r, max(specularColor.g, specularColor.b));
+  shadeBrdf(N, V, L, radiance, diffuseColor, weight, specularColor, roughness, diffuse, specular);
 }
 
 // Blinn-Phong as in the classic point-shadow tutorial, in the same photometric units:

@@ -36,6 +36,21 @@ uniform int uMetallicRoughnessTexCoord;
 uniform int uNormalTexCoord;
 uniform int uOcclusionTexCoord;
 uniform int uEmissiveTexCoord;
+// Per texture slot: KHR_texture_transform (identity when the file has none).
+uniform mat3 uBaseColorUvTransform;
+uniform mat3 uMetallicRoughnessUvTransform;
+uniform mat3 uNormalUvTransform;
+uniform mat3 uOcclusionUvTransform;
+uniform mat3 uEmissiveUvTransform;
+// The normal texture's X and Y axes in the mesh's tangent frame (upper 2x2; identity without a
+// transform): a rotated or mirrored texture turns the normals it stores with it.
+uniform mat3 uNormalTextureAxes;
+uniform int uUnlit;  // KHR_materials_unlit: the base color as is
+// KHR_materials_pbrSpecularGlossiness: the base color is the diffuse color, and the
+// metallic-roughness unit holds the specular-glossiness texture.
+uniform int uSpecularGlossiness;
+uniform vec3 uSpecularFactor;
+uniform float uGlossinessFactor;
 
 uniform vec3 uCameraPosition;
 
@@ -71,18 +86,29 @@ uniform float uObjectId;
 uniform float uMaterialId;
 #endif
 
-vec2 uvFor(int texCoord) { return texCoord == 0 ? vIn.uv0 : vIn.uv1; }
+vec2 uvFor(int texCoord, mat3 transform) {
+  return (transform * vec3(texCoord == 0 ? vIn.uv0 : vIn.uv1, 1.0)).xy;
+}
 
 void main() {
   vec4 baseColor = uBaseColorFactor * vIn.color;
-  if (uBaseColorTexCoord >= 0) baseColor *= texture(uBaseColorTexture, uvFor(uBaseColorTexCoord));
+  if (uBaseColorTexCoord >= 0) baseColor *= texture(uBaseColorTexture, uvFor(uBaseColorTexCoord, uBaseColorUvTransform));
   if (uAlphaMode == 1 && baseColor.a < uAlphaCutoff) discard;
   float alpha = uAlphaMode == 2 ? baseColor.a : 1.0;
 
   float metallic = uMetallicFactor;
   float roughness = uRoughnessFactor;
-  if (uMetallicRoughnessTexCoord >= 0) {
-    vec4 mr = texture(uMetallicRoughnessTexture, uvFor(uMetallicRoughnessTexCoord));
+  vec3 specularColor = vec3(0.0);
+  if (uSpecularGlossiness != 0) {
+    vec4 specularGlossiness = vec4(uSpecularFactor, uGlossinessFactor);
+    if (uMetallicRoughnessTexCoord >= 0)
+      specularGlossiness *= texture(uMetallicRoughnessTexture,
+                                    uvFor(uMetallicRoughnessTexCoord, uMetallicRoughnessUvTransform));
+    specularColor = specularGlossiness.rgb;
+    roughness = 1.0 - specularGlossiness.a;
+    metallic = 0.0;
+  } else if (uMetallicRoughnessTexCoord >= 0) {
+    vec4 mr = texture(uMetallicRoughnessTexture, uvFor(uMetallicRoughnessTexCoord, uMetallicRoughnessUvTransform));
     roughness *= mr.g;
     metallic *= mr.b;
   }
@@ -99,8 +125,8 @@ void main() {
   if (uNormalTexCoord >= 0 && uHasTangents != 0) {
     vec3 T = normalize(vIn.worldTangent.xyz - N * dot(N, vIn.worldTangent.xyz));
     vec3 B = cross(N, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
-    vec3 tangentNormal = texture(uNormalTexture, uvFor(uNormalTexCoord)).xyz * 2.0 - 1.0;
-    tangentNormal.xy *= uNormalScale;
+    vec3 tangentNormal = texture(uNormalTexture, uvFor(uNormalTexCoord, uNormalUvTransform)).xyz * 2.0 - 1.0;
+    tangentNormal.xy = mat2(uNormalTextureAxes) * tangentNormal.xy * uNormalScale;
     N = normalize(mat3(T, B, N) * tangentNormal);
   }
   vec3 facingNormal = dot(N, V) < 0.0 ? -N : N;
@@ -108,9 +134,9 @@ void main() {
   float occlusion = 1.0;
   if (uOcclusionTexCoord >= 0)
     occlusion = 1.0 + uOcclusionStrength *
-                          (texture(uOcclusionTexture, uvFor(uOcclusionTexCoord)).r - 1.0);
+                          (texture(uOcclusionTexture, uvFor(uOcclusionTexCoord, uOcclusionUvTransform)).r - 1.0);
   vec3 emissive = uEmissive;
-  if (uEmissiveTexCoord >= 0) emissive *= texture(uEmissiveTexture, uvFor(uEmissiveTexCoord)).rgb;
+  if (uEmissiveTexCoord >= 0) emissive *= texture(uEmissiveTexture, uvFor(uEmissiveTexCoord, uEmissiveUvTransform)).rgb;
 
   float cameraDistance = length(uCameraPosition - vIn.worldPosition);
   vec3 color = uAmbient * baseColor.rgb * occlusion + emissive;
@@ -167,7 +193,11 @@ void main() {
 #ifdef SHADING_PHONG
     shadePhong(N, V, L, radiance, baseColor.rgb, roughness, diffuse, specular);
 #else
-    shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, diffuse, specular);
+    if (uSpecularGlossiness != 0)
+      shadeSpecularGlossiness(N, V, L, radiance, baseColor.rgb, specularColor, roughness, diffuse,
+                              specular);
+    else
+      shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, diffuse, specular);
 #endif
     color += shadow * (diffuse + specular);
     if (any(greaterThan(diffuse + specular, vec3(0.0)))) ++contributing;
@@ -179,6 +209,7 @@ void main() {
 #endif
   }
 
+  if (uUnlit != 0) color = baseColor.rgb;
   if (uDebugView == DEBUG_VIEW_SHADOW) color = vec3(shadowedLights > 0 ? shadowSum / float(shadowedLights) : 1.0);
   if (uDebugView == DEBUG_VIEW_DEPTH) color = vec3(depthView);
   if (uDebugView == DEBUG_VIEW_NORMALS) color = facingNormal * 0.5 + 0.5;

@@ -7,6 +7,7 @@ layout(binding = BASE_COLOR_UNIT) uniform sampler2D uBaseColorTexture;
 uniform vec4 uBaseColorFactor;
 uniform int uHasBaseColorTexture;
 uniform int uBaseColorTexCoord;
+uniform mat3 uBaseColorUvTransform;  // KHR_texture_transform
 uniform float uAlphaCutoff;
 #endif
 #ifdef MOMENTS
@@ -29,7 +30,9 @@ void main() {
 #ifdef ALPHA_MASK
   float alpha = uBaseColorFactor.a * fIn.alpha;
   if (uHasBaseColorTexture != 0)
-    alpha *= texture(uBaseColorTexture, uBaseColorTexCoord == 0 ? fIn.uv0 : fIn.uv1).a;
+    alpha *= texture(uBaseColorTexture,
+                     (uBaseColorUvTransform * vec3(uBaseColorTexCoord == 0 ? fIn.uv0 : fIn.uv1,
+                                                   1.0)).xy).a;
   if (alpha < uAlphaCutoff) discard;
 #endif
 #ifdef MOMENTS

@@ -167,8 +167,8 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(r.out, Json::parse(r.out).dump(2) + "\n");  // two-space indent, one object
   const Json doc = Json::parse(r.out);
   using Keys = std::vector<std::string>;
-  EXPECT_EQ(keys(doc), (Keys{"file", "format", "asset", "scene", "counts", "bounds", "materials",
-                             "textures", "cameras", "lights", "ambient", "warnings"}));
+  EXPECT_EQ(keys(doc), (Keys{"file", "format", "asset", "extensions", "scene", "counts", "bounds",
+                             "materials", "textures", "cameras", "lights", "ambient", "warnings"}));
   EXPECT_EQ(keys(doc["asset"]), (Keys{"version", "minVersion", "generator", "copyright"}));
   EXPECT_EQ(keys(doc["scene"]), (Keys{"index", "count"}));
   EXPECT_EQ(keys(doc["counts"]),
@@ -178,8 +178,8 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(keys(doc["counts"]["primitives"]), (Keys{"file", "drawn"}));
   EXPECT_EQ(keys(doc["bounds"]), (Keys{"min", "max", "center", "size"}));
   ASSERT_FALSE(doc["materials"].empty());
-  EXPECT_EQ(keys(doc["materials"][0]),
-            (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "textures"}));
+  EXPECT_EQ(keys(doc["materials"][0]), (Keys{"index", "name", "alphaMode", "alphaCutoff",
+                                             "doubleSided", "model", "textures"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());

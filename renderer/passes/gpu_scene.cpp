@@ -221,8 +221,12 @@ void GpuScene::uploadMaterials(const Scene& scene) {
     m.desc = desc;
     m.baseColor = textureFor(scene, desc.baseColorTexture, true);
     m.baseColorSampler = samplerFor(scene, desc.baseColorTexture);
-    m.metallicRoughness = textureFor(scene, desc.metallicRoughnessTexture, false);
-    m.metallicRoughnessSampler = samplerFor(scene, desc.metallicRoughnessTexture);
+    // Specular-glossiness materials have no metallic-roughness texture; their specular color
+    // (sRGB) and glossiness (alpha, linear either way) take its unit.
+    const TextureSlot& specularOrMetallic =
+        desc.specularGlossiness ? desc.specularGlossinessTexture : desc.metallicRoughnessTexture;
+    m.metallicRoughness = textureFor(scene, specularOrMetallic, desc.specularGlossiness);
+    m.metallicRoughnessSampler = samplerFor(scene, specularOrMetallic);
     m.normal = textureFor(scene, desc.normalTexture, false);
     m.normalSampler = samplerFor(scene, desc.normalTexture);
     m.occlusion = textureFor(scene, desc.occlusionTexture, false);

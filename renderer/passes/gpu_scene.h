@@ -33,7 +33,8 @@ struct GpuDraw {
   GLint casterBaseVertex = -1;
 };
 
-// GL textures for one material; 0 where the material has no such texture.
+// GL textures for one material; 0 where the material has no such texture. For a
+// specular-glossiness material metallicRoughness holds its specularGlossinessTexture.
 struct GpuMaterial {
   Material desc;
   GLuint baseColor = 0, metallicRoughness = 0, normal = 0, occlusion = 0, emissive = 0;

@@ -90,6 +90,19 @@ gl::Texture makeTarget(GLenum format, int width, int height) {
   return texture;
 }
 
+// A normal texture's +X (growing u) and +Y (up: shrinking v) as directions in the mesh's tangent
+// frame, which follows the mesh's own UVs: with t = L uv + offset, the texture's axes are L's
+// inverse applied to them, with v's sign flipped on both sides for "up", normalized so that a
+// scale changes no normal. Identity (exactly) for the identity transform.
+glm::mat3 normalTextureAxes(const glm::mat3& uvTransform) {
+  const glm::mat2 flipV(1.0f, 0.0f, 0.0f, -1.0f);
+  const glm::mat2 axes = flipV * glm::inverse(glm::mat2(uvTransform)) * flipV;
+  const float x = glm::length(axes[0]), y = glm::length(axes[1]);
+  if (!(x > 0.0f) || !(y > 0.0f)) return glm::mat3(1.0f);
+  return glm::mat3(glm::vec3(axes[0] / x, 0.0f), glm::vec3(axes[1] / y, 0.0f),
+                   glm::vec3(0.0f, 0.0f, 1.0f));
+}
+
 void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
   const Material& d = m.desc;
   program.set("uBaseColorFactor", d.baseColorFactor);
@@ -100,17 +113,28 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
   program.set("uOcclusionStrength", d.occlusionStrength);
   program.set("uAlphaMode", static_cast<int>(d.alphaMode));
   program.set("uAlphaCutoff", d.alphaCutoff);
+  program.set("uNormalTextureAxes", normalTextureAxes(d.normalTexture.uvTransform));
+  program.set("uUnlit", d.unlit ? 1 : 0);
+  program.set("uSpecularGlossiness", d.specularGlossiness ? 1 : 0);
+  program.set("uSpecularFactor", d.specularFactor);
+  program.set("uGlossinessFactor", d.glossinessFactor);
+  const TextureSlot& specularOrMetallic =
+      d.specularGlossiness ? d.specularGlossinessTexture : d.metallicRoughnessTexture;
   const struct {
     const char* uniform;
+    const char* transform;
     GLuint texture, sampler;
-    int texCoord;
+    const TextureSlot& slot;
   } slots[] = {
-      {"uBaseColorTexCoord", m.baseColor, m.baseColorSampler, d.baseColorTexture.texCoord},
-      {"uMetallicRoughnessTexCoord", m.metallicRoughness, m.metallicRoughnessSampler,
-       d.metallicRoughnessTexture.texCoord},
-      {"uNormalTexCoord", m.normal, m.normalSampler, d.normalTexture.texCoord},
-      {"uOcclusionTexCoord", m.occlusion, m.occlusionSampler, d.occlusionTexture.texCoord},
-      {"uEmissiveTexCoord", m.emissive, m.emissiveSampler, d.emissiveTexture.texCoord},
+      {"uBaseColorTexCoord", "uBaseColorUvTransform", m.baseColor, m.baseColorSampler,
+       d.baseColorTexture},
+      {"uMetallicRoughnessTexCoord", "uMetallicRoughnessUvTransform", m.metallicRoughness,
+       m.metallicRoughnessSampler, specularOrMetallic},
+      {"uNormalTexCoord", "uNormalUvTransform", m.normal, m.normalSampler, d.normalTexture},
+      {"uOcclusionTexCoord", "uOcclusionUvTransform", m.occlusion, m.occlusionSampler,
+       d.occlusionTexture},
+      {"uEmissiveTexCoord", "uEmissiveUvTransform", m.emissive, m.emissiveSampler,
+       d.emissiveTexture},
   };
   // In unit order: slot i is unit kBaseColorUnit + i.
   static_assert(contract::kMetallicRoughnessUnit == contract::kBaseColorUnit + 1 &&
@@ -120,7 +144,8 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
                 contract::kMaterialUnits == 5);
   for (int i = 0; i < contract::kMaterialUnits; ++i) {
     const auto unit = static_cast<GLuint>(contract::kBaseColorUnit + i);
-    program.set(slots[i].uniform, slots[i].texture ? slots[i].texCoord : -1);
+    program.set(slots[i].uniform, slots[i].texture ? slots[i].slot.texCoord : -1);
+    program.set(slots[i].transform, slots[i].slot.uvTransform);
     glBindTextureUnit(unit, slots[i].texture);
     glBindSampler(unit, slots[i].sampler);
   }

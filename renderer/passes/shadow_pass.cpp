@@ -198,6 +198,7 @@ void ShadowPass::drawMasked(const LightPass& pass, const ShadowDrawList& draws,
     masked.set("uBaseColorFactor", material.desc.baseColorFactor);
     masked.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
     masked.set("uBaseColorTexCoord", material.desc.baseColorTexture.texCoord);
+    masked.set("uBaseColorUvTransform", material.desc.baseColorTexture.uvTransform);
     masked.set("uAlphaCutoff",
                material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
     glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);

@@ -136,6 +136,19 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   return {};
 }
 
+bool isExtensionImageFormat(const unsigned char* b, std::size_t size) {
+  static constexpr unsigned char kKtx2[] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
+                                            '0',  0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+  const auto startsWith = [&](const unsigned char* magic, std::size_t length, std::size_t at) {
+    return size >= at + length && std::memcmp(b + at, magic, length) == 0;
+  };
+  return startsWith(kKtx2, sizeof kKtx2, 0) ||
+         (startsWith(reinterpret_cast<const unsigned char*>("RIFF"), 4, 0) &&
+          startsWith(reinterpret_cast<const unsigned char*>("WEBP"), 4, 8)) ||
+         startsWith(reinterpret_cast<const unsigned char*>("DDS "), 4, 0) ||
+         startsWith(reinterpret_cast<const unsigned char*>("ftypavif"), 8, 4);
+}
+
 // tinygltf 2.7 hands an image stored in a bufferView to the decoder without checking that the
 // view lies inside its buffer, so a broken file could make stb read past the end. Those images
 // are skipped here and decoded by convertImages() after the bounds check; images from URIs
@@ -144,6 +157,9 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
                     int width, int height, const unsigned char* bytes, int size, void*) {
   if (image->bufferView >= 0) return true;
   const auto length = static_cast<std::size_t>(std::max(size, 0));
+  // Left undecoded for the loader, which draws the texture's fallback source instead or names
+  // the extension that brought the image (gltf_extension_policy).
+  if (isExtensionImageFormat(bytes, length)) return true;
   if (!isPngOrJpeg(bytes, length)) {
     // Worded like tinygltf's message for data stb cannot decode.
     if (error) {

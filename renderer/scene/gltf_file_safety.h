@@ -14,6 +14,10 @@ namespace omnishadow::gltf_detail {
 // almost any bytes for a TGA (a format without a signature) of any size.
 bool isPngOrJpeg(const unsigned char* b, std::size_t size);
 
+// KTX2, WebP, DDS or AVIF: formats that only texture extensions (KHR_texture_basisu,
+// EXT_texture_webp, ...) bring, which the loader never decodes.
+bool isExtensionImageFormat(const unsigned char* b, std::size_t size);
+
 // Empty string when a PNG or JPEG may be decoded, else why not.
 std::string imageTooLarge(const unsigned char* bytes, std::size_t size);
 

@@ -8,12 +8,15 @@
 #include <vector>
 
 #include "renderer/scene/gltf_context.h"
+#include "renderer/scene/gltf_extension_policy.h"
 #include "renderer/scene/gltf_materials.h"
 #include "renderer/scene/gltf_nodes.h"
 #include "renderer/scene/gltf_reader.h"
 
 // The loader's steps live beside it: gltf_reader (the file, .glb container), gltf_file_safety
-// (URI policy, image size caps), gltf_accessors, gltf_materials (images, textures, materials),
+// (URI policy, image size caps), gltf_extension_policy (which extensions are refused or
+// ignored; the table is gltf_extensions), gltf_accessors, gltf_materials (images, textures,
+// materials; their extensions in gltf_material_extensions),
 // gltf_primitives (meshes) and gltf_nodes (hierarchy, cameras, lights).
 
 namespace omnishadow {
@@ -21,24 +24,6 @@ namespace omnishadow {
 namespace {
 
 using gltf_detail::Context;
-
-// Extensions whose meaning we implement; anything else in extensionsRequired cannot be drawn
-// correctly, anything else merely used is ignored with a warning.
-constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual",
-                                                     "KHR_materials_emissive_strength"};
-
-void checkExtensions(const Context& ctx) {
-  const auto supported = [](const std::string& name) {
-    return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=
-           std::end(kSupportedExtensions);
-  };
-  for (const std::string& name : ctx.model.extensionsRequired) {
-    if (!supported(name)) ctx.fail("extensionsRequired", name + " is not supported");
-  }
-  for (const std::string& name : ctx.model.extensionsUsed) {
-    if (!supported(name)) ctx.warn("extensionsUsed: " + name + " is not supported; ignored");
-  }
-}
 
 // The files this scene reads: itself and the external (non data:) URIs of buffers and images.
 std::vector<std::string> referencedFiles(const std::filesystem::path& path,
@@ -80,7 +65,7 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   scene.inputFiles = referencedFiles(path, model);
   scene.source = summarize(model, binary);
   Context ctx{scene.path, model, scene};
-  checkExtensions(ctx);
+  scene.source.extensions = gltf_detail::checkExtensions(ctx);
   const auto [roots, rootsObject] = gltf_detail::sceneRoots(ctx, options);
   gltf_detail::convertImages(ctx);
   gltf_detail::convertTextures(ctx);

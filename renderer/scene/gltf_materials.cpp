@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "renderer/scene/gltf_accessors.h"
+#include "renderer/scene/gltf_extension_policy.h"
 #include "renderer/scene/gltf_file_safety.h"
+#include "renderer/scene/gltf_material_extensions.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -72,6 +74,7 @@ std::vector<std::uint8_t> toRgba8(const Context& ctx, const tinygltf::Image& dec
 }  // namespace
 
 void convertImages(Context& ctx) {
+  const std::vector<bool> undecoded = imagesOnlyInExtensions(ctx);
   for (std::size_t i = 0; i < ctx.model.images.size(); ++i) {
     const tinygltf::Image& source = ctx.model.images[i];
     const bool externalFile = !source.uri.empty() && !tinygltf::IsDataURI(source.uri);
@@ -79,6 +82,11 @@ void convertImages(Context& ctx) {
     image.name = !source.name.empty() ? source.name
                  : externalFile       ? source.uri
                                       : "image" + std::to_string(i);
+    if (undecoded[i]) {
+      // KTX2 and the like: textures draw their fallback source; an empty image keeps indices.
+      ctx.scene.images.push_back(std::move(image));
+      continue;
+    }
     const std::string object = at("images", i) + " \"" + image.name + "\"";
     tinygltf::Image fromBufferView;
     if (source.bufferView >= 0) fromBufferView = decodeBufferViewImage(ctx, i, object);
@@ -101,11 +109,12 @@ void convertTextures(Context& ctx) {
     const tinygltf::Texture& source = ctx.model.textures[i];
     const std::string object = at("textures", i);
     Texture texture;
+    requireFallbackSource(ctx, i);
     if (source.source >= 0) {
       ctx.checkIndex(object, "image", source.source, ctx.model.images.size());
       texture.image = source.source;
     } else {
-      // Images in formats we do not read come through extensions (KTX2, WebP).
+      // No core image, and no image extension we know of (those fail above).
       ctx.warn(object + ": no image in a supported format; the texture is ignored");
     }
     if (source.sampler >= 0) {
@@ -126,15 +135,8 @@ namespace {
 // NormalTextureInfo, OcclusionTextureInfo and TextureInfo share these fields but no base class.
 template <typename Info>
 TextureSlot textureSlot(const Context& ctx, const std::string& object, const Info& info) {
-  if (info.index < 0) return {};
-  ctx.checkIndex(object, "texture", info.index, ctx.model.textures.size());
-  if (info.texCoord < 0 || info.texCoord > 1) {
-    ctx.warn(object + ": TEXCOORD_" + std::to_string(info.texCoord) +
-             " is not supported; the texture is ignored");
-    return {};
-  }
-  if (ctx.scene.textures[static_cast<std::size_t>(info.index)].image < 0) return {};
-  return {info.index, info.texCoord};
+  return makeTextureSlot(ctx, object, info.index, info.texCoord,
+                         textureTransformOf(info.extensions));
 }
 
 }  // namespace
@@ -176,6 +178,7 @@ void convertMaterials(Context& ctx) {
     }
     material.alphaCutoff = static_cast<float>(source.alphaCutoff);
     material.doubleSided = source.doubleSided;
+    applyMaterialExtensions(ctx, i, material);
     ctx.scene.materials.push_back(std::move(material));
   }
 }

@@ -11,6 +11,7 @@
 
 #include "renderer/core/errors.h"
 #include "renderer/scene/gltf_context.h"
+#include "renderer/scene/gltf_extension_policy.h"
 #include "renderer/scene/gltf_file_safety.h"
 
 namespace omnishadow::gltf_detail {
@@ -182,6 +183,12 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   // tinygltf tolerates an image it could not read; a refused file is an error all the same.
   if (!policy.violation.empty()) throw InputError(file + ": uri " + policy.violation);
   if (!ok) {
+    // tinygltf reads the extension lists before the objects they change: a Draco file fails
+    // at its first accessor without a bufferView, but what it needs is the extension.
+    if (const std::string name = firstUnsupportedRequired(model.extensionsRequired);
+        !name.empty()) {
+      throw InputError(file + ": extensionsRequired: " + name + " is not supported");
+    }
     std::vector<std::string> lines = nonEmptyLines(error);
     if (lines.empty()) lines = nonEmptyLines(warning);
     throw InputError(

@@ -35,10 +35,13 @@ struct Texture {
 
 enum class AlphaMode { Opaque, Mask, Blend };
 
-// Texture slot of a material; texture = -1 when unused. texCoord selects TEXCOORD_n (0 or 1).
+// Texture slot of a material; texture = -1 when unused. texCoord selects TEXCOORD_n (0 or 1),
+// after KHR_texture_transform's override.
 struct TextureSlot {
   int texture = -1;
   int texCoord = 0;
+  // KHR_texture_transform: the texture is sampled at (uvTransform * vec3(uv, 1)).xy.
+  glm::mat3 uvTransform{1.0f};
 };
 
 struct Material {
@@ -58,6 +61,16 @@ struct Material {
   AlphaMode alphaMode = AlphaMode::Opaque;
   float alphaCutoff = 0.5f;
   bool doubleSided = false;
+  // KHR_materials_unlit: the surface shows its base color as is, lit by nothing.
+  bool unlit = false;
+  // KHR_materials_pbrSpecularGlossiness, shaded as that extension defines it: the diffuse
+  // factor and texture are baseColorFactor and baseColorTexture (same roles: sRGB color and
+  // alpha), the specular color and glossiness come from the fields below, and the
+  // metallic-roughness fields are unused.
+  bool specularGlossiness = false;
+  glm::vec3 specularFactor{1.0f};
+  float glossinessFactor = 1.0f;
+  TextureSlot specularGlossinessTexture;  // sRGB specular color, linear glossiness in A
 };
 
 // One glTF primitive as an indexed triangle list, in the mesh's local space.
@@ -98,6 +111,14 @@ struct Camera {
   glm::mat4 world{1.0f};  // camera-to-world; the camera looks down its local -Z, +Y up
 };
 
+// A glTF extension the file lists in extensionsUsed (or only in extensionsRequired).
+struct ExtensionUse {
+  std::string name;
+  bool required = false;     // listed in extensionsRequired
+  bool supported = false;    // the loader implements it (renderer/scene/gltf_extensions.cpp)
+  std::string drawnInstead;  // when not supported: what is drawn without it
+};
+
 // What the file held, beyond what the chosen scene draws; filled by the loader, reported by
 // `omnishadow info`.
 struct SourceSummary {
@@ -110,6 +131,7 @@ struct SourceSummary {
   int reachedNodes = 0;    // nodes reached from the loaded scene's roots
   int gltfMeshes = 0;      // glTF meshes in the file
   int gltfPrimitives = 0;  // primitives of all of them, of any mode
+  std::vector<ExtensionUse> extensions;  // in the file's order, extensionsUsed first
 };
 
 struct Scene {

@@ -56,6 +56,7 @@ std::uint64_t shadowFingerprint(const Scene& scene) {
     h.value(m.baseColorFactor.a);
     h.value(m.baseColorTexture.texture);
     h.value(m.baseColorTexture.texCoord);
+    h.value(m.baseColorTexture.uvTransform);
     if (m.alphaMode != AlphaMode::Opaque && m.baseColorTexture.texture >= 0) {
       const Texture& texture = scene.textures[m.baseColorTexture.texture];
       h.value(texture.sampler);

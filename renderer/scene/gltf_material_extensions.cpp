@@ -1,0 +1,129 @@
+#include "renderer/scene/gltf_material_extensions.h"
+
+#include <cmath>
+#include <glm/glm.hpp>
+
+namespace omnishadow::gltf_detail {
+
+namespace {
+
+// The number, or `fallback` when the property is absent; fails when it is not a number.
+double number(const Context& ctx, const std::string& object, const tinygltf::Value& parent,
+              const char* property, double fallback) {
+  if (!parent.Has(property)) return fallback;
+  const tinygltf::Value& value = parent.Get(property);
+  if (!value.IsNumber()) ctx.fail(object, std::string(property) + " must be a number");
+  return value.GetNumberAsDouble();
+}
+
+// An array of N numbers, or `fallback` when the property is absent.
+template <glm::length_t N>
+glm::vec<N, float> numbers(const Context& ctx, const std::string& object,
+                           const tinygltf::Value& parent, const char* property,
+                           glm::vec<N, float> fallback) {
+  if (!parent.Has(property)) return fallback;
+  const tinygltf::Value& value = parent.Get(property);
+  const auto fail = [&] {
+    ctx.fail(object,
+             std::string(property) + " must be an array of " + std::to_string(N) + " numbers");
+  };
+  if (!value.IsArray() || value.ArrayLen() != static_cast<std::size_t>(N)) fail();
+  glm::vec<N, float> out;
+  for (glm::length_t i = 0; i < N; ++i) {
+    const tinygltf::Value& element = value.Get(static_cast<int>(i));
+    if (!element.IsNumber()) fail();
+    out[i] = static_cast<float>(element.GetNumberAsDouble());
+  }
+  return out;
+}
+
+// KHR_texture_transform's matrix, translation * rotation * scale, mapping a surface's UV to the
+// UV sampled: u' = sx cos(r) u + sy sin(r) v + ox, v' = -sx sin(r) u + sy cos(r) v + oy. The
+// specification's GLSL listing writes the rotation transposed; its own example ("the lower left
+// quadrant, rotated clockwise 90 degrees") and the markers of the Khronos TextureTransformTest
+// model (tests/material_render_test.cpp) both need this direction, as three.js and the Khronos
+// sample viewer implement it.
+glm::mat3 uvTransform(glm::vec2 offset, float rotation, glm::vec2 scale) {
+  const float c = std::cos(rotation), s = std::sin(rotation);
+  const glm::mat3 translation(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);
+  const glm::mat3 rotate(c, -s, 0, s, c, 0, 0, 0, 1);  // columns
+  const glm::mat3 scaling(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
+  return translation * rotate * scaling;
+}
+
+// A textureInfo given as a JSON object (inside another extension), or the empty slot.
+TextureSlot slotFromValue(const Context& ctx, const std::string& object,
+                          const tinygltf::Value& info) {
+  if (!info.IsObject()) return {};
+  const tinygltf::Value& index = info.Get("index");
+  if (!index.IsInt()) ctx.fail(object, "index must be an integer");
+  const tinygltf::Value& texCoord = info.Get("texCoord");
+  if (info.Has("texCoord") && !texCoord.IsInt()) ctx.fail(object, "texCoord must be an integer");
+  const tinygltf::Value& extensions = info.Get("extensions");
+  const tinygltf::Value* transform = nullptr;
+  if (extensions.IsObject() && extensions.Has("KHR_texture_transform"))
+    transform = &extensions.Get("KHR_texture_transform");
+  return makeTextureSlot(ctx, object, index.GetNumberAsInt(),
+                         info.Has("texCoord") ? texCoord.GetNumberAsInt() : 0, transform);
+}
+
+const tinygltf::Value* extensionOf(const tinygltf::Material& material, const char* name) {
+  const auto found = material.extensions.find(name);
+  return found == material.extensions.end() ? nullptr : &found->second;
+}
+
+}  // namespace
+
+const tinygltf::Value* textureTransformOf(const tinygltf::ExtensionMap& extensions) {
+  const auto found = extensions.find("KHR_texture_transform");
+  return found == extensions.end() ? nullptr : &found->second;
+}
+
+TextureSlot makeTextureSlot(const Context& ctx, const std::string& object, int index, int texCoord,
+                            const tinygltf::Value* transform) {
+  if (index < 0) return {};
+  ctx.checkIndex(object, "texture", index, ctx.model.textures.size());
+  TextureSlot slot{index, texCoord, glm::mat3(1.0f)};
+  if (transform) {
+    const std::string where = object + ".extensions.KHR_texture_transform";
+    if (!transform->IsObject()) ctx.fail(where, "must be an object");
+    slot.uvTransform =
+        uvTransform(numbers<2>(ctx, where, *transform, "offset", glm::vec2(0.0f)),
+                    static_cast<float>(number(ctx, where, *transform, "rotation", 0.0)),
+                    numbers<2>(ctx, where, *transform, "scale", glm::vec2(1.0f)));
+    if (transform->Has("texCoord")) {
+      const tinygltf::Value& override = transform->Get("texCoord");
+      if (!override.IsInt()) ctx.fail(where, "texCoord must be an integer");
+      slot.texCoord = override.GetNumberAsInt();
+    }
+  }
+  if (slot.texCoord < 0 || slot.texCoord > 1) {
+    ctx.warn(object + ": TEXCOORD_" + std::to_string(slot.texCoord) +
+             " is not supported; the texture is ignored");
+    return {};
+  }
+  if (ctx.scene.textures[static_cast<std::size_t>(index)].image < 0) return {};
+  return slot;
+}
+
+void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& material) {
+  const tinygltf::Material& source = ctx.model.materials[index];
+  const std::string object = at("materials", index) + ".extensions.";
+  if (extensionOf(source, "KHR_materials_unlit")) material.unlit = true;
+  const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
+  if (!specGloss) return;
+  const std::string where = object + "KHR_materials_pbrSpecularGlossiness";
+  if (!specGloss->IsObject()) ctx.fail(where, "must be an object");
+  material.specularGlossiness = true;
+  // The diffuse color takes the base color's place: the same sRGB texture and alpha roles.
+  material.baseColorFactor = numbers<4>(ctx, where, *specGloss, "diffuseFactor", glm::vec4(1.0f));
+  material.baseColorTexture =
+      slotFromValue(ctx, where + ".diffuseTexture", specGloss->Get("diffuseTexture"));
+  material.specularFactor = numbers<3>(ctx, where, *specGloss, "specularFactor", glm::vec3(1.0f));
+  material.glossinessFactor =
+      static_cast<float>(number(ctx, where, *specGloss, "glossinessFactor", 1.0));
+  material.specularGlossinessTexture = slotFromValue(ctx, where + ".specularGlossinessTexture",
+                                                     specGloss->Get("specularGlossinessTexture"));
+}
+
+}  // namespace omnishadow::gltf_detail

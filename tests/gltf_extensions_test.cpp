@@ -1,0 +1,467 @@
+// The loader's answer to every glTF extension: KHR_texture_transform on each texture slot,
+// KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness, image extensions with and without a
+// fallback, and the refuse-or-warn policy for the rest, kept in one table that the README
+// mirrors. No GL: these check the Scene the loader fills.
+#include "renderer/scene/gltf_extensions.h"
+
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/core/errors.h"
+#include "renderer/scene/gltf_loader.h"
+#include "scenes/builder/gltf_builder.h"
+#include "tests/support/cli_fixture.h"
+#include "tests/support/temp_folder.h"
+
+namespace omnishadow {
+namespace {
+
+namespace fs = std::filesystem;
+using builder::FileFormat;
+using builder::GltfBuilder;
+using builder::MaterialDesc;
+using builder::PrimitiveOptions;
+using Json = nlohmann::json;
+using Value = tinygltf::Value;
+using test_support::contains;
+
+std::string inputError(const std::function<void()>& load) {
+  try {
+    load();
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
+    return message;
+  }
+  ADD_FAILURE() << "no InputError thrown";
+  return "";
+}
+
+std::vector<std::string> warningsAbout(const Scene& scene, const std::string& part) {
+  std::vector<std::string> found;
+  for (const std::string& w : scene.warnings)
+    if (w.find(part) != std::string::npos) found.push_back(w);
+  return found;
+}
+
+Value numbers(std::initializer_list<double> values) {
+  Value::Array array;
+  for (double v : values) array.emplace_back(v);
+  return Value(std::move(array));
+}
+
+Value object(std::initializer_list<std::pair<const std::string, Value>> members) {
+  return Value(Value::Object(members));
+}
+
+builder::MeshData quad() {
+  builder::MeshData data;
+  data.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  data.normals.assign(4, glm::vec3(0, 0, 1));
+  data.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  data.indices = {0, 1, 2, 0, 2, 3};
+  return data;
+}
+
+class GltfExtensionsTest : public ::testing::Test {
+ protected:
+  test_support::TempFolder folder{"omnishadow-gltf-extensions"};
+
+  // One quad with one material whose five slots use one 2x2 texture; the caller edits the
+  // model before it is written.
+  struct Quad {
+    GltfBuilder builder;
+    int material = -1;
+    tinygltf::Material& gltfMaterial() { return builder.model().materials[material]; }
+  };
+  void makeQuad(Quad& q) {
+    MaterialDesc material;
+    const int texture = q.builder.addTexture(2, 2, std::vector<std::uint8_t>(16, 200), "tex");
+    material.baseColorTexture = material.metallicRoughnessTexture = material.normalTexture =
+        material.emissiveTexture = texture;
+    PrimitiveOptions options;
+    options.material = q.material = q.builder.addMaterial(material);
+    q.gltfMaterial().occlusionTexture.index = texture;
+    q.builder.addNode("quad", {}, q.builder.addMesh(quad(), options));
+  }
+  Scene load(GltfBuilder& builder, FileFormat format = FileFormat::GltfEmbedded) {
+    const fs::path file = folder / "scene.gltf";
+    builder.write(file, format);
+    return loadGltf(file);
+  }
+  std::string file() const { return (folder / "scene.gltf").string(); }
+};
+
+// KHR_texture_transform written out (scale, then rotation, then offset), with the rotation's
+// direction as the extension's example needs it: offset (0, 1), rotation pi/2 and scale 0.5 must
+// map the unit square onto "the lower left quadrant" (checked below).
+glm::vec2 specTransform(glm::vec2 uv, glm::vec2 offset, float r, glm::vec2 scale) {
+  return {scale.x * std::cos(r) * uv.x + scale.y * std::sin(r) * uv.y + offset.x,
+          -scale.x * std::sin(r) * uv.x + scale.y * std::cos(r) * uv.y + offset.y};
+}
+
+TEST_F(GltfExtensionsTest, TextureTransformAppliesToEveryTextureSlotAsTheSpecificationWrites) {
+  Quad q;
+  makeQuad(q);
+  tinygltf::Material& m = q.gltfMaterial();
+  const auto transform = [](double ox, double oy, double r, double sx, double sy) {
+    return object(
+        {{"offset", numbers({ox, oy})}, {"rotation", Value(r)}, {"scale", numbers({sx, sy})}});
+  };
+  m.pbrMetallicRoughness.baseColorTexture.extensions["KHR_texture_transform"] =
+      transform(0.5, -0.25, 0.3, 2.0, 3.0);
+  m.pbrMetallicRoughness.metallicRoughnessTexture.extensions["KHR_texture_transform"] =
+      transform(0.1, 0.2, 0.0, 1.0, 1.0);
+  m.normalTexture.extensions["KHR_texture_transform"] = transform(0.0, 0.0, -1.2, 1.0, 1.0);
+  m.occlusionTexture.extensions["KHR_texture_transform"] = transform(0.0, 0.0, 0.0, 0.5, 4.0);
+  // Only some properties: the others keep their defaults.
+  m.emissiveTexture.extensions["KHR_texture_transform"] = object({{"rotation", Value(0.7)}});
+  q.builder.model().extensionsUsed.push_back("KHR_texture_transform");
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(warningsAbout(scene, "KHR_texture_transform").empty());
+  ASSERT_EQ(scene.materials.size(), 1u);
+  const Material& material = scene.materials[0];
+  const struct {
+    const TextureSlot& slot;
+    glm::vec2 offset;
+    float rotation;
+    glm::vec2 scale;
+  } cases[] = {{material.baseColorTexture, {0.5f, -0.25f}, 0.3f, {2, 3}},
+               {material.metallicRoughnessTexture, {0.1f, 0.2f}, 0.0f, {1, 1}},
+               {material.normalTexture, {0, 0}, -1.2f, {1, 1}},
+               {material.occlusionTexture, {0, 0}, 0.0f, {0.5f, 4}},
+               {material.emissiveTexture, {0, 0}, 0.7f, {1, 1}}};
+  for (const auto& c : cases) {
+    EXPECT_EQ(c.slot.texture, 0);
+    EXPECT_EQ(c.slot.texCoord, 0);
+    for (const glm::vec2 uv : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(0, 1),
+                               glm::vec2(0.3f, 0.8f), glm::vec2(-2, 5)}) {
+      const glm::vec2 got = glm::vec2(c.slot.uvTransform * glm::vec3(uv, 1.0f));
+      const glm::vec2 expected = specTransform(uv, c.offset, c.rotation, c.scale);
+      EXPECT_NEAR(got.x, expected.x, 1e-5f) << uv.x << "," << uv.y;
+      EXPECT_NEAR(got.y, expected.y, 1e-5f) << uv.x << "," << uv.y;
+    }
+  }
+}
+
+TEST_F(GltfExtensionsTest, TextureTransformMatchesTheSpecificationsExample) {
+  // "This example utilizes only the lower left quadrant of the source image, rotated clockwise
+  // 90 degrees": u in [0, 0.5], v in [0.5, 1] (v grows downwards in the image).
+  Quad q;
+  makeQuad(q);
+  q.gltfMaterial().emissiveTexture.extensions["KHR_texture_transform"] =
+      object({{"offset", numbers({0.0, 1.0})},
+              {"rotation", Value(1.57079632679)},
+              {"scale", numbers({0.5, 0.5})}});
+  const glm::mat3 m = load(q.builder).materials[0].emissiveTexture.uvTransform;
+  const auto at = [&](float u, float v) { return glm::vec2(m * glm::vec3(u, v, 1.0f)); };
+  for (const auto& [uv, expected] :
+       {std::pair{glm::vec2(0, 0), glm::vec2(0, 1)}, std::pair{glm::vec2(1, 0), glm::vec2(0, 0.5f)},
+        std::pair{glm::vec2(1, 1), glm::vec2(0.5f, 0.5f)},
+        std::pair{glm::vec2(0, 1), glm::vec2(0.5f, 1)}}) {
+    EXPECT_NEAR(at(uv.x, uv.y).x, expected.x, 1e-6f);
+    EXPECT_NEAR(at(uv.x, uv.y).y, expected.y, 1e-6f);
+  }
+}
+
+TEST_F(GltfExtensionsTest, TextureTransformTexCoordOverridesTheTextureInfos) {
+  Quad q;
+  makeQuad(q);
+  tinygltf::Material& m = q.gltfMaterial();
+  m.pbrMetallicRoughness.baseColorTexture.extensions["KHR_texture_transform"] =
+      object({{"texCoord", Value(1)}});
+  m.normalTexture.texCoord = 1;
+  m.normalTexture.extensions["KHR_texture_transform"] = object({{"texCoord", Value(0)}});
+  m.emissiveTexture.extensions["KHR_texture_transform"] = object({{"texCoord", Value(2)}});
+  const Scene scene = load(q.builder);
+  const Material& material = scene.materials[0];
+  EXPECT_EQ(material.baseColorTexture.texCoord, 1);
+  EXPECT_EQ(material.baseColorTexture.uvTransform, glm::mat3(1.0f));
+  EXPECT_EQ(material.normalTexture.texCoord, 0);
+  EXPECT_EQ(material.metallicRoughnessTexture.texCoord, 0);  // untouched
+  // TEXCOORD_2 is not read: the slot is dropped with a warning, as for a textureInfo's own.
+  EXPECT_EQ(material.emissiveTexture.texture, -1);
+  const std::vector<std::string> warnings = warningsAbout(scene, "TEXCOORD_2");
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], file() +
+                             ": materials[0].emissiveTexture: TEXCOORD_2 is not supported; the "
+                             "texture is ignored");
+}
+
+TEST_F(GltfExtensionsTest, MalformedTextureTransformsAreInputErrorsNamingTheProperty) {
+  const std::string where = ": materials[0].baseColorTexture.extensions.KHR_texture_transform: ";
+  const struct {
+    Value transform;
+    std::string problem;
+  } cases[] = {
+      {object({{"offset", numbers({1.0})}}), "offset must be an array of 2 numbers"},
+      {object({{"scale", Value(std::string("big"))}}), "scale must be an array of 2 numbers"},
+      {object({{"rotation", numbers({1.0})}}), "rotation must be a number"},
+      {object({{"texCoord", Value(0.5)}}), "texCoord must be an integer"}};
+  for (const auto& c : cases) {
+    Quad q;
+    makeQuad(q);
+    q.gltfMaterial().pbrMetallicRoughness.baseColorTexture.extensions["KHR_texture_transform"] =
+        c.transform;
+    EXPECT_EQ(inputError([&] { load(q.builder); }), file() + where + c.problem);
+  }
+}
+
+TEST_F(GltfExtensionsTest, UnlitMaterialsAreMarkedAndMayBeRequired) {
+  GltfBuilder builder;
+  MaterialDesc desc;
+  desc.baseColor = {1.0f, 0.25f, 0.0f, 1.0f};
+  PrimitiveOptions options;
+  options.material = builder.addMaterial(desc);
+  const int plain = builder.addMaterial(desc);
+  builder.addNode("quad", {}, builder.addMesh(quad(), options));
+  builder.model().materials[options.material].extensions["KHR_materials_unlit"] = object({});
+  builder.model().extensionsUsed = {"KHR_materials_unlit"};
+  builder.model().extensionsRequired = {"KHR_materials_unlit"};
+  const Scene scene = load(builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  EXPECT_TRUE(scene.materials[0].unlit);
+  EXPECT_FALSE(scene.materials[static_cast<std::size_t>(plain)].unlit);
+  EXPECT_EQ(scene.materials[0].baseColorFactor, glm::vec4(1.0f, 0.25f, 0.0f, 1.0f));
+}
+
+TEST_F(GltfExtensionsTest, SpecularGlossinessReplacesTheMetallicRoughnessInputs) {
+  Quad q;
+  makeQuad(q);
+  const int second = q.builder.addTexture(1, 1, {10, 20, 30, 40}, "specgloss");
+  Value::Object diffuseTexture = {{"index", Value(0)}, {"texCoord", Value(1)}};
+  Value::Object specularTexture = {
+      {"index", Value(second)},
+      {"extensions",
+       object({{"KHR_texture_transform", object({{"offset", numbers({0.5, 0.25})}})}})}};
+  q.gltfMaterial().extensions["KHR_materials_pbrSpecularGlossiness"] =
+      object({{"diffuseFactor", numbers({0.5, 0.25, 0.125, 0.75})},
+              {"diffuseTexture", Value(diffuseTexture)},
+              {"specularFactor", numbers({0.25, 0.5, 1.0})},
+              {"glossinessFactor", Value(0.375)},
+              {"specularGlossinessTexture", Value(specularTexture)}});
+  q.builder.model().extensionsUsed = {"KHR_materials_pbrSpecularGlossiness"};
+  q.builder.model().extensionsRequired = {"KHR_materials_pbrSpecularGlossiness"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  const Material& m = scene.materials[0];
+  EXPECT_TRUE(m.specularGlossiness);
+  EXPECT_EQ(m.baseColorFactor, glm::vec4(0.5f, 0.25f, 0.125f, 0.75f));
+  EXPECT_EQ(m.baseColorTexture.texture, 0);
+  EXPECT_EQ(m.baseColorTexture.texCoord, 1);
+  EXPECT_EQ(m.specularFactor, glm::vec3(0.25f, 0.5f, 1.0f));
+  EXPECT_EQ(m.glossinessFactor, 0.375f);
+  EXPECT_EQ(m.specularGlossinessTexture.texture, second);
+  EXPECT_EQ(glm::vec2(m.specularGlossinessTexture.uvTransform * glm::vec3(0, 0, 1)),
+            glm::vec2(0.5f, 0.25f));
+
+  // Defaults: diffuse white, specular white, glossiness 1, no textures.
+  q.gltfMaterial().extensions["KHR_materials_pbrSpecularGlossiness"] = object({});
+  const Scene defaults = load(q.builder);
+  const Material& d = defaults.materials[0];
+  EXPECT_TRUE(d.specularGlossiness);
+  EXPECT_EQ(d.baseColorFactor, glm::vec4(1.0f));
+  EXPECT_EQ(d.baseColorTexture.texture, -1);
+  EXPECT_EQ(d.specularFactor, glm::vec3(1.0f));
+  EXPECT_EQ(d.glossinessFactor, 1.0f);
+  EXPECT_EQ(d.specularGlossinessTexture.texture, -1);
+
+  q.gltfMaterial().extensions["KHR_materials_pbrSpecularGlossiness"] =
+      object({{"specularGlossinessTexture", object({{"index", Value(9)}})}});
+  EXPECT_EQ(inputError([&] { load(q.builder); }),
+            file() +
+                ": materials[0].extensions.KHR_materials_pbrSpecularGlossiness."
+                "specularGlossinessTexture: texture 9 is out of range (the file has 2 textures)");
+}
+
+// A scene whose texture 0 has a PNG `source` (image 0) and a KTX2 image (image 1, a file with
+// the KTX2 signature and nothing a decoder could use) through KHR_texture_basisu.
+class ImageExtensionsTest : public GltfExtensionsTest {
+ protected:
+  Json writeBasisScene() {
+    GltfBuilder builder;
+    MaterialDesc material;
+    material.baseColorTexture = builder.addTexture(1, 1, {255, 0, 0, 255}, "png");
+    PrimitiveOptions options;
+    options.material = builder.addMaterial(material);
+    builder.addNode("quad", {}, builder.addMesh(quad(), options));
+    builder.write(folder / "scene.gltf", FileFormat::GltfExternal);
+    std::ifstream in(folder / "scene.gltf");
+    Json gltf = Json::parse(in);
+    gltf["images"].push_back({{"uri", "texture.ktx2"}});
+    gltf["textures"][0]["extensions"]["KHR_texture_basisu"] = {{"source", 1}};
+    gltf["extensionsUsed"] = {"KHR_texture_basisu"};
+    const unsigned char ktx2[] = {0xAB, 'K',  'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A,
+                                  0x1A, 0x0A, 0,   0,   0,   0,   0,   0,    0,    0};
+    std::ofstream(folder / "texture.ktx2", std::ios::binary)
+        .write(reinterpret_cast<const char*>(ktx2), sizeof ktx2);
+    return gltf;
+  }
+  void write(const Json& gltf) { std::ofstream(folder / "scene.gltf") << gltf.dump(); }
+};
+
+TEST_F(ImageExtensionsTest, BasisuTexturesDrawTheirFallbackSource) {
+  write(writeBasisScene());
+  const Scene scene = loadGltf(folder / "scene.gltf");
+  ASSERT_EQ(scene.textures.size(), 1u);
+  EXPECT_EQ(scene.textures[0].image, 0);
+  EXPECT_EQ(scene.materials[0].baseColorTexture.texture, 0);
+  ASSERT_EQ(scene.images.size(), 2u);
+  EXPECT_EQ(scene.images[0].rgba, (std::vector<std::uint8_t>{255, 0, 0, 255}));
+  EXPECT_TRUE(scene.images[1].rgba.empty());  // never decoded
+  const std::vector<std::string> warnings = warningsAbout(scene, "KHR_texture_basisu");
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], file() +
+                             ": extensionsUsed: KHR_texture_basisu is not supported; drawn "
+                             "instead: the textures' PNG/JPEG fallback images");
+  ASSERT_EQ(scene.source.extensions.size(), 1u);
+  EXPECT_EQ(scene.source.extensions[0].name, "KHR_texture_basisu");
+  EXPECT_FALSE(scene.source.extensions[0].supported);
+  EXPECT_FALSE(scene.source.extensions[0].required);
+}
+
+// The same in a .glb, the KTX2 image in a bufferView of the binary chunk.
+TEST_F(GltfExtensionsTest, BasisuImagesInABinaryFileAreNotDecodedEither) {
+  GltfBuilder builder;
+  MaterialDesc material;
+  material.baseColorTexture = builder.addTexture(1, 1, {0, 255, 0, 255}, "png");
+  PrimitiveOptions options;
+  options.material = builder.addMaterial(material);
+  builder.addNode("quad", {}, builder.addMesh(quad(), options));
+  tinygltf::Model& model = builder.model();
+  const std::vector<unsigned char> ktx2 = {0xAB, 'K',  'T',  'X',  ' ', '2', '0', 0xBB,
+                                           0x0D, 0x0A, 0x1A, 0x0A, 1,   2,   3,   4};
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = model.buffers[0].data.size();
+  view.byteLength = ktx2.size();
+  model.buffers[0].data.insert(model.buffers[0].data.end(), ktx2.begin(), ktx2.end());
+  model.bufferViews.push_back(view);
+  tinygltf::Image image;
+  image.bufferView = static_cast<int>(model.bufferViews.size()) - 1;
+  image.mimeType = "image/ktx2";
+  model.images.push_back(image);
+  model.textures[0].extensions["KHR_texture_basisu"] =
+      object({{"source", Value(static_cast<int>(model.images.size()) - 1)}});
+  model.extensionsUsed = {"KHR_texture_basisu"};
+  const fs::path path = folder / "scene.glb";
+  builder.write(path, FileFormat::Glb);
+  const Scene scene = loadGltf(path);
+  EXPECT_EQ(scene.textures[0].image, 0);
+  EXPECT_EQ(scene.images[0].rgba, (std::vector<std::uint8_t>{0, 255, 0, 255}));
+  EXPECT_EQ(warningsAbout(scene, "KHR_texture_basisu").size(), 1u);
+
+  model.textures[0].source = -1;
+  builder.write(path, FileFormat::Glb);
+  EXPECT_EQ(inputError([&] { loadGltf(path); }),
+            path.string() +
+                ": textures[0]: its image is KTX2 (KHR_texture_basisu), which cannot be decoded, "
+                "and it has no PNG or JPEG fallback source");
+}
+
+TEST_F(ImageExtensionsTest, BasisuTexturesWithoutFallbackAreRefusedNamingTheExtension) {
+  Json gltf = writeBasisScene();
+  gltf["textures"][0].erase("source");
+  write(gltf);
+  EXPECT_EQ(inputError([&] { loadGltf(folder / "scene.gltf"); }),
+            file() +
+                ": textures[0]: its image is KTX2 (KHR_texture_basisu), which cannot be decoded, "
+                "and it has no PNG or JPEG fallback source");
+
+  gltf["extensionsRequired"] = {"KHR_texture_basisu"};
+  write(gltf);
+  EXPECT_EQ(inputError([&] { loadGltf(folder / "scene.gltf"); }),
+            file() +
+                ": extensionsRequired: KHR_texture_basisu is not supported (its images cannot be "
+                "decoded, and a file that requires it has no PNG or JPEG fallback)");
+}
+
+TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWhenUsed) {
+  GltfBuilder builder;
+  builder.addNode("quad", {}, builder.addMesh(quad()));
+  tinygltf::Model& model = builder.model();
+  model.extensionsUsed = {"KHR_materials_clearcoat", "VENDOR_made_up", "KHR_texture_transform"};
+  const Scene scene = load(builder);
+  ASSERT_EQ(scene.warnings.size(), 2u);
+  EXPECT_EQ(scene.warnings[0], file() +
+                                   ": extensionsUsed: KHR_materials_clearcoat is not supported; "
+                                   "drawn instead: the base material, without clearcoat");
+  EXPECT_EQ(scene.warnings[1],
+            file() + ": extensionsUsed: VENDOR_made_up is not supported; ignored");
+  ASSERT_EQ(scene.source.extensions.size(), 3u);
+  EXPECT_EQ(scene.source.extensions[0].drawnInstead, "the base material, without clearcoat");
+  EXPECT_FALSE(scene.source.extensions[1].supported);
+  EXPECT_TRUE(scene.source.extensions[2].supported);
+  EXPECT_EQ(scene.source.extensions[2].drawnInstead, "");
+
+  for (const std::string name :
+       {"KHR_materials_clearcoat", "VENDOR_made_up", "KHR_materials_transmission"}) {
+    model.extensionsRequired = {name};
+    EXPECT_EQ(inputError([&] { load(builder); }),
+              file() + ": extensionsRequired: " + name + " is not supported");
+  }
+  // Required but not listed as used (invalid, but seen): still refused.
+  model.extensionsUsed.clear();
+  model.extensionsRequired = {"KHR_materials_sheen"};
+  EXPECT_EQ(inputError([&] { load(builder); }),
+            file() + ": extensionsRequired: KHR_materials_sheen is not supported");
+}
+
+// Compressed geometry leaves accessors without a bufferView, where tinygltf stops before the
+// loader sees the extension lists: the message names the extension all the same.
+TEST_F(GltfExtensionsTest, RequiredExtensionsAreNamedWhereTinygltfStopsFirst) {
+  GltfBuilder builder;
+  builder.addNode("quad", {}, builder.addMesh(quad()));
+  // tinygltf refuses index accessors without one (Draco's), naming only the accessor.
+  tinygltf::Model& model = builder.model();
+  model.accessors[static_cast<std::size_t>(model.meshes[0].primitives[0].indices)].bufferView = -1;
+  const fs::path path = folder / "scene.gltf";
+  builder.write(path, FileFormat::GltfEmbedded);
+  const std::string plain = inputError([&] { loadGltf(path); });
+  EXPECT_TRUE(contains(plain, "invalid bufferView")) << plain;
+  model.extensionsUsed = {"VENDOR_geometry_compression"};
+  model.extensionsRequired = {"VENDOR_geometry_compression"};
+  builder.write(path, FileFormat::GltfEmbedded);
+  EXPECT_EQ(inputError([&] { loadGltf(path); }),
+            file() + ": extensionsRequired: VENDOR_geometry_compression is not supported");
+}
+
+// The README's "Scene support" table lists every extension of the loader's table, with the
+// same status, so that neither can drift from the other.
+TEST(ExtensionTable, ReadmeListsEveryKnownExtensionWithItsStatus) {
+  std::ifstream in(fs::path(OMNISHADOW_SOURCE_DIR) / "README.md");
+  ASSERT_TRUE(in);
+  std::string line;
+  std::vector<std::pair<std::string, std::string>> rows;  // name, status cell
+  while (std::getline(in, line)) {
+    if (!line.starts_with("| `")) continue;
+    const std::size_t end = line.find('`', 3);
+    const std::size_t cell = line.find('|', end);
+    const std::size_t cellEnd = line.find('|', cell + 1);
+    if (end == std::string::npos || cellEnd == std::string::npos) continue;
+    std::string status = line.substr(cell + 1, cellEnd - cell - 1);
+    status.erase(0, status.find_first_not_of(' '));
+    status.erase(status.find_last_not_of(' ') + 1);
+    rows.emplace_back(line.substr(3, end - 3), status);
+  }
+  for (const KnownExtension& known : knownExtensions()) {
+    const auto row = std::find_if(rows.begin(), rows.end(),
+                                  [&](const auto& r) { return r.first == known.name; });
+    ASSERT_NE(row, rows.end()) << known.name << " is not in the README's table";
+    const char* status = known.status == ExtensionStatus::Supported      ? "supported"
+                         : known.status == ExtensionStatus::FallbackOnly ? "fallback only"
+                                                                         : "not supported";
+    EXPECT_EQ(row->second, status) << known.name;
+  }
+}
+
+}  // namespace
+}  // namespace omnishadow

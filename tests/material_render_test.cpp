@@ -1,0 +1,402 @@
+// Material extensions as rendered: KHR_texture_transform in the lighting pass (the Khronos
+// TextureTransformTest, texel by texel) and in the shadow pass's alpha test, and
+// KHR_materials_pbrSpecularGlossiness against its BRDF worked out by hand. Small frames on
+// whatever EGL gives (llvmpipe in CI).
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "renderer/render/renderer.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/view/camera.h"
+#include "scenes/builder/gltf_builder.h"
+#include "tests/support/temp_folder.h"
+
+namespace omnishadow {
+namespace {
+
+namespace fs = std::filesystem;
+using builder::FileFormat;
+using builder::GltfBuilder;
+using builder::MaterialDesc;
+using builder::PrimitiveOptions;
+using Value = tinygltf::Value;
+
+constexpr float kPi = std::numbers::pi_v<float>;
+
+Renderer& sharedRenderer() {
+  // One context for the whole program: creating one costs about a second on llvmpipe.
+  static Renderer renderer(ContextOptions{});
+  return renderer;
+}
+
+ViewCamera lookFrom(const Scene& scene, glm::vec3 eye, glm::vec3 target, int width, int height,
+                    float fov, glm::vec3 up = {0, 1, 0}) {
+  CameraRequest request;
+  request.eye = eye;
+  request.target = target;
+  request.up = up;
+  request.fovDegrees = fov;
+  request.width = width;
+  request.height = height;
+  return resolveCamera(scene, request);
+}
+
+Frame render(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
+             DebugView view = DebugView::None) {
+  StageTimes times;
+  RenderSettings settings;
+  settings.aovs = true;
+  settings.debugView = view;
+  return sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, settings, times);
+}
+
+float srgbToLinear(std::uint8_t value) {
+  const float c = static_cast<float>(value) / 255.0f;
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+glm::vec3 worldAt(const FloatImage& aovs, int x, int y) {
+  const int p = aovs.channelIndex("P.X");
+  return {aovs.at(x, y, p), aovs.at(x, y, p + 1), aovs.at(x, y, p + 2)};
+}
+
+// The affine map from a planar mesh's local (x, y) to its TEXCOORD_0, from its first triangle.
+glm::mat3 uvFromPosition(const Mesh& mesh) {
+  const glm::vec3 a = mesh.positions[mesh.indices[0]], b = mesh.positions[mesh.indices[1]],
+                  c = mesh.positions[mesh.indices[2]];
+  const glm::vec2 ua = mesh.uv0[mesh.indices[0]], ub = mesh.uv0[mesh.indices[1]],
+                  uc = mesh.uv0[mesh.indices[2]];
+  const glm::mat3 positions(glm::vec3(a.x, a.y, 1), glm::vec3(b.x, b.y, 1), glm::vec3(c.x, c.y, 1));
+  const glm::mat3 uvs(glm::vec3(ua, 1), glm::vec3(ub, 1), glm::vec3(uc, 1));
+  return uvs * glm::inverse(positions);
+}
+
+// The texel of `image` at `uv` with clamp-to-edge, when it and its 8 neighbours are equal (so
+// that the filter cannot matter); false otherwise.
+bool uniformTexel(const Image& image, glm::vec2 uv, glm::u8vec4& texel) {
+  const auto clampTo = [](int v, int size) { return std::max(0, std::min(size - 1, v)); };
+  const int x =
+      clampTo(static_cast<int>(std::floor(uv.x * static_cast<float>(image.width))), image.width);
+  const int y =
+      clampTo(static_cast<int>(std::floor(uv.y * static_cast<float>(image.height))), image.height);
+  const auto at = [&](int tx, int ty) {
+    const std::size_t i = (static_cast<std::size_t>(clampTo(ty, image.height)) * image.width +
+                           clampTo(tx, image.width)) *
+                          4;
+    return glm::u8vec4(image.rgba[i], image.rgba[i + 1], image.rgba[i + 2], image.rgba[i + 3]);
+  };
+  texel = at(x, y);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (at(x + dx, y + dy) != texel) return false;
+  return true;
+}
+
+const fs::path kTextureTransformTest =
+    fs::path(OMNISHADOW_SOURCE_DIR) /
+    "scenes/khronos/TextureTransformTest/TextureTransformTest.gltf";
+
+// Every pixel of the six test quads shows the texel the extension's transform picks (computed
+// here from the pixel's world position, the quad's UVs and the material's transform), wherever
+// that texel's neighbourhood is uniform. Pixels where the untransformed texel differs prove the
+// check could fail.
+TEST(TextureTransformRender, EveryQuadOfTheKhronosTestShowsTheTransformedTexels) {
+  const Scene scene = loadGltf(kTextureTransformTest);
+  const ViewCamera camera = lookFrom(scene, {0, 0, 4}, {0, 0, 0}, 384, 256, 50.0f);
+  const Frame frame = render(scene, {}, camera, DebugView::Albedo);
+  ASSERT_TRUE(frame.aovs);
+  const int alpha = frame.aovs->channelIndex("A");
+  std::vector<int> checked(scene.instances.size(), 0), discriminating(scene.instances.size(), 0);
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      if (frame.aovs->at(x, y, alpha) < 1.0f) continue;
+      const glm::vec3 world = worldAt(*frame.aovs, x, y);
+      // The six quads lie in z = 0; the markers, 0.01 in front, use mipmapped textures.
+      if (std::abs(world.z) > 1e-3f) continue;
+      for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const MeshInstance& instance = scene.instances[i];
+        const glm::vec3 local = glm::vec3(glm::inverse(instance.world) * glm::vec4(world, 1.0f));
+        if (std::abs(local.z) > 1e-3f || std::abs(local.x) > 0.5f || std::abs(local.y) > 0.5f)
+          continue;
+        const Mesh& mesh = scene.meshes[static_cast<std::size_t>(instance.mesh)];
+        const Material& material = scene.materials[static_cast<std::size_t>(mesh.material)];
+        const TextureSlot& slot = material.baseColorTexture;
+        const Image& image = scene.images[static_cast<std::size_t>(
+            scene.textures[static_cast<std::size_t>(slot.texture)].image)];
+        const glm::vec2 uv = glm::vec2(uvFromPosition(mesh) * glm::vec3(local.x, local.y, 1.0f));
+        const glm::vec2 transformed = glm::vec2(slot.uvTransform * glm::vec3(uv, 1.0f));
+        glm::u8vec4 texel, plain;
+        if (!uniformTexel(image, transformed, texel)) continue;
+        ++checked[i];
+        if (!uniformTexel(image, uv, plain) || plain != texel) ++discriminating[i];
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(frame.beauty.at(x, y, c), srgbToLinear(texel[c]), 0.01f)
+              << "quad \"" << material.name << "\", pixel " << x << "," << y << ", channel " << c;
+        }
+      }
+    }
+  }
+  int quads = 0;
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    if (checked[i] == 0) continue;  // a marker
+    ++quads;
+    EXPECT_GT(checked[i], 1000) << "instance " << i;
+    EXPECT_GT(discriminating[i], 300) << "instance " << i;
+  }
+  EXPECT_EQ(quads, 6);
+}
+
+// The arrows of the Rotation, Scale and All quads point at their green "Correct" markers, not
+// at the yellow "not supported" or red "wrong direction" ones: with the markers taken out of the
+// scene, the arrow's black line (on its quad) comes closer to the centre of each green marker
+// than to any other marker of the same quad, and within 0.2 (markers are 0.1 to 0.15 wide and
+// may sit just past the quad's edge). Positions are world units read from the AOVs.
+TEST(TextureTransformRender, ArrowsPointAtTheCorrectMarkers) {
+  Scene scene = loadGltf(kTextureTransformTest);
+  struct Marker {
+    glm::vec3 center;
+    std::string material;
+    glm::vec3 quad{0.0f};   // centre of the quad it belongs to
+    float distance = 1e9f;  // to the nearest arrow pixel on that quad
+  };
+  std::vector<Marker> markers;
+  std::vector<MeshInstance> quads;
+  for (const MeshInstance& instance : scene.instances) {
+    const Mesh& mesh = scene.meshes[static_cast<std::size_t>(instance.mesh)];
+    const std::string& name = scene.materials[static_cast<std::size_t>(mesh.material)].name;
+    if (name == "Correct" || name == "NotSupported" || name == "Error")
+      markers.push_back({glm::vec3(instance.world[3]), name});
+    else
+      quads.push_back(instance);
+  }
+  ASSERT_EQ(markers.size(), 6u);
+  for (Marker& marker : markers) {
+    float nearest = 1e9f;
+    for (const MeshInstance& quad : quads) {
+      const glm::vec3 center(quad.world[3]);
+      if (glm::length(center - marker.center) < nearest) {
+        nearest = glm::length(center - marker.center);
+        marker.quad = center;
+      }
+    }
+  }
+  scene.instances = quads;
+  const ViewCamera camera = lookFrom(scene, {0, 0, 4}, {0, 0, 0}, 384, 256, 50.0f);
+  const Frame frame = render(scene, {}, camera, DebugView::Albedo);
+  ASSERT_TRUE(frame.aovs);
+  const int alpha = frame.aovs->channelIndex("A");
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      if (frame.aovs->at(x, y, alpha) < 1.0f || frame.beauty.at(x, y, 0) > 0.05f) continue;
+      const glm::vec3 p = worldAt(*frame.aovs, x, y);
+      for (Marker& marker : markers) {
+        if (std::abs(p.x - marker.quad.x) > 0.45f || std::abs(p.y - marker.quad.y) > 0.45f)
+          continue;  // another quad, or this one's dark grey border
+        marker.distance = std::min(marker.distance, glm::length(p - marker.center));
+      }
+    }
+  }
+  int correct = 0;
+  for (const Marker& green : markers) {
+    if (green.material != "Correct") continue;
+    ++correct;
+    EXPECT_LT(green.distance, 0.2f) << "quad at x " << green.quad.x;
+    for (const Marker& other : markers) {
+      if (other.material == "Correct" || other.quad != green.quad) continue;
+      EXPECT_GT(other.distance, green.distance + 0.1f)
+          << "quad at x " << green.quad.x << ": the arrow is nearer the " << other.material
+          << " marker";
+    }
+  }
+  EXPECT_EQ(correct, 3);
+}
+
+// A cut-out card whose alpha texture is opaque on its left half only (u < 0.5, x < 0), drawn
+// through KHR_texture_transform scale (-1, 1) and offset (1, 0), a mirror in u: the camera
+// above sees only the right half, and the sun, coming down at 45 degrees towards -x, casts only
+// the right half's shadow, one unit to the left on the floor (under the card's empty left
+// half), and none where the left half's would be.
+TEST(TextureTransformRender, MaskedShadowsAndCoverageFollowTheTransform) {
+  test_support::TempFolder folder("omnishadow-material-render");
+  GltfBuilder builder;
+  std::vector<std::uint8_t> rgba;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x)
+      rgba.insert(rgba.end(), {255, 255, 255, static_cast<std::uint8_t>(x < 2 ? 255 : 0)});
+  MaterialDesc cutout;
+  cutout.alphaMode = "MASK";
+  cutout.doubleSided = true;
+  cutout.baseColorTexture = builder.addTexture(4, 4, rgba, "left half");
+  PrimitiveOptions options;
+  options.material = builder.addMaterial(cutout);
+  tinygltf::TextureInfo& info = builder.model()
+                                    .materials[static_cast<std::size_t>(options.material)]
+                                    .pbrMetallicRoughness.baseColorTexture;
+  Value::Array scale = {Value(-1.0), Value(1.0)}, offset = {Value(1.0), Value(0.0)};
+  info.extensions["KHR_texture_transform"] =
+      Value(Value::Object{{"scale", Value(scale)}, {"offset", Value(offset)}});
+  builder.model().samplers.push_back({});
+  builder.model().samplers.back().magFilter = TINYGLTF_TEXTURE_FILTER_NEAREST;
+  builder.model().samplers.back().minFilter = TINYGLTF_TEXTURE_FILTER_NEAREST;
+  builder.model().textures[0].sampler = 0;
+  // The quad spans x, z in [-1, 1] at height 1 (u runs along +x), the floor is at 0.
+  builder::MeshData card = builder::makePlane(2.0f);
+  builder.addNode("card", {{0, 1, 0}}, builder.addMesh(card, options));
+  MaterialDesc floor;
+  PrimitiveOptions floorOptions;
+  floorOptions.material = builder.addMaterial(floor);
+  builder.addNode("floor", {}, builder.addMesh(builder::makePlane(8.0f), floorOptions));
+  const fs::path file = folder / "card.gltf";
+  builder.write(file, FileFormat::GltfEmbedded);
+  const Scene scene = loadGltf(file);
+
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(-1, -1, 0));
+  sun.intensity = 2.0f;
+  sun.shadow.resolution = 1024;
+  sun.shadow.filter = ShadowFilter::Hard;
+  const ViewCamera camera = lookFrom(scene, {0, 6, 0}, {0, 0, 0}, 128, 128, 60.0f, {0, 0, -1});
+  const Frame frame = render(scene, {sun}, camera);
+  ASSERT_TRUE(frame.aovs);
+  const int visibility = frame.aovs->channelIndex("visibility.sun");
+  int cardLeft = 0, cardRight = 0, underLeftHalf = 0, shadowedUnderLeftHalf = 0, farLeft = 0,
+      shadowedFarLeft = 0;
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const glm::vec3 p = worldAt(*frame.aovs, x, y);
+      if (std::abs(p.z) > 0.8f) continue;
+      const bool shadowed = frame.aovs->at(x, y, visibility) < 0.5f;
+      if (std::abs(p.y - 1.0f) < 1e-3f) {
+        if (p.x > 0.2f && p.x < 0.8f) ++cardRight;
+        if (p.x < -0.2f && p.x > -0.8f) ++cardLeft;
+      } else if (std::abs(p.y) < 1e-3f) {
+        if (p.x < -0.2f && p.x > -0.8f) {
+          ++underLeftHalf;
+          shadowedUnderLeftHalf += shadowed;
+        }
+        if (p.x < -1.2f && p.x > -1.8f) {
+          ++farLeft;
+          shadowedFarLeft += shadowed;
+        }
+      }
+    }
+  }
+  EXPECT_GT(cardRight, 200);
+  EXPECT_EQ(cardLeft, 0) << "the lighting pass drew the untransformed (left) half";
+  EXPECT_GT(underLeftHalf, 200);
+  EXPECT_EQ(shadowedUnderLeftHalf, underLeftHalf) << "the right half cast no full shadow";
+  EXPECT_GT(farLeft, 200);
+  EXPECT_EQ(shadowedFarLeft, 0) << "the shadow pass drew the untransformed (left) half";
+}
+
+// A normal texture seen through KHR_texture_transform turns the normals it stores with it: a
+// plane whose uniform normal texture (tilted towards the texture's +X) is rotated or mirrored by
+// the extension shades like the same plane with those UVs baked into TEXCOORD_0 (its tangents
+// then generated from them), and unlike the plane without the transform.
+TEST(TextureTransformRender, NormalTexturesTurnWithTheirTransform) {
+  test_support::TempFolder folder("omnishadow-material-render");
+  const auto shadingNormal = [&](const std::vector<glm::vec2>& uvs, const Value* transform) {
+    GltfBuilder builder;
+    MaterialDesc desc;
+    desc.normalTexture = builder.addTexture(1, 1, {204, 128, 230, 255}, "tilted");  // (.6, 0, .8)
+    PrimitiveOptions options;
+    options.material = builder.addMaterial(desc);
+    if (transform)
+      builder.model().materials[0].normalTexture.extensions["KHR_texture_transform"] = *transform;
+    builder::MeshData plane = builder::makePlane(2.0f);
+    plane.uvs = uvs;
+    builder.addNode("plane", {}, builder.addMesh(plane, options));
+    const fs::path file = folder / "plane.gltf";
+    builder.write(file, FileFormat::GltfEmbedded);
+    const Scene scene = loadGltf(file);
+    const ViewCamera camera = lookFrom(scene, {0, 3, 0}, {0, 0, 0}, 16, 16, 30.0f, {0, 0, -1});
+    const Frame frame = render(scene, {}, camera);
+    const int n = frame.aovs->channelIndex("N.X");
+    return glm::vec3(frame.aovs->at(8, 8, n), frame.aovs->at(8, 8, n + 1),
+                     frame.aovs->at(8, 8, n + 2));
+  };
+  const std::vector<glm::vec2> uvs = builder::makePlane(2.0f).uvs;
+  const struct {
+    glm::vec2 offset;
+    float rotation;
+    glm::vec2 scale;
+  } cases[] = {{{0.0f, 0.0f}, 0.9f, {1.5f, 1.5f}},
+               {{1.0f, 0.0f}, 0.0f, {-1.0f, 1.0f}},
+               {{0.2f, 0.3f}, -2.0f, {1.0f, 1.0f}}};
+  const glm::vec3 plain = shadingNormal(uvs, nullptr);
+  for (const auto& c : cases) {
+    const Value transform(Value::Object{
+        {"offset", Value(Value::Array{Value(double{c.offset.x}), Value(double{c.offset.y})})},
+        {"rotation", Value(double{c.rotation})},
+        {"scale", Value(Value::Array{Value(double{c.scale.x}), Value(double{c.scale.y})})}});
+    const glm::vec3 transformed = shadingNormal(uvs, &transform);
+    // The same mapping as a matrix, baked into the vertices' UVs.
+    const float co = std::cos(c.rotation), si = std::sin(c.rotation);
+    std::vector<glm::vec2> baked;
+    for (const glm::vec2 uv : uvs) {
+      baked.emplace_back(c.scale.x * co * uv.x + c.scale.y * si * uv.y + c.offset.x,
+                         -c.scale.x * si * uv.x + c.scale.y * co * uv.y + c.offset.y);
+    }
+    const glm::vec3 expected = shadingNormal(baked, nullptr);
+    EXPECT_LT(glm::length(transformed - expected), 2e-3f)
+        << "rotation " << c.rotation << ": (" << transformed.x << ", " << transformed.y << ", "
+        << transformed.z << ") vs (" << expected.x << ", " << expected.y << ", " << expected.z
+        << ")";
+    EXPECT_GT(glm::length(expected - plain), 0.3f) << "rotation " << c.rotation;
+  }
+}
+
+// A floor of a specular-glossiness material under a sun straight above, seen from straight
+// above through a narrow lens (so V = L = N to within 1.5 degrees): the spec's BRDF gives
+// diffuse (1 - F0) * diffuse * (1 - max(F0)) / pi * E and specular F0 * D * Vis * E with
+// NdotH = 1: D = 1 / (pi alpha^2), Vis = 1 / 4, alpha = (1 - glossiness)^2.
+TEST(SpecularGlossinessRender, MatchesTheExtensionsBrdfByHand) {
+  test_support::TempFolder folder("omnishadow-material-render");
+  GltfBuilder builder;
+  PrimitiveOptions options;
+  options.material = builder.addMaterial(MaterialDesc{});
+  const glm::vec3 diffuse(0.6f, 0.4f, 0.2f), specular(0.5f, 0.25f, 0.125f);
+  const float glossiness = 0.25f;  // roughness 0.75, alpha 0.5625
+  builder.model().materials[0].extensions["KHR_materials_pbrSpecularGlossiness"] =
+      Value(Value::Object{
+          {"diffuseFactor", Value(Value::Array{Value(0.6), Value(0.4), Value(0.2), Value(1.0)})},
+          {"specularFactor", Value(Value::Array{Value(0.5), Value(0.25), Value(0.125)})},
+          {"glossinessFactor", Value(0.25)}});
+  builder.addNode("floor", {}, builder.addMesh(builder::makePlane(4.0f), options));
+  const fs::path file = folder / "floor.gltf";
+  builder.write(file, FileFormat::GltfEmbedded);
+  const Scene scene = loadGltf(file);
+  ASSERT_TRUE(scene.materials[0].specularGlossiness);
+
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = {0, -1, 0};
+  sun.intensity = 3.0f;
+  sun.shadow.enabled = false;
+  const ViewCamera camera = lookFrom(scene, {0, 20, 0}, {0, 0, 0}, 32, 32, 3.0f, {0, 0, -1});
+  const Frame frame = render(scene, {sun}, camera);
+  const float alpha = (1.0f - glossiness) * (1.0f - glossiness);
+  const float d = 1.0f / (kPi * alpha * alpha), vis = 0.25f;
+  const float weight = 1.0f - 0.5f;  // 1 - max(specular)
+  const glm::vec3 expected =
+      (glm::vec3(1.0f) - specular) * weight * diffuse / kPi * 3.0f + specular * d * vis * 3.0f;
+  for (const auto& [x, y] : {std::pair{16, 16}, std::pair{4, 4}, std::pair{27, 9}}) {
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(frame.beauty.at(x, y, c), expected[c], 0.01f * expected[c])
+          << "pixel " << x << "," << y << " channel " << c;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace omnishadow
