@@ -11,6 +11,8 @@ packages=(
   # libraries
   libtinygltf-dev libglm-dev libopenimageio-dev libopenexr-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev
+  # compressed glTF geometry (KHR_draco_mesh_compression, EXT/KHR_meshopt_compression)
+  libdraco-dev libmeshoptimizer-dev
   # exact shadow rays for `omnishadow verify`
   libembree-dev
   # fuzzing (scripts/fuzz.sh): clang with libFuzzer and the sanitizer runtimes

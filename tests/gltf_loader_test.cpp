@@ -1010,11 +1010,11 @@ TEST_F(GltfLoaderTest, UnsupportedExtensionsFailWhenRequiredAndWarnWhenUsed) {
   ASSERT_EQ(scene.warnings.size(), 1u);
   EXPECT_TRUE(contains(scene.warnings[0], "KHR_texture_transform"));
 
-  model.extensionsUsed.push_back("KHR_draco_mesh_compression");
-  model.extensionsRequired.push_back("KHR_draco_mesh_compression");
+  model.extensionsUsed.push_back("EXT_lights_image_based");
+  model.extensionsRequired.push_back("EXT_lights_image_based");
   builder.write(file, FileFormat::GltfEmbedded);
   EXPECT_EQ(inputError([&] { loadGltf(file); }),
-            file.string() + ": extensionsRequired: KHR_draco_mesh_compression is not supported");
+            file.string() + ": extensionsRequired: EXT_lights_image_based is not supported");
 }
 
 TEST_F(GltfLoaderTest, NodeCyclesAndBadReferencesAreInputErrors) {

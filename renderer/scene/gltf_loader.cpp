@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "renderer/scene/gltf_context.h"
@@ -24,8 +25,10 @@ using gltf_detail::Context;
 
 // Extensions whose meaning we implement; anything else in extensionsRequired cannot be drawn
 // correctly, anything else merely used is ignored with a warning.
-constexpr std::string_view kSupportedExtensions[] = {"KHR_lights_punctual",
-                                                     "KHR_materials_emissive_strength"};
+constexpr std::string_view kSupportedExtensions[] = {
+    "KHR_lights_punctual",        "KHR_materials_emissive_strength", "KHR_mesh_quantization",
+    "KHR_draco_mesh_compression", "EXT_meshopt_compression",         "KHR_meshopt_compression",
+    "EXT_mesh_gpu_instancing"};
 
 void checkExtensions(const Context& ctx) {
   const auto supported = [](const std::string& name) {
@@ -75,11 +78,15 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   Scene scene;
   scene.path = path.string();
   bool binary = false;
-  const tinygltf::Model model =
-      gltf_detail::readModel(path, scene.path, scene.warnings, &binary, options.allowExternalUris);
+  gltf_detail::CompressionFixups fixups;
+  const tinygltf::Model model = gltf_detail::readModel(path, scene.path, scene.warnings, &binary,
+                                                       options.allowExternalUris, fixups);
   scene.inputFiles = referencedFiles(path, model);
   scene.source = summarize(model, binary);
   Context ctx{scene.path, model, scene};
+  ctx.fixups = std::move(fixups);
+  ctx.quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
+                            "KHR_mesh_quantization") != model.extensionsUsed.end();
   checkExtensions(ctx);
   const auto [roots, rootsObject] = gltf_detail::sceneRoots(ctx, options);
   gltf_detail::convertImages(ctx);
