@@ -15,6 +15,12 @@ namespace {
   ctx.fail(where, problem + (ctx.primitive.empty() ? "" : " (reading " + ctx.primitive + ")"));
 }
 
+// "0.18" for MESHOPTIMIZER_VERSION 180.
+std::string meshoptVersion() {
+  return std::to_string(MESHOPTIMIZER_VERSION / 1000) + "." +
+         std::to_string(MESHOPTIMIZER_VERSION % 1000 / 10);
+}
+
 // What the extension object says, before it is trusted.
 struct Compressed {
   std::string extension;  // "EXT_meshopt_compression" or "KHR_meshopt_compression"
@@ -102,8 +108,7 @@ void check(const Context& ctx, const std::string& where, const Compressed& c,
   } else if (c.filter == "COLOR") {
     fail(ctx, where,
          "filter COLOR is not supported by the meshoptimizer this was built with (" +
-             std::to_string(MESHOPTIMIZER_VERSION / 100) + "." +
-             std::to_string(MESHOPTIMIZER_VERSION % 100) + ")");
+             meshoptVersion() + ")");
   } else if (c.filter != "NONE" && c.filter != "OCTAHEDRAL" && c.filter != "QUATERNION" &&
              c.filter != "EXPONENTIAL") {
     fail(ctx, where, "unknown filter \"" + c.filter + "\"");
@@ -147,9 +152,8 @@ std::vector<unsigned char> decode(const Context& ctx, const std::string& where,
     if ((in[0] & 0xF0) == 0xA0) {
       fail(ctx, where,
            "vertex data version " + std::to_string(in[0] & 0x0F) +
-               " is not supported by the meshoptimizer this was built with (" +
-               std::to_string(MESHOPTIMIZER_VERSION / 100) + "." +
-               std::to_string(MESHOPTIMIZER_VERSION % 100) + ")");
+               " is not supported by the meshoptimizer this was built with (" + meshoptVersion() +
+               ")");
     }
   }
   int status = 0;

@@ -1,0 +1,398 @@
+// Compressed and quantized geometry (KHR_draco_mesh_compression, EXT_/KHR_meshopt_compression,
+// KHR_mesh_quantization) against the plain files they were made from (scenes/compressed): the
+// decoded world-space triangles match within the quantization step, the rendered pictures match
+// (coverage exactly, colors within a tolerance), and broken compressed data is an input error
+// naming the file, the object and the extension.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <glm/glm.hpp>
+#include <iterator>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "renderer/core/errors.h"
+#include "renderer/scene/gltf_loader.h"
+#include "tests/support/run_binary.h"
+#include "tests/support/temp_folder.h"
+
+namespace omnishadow {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+const fs::path kScenes = fs::path(OMNISHADOW_SOURCE_DIR) / "scenes";
+
+struct Twin {
+  std::string name;
+  std::string plain, compressed;  // below scenes/
+  int positionBits = 14;          // the encoder's position quantization
+  bool render = true;             // also compare rendered pictures (a few seconds each)
+  bool sameColors = true;         // false where the variant needs another extension for color
+};
+
+void PrintTo(const Twin& twin, std::ostream* os) {
+  *os << twin.name;
+}
+
+// The Khronos Draco files were made by gltf-pipeline, with 11-bit positions; gltfpack (0.18)
+// quantizes to 14 bits. The KHR and fallback variants decode to the same bytes as the EXT one,
+// so their geometry is checked and their pictures are not rendered again.
+const Twin kTwins[] = {
+    {"BoxDraco", "thirdparty/Box/Box.glb", "compressed/Box-Draco/Box.gltf", 11, false},
+    {"DuckDraco", "thirdparty/Duck/Duck.glb", "compressed/Duck-Draco/Duck.gltf", 11},
+    // Its texture coordinates are quantized too and rely on KHR_texture_transform.
+    {"DuckQuantized", "thirdparty/Duck/Duck.glb", "compressed/Duck-Quantized/Duck.gltf", 14, true,
+     false},
+    {"CornellQuantized", "thirdparty/CornellBoxSuzanne/cornell-box.glb",
+     "compressed/CornellBoxSuzanne/quantized.glb"},
+    {"CornellQuantizedNormalized", "thirdparty/CornellBoxSuzanne/cornell-box.glb",
+     "compressed/CornellBoxSuzanne/quantized-normalized.glb", 14, false},
+    {"CornellMeshopt", "thirdparty/CornellBoxSuzanne/cornell-box.glb",
+     "compressed/CornellBoxSuzanne/meshopt.glb"},
+    {"CornellMeshoptKhr", "thirdparty/CornellBoxSuzanne/cornell-box.glb",
+     "compressed/CornellBoxSuzanne/meshopt-khr.glb", 14, false},
+    {"CornellMeshoptWithFallback", "thirdparty/CornellBoxSuzanne/cornell-box.glb",
+     "compressed/CornellBoxSuzanne/meshopt-fallback.glb", 14, false},
+};
+
+std::vector<glm::vec3> worldVertices(const Scene& scene) {
+  std::vector<glm::vec3> vertices;
+  for (const MeshInstance& instance : scene.instances) {
+    const Mesh& mesh = scene.meshes[static_cast<std::size_t>(instance.mesh)];
+    for (std::uint32_t index : mesh.indices) {
+      vertices.push_back(glm::vec3(instance.world * glm::vec4(mesh.positions[index], 1.0f)));
+    }
+  }
+  return vertices;
+}
+
+class CompressedTwin : public ::testing::TestWithParam<Twin> {};
+
+// Every corner of every drawn triangle lies within one quantization step of a corner of the
+// plain file's triangles, and the triangle counts agree (the encoders keep every triangle).
+// Quantizing positions to N bits over the model's bounds moves a coordinate by at most half of
+// extent / (2^N - 1); one full step is the tolerance.
+TEST_P(CompressedTwin, DecodedTrianglesMatchThePlainFileWithinTheQuantizationStep) {
+  const Scene plain = loadGltf(kScenes / GetParam().plain);
+  const Scene compressed = loadGltf(kScenes / GetParam().compressed);
+  const std::vector<glm::vec3> a = worldVertices(plain), b = worldVertices(compressed);
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_FALSE(a.empty());
+  const glm::vec3 extent = plain.bounds.max - plain.bounds.min;
+  const float step = std::max({extent.x, extent.y, extent.z}) /
+                     static_cast<float>((1 << GetParam().positionBits) - 1);
+  EXPECT_LE(glm::length(compressed.bounds.min - plain.bounds.min), 2.0f * step);
+  EXPECT_LE(glm::length(compressed.bounds.max - plain.bounds.max), 2.0f * step);
+  // Nearest plain corner for each decoded one, on a grid of cells one tolerance wide.
+  std::vector<glm::vec3> sorted = a;
+  std::sort(sorted.begin(), sorted.end(),
+            [](const glm::vec3& p, const glm::vec3& q) { return p.x < q.x; });
+  float worst = 0.0f;
+  for (const glm::vec3& p : b) {
+    float best = std::numeric_limits<float>::max();
+    auto it = std::lower_bound(sorted.begin(), sorted.end(), p.x - step,
+                               [](const glm::vec3& q, float x) { return q.x < x; });
+    for (; it != sorted.end() && it->x <= p.x + step; ++it) {
+      best = std::min(best, glm::length(*it - p));
+    }
+    worst = std::max(worst, best);
+  }
+  EXPECT_LE(worst, step) << "quantization step " << step;
+}
+
+// The same picture at 64x64 with one shadowing point light: coverage (the alpha of the AOVs)
+// identical for 14-bit positions, whose step (1e-4 of the model) is far below a pixel (1/40 of
+// it); 11-bit Draco moves vertices 8 times as far, and a pixel center that close to an edge may
+// change sides, so there 0.1% of the pixels may differ. Colors within 10/255 in all but those
+// pixels: 8-bit normals (gltfpack's default; Draco's are finer) tilt a normal by under a degree.
+// Light visibility (shadows) may flip in 0.1% of the pixels, where a moved vertex crosses a
+// shadow-map texel at a shadow edge.
+class CompressedTwinPicture : public ::testing::TestWithParam<Twin> {};
+
+TEST_P(CompressedTwinPicture, RendersTheSamePictureAsThePlainFile) {
+  test_support::TempFolder folder("omnishadow-compressed");
+  std::ofstream(folder / "lights.json")
+      << R"({"lights": [{"name": "lamp", "position": [1.5, 2.5, 2], "shadow": {"resolution": 128}}]})";
+  const Scene plain = loadGltf(kScenes / GetParam().plain);
+  const glm::vec3 center = (plain.bounds.min + plain.bounds.max) * 0.5f;
+  const float radius = glm::length(plain.bounds.max - plain.bounds.min);
+  const std::string eye = std::to_string(center.x + radius) + "," +
+                          std::to_string(center.y + radius * 0.6f) + "," +
+                          std::to_string(center.z + radius * 1.2f);
+  const std::string target =
+      std::to_string(center.x) + "," + std::to_string(center.y) + "," + std::to_string(center.z);
+  std::vector<std::vector<std::string>> renders;
+  for (const auto& [scene, stem] : {std::pair{GetParam().plain, std::string("plain")},
+                                    std::pair{GetParam().compressed, std::string("compressed")}}) {
+    renders.push_back({"render", (kScenes / scene).string(), "-l",
+                       (folder / "lights.json").string(), "--eye", eye, "--target", target,
+                       "--width", "64", "--height", "64", "-o", (folder / (stem + ".png")).string(),
+                       "--aov", (folder / (stem + ".exr")).string()});
+  }
+  for (const test_support::RunResult& r : test_support::runOmnishadowAll(renders)) {
+    ASSERT_EQ(r.status, 0) << r.err;
+  }
+  const auto diff = [&](const std::string& ext, std::vector<std::string> options) {
+    std::vector<std::string> args = {"diff", (folder / ("plain" + ext)).string(),
+                                     (folder / ("compressed" + ext)).string()};
+    args.insert(args.end(), options.begin(), options.end());
+    return test_support::runOmnishadow(args);
+  };
+  const std::string edgePixels = GetParam().positionBits < 14 ? "0.001" : "0";
+  test_support::RunResult r =
+      diff(".exr", {"--channels", "A", "--max-failing-fraction", edgePixels});
+  EXPECT_EQ(r.status, 0) << "coverage differs:\n" << r.out << r.err;
+  r = diff(".exr", {"--channels", "visibility.lamp", "--threshold", "0.5", "--max-failing-fraction",
+                    "0.001"});
+  EXPECT_EQ(r.status, 0) << "shadows differ:\n" << r.out << r.err;
+  if (GetParam().sameColors) {
+    r = diff(".png",
+             {"--threshold", std::to_string(10.0 / 255.0), "--max-failing-fraction", edgePixels});
+    EXPECT_EQ(r.status, 0) << "colors differ:\n" << r.out << r.err;
+  }
+}
+
+std::string twinName(const ::testing::TestParamInfo<Twin>& twin) {
+  return twin.param.name;
+}
+
+std::vector<Twin> rendered() {
+  std::vector<Twin> twins;
+  std::copy_if(std::begin(kTwins), std::end(kTwins), std::back_inserter(twins),
+               [](const Twin& twin) { return twin.render; });
+  return twins;
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, CompressedTwin, ::testing::ValuesIn(kTwins), twinName);
+INSTANTIATE_TEST_SUITE_P(Files, CompressedTwinPicture, ::testing::ValuesIn(rendered()), twinName);
+
+// ---------------------------------------------------------------------------------------------
+// Broken compressed data: copies of the real files, edited.
+
+std::string readBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::uint32_t le32(const std::string& bytes, std::size_t at) {
+  std::uint32_t v = 0;
+  for (int i = 3; i >= 0; --i) v = v << 8 | static_cast<unsigned char>(bytes[at + i]);
+  return v;
+}
+
+void putLe32(std::string& out, std::size_t value) {
+  for (int shift = 0; shift < 32; shift += 8) out += static_cast<char>((value >> shift) & 0xFF);
+}
+
+// Copies a .glb with its JSON edited by `edit`.
+void copyGlbEdited(const fs::path& from, const fs::path& to,
+                   const std::function<void(Json&)>& edit) {
+  const std::string glb = readBytes(from);
+  const std::size_t jsonLength = le32(glb, 12);
+  Json json = Json::parse(glb.substr(20, jsonLength));
+  edit(json);
+  std::string text = json.dump();
+  text.resize((text.size() + 3) / 4 * 4, ' ');
+  const std::string rest = glb.substr(20 + jsonLength);
+  std::string out = glb.substr(0, 8);
+  putLe32(out, 20 + text.size() + rest.size());
+  putLe32(out, text.size());
+  out += "JSON";
+  out += text + rest;
+  std::ofstream(to, std::ios::binary) << out;
+}
+
+// Copies Box-Draco (.gltf and .bin) with its JSON edited by `edit`.
+fs::path copyBoxDracoEdited(const fs::path& folder, const std::function<void(Json&)>& edit) {
+  const fs::path source = kScenes / "compressed" / "Box-Draco";
+  fs::copy_file(source / "Box.bin", folder / "Box.bin", fs::copy_options::overwrite_existing);
+  Json json = Json::parse(readBytes(source / "Box.gltf"));
+  edit(json);
+  std::ofstream(folder / "Box.gltf") << json.dump();
+  return folder / "Box.gltf";
+}
+
+std::string inputError(const fs::path& file) {
+  try {
+    loadGltf(file);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << file << " loaded";
+  return {};
+}
+
+Json& dracoExtension(Json& gltf) {
+  return gltf["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"];
+}
+
+TEST(BrokenDraco, TruncatedStreamIsAnInputErrorNamingThePrimitiveAndTheExtension) {
+  test_support::TempFolder folder("omnishadow-draco");
+  int view = -1;
+  const fs::path file = copyBoxDracoEdited(folder.path(), [&](Json& gltf) {
+    view = dracoExtension(gltf)["bufferView"];
+    gltf["bufferViews"][view]["byteLength"] =
+        gltf["bufferViews"][view]["byteLength"].get<int>() / 2;
+  });
+  const std::string message = inputError(file);
+  EXPECT_EQ(message.rfind(file.string() +
+                              ": meshes[0].primitives[0].extensions.KHR_draco_mesh_compression: "
+                              "the Draco data in bufferViews[" +
+                              std::to_string(view) + "] does not decode: ",
+                          0),
+            0u)
+      << message;
+}
+
+TEST(BrokenDraco, CountsThatDoNotMatchTheDecodedMeshAreInputErrors) {
+  test_support::TempFolder folder("omnishadow-draco");
+  int accessor = -1;
+  fs::path file = copyBoxDracoEdited(folder.path(), [&](Json& gltf) {
+    accessor = gltf["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+    gltf["accessors"][accessor]["count"] = 25;
+  });
+  EXPECT_EQ(inputError(file),
+            file.string() +
+                ": meshes[0].primitives[0].extensions.KHR_draco_mesh_compression.attributes."
+                "POSITION: decoded 24 vertices, but accessors[" +
+                std::to_string(accessor) + "] has count 25");
+
+  file = copyBoxDracoEdited(folder.path(), [&](Json& gltf) {
+    accessor = gltf["meshes"][0]["primitives"][0]["indices"];
+    gltf["accessors"][accessor]["count"] = 33;
+  });
+  EXPECT_EQ(inputError(file),
+            file.string() +
+                ": meshes[0].primitives[0].extensions.KHR_draco_mesh_compression indices: decoded "
+                "12 triangles, but accessors[" +
+                std::to_string(accessor) + "] has count 33");
+
+  // The decoder's output does not have the accessor's type.
+  file = copyBoxDracoEdited(folder.path(), [&](Json& gltf) {
+    accessor = gltf["meshes"][0]["primitives"][0]["attributes"]["NORMAL"];
+    gltf["accessors"][accessor]["type"] = "VEC2";
+  });
+  EXPECT_EQ(inputError(file),
+            file.string() +
+                ": meshes[0].primitives[0].extensions.KHR_draco_mesh_compression.attributes."
+                "NORMAL: decoded 3 components per vertex, but accessors[" +
+                std::to_string(accessor) + "] has 2");
+
+  // An attribute id the stream does not have.
+  file = copyBoxDracoEdited(folder.path(),
+                            [&](Json& gltf) { dracoExtension(gltf)["attributes"]["NORMAL"] = 7; });
+  EXPECT_EQ(inputError(file),
+            file.string() +
+                ": meshes[0].primitives[0].extensions.KHR_draco_mesh_compression.attributes."
+                "NORMAL: the Draco data has no attribute with this id");
+}
+
+const fs::path kMeshopt = kScenes / "compressed" / "CornellBoxSuzanne" / "meshopt.glb";
+
+// The first bufferView compressed with `mode` and `filter`.
+int meshoptView(const Json& gltf, const std::string& mode, const std::string& filter = "NONE") {
+  for (std::size_t v = 0; v < gltf["bufferViews"].size(); ++v) {
+    const Json& view = gltf["bufferViews"][v];
+    if (!view.contains("extensions")) continue;
+    const Json& extension = view["extensions"]["EXT_meshopt_compression"];
+    if (extension["mode"] == mode && extension.value("filter", "NONE") == filter) {
+      return static_cast<int>(v);
+    }
+  }
+  ADD_FAILURE() << "no " << mode << " view";
+  return 0;
+}
+
+TEST(BrokenMeshopt, TruncatedOrMislabelledStreamsAreInputErrorsNamingTheViewAndTheExtension) {
+  test_support::TempFolder folder("omnishadow-meshopt");
+  const fs::path file = folder / "broken.glb";
+  struct Case {
+    std::string mode, filter;
+    std::function<std::string(Json& extension, Json& view)> edit;  // returns the expected problem
+  };
+  const Case cases[] = {
+      {"ATTRIBUTES", "NONE",
+       [](Json& e, Json&) {
+         // Cut to fewer bytes than the stream's tail (a cut in its middle goes unnoticed: the
+         // codec has no checksum, and the output is still bounded by the view).
+         e["byteLength"] = 8;
+         return std::string(
+             "the ATTRIBUTES data does not decode: truncated or corrupt "
+             "(meshoptimizer error -2)");
+       }},
+      {"TRIANGLES", "NONE",
+       [](Json& e, Json&) {
+         e["byteLength"] = e["byteLength"].get<int>() - 20;
+         return std::string(
+             "the TRIANGLES data does not decode: truncated or corrupt "
+             "(meshoptimizer error -2)");
+       }},
+      {"TRIANGLES", "NONE",
+       [](Json& e, Json& view) {
+         e["count"] = e["count"].get<int>() - 3;
+         return "count " + std::to_string(e["count"].get<int>()) + " times byteStride 2 is not " +
+                "the bufferView's byteLength " + std::to_string(view["byteLength"].get<int>());
+       }},
+      {"ATTRIBUTES", "OCTAHEDRAL",
+       [](Json& e, Json&) {
+         e["filter"] = "QUATERNION";
+         return "byteStride " + std::to_string(e["byteStride"].get<int>()) +
+                " must be 8 for filter QUATERNION";
+       }},
+      {"ATTRIBUTES", "NONE",
+       [](Json& e, Json&) {
+         e["mode"] = "STRIPS";
+         return std::string("unknown mode \"STRIPS\" (ATTRIBUTES, TRIANGLES or INDICES)");
+       }},
+      {"ATTRIBUTES", "NONE",
+       [](Json& e, Json&) {
+         e["filter"] = "COLOR";
+         return std::string(
+             "filter COLOR is not supported by the meshoptimizer this was built with (0.18)");
+       }},
+  };
+  for (const Case& c : cases) {
+    int view = -1;
+    std::string problem;
+    copyGlbEdited(kMeshopt, file, [&](Json& gltf) {
+      view = meshoptView(gltf, c.mode, c.filter);
+      problem = c.edit(gltf["bufferViews"][view]["extensions"]["EXT_meshopt_compression"],
+                       gltf["bufferViews"][view]);
+    });
+    const std::string message = inputError(file);
+    EXPECT_EQ(message.rfind(file.string() + ": bufferViews[" + std::to_string(view) +
+                                "].extensions.EXT_meshopt_compression: " + problem +
+                                " (reading meshes[0].primitives[",
+                            0),
+              0u)
+        << message;
+  }
+}
+
+TEST(BrokenMeshopt, AnUncompressedViewOfTheFallbackBufferIsAnInputError) {
+  test_support::TempFolder folder("omnishadow-meshopt");
+  const fs::path file = folder / "broken.glb";
+  int view = -1;
+  copyGlbEdited(kMeshopt, file, [&](Json& gltf) {
+    view = meshoptView(gltf, "TRIANGLES");
+    gltf["bufferViews"][view].erase("extensions");
+  });
+  EXPECT_EQ(inputError(file).rfind(file.string() + ": accessors[", 0), 0u);
+  EXPECT_NE(inputError(file).find(": bufferViews[" + std::to_string(view) +
+                                  "] is not compressed, but its buffers[1] is a meshopt fallback "
+                                  "buffer without data"),
+            std::string::npos)
+      << inputError(file);
+}
+
+}  // namespace
+}  // namespace omnishadow
