@@ -1,7 +1,8 @@
-// Compressed and quantized geometry (KHR_draco_mesh_compression, EXT_/KHR_meshopt_compression,
-// KHR_mesh_quantization) against the plain files they were made from (scenes/compressed): the
-// decoded world-space triangles match within the quantization step, the rendered pictures match
-// (coverage exactly, colors within a tolerance), and broken compressed data is an input error
+// Compressed, quantized and instanced geometry (KHR_draco_mesh_compression,
+// EXT_/KHR_meshopt_compression, KHR_mesh_quantization, EXT_mesh_gpu_instancing; the files are in
+// scenes/compressed): decoded world-space triangles match the plain files they were made from
+// within the quantization step, the rendered pictures match (coverage exactly, colors within a
+// tolerance), instances are drawn and cast shadows, and broken compressed data is an input error
 // naming the file, the object and the extension.
 #include <gtest/gtest.h>
 
@@ -15,10 +16,12 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "renderer/core/errors.h"
+#include "renderer/output/image_writer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
@@ -174,6 +177,44 @@ std::vector<Twin> rendered() {
 
 INSTANTIATE_TEST_SUITE_P(Files, CompressedTwin, ::testing::ValuesIn(kTwins), twinName);
 INSTANTIATE_TEST_SUITE_P(Files, CompressedTwinPicture, ::testing::ValuesIn(rendered()), twinName);
+
+// ---------------------------------------------------------------------------------------------
+// EXT_mesh_gpu_instancing: SimpleInstancing's 125 cubes are all drawn, and cast shadows on each
+// other. With the sun straight above, a face that looks up can only be shadowed by another cube
+// (a cube cannot shadow its own top), so shadowed upward faces are shadows cast by instances.
+
+TEST(GpuInstancing, SimpleInstancingDrawsAllCubesAndTheyShadowEachOther) {
+  const fs::path file = kScenes / "compressed" / "SimpleInstancing" / "SimpleInstancing.glb";
+  const Scene scene = loadGltf(file);
+  ASSERT_EQ(scene.instances.size(), 125u);
+  std::vector<std::tuple<float, float, float>> origins;
+  for (const MeshInstance& instance : scene.instances) {
+    origins.emplace_back(instance.world[3].x, instance.world[3].y, instance.world[3].z);
+  }
+  std::sort(origins.begin(), origins.end());
+  EXPECT_EQ(std::unique(origins.begin(), origins.end()), origins.end()) << "instances coincide";
+
+  test_support::TempFolder folder("omnishadow-instancing");
+  std::ofstream(folder / "sun.json") << R"({"lights": [{"name": "sun", "type": "directional",
+      "direction": [0, -1, 0], "shadow": {"resolution": 256}}]})";
+  const test_support::RunResult r = test_support::runOmnishadow(
+      {"render", file.string(), "-l", (folder / "sun.json").string(), "--width", "64", "--height",
+       "64", "-o", (folder / "beauty.png").string(), "--aov", (folder / "aov.exr").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const FloatImage aov = readImage(folder / "aov.exr");
+  const int a = aov.channelIndex("A"), ny = aov.channelIndex("N.Y");
+  const int visibility = aov.channelIndex("visibility.sun");
+  ASSERT_GE(std::min({a, ny, visibility}), 0);
+  int lit = 0, shadowed = 0;
+  for (int y = 0; y < aov.height; ++y) {
+    for (int x = 0; x < aov.width; ++x) {
+      if (aov.at(x, y, a) < 1.0f || aov.at(x, y, ny) < 0.9f) continue;
+      (aov.at(x, y, visibility) > 0.5f ? lit : shadowed)++;
+    }
+  }
+  EXPECT_GT(lit, 10) << shadowed << " shadowed";
+  EXPECT_GT(shadowed, 50) << lit << " lit";
+}
 
 // ---------------------------------------------------------------------------------------------
 // Broken compressed data: copies of the real files, edited.
