@@ -15,7 +15,9 @@
 
 // The loader's steps live beside it: gltf_reader (the file, .glb container), gltf_file_safety
 // (URI policy, image size caps), gltf_accessors, gltf_materials (images, textures, materials),
-// gltf_primitives (meshes) and gltf_nodes (hierarchy, cameras, lights).
+// gltf_primitives (meshes) and gltf_nodes (hierarchy, cameras, lights). Geometry extensions:
+// gltf_compressed_json (what tinygltf cannot parse in compressed files), gltf_draco,
+// gltf_meshopt, gltf_instancing.
 
 namespace omnishadow {
 
