@@ -5,8 +5,11 @@
 // tolerance), instances are drawn and cast shadows, and broken compressed data is an input error
 // naming the file, the object and the extension.
 #include <gtest/gtest.h>
+#include <meshoptimizer.h>
+#include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +26,7 @@
 #include "renderer/core/errors.h"
 #include "renderer/output/image_writer.h"
 #include "renderer/scene/gltf_loader.h"
+#include "scenes/builder/gltf_builder.h"
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
@@ -433,6 +437,133 @@ TEST(BrokenMeshopt, AnUncompressedViewOfTheFallbackBufferIsAnInputError) {
                                   "buffer without data"),
             std::string::npos)
       << inputError(file);
+}
+
+// ---------------------------------------------------------------------------------------------
+// What the real files above do not use: mode INDICES and the EXPONENTIAL and QUATERNION filters,
+// encoded here with meshoptimizer's own encoders, on positions, indices and the rotations of
+// EXT_mesh_gpu_instancing (as gltfpack -cc writes instance data).
+
+// Appends `bytes` to buffer 0 (4-byte aligned) and returns their offset.
+std::size_t appendToBuffer(tinygltf::Model& model, const std::vector<unsigned char>& bytes) {
+  std::vector<unsigned char>& data = model.buffers.at(0).data;
+  while (data.size() % 4 != 0) data.push_back(0);
+  const std::size_t offset = data.size();
+  data.insert(data.end(), bytes.begin(), bytes.end());
+  return offset;
+}
+
+// A bufferView of count * stride bytes whose data is `encoded` under EXT_meshopt_compression,
+// whose extension object goes to `extensions` (tinygltf 2.7 does not write bufferView
+// extensions: they are added to the written file). Its own (fallback) range is buffer 0's start,
+// which the loader must never read.
+int addCompressedView(tinygltf::Model& model, std::vector<std::pair<int, Json>>& extensions,
+                      const std::vector<unsigned char>& encoded, std::size_t count,
+                      std::size_t stride, const std::string& mode, const std::string& filter) {
+  const std::size_t offset = appendToBuffer(model, encoded);
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteLength = count * stride;
+  if (mode == "ATTRIBUTES") view.byteStride = stride;
+  model.bufferViews.push_back(view);
+  const int index = static_cast<int>(model.bufferViews.size()) - 1;
+  extensions.push_back({index,
+                        {{"buffer", 0},
+                         {"byteOffset", offset},
+                         {"byteLength", encoded.size()},
+                         {"byteStride", stride},
+                         {"count", count},
+                         {"mode", mode},
+                         {"filter", filter}}});
+  return index;
+}
+
+std::vector<unsigned char> encodeVertices(const void* data, std::size_t count, std::size_t stride) {
+  std::vector<unsigned char> out(meshopt_encodeVertexBufferBound(count, stride));
+  out.resize(meshopt_encodeVertexBuffer(out.data(), out.size(), data, count, stride));
+  return out;
+}
+
+TEST(MeshoptFilters, ExponentialQuaternionAndIndexSequenceDecodeToWhatWasEncoded) {
+  builder::GltfBuilder b;
+  builder::MeshData triangle;
+  triangle.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  triangle.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  triangle.indices = {0, 1, 2};
+  const int mesh = b.addMesh(triangle);
+  const int node = b.addNode("instanced", {}, mesh);
+  tinygltf::Model& model = b.model();
+  tinygltf::Primitive& primitive = model.meshes[static_cast<std::size_t>(mesh)].primitives[0];
+  std::vector<std::pair<int, Json>> extensions;
+
+  // Positions 0.5, 1.25, 3 (exact in a 23-bit mantissa), as floats through EXPONENTIAL.
+  const float positions[] = {0.5f, 0, 0, 1.25f, 0, 0, 0, 3, 0};
+  std::vector<std::uint32_t> exponential(9);
+  meshopt_encodeFilterExp(exponential.data(), 3, 12, 23, positions);
+  const int positionView =
+      addCompressedView(model, extensions, encodeVertices(exponential.data(), 3, 12), 3, 12,
+                        "ATTRIBUTES", "EXPONENTIAL");
+  tinygltf::Accessor& position =
+      model.accessors[static_cast<std::size_t>(primitive.attributes["POSITION"])];
+  position.bufferView = positionView;
+  position.byteOffset = 0;
+
+  // Indices 2, 1, 0 as 16-bit, through INDICES.
+  const unsigned int order[] = {2, 1, 0};
+  std::vector<unsigned char> sequence(meshopt_encodeIndexSequenceBound(3, 3));
+  sequence.resize(meshopt_encodeIndexSequence(sequence.data(), sequence.size(), order, 3));
+  tinygltf::Accessor& indices = model.accessors[static_cast<std::size_t>(primitive.indices)];
+  indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  indices.byteOffset = 0;
+  indices.bufferView = addCompressedView(model, extensions, sequence, 3, 2, "INDICES", "NONE");
+
+  // Two instance rotations, identity and 90 degrees about +Y (x, y, z, w), through QUATERNION
+  // into normalized shorts.
+  const float h = std::sqrt(0.5f);
+  const float rotations[] = {0, 0, 0, 1, 0, h, 0, h};
+  std::vector<std::int16_t> quaternions(8);
+  meshopt_encodeFilterQuat(quaternions.data(), 2, 8, 16, rotations);
+  tinygltf::Accessor rotation;
+  rotation.bufferView =
+      addCompressedView(model, extensions, encodeVertices(quaternions.data(), 2, 8), 2, 8,
+                        "ATTRIBUTES", "QUATERNION");
+  rotation.componentType = TINYGLTF_COMPONENT_TYPE_SHORT;
+  rotation.normalized = true;
+  rotation.type = TINYGLTF_TYPE_VEC4;
+  rotation.count = 2;
+  model.accessors.push_back(rotation);
+  model.nodes[static_cast<std::size_t>(node)].extensions["EXT_mesh_gpu_instancing"] =
+      tinygltf::Value(tinygltf::Value::Object{
+          {"attributes",
+           tinygltf::Value(tinygltf::Value::Object{
+               {"ROTATION", tinygltf::Value(static_cast<int>(model.accessors.size()) - 1)}})}});
+  model.extensionsUsed = {"EXT_meshopt_compression", "EXT_mesh_gpu_instancing",
+                          "KHR_mesh_quantization"};
+  model.extensionsRequired = {"EXT_meshopt_compression"};
+  // The fallback range (buffer 0's start) is garbage to anyone who reads it.
+  std::fill_n(model.buffers[0].data.begin(), 36, 0xFF);
+
+  test_support::TempFolder folder("omnishadow-meshopt-filters");
+  b.write(folder / "plain.glb", builder::FileFormat::Glb);
+  copyGlbEdited(folder / "plain.glb", folder / "filters.glb", [&](Json& gltf) {
+    for (const auto& [view, extension] : extensions) {
+      gltf["bufferViews"][view]["extensions"]["EXT_meshopt_compression"] = extension;
+    }
+  });
+  const Scene scene = loadGltf(folder / "filters.glb");
+  ASSERT_EQ(scene.meshes.size(), 1u) << (scene.warnings.empty() ? "" : scene.warnings[0]);
+  const Mesh& m = scene.meshes[0];
+  ASSERT_EQ(m.positions.size(), 3u);
+  EXPECT_EQ(m.positions[0], glm::vec3(0.5f, 0, 0));
+  EXPECT_EQ(m.positions[1], glm::vec3(1.25f, 0, 0));
+  EXPECT_EQ(m.positions[2], glm::vec3(0, 3, 0));
+  EXPECT_EQ(m.indices, (std::vector<std::uint32_t>{2, 1, 0}));
+  ASSERT_EQ(scene.instances.size(), 2u);
+  // +X (1.25, 0, 0) stays, then turns into -Z; 16-bit quaternions are good to about 1e-4.
+  const glm::vec3 p0 = scene.instances[0].world * glm::vec4(m.positions[1], 1.0f);
+  const glm::vec3 p1 = scene.instances[1].world * glm::vec4(m.positions[1], 1.0f);
+  EXPECT_LE(glm::length(p0 - glm::vec3(1.25f, 0, 0)), 1e-3f);
+  EXPECT_LE(glm::length(p1 - glm::vec3(0, 0, -1.25f)), 1e-3f);
 }
 
 }  // namespace
