@@ -30,6 +30,7 @@ uniform float uOcclusionStrength;
 uniform int uAlphaMode;  // 0 opaque, 1 mask, 2 blend
 uniform float uAlphaCutoff;
 uniform int uHasTangents;
+uniform int uUnlit;  // points and lines: base color, no lights (they have no surface)
 // Per texture slot: -1 = none, else the TEXCOORD set.
 uniform int uBaseColorTexCoord;
 uniform int uMetallicRoughnessTexCoord;
@@ -133,7 +134,7 @@ void main() {
                         float(uSlices - 1)));
   int cluster = (slice * uTileRows + tile.y) * uTileColumns + tile.x;
   uint firstClusterLight = uClusterRanges[2 * cluster];
-  uint lightCount = uint(uGlobalLights) + uClusterRanges[2 * cluster + 1];
+  uint lightCount = uUnlit == 1 ? 0u : uint(uGlobalLights) + uClusterRanges[2 * cluster + 1];
   for (uint k = 0u; k < lightCount; ++k) {
     uint entry = k < uint(uGlobalLights) ? k : firstClusterLight + (k - uint(uGlobalLights));
     int i = int(uClusterLights[entry]);
@@ -177,6 +178,7 @@ void main() {
 #endif
   }
 
+  if (uUnlit == 1) color = baseColor.rgb;
   if (uDebugView == DEBUG_VIEW_SHADOW) color = vec3(shadowedLights > 0 ? shadowSum / float(shadowedLights) : 1.0);
   if (uDebugView == DEBUG_VIEW_DEPTH) color = vec3(depthView);
   if (uDebugView == DEBUG_VIEW_NORMALS) color = facingNormal * 0.5 + 0.5;

@@ -221,6 +221,28 @@ TEST(GpuInstancing, SimpleInstancingDrawsAllCubesAndTheyShadowEachOther) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// MeshPrimitiveModes: points, lines, line loop and line strip in the upper 5/8 of the picture
+// (triangles, strip and fan below) are drawn; before, that part was empty.
+
+TEST(PrimitiveModes, PointsAndLinesAreDrawn) {
+  const fs::path file = kScenes / "compressed" / "MeshPrimitiveModes" / "MeshPrimitiveModes.gltf";
+  test_support::TempFolder folder("omnishadow-modes");
+  const test_support::RunResult r = test_support::runOmnishadow(
+      {"render", file.string(), "--width", "128", "--height", "64", "-o",
+       (folder / "beauty.png").string(), "--aov", (folder / "aov.exr").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("not drawn"), std::string::npos) << r.err;
+  const FloatImage aov = readImage(folder / "aov.exr");
+  const int a = aov.channelIndex("A");
+  ASSERT_GE(a, 0);
+  int covered = 0;
+  for (int y = 0; y < aov.height * 5 / 8; ++y) {
+    for (int x = 0; x < aov.width; ++x) covered += aov.at(x, y, a) > 0.0f ? 1 : 0;
+  }
+  EXPECT_GT(covered, 30);
+}
+
+// ---------------------------------------------------------------------------------------------
 // Broken compressed data: copies of the real files, edited.
 
 std::string readBytes(const fs::path& path) {

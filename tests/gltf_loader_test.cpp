@@ -538,19 +538,6 @@ TEST_F(GltfLoaderTest, ReadsStridedNormalizedAndSparseAccessors) {
   EXPECT_TRUE(near(b.positions[2], {0, 3, 0}));
 }
 
-TEST_F(GltfLoaderTest, PointsAndLinesAreSkippedWithAWarning) {
-  GltfBuilder builder;
-  const int mesh = builder.addMesh(triangleMesh());
-  builder.addPrimitive(mesh, triangleMesh());
-  builder.model().meshes[0].primitives[0].mode = TINYGLTF_MODE_LINE;
-  builder.addNode("lines", {}, mesh);
-
-  const Scene scene = writeAndLoad(builder);
-  ASSERT_EQ(scene.meshes.size(), 1u);
-  EXPECT_EQ(scene.meshes[0].name, "mesh0/1");
-  EXPECT_TRUE(anyWarningContains(scene, "meshes[0].primitives[0]: lines"));
-}
-
 TEST_F(GltfLoaderTest, SkinsAndMorphTargetsDrawTheStaticPoseWithOneWarningEach) {
   GltfBuilder builder;
   const int mesh = builder.addMesh(triangleMesh());
@@ -1114,6 +1101,28 @@ TEST_F(GltfLoaderTest, QuantizedAttributesOfEveryAllowedComponentTypeDequantize)
     EXPECT_EQ(m.uv0[1], glm::vec2(2, 0));  // integers, not normalized: a texture transform scales
     EXPECT_EQ(m.uv0[2], glm::vec2(0, 3));
   }
+}
+
+// Points and lines (glTF 3.7.2.1): points as they are; lines in pairs; a strip joins each vertex
+// to the next; a loop also joins the last to the first.
+TEST_F(GltfLoaderTest, PointsAndLinesBecomePointAndLinePairIndices) {
+  MeshData square;
+  square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  square.indices = {0, 1, 2, 3};
+  GltfBuilder builder;
+  for (int mode = TINYGLTF_MODE_POINTS; mode <= TINYGLTF_MODE_LINE_STRIP; ++mode) {
+    const int mesh = builder.addMesh(square);
+    builder.model().meshes[mesh].primitives[0].mode = mode;
+    builder.addNode("mode" + std::to_string(mode), {}, mesh);
+  }
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 4u);
+  for (const Mesh& mesh : scene.meshes) EXPECT_TRUE(mesh.indices.empty());
+  EXPECT_EQ(scene.meshes[0].pointIndices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(scene.meshes[1].lineIndices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(scene.meshes[2].lineIndices, (std::vector<std::uint32_t>{0, 1, 1, 2, 2, 3, 3, 0}));
+  EXPECT_EQ(scene.meshes[3].lineIndices, (std::vector<std::uint32_t>{0, 1, 1, 2, 2, 3}));
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings[0];
 }
 
 // EXT_mesh_gpu_instancing: instance i is placed at node * T_i * R_i * S_i, here with TRANSLATION

@@ -134,16 +134,22 @@ std::vector<std::uint32_t> toTriangleList(const std::vector<std::uint32_t>& in, 
   return out;
 }
 
-// Warns about primitives that are not drawn (points, lines, no POSITION) and returns false for
-// them; fails for modes glTF does not define.
+// Line strips and loops as pairs of indices (glTF 3.7.2.1); lines as they are.
+std::vector<std::uint32_t> toLinePairs(const std::vector<std::uint32_t>& in, int mode) {
+  if (mode == TINYGLTF_MODE_LINE) return {in.begin(), in.begin() + in.size() / 2 * 2};
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i + 1 < in.size(); ++i) out.insert(out.end(), {in[i], in[i + 1]});
+  if (mode == TINYGLTF_MODE_LINE_LOOP && in.size() > 2) out.insert(out.end(), {in.back(), in[0]});
+  return out;
+}
+
+// Warns about primitives that are not drawn (no POSITION) and returns false for them; fails for
+// modes glTF does not define.
 bool isDrawn(Context& ctx, const tinygltf::Primitive& primitive, const std::string& object,
              int mode) {
-  if (mode < TINYGLTF_MODE_TRIANGLES) {
-    static constexpr const char* kNames[] = {"points", "lines", "line loop", "line strip"};
-    ctx.warn(object + ": " + kNames[mode] + " primitives are not drawn");
-    return false;
+  if (mode < TINYGLTF_MODE_POINTS || mode > TINYGLTF_MODE_TRIANGLE_FAN) {
+    ctx.fail(object, "invalid mode " + std::to_string(mode));
   }
-  if (mode > TINYGLTF_MODE_TRIANGLE_FAN) ctx.fail(object, "invalid mode " + std::to_string(mode));
   if (primitive.attributes.count("POSITION") == 0) {
     ctx.warn(object + ": no POSITION attribute; not drawn");
     return false;
@@ -269,8 +275,16 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   decodeDraco(ctx, meshIndex, primIndex);
   const bool drawn = readVertices(ctx, primitive, object, mesh);
   const int indices = indicesAccessor(ctx, meshIndex, primIndex);
-  if (drawn)
-    mesh.indices = toTriangleList(readIndices(ctx, indices, object, mesh.positions.size()), mode);
+  if (drawn) {
+    std::vector<std::uint32_t> list = readIndices(ctx, indices, object, mesh.positions.size());
+    if (mode == TINYGLTF_MODE_POINTS) {
+      mesh.pointIndices = std::move(list);
+    } else if (mode < TINYGLTF_MODE_TRIANGLES) {
+      mesh.lineIndices = toLinePairs(list, mode);
+    } else {
+      mesh.indices = toTriangleList(list, mode);
+    }
+  }
   ctx.dracoAccessors.clear();
   ctx.primitive.clear();
   if (!drawn) return std::nullopt;
@@ -279,7 +293,8 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
              " indices is not a multiple of 3; the last triangle is dropped");
     mesh.indices.resize(mesh.indices.size() / 3 * 3);
   }
-  generateMissing(ctx, object, mesh);
+  // Points and lines are drawn unlit: they need no normals.
+  if (mode >= TINYGLTF_MODE_TRIANGLES) generateMissing(ctx, object, mesh);
   for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
   return mesh;
 }
