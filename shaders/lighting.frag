@@ -45,7 +45,7 @@ uniform mat3 uEmissiveUvTransform;
 // The normal texture's X and Y axes in the mesh's tangent frame (upper 2x2; identity without a
 // transform): a rotated or mirrored texture turns the normals it stores with it.
 uniform mat3 uNormalTextureAxes;
-uniform int uUnlit;  // KHR_materials_unlit: the base color as is
+uniform int uUnlit;  // KHR_materials_unlit, points and lines: the base color as is, no lights
 // KHR_materials_pbrSpecularGlossiness: the base color is the diffuse color, and the
 // metallic-roughness unit holds the specular-glossiness texture.
 uniform int uSpecularGlossiness;
@@ -160,7 +160,7 @@ void main() {
                         float(uSlices - 1)));
   int cluster = (slice * uTileRows + tile.y) * uTileColumns + tile.x;
   uint firstClusterLight = uClusterRanges[2 * cluster];
-  uint lightCount = uint(uGlobalLights) + uClusterRanges[2 * cluster + 1];
+  uint lightCount = uUnlit != 0 ? 0u : uint(uGlobalLights) + uClusterRanges[2 * cluster + 1];
   for (uint k = 0u; k < lightCount; ++k) {
     uint entry = k < uint(uGlobalLights) ? k : firstClusterLight + (k - uint(uGlobalLights));
     int i = int(uClusterLights[entry]);

@@ -529,19 +529,6 @@ TEST_F(GltfLoaderTest, ReadsStridedNormalizedAndSparseAccessors) {
   EXPECT_TRUE(near(b.positions[2], {0, 3, 0}));
 }
 
-TEST_F(GltfLoaderTest, PointsAndLinesAreSkippedWithAWarning) {
-  GltfBuilder builder;
-  const int mesh = builder.addMesh(triangleMesh());
-  builder.addPrimitive(mesh, triangleMesh());
-  builder.model().meshes[0].primitives[0].mode = TINYGLTF_MODE_LINE;
-  builder.addNode("lines", {}, mesh);
-
-  const Scene scene = writeAndLoad(builder);
-  ASSERT_EQ(scene.meshes.size(), 1u);
-  EXPECT_EQ(scene.meshes[0].name, "mesh0/1");
-  EXPECT_TRUE(anyWarningContains(scene, "meshes[0].primitives[0]: lines"));
-}
-
 TEST_F(GltfLoaderTest, SkinsAndMorphTargetsDrawTheStaticPoseWithOneWarningEach) {
   GltfBuilder builder;
   const int mesh = builder.addMesh(triangleMesh());
@@ -1001,11 +988,176 @@ TEST_F(GltfLoaderTest, UnsupportedExtensionsFailWhenRequiredAndWarnWhenUsed) {
   ASSERT_EQ(scene.warnings.size(), 1u);
   EXPECT_TRUE(contains(scene.warnings[0], "KHR_materials_clearcoat"));
 
-  model.extensionsUsed.push_back("KHR_draco_mesh_compression");
-  model.extensionsRequired.push_back("KHR_draco_mesh_compression");
+  model.extensionsUsed.push_back("EXT_lights_image_based");
+  model.extensionsRequired.push_back("EXT_lights_image_based");
   builder.write(file, FileFormat::GltfEmbedded);
   EXPECT_EQ(inputError([&] { loadGltf(file); }),
-            file.string() + ": extensionsRequired: KHR_draco_mesh_compression is not supported");
+            file.string() + ": extensionsRequired: EXT_lights_image_based is not supported");
+}
+
+// KHR_mesh_quantization: each integer component type it allows, normalized or not, reads as
+// the spec's formulas say (normalized signed: max(c / (2^(n-1) - 1), -1); unsigned: c / (2^n - 1);
+// otherwise the integer itself). Without the extension declared, the same file is refused.
+TEST_F(GltfLoaderTest, QuantizedAttributesOfEveryAllowedComponentTypeDequantize) {
+  struct Case {
+    const char* name;
+    int componentType;
+    bool normalized;
+    std::vector<unsigned char> bytes;  // three VEC3 positions, each element padded to 4 bytes
+    std::vector<glm::vec3> expected;
+  };
+  const int byte = TINYGLTF_COMPONENT_TYPE_BYTE, ubyte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  const int i16 = TINYGLTF_COMPONENT_TYPE_SHORT, u16 = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  const auto shorts = [](std::initializer_list<int> values) {
+    std::vector<unsigned char> bytes;
+    for (int v : values) append(bytes, static_cast<std::int16_t>(v));
+    return bytes;
+  };
+  const Case cases[] = {
+      {"BYTE",
+       byte,
+       false,
+       {0, 0, 0, 0, 5, 0, 0, 0, 0, 0x80, 0, 0},
+       {{0, 0, 0}, {5, 0, 0}, {0, -128, 0}}},
+      {"BYTE normalized",
+       byte,
+       true,
+       {0, 0, 0, 0, 127, 0, 0, 0, 0, 0x80, 0, 0},
+       {{0, 0, 0}, {1, 0, 0}, {0, -1, 0}}},
+      {"UNSIGNED_BYTE",
+       ubyte,
+       false,
+       {0, 0, 0, 0, 200, 0, 0, 0, 0, 3, 0, 0},
+       {{0, 0, 0}, {200, 0, 0}, {0, 3, 0}}},
+      {"UNSIGNED_BYTE normalized",
+       ubyte,
+       true,
+       {0, 0, 0, 0, 255, 0, 0, 0, 0, 51, 0, 0},
+       {{0, 0, 0}, {1, 0, 0}, {0, 0.2f, 0}}},
+      {"SHORT",
+       i16,
+       false,
+       shorts({0, 0, 0, 0, 1000, 0, 0, 0, 0, -1000, 0, 0}),
+       {{0, 0, 0}, {1000, 0, 0}, {0, -1000, 0}}},
+      {"SHORT normalized",
+       i16,
+       true,
+       shorts({0, 0, 0, 0, 32767, 0, 0, 0, 0, -32768, 0, 0}),
+       {{0, 0, 0}, {1, 0, 0}, {0, -1, 0}}},
+      {"UNSIGNED_SHORT",
+       u16,
+       false,
+       shorts({0, 0, 0, 0, 40000, 0, 0, 0, 0, 7, 0, 0}),
+       {{0, 0, 0}, {40000, 0, 0}, {0, 7, 0}}},
+      {"UNSIGNED_SHORT normalized",
+       u16,
+       true,
+       shorts({0, 0, 0, 0, 65535, 0, 0, 0, 0, 13107, 0, 0}),
+       {{0, 0, 0}, {1, 0, 0}, {0, 0.2f, 0}}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    GltfBuilder builder;
+    const int mesh = builder.addMesh(triangleMesh());
+    builder.addNode("node", {}, mesh);
+    tinygltf::Model& model = builder.model();
+    const std::size_t elementSize = c.componentType == byte || c.componentType == ubyte ? 4 : 8;
+    const int view = addRawView(model, c.bytes, elementSize);
+    const int position =
+        addRawAccessor(model, view, 0, c.componentType, TINYGLTF_TYPE_VEC3, 3, c.normalized);
+    model.accessors[position].minValues = {};
+    model.accessors[position].maxValues = {};
+    model.meshes[mesh].primitives[0].attributes["POSITION"] = position;
+    // Normals as normalized bytes, texture coordinates as unnormalized unsigned shorts.
+    const int normals =
+        addRawAccessor(model, addRawView(model, {0, 0, 127, 0, 0, 0, 127, 0, 0, 0, 127, 0}, 4), 0,
+                       byte, TINYGLTF_TYPE_VEC3, 3, true);
+    model.meshes[mesh].primitives[0].attributes["NORMAL"] = normals;
+    const int uvs = addRawAccessor(model, addRawView(model, shorts({0, 0, 2, 0, 0, 3})), 0, u16,
+                                   TINYGLTF_TYPE_VEC2, 3);
+    model.meshes[mesh].primitives[0].attributes["TEXCOORD_0"] = uvs;
+    const fs::path file = path("quantized.glb");
+    builder.write(file, FileFormat::Glb);
+    EXPECT_TRUE(contains(inputError([&] { loadGltf(file); }), "POSITION must be FLOAT"));
+
+    model.extensionsUsed = {"KHR_mesh_quantization"};
+    model.extensionsRequired = {"KHR_mesh_quantization"};
+    builder.write(file, FileFormat::Glb);
+    const Scene scene = loadGltf(file);
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    const Mesh& m = scene.meshes[0];
+    ASSERT_EQ(m.positions.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_TRUE(near(m.positions[i], c.expected[i], 1e-6f));
+    EXPECT_TRUE(near(m.normals[1], {0, 0, 1}));
+    EXPECT_EQ(m.uv0[1], glm::vec2(2, 0));  // integers, not normalized: a texture transform scales
+    EXPECT_EQ(m.uv0[2], glm::vec2(0, 3));
+  }
+}
+
+// Points and lines (glTF 3.7.2.1): points as they are; lines in pairs; a strip joins each vertex
+// to the next; a loop also joins the last to the first.
+TEST_F(GltfLoaderTest, PointsAndLinesBecomePointAndLinePairIndices) {
+  MeshData square;
+  square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  square.indices = {0, 1, 2, 3};
+  GltfBuilder builder;
+  for (int mode = TINYGLTF_MODE_POINTS; mode <= TINYGLTF_MODE_LINE_STRIP; ++mode) {
+    const int mesh = builder.addMesh(square);
+    builder.model().meshes[mesh].primitives[0].mode = mode;
+    builder.addNode("mode" + std::to_string(mode), {}, mesh);
+  }
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 4u);
+  for (const Mesh& mesh : scene.meshes) EXPECT_TRUE(mesh.indices.empty());
+  EXPECT_EQ(scene.meshes[0].pointIndices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(scene.meshes[1].lineIndices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(scene.meshes[2].lineIndices, (std::vector<std::uint32_t>{0, 1, 1, 2, 2, 3, 3, 0}));
+  EXPECT_EQ(scene.meshes[3].lineIndices, (std::vector<std::uint32_t>{0, 1, 1, 2, 2, 3}));
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings[0];
+}
+
+// EXT_mesh_gpu_instancing: instance i is placed at node * T_i * R_i * S_i, here with TRANSLATION
+// as normalized shorts, ROTATION as normalized bytes and SCALE as floats.
+TEST_F(GltfLoaderTest, GpuInstancingPlacesOneInstancePerElement) {
+  GltfBuilder builder;
+  const int mesh = builder.addMesh(triangleMesh());
+  const int node = builder.addNode("instanced", {.translation = {10, 0, 0}}, mesh);
+  tinygltf::Model& model = builder.model();
+  std::vector<unsigned char> translation, rotation, scale;
+  // Elements padded to 8 bytes.
+  for (int v : {0, 0, 0, 0, 0, 16384, 0, 0}) append(translation, static_cast<std::int16_t>(v));
+  for (int v : {0, 0, 0, 127, 0, 127, 0, 127}) append(rotation, static_cast<std::int8_t>(v));
+  for (float v : {1.0f, 1.0f, 1.0f, 2.0f, 2.0f, 2.0f}) append(scale, v);
+  const int t = addRawAccessor(model, addRawView(model, translation, 8), 0,
+                               TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3, 2, true);
+  const int r = addRawAccessor(model, addRawView(model, rotation), 0, TINYGLTF_COMPONENT_TYPE_BYTE,
+                               TINYGLTF_TYPE_VEC4, 2, true);
+  const int s = addRawAccessor(model, addRawView(model, scale), 0, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                               TINYGLTF_TYPE_VEC3, 2);
+  tinygltf::Value::Object attributes = {{"TRANSLATION", tinygltf::Value(t)},
+                                        {"ROTATION", tinygltf::Value(r)},
+                                        {"SCALE", tinygltf::Value(s)}};
+  model.nodes[node].extensions["EXT_mesh_gpu_instancing"] =
+      tinygltf::Value(tinygltf::Value::Object{{"attributes", tinygltf::Value(attributes)}});
+  model.extensionsUsed = {"EXT_mesh_gpu_instancing", "KHR_mesh_quantization"};
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.instances.size(), 2u);
+  const auto place = [&](std::size_t i, glm::vec3 p) {
+    return glm::vec3(scene.instances[i].world * glm::vec4(p, 1.0f));
+  };
+  EXPECT_TRUE(near(place(0, {1, 0, 0}), {11, 0, 0}));
+  // 90 degrees about +Y turns +X into -Z; scaled by 2, lifted by 16384 / 32767.
+  EXPECT_TRUE(near(place(1, {1, 0, 0}), {10, 16384.0f / 32767.0f, -2}, 1e-5f));
+  EXPECT_TRUE(near(scene.bounds.max, {11, 2.0f + 16384.0f / 32767.0f, 0}, 1e-5f));
+
+  // The attributes must agree on the number of instances.
+  model.accessors[static_cast<std::size_t>(s)].count = 1;
+  const fs::path file = path("instancing.glb");
+  builder.write(file, FileFormat::Glb);
+  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+            file.string() + ": nodes[" + std::to_string(node) +
+                "].extensions.EXT_mesh_gpu_instancing.attributes.SCALE: accessors[" +
+                std::to_string(s) + "] has 1 elements, but the other attributes have 2");
 }
 
 TEST_F(GltfLoaderTest, NodeCyclesAndBadReferencesAreInputErrors) {

@@ -365,18 +365,33 @@ const BrokenScene kBrokenScenes[] = {
               std::to_string(vertices);
      },
      {}},
-    {"DracoRequired",
+    {"DracoDataThatDoesNotDecode",
      [](Json& gltf, const fs::path&) {
+       // The floor's positions are no Draco stream.
+       const int view = viewOf(gltf, floorAttribute(gltf, "POSITION"));
        gltf["extensionsUsed"] = {"KHR_draco_mesh_compression"};
        gltf["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-       return std::string("extensionsRequired: KHR_draco_mesh_compression is not supported");
+       gltf["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"] = {
+           {"bufferView", view}, {"attributes", {{"POSITION", 0}}}};
+       return "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression: the Draco data in " +
+              at("bufferViews", view) + " does not decode: Not a Draco file.";
      },
      {}},
-    {"MeshoptRequired",
+    {"MeshoptDataThatDoesNotDecode",
      [](Json& gltf, const fs::path&) {
+       // The floor's positions, said to be compressed: their first byte is no meshopt header.
+       const int view = viewOf(gltf, floorAttribute(gltf, "POSITION"));
+       const int count = gltf["accessors"][floorAttribute(gltf, "POSITION")]["count"];
        gltf["extensionsUsed"] = {"EXT_meshopt_compression"};
        gltf["extensionsRequired"] = {"EXT_meshopt_compression"};
-       return std::string("extensionsRequired: EXT_meshopt_compression is not supported");
+       gltf["bufferViews"][view]["byteStride"] = 12;
+       gltf["bufferViews"][view]["extensions"]["EXT_meshopt_compression"] = {
+           {"buffer", 0},      {"byteOffset", gltf["bufferViews"][view].value("byteOffset", 0)},
+           {"byteLength", 48}, {"byteStride", 12},
+           {"count", count},   {"mode", "ATTRIBUTES"}};
+       return at("bufferViews", view) +
+              ".extensions.EXT_meshopt_compression: the ATTRIBUTES data does not decode: no "
+              "meshopt header (reading meshes[0].primitives[0])";
      },
      {}},
     {"TruncatedGlb",

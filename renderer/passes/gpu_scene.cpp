@@ -83,6 +83,10 @@ void GpuScene::uploadGeometry(const Scene& scene) {
       vertices.push_back(v);
     }
     indices.insert(indices.end(), mesh.indices.begin(), mesh.indices.end());
+    range.lineIndexCount = static_cast<GLsizei>(mesh.lineIndices.size());
+    indices.insert(indices.end(), mesh.lineIndices.begin(), mesh.lineIndices.end());
+    range.pointIndexCount = static_cast<GLsizei>(mesh.pointIndices.size());
+    indices.insert(indices.end(), mesh.pointIndices.begin(), mesh.pointIndices.end());
     meshes_.push_back(range);
   }
   vertices_ = gl::createBuffer();

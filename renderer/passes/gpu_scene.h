@@ -14,6 +14,10 @@ struct GpuMeshRange {
   GLint baseVertex = 0;
   GLsizei firstIndex = 0;  // in indices, not bytes
   GLsizei indexCount = 0;
+  // Lines (pairs) and points follow the triangles in the index buffer; only the lighting pass
+  // draws them.
+  GLsizei lineIndexCount = 0;
+  GLsizei pointIndexCount = 0;
   bool hasTangents = false;
   // The mesh bounds a solid (isClosedSolid): from a light outside it only front faces can be
   // nearest, so the shadow pass skips its back faces.

@@ -320,7 +320,25 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
         GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4),
         range.baseVertex);
+    if (range.lineIndexCount + range.pointIndexCount > 0) drawPointsAndLines(range, program);
   }
+}
+
+// One pixel wide (GL's default line width and point size), in their base color: the lighting
+// program skips the lights for them (uUnlit), and the shadow pass never draws them.
+void LightingPass::drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program) {
+  const bool lighting = &program == &program_;
+  if (lighting) program.set("uUnlit", 1);
+  std::uintptr_t first = static_cast<std::uintptr_t>(range.firstIndex + range.indexCount);
+  for (const auto& [primitive, count] : {std::pair{GLenum{GL_LINES}, range.lineIndexCount},
+                                         std::pair{GLenum{GL_POINTS}, range.pointIndexCount}}) {
+    if (count > 0) {
+      glDrawElementsBaseVertex(primitive, count, GL_UNSIGNED_INT,
+                               reinterpret_cast<const void*>(first * 4), range.baseVertex);
+    }
+    first += static_cast<std::uintptr_t>(count);
+  }
+  if (lighting) program.set("uUnlit", 0);
 }
 
 void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,

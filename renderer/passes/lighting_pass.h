@@ -95,6 +95,7 @@ class LightingPass {
                       const ViewCamera& camera);
   enum class DrawSet { Opaque, Masked, Blended };
   void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram& program);
+  void drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program);
 
   PassOutputs outputs_;
   ShaderProgram program_;

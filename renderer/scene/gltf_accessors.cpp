@@ -5,6 +5,8 @@
 #include <cstring>
 #include <utility>
 
+#include "renderer/scene/gltf_meshopt.h"
+
 namespace omnishadow::gltf_detail {
 
 namespace {
@@ -89,6 +91,8 @@ const unsigned char* bufferViewData(const Context& ctx, const std::string& objec
   const tinygltf::BufferView& view = ctx.model.bufferViews[static_cast<std::size_t>(index)];
   const std::string viewName = at("bufferViews", static_cast<std::size_t>(index));
   ctx.checkIndex(viewName, "buffer", view.buffer, ctx.model.buffers.size());
+  // Compressed views decode to their own storage; their buffer may hold no data at all.
+  if (const unsigned char* decoded = meshoptViewData(ctx, object, index, length)) return decoded;
   const tinygltf::Buffer& buffer = ctx.model.buffers[static_cast<std::size_t>(view.buffer)];
   if (!fitsIn(view.byteOffset, 1, view.byteLength, 1, buffer.data.size())) {
     ctx.fail(viewName,
@@ -141,14 +145,24 @@ ElementFormat elementFormat(const Context& ctx, const tinygltf::Accessor& access
   return format;
 }
 
-// The start of the accessor's bufferView (nullptr without one: the elements are all zeros)
+// The accessor's first element (nullptr without a bufferView: the elements are all zeros)
 // and the distance between its elements, once they are known to lie inside the view.
 std::pair<const unsigned char*, std::size_t> locateElements(Context& ctx,
                                                             const tinygltf::Accessor& accessor,
-                                                            const std::string& name,
+                                                            int index, const std::string& name,
                                                             std::size_t elementSize) {
   const unsigned char* data = nullptr;
   std::size_t stride = elementSize;
+  if (const auto decoded = ctx.dracoAccessors.find(index); decoded != ctx.dracoAccessors.end()) {
+    // Draco output, laid out tightly as the accessor describes (gltf_draco.cpp); its byteOffset
+    // and bufferView, if any, describe the uncompressed fallback.
+    if (decoded->second.size() != accessor.count * elementSize) {
+      ctx.fail(name, "KHR_draco_mesh_compression decoded " +
+                         std::to_string(decoded->second.size()) + " bytes, not count " +
+                         std::to_string(accessor.count) + " times " + std::to_string(elementSize));
+    }
+    return {decoded->second.data(), elementSize};
+  }
   if (accessor.bufferView >= 0) {
     const std::string viewName = at("bufferViews", static_cast<std::size_t>(accessor.bufferView));
     std::size_t viewLength = 0;
@@ -171,7 +185,7 @@ std::pair<const unsigned char*, std::size_t> locateElements(Context& ctx,
     ctx.countWithoutBufferView += accessor.count;
   }
 
-  return {data, stride};
+  return {data == nullptr ? nullptr : data + accessor.byteOffset, stride};
 }
 
 // Substitutes the sparse values of `accessor` into `out`.
@@ -234,15 +248,14 @@ AccessorValues readAccessor(Context& ctx, int index, Normalize normalize) {
   const std::string name = at("accessors", static_cast<std::size_t>(index));
   const ElementFormat format = elementFormat(ctx, accessor, name, normalize);
   // Bounds first: the count is only trusted once the data behind it is known to exist.
-  const auto [data, stride] = locateElements(ctx, accessor, name, format.elementSize());
+  const auto [data, stride] = locateElements(ctx, accessor, index, name, format.elementSize());
   AccessorValues out;
   out.components = format.components;
   out.count = accessor.count;
   out.values.assign(accessor.count * static_cast<std::size_t>(format.components), 0.0);
   // Without a bufferView the accessor is all zeros (then usually sparse).
   if (data != nullptr) {
-    format.read(out, data + accessor.byteOffset, stride, accessor.count,
-                [](std::size_t e) { return e; });
+    format.read(out, data, stride, accessor.count, [](std::size_t e) { return e; });
   }
   if (accessor.sparse.isSparse) applySparse(ctx, accessor, name, format, out);
   return out;

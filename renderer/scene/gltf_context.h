@@ -5,11 +5,13 @@
 
 #include <cstddef>
 #include <glm/glm.hpp>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "renderer/core/errors.h"
+#include "renderer/scene/gltf_compressed_json.h"
 #include "renderer/scene/scene.h"
 
 namespace omnishadow::gltf_detail {
@@ -30,6 +32,15 @@ struct Context {
   bool warnedSkins = false;
   bool warnedMorphTargets = false;
   std::size_t countWithoutBufferView = 0;  // elements read so far from accessors without one
+  // Geometry extensions (gltf_draco, gltf_meshopt, gltf_compressed_json):
+  bool quantized = false;      // KHR_mesh_quantization declared: integer positions, normals, ...
+  CompressionFixups fixups{};  // what the reader changed so that tinygltf parses the file
+  // Decoded meshopt bufferViews by index, filled on first use (bufferViewData is const).
+  mutable std::map<int, std::vector<unsigned char>> meshoptViews{};
+  // Draco-decoded data of the primitive being converted, by accessor index, laid out tightly
+  // as each accessor describes; read instead of the accessor's (absent) bufferView.
+  std::map<int, std::vector<unsigned char>> dracoAccessors{};
+  std::string primitive{};  // "meshes[m].primitives[p]" while one is converted, for decoders
 
   [[noreturn]] void fail(const std::string& object, const std::string& problem) const {
     throw InputError(file + ": " + object + ": " + problem);

@@ -22,14 +22,13 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"EXT_texture_webp", FallbackOnly, "the textures' PNG/JPEG fallback images"},
     {"EXT_texture_avif", FallbackOnly, "the textures' PNG/JPEG fallback images"},
     {"MSFT_texture_dds", FallbackOnly, "the textures' PNG/JPEG fallback images"},
-    // Geometry: branch ext-geom implements these five and turns them to Supported. Until then
-    // a file that requires them is refused here, naming the extension, before an accessor
-    // without a bufferView could fail with a vaguer message.
-    {"KHR_draco_mesh_compression", NotSupported, "the uncompressed fallback accessors"},
-    {"EXT_meshopt_compression", NotSupported, "the uncompressed fallback buffers"},
-    {"KHR_meshopt_compression", NotSupported, "the uncompressed fallback buffers"},
-    {"KHR_mesh_quantization", NotSupported, "nothing: quantized attributes are refused"},
-    {"EXT_mesh_gpu_instancing", NotSupported, "each mesh once, at its node"},
+    // Geometry: decoded by gltf_draco and gltf_meshopt, dequantized by the accessor reader,
+    // instances expanded by gltf_instancing.
+    {"KHR_draco_mesh_compression", Supported, ""},
+    {"EXT_meshopt_compression", Supported, ""},
+    {"KHR_meshopt_compression", Supported, ""},
+    {"KHR_mesh_quantization", Supported, ""},
+    {"EXT_mesh_gpu_instancing", Supported, ""},
     // Materials beyond the core model.
     {"KHR_materials_clearcoat", NotSupported, "the base material, without clearcoat"},
     {"KHR_materials_sheen", NotSupported, "the base material, without sheen"},

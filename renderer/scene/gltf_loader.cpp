@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "renderer/scene/gltf_context.h"
@@ -17,7 +18,9 @@
 // (URI policy, image size caps), gltf_extension_policy (which extensions are refused or
 // ignored; the table is gltf_extensions), gltf_accessors, gltf_materials (images, textures,
 // materials; their extensions in gltf_material_extensions),
-// gltf_primitives (meshes) and gltf_nodes (hierarchy, cameras, lights).
+// gltf_primitives (meshes) and gltf_nodes (hierarchy, cameras, lights). Geometry extensions:
+// gltf_compressed_json (what tinygltf cannot parse in compressed files), gltf_draco,
+// gltf_meshopt, gltf_instancing.
 
 namespace omnishadow {
 
@@ -60,11 +63,15 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   Scene scene;
   scene.path = path.string();
   bool binary = false;
-  const tinygltf::Model model =
-      gltf_detail::readModel(path, scene.path, scene.warnings, &binary, options.allowExternalUris);
+  gltf_detail::CompressionFixups fixups;
+  const tinygltf::Model model = gltf_detail::readModel(path, scene.path, scene.warnings, &binary,
+                                                       options.allowExternalUris, fixups);
   scene.inputFiles = referencedFiles(path, model);
   scene.source = summarize(model, binary);
   Context ctx{scene.path, model, scene};
+  ctx.fixups = std::move(fixups);
+  ctx.quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
+                            "KHR_mesh_quantization") != model.extensionsUsed.end();
   scene.source.extensions = gltf_detail::checkExtensions(ctx);
   const auto [roots, rootsObject] = gltf_detail::sceneRoots(ctx, options);
   gltf_detail::convertImages(ctx);

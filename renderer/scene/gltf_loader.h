@@ -20,7 +20,7 @@ struct GltfLoadOptions {
 // other schemes than data: are refused. Primitives with non-finite positions and nodes with non-finite transforms are skipped with a
 // warning.
 // Throws InputError ("<file>: <glTF object>: <problem>") for unreadable or invalid files;
-// recoverable oddities (unsupported optional extensions, points/lines primitives) go to
+// recoverable oddities (unsupported optional extensions, skins, morph targets) go to
 // Scene::warnings.
 Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options = {});
 

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "renderer/scene/camera_checks.h"
+#include "renderer/scene/gltf_instancing.h"
 #include "renderer/scene/gltf_primitives.h"
 
 namespace omnishadow::gltf_detail {
@@ -234,13 +235,20 @@ class SceneBuilder {
         ctx_.warnedSkins = true;
       }
       const auto meshIndex = static_cast<std::size_t>(node.mesh);
+      // EXT_mesh_gpu_instancing: one Scene instance per glTF instance.
+      std::vector<glm::mat4> worlds = instanceTransforms(ctx_, nodeIndex);
+      for (glm::mat4& instance : worlds) instance = world * instance;
+      if (worlds.empty()) worlds.push_back(world);
       for (std::size_t p = 0; p < meshOf_[meshIndex].size(); ++p) {
         const int mesh = sceneMesh(meshIndex, p);
         if (mesh < 0) continue;
-        ctx_.scene.instances.push_back(
-            {mesh, world, static_cast<int>(nodeIndex), node.name, extrasClass(node)});
-        ctx_.scene.bounds.extend(
-            ctx_.scene.meshes[static_cast<std::size_t>(mesh)].bounds.transformed(world));
+        for (const glm::mat4& instanceWorld : worlds) {
+          if (!isFinite(instanceWorld)) continue;
+          ctx_.scene.instances.push_back(
+              {mesh, instanceWorld, static_cast<int>(nodeIndex), node.name, extrasClass(node)});
+          ctx_.scene.bounds.extend(
+              ctx_.scene.meshes[static_cast<std::size_t>(mesh)].bounds.transformed(instanceWorld));
+        }
       }
     }
     if (node.camera >= 0) addCamera(nodeIndex, world);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "renderer/scene/gltf_accessors.h"
+#include "renderer/scene/gltf_draco.h"
 #include "renderer/scene/tangents.h"
 
 namespace omnishadow::gltf_detail {
@@ -37,12 +38,32 @@ std::string componentTypeName(int componentType) {
 }
 
 // The component types glTF 2.0 allows for vertex attributes (3.7.2.1). Others would be read,
-// but as numbers the file never meant (a POSITION of unsigned bytes is what
-// KHR_mesh_quantization allows, and that extension is not supported).
+// but as numbers the file never meant, unless the file declares KHR_mesh_quantization.
 constexpr int kFloatOnly[] = {TINYGLTF_COMPONENT_TYPE_FLOAT};
 constexpr int kFloatOrNormalized[] = {TINYGLTF_COMPONENT_TYPE_FLOAT,
                                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
                                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
+// KHR_mesh_quantization: POSITION and TEXCOORD_n any 8- or 16-bit integer, normalized or not;
+// NORMAL and TANGENT signed 8- or 16-bit normalized (checked in readVertices).
+constexpr int kQuantized[] = {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE,
+                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT,
+                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
+constexpr int kQuantizedDirection[] = {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE,
+                                       TINYGLTF_COMPONENT_TYPE_SHORT};
+
+// KHR_mesh_quantization's NORMAL and TANGENT are integers only when normalized.
+void requireNormalizedIntegers(const Context& ctx, const std::string& object,
+                               const tinygltf::Primitive& primitive, const std::string& semantic) {
+  const auto found = primitive.attributes.find(semantic);
+  if (found == primitive.attributes.end()) return;
+  const tinygltf::Accessor& accessor = ctx.model.accessors[static_cast<std::size_t>(found->second)];
+  if (accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !accessor.normalized) {
+    ctx.fail(object + ".attributes." + semantic,
+             at("accessors", static_cast<std::size_t>(found->second)) + " has componentType " +
+                 componentTypeName(accessor.componentType) + " but is not normalized; " + semantic +
+                 " must be (KHR_mesh_quantization)");
+  }
+}
 
 // Reads one vertex attribute of a primitive, checking its type, component type and element
 // count.
@@ -113,16 +134,22 @@ std::vector<std::uint32_t> toTriangleList(const std::vector<std::uint32_t>& in, 
   return out;
 }
 
-// Warns about primitives that are not drawn (points, lines, no POSITION) and returns false for
-// them; fails for modes glTF does not define.
+// Line strips and loops as pairs of indices (glTF 3.7.2.1); lines as they are.
+std::vector<std::uint32_t> toLinePairs(const std::vector<std::uint32_t>& in, int mode) {
+  if (mode == TINYGLTF_MODE_LINE) return {in.begin(), in.begin() + in.size() / 2 * 2};
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i + 1 < in.size(); ++i) out.insert(out.end(), {in[i], in[i + 1]});
+  if (mode == TINYGLTF_MODE_LINE_LOOP && in.size() > 2) out.insert(out.end(), {in.back(), in[0]});
+  return out;
+}
+
+// Warns about primitives that are not drawn (no POSITION) and returns false for them; fails for
+// modes glTF does not define.
 bool isDrawn(Context& ctx, const tinygltf::Primitive& primitive, const std::string& object,
              int mode) {
-  if (mode < TINYGLTF_MODE_TRIANGLES) {
-    static constexpr const char* kNames[] = {"points", "lines", "line loop", "line strip"};
-    ctx.warn(object + ": " + kNames[mode] + " primitives are not drawn");
-    return false;
+  if (mode < TINYGLTF_MODE_POINTS || mode > TINYGLTF_MODE_TRIANGLE_FAN) {
+    ctx.fail(object, "invalid mode " + std::to_string(mode));
   }
-  if (mode > TINYGLTF_MODE_TRIANGLE_FAN) ctx.fail(object, "invalid mode " + std::to_string(mode));
   if (primitive.attributes.count("POSITION") == 0) {
     ctx.warn(object + ": no POSITION attribute; not drawn");
     return false;
@@ -139,8 +166,15 @@ bool isDrawn(Context& ctx, const tinygltf::Primitive& primitive, const std::stri
 bool readVertices(Context& ctx, const tinygltf::Primitive& primitive, const std::string& object,
                   Mesh& mesh) {
   const int vec2 = TINYGLTF_TYPE_VEC2, vec3 = TINYGLTF_TYPE_VEC3, vec4 = TINYGLTF_TYPE_VEC4;
+  using Types = std::span<const int>;
+  const Types positionTypes = ctx.quantized ? Types(kQuantized) : Types(kFloatOnly);
+  const Types directionTypes = ctx.quantized ? Types(kQuantizedDirection) : Types(kFloatOnly);
+  const Types texcoordTypes = ctx.quantized ? Types(kQuantized) : Types(kFloatOrNormalized);
+  // Quantized texture coordinates are integers unless flagged normalized (a texture transform
+  // scales them); the core specification only has normalized ones.
+  const Normalize texcoordNormalize = ctx.quantized ? Normalize::AsFlagged : Normalize::Integers;
   mesh.positions = toVectors<3>(readAttribute(ctx, object, primitive, "POSITION", {vec3},
-                                              kFloatOnly, SIZE_MAX, Normalize::AsFlagged));
+                                              positionTypes, SIZE_MAX, Normalize::AsFlagged));
   const std::size_t n = mesh.positions.size();
   // Non-finite positions would poison bounds, cameras and shadow ranges: skip the primitive.
   if (std::any_of(mesh.positions.begin(), mesh.positions.end(), [](const glm::vec3& p) {
@@ -149,18 +183,22 @@ bool readVertices(Context& ctx, const tinygltf::Primitive& primitive, const std:
     ctx.warn(object + ": POSITION has non-finite values; primitive not drawn");
     return false;
   }
-  mesh.normals = toVectors<3>(
-      readAttribute(ctx, object, primitive, "NORMAL", {vec3}, kFloatOnly, n, Normalize::AsFlagged));
+  mesh.normals = toVectors<3>(readAttribute(ctx, object, primitive, "NORMAL", {vec3},
+                                            directionTypes, n, Normalize::AsFlagged));
   for (glm::vec3& normal : mesh.normals) {
     const float length = glm::length(normal);
     if (length > 0.0f && std::isfinite(length)) normal /= length;
   }
-  mesh.tangents = toVectors<4>(readAttribute(ctx, object, primitive, "TANGENT", {vec4}, kFloatOnly,
-                                             n, Normalize::AsFlagged));
-  mesh.uv0 = toVectors<2>(readAttribute(ctx, object, primitive, "TEXCOORD_0", {vec2},
-                                        kFloatOrNormalized, n, Normalize::Integers));
-  mesh.uv1 = toVectors<2>(readAttribute(ctx, object, primitive, "TEXCOORD_1", {vec2},
-                                        kFloatOrNormalized, n, Normalize::Integers));
+  mesh.tangents = toVectors<4>(readAttribute(ctx, object, primitive, "TANGENT", {vec4},
+                                             directionTypes, n, Normalize::AsFlagged));
+  if (ctx.quantized) {
+    requireNormalizedIntegers(ctx, object, primitive, "NORMAL");
+    requireNormalizedIntegers(ctx, object, primitive, "TANGENT");
+  }
+  mesh.uv0 = toVectors<2>(readAttribute(ctx, object, primitive, "TEXCOORD_0", {vec2}, texcoordTypes,
+                                        n, texcoordNormalize));
+  mesh.uv1 = toVectors<2>(readAttribute(ctx, object, primitive, "TEXCOORD_1", {vec2}, texcoordTypes,
+                                        n, texcoordNormalize));
   const AccessorValues colors = readAttribute(ctx, object, primitive, "COLOR_0", {vec3, vec4},
                                               kFloatOrNormalized, n, Normalize::Integers);
   mesh.colors = toVectors<4>(colors);
@@ -172,21 +210,21 @@ bool readVertices(Context& ctx, const tinygltf::Primitive& primitive, const std:
 
 // The primitive's indices (0, 1, 2, ... without an index accessor), each checked against the
 // vertex count n.
-std::vector<std::uint32_t> readIndices(Context& ctx, const tinygltf::Primitive& primitive,
-                                       const std::string& object, std::size_t n) {
+std::vector<std::uint32_t> readIndices(Context& ctx, int accessorIndex, const std::string& object,
+                                       std::size_t n) {
   std::vector<std::uint32_t> indices;
-  if (primitive.indices >= 0) {
-    ctx.checkIndex(object + ".indices", "accessor", primitive.indices, ctx.model.accessors.size());
+  if (accessorIndex >= 0) {
+    ctx.checkIndex(object + ".indices", "accessor", accessorIndex, ctx.model.accessors.size());
     const tinygltf::Accessor& accessor =
-        ctx.model.accessors[static_cast<std::size_t>(primitive.indices)];
+        ctx.model.accessors[static_cast<std::size_t>(accessorIndex)];
     if (accessor.type != TINYGLTF_TYPE_SCALAR ||
         (accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
          accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
          accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
-      ctx.fail(object + ".indices", at("accessors", static_cast<std::size_t>(primitive.indices)) +
+      ctx.fail(object + ".indices", at("accessors", static_cast<std::size_t>(accessorIndex)) +
                                         " must be SCALAR unsigned byte, short or int");
     }
-    const AccessorValues values = readAccessor(ctx, primitive.indices, Normalize::Never);
+    const AccessorValues values = readAccessor(ctx, accessorIndex, Normalize::Never);
     indices.reserve(values.count);
     for (double value : values.values) {
       if (value >= static_cast<double>(n)) {
@@ -233,14 +271,30 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
     ctx.checkIndex(object, "material", primitive.material, ctx.model.materials.size());
     mesh.material = primitive.material;
   }
-  if (!readVertices(ctx, primitive, object, mesh)) return std::nullopt;
-  mesh.indices = toTriangleList(readIndices(ctx, primitive, object, mesh.positions.size()), mode);
+  ctx.primitive = object;
+  decodeDraco(ctx, meshIndex, primIndex);
+  const bool drawn = readVertices(ctx, primitive, object, mesh);
+  const int indices = indicesAccessor(ctx, meshIndex, primIndex);
+  if (drawn) {
+    std::vector<std::uint32_t> list = readIndices(ctx, indices, object, mesh.positions.size());
+    if (mode == TINYGLTF_MODE_POINTS) {
+      mesh.pointIndices = std::move(list);
+    } else if (mode < TINYGLTF_MODE_TRIANGLES) {
+      mesh.lineIndices = toLinePairs(list, mode);
+    } else {
+      mesh.indices = toTriangleList(list, mode);
+    }
+  }
+  ctx.dracoAccessors.clear();
+  ctx.primitive.clear();
+  if (!drawn) return std::nullopt;
   if (mesh.indices.size() % 3 != 0) {
     ctx.warn(object + ": " + std::to_string(mesh.indices.size()) +
              " indices is not a multiple of 3; the last triangle is dropped");
     mesh.indices.resize(mesh.indices.size() / 3 * 3);
   }
-  generateMissing(ctx, object, mesh);
+  // Points and lines are drawn unlit: they need no normals.
+  if (mode >= TINYGLTF_MODE_TRIANGLES) generateMissing(ctx, object, mesh);
   for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
   return mesh;
 }

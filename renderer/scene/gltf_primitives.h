@@ -9,9 +9,9 @@
 namespace omnishadow::gltf_detail {
 
 // meshes[meshIndex].primitives[primIndex] as a triangle list with normals (generated when
-// missing) and tangents (generated for normal-mapped materials); nullopt, with a warning, for
-// primitives that are not drawn (points, lines, no or non-finite POSITION). Materials must have
-// been converted.
+// missing) and tangents (generated for normal-mapped materials), or as points or line pairs;
+// nullopt, with a warning, for primitives that are not drawn (no or non-finite POSITION).
+// Materials must have been converted.
 std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::size_t primIndex);
 
 }  // namespace omnishadow::gltf_detail

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <iterator>
+#include <optional>
 #include <set>
 #include <string_view>
 
@@ -117,6 +119,32 @@ std::string locateParseError(const tinygltf::Model& model, const std::string& me
   return message;
 }
 
+// The file with its JSON rewritten for tinygltf (gltf_compressed_json.h), or nullopt when
+// tinygltf reads it as it is. A .glb's layout has been checked by checkGlbLayout.
+std::optional<std::string> rewriteForCompression(const std::filesystem::path& path, bool binary,
+                                                 CompressionFixups& fixups) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in && !in.eof()) return std::nullopt;
+  if (!binary) return rewriteCompressedJson(bytes, false, fixups);
+  if (bytes.size() < 20) return std::nullopt;
+  const auto* header = reinterpret_cast<const unsigned char*>(bytes.data());
+  const std::size_t length = le32(header + 8), jsonLength = le32(header + 12);
+  std::optional<std::string> json =
+      rewriteCompressedJson(bytes.substr(20, jsonLength), true, fixups);
+  if (!json) return std::nullopt;
+  json->resize((json->size() + 3) / 4 * 4, ' ');
+  const auto put32 = [](std::string& out, std::size_t value) {
+    for (int shift = 0; shift < 32; shift += 8) out += static_cast<char>((value >> shift) & 0xFF);
+  };
+  const std::string rest = bytes.substr(20 + jsonLength, length - 20 - jsonLength);
+  std::string glb = bytes.substr(0, 8);
+  put32(glb, 20 + json->size() + rest.size());
+  put32(glb, json->size());
+  put32(glb, kGlbJsonChunk);
+  return glb + *json + rest;
+}
+
 bool hasGlbExtension(const std::filesystem::path& path) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
@@ -128,7 +156,7 @@ bool hasGlbExtension(const std::filesystem::path& path) {
 
 tinygltf::Model readModel(const std::filesystem::path& path, const std::string& file,
                           std::vector<std::string>& warnings, bool* isBinary,
-                          bool allowExternalUris) {
+                          bool allowExternalUris, CompressionFixups& fixups) {
   std::error_code ec;
   const std::filesystem::file_status status = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(status)) {
@@ -175,8 +203,18 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   std::string error, warning;
   bool ok = false;
   try {
-    ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path.string())
-                : reader.LoadASCIIFromFile(&model, &error, &warning, path.string());
+    if (const std::optional<std::string> rewritten = rewriteForCompression(path, binary, fixups)) {
+      const auto size = static_cast<unsigned int>(rewritten->size());
+      const std::string folder = path.parent_path().string();
+      ok = binary ? reader.LoadBinaryFromMemory(
+                        &model, &error, &warning,
+                        reinterpret_cast<const unsigned char*>(rewritten->data()), size, folder)
+                  : reader.LoadASCIIFromString(&model, &error, &warning, rewritten->data(), size,
+                                               folder);
+    } else {
+      ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path.string())
+                  : reader.LoadASCIIFromFile(&model, &error, &warning, path.string());
+    }
   } catch (const std::exception& e) {
     throw InputError(file + ": " + e.what());
   }

@@ -84,6 +84,10 @@ struct Mesh {
   std::vector<glm::vec2> uv1;
   std::vector<glm::vec4> colors;  // COLOR_0 as linear RGBA
   std::vector<std::uint32_t> indices;
+  // Points and lines (glTF modes 0-3), drawn one pixel wide in their base color, casting no
+  // shadow; they are not triangles, so everything that reads `indices` leaves them out.
+  std::vector<std::uint32_t> lineIndices;  // pairs
+  std::vector<std::uint32_t> pointIndices;
   int material = -1;  // index into Scene::materials; -1 = the glTF default material
   Bounds bounds;      // local space
 };
