@@ -27,8 +27,6 @@ struct Context {
   std::string file;
   const tinygltf::Model& model;
   Scene& scene;
-  bool warnedSkins = false;
-  bool warnedMorphTargets = false;
   std::size_t countWithoutBufferView = 0;  // elements read so far from accessors without one
 
   [[noreturn]] void fail(const std::string& object, const std::string& problem) const {

@@ -12,6 +12,7 @@
 
 #include "renderer/scene/camera_checks.h"
 #include "renderer/scene/gltf_primitives.h"
+#include "renderer/scene/gltf_rig.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -100,6 +101,7 @@ Camera convertCamera(const Context& ctx, std::size_t nodeIndex, const glm::mat4&
   camera.name = source.name.empty() ? node.name : source.name;
   camera.nodeName = node.name;
   camera.index = node.camera;
+  camera.node = static_cast<int>(nodeIndex);
   camera.world = world;
   if (source.type == "orthographic") {
     camera.orthographic = true;
@@ -221,24 +223,48 @@ class SceneBuilder {
     const tinygltf::Node& node = ctx_.model.nodes[nodeIndex];
     if (node.mesh >= 0) {
       ctx_.checkIndex(at("nodes", nodeIndex), "mesh", node.mesh, ctx_.model.meshes.size());
-      if (node.skin >= 0 && !ctx_.warnedSkins) {
-        ctx_.warn(at("nodes", nodeIndex) +
-                  ": skins are not applied (bind pose drawn; warned once)");
-        ctx_.warnedSkins = true;
-      }
       const auto meshIndex = static_cast<std::size_t>(node.mesh);
       for (std::size_t p = 0; p < meshOf_[meshIndex].size(); ++p) {
-        const int mesh = sceneMesh(meshIndex, p);
+        int mesh = sceneMesh(meshIndex, p);
         if (mesh < 0) continue;
+        const bool deformed = isDeformed(ctx_, nodeIndex, meshIndex, p);
+        mesh = instanceMesh(meshIndex, p, deformed);
         ctx_.scene.instances.push_back({mesh, world, static_cast<int>(nodeIndex)});
         ctx_.scene.bounds.extend(
             ctx_.scene.meshes[static_cast<std::size_t>(mesh)].bounds.transformed(world));
+        if (deformed)
+          addDeformedInstance(ctx_, nodeIndex, meshIndex, p,
+                              static_cast<int>(ctx_.scene.instances.size()) - 1);
       }
     }
     if (node.camera >= 0) addCamera(nodeIndex, world);
     if (const int light = lightOf(ctx_, nodeIndex); light >= 0) {
       ctx_.scene.lights.push_back(convertLight(ctx_, light, world, lightNames_));
+      ctx_.scene.rig.lightNodes.push_back(static_cast<int>(nodeIndex));
     }
+    ctx_.scene.rig.order.push_back(static_cast<int>(nodeIndex));
+  }
+
+  // The Scene mesh an instance draws. Posing rewrites a deformed instance's mesh, so that one
+  // is its own; the others share the primitive's rest mesh.
+  int instanceMesh(std::size_t meshIndex, std::size_t primIndex, bool deformed) {
+    int& slot = meshOf_[meshIndex][primIndex];
+    std::vector<Mesh>& meshes = ctx_.scene.meshes;
+    posed_.resize(meshes.size(), 0);
+    drawn_.resize(meshes.size(), 0);
+    const auto index = static_cast<std::size_t>(slot);
+    if (!drawn_[index] && (deformed || !posed_[index])) {
+      drawn_[index] = 1;
+      posed_[index] = deformed;
+      return slot;
+    }
+    if (!deformed && !posed_[index]) return slot;
+    meshes.push_back(meshes[index]);  // still the rest mesh: posing runs after the traversal
+    posed_.push_back(deformed);
+    drawn_.push_back(1);
+    const int copy = static_cast<int>(meshes.size()) - 1;
+    if (!deformed) slot = copy;  // later plain instances share this copy
+    return copy;
   }
 
   void addCamera(std::size_t nodeIndex, const glm::mat4& world) {
@@ -266,6 +292,8 @@ class SceneBuilder {
   std::vector<std::vector<int>> meshOf_;  // [glTF mesh][primitive] -> Scene::meshes index
   std::set<std::string> lightNames_;
   std::set<int> checkedCameras_;  // glTF camera indices
+  std::vector<char> posed_;       // [Scene mesh] drawn by a deformed instance
+  std::vector<char> drawn_;       // [Scene mesh] drawn by any instance
 };
 
 }  // namespace
