@@ -191,6 +191,8 @@ RenderJob manifestJob(const ManifestJob& m, const fs::path& folder, const BatchD
   if (const auto index = m.integer("sceneIndex", 0, std::numeric_limits<int>::max()))
     job.sceneIndex = *index;
   if (const auto noGltfLights = m.boolean("noGltfLights")) job.noGltfLights = *noGltfLights;
+  if (const auto time = m.number("time")) job.time = *time;
+  if (const auto animation = m.string("animation")) job.animation = *animation;
   return job;
 }
 

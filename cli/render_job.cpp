@@ -13,6 +13,7 @@
 #include "renderer/output/output_transaction.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/lights_loader.h"
+#include "renderer/scene/scene_pose.h"
 
 namespace fs = std::filesystem;
 
@@ -210,14 +211,11 @@ LoadedJob loadJob(const RenderJob& job) {
                      std::to_string(loaded.scene.source.reachedNodes) + " nodes reached)");
   loaded.warnings = loaded.scene.warnings;
   if (!job.lights.empty()) loaded.setup = loadLightsFile(job.lights, loaded.warnings);
-  loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
-                              loaded.setup.lights);
-  loaded.camera = resolveCamera(loaded.scene, job.camera);
-  if (loaded.lights.empty()) {
-    loaded.lights.push_back(headlight(loaded.camera, loaded.scene.bounds));
+  const std::vector<std::string> poseWarnings = poseJob(job, job.time, loaded);
+  loaded.warnings.insert(loaded.warnings.end(), poseWarnings.begin(), poseWarnings.end());
+  if (loaded.lights.front().origin == "default")
     loaded.warnings.push_back(
         "no lights in the scene or a lights file: using a headlight at the camera");
-  }
   if (!job.dumpDepth.empty() || !job.lightViews.empty()) {
     checkFileSafeNames(loaded.lights);
     // The per-light files must spare the inputs and the job's other outputs too.
@@ -234,6 +232,22 @@ LoadedJob loadJob(const RenderJob& job) {
     }
   }
   return loaded;
+}
+
+std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> time,
+                                 LoadedJob& loaded) {
+  if (!job.animation.empty() && !time)
+    throw InputError("--animation " + job.animation + ": needs --time SECONDS");
+  if (time && !std::isfinite(*time))
+    throw InputError("--time: expected a finite number of seconds");
+  std::vector<std::string> warnings = poseScene(loaded.scene, {time, job.animation});
+  if (time && loaded.scene.rig.animations.empty())
+    warnings.push_back(job.scene.string() + ": has no animations; --time changes nothing");
+  loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
+                              loaded.setup.lights);
+  loaded.camera = resolveCamera(loaded.scene, job.camera);
+  if (loaded.lights.empty()) loaded.lights.push_back(headlight(loaded.camera, loaded.scene.bounds));
+  return warnings;
 }
 
 Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,

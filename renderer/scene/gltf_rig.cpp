@@ -59,10 +59,13 @@ void readNodes(Context& ctx) {
     if (source.size() == targets)
       for (std::size_t t = 0; t < targets; ++t) node.weights[t] = static_cast<float>(source[t]);
   }
-  for (const tinygltf::Mesh& mesh : model.meshes)
-    if (std::any_of(mesh.primitives.begin(), mesh.primitives.end(),
-                    [](const tinygltf::Primitive& p) { return !p.targets.empty(); }))
-      ++rig.morphTargetMeshes;
+  for (std::size_t m = 0; m < model.meshes.size(); ++m) {
+    const std::size_t targets = targetCount(model, static_cast<int>(m));
+    if (targets == 0) continue;
+    MorphTargetMesh info{static_cast<int>(m), model.meshes[m].name, static_cast<int>(targets), {}};
+    for (double w : model.meshes[m].weights) info.weights.push_back(static_cast<float>(w));
+    rig.morphTargetMeshes.push_back(std::move(info));
+  }
 }
 
 void readSkins(Context& ctx) {

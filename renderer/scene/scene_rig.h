@@ -63,6 +63,14 @@ struct DeformedInstance {
   int generatedTangentUv = -1;  // the loader generated tangents from this UV set: again
 };
 
+// A glTF mesh with morph targets, as `info` describes it.
+struct MorphTargetMesh {
+  int mesh = -1;  // glTF mesh index
+  std::string name;
+  int targets = 0;
+  std::vector<float> weights;  // mesh.weights (empty when the file gives none)
+};
+
 enum class AnimatedProperty { Translation, Rotation, Scale, Weights };
 
 struct AnimationChannel {
@@ -86,7 +94,7 @@ struct SceneRig {
   std::vector<Skin> skins;            // indexed like the file's
   std::vector<Animation> animations;  // indexed like the file's
   std::vector<DeformedInstance> deformed;
-  int morphTargetMeshes = 0;  // glTF meshes with morph targets (for `info`)
+  std::vector<MorphTargetMesh> morphTargetMeshes;  // for `info`
 
   bool animated() const { return !animations.empty(); }
 };

@@ -37,7 +37,8 @@ inline constexpr int kDefaultHeight = 720;
 
 // Picks the glTF camera (request.select, else the first), or frames the scene bounds when the
 // file has none, then applies the overrides: --eye moves the camera keeping its orientation
-// unless --target is also given; --target turns it to look there; --up sets the roll.
+// unless --target is also given; --target turns it to look there; --up sets the roll (+Y, or -Z
+// when looking straight up or down, when --eye or --target is given without --up).
 // Image size: --width/--height, else 1280x720, with the missing side following the camera's
 // aspect ratio when the glTF camera has one. Throws InputError for an unknown camera or
 // impossible overrides (eye == target, up parallel to the view direction, fov out of (0,180)),

@@ -1,0 +1,192 @@
+// `--time`, `--animation` and `info` on animated files, end to end: the skinned caster's shadow
+// follows the pose and agrees with the exact reference (`omnishadow verify`).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/output/image_writer.h"
+#include "tests/support/run_binary.h"
+#include "tests/support/temp_folder.h"
+
+namespace omnishadow {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::filesIn;
+using test_support::runOmnishadow;
+using test_support::RunOptions;
+using test_support::RunResult;
+using test_support::TempFolder;
+
+fs::path khronos(const std::string& name) {
+  return fs::path(OMNISHADOW_SOURCE_DIR) / "scenes" / "khronos" / name;
+}
+
+class MotionCli : public ::testing::Test {
+ protected:
+  RunResult run(const std::vector<std::string>& args) {
+    return runOmnishadow(args, RunOptions::in(folder_.path()));
+  }
+
+  // SimpleSkin (a strip in the z = 0 plane whose upper half bends about (0, 1) over time) in
+  // front of a wall at z = -1, lit from the front: the strip's shadow lies on the wall.
+  fs::path skinBeforeWall() {
+    for (const char* bin :
+         {"inverseBindMatrices.bin", "skinAnimation.bin", "skinGeometry.bin", "skinningData.bin"})
+      fs::copy_file(khronos("SimpleSkin") / bin, folder_ / bin);
+    std::ifstream in(khronos("SimpleSkin/SimpleSkin.gltf"));
+    nlohmann::json gltf = nlohmann::json::parse(in);
+    // The wall: 4 float3 positions then 6 u16 indices, base64 below.
+    const std::vector<float> wall = {-3, -1, -1, 3, -1, -1, 3, 4, -1, -3, 4, -1};
+    const std::vector<std::uint16_t> indices = {0, 1, 2, 0, 2, 3};
+    std::string bytes(reinterpret_cast<const char*>(wall.data()), wall.size() * 4);
+    bytes.append(reinterpret_cast<const char*>(indices.data()), indices.size() * 2);
+    gltf["buffers"].push_back({{"byteLength", bytes.size()},
+                               {"uri", "data:application/octet-stream;base64," + base64(bytes)}});
+    const int buffer = static_cast<int>(gltf["buffers"].size()) - 1;
+    const int views = static_cast<int>(gltf["bufferViews"].size());
+    gltf["bufferViews"].push_back({{"buffer", buffer}, {"byteOffset", 0}, {"byteLength", 48}});
+    gltf["bufferViews"].push_back({{"buffer", buffer}, {"byteOffset", 48}, {"byteLength", 12}});
+    const int accessors = static_cast<int>(gltf["accessors"].size());
+    gltf["accessors"].push_back({{"bufferView", views},
+                                 {"componentType", 5126},
+                                 {"count", 4},
+                                 {"type", "VEC3"},
+                                 {"min", {-3, -1, -1}},
+                                 {"max", {3, 4, -1}}});
+    gltf["accessors"].push_back(
+        {{"bufferView", views + 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}});
+    gltf["meshes"].push_back(
+        {{"primitives",
+          {{{"attributes", {{"POSITION", accessors}}}, {"indices", accessors + 1}}}}});
+    gltf["nodes"].push_back({{"mesh", static_cast<int>(gltf["meshes"].size()) - 1}});
+    gltf["scenes"][0]["nodes"].push_back(static_cast<int>(gltf["nodes"].size()) - 1);
+    std::ofstream(folder_ / "skin_wall.gltf") << gltf.dump();
+    std::ofstream(folder_ / "skin_wall.lights.json")
+        << R"({"lights": [{"name": "lamp", "position": [0, 1, 3], "intensity": 20,
+                "shadow": {"resolution": 1024}}]})";
+    return folder_ / "skin_wall.gltf";
+  }
+
+  static std::string base64(const std::string& bytes) {
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (std::size_t i = 0; i < bytes.size(); i += 3) {
+      unsigned n = static_cast<unsigned char>(bytes[i]) << 16;
+      if (i + 1 < bytes.size()) n |= static_cast<unsigned char>(bytes[i + 1]) << 8;
+      if (i + 2 < bytes.size()) n |= static_cast<unsigned char>(bytes[i + 2]);
+      out += table[(n >> 18) & 63];
+      out += table[(n >> 12) & 63];
+      out += i + 1 < bytes.size() ? table[(n >> 6) & 63] : '=';
+      out += i + 2 < bytes.size() ? table[n & 63] : '=';
+    }
+    return out;
+  }
+
+  // Shadowed wall pixels (visibility below 0.5 where P.z is the wall's -1) left and right of
+  // x = 0, by their world position: what the camera sees of the shadow, wherever it lands in
+  // the image.
+  static std::pair<int, int> shadowLeftRight(const FloatImage& aov) {
+    const int v = aov.channelIndex("visibility.lamp");
+    const int px = aov.channelIndex("P.X"), pz = aov.channelIndex("P.Z");
+    const int a = aov.channelIndex("A");
+    EXPECT_GE(std::min({v, px, pz, a}), 0);
+    int left = 0, right = 0;
+    for (int y = 0; y < aov.height; ++y)
+      for (int x = 0; x < aov.width; ++x)
+        if (aov.at(x, y, a) > 0.5f && aov.at(x, y, pz) < -0.99f && aov.at(x, y, v) < 0.5f)
+          (aov.at(x, y, px) < 0.0f ? left : right)++;
+    return {left, right};
+  }
+
+  TempFolder folder_{"omnishadow-motion"};
+};
+
+// From above the lamp, so that the strip hides little of its shadow.
+const std::vector<std::string> kView = {"--eye",   "0,4,5", "--target", "0,1,-1",
+                                        "--width", "96",    "--height", "96"};
+
+TEST_F(MotionCli, SkinnedCastersShadowFollowsThePoseAndAgreesWithTheRays) {
+  const fs::path scene = skinBeforeWall();
+  std::vector<std::pair<int, int>> shadows;
+  for (const char* time : {"0", "1", "4"}) {
+    std::vector<std::string> args = {"render", scene.string(), "--time",
+                                     time,     "--aov",        std::string("aov_") + time + ".exr"};
+    args.insert(args.end(), kView.begin(), kView.end());
+    const RunResult render = run(args);
+    ASSERT_EQ(render.status, 0) << render.err;
+    shadows.push_back(shadowLeftRight(readImage(folder_ / (std::string("aov_") + time + ".exr"))));
+    args = {"verify", scene.string(), "--time", time, "--json", "--max-error", "0.01"};
+    args.insert(args.end(), kView.begin(), kView.end());
+    const RunResult verify = run(args);
+    EXPECT_EQ(verify.status, 0) << verify.out << verify.err;
+    EXPECT_TRUE(nlohmann::json::parse(verify.out)["pass"].get<bool>()) << verify.out;
+  }
+  // At rest (t = 0) the strip stands upright: its shadow is symmetric. At t = 1 the upper half
+  // bends to -x, at t = 4 to +x, and the shadow with it.
+  const auto [left0, right0] = shadows[0];
+  EXPECT_GT(left0 + right0, 200);
+  EXPECT_NEAR(left0, right0, (left0 + right0) / 10);
+  EXPECT_GT(shadows[1].first, shadows[1].second * 2)
+      << shadows[1].first << " " << shadows[1].second;
+  EXPECT_GT(shadows[2].second, shadows[2].first * 2)
+      << shadows[2].first << " " << shadows[2].second;
+}
+
+TEST_F(MotionCli, AnimationOptionsAreCheckedBeforeAnythingIsWritten) {
+  const std::string scene = khronos("InterpolationTest/InterpolationTest.glb").string();
+  RunResult r = run({"render", scene, "--animation", "1", "-o", "a.png"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "omnishadow: --animation 1: needs --time SECONDS\n");
+  r = run({"render", scene, "--time", "1", "--animation", "Walk", "-o", "a.png"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--animation Walk: " + scene +
+                       " has no such animation (animations: 0 "
+                       "\"Step Scale\", 1 \"Linear Scale\""),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(filesIn(folder_.path()).empty());
+  r = run({"render", scene, "--time", "nan", "-o", "a.png"});
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_TRUE(filesIn(folder_.path()).empty());
+}
+
+TEST_F(MotionCli, TimeOnAFileWithoutAnimationsWarns) {
+  const RunResult r =
+      run({"render", khronos("MorphPrimitivesTest/MorphPrimitivesTest.glb").string(), "--time", "1",
+           "--width", "32", "--height", "32", "-o", "a.png"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("has no animations; --time changes nothing"), std::string::npos) << r.err;
+}
+
+TEST_F(MotionCli, InfoListsAnimationsSkinsAndMorphTargets) {
+  RunResult r = run({"info", khronos("RiggedSimple/RiggedSimple.glb").string(), "--json"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  nlohmann::json doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc["animations"].size(), 1u);
+  EXPECT_EQ(doc["animations"][0]["channels"], 3);
+  EXPECT_GT(doc["animations"][0]["duration"].get<double>(), 0.0);
+  ASSERT_EQ(doc["skins"].size(), 1u);
+  EXPECT_EQ(doc["skins"][0]["joints"], 2);
+  EXPECT_TRUE(doc["morphTargets"].empty());
+
+  r = run({"info", khronos("AnimatedMorphCube/AnimatedMorphCube.glb").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(
+      r.out.find("animations  1\n  0  \"Square\"  1 channels (1 weights)  0 s to 4.1999974 s  "
+                 "duration 4.1999974 s\n"),
+      std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("morph       1 meshes with targets\n  mesh 0  \"Cube\"  2 targets  "
+                       "weights [0, 0]\n"),
+            std::string::npos)
+      << r.out;
+}
+
+}  // namespace
+}  // namespace omnishadow
