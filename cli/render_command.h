@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cli/common_options.h"
+#include "cli/frame_set.h"
 #include "cli/view_options.h"
 
 namespace CLI {
@@ -28,6 +29,7 @@ struct RenderOptions {
   float exposure = 0.0f;
   std::string shading = "pbr";
   DeviceOptions device;
+  FrameSetOptions frames;  // sequences, camera sets, the camera sidecar
 };
 
 void addRenderCommand(CLI::App& app, RenderOptions& options);

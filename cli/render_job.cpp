@@ -7,6 +7,7 @@
 #include <sstream>
 #include <utility>
 
+#include "cli/camera_sidecar.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/depth_dump.h"
 #include "renderer/output/display_transform.h"
@@ -76,6 +77,13 @@ void writeIdSidecar(const fs::path& path, const Scene& scene, OutputTransaction&
 
 }  // namespace
 
+fs::path cameraJsonPath(const RenderJob& job) {
+  const fs::path& image = !job.png.empty()   ? job.png.front()
+                          : !job.exr.empty() ? job.exr.front()
+                                             : job.aov;
+  return cameraSidecarPath(image);
+}
+
 fs::path idSidecarPath(const RenderJob& job) {
   return fs::path(job.aov).replace_extension(".ids.json");
 }
@@ -143,6 +151,7 @@ std::vector<fs::path> RenderJob::outputFiles() const {
   all.insert(all.end(), exr.begin(), exr.end());
   if (!aov.empty()) all.push_back(aov);
   if (!aov.empty() && (layers.objectId || layers.materialId)) all.push_back(idSidecarPath(*this));
+  if (cameraJson) all.push_back(cameraJsonPath(*this));
   return all;
 }
 
@@ -279,11 +288,18 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
     const std::vector<std::uint8_t> srgb = toSrgb8(frame.beauty, job.exposure);
     for (const fs::path& path : job.png) writePng(stage(path), width, height, 3, srgb);
   }
+  const ExrCameraAttributes camera = exrCameraAttributes(loaded.camera);
   if (!job.exr.empty()) {
     const FloatImage exposed = applyExposure(frame.beauty, job.exposure);
-    for (const fs::path& path : job.exr) writeExr(stage(path), exposed, ExrPixelType::Half);
+    for (const fs::path& path : job.exr)
+      writeExr(stage(path), exposed, ExrPixelType::Half, &camera);
   }
-  if (frame.aovs) writeExr(stage(job.aov), *frame.aovs, ExrPixelType::Float);
+  if (frame.aovs) writeExr(stage(job.aov), *frame.aovs, ExrPixelType::Float, &camera);
+  if (job.cameraJson) {
+    std::ofstream out(stage(cameraJsonPath(job)));
+    out << cameraSidecar(loaded.camera, loaded.scene, job.time).dump(2) << "\n";
+    if (!out.flush()) throw RenderError("cannot write " + cameraJsonPath(job).string());
+  }
   if (job.layers.objectId || job.layers.materialId) {
     written.push_back(idSidecarPath(job));
     writeIdSidecar(idSidecarPath(job), loaded.scene, transaction);

@@ -35,6 +35,7 @@ struct RenderJob {
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
   std::optional<double> time;  // pose at this time; nullopt = rest pose
   std::string animation;       // clips that play: name, index or "all"; empty = all
+  bool cameraJson = false;     // write the camera sidecar next to the first image
 
   // Every file the job writes besides the per-light ones: images, AOVs, the id sidecar.
   std::vector<std::filesystem::path> outputFiles() const;
@@ -77,6 +78,9 @@ std::vector<std::filesystem::path> writeJobOutputs(const RenderJob& job, const L
 
 // "<file>: refusing to overwrite an input file" when an output is one of `inputs`.
 void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& inputs);
+
+// The camera sidecar's path (cli/camera_sidecar.h): beside the first PNG, EXR or AOV file.
+std::filesystem::path cameraJsonPath(const RenderJob& job);
 
 // "<aov stem>.ids.json": what objectId and materialId values stand for.
 std::filesystem::path idSidecarPath(const RenderJob& job);

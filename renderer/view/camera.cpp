@@ -113,6 +113,7 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
     out.znear = camera->znear;
     out.zfar = camera->zfar;
     out.description = "glTF camera " + std::to_string(camera->index) + " \"" + camera->name + "\"";
+    out.gltfCamera = static_cast<int>(camera - scene.cameras.data());
   } else {
     yfov = glm::radians(request.fovDegrees.value_or(kAutoFovDegrees));
     const glm::vec3 center = scene.bounds.empty() ? glm::vec3(0.0f) : scene.bounds.center();

@@ -27,6 +27,7 @@ struct ViewCamera {
   float znear = 0.01f;
   float zfar = 0.0f;        // 0 = infinite
   std::string description;  // e.g. "glTF camera 0 \"Main\"" or "automatic framing"
+  int gltfCamera = -1;      // Scene::cameras entry it started from; -1 = automatic framing
   // Read back rows in GL order (row 0 = window bottom) instead of top first: light views use
   // it to match the GL texel layout of the cube map dumps.
   bool glRowOrder = false;
