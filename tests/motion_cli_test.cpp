@@ -188,5 +188,73 @@ TEST_F(MotionCli, InfoListsAnimationsSkinsAndMorphTargets) {
       << r.out;
 }
 
+TEST_F(MotionCli, SequenceWritesNumberedFilesWithTheirCameraSidecars) {
+  const std::string scene = khronos("AnimatedMorphCube/AnimatedMorphCube.glb").string();
+  const RunResult r = run({"render", scene, "--times", "0,1.5,3", "--width", "32", "--height", "32",
+                           "-o", "f/m_##.png", "--aov", "f/a_##.exr", "--camera-json"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("wrote 3 frames (32x32): f/m_00.png ... f/m_02.png"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(
+      filesIn(folder_ / "f"),
+      (std::vector<std::string>{"a_00.exr", "a_01.exr", "a_02.exr", "m_00.camera.json", "m_00.png",
+                                "m_01.camera.json", "m_01.png", "m_02.camera.json", "m_02.png"}));
+  const nlohmann::json sidecar =
+      nlohmann::json::parse(test_support::readFile(folder_ / "f/m_01.camera.json"));
+  EXPECT_EQ(sidecar["time"], 1.5);
+  EXPECT_EQ(sidecar["width"], 32);
+  // The cube's morph weights change between the frames, and so do the images.
+  EXPECT_NE(test_support::readFile(folder_ / "f/a_00.exr"),
+            test_support::readFile(folder_ / "f/a_01.exr"));
+}
+
+TEST_F(MotionCli, SequenceOutputsNeedAFrameNumberPattern) {
+  const std::string scene = khronos("AnimatedMorphCube/AnimatedMorphCube.glb").string();
+  RunResult r = run({"render", scene, "--time-range", "0:1", "-o", "m.png"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("-o m.png: a sequence or camera set writes one file per frame; put ####"),
+            std::string::npos)
+      << r.err;
+  r = run({"render", scene, "--time-range", "2:1", "-o", "m_#.png"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--time-range 2:1: END is before START"), std::string::npos) << r.err;
+  r = run({"render", scene, "--orbit", "3", "--times", "1,2", "-o", "m_#.png"});
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_TRUE(filesIn(folder_.path()).empty());
+}
+
+TEST_F(MotionCli, OrbitViewsAreNumberedAndTheSidecarReprojectsEachPixel) {
+  const std::string scene = khronos("MorphPrimitivesTest/MorphPrimitivesTest.glb").string();
+  const RunResult r = run({"render", scene, "--orbit", "3", "--width", "48", "--height", "32",
+                           "--aov", "o_#.exr", "--camera-json"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (int k = 0; k < 3; ++k) {
+    const std::string n = std::to_string(k);
+    const FloatImage aov = readImage(folder_ / ("o_" + n + ".exr"));
+    const nlohmann::json camera =
+        nlohmann::json::parse(test_support::readFile(folder_ / ("o_" + n + ".camera.json")));
+    const nlohmann::json& m = camera["opencv"]["worldToCamera"];
+    const nlohmann::json& k3 = camera["intrinsics"];
+    const int a = aov.channelIndex("A"), px = aov.channelIndex("P.X");
+    int checked = 0;
+    for (int y = 0; y < aov.height; ++y)
+      for (int x = 0; x < aov.width; ++x) {
+        if (aov.at(x, y, a) < 1.0f) continue;
+        // The surface point drawn at this pixel's center, back through the sidecar's K [R|t].
+        const double p[4] = {aov.at(x, y, px), aov.at(x, y, px + 1), aov.at(x, y, px + 2), 1.0};
+        double c[3] = {0, 0, 0};
+        for (int row = 0; row < 3; ++row)
+          for (int col = 0; col < 4; ++col) c[row] += m[row][col].get<double>() * p[col];
+        ASSERT_GT(c[2], 0.0);
+        const double u = k3["fx"].get<double>() * c[0] / c[2] + k3["cx"].get<double>();
+        const double v = k3["fy"].get<double>() * c[1] / c[2] + k3["cy"].get<double>();
+        EXPECT_NEAR(u, x + 0.5, 0.02) << "view " << k << " pixel " << x << "," << y;
+        EXPECT_NEAR(v, y + 0.5, 0.02) << "view " << k << " pixel " << x << "," << y;
+        ++checked;
+      }
+    EXPECT_GT(checked, 50) << "view " << k;
+  }
+}
+
 }  // namespace
 }  // namespace omnishadow
