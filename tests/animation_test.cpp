@@ -263,5 +263,37 @@ TEST(AnimatedMorphCube, WeightsFollowTheClip) {
   EXPECT_NEAR(y((1.9999994039535522 + 2.0333328247070312) / 2), base + 0.79207307f * delta, 1e-6f);
 }
 
+// --- clips that animate the same property -----------------------------------------------------
+
+TEST(ClipConflicts, LowestIndexWinsAndOneWarningNamesTheOthers) {
+  // Node 0 places a camera; "Survey" and "Walk" both move it, "Run" too, "Wave" moves node 1.
+  Scene scene;
+  scene.path = "fox.gltf";
+  scene.rig.nodes.resize(2);
+  scene.rig.nodes[1].parent = 0;
+  Camera camera;
+  camera.node = 1;
+  scene.cameras.push_back(camera);
+  const auto clip = [](const char* name, int node, float x) {
+    Animation a;
+    a.name = name;
+    a.samplers.push_back({{0.0f, 1.0f}, {x, 0, 0, x, 0, 0}, 3, Interpolation::Linear});
+    a.channels.push_back({node, AnimatedProperty::Translation, 0});
+    a.end = 1.0f;
+    return a;
+  };
+  scene.rig.animations = {clip("Survey", 0, 1.0f), clip("Walk", 0, 2.0f), clip("Run", 0, 3.0f),
+                          clip("Wave", 1, 0.5f)};
+  const std::vector<std::string> warnings = poseScene(scene, {0.5, "all"});
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0],
+            "fox.gltf: animation 0 \"Survey\" drives node properties that animations 1 \"Walk\", "
+            "2 \"Run\" also animate (no blending: the lowest index wins; pick one with "
+            "--animation)");
+  EXPECT_NEAR(scene.cameras[0].world[3].x, 1.5f, kEps);  // Survey's 1 plus Wave's 0.5
+  EXPECT_TRUE(poseScene(scene, {0.5, "Run"}).empty());
+  EXPECT_NEAR(scene.cameras[0].world[3].x, 3.0f, kEps);  // Run alone; Wave does not play
+}
+
 }  // namespace
 }  // namespace omnishadow
