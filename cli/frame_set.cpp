@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "renderer/core/errors.h"
+#include "renderer/output/image_writer.h"
 #include "renderer/render/renderer.h"
 #include "renderer/view/camera_sets.h"
 
@@ -173,6 +174,7 @@ int renderFrameSet(const RenderJob& job, const FrameSetOptions& o, const DeviceO
   ScopedStage contextStage(stages, "context");
   const std::unique_ptr<Renderer> renderer = openRenderer(device);
   contextStage.stop();
+  setEncoderThreads(static_cast<int>(std::thread::hardware_concurrency()));
 
   std::vector<CameraView> cameraSet;
   if (views) {

@@ -266,7 +266,8 @@ TEST(AnimatedMorphCube, WeightsFollowTheClip) {
 // --- clips that animate the same property -----------------------------------------------------
 
 TEST(ClipConflicts, LowestIndexWinsAndOneWarningNamesTheOthers) {
-  // Node 0 places a camera; "Survey" and "Walk" both move it, "Run" too, "Wave" moves node 1.
+  // Node 1, child of node 0, places a camera and a light; "Survey" and "Walk" both move it, "Run"
+  // too, "Wave" moves node 1.
   Scene scene;
   scene.path = "fox.gltf";
   scene.rig.nodes.resize(2);
@@ -274,6 +275,8 @@ TEST(ClipConflicts, LowestIndexWinsAndOneWarningNamesTheOthers) {
   Camera camera;
   camera.node = 1;
   scene.cameras.push_back(camera);
+  scene.lights.push_back(Light{});  // a KHR_lights_punctual light on node 1 too
+  scene.rig.lightNodes = {1};
   const auto clip = [](const char* name, int node, float x) {
     Animation a;
     a.name = name;
@@ -291,6 +294,7 @@ TEST(ClipConflicts, LowestIndexWinsAndOneWarningNamesTheOthers) {
             "2 \"Run\" also animate (no blending: the lowest index wins; pick one with "
             "--animation)");
   EXPECT_NEAR(scene.cameras[0].world[3].x, 1.5f, kEps);  // Survey's 1 plus Wave's 0.5
+  EXPECT_NEAR(scene.lights[0].position.x, 1.5f, kEps);
   EXPECT_TRUE(poseScene(scene, {0.5, "Run"}).empty());
   EXPECT_NEAR(scene.cameras[0].world[3].x, 3.0f, kEps);  // Run alone; Wave does not play
 }

@@ -125,6 +125,10 @@ AnimationSampler readSampler(Context& ctx, std::size_t a, std::size_t s) {
   ctx.checkIndex(object + ".output", "accessor", source.output, ctx.model.accessors.size());
   const AccessorValues input = readAccessor(ctx, source.input, Normalize::Never);
   const AccessorValues output = readAccessor(ctx, source.output, Normalize::AsFlagged);
+  if (output.count == 0) {
+    ctx.warn(object + ".output: no keyframe values; not played");
+    return {};
+  }
   if (input.components != 1 || input.count == 0) {
     ctx.warn(object + ".input: expected SCALAR keyframe times; not played");
     return {};
@@ -193,6 +197,11 @@ void readAnimations(Context& ctx) {
       const AnimationSampler& sampler =
           animation.samplers[static_cast<std::size_t>(channel.sampler)];
       if (sampler.times.empty()) continue;  // warned about when read
+      if (components == 0) {
+        ctx.warn(channelObject + ": " + at("nodes", static_cast<std::size_t>(out.node)) +
+                 " has no morph targets to weigh; not played");
+        continue;
+      }
       if (sampler.components != components) {
         ctx.warn(channelObject + ": its sampler has " + std::to_string(sampler.components) +
                  " values per keyframe, the " + channel.target_path + " of " +
