@@ -1,5 +1,7 @@
 // `--time`, `--animation` and `info` on animated files, end to end: the skinned caster's shadow
 // follows the pose and agrees with the exact reference (`omnishadow verify`).
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfStandardAttributes.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -235,6 +237,11 @@ TEST_F(MotionCli, OrbitViewsAreNumberedAndTheSidecarReprojectsEachPixel) {
         nlohmann::json::parse(test_support::readFile(folder_ / ("o_" + n + ".camera.json")));
     const nlohmann::json& m = camera["opencv"]["worldToCamera"];
     const nlohmann::json& k3 = camera["intrinsics"];
+    const Imf::InputFile exr((folder_ / ("o_" + n + ".exr")).c_str());
+    ASSERT_TRUE(Imf::hasWorldToNDC(exr.header()));
+    ASSERT_TRUE(Imf::hasWorldToCamera(exr.header()));
+    const Imath::M44f worldToNdc = Imf::worldToNDC(exr.header());
+    const Imath::M44f worldToCamera = Imf::worldToCamera(exr.header());
     const int a = aov.channelIndex("A"), px = aov.channelIndex("P.X");
     int checked = 0;
     for (int y = 0; y < aov.height; ++y)
@@ -250,6 +257,15 @@ TEST_F(MotionCli, OrbitViewsAreNumberedAndTheSidecarReprojectsEachPixel) {
         const double v = k3["fy"].get<double>() * c[1] / c[2] + k3["cy"].get<double>();
         EXPECT_NEAR(u, x + 0.5, 0.02) << "view " << k << " pixel " << x << "," << y;
         EXPECT_NEAR(v, y + 0.5, 0.02) << "view " << k << " pixel " << x << "," << y;
+        // The EXR header's worldToNDC (Imath: row vectors) says the same; worldToCamera puts
+        // the point in front (+z).
+        const Imath::V3f point(p[0], p[1], p[2]);
+        Imath::V3f ndc, inCamera;
+        worldToNdc.multVecMatrix(point, ndc);
+        worldToCamera.multVecMatrix(point, inCamera);
+        EXPECT_NEAR((ndc.x + 1) * 0.5 * aov.width, x + 0.5, 0.02);
+        EXPECT_NEAR((1 - ndc.y) * 0.5 * aov.height, y + 0.5, 0.02);
+        EXPECT_GT(inCamera.z, 0.0f);
         ++checked;
       }
     EXPECT_GT(checked, 50) << "view " << k;
