@@ -583,6 +583,39 @@ TEST_F(GltfLoaderTest, MorphedInstancesOfASharedMeshGetAMeshEach) {
   }
 }
 
+TEST_F(GltfLoaderTest, SparseMorphTargetsDisplaceOnlyTheirVertices) {
+  GltfBuilder builder;
+  const int mesh = builder.addMesh(triangleMesh());
+  const int node = builder.addNode("morphed", {}, mesh);
+  tinygltf::Model& model = builder.model();
+  // A target without a bufferView: zeros, but vertex 2 moves by (0, 0, 1).
+  std::vector<unsigned char> indices, values;
+  append(indices, std::uint16_t{2});
+  append(values, glm::vec3(0, 0, 1));
+  const int target =
+      addRawAccessor(model, -1, 0, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 3);
+  auto& sparse = model.accessors[static_cast<std::size_t>(target)].sparse;
+  sparse.isSparse = true;
+  sparse.count = 1;
+  sparse.indices.bufferView = addRawView(model, indices);
+  sparse.indices.byteOffset = 0;
+  sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  sparse.values.bufferView = addRawView(model, values);
+  sparse.values.byteOffset = 0;
+  model.meshes[0].primitives[0].targets = {{{"POSITION", target}}};
+  model.meshes[0].weights = {1.0};
+  model.nodes[static_cast<std::size_t>(node)].weights = {0.5};  // the node's weights win
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const std::vector<glm::vec3>& p = scene.meshes[0].positions;
+  ASSERT_EQ(p.size(), 3u);
+  EXPECT_EQ(p[0], glm::vec3(0, 0, 0));
+  EXPECT_EQ(p[1], glm::vec3(1, 0, 0));
+  EXPECT_EQ(p[2], glm::vec3(0, 1, 0.5f));
+  EXPECT_NEAR(scene.bounds.max.z, 0.5f, kEps);
+}
+
 // -----------------------------------------------------------------------------------------------
 // Materials, cameras, lights
 
