@@ -272,5 +272,30 @@ TEST_F(MotionCli, OrbitViewsAreNumberedAndTheSidecarReprojectsEachPixel) {
   }
 }
 
+TEST_F(MotionCli, BatchManifestJobsTakeATimeOrATimeRange) {
+  const std::string scene = khronos("AnimatedMorphCube/AnimatedMorphCube.glb").string();
+  std::ofstream(folder_ / "m.json") << R"({"jobs": [
+      {"scene": ")" + scene + R"(", "time": "0:1", "fps": 2, "width": 16, "height": 16,
+       "outputs": ["cube_##.png"]},
+      {"scene": ")" + scene + R"(", "time": 1, "width": 16, "height": 16,
+       "outputs": ["one.png"]}]})";
+  RunResult r = run({"batch", "m.json", "--out", "out", "-q"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(filesIn(folder_ / "out"),
+            (std::vector<std::string>{"cube_00.png", "cube_01.png", "cube_02.png", "one.png"}));
+  // Frame 2 of the range is t = 1: the same pose as the single job.
+  EXPECT_EQ(test_support::readFile(folder_ / "out/cube_02.png"),
+            test_support::readFile(folder_ / "out/one.png"));
+  std::ofstream(folder_ / "bad.json")
+      << R"({"jobs": [{"scene": ")" + scene + R"(", "time": "0:1", "outputs": ["c.png"]}]})";
+  r = run({"batch", "bad.json", "--out", "out2"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("bad.json: jobs[0].outputs: c.png: a time range writes one file per "
+                       "frame"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(folder_ / "out2"));
+}
+
 }  // namespace
 }  // namespace omnishadow
