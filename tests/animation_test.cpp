@@ -168,6 +168,11 @@ TEST(InterpolationTest, WithoutATimeNothingMoves) {
   // Posing at a time and back at rest gives the loader's matrices again.
   poseScene(scene, {1.0, ""});
   EXPECT_NE(instanceOf(scene, 10).world, instanceOf(rest, 10).world);
+  poseScene(scene, {std::nullopt, ""});
+  for (std::size_t i = 0; i < rest.instances.size(); ++i)
+    EXPECT_EQ(scene.instances[i].world, rest.instances[i].world);
+  EXPECT_EQ(scene.bounds.min, rest.bounds.min);
+  EXPECT_EQ(scene.bounds.max, rest.bounds.max);
 }
 
 TEST(InterpolationTest, AllClipsPlayTogether) {

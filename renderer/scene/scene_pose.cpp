@@ -149,15 +149,14 @@ std::vector<std::string> poseScene(Scene& scene, const PoseRequest& request) {
     const std::vector<int> clips = chooseAnimations(scene, request.animation);
     const std::string warning = animate(rig, clips, *request.time, poses);
     if (!warning.empty()) warnings.push_back(scene.path + ": " + warning);
-  } else if (rig.deformed.empty()) {
-    return warnings;  // the loader's rest pose is this pose
+  } else if (rig.deformed.empty() && !rig.animated()) {
+    return warnings;  // nothing in the file moves: the loader's matrices are this pose
   }
   const std::vector<glm::mat4> world = worldMatrices(rig, poses);
-  const bool animated = request.time.has_value();
 
-  // Plain instances, cameras and lights move only when animated: at rest they keep the
-  // loader's matrices exactly.
-  if (animated) {
+  // Plain instances, cameras and lights move only in files with animations (a pose at rest
+  // after one at a time must put them back); files without any keep the loader's matrices.
+  if (rig.animated()) {
     for (MeshInstance& instance : scene.instances)
       instance.world = world[static_cast<std::size_t>(instance.node)];
     for (Camera& camera : scene.cameras)
