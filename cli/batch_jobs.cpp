@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli/common_options.h"
+#include "cli/frame_set.h"
 #include "renderer/core/errors.h"
 
 namespace fs = std::filesystem;
@@ -137,6 +139,10 @@ class ManifestJob {
       fail(field, "expected a non-empty array of file names");
     return v->get<std::vector<std::string>>();
   }
+  bool isString(const char* field) const {
+    const json* v = find(field);
+    return v && v->is_string();
+  }
   [[noreturn]] void fail(const std::string& field, const std::string& what) const {
     throw InputError(where_ + "." + field + ": " + what);
   }
@@ -191,7 +197,42 @@ RenderJob manifestJob(const ManifestJob& m, const fs::path& folder, const BatchD
   if (const auto index = m.integer("sceneIndex", 0, std::numeric_limits<int>::max()))
     job.sceneIndex = *index;
   if (const auto noGltfLights = m.boolean("noGltfLights")) job.noGltfLights = *noGltfLights;
+  if (!m.isString("time"))  // a "START:END" range is expanded by addManifest()
+    if (const auto time = m.number("time")) job.time = *time;
+  if (const auto animation = m.string("animation")) job.animation = *animation;
   return job;
+}
+
+// A manifest job whose "time" is "START:END": one job per frame at "fps" (default 24), its
+// outputs numbered like `render --time-range` (cli/frame_set.h).
+void addTimeRange(const ManifestJob& m, const std::string& range, double fps,
+                  const RenderJob& pattern, const std::string& name,
+                  std::vector<BatchEntry>& jobs) {
+  if (!(fps > 0.0)) m.fail("fps", "expected a positive number of frames per second");
+  FrameSetOptions options;
+  options.timeRange = range;
+  options.fps = fps;
+  std::vector<double> times;
+  try {
+    times = sequenceTimes(options);
+  } catch (const InputError& e) {
+    m.fail("time", e.what());
+  }
+  const auto numbered = [&](const fs::path& path, std::size_t frame) {
+    if (path.filename().string().find('#') == std::string::npos)
+      m.fail("outputs", path.filename().string() +
+                            ": a time range writes one file per frame; put #### in the file name");
+    return fs::path(numberedPath(path.string(), static_cast<int>(frame)));
+  };
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    RenderJob job = pattern;
+    for (fs::path& path : job.png) path = numbered(path, k);
+    for (fs::path& path : job.exr) path = numbered(path, k);
+    if (!job.aov.empty()) job.aov = numbered(job.aov, k);
+    job.time = times[k];
+    jobs.push_back(
+        {name + " @" + shortestDecimal(static_cast<float>(times[k])) + " s", std::move(job)});
+  }
 }
 
 void addManifest(const fs::path& path, std::vector<BatchEntry>& jobs,
@@ -219,8 +260,13 @@ void addManifest(const fs::path& path, std::vector<BatchEntry>& jobs,
     if (!list[i].is_object()) throw InputError(where + ": expected a job object");
     const ManifestJob m(list[i], where);
     RenderJob job = manifestJob(m, path.parent_path(), defaults);
-    jobs.push_back(
-        {"jobs[" + std::to_string(i) + "] " + list[i]["scene"].get<std::string>(), std::move(job)});
+    const std::string name =
+        "jobs[" + std::to_string(i) + "] " + list[i]["scene"].get<std::string>();
+    if (m.isString("time")) {
+      addTimeRange(m, *m.string("time"), m.number("fps").value_or(24.0), job, name, jobs);
+      continue;
+    }
+    jobs.push_back({name, std::move(job)});
   }
 }
 

@@ -46,6 +46,13 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
                          : "Index of the glTF scene to describe (default: the file's default "
                            "scene)")
       ->check(CLI::NonNegativeNumber);
+  if (renders) {
+    app.add_option("--time", o.time,
+                   "Pose the scene at this time in seconds: its animations play (default: the "
+                   "rest pose; skins and default morph weights apply either way)");
+    app.add_option("--animation", o.animation,
+                   "Animations that play with --time: a name, an index or all (default: all)");
+  }
 }
 
 RenderJob sceneJob(const SceneInputOptions& o) {
@@ -62,6 +69,8 @@ void applySceneSettings(const SceneInputOptions& o, RenderJob& job) {
   job.maxMemoryMiB = o.maxMemoryMiB;
   job.shadowPass = parseShadowPassStrategy(o.shadowPass);
   job.sceneIndex = o.sceneIndex;
+  job.time = o.time;
+  job.animation = o.animation;
 }
 
 void addDeviceOptions(CLI::App& app, DeviceOptions& o, bool withStats) {

@@ -2,6 +2,7 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,8 @@ struct SceneInputOptions {
   double maxMemoryMiB = 4096.0;
   std::string shadowPass = "auto";
   int sceneIndex = -1;
+  std::optional<double> time;  // --time SECONDS; nullopt = the rest pose
+  std::string animation;       // --animation NAME|INDEX|all; empty = all
 };
 
 // Which command registers the scene inputs: each takes a different part of the group.

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/info_motion.h"
 #include "cli/render_job.h"
 #include "cli/text_table.h"
 #include "renderer/scene/gltf_loader.h"
@@ -252,6 +253,9 @@ Json toJson(const Info& info) {
   }
   doc["lights"] = lights;
   doc["ambient"] = info.setup ? vec3(info.setup->ambient) : Json(nullptr);
+  doc["animations"] = animationsJson(scene.rig);
+  doc["skins"] = skinsJson(scene.rig);
+  doc["morphTargets"] = morphTargetsJson(scene.rig);
   doc["warnings"] = info.warnings;
   return doc;
 }
@@ -369,6 +373,7 @@ void printText(const Info& info) {
   printField("ambient",
              info.setup ? text(info.setup->ambient) + " (lights file)" : "none (no lights file)");
 
+  printMotion(scene.rig);
   printField("warnings", std::to_string(info.warnings.size()));
   for (const std::string& warning : info.warnings) std::printf("  %s\n", warning.c_str());
 }

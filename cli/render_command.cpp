@@ -52,9 +52,16 @@ RenderJob jobFromOptions(const RenderOptions& o) {
 }
 
 int render(const RenderOptions& o, std::vector<std::string>& warnings) {
+  if (isFrameSet(o.frames)) {
+    RenderJob pattern = jobFromOptions(o);
+    pattern.cameraJson = o.frames.cameraJson;
+    return renderFrameSet(pattern, o.frames, o.device, warnings);
+  }
   StageTimes times;
   ScopedStage loadStage(times, "load");
-  const RenderJob job = jobFromOptions(o);
+  RenderJob job = jobFromOptions(o);
+  job.cameraJson = o.frames.cameraJson;
+  validateJob(job);
   LoadedJob loaded = loadJob(job);
   warnings = loaded.warnings;
   loadStage.stop();
@@ -80,6 +87,7 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
       std::printf("wrote %s (%dx%d)\n", path.c_str(), loaded.camera.width, loaded.camera.height);
   if (!job.aov.empty()) std::printf("wrote %s (AOVs)\n", job.aov.c_str());
   if (!job.masks.empty()) std::printf("wrote %s.* (annotation masks)\n", job.masks.c_str());
+  if (job.cameraJson) std::printf("wrote %s (camera)\n", cameraJsonPath(job).c_str());
   if (!frame.shadowMaps.empty())
     std::printf("wrote the shadow maps of %zu lights to %s\n", frame.shadowMaps.size(),
                 job.dumpDepth.c_str());
@@ -149,6 +157,7 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
   render->add_option("--shading", o.shading, "pbr (glTF metallic-roughness) or phong (Blinn-Phong)")
       ->check(CLI::IsMember({"pbr", "phong"}));
   addDeviceOptions(*render, o.device, true);
+  addFrameSetOptions(*render, o.frames);
 }
 
 int runRender(const RenderOptions& o) {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cli/common_options.h"
+#include "cli/frame_set.h"
 #include "cli/view_options.h"
 
 namespace CLI {
@@ -33,6 +34,7 @@ struct RenderOptions {
   std::string shading = "pbr";
   int repeat = 0;  // --repeat: frames timed after the written one (steady_frames.h)
   DeviceOptions device;
+  FrameSetOptions frames;  // sequences, camera sets, the camera sidecar
 };
 
 void addRenderCommand(CLI::App& app, RenderOptions& options);

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <utility>
 
+#include "cli/camera_sidecar.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/annotation_masks.h"
 #include "renderer/output/depth_dump.h"
@@ -17,6 +18,7 @@
 #include "renderer/scene/drawable_check.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/lights_loader.h"
+#include "renderer/scene/scene_pose.h"
 #include "renderer/view/headlight.h"
 
 namespace fs = std::filesystem;
@@ -55,6 +57,13 @@ void writeIdSidecar(const fs::path& path, const Scene& scene, OutputTransaction&
 }
 
 }  // namespace
+
+fs::path cameraJsonPath(const RenderJob& job) {
+  const fs::path& image = !job.png.empty()   ? job.png.front()
+                          : !job.exr.empty() ? job.exr.front()
+                                             : job.aov;
+  return cameraSidecarPath(image);
+}
 
 fs::path idSidecarPath(const RenderJob& job) {
   return fs::path(job.aov).replace_extension(".ids.json");
@@ -115,6 +124,7 @@ std::vector<fs::path> RenderJob::outputFiles() const {
   if (!aov.empty() && (layers.objectId || layers.materialId)) all.push_back(idSidecarPath(*this));
   if (!masks.empty())
     for (const fs::path& file : annotationMaskFiles(masks)) all.push_back(file);
+  if (cameraJson) all.push_back(cameraJsonPath(*this));
   return all;
 }
 
@@ -194,13 +204,9 @@ LoadedJob loadJob(const RenderJob& job) {
   requireTriangles(loaded.scene);
   loaded.warnings = loaded.scene.warnings;
   if (!job.lights.empty()) loaded.setup = loadLightsFile(job.lights, loaded.warnings);
-  loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
-                              loaded.setup.lights);
-  loaded.camera = resolveCamera(loaded.scene, job.camera);
-  if (loaded.lights.empty()) {
-    loaded.lights.push_back(headlight(loaded.camera, loaded.scene.bounds));
-    loaded.warnings.push_back(kHeadlightWarning);
-  }
+  const std::vector<std::string> poseWarnings = poseJob(job, job.time, loaded);
+  loaded.warnings.insert(loaded.warnings.end(), poseWarnings.begin(), poseWarnings.end());
+  if (loaded.lights.front().origin == "default") loaded.warnings.push_back(kHeadlightWarning);
   if (!job.dumpDepth.empty() || !job.lightViews.empty()) {
     checkFileSafeNames(loaded.lights);
     // The per-light files must spare the inputs and the job's other outputs too.
@@ -217,6 +223,22 @@ LoadedJob loadJob(const RenderJob& job) {
     }
   }
   return loaded;
+}
+
+std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> time,
+                                 LoadedJob& loaded) {
+  if (!job.animation.empty() && !time)
+    throw InputError("--animation " + job.animation + ": needs --time SECONDS");
+  if (time && !std::isfinite(*time))
+    throw InputError("--time: expected a finite number of seconds");
+  std::vector<std::string> warnings = poseScene(loaded.scene, {time, job.animation});
+  if (time && loaded.scene.rig.animations.empty())
+    warnings.push_back(job.scene.string() + ": has no animations; --time changes nothing");
+  loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
+                              loaded.setup.lights);
+  loaded.camera = resolveCamera(loaded.scene, job.camera);
+  if (loaded.lights.empty()) loaded.lights.push_back(headlight(loaded.camera, loaded.scene.bounds));
+  return warnings;
 }
 
 Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,
@@ -253,11 +275,19 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
     const std::vector<std::uint8_t> srgb = toSrgb8(frame.beauty, job.exposure);
     for (const fs::path& path : job.png) writePng(stage(path), width, height, 3, srgb);
   }
+  const ExrCameraAttributes camera = exrCameraAttributes(loaded.camera);
   if (!job.exr.empty()) {
     const FloatImage exposed = applyExposure(frame.beauty, job.exposure);
-    for (const fs::path& path : job.exr) writeExr(stage(path), exposed, ExrPixelType::Half);
+    for (const fs::path& path : job.exr)
+      writeExr(stage(path), exposed, ExrPixelType::Half, &camera);
   }
-  if (frame.aovs && !job.aov.empty()) writeExr(stage(job.aov), *frame.aovs, ExrPixelType::Float);
+  if (frame.aovs && !job.aov.empty())
+    writeExr(stage(job.aov), *frame.aovs, ExrPixelType::Float, &camera);
+  if (job.cameraJson) {
+    std::ofstream out(stage(cameraJsonPath(job)));
+    out << cameraSidecar(loaded.camera, loaded.scene, job.time).dump(2) << "\n";
+    if (!out.flush()) throw RenderError("cannot write " + cameraJsonPath(job).string());
+  }
   if (!job.masks.empty()) {
     for (const fs::path& file : annotationMaskFiles(job.masks)) written.push_back(file);
     writeAnnotationMasks(annotationMasks(loaded.scene, loaded.camera, *frame.aovs), job.masks,

@@ -37,6 +37,9 @@ struct RenderJob {
   int lightViewSize = 512;
   double maxMemoryMiB = 4096.0;  // for shadow maps
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
+  std::optional<double> time;  // pose at this time; nullopt = rest pose
+  std::string animation;       // clips that play: name, index or "all"; empty = all
+  bool cameraJson = false;     // write the camera sidecar next to the first image
 
   // Every file the job writes besides the per-light ones: images, AOVs, the id sidecar.
   std::vector<std::filesystem::path> outputFiles() const;
@@ -57,8 +60,15 @@ struct LoadedJob {
 // Throws InputError.
 void validateJob(const RenderJob& job);
 
-// Reads the scene and lights file and resolves the camera. Throws InputError.
+// Reads the scene and lights file, poses the scene at job.time and resolves the camera.
+// Throws InputError.
 LoadedJob loadJob(const RenderJob& job);
+
+// Poses the loaded scene at `time` (job.animation's clips), then merges its lights with the
+// lights file's again and resolves the camera: what a frame of a sequence changes. Returns the
+// posing warnings.
+std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> time,
+                                 LoadedJob& loaded);
 
 // Renders on the renderer's (GL) thread. Throws InputError for limits of this GL. The frame's
 // warnings are the renderer's; the job's own are in `loaded`.
@@ -72,6 +82,9 @@ std::vector<std::filesystem::path> writeJobOutputs(const RenderJob& job, const L
 
 // "<file>: refusing to overwrite an input file" when an output is one of `inputs`.
 void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& inputs);
+
+// The camera sidecar's path (cli/camera_sidecar.h): beside the first PNG, EXR or AOV file.
+std::filesystem::path cameraJsonPath(const RenderJob& job);
 
 // "<aov stem>.ids.json": what objectId and materialId values stand for.
 std::filesystem::path idSidecarPath(const RenderJob& job);

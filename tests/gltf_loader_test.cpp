@@ -529,7 +529,9 @@ TEST_F(GltfLoaderTest, ReadsStridedNormalizedAndSparseAccessors) {
   EXPECT_TRUE(near(b.positions[2], {0, 3, 0}));
 }
 
-TEST_F(GltfLoaderTest, SkinsAndMorphTargetsDrawTheStaticPoseWithOneWarningEach) {
+// Skins and morph targets are applied (tests/animation_test.cpp); what the loader must do is
+// give each posed instance a mesh of its own, since two nodes pose a shared mesh differently.
+TEST_F(GltfLoaderTest, MorphedInstancesOfASharedMeshGetAMeshEach) {
   GltfBuilder builder;
   const int mesh = builder.addMesh(triangleMesh());
   builder.addPrimitive(mesh, triangleMesh());
@@ -539,21 +541,57 @@ TEST_F(GltfLoaderTest, SkinsAndMorphTargetsDrawTheStaticPoseWithOneWarningEach) 
   for (tinygltf::Primitive& primitive : model.meshes[0].primitives) {
     primitive.targets = {{{"POSITION", primitive.attributes.at("POSITION")}}};
   }
+  model.nodes[b].weights = {1.0};  // b doubles its positions, a keeps them
   tinygltf::Skin skin;
   skin.joints = {a};
   model.skins.push_back(skin);
-  model.nodes[a].skin = 0;
-  model.nodes[b].skin = 0;
+  model.nodes[a].skin = 0;  // without JOINTS_0 a skin changes nothing
 
   const Scene scene = writeAndLoad(builder);
-  EXPECT_EQ(scene.meshes.size(), 2u);
-  EXPECT_EQ(scene.instances.size(), 4u);
-  const auto count = [&](const std::string& part) {
-    return std::count_if(scene.warnings.begin(), scene.warnings.end(),
-                         [&](const std::string& w) { return w.find(part) != std::string::npos; });
-  };
-  EXPECT_EQ(count("skins"), 1);
-  EXPECT_EQ(count("morph targets"), 1);
+  ASSERT_EQ(scene.instances.size(), 4u);
+  EXPECT_EQ(scene.meshes.size(), 4u);
+  const Mesh& ofA = scene.meshes[static_cast<std::size_t>(scene.instances[0].mesh)];
+  const Mesh& ofB = scene.meshes[static_cast<std::size_t>(scene.instances[2].mesh)];
+  ASSERT_EQ(ofA.positions.size(), ofB.positions.size());
+  for (std::size_t i = 0; i < ofA.positions.size(); ++i)
+    EXPECT_EQ(ofB.positions[i], 2.0f * ofA.positions[i]);
+  for (const std::string& warning : scene.warnings) {
+    EXPECT_EQ(warning.find("skins"), std::string::npos) << warning;
+    EXPECT_EQ(warning.find("morph targets"), std::string::npos) << warning;
+  }
+}
+
+TEST_F(GltfLoaderTest, SparseMorphTargetsDisplaceOnlyTheirVertices) {
+  GltfBuilder builder;
+  const int mesh = builder.addMesh(triangleMesh());
+  const int node = builder.addNode("morphed", {}, mesh);
+  tinygltf::Model& model = builder.model();
+  // A target without a bufferView: zeros, but vertex 2 moves by (0, 0, 1).
+  std::vector<unsigned char> indices, values;
+  append(indices, std::uint16_t{2});
+  append(values, glm::vec3(0, 0, 1));
+  const int target =
+      addRawAccessor(model, -1, 0, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 3);
+  auto& sparse = model.accessors[static_cast<std::size_t>(target)].sparse;
+  sparse.isSparse = true;
+  sparse.count = 1;
+  sparse.indices.bufferView = addRawView(model, indices);
+  sparse.indices.byteOffset = 0;
+  sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  sparse.values.bufferView = addRawView(model, values);
+  sparse.values.byteOffset = 0;
+  model.meshes[0].primitives[0].targets = {{{"POSITION", target}}};
+  model.meshes[0].weights = {1.0};
+  model.nodes[static_cast<std::size_t>(node)].weights = {0.5};  // the node's weights win
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  const std::vector<glm::vec3>& p = scene.meshes[0].positions;
+  ASSERT_EQ(p.size(), 3u);
+  EXPECT_EQ(p[0], glm::vec3(0, 0, 0));
+  EXPECT_EQ(p[1], glm::vec3(1, 0, 0));
+  EXPECT_EQ(p[2], glm::vec3(0, 1, 0.5f));
+  EXPECT_NEAR(scene.bounds.max.z, 0.5f, kEps);
 }
 
 // -----------------------------------------------------------------------------------------------

@@ -280,6 +280,30 @@ TEST(Camera, OverridesMoveAndAimTheCamera) {
   EXPECT_THROW(resolveCamera(scene, badFov), InputError);
 }
 
+TEST(Camera, EyeAndTargetWithoutUpLookLevel) {
+  // A file camera rolled 30° about its view axis: an --eye/--target view does not keep the roll.
+  Scene scene = sceneWithBounds();
+  Camera rolled = gltfCamera(0, "rolled", {0, 1, 5}, 0.0f);
+  rolled.world = rolled.world * glm::rotate(glm::mat4(1.0f), glm::radians(30.0f), {0, 0, 1});
+  scene.cameras.push_back(rolled);
+  CameraRequest request;
+  request.eye = glm::vec3(4, 2, 4);
+  request.target = glm::vec3(0, 1, 0);
+  const glm::mat4 cameraToWorld = glm::inverse(resolveCamera(scene, request).view);
+  EXPECT_NEAR(glm::vec3(cameraToWorld[0]).y, 0.0f, 1e-5f);  // the image's x axis is level
+  EXPECT_GT(glm::vec3(cameraToWorld[1]).y, 0.0f);           // and its top points up
+  // Straight down, +Y cannot be up: the top of the image faces -Z.
+  request.eye = glm::vec3(0, 5, 0);
+  request.target = glm::vec3(0, 0, 0);
+  const glm::mat4 down = glm::inverse(resolveCamera(scene, request).view);
+  EXPECT_NEAR(glm::vec3(down[1]).z, -1.0f, 1e-5f);
+  // An explicit --up still rolls the view.
+  request.eye = glm::vec3(4, 2, 4);
+  request.up = glm::vec3(1, 0, 0);
+  const glm::mat4 sideways = glm::inverse(resolveCamera(scene, request).view);
+  EXPECT_GT(std::abs(glm::vec3(sideways[0]).y), 0.5f);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Spot and directional shadow projections (renderer/shadow_views.h)
 

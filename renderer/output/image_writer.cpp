@@ -5,6 +5,7 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStandardAttributes.h>
 #include <OpenEXR/ImfThreading.h>
 #include <fcntl.h>
 #include <unistd.h>
@@ -151,16 +152,26 @@ void writeFileBytes(const std::filesystem::path& path, std::string_view bytes) {
   if (::close(fd) != 0) throw RenderError(cannotWrite(path, std::strerror(errno)));
 }
 
-void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type) {
+void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type,
+              const ExrCameraAttributes* camera) {
   validateExr(image);
   try {
+    Imf::Header header = exrHeader(image, type == ExrPixelType::Half ? Imf::HALF : Imf::FLOAT);
+    if (camera) {
+      const auto matrix = [](const std::array<float, 16>& m) {
+        return Imath::M44f(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11],
+                           m[12], m[13], m[14], m[15]);
+      };
+      Imf::addWorldToCamera(header, matrix(camera->worldToCamera));
+      Imf::addWorldToNDC(header, matrix(camera->worldToNDC));
+    }
     if (type == ExrPixelType::Half) {
       const std::vector<Imath::half> halves = toHalf(image.pixels);
-      writeExrPixels(path, exrHeader(image, Imf::HALF),
-                     interleavedFrameBuffer(image, Imf::HALF, halves.data()), image.height);
+      writeExrPixels(path, header, interleavedFrameBuffer(image, Imf::HALF, halves.data()),
+                     image.height);
     } else {
-      writeExrPixels(path, exrHeader(image, Imf::FLOAT),
-                     interleavedFrameBuffer(image, Imf::FLOAT, image.pixels.data()), image.height);
+      writeExrPixels(path, header, interleavedFrameBuffer(image, Imf::FLOAT, image.pixels.data()),
+                     image.height);
     }
   } catch (const std::exception& error) {
     // Iex exceptions derive from std::exception; callers only know RenderError.

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -35,9 +36,21 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
 void writePng16(const std::filesystem::path& path, int width, int height,
                 const std::vector<std::uint16_t>& pixels);
 
+// The camera an image was rendered with, as OpenEXR's standard attributes hold it: 4x4
+// matrices in the memory order of glm (column-major for column vectors, which is Imath's
+// row-major for row vectors). worldToCamera maps to OpenEXR's left-handed camera space (+x
+// right, +y up, +z the viewing direction); worldToNDC maps to [-1, 1] x and y (+y up) and the
+// renderer's reversed [0, 1] depth, after the division by w.
+struct ExrCameraAttributes {
+  std::array<float, 16> worldToCamera{};
+  std::array<float, 16> worldToNDC{};
+};
+
 // OpenEXR, ZIP compressed, channels named as given (OpenEXR stores them sorted by name),
-// no time stamps. Throws RenderError when the file cannot be written.
-void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type);
+// no time stamps; with `camera`, the worldToCamera and worldToNDC header attributes. Throws
+// RenderError when the file cannot be written.
+void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type,
+              const ExrCameraAttributes* camera = nullptr);
 
 // Writes `bytes` to `path` (created, or emptied when it exists) and closes it, checking every
 // step: a full disk or a file size limit is a RenderError naming the output, never a short file

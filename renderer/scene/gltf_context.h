@@ -29,8 +29,6 @@ struct Context {
   std::string file;
   const tinygltf::Model& model;
   Scene& scene;
-  bool warnedSkins = false;
-  bool warnedMorphTargets = false;
   std::size_t countWithoutBufferView = 0;  // elements read so far from accessors without one
   // Geometry extensions (gltf_draco, gltf_meshopt, gltf_compressed_json):
   bool quantized = false;      // KHR_mesh_quantization declared: integer positions, normals, ...

@@ -13,6 +13,8 @@
 #include "renderer/scene/gltf_materials.h"
 #include "renderer/scene/gltf_nodes.h"
 #include "renderer/scene/gltf_reader.h"
+#include "renderer/scene/gltf_rig.h"
+#include "renderer/scene/scene_pose.h"
 
 // The loader's steps live beside it: gltf_reader (the file, .glb container), gltf_file_safety
 // (URI policy, image size caps), gltf_extension_policy (which extensions are refused or
@@ -77,7 +79,9 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   gltf_detail::convertImages(ctx);
   gltf_detail::convertTextures(ctx);
   gltf_detail::convertMaterials(ctx);
+  gltf_detail::readRig(ctx);
   gltf_detail::addNodes(ctx, roots, rootsObject);
+  poseScene(scene, {});  // skins and default morph weights apply without a time too
   return scene;
 }
 

@@ -13,6 +13,7 @@
 #include "renderer/scene/camera_checks.h"
 #include "renderer/scene/gltf_instancing.h"
 #include "renderer/scene/gltf_primitives.h"
+#include "renderer/scene/gltf_rig.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -108,6 +109,7 @@ Camera convertCamera(const Context& ctx, std::size_t nodeIndex, const glm::mat4&
   camera.name = source.name.empty() ? node.name : source.name;
   camera.nodeName = node.name;
   camera.index = node.camera;
+  camera.node = static_cast<int>(nodeIndex);
   camera.world = world;
   if (source.type == "orthographic") {
     camera.orthographic = true;
@@ -229,32 +231,57 @@ class SceneBuilder {
     const tinygltf::Node& node = ctx_.model.nodes[nodeIndex];
     if (node.mesh >= 0) {
       ctx_.checkIndex(at("nodes", nodeIndex), "mesh", node.mesh, ctx_.model.meshes.size());
-      if (node.skin >= 0 && !ctx_.warnedSkins) {
-        ctx_.warn(at("nodes", nodeIndex) +
-                  ": skins are not applied (bind pose drawn; warned once)");
-        ctx_.warnedSkins = true;
-      }
       const auto meshIndex = static_cast<std::size_t>(node.mesh);
       // EXT_mesh_gpu_instancing: one Scene instance per glTF instance.
-      std::vector<glm::mat4> worlds = instanceTransforms(ctx_, nodeIndex);
-      for (glm::mat4& instance : worlds) instance = world * instance;
-      if (worlds.empty()) worlds.push_back(world);
+      std::vector<glm::mat4> inNode = instanceTransforms(ctx_, nodeIndex);
+      if (inNode.empty()) inNode.push_back(glm::mat4(1.0f));
+      std::vector<glm::mat4> worlds;
+      for (const glm::mat4& instance : inNode) worlds.push_back(world * instance);
       for (std::size_t p = 0; p < meshOf_[meshIndex].size(); ++p) {
-        const int mesh = sceneMesh(meshIndex, p);
+        int mesh = sceneMesh(meshIndex, p);
         if (mesh < 0) continue;
-        for (const glm::mat4& instanceWorld : worlds) {
-          if (!isFinite(instanceWorld)) continue;
-          ctx_.scene.instances.push_back(
-              {mesh, instanceWorld, static_cast<int>(nodeIndex), node.name, extrasClass(node)});
+        const bool deformed = isDeformed(ctx_, nodeIndex, meshIndex, p);
+        mesh = instanceMesh(meshIndex, p, deformed);
+        for (std::size_t i = 0; i < worlds.size(); ++i) {
+          if (!isFinite(worlds[i])) continue;
+          ctx_.scene.instances.push_back({mesh, worlds[i], static_cast<int>(nodeIndex), node.name,
+                                          extrasClass(node), inNode[i]});
           ctx_.scene.bounds.extend(
-              ctx_.scene.meshes[static_cast<std::size_t>(mesh)].bounds.transformed(instanceWorld));
+              ctx_.scene.meshes[static_cast<std::size_t>(mesh)].bounds.transformed(worlds[i]));
+          if (deformed)
+            addDeformedInstance(ctx_, nodeIndex, meshIndex, p,
+                                static_cast<int>(ctx_.scene.instances.size()) - 1);
         }
       }
     }
     if (node.camera >= 0) addCamera(nodeIndex, world);
     if (const int light = lightOf(ctx_, nodeIndex); light >= 0) {
       ctx_.scene.lights.push_back(convertLight(ctx_, light, world, lightNames_));
+      ctx_.scene.rig.lightNodes.push_back(static_cast<int>(nodeIndex));
     }
+    ctx_.scene.rig.order.push_back(static_cast<int>(nodeIndex));
+  }
+
+  // The Scene mesh an instance draws. Posing rewrites a deformed instance's mesh, so that one
+  // is its own; the others share the primitive's rest mesh.
+  int instanceMesh(std::size_t meshIndex, std::size_t primIndex, bool deformed) {
+    int& slot = meshOf_[meshIndex][primIndex];
+    std::vector<Mesh>& meshes = ctx_.scene.meshes;
+    posed_.resize(meshes.size(), 0);
+    drawn_.resize(meshes.size(), 0);
+    const auto index = static_cast<std::size_t>(slot);
+    if (!drawn_[index] && (deformed || !posed_[index])) {
+      drawn_[index] = 1;
+      posed_[index] = deformed;
+      return slot;
+    }
+    if (!deformed && !posed_[index]) return slot;
+    meshes.push_back(meshes[index]);  // still the rest mesh: posing runs after the traversal
+    posed_.push_back(deformed);
+    drawn_.push_back(1);
+    const int copy = static_cast<int>(meshes.size()) - 1;
+    if (!deformed) slot = copy;  // later plain instances share this copy
+    return copy;
   }
 
   void addCamera(std::size_t nodeIndex, const glm::mat4& world) {
@@ -282,6 +309,8 @@ class SceneBuilder {
   std::vector<std::vector<int>> meshOf_;  // [glTF mesh][primitive] -> Scene::meshes index
   std::set<std::string> lightNames_;
   std::set<int> checkedCameras_;  // glTF camera indices
+  std::vector<char> posed_;       // [Scene mesh] drawn by a deformed instance
+  std::vector<char> drawn_;       // [Scene mesh] drawn by any instance
 };
 
 }  // namespace

@@ -154,10 +154,6 @@ bool isDrawn(Context& ctx, const tinygltf::Primitive& primitive, const std::stri
     ctx.warn(object + ": no POSITION attribute; not drawn");
     return false;
   }
-  if (!primitive.targets.empty() && !ctx.warnedMorphTargets) {
-    ctx.warn(object + ": morph targets are not applied (base shape drawn; warned once)");
-    ctx.warnedMorphTargets = true;
-  }
   return true;
 }
 
@@ -297,6 +293,18 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   if (mode >= TINYGLTF_MODE_TRIANGLES) generateMissing(ctx, object, mesh);
   for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
   return mesh;
+}
+
+std::vector<std::uint32_t> fileTriangleIndices(Context& ctx, std::size_t meshIndex,
+                                               std::size_t primIndex) {
+  const tinygltf::Primitive& primitive = ctx.model.meshes[meshIndex].primitives[primIndex];
+  const std::string object = at("meshes", meshIndex) + "." + at("primitives", primIndex);
+  const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+  const std::size_t n =
+      ctx.model.accessors[static_cast<std::size_t>(primitive.attributes.at("POSITION"))].count;
+  std::vector<std::uint32_t> indices = toTriangleList(readIndices(ctx, primitive, object, n), mode);
+  indices.resize(indices.size() / 3 * 3);
+  return indices;
 }
 
 }  // namespace omnishadow::gltf_detail

@@ -8,6 +8,7 @@
 
 #include "renderer/scene/bounds.h"
 #include "renderer/scene/light.h"
+#include "renderer/scene/scene_rig.h"
 
 namespace omnishadow {
 
@@ -99,6 +100,9 @@ struct MeshInstance {
   int node = -1;  // glTF node index
   std::string nodeName;
   std::string className;  // the node's extras "class" (a string), for semantic masks; else empty
+  // EXT_mesh_gpu_instancing: this instance's transform within its node (world = node's world x
+  // this), kept so that posing can move every instance with its node; identity otherwise.
+  glm::mat4 inNode{1.0f};
 };
 
 // A glTF camera as placed by a node that references it.
@@ -106,6 +110,7 @@ struct Camera {
   std::string name;  // the camera's name, or else its node's name
   std::string nodeName;
   int index = -1;  // glTF camera index
+  int node = -1;   // glTF node that places it
   bool orthographic = false;
   float yfov = 0.8f;               // radians (perspective)
   float aspectRatio = 0.0f;        // 0 = unspecified
@@ -153,6 +158,10 @@ struct Scene {
   std::vector<Light> lights;    // KHR_lights_punctual, world space, origin = "glTF"
   Bounds bounds;                // world space, all instances
   std::vector<std::string> warnings;
+  // Nodes, skins, morph targets and animations: what poseScene() (scene_pose.h) needs to pose
+  // the scene at a time. The loader leaves the scene posed at rest (skins and default morph
+  // weights applied, nothing animated).
+  SceneRig rig;
 };
 
 }  // namespace omnishadow

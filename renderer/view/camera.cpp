@@ -114,6 +114,7 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
     out.znear = camera->znear;
     out.zfar = camera->zfar;
     out.description = "glTF camera " + std::to_string(camera->index) + " \"" + camera->name + "\"";
+    out.gltfCamera = static_cast<int>(camera - scene.cameras.data());
   } else {
     yfov = glm::radians(request.fovDegrees.value_or(kAutoFovDegrees));
     const glm::vec3 center = scene.bounds.empty() ? glm::vec3(0.0f) : scene.bounds.center();
@@ -140,7 +141,17 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
     if (!request.target) target = lookAtPoint.value_or(eye + forward);
   }
   if (request.target) target = *request.target;
-  if (request.up) up = *request.up;
+  if (request.up) {
+    up = *request.up;
+  } else if (request.eye || request.target) {
+    // A chosen view is level (+Y up, glTF's up), not rolled like the file's camera; looking
+    // straight up or down, +Y cannot be up and the top of the image faces -Z.
+    up = glm::vec3(0.0f, 1.0f, 0.0f);
+    const glm::vec3 direction = target - eye;
+    if (glm::length(direction) > 0.0f &&
+        glm::length(glm::cross(glm::normalize(direction), up)) < 1e-4f)
+      up = glm::vec3(0.0f, 0.0f, -1.0f);
+  }
   if (request.eye || request.target || request.up) {
     if (request.eye || request.target) out.description += " with --eye/--target";
     // An explicit view always gets a near plane proportional to the scene, as the glTF one

@@ -27,6 +27,7 @@ struct ViewCamera {
   float znear = 0.01f;
   float zfar = 0.0f;        // 0 = infinite
   std::string description;  // e.g. "glTF camera 0 \"Main\"" or "automatic framing"
+  int gltfCamera = -1;      // Scene::cameras entry it started from; -1 = automatic framing
   // Read back rows in GL order (row 0 = window bottom) instead of top first: light views use
   // it to match the GL texel layout of the cube map dumps.
   bool glRowOrder = false;
@@ -37,7 +38,8 @@ inline constexpr int kDefaultHeight = 720;
 
 // Picks the glTF camera (request.select, else the first), or frames the scene bounds when the
 // file has none, then applies the overrides: --eye moves the camera keeping its orientation
-// unless --target is also given; --target turns it to look there; --up sets the roll.
+// unless --target is also given; --target turns it to look there; --up sets the roll (+Y, or -Z
+// when looking straight up or down, when --eye or --target is given without --up).
 // Image size: --width/--height, else 1280x720, with the missing side following the camera's
 // aspect ratio when the glTF camera has one. Throws InputError for an unknown camera or
 // impossible overrides (eye == target, up parallel to the view direction, fov out of (0,180)),

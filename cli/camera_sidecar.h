@@ -1,0 +1,25 @@
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "renderer/output/image_writer.h"
+#include "renderer/scene/scene.h"
+#include "renderer/view/camera.h"
+
+namespace omnishadow::cli {
+
+// The camera sidecar (--camera-json): image size, intrinsics, world-to-camera and
+// camera-to-world matrices in the OpenGL and OpenCV conventions (renderer/view/camera_export.h),
+// the projection, the time and the glTF camera. Matrices are written as 4 rows of 4 numbers.
+nlohmann::ordered_json cameraSidecar(const ViewCamera& camera, const Scene& scene,
+                                     std::optional<double> time);
+
+// "<first image, or the AOV file, without its extension>.camera.json".
+std::filesystem::path cameraSidecarPath(const std::filesystem::path& image);
+
+// OpenEXR's worldToCamera and worldToNDC for the camera.
+ExrCameraAttributes exrCameraAttributes(const ViewCamera& camera);
+
+}  // namespace omnishadow::cli
