@@ -171,6 +171,9 @@ void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& input
         throw InputError(output.string() + ": refusing to overwrite an input file");
 }
 
+// 1 TiB: beyond any machine this renders on; the bound only has to exclude inf and nan.
+constexpr double kMaxMemoryMiB = 1024.0 * 1024.0;
+
 void validateJob(const RenderJob& job) {
   for (const fs::path& path : job.png)
     if (lowerExtension(path) != ".png") throw InputError(path.string() + ": expected a .png name");
@@ -192,6 +195,14 @@ void validateJob(const RenderJob& job) {
     throw InputError("--debug-light: only used with --debug-view depth");
   checkFolderOption("--dump-depth", job.dumpDepth);
   checkFolderOption("--light-views", job.lightViews);
+  // Checked here, not by CLI11's PositiveNumber, which lets nan through (and nan > budget is
+  // false: no budget at all) and quotes DBL_MAX in its message.
+  if (!(job.maxMemoryMiB > 0.0 && job.maxMemoryMiB <= kMaxMemoryMiB)) {
+    std::ostringstream given;
+    given << job.maxMemoryMiB;
+    throw InputError("--max-memory " + given.str() + ": expected a number of MiB in (0, " +
+                     std::to_string(static_cast<int>(kMaxMemoryMiB)) + "]");
+  }
   if (!std::isfinite(job.exposure))
     throw InputError("--exposure " + std::to_string(job.exposure) +
                      ": expected a finite number of stops");
@@ -208,6 +219,21 @@ LoadedJob loadJob(const RenderJob& job) {
   if (loaded.scene.instances.empty())
     throw InputError(job.scene.string() + ": the scene draws no triangles (" +
                      std::to_string(loaded.scene.source.reachedNodes) + " nodes reached)");
+  // Primitives with fewer than 3 vertices (or only degenerate strips) leave instances that
+  // draw nothing: a black picture is no answer.
+  if (std::none_of(
+          loaded.scene.instances.begin(), loaded.scene.instances.end(),
+          [&](const MeshInstance& instance) {
+            return !loaded.scene.meshes[static_cast<std::size_t>(instance.mesh)].indices.empty();
+          }))
+    throw InputError(job.scene.string() + ": the scene draws no triangles (" +
+                     std::to_string(loaded.scene.instances.size()) +
+                     " primitives placed, none with a whole triangle)");
+  // Instances at +-3e38 make the bounds infinite: no camera or shadow range can frame them.
+  if (!std::isfinite(loaded.scene.bounds.radius()) ||
+      !std::isfinite(glm::length(loaded.scene.bounds.center())))
+    throw InputError(job.scene.string() +
+                     ": the scene's bounds are not finite (objects placed near the float limit)");
   loaded.warnings = loaded.scene.warnings;
   if (!job.lights.empty()) loaded.setup = loadLightsFile(job.lights, loaded.warnings);
   loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,

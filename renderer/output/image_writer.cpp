@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <set>
@@ -21,6 +22,7 @@
 #include <string>
 
 #include "renderer/core/errors.h"
+#include "renderer/core/input_file.h"
 #include "renderer/output/exr_memory_stream.h"
 #include "renderer/output/output_transaction.h"
 
@@ -44,6 +46,10 @@ std::string oiioReason(const std::string& objectError) {
   std::string global = OIIO::geterror();
   return global.empty() ? "unknown OpenImageIO error" : global;
 }
+
+// What readImage takes: files up to 2 GiB, decoded to at most 1 GiB of floats.
+constexpr std::uint64_t kMaxImageFileBytes = std::uint64_t{2} << 30;
+constexpr std::uint64_t kMaxImageValues = std::uint64_t{1} << 28;
 
 std::size_t pixelCount(int width, int height) {
   return static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
@@ -201,12 +207,30 @@ FloatImage readImage(const std::filesystem::path& path) {
   auto fail = [&](const std::string& reason) {
     return InputError(name + ": cannot read image: " + reason);
   };
+  // Read through the checks every input gets (a FIFO or /dev/zero must neither block nor fill
+  // memory), then decoded from memory.
+  std::string bytes;
+  if (const std::string why = readRegularFile(path, kMaxImageFileBytes, bytes); !why.empty())
+    throw fail(why);
+  OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
+  OIIO::Filesystem::IOProxy* proxy = &memory;
   // Return the stored values: OIIO would otherwise premultiply PNG colour by alpha on read.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
   auto input = OIIO::ImageInput::open(name, &config);
   if (!input) throw fail(oiioReason(""));
   const OIIO::ImageSpec& spec = input->spec();
+  // The header is checked before the pixels are allocated: a 1 MB PNG may claim 16384 x 16384
+  // (4 GiB as float).
+  const std::uint64_t values = std::uint64_t(std::max(spec.width, 0)) *
+                               std::uint64_t(std::max(spec.height, 0)) *
+                               std::uint64_t(std::max(spec.nchannels, 0));
+  if (values > kMaxImageValues) {
+    throw fail(std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
+               std::to_string(spec.nchannels) + " channels is too large (at most " +
+               std::to_string(kMaxImageValues) + " channel values, e.g. 8192x8192 RGBA)");
+  }
   FloatImage image;
   image.width = spec.width;
   image.height = spec.height;

@@ -117,12 +117,15 @@ std::vector<std::uint32_t> toTriangleList(const std::vector<std::uint32_t>& in, 
 // them; fails for modes glTF does not define.
 bool isDrawn(Context& ctx, const tinygltf::Primitive& primitive, const std::string& object,
              int mode) {
+  // Checked first: a negative mode would index the names below.
+  if (mode < 0 || mode > TINYGLTF_MODE_TRIANGLE_FAN) {
+    ctx.fail(object, "invalid mode " + std::to_string(mode) + " (glTF defines 0 to 6)");
+  }
   if (mode < TINYGLTF_MODE_TRIANGLES) {
     static constexpr const char* kNames[] = {"points", "lines", "line loop", "line strip"};
     ctx.warn(object + ": " + kNames[mode] + " primitives are not drawn");
     return false;
   }
-  if (mode > TINYGLTF_MODE_TRIANGLE_FAN) ctx.fail(object, "invalid mode " + std::to_string(mode));
   if (primitive.attributes.count("POSITION") == 0) {
     ctx.warn(object + ": no POSITION attribute; not drawn");
     return false;
@@ -202,6 +205,21 @@ std::vector<std::uint32_t> readIndices(Context& ctx, const tinygltf::Primitive& 
   return indices;
 }
 
+// A zero or non-finite NORMAL (the spec asks for unit length) shades its triangles black: the
+// whole primitive gets flat normals instead, with a warning.
+void replaceUnusableNormals(Context& ctx, const std::string& object, Mesh& mesh) {
+  const auto unusable = std::count_if(mesh.normals.begin(), mesh.normals.end(), [](glm::vec3 n) {
+    const float length = glm::length(n);
+    return !(length > 0.0f) || !std::isfinite(length);
+  });
+  if (unusable == 0) return;
+  ctx.warn(object + ": " + std::to_string(unusable) +
+           " NORMAL values are zero or not finite; generated flat normals");
+  mesh.normals.clear();
+  mesh.tangents.clear();
+  generateNormals(mesh);
+}
+
 // Generates what the file left out: flat normals, and tangents where a normal map needs them.
 void generateMissing(Context& ctx, const std::string& object, Mesh& mesh) {
   if (mesh.normals.empty()) {
@@ -223,7 +241,8 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   const tinygltf::Mesh& source = ctx.model.meshes[meshIndex];
   const tinygltf::Primitive& primitive = source.primitives[primIndex];
   const std::string object = at("meshes", meshIndex) + "." + at("primitives", primIndex);
-  const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+  // tinygltf gives TRIANGLES where the file has no mode, so a negative one is the file's own.
+  const int mode = primitive.mode;
   if (!isDrawn(ctx, primitive, object, mode)) return std::nullopt;
 
   Mesh mesh;
@@ -240,6 +259,7 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
              " indices is not a multiple of 3; the last triangle is dropped");
     mesh.indices.resize(mesh.indices.size() / 3 * 3);
   }
+  replaceUnusableNormals(ctx, object, mesh);
   generateMissing(ctx, object, mesh);
   for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
   return mesh;

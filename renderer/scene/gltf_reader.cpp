@@ -10,6 +10,8 @@
 #include <string_view>
 
 #include "renderer/core/errors.h"
+#include "renderer/core/input_file.h"
+#include "renderer/core/json_depth.h"
 #include "renderer/scene/gltf_context.h"
 #include "renderer/scene/gltf_file_safety.h"
 
@@ -45,16 +47,13 @@ std::string printable(const unsigned char* bytes, std::size_t size) {
 
 // tinygltf says "Invalid glTF binary." for any broken header or chunk length; this says which
 // field is wrong and where, from the 12-byte header and the 8-byte chunk headers alone.
-void checkGlbLayout(std::ifstream& in, const std::string& file, std::uint64_t fileSize) {
+void checkGlbLayout(const std::string& data, const std::string& file) {
   const auto fail = [&](const std::string& problem) { throw InputError(file + ": " + problem); };
+  const std::uint64_t fileSize = data.size();
   if (fileSize < 12) {
     fail("truncated .glb: " + std::to_string(fileSize) + " bytes, less than the 12-byte header");
   }
-  unsigned char header[12];
-  in.seekg(0);
-  if (!in.read(reinterpret_cast<char*>(header), sizeof header)) {
-    fail(std::string("cannot read glTF file: ") + std::strerror(errno));
-  }
+  const auto* header = reinterpret_cast<const unsigned char*>(data.data());
   const std::uint32_t version = le32(header + 4), length = le32(header + 8);
   if (version != 2) {
     fail("GLB header: version " + std::to_string(version) + " is not supported (expected 2)");
@@ -68,11 +67,7 @@ void checkGlbLayout(std::ifstream& in, const std::string& file, std::uint64_t fi
     const std::string chunk = "GLB chunk " + std::to_string(index);
     const std::string where = " at byte " + std::to_string(at);
     if (length - at < 8) fail(chunk + where + ": truncated chunk header");
-    unsigned char chunkHeader[8];
-    in.seekg(static_cast<std::streamoff>(at));
-    if (!in.read(reinterpret_cast<char*>(chunkHeader), sizeof chunkHeader)) {
-      fail(std::string("cannot read glTF file: ") + std::strerror(errno));
-    }
+    const auto* chunkHeader = header + at;
     const std::uint32_t chunkLength = le32(chunkHeader), type = le32(chunkHeader + 4);
     const std::string name = (type == kGlbJsonChunk  ? chunk + " (JSON)"
                               : type == kGlbBinChunk ? chunk + " (BIN)"
@@ -116,6 +111,19 @@ std::string locateParseError(const tinygltf::Model& model, const std::string& me
   return message;
 }
 
+// tinygltf takes the size as an unsigned int; a scene is read whole into memory.
+constexpr std::uint64_t kMaxSceneFileBytes = std::uint64_t{2} << 30;
+
+// readInputFile's checks, with the scene's name as the caller shows it.
+std::string readInputFileNamed(const std::filesystem::path& path, const std::string& file,
+                               std::uint64_t maxBytes, std::string_view what) {
+  std::string content;
+  if (const std::string why = readRegularFile(path, maxBytes, content); !why.empty()) {
+    throw InputError(file + ": cannot read " + std::string(what) + ": " + why);
+  }
+  return content;
+}
+
 bool hasGlbExtension(const std::filesystem::path& path) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
@@ -128,37 +136,30 @@ bool hasGlbExtension(const std::filesystem::path& path) {
 tinygltf::Model readModel(const std::filesystem::path& path, const std::string& file,
                           std::vector<std::string>& warnings, bool* isBinary,
                           bool allowExternalUris) {
-  std::error_code ec;
-  const std::filesystem::file_status status = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(status)) {
-    throw InputError(file + ": cannot read glTF file: no such file");
-  }
-  if (std::filesystem::is_directory(status)) {
-    throw InputError(file + ": cannot read glTF file: is a directory");
-  }
-  unsigned char magic[4] = {};
+  // Read once, through the checks every input gets (a FIFO or /dev/zero as the scene must
+  // neither block nor fill memory); tinygltf then parses from memory.
+  const std::string data = readInputFileNamed(path, file, kMaxSceneFileBytes, "glTF file");
+  const auto* magic = reinterpret_cast<const unsigned char*>(data.data());
+  const std::size_t got = std::min<std::size_t>(data.size(), 4);
   // Decided by content, not by extension: some tools write .glb data under a .gltf name.
-  bool binary = false;
-  {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(file + ": cannot read glTF file: " + std::strerror(errno));
-    in.read(reinterpret_cast<char*>(magic), sizeof magic);
-    const auto got = static_cast<std::size_t>(in.gcount());
-    const std::uint64_t size = std::filesystem::file_size(path, ec);
-    binary = got == 4 && std::memcmp(magic, "glTF", 4) == 0;
-    if (binary) {
-      in.clear();
-      checkGlbLayout(in, file, ec ? 0 : size);
-    } else if (hasGlbExtension(path)) {
-      // JSON under a .glb name is read as such; anything else would only give a JSON syntax
-      // error about what is really a broken binary header.
-      std::size_t first = 0;
-      while (first < got && std::isspace(magic[first])) ++first;
-      if (first == got || magic[first] != '{') {
-        throw InputError(file + ": not a binary glTF: it starts with \"" + printable(magic, got) +
-                         "\", not the magic \"glTF\"");
-      }
+  const bool binary = got == 4 && std::memcmp(magic, "glTF", 4) == 0;
+  std::string_view json = data;
+  if (binary) {
+    checkGlbLayout(data, file);
+    json = std::string_view(data).substr(20, le32(magic + 12));
+  } else if (hasGlbExtension(path)) {
+    // JSON under a .glb name is read as such; anything else would only give a JSON syntax
+    // error about what is really a broken binary header.
+    std::size_t first = 0;
+    while (first < got && std::isspace(magic[first])) ++first;
+    if (first == got || magic[first] != '{') {
+      throw InputError(file + ": not a binary glTF: it starts with \"" + printable(magic, got) +
+                       "\", not the magic \"glTF\"");
     }
+  }
+  if (const std::size_t deep = findExcessiveNesting(json); deep != std::string_view::npos) {
+    throw InputError(file + (binary ? ": GLB JSON chunk:" : ":") +
+                     excessiveNestingMessage(json, deep));
   }
   *isBinary = binary;
 
@@ -167,6 +168,9 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   UriPolicy policy{std::filesystem::weakly_canonical(std::filesystem::absolute(path)).parent_path(),
                    allowExternalUris,
                    {}};
+  // URIs are looked up beside the scene (tinygltf also tries the working directory, which the
+  // policy refuses unless --allow-external-uris is given).
+  const std::string baseDir = policy.folder.string();
   tinygltf::FsCallbacks files{&existsWithinFolder, &tinygltf::ExpandFilePath, &readWithinFolder,
                               &tinygltf::WriteWholeFile, &policy};
   reader.SetFsCallbacks(files);
@@ -174,8 +178,10 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   std::string error, warning;
   bool ok = false;
   try {
-    ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path.string())
-                : reader.LoadASCIIFromFile(&model, &error, &warning, path.string());
+    ok = binary ? reader.LoadBinaryFromMemory(&model, &error, &warning, magic,
+                                              static_cast<unsigned int>(data.size()), baseDir)
+                : reader.LoadASCIIFromString(&model, &error, &warning, data.data(),
+                                             static_cast<unsigned int>(data.size()), baseDir);
   } catch (const std::exception& e) {
     throw InputError(file + ": " + e.what());
   }
