@@ -40,6 +40,7 @@ omnishadow_fuzzer(fuzz_gltf
   renderer/scene/gltf_accessors.cpp
   renderer/scene/gltf_context.cpp
   renderer/scene/gltf_file_safety.cpp
+  renderer/scene/gltf_json_checks.cpp
   renderer/scene/gltf_loader.cpp
   renderer/scene/gltf_materials.cpp
   renderer/scene/gltf_nodes.cpp
@@ -49,3 +50,11 @@ omnishadow_fuzzer(fuzz_gltf
   renderer/scene/light.cpp
   renderer/scene/lights_loader.cpp)
 target_link_libraries(fuzz_gltf PRIVATE TinyGLTF::TinyGLTF)
+
+# The manifest reader and the job checks are instrumented; what they call of the renderer's
+# libraries (nothing renders) is linked uninstrumented.
+omnishadow_fuzzer(fuzz_manifest
+  tests/fuzz/fuzz_manifest.cpp
+  cli/batch_jobs.cpp
+  cli/render_job.cpp)
+target_link_libraries(fuzz_manifest PRIVATE omnishadow_render omnishadow_output omnishadow_scene)

@@ -382,7 +382,7 @@ TEST_F(HostileInputTest, InstancesAtTheFloatLimitAreAnInputError) {
 TEST_F(HostileInputTest, ForbiddenGltfValuesAreErrorsNamingTheObject) {
   const std::vector<std::pair<std::function<void(json&)>, std::string>> cases = {
       {[](json& d) { d["meshes"][0]["primitives"][0]["mode"] = -5; },
-       "meshes[0].primitives[0]: invalid mode -5"},
+       "meshes[0].primitives[0].mode: -5 is not one of the modes 0 to 6"},
       {[](json& d) { d["asset"]["minVersion"] = "3.0"; },
        "asset.minVersion: \"3.0\" is not supported"},
       {[](json& d) {
@@ -403,6 +403,42 @@ TEST_F(HostileInputTest, ForbiddenGltfValuesAreErrorsNamingTheObject) {
   for (const auto& [edit, message] : cases) {
     EXPECT_TRUE(refused(render(writeTriangle(input("bad.gltf"), edit)), "bad.gltf: " + message));
   }
+}
+
+// What tinygltf reads as absent (a negative byteStride, a light range of 0) or reports without
+// its object is checked on the JSON itself.
+TEST_F(HostileInputTest, ValuesTinygltfWouldDropAreErrorsNamingTheObject) {
+  const std::vector<std::pair<std::function<void(json&)>, std::string>> cases = {
+      {[](json& d) { d["bufferViews"][0]["byteStride"] = -12; },
+       "bufferViews[0].byteStride: -12 is not a multiple of 4 from 4 to 252"},
+      {[](json& d) {
+         d["extensionsUsed"] = {"KHR_lights_punctual"};
+         d["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"range", 0}}};
+       },
+       "KHR_lights_punctual.lights[0].range: 0: expected a number > 0"},
+      {[](json& d) { d["accessors"][0]["count"] = "3"; },
+       "accessors[0].count: expected an integer >= 1, got \"3\""},
+      {[](json& d) { d["accessors"][0]["count"] = 0; },
+       "accessors[0].count: expected an integer >= 1, got 0"},
+      {[](json& d) { d["meshes"][0]["primitives"][0]["mode"] = "x"; },
+       "meshes[0].primitives[0].mode: \"x\" is not one of the modes 0 to 6"},
+  };
+  for (const auto& [edit, message] : cases) {
+    EXPECT_TRUE(refused(runBounded({"info", writeTriangle(input("bad.gltf"), edit).string()}),
+                        "bad.gltf: " + message));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. Valid files refused
+
+TEST_F(HostileInputTest, AnIndexAccessorWithoutABufferViewIsZeros) {
+  const fs::path scene = writeTriangle(input("zeros.gltf"), [](json& doc) {
+    doc["accessors"].push_back({{"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}});
+    doc["meshes"][0]["primitives"][0]["indices"] = 1;
+  });
+  const RunResult r = runBounded({"info", scene.string()});
+  EXPECT_EQ(r.status, 0) << r.err;
 }
 
 TEST_F(HostileInputTest, ZeroOrNanNormalsAreReplacedWithAWarning) {

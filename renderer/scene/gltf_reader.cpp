@@ -14,6 +14,7 @@
 #include "renderer/core/json_depth.h"
 #include "renderer/scene/gltf_context.h"
 #include "renderer/scene/gltf_file_safety.h"
+#include "renderer/scene/gltf_json_checks.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -111,6 +112,21 @@ std::string locateParseError(const tinygltf::Model& model, const std::string& me
   return message;
 }
 
+// `glb` (its layout checked) with its JSON chunk replaced by `json`, padded with spaces.
+std::string glbWithJson(const std::string& glb, std::string json) {
+  while (json.size() % 4 != 0) json += ' ';
+  const auto* bytes = reinterpret_cast<const unsigned char*>(glb.data());
+  const std::size_t rest = 20 + std::size_t{le32(bytes + 12)};
+  const std::size_t end = std::min<std::size_t>(glb.size(), le32(bytes + 8));
+  std::string out = glb.substr(0, 20) + json + glb.substr(rest, end > rest ? end - rest : 0);
+  const auto put32 = [&](std::size_t at, std::size_t value) {
+    for (int i = 0; i < 4; ++i) out[at + i] = static_cast<char>((value >> (8 * i)) & 0xFF);
+  };
+  put32(8, out.size());
+  put32(12, json.size());
+  return out;
+}
+
 // tinygltf takes the size as an unsigned int; a scene is read whole into memory.
 constexpr std::uint64_t kMaxSceneFileBytes = std::uint64_t{2} << 30;
 
@@ -161,6 +177,14 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
     throw InputError(file + (binary ? ": GLB JSON chunk:" : ":") +
                      excessiveNestingMessage(json, deep));
   }
+  // What tinygltf would drop or misreport is checked on the JSON itself; what it would refuse
+  // wrongly is hidden from it in a rewritten copy.
+  const JsonReview review = reviewGltfJson(json, file);
+  std::string rewritten;
+  if (!review.rewritten.empty()) {
+    rewritten = binary ? glbWithJson(data, review.rewritten) : review.rewritten;
+  }
+  const std::string& parsed = rewritten.empty() ? data : rewritten;
   *isBinary = binary;
 
   tinygltf::TinyGLTF reader;
@@ -178,10 +202,11 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   std::string error, warning;
   bool ok = false;
   try {
-    ok = binary ? reader.LoadBinaryFromMemory(&model, &error, &warning, magic,
-                                              static_cast<unsigned int>(data.size()), baseDir)
-                : reader.LoadASCIIFromString(&model, &error, &warning, data.data(),
-                                             static_cast<unsigned int>(data.size()), baseDir);
+    ok = binary ? reader.LoadBinaryFromMemory(&model, &error, &warning,
+                                              reinterpret_cast<const unsigned char*>(parsed.data()),
+                                              static_cast<unsigned int>(parsed.size()), baseDir)
+                : reader.LoadASCIIFromString(&model, &error, &warning, parsed.data(),
+                                             static_cast<unsigned int>(parsed.size()), baseDir);
   } catch (const std::exception& e) {
     throw InputError(file + ": " + e.what());
   }
@@ -194,6 +219,7 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
         file + ": " +
         (lines.empty() ? "not a valid glTF file" : locateParseError(model, lines.front())));
   }
+  restoreHiddenIndices(model, review.hiddenIndices);
   // On success tinygltf's error text only holds tolerated oddities, so it is a warning too.
   // tinygltf repeats a message for every object it applies to; once each is enough.
   std::set<std::string> seen;
