@@ -460,8 +460,73 @@ TEST_F(HostileInputTest, ZeroOrNanNormalsAreReplacedWithAWarning) {
       << r.err;
 }
 
+TEST_F(HostileInputTest, AWebpImageWithAPngFallbackIsSetAsideWithAWarning) {
+  const std::string png =
+      "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVQYV2P4z/"
+      "AfAAQAAf+I0P3MAAAAAElFTkSuQmCC";
+  const auto withWebp = [&](bool fallback) {
+    return [=](json& doc) {
+      doc["extensionsUsed"] = {"EXT_texture_webp"};
+      doc["images"] = {{{"uri", png}}, {{"uri", "data:image/webp;base64,UklGRhwAAABXRUJQ"}}};
+      doc["textures"] = {
+          {{"source", fallback ? 0 : 1}, {"extensions", {{"EXT_texture_webp", {{"source", 1}}}}}}};
+      doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+      doc["meshes"][0]["primitives"][0]["material"] = 0;
+    };
+  };
+  const RunResult r = runBounded({"info", writeTriangle(input("webp.gltf"), withWebp(true))});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out + r.err,
+                       "images[1]: WebP (EXT_texture_webp) is not supported; "
+                       "textures use their PNG or JPEG source"))
+      << r.out << r.err;
+  EXPECT_TRUE(refused(runBounded({"info", writeTriangle(input("webp.gltf"), withWebp(false))}),
+                      "textures[0].source: images[1] is WebP, which is not supported"));
+}
+
+TEST_F(HostileInputTest, APlaceholderBufferThatNothingUsesIsIgnored) {
+  // The validator's valid_placeholder.glb: buffer 1 has no uri and no bufferView.
+  std::string json =
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4},{"byteLength":1024}]})";
+  while (json.size() % 4 != 0) json += ' ';
+  std::string glb = "glTF" + std::string(8, '\0') + std::string(4, '\0') + "JSON" + json +
+                    std::string("\x04\0\0\0BIN\0\xff\xff\xff\xff", 12);
+  putLe32(glb, 4, 2);
+  putLe32(glb, 8, static_cast<std::uint32_t>(glb.size()));
+  putLe32(glb, 12, static_cast<std::uint32_t>(json.size()));
+  writeBytes(input("placeholder.glb"), glb);
+  const RunResult r = runBounded({"info", in("placeholder.glb")});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out + r.err, "buffers[1]: no uri and no bufferView uses it; ignored"))
+      << r.out << r.err;
+}
+
 // ---------------------------------------------------------------------------------------------
 // 7. Late or cryptic failures
+
+TEST_F(HostileInputTest, AFrameLargerThanTheGlAllocatesIsAnInputErrorNamingTheLimit) {
+  const fs::path scene = boxScene("s/a.gltf");
+  const RunResult r = runBounded(
+      {"render", scene.string(), "-o", "a.png", "--width", "16384", "--height", "16384"});
+  // llvmpipe takes at most 1 GiB per texture (about 8192x8192 RGBA32F); a GL that takes more
+  // renders it, which this test then only checks for a clean exit.
+  if (r.status != 0) {
+    EXPECT_TRUE(
+        refused(r, "--width/--height 16384x16384: more than this GL allocates for a frame"));
+  }
+}
+
+TEST_F(HostileInputTest, TooManyShadowedLightsOfOneResolutionAreToldSo) {
+  const fs::path scene = boxScene("s/a.gltf");
+  std::string lights = R"({"lights": [)";
+  for (int i = 0; i < 1400; ++i) {
+    lights += (i ? "," : "") + std::string(R"({"name": "l)") + std::to_string(i) +
+              R"(", "position": [0, 2, 0], "shadow": {"resolution": 8}})";
+  }
+  const fs::path file = writeText("many.json", lights + "]}");
+  EXPECT_TRUE(refused(render(scene, {"-l", file.string()}),
+                      "use fewer shadowed lights (or \"shadow\": false on some)"));
+}
 
 TEST_F(HostileInputTest, MaxMemoryMustBeAPositiveFiniteNumber) {
   const fs::path scene = boxScene("s/a.gltf");

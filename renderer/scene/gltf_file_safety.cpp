@@ -184,8 +184,12 @@ bool permitted(UriPolicy& policy, const std::string& filepath) {
   const std::string uri =
       filepath.starts_with(folderPrefix) ? filepath.substr(folderPrefix.size()) : filepath;
   if (filepath.find("://") != std::string::npos || hasUriScheme(uri)) {
+    // tinygltf decodes the data: URIs it can (base64 of known types) before any lookup.
+    const bool data = uri.starts_with("data:");
     if (policy.violation.empty()) {
-      policy.violation = "\"" + uri + "\": only data: URIs and relative file paths are supported";
+      policy.violation = "\"" + (uri.size() > 60 ? uri.substr(0, 60) + "..." : uri) + "\": " +
+                         (data ? "only base64 data: URIs of buffers, PNG and JPEG are supported"
+                               : "only data: URIs and relative file paths are supported");
     }
     return false;
   }

@@ -1,6 +1,7 @@
 #include "renderer/scene/gltf_json_checks.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -117,6 +118,56 @@ class Reviewer {
     }
   }
 
+  // A buffer without a uri (other than a .glb's BIN chunk) that no bufferView uses holds
+  // nothing the file needs; tinygltf refuses it, so it becomes one byte of data.
+  void placeholderBuffers(Json& root, bool binary, JsonReview& review) {
+    const auto buffers = root.find("buffers");
+    if (buffers == root.end() || !buffers->is_array()) return;
+    std::vector<bool> used(buffers->size(), false);
+    eachObject(root, "bufferViews", [&](std::size_t, const Json& view) {
+      const auto buffer = view.find("buffer");
+      if (buffer != view.end() && isInteger(*buffer, 0, std::int64_t(used.size()) - 1))
+        used[buffer->get<std::size_t>()] = true;
+    });
+    for (std::size_t i = binary ? 1 : 0; i < buffers->size(); ++i) {
+      Json& buffer = (*buffers)[i];
+      if (!buffer.is_object() || buffer.contains("uri") || used[i]) continue;
+      buffer = Json{{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
+      review.warnings.push_back(at("buffers", i) + ": no uri and no bufferView uses it; ignored");
+      changed_ = true;
+    }
+  }
+
+  // WebP (EXT_texture_webp) is not decoded. An image only the extension reaches is set aside
+  // (the texture's `source` is its PNG/JPEG fallback); one a `source` names is an error.
+  void webpImages(Json& root, JsonReview& review) {
+    const auto images = root.find("images");
+    if (images == root.end() || !images->is_array()) return;
+    for (std::size_t i = 0; i < images->size(); ++i) {
+      Json& image = (*images)[i];
+      if (!image.is_object() || !isWebp(image)) continue;
+      eachObject(root, "textures", [&](std::size_t t, const Json& texture) {
+        const auto source = texture.find("source");
+        if (source != texture.end() && source->is_number_integer() &&
+            source->get<std::int64_t>() == std::int64_t(i)) {
+          fail(at("textures", t) + ".source",
+               at("images", i) +
+                   " is WebP, which is not supported (only through EXT_texture_webp "
+                   "with a PNG or JPEG source)");
+        }
+      });
+      Json placeholder{{"uri", kOnePixelPng}};
+      if (image.contains("name")) placeholder["name"] = image["name"];
+      image = std::move(placeholder);
+      review.warnings.push_back(at("images", i) +
+                                ": WebP (EXT_texture_webp) is not supported; textures use their "
+                                "PNG or JPEG source");
+      changed_ = true;
+    }
+  }
+
+  bool changed() const { return changed_; }
+
   // KHR_lights_punctual: tinygltf reads an absent range as 0, so 0 and below are caught here.
   void lights(const Json& root) {
     const auto extensions = root.find("extensions");
@@ -133,12 +184,29 @@ class Reviewer {
   }
 
  private:
+  static constexpr const char* kOnePixelPng =
+      "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVQYV2P4z/"
+      "AfAAQAAf+I0P3MAAAAAElFTkSuQmCC";
+
+  static bool isWebp(const Json& image) {
+    const auto text = [&](const char* key) {
+      const auto it = image.find(key);
+      return it != image.end() && it->is_string() ? it->get<std::string>() : std::string();
+    };
+    std::string uri = text("uri");
+    std::transform(uri.begin(), uri.end(), uri.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return text("mimeType") == "image/webp" || uri.starts_with("data:image/webp") ||
+           (uri.size() > 5 && uri.ends_with(".webp"));
+  }
+
   const std::string& file_;
+  bool changed_ = false;
 };
 
 }  // namespace
 
-JsonReview reviewGltfJson(std::string_view json, const std::string& file) {
+JsonReview reviewGltfJson(std::string_view json, const std::string& file, bool binary) {
   JsonReview review;
   Json root = Json::parse(json.begin(), json.end(), nullptr, /*allow_exceptions=*/false);
   if (!root.is_object()) return review;
@@ -147,7 +215,9 @@ JsonReview reviewGltfJson(std::string_view json, const std::string& file) {
   reviewer.accessors(root);
   reviewer.lights(root);
   reviewer.meshes(root, review);
-  if (!review.hiddenIndices.empty()) review.rewritten = root.dump();
+  reviewer.placeholderBuffers(root, binary, review);
+  reviewer.webpImages(root, review);
+  if (!review.hiddenIndices.empty() || reviewer.changed()) review.rewritten = root.dump();
   return review;
 }
 

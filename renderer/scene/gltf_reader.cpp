@@ -179,7 +179,8 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   }
   // What tinygltf would drop or misreport is checked on the JSON itself; what it would refuse
   // wrongly is hidden from it in a rewritten copy.
-  const JsonReview review = reviewGltfJson(json, file);
+  const JsonReview review = reviewGltfJson(json, file, binary);
+  for (const std::string& warning : review.warnings) warnings.push_back(file + ": " + warning);
   std::string rewritten;
   if (!review.rewritten.empty()) {
     rewritten = binary ? glbWithJson(data, review.rewritten) : review.rewritten;
