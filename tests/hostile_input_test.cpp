@@ -410,7 +410,7 @@ TEST_F(HostileInputTest, ForbiddenGltfValuesAreErrorsNamingTheObject) {
 TEST_F(HostileInputTest, ValuesTinygltfWouldDropAreErrorsNamingTheObject) {
   const std::vector<std::pair<std::function<void(json&)>, std::string>> cases = {
       {[](json& d) { d["bufferViews"][0]["byteStride"] = -12; },
-       "bufferViews[0].byteStride: -12 is not a multiple of 4 from 4 to 252"},
+       "bufferViews[0]: byteStride -12 is not a multiple of 4 from 4 to 252"},
       {[](json& d) {
          d["extensionsUsed"] = {"KHR_lights_punctual"};
          d["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"range", 0}}};
@@ -486,14 +486,14 @@ TEST_F(HostileInputTest, AWebpImageWithAPngFallbackIsSetAsideWithAWarning) {
 
 TEST_F(HostileInputTest, APlaceholderBufferThatNothingUsesIsIgnored) {
   // The validator's valid_placeholder.glb: buffer 1 has no uri and no bufferView.
-  std::string json =
+  std::string text =
       R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":4},{"byteLength":1024}]})";
-  while (json.size() % 4 != 0) json += ' ';
-  std::string glb = "glTF" + std::string(8, '\0') + std::string(4, '\0') + "JSON" + json +
+  while (text.size() % 4 != 0) text += ' ';
+  std::string glb = "glTF" + std::string(8, '\0') + std::string(4, '\0') + "JSON" + text +
                     std::string("\x04\0\0\0BIN\0\xff\xff\xff\xff", 12);
   putLe32(glb, 4, 2);
   putLe32(glb, 8, static_cast<std::uint32_t>(glb.size()));
-  putLe32(glb, 12, static_cast<std::uint32_t>(json.size()));
+  putLe32(glb, 12, static_cast<std::uint32_t>(text.size()));
   writeBytes(input("placeholder.glb"), glb);
   const RunResult r = runBounded({"info", in("placeholder.glb")});
   EXPECT_EQ(r.status, 0) << r.err;
@@ -580,6 +580,11 @@ TEST_F(HostileInputTest, MessagesAreOneLineOfBoundedLength) {
   EXPECT_TRUE(refused(r, "a.gltf: ")) << r.err.size();
   EXPECT_LE(r.err.size(), 700u);
   EXPECT_TRUE(contains(r.err, "(message cut at 600 bytes)"));
+
+  // An empty scene file: said so, not "JSON string too short."
+  writeBytes(input("empty.gltf"), "");
+  EXPECT_TRUE(refused(runBounded({"info", in("empty.gltf")}),
+                      "empty.gltf: cannot read glTF file: the file is empty"));
 
   // A 300-character output name: the system's reason, not "filesystem error: ...".
   const RunResult longName = render(scene, {"-o", std::string(300, 'n') + ".png"});

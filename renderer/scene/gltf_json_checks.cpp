@@ -52,8 +52,8 @@ class Reviewer {
       const auto stride = view.find("byteStride");
       if (stride != view.end() &&
           (!isInteger(*stride, 4, 252) || stride->get<std::int64_t>() % 4 != 0)) {
-        fail(at("bufferViews", i) + ".byteStride",
-             quoted(*stride) + " is not a multiple of 4 from 4 to 252");
+        fail(at("bufferViews", i),
+             "byteStride " + quoted(*stride) + " is not a multiple of 4 from 4 to 252");
       }
     });
   }

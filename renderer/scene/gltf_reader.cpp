@@ -155,6 +155,7 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   // Read once, through the checks every input gets (a FIFO or /dev/zero as the scene must
   // neither block nor fill memory); tinygltf then parses from memory.
   const std::string data = readInputFileNamed(path, file, kMaxSceneFileBytes, "glTF file");
+  if (data.empty()) throw InputError(file + ": cannot read glTF file: the file is empty");
   const auto* magic = reinterpret_cast<const unsigned char*>(data.data());
   const std::size_t got = std::min<std::size_t>(data.size(), 4);
   // Decided by content, not by extension: some tools write .glb data under a .gltf name.

@@ -46,16 +46,17 @@ deep manifest manifest.json '{"jobs": [{"scene": "a.gltf", "outputs": ["a.png"],
 deep gltf extras.gltf '{"asset": {"version": "2.0"}, "extras": ' '}'
 deep gltf node.gltf '{"asset": {"version": "2.0"}, "nodes": [{"extras": ' '}], "scenes": [{"nodes": [0]}]}'
 # The same JSON as a .glb: 12-byte header, then the JSON chunk (padded to 4 bytes).
+glb_from_json='
+import struct, sys
+text = sys.stdin.buffer.read()
+text += b" " * (-len(text) % 4)
+with open(sys.argv[1], "wb") as f:
+    f.write(b"glTF" + struct.pack("<II", 2, 12 + 8 + len(text)))
+    f.write(struct.pack("<I", len(text)) + b"JSON" + text)
+'
 for depth in 120 100000; do
   glb="$dest/corpus-gltf/seed-deep-$depth-extras.glb"
   [[ -e "$glb" ]] && continue
-  json=$({ printf '{"asset": {"version": "2.0"}, "extras": '; nested "$depth"; printf '}'; })
-  while (( ${#json} % 4 != 0 )); do json+=" "; done
-  python3 - "$glb" "$json" <<'PY'
-import struct, sys
-path, text = sys.argv[1], sys.argv[2].encode()
-with open(path, "wb") as f:
-    f.write(b"glTF" + struct.pack("<II", 2, 12 + 8 + len(text)))
-    f.write(struct.pack("<I", len(text)) + b"JSON" + text)
-PY
+  { printf '{"asset": {"version": "2.0"}, "extras": '; nested "$depth"; printf '}'; } |
+    python3 -c "$glb_from_json" "$glb"
 done
