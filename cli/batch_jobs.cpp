@@ -243,6 +243,9 @@ void addManifest(const fs::path& path, std::vector<BatchEntry>& jobs,
     const std::size_t column = lineStart == std::string::npos ? end + 1 : end - lineStart;
     throw InputError(path.string() + ":" + std::to_string(line) + ":" + std::to_string(column) +
                      ": JSON syntax error");
+  } catch (const json::out_of_range&) {
+    // 1e999 and the like: valid JSON syntax, but no double holds it (found by fuzz_manifest).
+    throw InputError(path.string() + ": a number is too large to be read (more than 1.8e308)");
   }
   if (!manifest.is_object() || !manifest.contains("jobs") || !manifest["jobs"].is_array())
     throw InputError(path.string() + ": jobs: expected an array of job objects");

@@ -193,6 +193,14 @@ TEST_F(HostileInputTest, DeeplyNestedManifestIsAnInputErrorNotACrash) {
                       "manifest.json:1:166: JSON nests deeper than 128 levels"));
 }
 
+// Found by fuzz_manifest: nlohmann's out_of_range escaped as exit 1 with its own text.
+TEST_F(HostileInputTest, AManifestNumberBeyondADoubleIsAnInputError) {
+  const fs::path manifest =
+      writeText("m/manifest.json", R"({"jobs": [{"scene": "a.gltf", "width": 5e999}]})");
+  EXPECT_TRUE(refused(runBounded({"batch", manifest.string(), "--out", out_.string()}),
+                      "manifest.json: a number is too large to be read"));
+}
+
 TEST_F(HostileInputTest, ABatchWithOneDeeplyNestedSceneRendersTheOthersAndReports) {
   boxScene("s/a.gltf");
   const fs::path deep = boxScene("s/b.gltf");
