@@ -19,6 +19,7 @@
 #include "cli/common_options.h"
 #include "cli/shard_env.h"
 #include "renderer/core/errors.h"
+#include "renderer/core/message_text.h"
 #include "renderer/output/image_writer.h"
 #include "renderer/output/output_transaction.h"
 #include "renderer/render/gpu_choice.h"
@@ -146,7 +147,8 @@ void writeReport(const fs::path& path, const std::vector<BatchEntry>& jobs,
     report["jobs"].push_back(std::move(job));
   }
   std::ofstream out(path);
-  out << report.dump(2) << "\n";
+  // File names need not be UTF-8; JSON must be (invalid bytes become U+FFFD).
+  out << report.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
   if (!out.flush()) throw RenderError("cannot write the report " + path.string());
 }
 
@@ -285,7 +287,7 @@ class BatchRunner {
 
   void fail(std::size_t i, const std::string& message) {
     results_[i].status = Status::Failed;
-    results_[i].error = message;
+    results_[i].error = oneLineMessage(message);
     encoding_.push_back({i, {}});
   }
 
@@ -298,7 +300,7 @@ class BatchRunner {
         result.outputs = pending.outputs.get();
       } catch (const std::exception& e) {
         result.status = Status::Failed;
-        result.error = e.what();
+        result.error = oneLineMessage(e.what());
       }
     }
     if (result.status != Status::Skipped) result.milliseconds = result.times.total();

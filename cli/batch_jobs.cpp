@@ -14,6 +14,8 @@
 #include "cli/common_options.h"
 #include "cli/frame_set.h"
 #include "renderer/core/errors.h"
+#include "renderer/core/input_file.h"
+#include "renderer/core/json_depth.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -60,8 +62,12 @@ void addScene(const fs::path& scene, const fs::path& base, const BatchDefaults& 
 void addFolder(const fs::path& folder, std::vector<BatchEntry>& jobs,
                const BatchDefaults& defaults) {
   std::vector<fs::path> scenes;
-  for (const auto& entry : fs::recursive_directory_iterator(folder))
-    if (entry.is_regular_file() && isScene(entry.path())) scenes.push_back(entry.path());
+  // An entry that cannot be looked at (a symbolic link loop, a dangling link) is no scene; it
+  // must not stop the scenes beside it from rendering.
+  std::error_code ec;
+  for (const auto& entry :
+       fs::recursive_directory_iterator(folder, fs::directory_options::skip_permission_denied))
+    if (isScene(entry.path()) && entry.is_regular_file(ec)) scenes.push_back(entry.path());
   std::sort(scenes.begin(), scenes.end());
   if (scenes.empty()) throw InputError(folder.string() + ": no .gltf or .glb files in this folder");
   for (const fs::path& scene : scenes) addScene(scene, folder, defaults, jobs);
@@ -157,6 +163,30 @@ class ManifestJob {
   std::string where_;
 };
 
+// A manifest's output name as a path below --out. Absolute names and ".." are refused, and so is
+// a name that leaves --out through a symbolic link that already exists below it: links are
+// resolved, and the result must still lie inside --out (itself resolved, so --out may be a
+// link).
+fs::path confinedOutput(const ManifestJob& m, const char* field, const fs::path& out,
+                        const std::string& name) {
+  const fs::path relative(name);
+  const auto refuse = [&](const std::string& why) {
+    m.fail(field, "\"" + name + "\": " + why + "; output names are relative to --out");
+  };
+  if (relative.is_absolute()) refuse("an absolute path");
+  for (const fs::path& part : relative) {
+    if (part == "..") refuse("\"..\" would leave the output folder");
+  }
+  std::error_code ec;
+  const fs::path folder = fs::weakly_canonical(fs::absolute(out), ec);
+  const fs::path resolved = fs::weakly_canonical(fs::absolute(out / relative), ec);
+  const fs::path inside = resolved.lexically_relative(folder);
+  if (ec || inside.empty() || *inside.begin() == ".." || inside == ".") {
+    refuse("a symbolic link below --out leads outside it");
+  }
+  return out / relative;
+}
+
 RenderJob manifestJob(const ManifestJob& m, const fs::path& folder, const BatchDefaults& d) {
   const auto scene = m.string("scene");
   if (!scene) m.fail("scene", "missing; expected the path of a .gltf or .glb file");
@@ -171,15 +201,15 @@ RenderJob manifestJob(const ManifestJob& m, const fs::path& folder, const BatchD
     for (const std::string& output : *outputs) {
       const std::string ext = lowerExtension(output);
       if (ext == ".png") {
-        job.png.push_back(d.out / output);
+        job.png.push_back(confinedOutput(m, "outputs", d.out, output));
       } else if (ext == ".exr") {
-        job.exr.push_back(d.out / output);
+        job.exr.push_back(confinedOutput(m, "outputs", d.out, output));
       } else {
         m.fail("outputs", "\"" + output + "\": expected .png or .exr names");
       }
     }
   }
-  if (const auto aov = m.string("aov")) job.aov = d.out / *aov;
+  if (const auto aov = m.string("aov")) job.aov = confinedOutput(m, "aov", d.out, *aov);
   if (const auto layers = m.string("aovLayers")) job.layers = parseLayers(*layers);
   if (const auto camera = m.string("camera")) job.camera.select = *camera;
   if (const auto eye = m.vec3("eye")) job.camera.eye = eye;
@@ -235,11 +265,14 @@ void addTimeRange(const ManifestJob& m, const std::string& range, double fps,
   }
 }
 
+// Manifests list jobs, a few hundred bytes each; the bound keeps /dev/zero-like files out.
+constexpr std::uint64_t kMaxManifestBytes = 64 << 20;
+
 void addManifest(const fs::path& path, std::vector<BatchEntry>& jobs,
                  const BatchDefaults& defaults) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot read manifest");
-  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const std::string text = readInputFile(path, kMaxManifestBytes, "manifest");
+  if (const std::size_t deep = findExcessiveNesting(text); deep != std::string::npos)
+    throw InputError(path.string() + ":" + excessiveNestingMessage(text, deep));
   json manifest;
   try {
     manifest = json::parse(text);
@@ -251,6 +284,9 @@ void addManifest(const fs::path& path, std::vector<BatchEntry>& jobs,
     const std::size_t column = lineStart == std::string::npos ? end + 1 : end - lineStart;
     throw InputError(path.string() + ":" + std::to_string(line) + ":" + std::to_string(column) +
                      ": JSON syntax error");
+  } catch (const json::out_of_range&) {
+    // 1e999 and the like: valid JSON syntax, but no double holds it (found by fuzz_manifest).
+    throw InputError(path.string() + ": a number is too large to be read (more than 1.8e308)");
   }
   if (!manifest.is_object() || !manifest.contains("jobs") || !manifest["jobs"].is_array())
     throw InputError(path.string() + ": jobs: expected an array of job objects");

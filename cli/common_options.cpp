@@ -34,8 +34,7 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
         ->check(CLI::IsMember({"auto", "six", "geometry", "instanced"}));
   if (renders)
     app.add_option("--max-memory", o.maxMemoryMiB,
-                   "Memory the shadow maps of one frame may use, in MiB (default 4096)")
-        ->check(CLI::PositiveNumber);
+                   "Memory the shadow maps of one frame may use, in MiB (default 4096)");
   app.add_flag("--allow-external-uris", o.allowExternalUris,
                "Let the scene read buffers and images outside its own folder");
   if (renders)

@@ -4,6 +4,10 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
+#include <string>
+#include <system_error>
 
 #include "cli/batch_command.h"
 #include "cli/devices_command.h"
@@ -13,6 +17,26 @@
 #include "cli/report_merge.h"
 #include "cli/verify_command.h"
 #include "renderer/core/errors.h"
+#include "renderer/core/message_text.h"
+
+namespace {
+
+void printError(const std::string& text) {
+  std::fprintf(stderr, "omnishadow: %s\n", omnishadow::oneLineMessage(text).c_str());
+}
+
+// A path the user gave that the system refused: too long, missing folder, a loop of links.
+bool isInputProblem(const std::error_code& code) {
+  static const std::errc kInput[] = {
+      std::errc::filename_too_long, std::errc::no_such_file_or_directory,
+      std::errc::not_a_directory,   std::errc::too_many_symbolic_link_levels,
+      std::errc::is_a_directory,    std::errc::invalid_argument};
+  for (std::errc e : kInput)
+    if (code == e) return true;
+  return false;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"omnishadow: headless glTF renderer with omnidirectional point-light shadows"};
@@ -63,10 +87,18 @@ int main(int argc, char** argv) {
     // 0 within --max-error, 1 not. require_subcommand(1) leaves no other command.
     return omnishadow::cli::runVerify(verify);
   } catch (const omnishadow::InputError& e) {
-    std::fprintf(stderr, "omnishadow: %s\n", e.what());
+    printError(e.what());
     return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // Worded by us: "filesystem error: cannot create directories: File name too long [...]".
+    const std::string path = e.path1().empty() ? std::string() : e.path1().string() + ": ";
+    printError(path + e.code().message());
+    return isInputProblem(e.code()) ? 2 : 1;
+  } catch (const std::bad_alloc&) {
+    printError("out of memory (an input asks for more than this machine can give)");
+    return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "omnishadow: %s\n", e.what());
+    printError(e.what());
     return 1;
   }
 }

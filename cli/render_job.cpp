@@ -166,6 +166,9 @@ void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& input
         throw InputError(output.string() + ": refusing to overwrite an input file");
 }
 
+// 1 TiB: beyond any machine this renders on; the bound only has to exclude inf and nan.
+constexpr double kMaxMemoryMiB = 1024.0 * 1024.0;
+
 void validateJob(const RenderJob& job) {
   for (const fs::path& path : job.png)
     if (lowerExtension(path) != ".png") throw InputError(path.string() + ": expected a .png name");
@@ -188,6 +191,14 @@ void validateJob(const RenderJob& job) {
     throw InputError("--debug-light: only used with --debug-view depth or cascade");
   checkFolderOption("--dump-depth", job.dumpDepth);
   checkFolderOption("--light-views", job.lightViews);
+  // Checked here, not by CLI11's PositiveNumber, which lets nan through (and nan > budget is
+  // false: no budget at all) and quotes DBL_MAX in its message.
+  if (!(job.maxMemoryMiB > 0.0 && job.maxMemoryMiB <= kMaxMemoryMiB)) {
+    std::ostringstream given;
+    given << job.maxMemoryMiB;
+    throw InputError("--max-memory " + given.str() + ": expected a number of MiB in (0, " +
+                     std::to_string(static_cast<int>(kMaxMemoryMiB)) + "]");
+  }
   if (!std::isfinite(job.exposure))
     throw InputError("--exposure " + std::to_string(job.exposure) +
                      ": expected a finite number of stops");

@@ -213,7 +213,8 @@ void printJson(const RenderJob& job, const LoadedJob& loaded,
   }
   out["errorImage"] = errorImagePath.empty() ? Json(nullptr) : Json(errorImagePath.string());
   out["pass"] = !maxError || firstFailure(v, *maxError).empty();
-  std::printf("%s\n", out.dump(2).c_str());
+  // File names need not be UTF-8; JSON must be (invalid bytes become U+FFFD).
+  std::printf("%s\n", out.dump(2, ' ', false, Json::error_handler_t::replace).c_str());
 }
 
 int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {

@@ -33,25 +33,20 @@ omnishadow_fuzzer(fuzz_lights
   renderer/scene/light.cpp
   renderer/scene/lights_loader.cpp)
 
-omnishadow_fuzzer(fuzz_gltf
-  tests/fuzz/fuzz_gltf.cpp
-  renderer/scene/bounds.cpp
-  renderer/scene/camera_checks.cpp
-  renderer/scene/gltf_accessors.cpp
-  renderer/scene/gltf_compressed_json.cpp
-  renderer/scene/gltf_context.cpp
-  renderer/scene/gltf_draco.cpp
-  renderer/scene/gltf_file_safety.cpp
-  renderer/scene/gltf_instancing.cpp
-  renderer/scene/gltf_loader.cpp
-  renderer/scene/gltf_materials.cpp
-  renderer/scene/gltf_meshopt.cpp
-  renderer/scene/gltf_nodes.cpp
-  renderer/scene/gltf_primitives.cpp
-  renderer/scene/gltf_reader.cpp
-  renderer/scene/tangents.cpp
-  renderer/scene/light.cpp
-  renderer/scene/lights_loader.cpp)
+# Every file of the scene library: the loader reaches most of them (decoders, posing, checks),
+# and a file added there must not leave the fuzzer unlinkable.
+file(GLOB omnishadow_fuzz_scene_sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/renderer/scene/*.cpp)
+omnishadow_fuzzer(fuzz_gltf tests/fuzz/fuzz_gltf.cpp ${omnishadow_fuzz_scene_sources})
 # libdraco and libmeshoptimizer stay uninstrumented too (Debian's builds); what they are given
 # and what they return is checked by the instrumented loader.
 target_link_libraries(fuzz_gltf PRIVATE TinyGLTF::TinyGLTF meshoptimizer::meshoptimizer)
+
+# The manifest reader and the job checks are instrumented; what they call of the renderer's
+# libraries (nothing renders) is linked uninstrumented.
+omnishadow_fuzzer(fuzz_manifest
+  tests/fuzz/fuzz_manifest.cpp
+  cli/batch_jobs.cpp
+  cli/render_job.cpp)
+# render_job.cpp also holds the render step, so the GL passes are linked (never called).
+target_link_libraries(fuzz_manifest PRIVATE omnishadow_passes omnishadow_render omnishadow_output
+  omnishadow_scene)

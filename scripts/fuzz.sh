@@ -25,7 +25,7 @@ if [[ ! -f "$build/CMakeCache.txt" ]]; then
   fi
 fi
 jobs=$(nproc 2>/dev/null || echo 2)
-if ! cmake --build "$build" -j"$jobs" --target fuzz_lights fuzz_gltf >"$log" 2>&1; then
+if ! cmake --build "$build" -j"$jobs" --target fuzz_lights fuzz_gltf fuzz_manifest >"$log" 2>&1; then
   cat "$log" >&2
   exit 1
 fi
@@ -34,7 +34,7 @@ fi
 # Memory: an input may not make the loader allocate more than 1 GiB at once or 2 GiB in all.
 limits=(-rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=10)
 status=0
-for name in lights gltf; do
+for name in lights gltf manifest; do
   target="$build/fuzz_$name"
   artifacts="$build/artifacts-$name"
   mkdir -p "$artifacts"

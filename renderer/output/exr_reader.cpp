@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "renderer/core/errors.h"
+#include "renderer/output/image_limits.h"
 
 namespace omnishadow {
 namespace {
@@ -112,6 +113,12 @@ std::optional<FloatImage> readExr(const std::string& path) {
     FloatImage image;
     image.width = window.max.x - window.min.x + 1;
     image.height = window.max.y - window.min.y + 1;
+    if (const std::string problem = imageSizeProblem(
+            std::int64_t{window.max.x} - window.min.x + 1,
+            std::int64_t{window.max.y} - window.min.y + 1,
+            static_cast<std::int64_t>(names.size()));
+        !problem.empty())
+      throw InputError(path + ": cannot read image: " + problem);
     for (std::size_t index : exrChannelOrder(names)) image.channels.push_back(names[index]);
     const std::size_t channels = image.channels.size();
     image.pixels.resize(static_cast<std::size_t>(image.width) * image.height * channels);

@@ -1,11 +1,11 @@
 #include <cstddef>
-#include <fstream>
-#include <iterator>
 #include <optional>
 #include <string>
 
 #include "renderer/core/errors.h"
+#include "renderer/core/input_file.h"
 #include "renderer/output/exr_reader.h"
+#include "renderer/output/image_limits.h"
 #include "renderer/output/image_writer.h"
 #include "renderer/output/oiio_plugin.h"
 #include "renderer/output/png_decoder.h"
@@ -16,18 +16,14 @@ namespace omnishadow {
 // its plugin (oiio_plugin.h), loaded only then.
 FloatImage readImage(const std::filesystem::path& path) {
   const std::string name = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(name + ": cannot read image: cannot open the file");
-  char magic[8] = {};
-  in.read(magic, sizeof magic);
-  const auto got = static_cast<std::size_t>(in.gcount());
-  if (got == 8 && std::string(magic, 8) == std::string("\x89PNG\r\n\x1a\n", 8)) {
-    in.seekg(0);
-    const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    if (in.bad()) throw InputError(name + ": cannot read image: read error");
+  // Read through the checks every input gets: a FIFO or /dev/zero must neither block nor fill
+  // memory (renderer/core/input_file.h).
+  std::string bytes;
+  if (const std::string why = readRegularFile(path, kMaxImageFileBytes, bytes); !why.empty())
+    throw InputError(name + ": cannot read image: " + why);
+  if (bytes.size() >= 8 && bytes.compare(0, 8, std::string("\x89PNG\r\n\x1a\n", 8)) == 0)
     return decodePng(bytes, name);
-  }
-  if (got >= 4 && std::string(magic, 4) == std::string("\x76\x2f\x31\x01", 4)) {
+  if (bytes.size() >= 4 && bytes.compare(0, 4, std::string("\x76\x2f\x31\x01", 4)) == 0) {
     if (std::optional<FloatImage> image = readExr(name)) return *std::move(image);
   }
   return readImageWithOiioPlugin(path);

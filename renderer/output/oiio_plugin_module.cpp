@@ -4,7 +4,9 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 
+#include "renderer/output/image_limits.h"
 #include "renderer/output/image_writer.h"
 #include "renderer/output/oiio_plugin.h"
 
@@ -34,6 +36,11 @@ extern "C" __attribute__((visibility("default"))) bool omnishadow_oiio_read_imag
     return false;
   }
   const OIIO::ImageSpec& spec = input->spec();
+  if (std::string problem = imageSizeProblem(spec.width, spec.height, spec.nchannels);
+      !problem.empty()) {
+    *error = std::move(problem);
+    return false;
+  }
   image->width = spec.width;
   image->height = spec.height;
   image->channels.assign(spec.channelnames.begin(), spec.channelnames.end());

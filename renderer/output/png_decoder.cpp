@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "renderer/core/errors.h"
+#include "renderer/output/image_limits.h"
 
 namespace omnishadow {
 namespace {
@@ -59,6 +60,8 @@ bool decode(PngRead& read) {
   read.height = png_get_image_height(read.png, read.info);
   read.channels = png_get_channels(read.png, read.info);
   read.bitDepth = png_get_bit_depth(read.png, read.info);
+  read.error = imageSizeProblem(read.width, read.height, read.channels);
+  if (!read.error.empty()) return false;
   const std::size_t rowBytes = png_get_rowbytes(read.png, read.info);
   read.data.resize(rowBytes * read.height);
   read.rows.resize(read.height);

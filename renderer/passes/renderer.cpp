@@ -160,6 +160,31 @@ struct Renderer::Impl::Prepared {
   std::vector<ShadedLight> shaded;
 };
 
+namespace {
+
+// The texels of the largest square RGBA32F target (the frame's color format) the GL accepts,
+// by bisection with proxy textures, which allocate nothing.
+long long largestFrameTexels(int maxSide) {
+  const auto fits = [](int side) {
+    glTexImage2D(GL_PROXY_TEXTURE_2D, 0, GL_RGBA32F, side, side, 0, GL_RGBA, GL_FLOAT, nullptr);
+    GLint width = 0;
+    glGetTexLevelParameteriv(GL_PROXY_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &width);
+    return width == side;
+  };
+  int low = 1, high = std::max(maxSide, 1);
+  while (low < high) {
+    const int middle = low + (high - low + 1) / 2;
+    if (fits(middle)) {
+      low = middle;
+    } else {
+      high = middle - 1;
+    }
+  }
+  return static_cast<long long>(low) * low;
+}
+
+}  // namespace
+
 Renderer::Impl::Impl(const ContextOptions& options)
     : context_(EglContextOptions{options.gpuIndex, options.debug}) {
   if (options.debug) gl::enableDebugOutput();
@@ -171,6 +196,7 @@ Renderer::Impl::Impl(const ContextOptions& options)
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &limits_.maxArrayLayers);
   glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &limits_.maxCubeMapSize);
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &limits_.maxTextureSize);
+  limits_.maxFrameTexels = largestFrameTexels(limits_.maxTextureSize);
   glRenderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   gl::checkErrors("context setup");
 }

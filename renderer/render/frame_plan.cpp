@@ -1,6 +1,8 @@
 #include "renderer/render/frame_plan.h"
 
+#include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "renderer/core/errors.h"
 #include "renderer/render/antialiasing.h"
@@ -31,6 +33,21 @@ int findCascadeDebugLight(const std::vector<Light>& lights, const RenderSettings
                              ": no shadowed directional light has that name");
 }
 
+// Inside the CLI's range (16384) a frame may still be more than the GL allocates: refused here,
+// naming the limit, instead of failing at framebuffer creation.
+void checkFrameSize(const ViewCamera& camera, const RenderLimits& limits) {
+  const long long texels = static_cast<long long>(camera.width) * camera.height;
+  if (camera.width > limits.maxTextureSize || camera.height > limits.maxTextureSize ||
+      texels > limits.maxFrameTexels) {
+    const auto side = static_cast<long long>(std::sqrt(static_cast<double>(limits.maxFrameTexels)));
+    throw InputError("--width/--height " + std::to_string(camera.width) + "x" +
+                     std::to_string(camera.height) + ": more than this GL allocates for a frame (" +
+                     std::to_string(limits.maxFrameTexels) + " texels, e.g. " +
+                     std::to_string(side) + "x" + std::to_string(side) + ", at most " +
+                     std::to_string(limits.maxTextureSize) + " per side)");
+  }
+}
+
 int findDebugLight(const std::vector<Light>& lights, const RenderSettings& settings) {
   if (settings.debugView == DebugView::Cascade) return findCascadeDebugLight(lights, settings);
   if (settings.debugView != DebugView::Depth) return -1;
@@ -49,6 +66,7 @@ FramePlan planFrame(const Scene& scene, const std::vector<Light>& lights, const 
                     const RenderSettings& settings, const RenderLimits& limits) {
   checkResolutions(lights, limits);
   checkAntialiasingSampleCount(settings.antialiasing);
+  checkFrameSize(camera, limits);
   FramePlan plan;
   plan.shadows = planShadowAtlas(lights, camera, scene.bounds, ShadowLimits{limits.maxArrayLayers});
   const double shadowMiB = plan.shadows.bytes / (1024.0 * 1024.0);

@@ -61,6 +61,9 @@ struct RenderLimits {
   int maxCubeMapSize = 16384;  // GL_MAX_CUBE_MAP_TEXTURE_SIZE
   int maxTextureSize = 16384;  // GL_MAX_TEXTURE_SIZE
   int maxArrayLayers = 2048;   // GL_MAX_ARRAY_TEXTURE_LAYERS
+  // Texels of the largest square RGBA32F frame target the GL will allocate (proxy textures):
+  // llvmpipe also limits a texture's bytes, so 12000x12000 fails below GL_MAX_TEXTURE_SIZE.
+  long long maxFrameTexels = 16384LL * 16384LL;
 };
 
 }  // namespace omnishadow

@@ -1,12 +1,15 @@
 #include "renderer/scene/gltf_file_safety.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <optional>
 #include <tuple>
 #include <utility>
+
+#include "renderer/core/input_file.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -177,32 +180,63 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
 
 namespace {
 
-// Records why `filepath` may not be read, or returns true.
+// A URI scheme (RFC 3986: a letter, then letters, digits, "+", "-" or "."; then ":"). A
+// relative path whose first segment has a colon must be written "./a:b", so "file:x" and
+// "http:x" are URIs in another scheme, never file names.
+bool hasUriScheme(const std::string& uri) {
+  const std::size_t colon = uri.find(':');
+  if (colon == std::string::npos || colon == 0 || !std::isalpha(static_cast<unsigned char>(uri[0])))
+    return false;
+  return std::all_of(uri.begin(), uri.begin() + static_cast<std::ptrdiff_t>(colon), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.';
+  });
+}
+
+// Records why `filepath` may not be read, or returns true. Decided from the path alone
+// (symbolic links resolved by weakly_canonical, which reads links but opens no file).
 bool permitted(UriPolicy& policy, const std::string& filepath) {
   namespace fs = std::filesystem;
-  if (filepath.find("://") != std::string::npos) {
-    policy.violation =
-        "\"" + filepath + "\": only data: URIs and relative file paths are supported";
+  const std::string folderPrefix = policy.folder.string() + "/";
+  const std::string uri =
+      filepath.starts_with(folderPrefix) ? filepath.substr(folderPrefix.size()) : filepath;
+  if (filepath.find("://") != std::string::npos || hasUriScheme(uri)) {
+    // tinygltf decodes the data: URIs it can (base64 of known types) before any lookup.
+    const bool data = uri.starts_with("data:");
+    if (policy.violation.empty()) {
+      policy.violation = "\"" + (uri.size() > 60 ? uri.substr(0, 60) + "..." : uri) + "\": " +
+                         (data ? "only base64 data: URIs of buffers, PNG and JPEG are supported"
+                               : "only data: URIs and relative file paths are supported");
+    }
     return false;
   }
   if (policy.allowExternal) return true;
+  // tinygltf's second guess, the working directory, is not where a URI points: refused without
+  // a word, so that the message is about the lookup beside the scene.
+  if (!filepath.starts_with(folderPrefix)) return false;
   std::error_code ec;
   const fs::path resolved = fs::weakly_canonical(fs::absolute(filepath), ec);
   const fs::path relative = resolved.lexically_relative(policy.folder);
   if (!ec && !relative.empty() && *relative.begin() != "..") return true;
-  policy.violation =
-      "\"" + filepath + "\" is outside the scene's folder; pass --allow-external-uris to read it";
+  if (policy.violation.empty()) {
+    policy.violation =
+        "\"" + uri + "\" is outside the scene's folder; pass --allow-external-uris to read it";
+  }
   return false;
 }
+
+// External buffers and images: tinygltf takes sizes as unsigned int.
+constexpr std::uint64_t kMaxExternalFileBytes = std::uint64_t{2} << 30;
 
 }  // namespace
 
 // tinygltf looks for a URI beside the scene and then in the working directory; both lookups
-// and the read itself go through the policy.
+// and the read itself go through the policy, before the file is looked at.
 bool existsWithinFolder(const std::string& filepath, void* user) {
   auto* policy = static_cast<UriPolicy*>(user);
-  if (!tinygltf::FileExists(filepath, nullptr)) return false;
-  return permitted(*policy, filepath);
+  if (!permitted(*policy, filepath)) return false;
+  // Anything that exists counts, so that reading it says why a FIFO or a folder is refused.
+  std::error_code ec;
+  return std::filesystem::exists(filepath, ec);
 }
 
 bool readWithinFolder(std::vector<unsigned char>* out, std::string* error,
@@ -212,7 +246,18 @@ bool readWithinFolder(std::vector<unsigned char>* out, std::string* error,
     if (error) *error = policy->violation;
     return false;
   }
-  return tinygltf::ReadWholeFile(out, error, filepath, nullptr);
+  std::string content;
+  if (std::string why = readRegularFile(filepath, kMaxExternalFileBytes, content); !why.empty()) {
+    const std::string folderPrefix = policy->folder.string() + "/";
+    const std::string uri =
+        filepath.starts_with(folderPrefix) ? filepath.substr(folderPrefix.size()) : filepath;
+    // An image tinygltf cannot read is only a warning to it; a file that is not one is an error.
+    if (policy->violation.empty()) policy->violation = "\"" + uri + "\": " + why;
+    if (error) *error = why;
+    return false;
+  }
+  out->assign(content.begin(), content.end());
+  return true;
 }
 
 }  // namespace omnishadow::gltf_detail

@@ -30,6 +30,15 @@ namespace {
 
 using gltf_detail::Context;
 
+// asset.minVersion names the least glTF version a reader must implement: a 2.x reader cannot
+// draw a file that needs 3.0 or 2.1 correctly.
+void checkMinVersion(const Context& ctx) {
+  const std::string& minVersion = ctx.model.asset.minVersion;
+  if (minVersion.empty() || minVersion == "2.0") return;
+  ctx.fail("asset.minVersion",
+           "\"" + minVersion.substr(0, 20) + "\" is not supported; this renderer reads glTF 2.0");
+}
+
 // The files this scene reads: itself and the external (non data:) URIs of buffers and images.
 std::vector<std::string> referencedFiles(const std::filesystem::path& path,
                                          const tinygltf::Model& model) {
@@ -74,6 +83,7 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   ctx.fixups = std::move(fixups);
   ctx.quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
                             "KHR_mesh_quantization") != model.extensionsUsed.end();
+  checkMinVersion(ctx);
   scene.source.extensions = gltf_detail::checkExtensions(ctx);
   const auto [roots, rootsObject] = gltf_detail::sceneRoots(ctx, options);
   gltf_detail::convertImages(ctx);

@@ -70,6 +70,13 @@ int lightOf(const Context& ctx, std::size_t nodeIndex) {
   return light;
 }
 
+// As a person would write it: -5, not -5.000000.
+std::string shortNumber(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
 Light convertLight(const Context& ctx, int index, const glm::mat4& world,
                    std::set<std::string>& usedNames) {
   const tinygltf::Light& source = ctx.model.lights[static_cast<std::size_t>(index)];
@@ -86,6 +93,14 @@ Light convertLight(const Context& ctx, int index, const glm::mat4& world,
     light.type = LightType::Spot;
     light.innerConeAngle = static_cast<float>(source.spot.innerConeAngle);
     light.outerConeAngle = static_cast<float>(source.spot.outerConeAngle);
+    // The rules of a lights file (and of KHR_lights_punctual): 0 <= inner < outer <= pi/2.
+    constexpr float kHalfPi = 1.5707963267948966f;
+    if (!(light.innerConeAngle >= 0.0f && light.innerConeAngle < light.outerConeAngle &&
+          light.outerConeAngle <= kHalfPi)) {
+      ctx.fail(object, "spot innerConeAngle " + shortNumber(source.spot.innerConeAngle) +
+                           " and outerConeAngle " + shortNumber(source.spot.outerConeAngle) +
+                           ": expected 0 <= inner < outer <= pi/2");
+    }
   } else if (source.type == "directional") {
     light.type = LightType::Directional;
   } else {
@@ -93,6 +108,14 @@ Light convertLight(const Context& ctx, int index, const glm::mat4& world,
   }
   light.color = factor<3>(source.color, light.color);
   light.intensity = static_cast<float>(source.intensity);
+  if (!(light.intensity >= 0.0f) || !std::isfinite(light.intensity)) {
+    ctx.fail(object,
+             "intensity " + shortNumber(source.intensity) + ": expected a finite number >= 0");
+  }
+  // tinygltf reads an absent range as 0; a negative one is the file's own.
+  if (source.range < 0.0 || !std::isfinite(source.range)) {
+    ctx.fail(object, "range " + shortNumber(source.range) + ": expected a number > 0");
+  }
   light.range = source.range > 0.0 ? static_cast<float>(source.range) : 0.0f;
   light.position = glm::vec3(world[3]);
   const glm::vec3 direction = glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f);

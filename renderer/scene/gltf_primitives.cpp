@@ -148,7 +148,7 @@ std::vector<std::uint32_t> toLinePairs(const std::vector<std::uint32_t>& in, int
 bool isDrawn(Context& ctx, const tinygltf::Primitive& primitive, const std::string& object,
              int mode) {
   if (mode < TINYGLTF_MODE_POINTS || mode > TINYGLTF_MODE_TRIANGLE_FAN) {
-    ctx.fail(object, "invalid mode " + std::to_string(mode));
+    ctx.fail(object, "invalid mode " + std::to_string(mode) + " (glTF defines 0 to 6)");
   }
   if (primitive.attributes.count("POSITION") == 0) {
     ctx.warn(object + ": no POSITION attribute; not drawn");
@@ -236,6 +236,21 @@ std::vector<std::uint32_t> readIndices(Context& ctx, int accessorIndex, const st
   return indices;
 }
 
+// A zero or non-finite NORMAL (the spec asks for unit length) shades its triangles black: the
+// whole primitive gets flat normals instead, with a warning.
+void replaceUnusableNormals(Context& ctx, const std::string& object, Mesh& mesh) {
+  const auto unusable = std::count_if(mesh.normals.begin(), mesh.normals.end(), [](glm::vec3 n) {
+    const float length = glm::length(n);
+    return !(length > 0.0f) || !std::isfinite(length);
+  });
+  if (unusable == 0) return;
+  ctx.warn(object + ": " + std::to_string(unusable) +
+           " NORMAL values are zero or not finite; generated flat normals");
+  mesh.normals.clear();
+  mesh.tangents.clear();
+  generateNormals(mesh);
+}
+
 // Generates what the file left out: flat normals, and tangents where a normal map needs them.
 void generateMissing(Context& ctx, const std::string& object, Mesh& mesh) {
   if (mesh.normals.empty()) {
@@ -257,7 +272,8 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   const tinygltf::Mesh& source = ctx.model.meshes[meshIndex];
   const tinygltf::Primitive& primitive = source.primitives[primIndex];
   const std::string object = at("meshes", meshIndex) + "." + at("primitives", primIndex);
-  const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+  // tinygltf gives TRIANGLES where the file has no mode, so a negative one is the file's own.
+  const int mode = primitive.mode;
   if (!isDrawn(ctx, primitive, object, mode)) return std::nullopt;
 
   Mesh mesh;
@@ -290,7 +306,10 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
     mesh.indices.resize(mesh.indices.size() / 3 * 3);
   }
   // Points and lines are drawn unlit: they need no normals.
-  if (mode >= TINYGLTF_MODE_TRIANGLES) generateMissing(ctx, object, mesh);
+  if (mode >= TINYGLTF_MODE_TRIANGLES) {
+    replaceUnusableNormals(ctx, object, mesh);
+    generateMissing(ctx, object, mesh);
+  }
   for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(p);
   return mesh;
 }
@@ -302,7 +321,13 @@ std::vector<std::uint32_t> fileTriangleIndices(Context& ctx, std::size_t meshInd
   const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
   const std::size_t n =
       ctx.model.accessors[static_cast<std::size_t>(primitive.attributes.at("POSITION"))].count;
-  std::vector<std::uint32_t> indices = toTriangleList(readIndices(ctx, primitive, object, n), mode);
+  // The same decoded data convertPrimitive() reads (Draco primitives included).
+  ctx.primitive = object;
+  decodeDraco(ctx, meshIndex, primIndex);
+  std::vector<std::uint32_t> indices =
+      toTriangleList(readIndices(ctx, indicesAccessor(ctx, meshIndex, primIndex), object, n), mode);
+  ctx.dracoAccessors.clear();
+  ctx.primitive.clear();
   indices.resize(indices.size() / 3 * 3);
   return indices;
 }

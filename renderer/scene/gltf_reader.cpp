@@ -12,9 +12,12 @@
 #include <string_view>
 
 #include "renderer/core/errors.h"
+#include "renderer/core/input_file.h"
+#include "renderer/core/json_depth.h"
 #include "renderer/scene/gltf_context.h"
 #include "renderer/scene/gltf_extension_policy.h"
 #include "renderer/scene/gltf_file_safety.h"
+#include "renderer/scene/gltf_json_checks.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -48,16 +51,13 @@ std::string printable(const unsigned char* bytes, std::size_t size) {
 
 // tinygltf says "Invalid glTF binary." for any broken header or chunk length; this says which
 // field is wrong and where, from the 12-byte header and the 8-byte chunk headers alone.
-void checkGlbLayout(std::ifstream& in, const std::string& file, std::uint64_t fileSize) {
+void checkGlbLayout(const std::string& data, const std::string& file) {
   const auto fail = [&](const std::string& problem) { throw InputError(file + ": " + problem); };
+  const std::uint64_t fileSize = data.size();
   if (fileSize < 12) {
     fail("truncated .glb: " + std::to_string(fileSize) + " bytes, less than the 12-byte header");
   }
-  unsigned char header[12];
-  in.seekg(0);
-  if (!in.read(reinterpret_cast<char*>(header), sizeof header)) {
-    fail(std::string("cannot read glTF file: ") + std::strerror(errno));
-  }
+  const auto* header = reinterpret_cast<const unsigned char*>(data.data());
   const std::uint32_t version = le32(header + 4), length = le32(header + 8);
   if (version != 2) {
     fail("GLB header: version " + std::to_string(version) + " is not supported (expected 2)");
@@ -71,11 +71,7 @@ void checkGlbLayout(std::ifstream& in, const std::string& file, std::uint64_t fi
     const std::string chunk = "GLB chunk " + std::to_string(index);
     const std::string where = " at byte " + std::to_string(at);
     if (length - at < 8) fail(chunk + where + ": truncated chunk header");
-    unsigned char chunkHeader[8];
-    in.seekg(static_cast<std::streamoff>(at));
-    if (!in.read(reinterpret_cast<char*>(chunkHeader), sizeof chunkHeader)) {
-      fail(std::string("cannot read glTF file: ") + std::strerror(errno));
-    }
+    const auto* chunkHeader = header + at;
     const std::uint32_t chunkLength = le32(chunkHeader), type = le32(chunkHeader + 4);
     const std::string name = (type == kGlbJsonChunk  ? chunk + " (JSON)"
                               : type == kGlbBinChunk ? chunk + " (BIN)"
@@ -119,30 +115,45 @@ std::string locateParseError(const tinygltf::Model& model, const std::string& me
   return message;
 }
 
+// `glb` (its layout checked) with its JSON chunk replaced by `json`, padded with spaces.
+std::string glbWithJson(const std::string& glb, std::string json) {
+  while (json.size() % 4 != 0) json += ' ';
+  const auto* bytes = reinterpret_cast<const unsigned char*>(glb.data());
+  const std::size_t rest = 20 + std::size_t{le32(bytes + 12)};
+  const std::size_t end = std::min<std::size_t>(glb.size(), le32(bytes + 8));
+  std::string out = glb.substr(0, 20) + json + glb.substr(rest, end > rest ? end - rest : 0);
+  const auto put32 = [&](std::size_t at, std::size_t value) {
+    for (int i = 0; i < 4; ++i) out[at + i] = static_cast<char>((value >> (8 * i)) & 0xFF);
+  };
+  put32(8, out.size());
+  put32(12, json.size());
+  return out;
+}
+
+// tinygltf takes the size as an unsigned int; a scene is read whole into memory.
+constexpr std::uint64_t kMaxSceneFileBytes = std::uint64_t{2} << 30;
+
+// readInputFile's checks, with the scene's name as the caller shows it.
+std::string readInputFileNamed(const std::filesystem::path& path, const std::string& file,
+                               std::uint64_t maxBytes, std::string_view what) {
+  std::string content;
+  if (const std::string why = readRegularFile(path, maxBytes, content); !why.empty()) {
+    throw InputError(file + ": cannot read " + std::string(what) + ": " + why);
+  }
+  return content;
+}
+
 // The file with its JSON rewritten for tinygltf (gltf_compressed_json.h), or nullopt when
 // tinygltf reads it as it is. A .glb's layout has been checked by checkGlbLayout.
-std::optional<std::string> rewriteForCompression(const std::filesystem::path& path, bool binary,
+std::optional<std::string> rewriteForCompression(const std::string& bytes, bool binary,
                                                  CompressionFixups& fixups) {
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in && !in.eof()) return std::nullopt;
   if (!binary) return rewriteCompressedJson(bytes, false, fixups);
   if (bytes.size() < 20) return std::nullopt;
   const auto* header = reinterpret_cast<const unsigned char*>(bytes.data());
-  const std::size_t length = le32(header + 8), jsonLength = le32(header + 12);
   std::optional<std::string> json =
-      rewriteCompressedJson(bytes.substr(20, jsonLength), true, fixups);
+      rewriteCompressedJson(bytes.substr(20, le32(header + 12)), true, fixups);
   if (!json) return std::nullopt;
-  json->resize((json->size() + 3) / 4 * 4, ' ');
-  const auto put32 = [](std::string& out, std::size_t value) {
-    for (int shift = 0; shift < 32; shift += 8) out += static_cast<char>((value >> shift) & 0xFF);
-  };
-  const std::string rest = bytes.substr(20 + jsonLength, length - 20 - jsonLength);
-  std::string glb = bytes.substr(0, 8);
-  put32(glb, 20 + json->size() + rest.size());
-  put32(glb, json->size());
-  put32(glb, kGlbJsonChunk);
-  return glb + *json + rest;
+  return glbWithJson(bytes, *std::move(json));
 }
 
 bool hasGlbExtension(const std::filesystem::path& path) {
@@ -157,38 +168,41 @@ bool hasGlbExtension(const std::filesystem::path& path) {
 tinygltf::Model readModel(const std::filesystem::path& path, const std::string& file,
                           std::vector<std::string>& warnings, bool* isBinary,
                           bool allowExternalUris, CompressionFixups& fixups) {
-  std::error_code ec;
-  const std::filesystem::file_status status = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(status)) {
-    throw InputError(file + ": cannot read glTF file: no such file");
-  }
-  if (std::filesystem::is_directory(status)) {
-    throw InputError(file + ": cannot read glTF file: is a directory");
-  }
-  unsigned char magic[4] = {};
+  // Read once, through the checks every input gets (a FIFO or /dev/zero as the scene must
+  // neither block nor fill memory); tinygltf then parses from memory.
+  const std::string data = readInputFileNamed(path, file, kMaxSceneFileBytes, "glTF file");
+  if (data.empty()) throw InputError(file + ": cannot read glTF file: the file is empty");
+  const auto* magic = reinterpret_cast<const unsigned char*>(data.data());
+  const std::size_t got = std::min<std::size_t>(data.size(), 4);
   // Decided by content, not by extension: some tools write .glb data under a .gltf name.
-  bool binary = false;
-  {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(file + ": cannot read glTF file: " + std::strerror(errno));
-    in.read(reinterpret_cast<char*>(magic), sizeof magic);
-    const auto got = static_cast<std::size_t>(in.gcount());
-    const std::uint64_t size = std::filesystem::file_size(path, ec);
-    binary = got == 4 && std::memcmp(magic, "glTF", 4) == 0;
-    if (binary) {
-      in.clear();
-      checkGlbLayout(in, file, ec ? 0 : size);
-    } else if (hasGlbExtension(path)) {
-      // JSON under a .glb name is read as such; anything else would only give a JSON syntax
-      // error about what is really a broken binary header.
-      std::size_t first = 0;
-      while (first < got && std::isspace(magic[first])) ++first;
-      if (first == got || magic[first] != '{') {
-        throw InputError(file + ": not a binary glTF: it starts with \"" + printable(magic, got) +
-                         "\", not the magic \"glTF\"");
-      }
+  const bool binary = got == 4 && std::memcmp(magic, "glTF", 4) == 0;
+  std::string_view json = data;
+  if (binary) {
+    checkGlbLayout(data, file);
+    json = std::string_view(data).substr(20, le32(magic + 12));
+  } else if (hasGlbExtension(path)) {
+    // JSON under a .glb name is read as such; anything else would only give a JSON syntax
+    // error about what is really a broken binary header.
+    std::size_t first = 0;
+    while (first < got && std::isspace(magic[first])) ++first;
+    if (first == got || magic[first] != '{') {
+      throw InputError(file + ": not a binary glTF: it starts with \"" + printable(magic, got) +
+                       "\", not the magic \"glTF\"");
     }
   }
+  if (const std::size_t deep = findExcessiveNesting(json); deep != std::string_view::npos) {
+    throw InputError(file + (binary ? ": GLB JSON chunk:" : ":") +
+                     excessiveNestingMessage(json, deep));
+  }
+  // What tinygltf would drop or misreport is checked on the JSON itself; what it would refuse
+  // wrongly is hidden from it in a rewritten copy.
+  const JsonReview review = reviewGltfJson(json, file, binary);
+  for (const std::string& warning : review.warnings) warnings.push_back(file + ": " + warning);
+  std::string rewritten;
+  if (!review.rewritten.empty()) {
+    rewritten = binary ? glbWithJson(data, review.rewritten) : review.rewritten;
+  }
+  const std::string& parsed = rewritten.empty() ? data : rewritten;
   *isBinary = binary;
 
   tinygltf::TinyGLTF reader;
@@ -196,6 +210,9 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   UriPolicy policy{std::filesystem::weakly_canonical(std::filesystem::absolute(path)).parent_path(),
                    allowExternalUris,
                    {}};
+  // URIs are looked up beside the scene (tinygltf also tries the working directory, which the
+  // policy refuses unless --allow-external-uris is given).
+  const std::string baseDir = policy.folder.string();
   tinygltf::FsCallbacks files{&existsWithinFolder, &tinygltf::ExpandFilePath, &readWithinFolder,
                               &tinygltf::WriteWholeFile, &policy};
   reader.SetFsCallbacks(files);
@@ -203,18 +220,14 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   std::string error, warning;
   bool ok = false;
   try {
-    if (const std::optional<std::string> rewritten = rewriteForCompression(path, binary, fixups)) {
-      const auto size = static_cast<unsigned int>(rewritten->size());
-      const std::string folder = path.parent_path().string();
-      ok = binary ? reader.LoadBinaryFromMemory(
-                        &model, &error, &warning,
-                        reinterpret_cast<const unsigned char*>(rewritten->data()), size, folder)
-                  : reader.LoadASCIIFromString(&model, &error, &warning, rewritten->data(), size,
-                                               folder);
-    } else {
-      ok = binary ? reader.LoadBinaryFromFile(&model, &error, &warning, path.string())
-                  : reader.LoadASCIIFromFile(&model, &error, &warning, path.string());
-    }
+    // Files with compressed geometry also get the JSON tinygltf can parse (compressed_json).
+    const std::optional<std::string> uncompressed = rewriteForCompression(parsed, binary, fixups);
+    const std::string& bytes = uncompressed ? *uncompressed : parsed;
+    ok = binary ? reader.LoadBinaryFromMemory(&model, &error, &warning,
+                                              reinterpret_cast<const unsigned char*>(bytes.data()),
+                                              static_cast<unsigned int>(bytes.size()), baseDir)
+                : reader.LoadASCIIFromString(&model, &error, &warning, bytes.data(),
+                                             static_cast<unsigned int>(bytes.size()), baseDir);
   } catch (const std::exception& e) {
     throw InputError(file + ": " + e.what());
   }
@@ -233,6 +246,7 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
         file + ": " +
         (lines.empty() ? "not a valid glTF file" : locateParseError(model, lines.front())));
   }
+  restoreHiddenIndices(model, review.hiddenIndices);
   // On success tinygltf's error text only holds tolerated oddities, so it is a warning too.
   // tinygltf repeats a message for every object it applies to; once each is enough.
   std::set<std::string> seen;

@@ -16,6 +16,8 @@
 #include <utility>
 
 #include "renderer/core/errors.h"
+#include "renderer/core/input_file.h"
+#include "renderer/core/json_depth.h"
 
 namespace omnishadow {
 namespace {
@@ -25,6 +27,7 @@ using Json = nlohmann::ordered_json;
 
 constexpr float kHalfPi = 1.5707963267948966f;
 constexpr int kMaxShadowResolution = 16384;
+constexpr double kMaxFilterRadius = 64.0;  // texels
 // Values quoted back in messages are cut to this many bytes so that a message stays short.
 constexpr std::size_t kMaxQuotedBytes = 40;
 constexpr std::size_t kMaxSyntaxReasonBytes = 120;
@@ -139,6 +142,10 @@ class ErrorLocator : public nlohmann::json_sax<Json> {
 };
 
 Json parseJson(std::string_view text, const std::string& label) {
+  // Before the parser: nlohmann's dump(), which quotes values in messages, recurses per level.
+  if (const std::size_t deep = findExcessiveNesting(text); deep != std::string_view::npos) {
+    throw InputError(label + ":" + excessiveNestingMessage(text, deep));
+  }
   try {
     return Json::parse(text);
   } catch (const Json::parse_error& error) {
@@ -235,6 +242,15 @@ std::optional<double> finiteNumber(const Json& value) {
 float readNonNegative(const Reader& reader) {
   const auto number = finiteNumber(reader.value());
   if (!number || *number < 0.0) reader.failGot("expected a finite number >= 0");
+  return static_cast<float>(*number);
+}
+
+float readInRange(const Reader& reader, double low, double high) {
+  const auto number = finiteNumber(reader.value());
+  if (!number || *number < low || *number > high) {
+    reader.failGot("expected a number in [" + formatNumber(static_cast<float>(low)) + ", " +
+                   formatNumber(static_cast<float>(high)) + "]");
+  }
   return static_cast<float>(*number);
 }
 
@@ -375,7 +391,10 @@ ShadowSettings readShadow(const Reader& reader) {
                                 ShadowFilter::Poisson, ShadowFilter::Pcss, ShadowFilter::Vsm},
                                R"(expected "hard", "pcf", "pcf-disk", "poisson", "pcss" or "vsm")");
   }
-  if (auto field = reader.field("filterRadius")) shadow.filterRadius = readNonNegative(*field);
+  // vsm blurs with about 2 x filterRadius taps per texel and pass: 1e4 ran for minutes.
+  if (auto field = reader.field("filterRadius")) {
+    shadow.filterRadius = readInRange(*field, 0.0, kMaxFilterRadius);
+  }
   if (auto field = reader.field("samples")) shadow.samples = readInteger(*field, 1, 64);
   if (auto field = reader.field("radius")) shadow.radius = readNonNegative(*field);
   if (auto field = reader.field("bleedReduction")) {
@@ -479,28 +498,16 @@ LightSetup readSetup(const Reader& root, const std::string& origin) {
 // ---------------------------------------------------------------------------------------------
 // Files
 
-struct FileCloser {
-  void operator()(std::FILE* file) const { std::fclose(file); }
-};
-
-[[noreturn]] void throwReadError(const std::filesystem::path& path, int error) {
-  throw InputError(path.string() +
-                   ": cannot read lights file: " + std::generic_category().message(error));
-}
+// A lights file is a few KB; the bound keeps -l /dev/zero or a huge file from filling memory.
+constexpr std::uint64_t kMaxLightsFileBytes = 64 << 20;
 
 std::string readFile(const std::filesystem::path& path) {
-  // stdio rather than iostreams: fopen and fread are specified to set errno, which gives the
-  // message its reason.
-  const std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-  if (!file) throwReadError(path, errno);
-
   std::string text;
-  std::array<char, 64 * 1024> buffer{};
-  while (const std::size_t count = std::fread(buffer.data(), 1, buffer.size(), file.get())) {
-    text.append(buffer.data(), count);
+  int error = 0;
+  if (std::string why = readRegularFile(path, kMaxLightsFileBytes, text, &error); !why.empty()) {
+    throw InputError(path.string() + ": cannot read lights file: " +
+                     (error != 0 ? std::generic_category().message(error) : why));
   }
-  // A directory opens fine on Linux and only fails here, with EISDIR.
-  if (std::ferror(file.get())) throwReadError(path, errno);
   return text;
 }
 

@@ -9,6 +9,9 @@
 namespace omnishadow {
 namespace {
 
+// The largest side --width and --height accept.
+constexpr int kMaxDerivedSide = 16384;
+
 // Automatic framing looks at the scene from the front (+Z), somewhat above, like a person
 // standing in front of a table: the habitual view of glTF's +Y up, +Z forward models.
 constexpr glm::vec3 kAutoViewDirection{0.0f, 0.45f, 1.0f};
@@ -92,6 +95,19 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
   const float aspectHint = camera ? camera->aspectRatio : 0.0f;
   out.width = request.width.value_or(kDefaultWidth);
   out.height = request.height.value_or(kDefaultHeight);
+  // The side the aspect ratio fills in stays within what --width and --height accept (and
+  // within int: lround of 720 x 1e30 is undefined).
+  if (aspectHint > 0.0f && (!request.height || !request.width)) {
+    const double derived =
+        request.height ? double(*request.height) * aspectHint : double(out.width) / aspectHint;
+    if (!(derived <= kMaxDerivedSide)) {
+      throw InputError(scene.path + ": cameras[" + std::to_string(camera->index) +
+                       "]: aspectRatio " + std::to_string(aspectHint) + " gives an image " +
+                       std::to_string(std::llround(std::min(derived, 1e18))) + " pixels " +
+                       (request.height ? "wide" : "high") + ", more than " +
+                       std::to_string(kMaxDerivedSide) + "; give both --width and --height");
+    }
+  }
   if (aspectHint > 0.0f && !request.height)
     out.height =
         std::max(1, static_cast<int>(std::lround(static_cast<float>(out.width) / aspectHint)));

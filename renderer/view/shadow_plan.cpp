@@ -70,12 +70,17 @@ ShadowAtlasPlan planShadowAtlas(const std::vector<Light>& lights, const ViewCame
     const auto sameLayout =
         std::count_if(plan.groups.begin(), plan.groups.end(),
                       [&](const auto& g) { return g.key.layout == key.layout; });
+    // The advice follows the cause: lights alike that fill every texture's layers, or lights
+    // of so many kinds that each needs its own texture.
+    const bool full = std::any_of(plan.groups.begin(), plan.groups.end(),
+                                  [&](const auto& g) { return g.key == key; });
     if (sameLayout >= kMaxShadowGroups)
       throw InputError(std::string("the ") + layoutName(key.layout) +
                        " lights' shadow maps need more than " + std::to_string(kMaxShadowGroups) +
                        " textures (one per resolution, depth format and vsm or not, " +
-                       std::to_string(limits.maxArrayLayers) +
-                       " layers each): use fewer distinct shadow resolutions");
+                       std::to_string(limits.maxArrayLayers) + " layers each): " +
+                       (full ? "use fewer shadowed lights (or \"shadow\": false on some)"
+                             : "use fewer distinct shadow resolutions"));
     plan.groups.push_back({key, layers});
     return std::make_pair(static_cast<int>(plan.groups.size() - 1), 0);
   };

@@ -18,46 +18,11 @@
 
 #include "renderer/core/errors.h"
 #include "renderer/scene/gltf_loader.h"
-
-namespace {
+#include "tests/fuzz/fuzz_files.h"
 
 namespace fs = std::filesystem;
-
-// A folder of our own, made once: /dev/shm when there is one (no disk writes), else $TMPDIR.
-class TempFolder {
- public:
-  TempFolder() {
-    std::error_code ec;
-    const fs::path base = fs::is_directory("/dev/shm", ec) && ::access("/dev/shm", W_OK) == 0
-                              ? fs::path("/dev/shm")
-                              : fs::temp_directory_path();
-    std::string pattern = (base / "omnishadow-fuzz-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) {
-      std::perror("fuzz_gltf: mkdtemp");
-      std::abort();
-    }
-    path_ = pattern;
-  }
-  ~TempFolder() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-void writeFile(const fs::path& path, const std::uint8_t* data, std::size_t size) {
-  std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (file == nullptr || (size > 0 && std::fwrite(data, 1, size, file) != size) ||
-      std::fclose(file) != 0) {
-    std::perror("fuzz_gltf: writing the input file");
-    std::abort();
-  }
-}
-
-}  // namespace
+using omnishadow::fuzz::TempFolder;
+using omnishadow::fuzz::writeFile;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const TempFolder folder;

@@ -1,0 +1,230 @@
+#include "renderer/scene/gltf_json_checks.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <iterator>
+#include <nlohmann/json.hpp>
+
+#include "renderer/core/errors.h"
+#include "renderer/scene/gltf_context.h"
+
+namespace omnishadow::gltf_detail {
+
+namespace {
+
+using Json = nlohmann::json;
+
+// What the file contained, short enough for a one-line message.
+std::string quoted(const Json& value) {
+  std::string text = value.dump(-1, ' ', false, Json::error_handler_t::replace);
+  if (text.size() > 40) text = text.substr(0, 40) + "...";
+  return text;
+}
+
+bool isInteger(const Json& value, std::int64_t low, std::int64_t high) {
+  if (!value.is_number_integer()) return false;
+  const auto number = value.get<std::int64_t>();
+  return number >= low && number <= high;
+}
+
+// Members of `array` (a top-level glTF array or a nested one), with their index; nothing when
+// the field is missing or not an array (tinygltf reports that).
+template <typename F>
+void eachObject(const Json& parent, const char* array, F&& visit) {
+  const auto it = parent.find(array);
+  if (it == parent.end() || !it->is_array()) return;
+  for (std::size_t i = 0; i < it->size(); ++i) {
+    if ((*it)[i].is_object()) visit(i, (*it)[i]);
+  }
+}
+
+class Reviewer {
+ public:
+  explicit Reviewer(const std::string& file) : file_(file) {}
+
+  [[noreturn]] void fail(const std::string& object, const std::string& problem) const {
+    throw InputError(file_ + ": " + object + ": " + problem);
+  }
+
+  void bufferViews(const Json& root) {
+    eachObject(root, "bufferViews", [&](std::size_t i, const Json& view) {
+      const auto stride = view.find("byteStride");
+      if (stride != view.end() &&
+          (!isInteger(*stride, 4, 252) || stride->get<std::int64_t>() % 4 != 0)) {
+        fail(at("bufferViews", i),
+             "byteStride " + quoted(*stride) + " is not a multiple of 4 from 4 to 252");
+      }
+    });
+  }
+
+  // The required fields tinygltf reports without the accessor's index.
+  void accessors(const Json& root) {
+    eachObject(root, "accessors", [&](std::size_t i, const Json& accessor) {
+      const std::string object = at("accessors", i);
+      const auto count = accessor.find("count");
+      if (count == accessor.end()) fail(object, "count is missing");
+      if (!isInteger(*count, 1, INT64_MAX)) {
+        fail(object + ".count", "expected an integer >= 1, got " + quoted(*count));
+      }
+      const auto componentType = accessor.find("componentType");
+      if (componentType == accessor.end()) fail(object, "componentType is missing");
+      if (!isInteger(*componentType, 5120, 5126) || componentType->get<int>() == 5124) {
+        fail(object + ".componentType",
+             quoted(*componentType) + " is not one of 5120, 5121, 5122, 5123, 5125, 5126");
+      }
+      const auto type = accessor.find("type");
+      if (type == accessor.end()) fail(object, "type is missing");
+      static const char* const kTypes[] = {"SCALAR", "VEC2", "VEC3", "VEC4",
+                                           "MAT2",   "MAT3", "MAT4"};
+      if (!type->is_string() || std::none_of(std::begin(kTypes), std::end(kTypes), [&](auto t) {
+            return type->get_ref<const std::string&>() == t;
+          })) {
+        fail(object + ".type", quoted(*type) + " is not SCALAR, VEC2-4 or MAT2-4");
+      }
+    });
+  }
+
+  void meshes(Json& root, JsonReview& review) {
+    const auto accessors = root.find("accessors");
+    const auto meshes = root.find("meshes");
+    if (meshes == root.end() || !meshes->is_array()) return;
+    for (std::size_t m = 0; m < meshes->size(); ++m) {
+      Json& mesh = (*meshes)[m];
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
+        continue;
+      Json& primitives = mesh["primitives"];
+      for (std::size_t p = 0; p < primitives.size(); ++p) {
+        Json& primitive = primitives[p];
+        if (!primitive.is_object()) continue;
+        const std::string object = at("meshes", m) + "." + at("primitives", p);
+        const auto mode = primitive.find("mode");
+        if (mode != primitive.end() && !isInteger(*mode, 0, 6)) {
+          fail(object + ".mode", quoted(*mode) + " is not one of the modes 0 to 6");
+        }
+        // tinygltf refuses an index accessor without a bufferView; glTF reads it as zeros.
+        const auto indices = primitive.find("indices");
+        if (indices == primitive.end() || !indices->is_number_integer() ||
+            accessors == root.end() || !accessors->is_array()) {
+          continue;
+        }
+        const auto index = indices->get<std::int64_t>();
+        if (index < 0 || static_cast<std::size_t>(index) >= accessors->size()) continue;
+        const Json& accessor = (*accessors)[static_cast<std::size_t>(index)];
+        if (!accessor.is_object() || accessor.contains("bufferView")) continue;
+        review.hiddenIndices.push_back({m, p, static_cast<int>(index)});
+        primitive.erase("indices");
+      }
+    }
+  }
+
+  // A buffer without a uri (other than a .glb's BIN chunk) that no bufferView uses holds
+  // nothing the file needs; tinygltf refuses it, so it becomes one byte of data.
+  void placeholderBuffers(Json& root, bool binary, JsonReview& review) {
+    const auto buffers = root.find("buffers");
+    if (buffers == root.end() || !buffers->is_array()) return;
+    std::vector<bool> used(buffers->size(), false);
+    eachObject(root, "bufferViews", [&](std::size_t, const Json& view) {
+      const auto buffer = view.find("buffer");
+      if (buffer != view.end() && isInteger(*buffer, 0, std::int64_t(used.size()) - 1))
+        used[buffer->get<std::size_t>()] = true;
+    });
+    for (std::size_t i = binary ? 1 : 0; i < buffers->size(); ++i) {
+      Json& buffer = (*buffers)[i];
+      if (!buffer.is_object() || buffer.contains("uri") || used[i]) continue;
+      buffer = Json{{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
+      review.warnings.push_back(at("buffers", i) + ": no uri and no bufferView uses it; ignored");
+      changed_ = true;
+    }
+  }
+
+  // WebP (EXT_texture_webp) is not decoded. An image only the extension reaches is set aside
+  // (the texture's `source` is its PNG/JPEG fallback); one a `source` names is an error.
+  void webpImages(Json& root, JsonReview& review) {
+    const auto images = root.find("images");
+    if (images == root.end() || !images->is_array()) return;
+    for (std::size_t i = 0; i < images->size(); ++i) {
+      Json& image = (*images)[i];
+      if (!image.is_object() || !isWebp(image)) continue;
+      eachObject(root, "textures", [&](std::size_t t, const Json& texture) {
+        const auto source = texture.find("source");
+        if (source != texture.end() && source->is_number_integer() &&
+            source->get<std::int64_t>() == std::int64_t(i)) {
+          fail(at("textures", t) + ".source",
+               at("images", i) +
+                   " is WebP, which is not supported (only through EXT_texture_webp "
+                   "with a PNG or JPEG source)");
+        }
+      });
+      Json placeholder{{"uri", kOnePixelPng}};
+      if (image.contains("name")) placeholder["name"] = image["name"];
+      image = std::move(placeholder);
+      review.warnings.push_back(at("images", i) +
+                                ": WebP (EXT_texture_webp) is not supported; textures use their "
+                                "PNG or JPEG source");
+      changed_ = true;
+    }
+  }
+
+  bool changed() const { return changed_; }
+
+  // KHR_lights_punctual: tinygltf reads an absent range as 0, so 0 and below are caught here.
+  void lights(const Json& root) {
+    const auto extensions = root.find("extensions");
+    if (extensions == root.end() || !extensions->is_object()) return;
+    const auto punctual = extensions->find("KHR_lights_punctual");
+    if (punctual == extensions->end() || !punctual->is_object()) return;
+    eachObject(*punctual, "lights", [&](std::size_t i, const Json& light) {
+      const auto range = light.find("range");
+      if (range != light.end() && !(range->is_number() && range->get<double>() > 0.0)) {
+        fail("KHR_lights_punctual." + at("lights", i) + ".range",
+             quoted(*range) + ": expected a number > 0 (leave it out for no limit)");
+      }
+    });
+  }
+
+ private:
+  static constexpr const char* kOnePixelPng =
+      "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVQYV2P4z/"
+      "AfAAQAAf+I0P3MAAAAAElFTkSuQmCC";
+
+  static bool isWebp(const Json& image) {
+    const auto text = [&](const char* key) {
+      const auto it = image.find(key);
+      return it != image.end() && it->is_string() ? it->get<std::string>() : std::string();
+    };
+    std::string uri = text("uri");
+    std::transform(uri.begin(), uri.end(), uri.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return text("mimeType") == "image/webp" || uri.starts_with("data:image/webp") ||
+           (uri.size() > 5 && uri.ends_with(".webp"));
+  }
+
+  const std::string& file_;
+  bool changed_ = false;
+};
+
+}  // namespace
+
+JsonReview reviewGltfJson(std::string_view json, const std::string& file, bool binary) {
+  JsonReview review;
+  Json root = Json::parse(json.begin(), json.end(), nullptr, /*allow_exceptions=*/false);
+  if (!root.is_object()) return review;
+  Reviewer reviewer(file);
+  reviewer.bufferViews(root);
+  reviewer.accessors(root);
+  reviewer.lights(root);
+  reviewer.meshes(root, review);
+  reviewer.placeholderBuffers(root, binary, review);
+  reviewer.webpImages(root, review);
+  if (!review.hiddenIndices.empty() || reviewer.changed()) review.rewritten = root.dump();
+  return review;
+}
+
+void restoreHiddenIndices(tinygltf::Model& model, const std::vector<HiddenIndices>& hidden) {
+  for (const HiddenIndices& h : hidden) {
+    model.meshes.at(h.mesh).primitives.at(h.primitive).indices = h.accessor;
+  }
+}
+
+}  // namespace omnishadow::gltf_detail
