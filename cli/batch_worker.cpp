@@ -19,6 +19,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "renderer/core/errors.h"
 #include "renderer/render/gpu_choice.h"
@@ -57,7 +58,11 @@ json resultToJson(const JobResult& r) {
   out["status"] = statusName(r.status);
   out["error"] = r.error;
   out["outputs"] = json::array();
-  for (const fs::path& path : r.outputs) out["outputs"].push_back(path.string());
+  // As bytes: a path need not be UTF-8, and the parent must get it back unchanged.
+  for (const fs::path& path : r.outputs) {
+    const std::string bytes = path.string();
+    out["outputs"].push_back(std::vector<unsigned char>(bytes.begin(), bytes.end()));
+  }
   out["warnings"] = r.warnings;
   out["stages"] = json::array();
   for (const auto& [stage, ms] : r.times.stages()) out["stages"].push_back({stage, ms});
@@ -72,7 +77,10 @@ JobResult resultFromJson(const json& in) {
              : status == "skipped" ? JobStatus::Skipped
                                    : JobStatus::Failed;
   r.error = in.at("error").get<std::string>();
-  for (const json& path : in.at("outputs")) r.outputs.emplace_back(path.get<std::string>());
+  for (const json& path : in.at("outputs")) {
+    const auto bytes = path.get<std::vector<unsigned char>>();
+    r.outputs.emplace_back(std::string(bytes.begin(), bytes.end()));
+  }
   r.warnings = in.at("warnings").get<std::vector<std::string>>();
   for (const json& stage : in.at("stages"))
     r.times.add(stage.at(0).get<std::string>(), stage.at(1).get<double>());
@@ -151,7 +159,11 @@ class PipeFeed : public JobFeed {
   }
 
  private:
-  void send(const json& message) { writeAll(out_, message.dump() + "\n"); }
+  // Messages and warnings quote file names, which need not be UTF-8; they are for people, so
+  // invalid bytes may become U+FFFD.
+  void send(const json& message) {
+    writeAll(out_, message.dump(-1, ' ', false, json::error_handler_t::replace) + "\n");
+  }
 
   int in_;
   LineReader reader_;

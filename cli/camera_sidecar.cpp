@@ -18,14 +18,6 @@ Json rows(const glm::dmat4& m) {
   return out;
 }
 
-std::array<float, 16> columnMajor(const glm::dmat4& m) {
-  std::array<float, 16> out{};
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      out[static_cast<std::size_t>(c * 4 + r)] = static_cast<float>(m[c][r]);
-  return out;
-}
-
 }  // namespace
 
 Json cameraSidecar(const ViewCamera& camera, const Scene& scene, std::optional<double> time) {
@@ -71,11 +63,6 @@ Json cameraSidecar(const ViewCamera& camera, const Scene& scene, std::optional<d
 std::filesystem::path cameraSidecarPath(const std::filesystem::path& image) {
   std::filesystem::path path = image;
   return path.replace_extension(".camera.json");
-}
-
-ExrCameraAttributes exrCameraAttributes(const ViewCamera& camera) {
-  const CameraExport e = exportCamera(camera);
-  return {columnMajor(e.worldToCameraExr), columnMajor(e.worldToNdc)};
 }
 
 }  // namespace omnishadow::cli

@@ -4,7 +4,6 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "renderer/output/image_writer.h"
 #include "renderer/scene/scene.h"
 #include "renderer/view/camera.h"
 
@@ -18,8 +17,5 @@ nlohmann::ordered_json cameraSidecar(const ViewCamera& camera, const Scene& scen
 
 // "<first image, or the AOV file, without its extension>.camera.json".
 std::filesystem::path cameraSidecarPath(const std::filesystem::path& image);
-
-// OpenEXR's worldToCamera and worldToNDC for the camera.
-ExrCameraAttributes exrCameraAttributes(const ViewCamera& camera);
 
 }  // namespace omnishadow::cli

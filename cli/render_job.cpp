@@ -12,6 +12,7 @@
 #include "renderer/output/annotation_masks.h"
 #include "renderer/output/depth_dump.h"
 #include "renderer/output/display_transform.h"
+#include "renderer/output/exr_camera.h"
 #include "renderer/output/id_index.h"
 #include "renderer/output/output_transaction.h"
 #include "renderer/render/aov_layer_names.h"

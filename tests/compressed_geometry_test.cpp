@@ -161,8 +161,10 @@ TEST_P(CompressedTwinPicture, RendersTheSamePictureAsThePlainFile) {
                     "0.001"});
   EXPECT_EQ(r.status, 0) << "shadows differ:\n" << r.out << r.err;
   if (GetParam().sameColors) {
+    // Quantized texture coordinates (gltfpack: 12 bits) move a lookup by up to half a step, which
+    // can cross a texel edge: a few pixels in a thousand may differ by more than 10/255.
     r = diff(".png",
-             {"--threshold", std::to_string(10.0 / 255.0), "--max-failing-fraction", edgePixels});
+             {"--threshold", std::to_string(10.0 / 255.0), "--max-failing-fraction", "0.001"});
     EXPECT_EQ(r.status, 0) << "colors differ:\n" << r.out << r.err;
   }
 }

@@ -415,18 +415,17 @@ TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWh
             file() + ": extensionsRequired: KHR_materials_sheen is not supported");
 }
 
-// Compressed geometry leaves accessors without a bufferView, where tinygltf stops before the
-// loader sees the extension lists: the message names the extension all the same.
-TEST_F(GltfExtensionsTest, RequiredExtensionsAreNamedWhereTinygltfStopsFirst) {
+// Compressed geometry leaves accessors without a bufferView. Such an accessor is zeros by the
+// spec (the plain file loads), but under an unsupported required extension the message names
+// the extension, not the accessor.
+TEST_F(GltfExtensionsTest, RequiredExtensionsAreNamedWhereAccessorsLackABufferView) {
   GltfBuilder builder;
   builder.addNode("quad", {}, builder.addMesh(quad()));
-  // tinygltf refuses index accessors without one (Draco's), naming only the accessor.
   tinygltf::Model& model = builder.model();
   model.accessors[static_cast<std::size_t>(model.meshes[0].primitives[0].indices)].bufferView = -1;
   const fs::path path = folder / "scene.gltf";
   builder.write(path, FileFormat::GltfEmbedded);
-  const std::string plain = inputError([&] { loadGltf(path); });
-  EXPECT_TRUE(contains(plain, "invalid bufferView")) << plain;
+  EXPECT_NO_THROW(loadGltf(path));
   model.extensionsUsed = {"VENDOR_geometry_compression"};
   model.extensionsRequired = {"VENDOR_geometry_compression"};
   builder.write(path, FileFormat::GltfEmbedded);

@@ -9,6 +9,7 @@
 #include "renderer/output/annotation_masks.h"
 #include "renderer/output/depth_dump.h"
 #include "renderer/output/display_transform.h"
+#include "renderer/output/exr_camera.h"
 #include "renderer/output/id_index.h"
 #include "renderer/output/output_transaction.h"
 
@@ -188,7 +189,9 @@ void PyFrame::save(const std::string& path) const {
     writePng(transaction.stage(path), frame.beauty.width, frame.beauty.height, 3,
              omnishadow::toSrgb8(frame.beauty, exposure));
   } else if (ext == ".exr" || ext == ".EXR") {
-    writeExr(transaction.stage(path), applyExposure(frame.beauty, exposure), ExrPixelType::Half);
+    const ExrCameraAttributes attributes = exrCameraAttributes(camera);
+    writeExr(transaction.stage(path), applyExposure(frame.beauty, exposure), ExrPixelType::Half,
+             &attributes);
   } else {
     throw InputError(path + ": unsupported image format (use .png or .exr)");
   }
@@ -201,7 +204,8 @@ void PyFrame::saveAovs(const std::string& path) const {
   if (ext != ".exr" && ext != ".EXR")
     throw InputError("--aov " + path + ": AOVs are written as OpenEXR; use a .exr name");
   OutputTransaction transaction;
-  writeExr(transaction.stage(path), image, ExrPixelType::Float);
+  const ExrCameraAttributes attributes = exrCameraAttributes(camera);
+  writeExr(transaction.stage(path), image, ExrPixelType::Float, &attributes);
   transaction.commit();
 }
 

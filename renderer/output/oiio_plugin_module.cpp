@@ -36,7 +36,7 @@ extern "C" __attribute__((visibility("default"))) bool omnishadow_oiio_read_imag
     return false;
   }
   const OIIO::ImageSpec& spec = input->spec();
-  if (std::string problem = imageSizeProblem(spec.width, spec.height, spec.nchannels);
+  if (std::string problem = omnishadow::imageSizeProblem(spec.width, spec.height, spec.nchannels);
       !problem.empty()) {
     *error = std::move(problem);
     return false;
