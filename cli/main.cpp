@@ -66,13 +66,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const char* command = app.got_subcommand("info")     ? "info"
-                          : app.got_subcommand("diff")   ? "diff"
-                          : app.got_subcommand("batch")  ? "batch"
-                          : app.got_subcommand("verify") ? "verify"
-                                                         : "render";
+    // The command the error belongs to (every command, including devices and report).
+    std::string command = "render";
+    for (const CLI::App* sub : app.get_subcommands()) command = sub->get_name();
     std::fprintf(stderr, "omnishadow: %s\nRun 'omnishadow --help' or 'omnishadow %s --help'.\n",
-                 e.what(), command);
+                 e.what(), command.c_str());
     return 2;
   }
 

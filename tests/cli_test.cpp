@@ -246,6 +246,15 @@ INSTANTIATE_TEST_SUITE_P(Cli, CliErrorTest, ::testing::ValuesIn(kErrorCases),
                            return test.param.name;
                          });
 
+// A usage error points at the help of the command it belongs to, whichever command that is.
+TEST_F(CliTest, UsageErrorsNameTheirCommandsHelp) {
+  for (const std::string command : {"render", "batch", "diff", "verify", "devices", "report"}) {
+    const Run r = run({command, "--no-such-option"});
+    EXPECT_EQ(r.status, 2) << command;
+    EXPECT_TRUE(contains(r.err, "'omnishadow " + command + " --help'")) << r.err;
+  }
+}
+
 TEST_F(CliTest, OutputThatIsAFolderIsRejectedBeforeRendering) {
   const fs::path scenePath = scene("scene.gltf");
   fs::create_directory(in_ / "folder.png");
