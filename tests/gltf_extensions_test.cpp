@@ -19,6 +19,7 @@
 #include "renderer/scene/gltf_loader.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/cli_fixture.h"
+#include "tests/support/input_error.h"
 #include "tests/support/temp_folder.h"
 
 namespace omnishadow {
@@ -29,21 +30,10 @@ using builder::FileFormat;
 using builder::GltfBuilder;
 using builder::MaterialDesc;
 using builder::PrimitiveOptions;
+using test_support::inputError;
 using Json = nlohmann::json;
 using Value = tinygltf::Value;
 using test_support::contains;
-
-std::string inputError(const std::function<void()>& load) {
-  try {
-    load();
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
-    return message;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return "";
-}
 
 std::vector<std::string> warningsAbout(const Scene& scene, const std::string& part) {
   std::vector<std::string> found;

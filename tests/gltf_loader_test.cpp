@@ -21,6 +21,7 @@
 #include "renderer/core/errors.h"
 #include "renderer/scene/camera_checks.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/input_error.h"
 
 namespace omnishadow {
 namespace {
@@ -34,6 +35,7 @@ using builder::MeshData;
 using builder::PrimitiveMode;
 using builder::PrimitiveOptions;
 using builder::Transform;
+using test_support::inputError;
 
 constexpr float kEps = 1e-5f;
 constexpr float kPi = std::numbers::pi_v<float>;
@@ -50,19 +52,6 @@ constexpr float kPi = std::numbers::pi_v<float>;
 ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-}
-
-// The message of the InputError that `load` throws; fails the test if it throws none.
-std::string inputError(const std::function<void()>& load) {
-  try {
-    load();
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
-    return message;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return "";
 }
 
 bool anyWarningContains(const Scene& scene, const std::string& part) {

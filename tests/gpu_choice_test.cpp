@@ -5,9 +5,12 @@
 #include <gtest/gtest.h>
 
 #include "renderer/core/errors.h"
+#include "tests/support/input_error.h"
 
 namespace omnishadow {
 namespace {
+
+using test_support::inputError;
 
 using Visible = std::optional<std::string>;
 
@@ -40,15 +43,6 @@ int choose(const std::string& gpu, const std::vector<GpuDevice>& devices, Visibl
   return chooseGpu(parseGpuRequest(gpu), devices, visible);
 }
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
-
 TEST(GpuChoiceTest, ParsesIndicesCudaNumbersAndAuto) {
   EXPECT_EQ(parseGpuRequest("auto").kind, GpuRequest::Kind::Auto);
   const GpuRequest index = parseGpuRequest("3");
@@ -59,7 +53,7 @@ TEST(GpuChoiceTest, ParsesIndicesCudaNumbersAndAuto) {
   EXPECT_EQ(cuda.number, 12);
   for (const char* bad : {"", "-1", "1.5", "cuda:", "cuda:-1", "cuda:x", "gpu0", "0 ", "CUDA:0"})
     EXPECT_EQ(
-        errorOf([&] { parseGpuRequest(bad); }),
+        inputError([&] { parseGpuRequest(bad); }),
         std::string("--gpu ") + bad + ": expected auto, an EGL device index (0, 1, ...) or cuda:N")
         << bad;
 }
@@ -69,12 +63,12 @@ TEST(GpuChoiceTest, AnIndexIsTheEglIndexAndAMissingOneNamesTheDevices) {
   EXPECT_EQ(choose("3", threeGpusAndSoftware()), 3);
   // CUDA_VISIBLE_DEVICES does not renumber EGL indices.
   EXPECT_EQ(choose("1", threeGpusAndSoftware(), "2"), 1);
-  EXPECT_EQ(errorOf([] { choose("4", threeGpusAndSoftware()); }),
+  EXPECT_EQ(inputError([] { choose("4", threeGpusAndSoftware()); }),
             "--gpu 4: there are only 4 EGL devices: 0 (GPU C, cuda:2), 1 (GPU A, cuda:0), "
             "2 (GPU B, cuda:1), 3 (software)");
-  EXPECT_EQ(errorOf([] { choose("2", mesaOnly()); }),
+  EXPECT_EQ(inputError([] { choose("2", mesaOnly()); }),
             "--gpu 2: there are only 2 EGL devices: 0 (/dev/dri/card0), 1 (software)");
-  EXPECT_EQ(errorOf([] { choose("0", {}); }),
+  EXPECT_EQ(inputError([] { choose("0", {}); }),
             "--gpu 0: there are no EGL devices; leave --gpu out to use the surfaceless platform");
 }
 
@@ -84,15 +78,15 @@ TEST(GpuChoiceTest, CudaNumbersGoThroughCudaVisibleDevices) {
   // The job sees CUDA devices 0 and 1, which are the machine's 2 and 0.
   EXPECT_EQ(choose("cuda:0", threeGpusAndSoftware(), "2,0"), 0);
   EXPECT_EQ(choose("cuda:1", threeGpusAndSoftware(), "2,0"), 1);
-  EXPECT_EQ(errorOf([] { choose("cuda:2", threeGpusAndSoftware(), "2,0"); }),
+  EXPECT_EQ(inputError([] { choose("cuda:2", threeGpusAndSoftware(), "2,0"); }),
             "--gpu cuda:2: CUDA_VISIBLE_DEVICES=2,0 allows 2 CUDA devices");
-  EXPECT_EQ(errorOf([] { choose("cuda:3", threeGpusAndSoftware()); }),
+  EXPECT_EQ(inputError([] { choose("cuda:3", threeGpusAndSoftware()); }),
             "--gpu cuda:3: no EGL device is CUDA device 3; the EGL devices are 0 (GPU C, cuda:2), "
             "1 (GPU A, cuda:0), 2 (GPU B, cuda:1), 3 (software)");
-  EXPECT_EQ(errorOf([] { choose("cuda:0", mesaOnly()); }),
+  EXPECT_EQ(inputError([] { choose("cuda:0", mesaOnly()); }),
             "--gpu cuda:0: no EGL device is CUDA device 0; the EGL devices are 0 "
             "(/dev/dri/card0), 1 (software)");
-  EXPECT_EQ(errorOf([] { choose("cuda:0", threeGpusAndSoftware(), "GPU-8a1b3c"); }),
+  EXPECT_EQ(inputError([] { choose("cuda:0", threeGpusAndSoftware(), "GPU-8a1b3c"); }),
             "--gpu cuda:0: CUDA_VISIBLE_DEVICES=GPU-8a1b3c names devices by UUID, which EGL does "
             "not tell; use numbers there or an EGL index here");
 }
@@ -112,7 +106,7 @@ TEST(GpuChoiceTest, AutoFollowsCudaVisibleDevicesWhenItIsSet) {
   EXPECT_EQ(choose("auto", mesaOnly(), "0"), -1);
   EXPECT_EQ(choose("auto", threeGpusAndSoftware(), "GPU-8a1b3c"), -1);
   // A number that no device has is a usage error, not a silent fall back to GPU 0.
-  EXPECT_EQ(errorOf([] { choose("auto", threeGpusAndSoftware(), "5"); }),
+  EXPECT_EQ(inputError([] { choose("auto", threeGpusAndSoftware(), "5"); }),
             "CUDA_VISIBLE_DEVICES=5: no EGL device is CUDA device 5; the EGL devices are 0 (GPU C, "
             "cuda:2), 1 (GPU A, cuda:0), 2 (GPU B, cuda:1), 3 (software); choose one with --gpu");
 }
@@ -122,7 +116,7 @@ TEST(GpuChoiceTest, GpusAllOrAList) {
   EXPECT_EQ(chooseGpus("all", threeGpusAndSoftware(), {}), (Indices{0, 1, 2}));
   EXPECT_EQ(chooseGpus("all", threeGpusAndSoftware(), "1,0"), (Indices{2, 1}));
   EXPECT_EQ(chooseGpus("all", mesaOnly(), {}), (Indices{0}));
-  EXPECT_EQ(errorOf([] { chooseGpus("all", threeGpusAndSoftware(), "1,7"); }),
+  EXPECT_EQ(inputError([] { chooseGpus("all", threeGpusAndSoftware(), "1,7"); }),
             "--gpus all: CUDA_VISIBLE_DEVICES=1,7: no EGL device is CUDA device 7; the EGL devices "
             "are 0 (GPU C, cuda:2), 1 (GPU A, cuda:0), 2 (GPU B, cuda:1), 3 (software)");
   std::vector<GpuDevice> software(1);
@@ -132,12 +126,12 @@ TEST(GpuChoiceTest, GpusAllOrAList) {
   EXPECT_EQ(chooseGpus("cuda:0,cuda:1", threeGpusAndSoftware(), {}), (Indices{1, 2}));
   // Two workers on one device.
   EXPECT_EQ(chooseGpus("0,cuda:2", threeGpusAndSoftware(), {}), (Indices{0, 0}));
-  EXPECT_EQ(errorOf([] { chooseGpus("0,x", threeGpusAndSoftware(), {}); }),
+  EXPECT_EQ(inputError([] { chooseGpus("0,x", threeGpusAndSoftware(), {}); }),
             "--gpus 0,x: \"x\": expected all or a comma-separated list of EGL device indices or "
             "cuda:N");
-  EXPECT_EQ(errorOf([] { chooseGpus("auto", threeGpusAndSoftware(), {}); }),
+  EXPECT_EQ(inputError([] { chooseGpus("auto", threeGpusAndSoftware(), {}); }),
             "--gpus auto: auto chooses one device; use all");
-  EXPECT_EQ(errorOf([] { chooseGpus("all", {}, {}); }),
+  EXPECT_EQ(inputError([] { chooseGpus("all", {}, {}); }),
             "--gpus all: there are no EGL devices; leave --gpus out to use the surfaceless "
             "platform");
 }

@@ -8,9 +8,12 @@
 #include <map>
 
 #include "renderer/core/errors.h"
+#include "tests/support/input_error.h"
 
 namespace omnishadow::cli {
 namespace {
+
+using test_support::inputError;
 
 using Variables = std::map<std::string, std::string>;
 
@@ -23,15 +26,6 @@ Environment environment(Variables variables) {
 
 std::string shardOf(const Variables& variables, std::optional<int> count = std::nullopt) {
   return shardFromEnvironment(environment(variables), count);
-}
-
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
 }
 
 TEST(ShardEnvTest, SlurmArrayWithTaskCount) {
@@ -67,40 +61,40 @@ TEST(ShardEnvTest, SlurmArrayWithMinAndMaxAndStep) {
 TEST(ShardEnvTest, KubernetesIndexedJobNeedsShardCount) {
   EXPECT_EQ(shardOf({{"JOB_COMPLETION_INDEX", "0"}}, 5), "0/5");
   EXPECT_EQ(shardOf({{"JOB_COMPLETION_INDEX", "4"}}, 5), "4/5");
-  EXPECT_EQ(errorOf([] {
+  EXPECT_EQ(inputError([] {
               shardOf({{"JOB_COMPLETION_INDEX", "2"}});
             }),
             "--shard auto: JOB_COMPLETION_INDEX is set; pass --shard-count N with the Job's "
             "completions");
-  EXPECT_EQ(errorOf([] {
+  EXPECT_EQ(inputError([] {
               shardOf({{"JOB_COMPLETION_INDEX", "5"}}, 5);
             }),
             "--shard auto: JOB_COMPLETION_INDEX=5 is not below --shard-count 5");
 }
 
 TEST(ShardEnvTest, ClearErrorsWhenNothingOrTooMuchOrNonsenseIsSet) {
-  EXPECT_EQ(errorOf([] { shardOf({}); }),
+  EXPECT_EQ(inputError([] { shardOf({}); }),
             "--shard auto: no scheduler variable is set (SLURM_ARRAY_TASK_ID for a Slurm job "
             "array, JOB_COMPLETION_INDEX for a Kubernetes indexed Job); pass --shard K/N");
-  EXPECT_EQ(errorOf([] {
+  EXPECT_EQ(inputError([] {
               shardOf({{"SLURM_ARRAY_TASK_ID", "0"}, {"JOB_COMPLETION_INDEX", "0"}});
             }),
             "--shard auto: both SLURM_ARRAY_TASK_ID and JOB_COMPLETION_INDEX are set; pass --shard "
             "K/N");
-  EXPECT_EQ(errorOf([] {
+  EXPECT_EQ(inputError([] {
               shardOf({{"SLURM_ARRAY_TASK_ID", "0"}});
             }),
             "--shard auto: SLURM_ARRAY_TASK_ID is set but not SLURM_ARRAY_TASK_COUNT, nor "
             "SLURM_ARRAY_TASK_MIN and SLURM_ARRAY_TASK_MAX; pass --shard-count N");
-  EXPECT_EQ(errorOf([] {
+  EXPECT_EQ(inputError([] {
               shardOf({{"SLURM_ARRAY_TASK_ID", "x1"}, {"SLURM_ARRAY_TASK_COUNT", "4"}});
             }),
             "--shard auto: SLURM_ARRAY_TASK_ID=x1: expected a whole number");
-  EXPECT_EQ(errorOf([] {
+  EXPECT_EQ(inputError([] {
               shardOf({{"SLURM_ARRAY_TASK_ID", "4"}, {"SLURM_ARRAY_TASK_COUNT", "4"}});
             }),
             "--shard auto: SLURM_ARRAY_TASK_ID=4 is not one of 4 tasks from 0 in steps of 1");
-  EXPECT_EQ(errorOf([] {
+  EXPECT_EQ(inputError([] {
               shardOf({{"SLURM_ARRAY_TASK_ID", "3"},
                        {"SLURM_ARRAY_TASK_MIN", "0"},
                        {"SLURM_ARRAY_TASK_MAX", "10"},
@@ -115,7 +109,7 @@ TEST(ShardEnvTest, ResolveLeavesExplicitShardsAlone) {
   EXPECT_EQ(resolveShard("", 0, slurm), "");
   EXPECT_EQ(resolveShard("0/3", 0, slurm), "0/3");
   EXPECT_EQ(resolveShard("auto", 0, slurm), "1/2");
-  EXPECT_EQ(errorOf([&] { resolveShard("0/3", 3, slurm); }),
+  EXPECT_EQ(inputError([&] { resolveShard("0/3", 3, slurm); }),
             "--shard-count: only used with --shard auto");
 }
 
