@@ -9,15 +9,13 @@
 #include "renderer/view/camera.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
+#include "tests/support/shared_renderer.h"
 
 using namespace omnishadow;
 
 namespace {
 
-Renderer& contextForThisProgram() {
-  static Renderer renderer(ContextOptions{});
-  return renderer;
-}
+using test_support::sharedRenderer;
 
 // A 60 m floor seen from 1.5 m above one end, looking along it.
 struct LongFloor {
@@ -64,8 +62,8 @@ TEST(CascadeDebugView, ColorsTheFloorByCascadeFromNearToFar) {
   RenderSettings settings;
   settings.debugView = DebugView::Cascade;
   StageTimes times;
-  const Frame frame = contextForThisProgram().render(
-      floor.scene, {sunWithCascades(3)}, glm::vec3(0.03f), floor.camera, settings, times);
+  const Frame frame = sharedRenderer().render(floor.scene, {sunWithCascades(3)}, glm::vec3(0.03f),
+                                              floor.camera, settings, times);
   const int x = frame.beauty.width / 2;
   std::vector<int> seen;
   for (int y = frame.beauty.height - 1; y >= 0; --y) {
@@ -86,8 +84,7 @@ TEST(CascadeDebugView, NeedsAShadowedDirectionalLight) {
   settings.debugView = DebugView::Cascade;
   StageTimes times;
   try {
-    contextForThisProgram().render(floor.scene, {lamp}, glm::vec3(0.03f), floor.camera, settings,
-                                   times);
+    sharedRenderer().render(floor.scene, {lamp}, glm::vec3(0.03f), floor.camera, settings, times);
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "--debug-view cascade: no directional light casts a shadow");
@@ -126,7 +123,7 @@ TEST(PlanarLightViews, SpotAndCascadesHaveViewsAndDepthDumps) {
   settings.readShadowMaps = true;
   StageTimes times;
   const Frame frame =
-      contextForThisProgram().render(scene, {spot, sun}, glm::vec3(0.03f), camera, settings, times);
+      sharedRenderer().render(scene, {spot, sun}, glm::vec3(0.03f), camera, settings, times);
   ASSERT_EQ(frame.lightViews.size(), 3u);
   EXPECT_EQ(frame.lightViews[0].light, "spot");
   EXPECT_EQ(frame.lightViews[0].planar, "spot");

@@ -16,6 +16,7 @@
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/view/camera.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/shared_renderer.h"
 #include "tests/support/temp_folder.h"
 
 namespace omnishadow {
@@ -27,26 +28,10 @@ using builder::GltfBuilder;
 using builder::MaterialDesc;
 using builder::PrimitiveOptions;
 using Value = tinygltf::Value;
+using test_support::lookFrom;
+using test_support::sharedRenderer;
 
 constexpr float kPi = std::numbers::pi_v<float>;
-
-Renderer& sharedRenderer() {
-  // One context for the whole program: creating one costs about a second on llvmpipe.
-  static Renderer renderer(ContextOptions{});
-  return renderer;
-}
-
-ViewCamera lookFrom(const Scene& scene, glm::vec3 eye, glm::vec3 target, int width, int height,
-                    float fov, glm::vec3 up = {0, 1, 0}) {
-  CameraRequest request;
-  request.eye = eye;
-  request.target = target;
-  request.up = up;
-  request.fovDegrees = fov;
-  request.width = width;
-  request.height = height;
-  return resolveCamera(scene, request);
-}
 
 Frame render(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
              DebugView view = DebugView::None) {

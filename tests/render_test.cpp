@@ -21,16 +21,14 @@
 #include "renderer/view/shadow_plan.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
+#include "tests/support/shared_renderer.h"
 
 using namespace omnishadow;
 
 namespace {
 
-Renderer& sharedRenderer() {
-  // One context for the whole test program: creating one costs about a second on llvmpipe.
-  static Renderer renderer(ContextOptions{});
-  return renderer;
-}
+using test_support::lookFrom;
+using test_support::sharedRenderer;
 
 int addMaterial(Scene& scene, glm::vec4 color, bool doubleSided = false) {
   Material m;
@@ -59,17 +57,6 @@ Light pointLight(const std::string& name, glm::vec3 position, ShadowFilter filte
   light.shadow.resolution = resolution;
   light.shadow.filter = filter;
   return light;
-}
-
-ViewCamera lookFrom(const Scene& scene, glm::vec3 eye, glm::vec3 target, int width, int height,
-                    float fov = 60.0f, glm::vec3 up = {0, 1, 0}) {
-  return resolveCamera(scene, {.select = {},
-                               .eye = eye,
-                               .target = target,
-                               .up = up,
-                               .fovDegrees = fov,
-                               .width = width,
-                               .height = height});
 }
 
 // The pixel (column, row from the top) where a world point appears.

@@ -1,0 +1,31 @@
+#pragma once
+// What the in-process rendering tests share: one GL context per test program, and a camera
+// looking from one point at another.
+#include <glm/glm.hpp>
+
+#include "renderer/render/renderer.h"
+#include "renderer/scene/scene.h"
+#include "renderer/view/camera.h"
+
+namespace omnishadow::test_support {
+
+// One context for the whole program: creating one costs about a second on llvmpipe.
+inline Renderer& sharedRenderer() {
+  static Renderer renderer(ContextOptions{});
+  return renderer;
+}
+
+// A perspective camera at `eye` looking at `target`, `fov` degrees vertically.
+inline ViewCamera lookFrom(const Scene& scene, glm::vec3 eye, glm::vec3 target, int width,
+                           int height, float fov = 60.0f, glm::vec3 up = {0, 1, 0}) {
+  CameraRequest request;
+  request.eye = eye;
+  request.target = target;
+  request.up = up;
+  request.fovDegrees = fov;
+  request.width = width;
+  request.height = height;
+  return resolveCamera(scene, request);
+}
+
+}  // namespace omnishadow::test_support
