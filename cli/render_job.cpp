@@ -239,13 +239,8 @@ LoadedJob loadJob(const RenderJob& job) {
 
 std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> time,
                                  LoadedJob& loaded) {
-  if (!job.animation.empty() && !time)
-    throw InputError("--animation " + job.animation + ": needs --time SECONDS");
-  if (time && !std::isfinite(*time))
-    throw InputError("--time: expected a finite number of seconds");
-  std::vector<std::string> warnings = poseScene(loaded.scene, {time, job.animation});
-  if (time && loaded.scene.rig.animations.empty())
-    warnings.push_back(job.scene.string() + ": has no animations; --time changes nothing");
+  std::vector<std::string> warnings =
+      poseSceneChecked(loaded.scene, job.scene.string(), time, job.animation);
   loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
                               loaded.setup.lights);
   loaded.camera = resolveCamera(loaded.scene, job.camera);

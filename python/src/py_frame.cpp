@@ -153,7 +153,31 @@ py::dict PyFrame::shadowMaps() const {
     entry["distances"] = faces;
     entry["far"] = dump.far;
     entry["faces"] = py::make_tuple("px", "nx", "py", "ny", "pz", "nz");
+    entry["type"] = "point";
     maps[py::str(dump.light)] = entry;
+  }
+  // Spot maps and cascades come light by light, cascades in order (frame.h).
+  for (const PlanarShadowMapDump& dump : frame.planarShadowMaps) {
+    const py::ssize_t r = dump.resolution;
+    py::array_t<float> texels({r, r});
+    std::memcpy(texels.mutable_data(), dump.distances.data(),
+                dump.distances.size() * sizeof(float));
+    py::dict map;
+    map["distances"] = texels;
+    map["far"] = dump.far;
+    if (dump.planar == "spot") {
+      map["type"] = "spot";
+      maps[py::str(dump.light)] = map;
+      continue;
+    }
+    const py::str light(dump.light);
+    if (!maps.contains(light)) {
+      py::dict entry;
+      entry["type"] = "directional";
+      entry["cascades"] = py::list();
+      maps[light] = entry;
+    }
+    py::list(py::dict(maps[light])["cascades"]).append(map);
   }
   return maps;
 }
