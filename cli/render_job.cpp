@@ -7,9 +7,9 @@
 #include <sstream>
 #include <utility>
 
-#include "cli/camera_sidecar.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/annotation_masks.h"
+#include "renderer/output/camera_sidecar.h"
 #include "renderer/output/depth_dump.h"
 #include "renderer/output/display_transform.h"
 #include "renderer/output/exr_camera.h"
@@ -63,7 +63,7 @@ fs::path cameraJsonPath(const RenderJob& job) {
   const fs::path& image = !job.png.empty()   ? job.png.front()
                           : !job.exr.empty() ? job.exr.front()
                                              : job.aov;
-  return cameraSidecarPath(image);
+  return fs::path(image).replace_extension(".camera.json");
 }
 
 fs::path idSidecarPath(const RenderJob& job) {

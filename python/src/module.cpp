@@ -66,10 +66,10 @@ void bindFrame(py::module_& m) {
                              "What object_id and material_id values stand for (the CLI's "
                              "<aov>.ids.json).")
       .def_property_readonly("camera", &PyFrame::cameraDict,
-                             "The camera: width, height, eye, view and projection (row-major "
-                             "4x4; reversed depth), orthographic, znear, zfar (0 = infinite), "
-                             "description and, for perspective cameras, K: 3x3 pinhole "
-                             "intrinsics in pixels (OpenCV convention: x right, y down).")
+                             "The camera as the CLI's --camera-json sidecar, key for key: "
+                             "width, height, type, intrinsics (fx fy cx cy vfovDegrees near "
+                             "far), opengl and opencv worldToCamera/cameraToWorld (4 rows of "
+                             "4), projection, time, gltfCamera, description.")
       .def_property_readonly("times", &PyFrame::timesDict,
                              "Milliseconds per stage: load, shaders, upload, shadow maps, "
                              "lighting, readback, ...")

@@ -1,5 +1,7 @@
 """load_scene(time=, animation=) poses the scene as the CLI's --time and --animation do."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -17,11 +19,14 @@ CLI_VIEW = ["--eye", "0,1,5", "--target", "0,1,0", "--width", 48, "--height", 48
 @pytest.mark.parametrize("time", [1.0, 4.0])
 def test_posed_render_equals_the_cli_at_the_same_time(binary, renderer, tmp_path, time):
     status, _, stderr = run_cli(binary, "render", SKIN, "--time", time, *CLI_VIEW,
-                                "-o", tmp_path / "cli.png", "--aov", tmp_path / "cli.exr")
+                                "-o", tmp_path / "cli.png", "--aov", tmp_path / "cli.exr",
+                                "--camera-json")
     assert status == 0, stderr
     scene = omnishadow.load_scene(SKIN, time=time)
     frame = renderer.render(scene, camera=VIEW, width=48, height=48, aovs=[])
     frame.save(tmp_path / "py.png")
+    assert frame.camera == json.loads((tmp_path / "cli.camera.json").read_text())
+    assert frame.camera["time"] == time
     assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
     aov, names = omnishadow.read_image(tmp_path / "cli.exr")
     for axis in "XYZ":  # the posed surface's world positions
