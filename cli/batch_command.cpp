@@ -64,14 +64,16 @@ BatchDefaults defaultsFromOptions(const BatchOptions& o) {
   d.png = !o.noPng;
   d.exr = o.exr;
   d.aov = o.aov || !o.aovLayers.empty();
+  d.masks = o.masks;
   RenderJob& job = d.job;
   applySceneSettings(o.input, job);
   job.camera = cameraRequest(o.view);
   job.layers = parseLayers(o.aovLayers);
   job.exposure = o.exposure;
   job.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
-  if (!d.png && !d.exr && !d.aov)
-    throw InputError("--no-png: nothing left to write; add --exr or --aov");
+  job.antialiasing = o.antialiasing;
+  if (!d.png && !d.exr && !d.aov && !d.masks)
+    throw InputError("--no-png: nothing left to write; add --exr, --aov or --masks");
   return d;
 }
 
@@ -333,6 +335,13 @@ void addBatchCommand(CLI::App& app, BatchOptions& o) {
   batch->add_flag("--no-png", o.noPng, "Do not write <name>.png");
   batch->add_flag("--aov", o.aov, "Also write <name>.aov.exr");
   batch->add_option("--aov-layers", o.aovLayers, "Extra AOV layers, as for render (implies --aov)");
+  batch->add_flag("--masks", o.masks,
+                  "Also write annotation masks as render --masks does: <name>.instances.png, "
+                  "<name>.semantic.png, <name>.masks.json");
+  batch
+      ->add_option("--aa", o.antialiasing,
+                   "Anti-aliased beauty as for render: 1 (default), 4, 8 or 16 samples per pixel")
+      ->check(CLI::IsMember({1, 4, 8, 16}));
   addViewOptions(*batch, o.view);
   batch->add_option("--exposure", o.exposure, "Exposure in stops");
   batch->add_option("--shading", o.shading, "pbr or phong")->check(CLI::IsMember({"pbr", "phong"}));

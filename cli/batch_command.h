@@ -20,6 +20,8 @@ struct BatchOptions {
   std::string out;
   SceneInputOptions input;  // its scene is unused: the scenes are the inputs
   bool exr = false, noPng = false, aov = false;
+  bool masks = false;    // --masks
+  int antialiasing = 1;  // --aa
   std::string aovLayers;
   ViewOptions view;
   float exposure = 0.0f;

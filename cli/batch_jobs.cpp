@@ -48,6 +48,7 @@ RenderJob folderJob(const fs::path& scene, const fs::path& stem, const BatchDefa
   if (defaults.png) job.png.push_back(fs::path(stem.string() + ".png"));
   if (defaults.exr) job.exr.push_back(fs::path(stem.string() + ".exr"));
   if (defaults.aov) job.aov = fs::path(stem.string() + ".aov.exr");
+  if (defaults.masks) job.masks = stem;
   return job;
 }
 
@@ -211,6 +212,11 @@ RenderJob manifestJob(const ManifestJob& m, const fs::path& folder, const BatchD
   }
   if (const auto aov = m.string("aov")) job.aov = confinedOutput(m, "aov", d.out, *aov);
   if (const auto layers = m.string("aovLayers")) job.layers = parseLayers(*layers);
+  if (const auto masks = m.string("masks")) job.masks = confinedOutput(m, "masks", d.out, *masks);
+  if (const auto aa = m.integer("aa", 1, 16)) {
+    if (*aa != 1 && *aa != 4 && *aa != 8 && *aa != 16) m.fail("aa", "expected 1, 4, 8 or 16");
+    job.antialiasing = *aa;
+  }
   if (const auto camera = m.string("camera")) job.camera.select = *camera;
   if (const auto eye = m.vec3("eye")) job.camera.eye = eye;
   if (const auto target = m.vec3("target")) job.camera.target = target;
@@ -259,6 +265,7 @@ void addTimeRange(const ManifestJob& m, const std::string& range, double fps,
     for (fs::path& path : job.png) path = numbered(path, k);
     for (fs::path& path : job.exr) path = numbered(path, k);
     if (!job.aov.empty()) job.aov = numbered(job.aov, k);
+    if (!job.masks.empty()) job.masks = numbered(job.masks, k);
     job.time = times[k];
     jobs.push_back(
         {name + " @" + shortestDecimal(static_cast<float>(times[k])) + " s", std::move(job)});

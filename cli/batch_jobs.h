@@ -14,7 +14,8 @@ struct BatchDefaults {
   std::filesystem::path out;
   std::filesystem::path lights;  // one lights file for all; empty = per scene
   bool png = true, exr = false, aov = false;
-  RenderJob job;  // camera, size, shading, exposure, layers... (no inputs or outputs)
+  bool masks = false;  // --masks: <name>.instances.png, <name>.semantic.png, <name>.masks.json
+  RenderJob job;       // camera, size, shading, exposure, layers... (no inputs or outputs)
 };
 
 struct BatchEntry {

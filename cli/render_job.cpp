@@ -7,9 +7,9 @@
 #include <sstream>
 #include <utility>
 
-#include "cli/camera_sidecar.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/annotation_masks.h"
+#include "renderer/output/camera_sidecar.h"
 #include "renderer/output/depth_dump.h"
 #include "renderer/output/display_transform.h"
 #include "renderer/output/exr_camera.h"
@@ -63,7 +63,7 @@ fs::path cameraJsonPath(const RenderJob& job) {
   const fs::path& image = !job.png.empty()   ? job.png.front()
                           : !job.exr.empty() ? job.exr.front()
                                              : job.aov;
-  return cameraSidecarPath(image);
+  return fs::path(image).replace_extension(".camera.json");
 }
 
 fs::path idSidecarPath(const RenderJob& job) {
@@ -239,13 +239,8 @@ LoadedJob loadJob(const RenderJob& job) {
 
 std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> time,
                                  LoadedJob& loaded) {
-  if (!job.animation.empty() && !time)
-    throw InputError("--animation " + job.animation + ": needs --time SECONDS");
-  if (time && !std::isfinite(*time))
-    throw InputError("--time: expected a finite number of seconds");
-  std::vector<std::string> warnings = poseScene(loaded.scene, {time, job.animation});
-  if (time && loaded.scene.rig.animations.empty())
-    warnings.push_back(job.scene.string() + ": has no animations; --time changes nothing");
+  std::vector<std::string> warnings =
+      poseSceneChecked(loaded.scene, job.scene.string(), time, job.animation);
   loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
                               loaded.setup.lights);
   loaded.camera = resolveCamera(loaded.scene, job.camera);

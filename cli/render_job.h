@@ -83,7 +83,8 @@ std::vector<std::filesystem::path> writeJobOutputs(const RenderJob& job, const L
 // "<file>: refusing to overwrite an input file" when an output is one of `inputs`.
 void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& inputs);
 
-// The camera sidecar's path (cli/camera_sidecar.h): beside the first PNG, EXR or AOV file.
+// The camera sidecar's path (renderer/output/camera_sidecar.h): beside the first PNG, EXR or AOV
+// file.
 std::filesystem::path cameraJsonPath(const RenderJob& job);
 
 // "<aov stem>.ids.json": what objectId and materialId values stand for.

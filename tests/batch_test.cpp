@@ -250,6 +250,15 @@ TEST_F(BatchTest, OutputFormatFlags) {
   EXPECT_GE(readImage(output("a.aov.exr")).channelIndex("albedo.R"), 0);
 }
 
+TEST_F(BatchTest, MasksFlagAloneWritesTheAnnotationMasks) {
+  scene("s/a.gltf");
+  const Run r = batch({in("s"), "--out", out_.string(), "--no-png", "--masks", "--aa", "4"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(filesIn(out_), (Names{"a.instances.png", "a.masks.json", "a.semantic.png"}));
+  const FloatImage instances = readImage(output("a.instances.png"));
+  EXPECT_EQ(std::make_pair(instances.width, instances.height), std::make_pair(64, 48));
+}
+
 TEST_F(BatchTest, ManifestJobsOverrideTheBatchOptions) {
   scene("m/scenes/a.glb", {.format = FileFormat::Glb});
   scene("m/b.gltf", {.gltfLight = false});
@@ -551,6 +560,8 @@ const std::pair<const char*, const char*> kManifests[] = {
     {"jpeg.json", R"({"jobs": [{"scene": "s/a.gltf", "outputs": ["a.jpg"]}]})"},
     {"huge-scene-index.json",
      R"({"jobs": [{"scene": "s/a.gltf"}, {"scene": "s/b.glb", "sceneIndex": 1e12}]})"},
+    {"bad-aa.json", R"({"jobs": [{"scene": "s/a.gltf", "aa": 3}]})"},
+    {"masks-outside.json", R"({"jobs": [{"scene": "s/a.gltf", "masks": "../m"}]})"},
 };
 
 const UsageCase kUsageCases[] = {
@@ -582,6 +593,13 @@ const UsageCase kUsageCases[] = {
     {"ManifestSceneIndexBeyondInt",
      {"$in/huge-scene-index.json", "--out", "$out/o"},
      "$in/huge-scene-index.json: jobs[1].sceneIndex: expected an integer in [0, "},
+    {"ManifestAaNotASampleCount",
+     {"$in/bad-aa.json", "--out", "$out/o"},
+     "$in/bad-aa.json: jobs[0].aa: expected 1, 4, 8 or 16"},
+    {"ManifestMasksOutsideOut",
+     {"$in/masks-outside.json", "--out", "$out/o"},
+     "$in/masks-outside.json: jobs[0].masks: \"../m\": "},
+    {"AaNotASampleCount", {"$in/s", "--out", "$out/o", "--aa", "3"}, "", false},
 };
 
 class BatchUsageTest : public BatchTest, public ::testing::WithParamInterface<UsageCase> {};

@@ -66,18 +66,22 @@ void bindFrame(py::module_& m) {
                              "What object_id and material_id values stand for (the CLI's "
                              "<aov>.ids.json).")
       .def_property_readonly("camera", &PyFrame::cameraDict,
-                             "The camera: width, height, eye, view and projection (row-major "
-                             "4x4; reversed depth), orthographic, znear, zfar (0 = infinite), "
-                             "description and, for perspective cameras, K: 3x3 pinhole "
-                             "intrinsics in pixels (OpenCV convention: x right, y down).")
+                             "The camera as the CLI's --camera-json sidecar, key for key: "
+                             "width, height, type, intrinsics (fx fy cx cy vfovDegrees near "
+                             "far), opengl and opencv worldToCamera/cameraToWorld (4 rows of "
+                             "4), projection, time, gltfCamera, description.")
       .def_property_readonly("times", &PyFrame::timesDict,
                              "Milliseconds per stage: load, shaders, upload, shadow maps, "
                              "lighting, readback, ...")
       .def_property_readonly("shadow_maps", &PyFrame::shadowMaps,
-                             "With shadow_maps=True: {light: {'distances': 6 x R x R float32 "
-                             "(distance to the light, +inf where empty; faces px nx py ny pz nz, "
-                             "GL texel order), 'far': float, 'faces': names}} for shadowed point "
-                             "lights.")
+                             "With shadow_maps=True, per shadowed light: point {'type': "
+                             "'point', 'distances': 6 x R x R float32 (distance to the light, "
+                             "+inf where empty; faces px nx py ny pz nz), 'far', 'faces': "
+                             "names}; spot {'type': 'spot', 'distances': R x R (along the map's "
+                             "view axis from the light), 'far'}; directional {'type': "
+                             "'directional', 'cascades': [{'distances': R x R (along the light "
+                             "from the cascade's near plane), 'far'}, ...]}. GL texel rows "
+                             "(row 0 = t 0), the values --dump-depth writes.")
       .def_property_readonly(
           "masks", &PyFrame::masks,
           "With masks=True: {'instances': H x W uint16 (mesh instance + 1, 0 = background), "
@@ -244,7 +248,8 @@ PYBIND11_MODULE(omnishadow, m) {
       py::arg("path"), py::arg("scene") = py::none(), py::kw_only(), py::arg("time") = py::none(),
       py::arg("animation") = py::none(), py::arg("allow_external_uris") = false,
       "Loads a .gltf or .glb like the CLI (scene: index of the glTF scene, None = the file's "
-      "default). time and animation raise InputError: this build does not pose animations yet. "
+      "default), posed like the CLI's --time and --animation: time in seconds (None = the rest "
+      "pose), animation = a clip name, index or 'all' (None = all; needs time). "
       "Raises InputError with the CLI's message for unreadable or invalid files.");
   m.def("load_lights", &loadLights, py::arg("source"), py::arg("label") = "lights",
         "A lights file path, a dict with the lights file's schema or a list of light dicts, "

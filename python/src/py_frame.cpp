@@ -7,6 +7,7 @@
 
 #include "renderer/core/errors.h"
 #include "renderer/output/annotation_masks.h"
+#include "renderer/output/camera_sidecar.h"
 #include "renderer/output/depth_dump.h"
 #include "renderer/output/display_transform.h"
 #include "renderer/output/exr_camera.h"
@@ -32,16 +33,6 @@ py::array_t<T> copyChannels(const FloatImage& image, const std::vector<int>& cha
     for (std::size_t c = 0; c < channels.size(); ++c)
       dst[i * channels.size() + c] = static_cast<T>(image.pixels[i * stride + channels[c]]);
   return out;
-}
-
-py::list matrix(const glm::mat4& m) {
-  py::list rows;  // row-major, as NumPy and the JSON sidecars write matrices
-  for (int r = 0; r < 4; ++r) {
-    py::list row;
-    for (int c = 0; c < 4; ++c) row.append(m[c][r]);
-    rows.append(row);
-  }
-  return rows;
 }
 
 py::object jsonToPython(const nlohmann::ordered_json& value) {
@@ -109,30 +100,7 @@ py::array_t<std::int32_t> PyFrame::ids(const std::string& name) const {
 }
 
 py::dict PyFrame::cameraDict() const {
-  py::dict d;
-  d["width"] = camera.width;
-  d["height"] = camera.height;
-  d["eye"] = py::make_tuple(camera.eye.x, camera.eye.y, camera.eye.z);
-  d["view"] = matrix(camera.view);
-  d["projection"] = matrix(camera.projection);
-  d["orthographic"] = camera.orthographic;
-  d["znear"] = camera.znear;
-  d["zfar"] = camera.zfar;
-  d["description"] = camera.description;
-  // Pinhole intrinsics in pixels (x right, y down, origin at the top-left corner of the image):
-  // the projection's scale factors times half the image size.
-  if (!camera.orthographic) {
-    const double fx = double(camera.projection[0][0]) * camera.width / 2.0;
-    const double fy = double(camera.projection[1][1]) * camera.height / 2.0;
-    const double cx = (1.0 - double(camera.projection[2][0])) * camera.width / 2.0;
-    const double cy = (1.0 + double(camera.projection[2][1])) * camera.height / 2.0;
-    py::list k;
-    k.append(py::make_tuple(fx, 0.0, cx));
-    k.append(py::make_tuple(0.0, fy, cy));
-    k.append(py::make_tuple(0.0, 0.0, 1.0));
-    d["K"] = k;
-  }
-  return d;
+  return jsonToPython(cameraSidecar(camera, *scene, time)).cast<py::dict>();
 }
 
 py::dict PyFrame::timesDict() const {
@@ -153,7 +121,31 @@ py::dict PyFrame::shadowMaps() const {
     entry["distances"] = faces;
     entry["far"] = dump.far;
     entry["faces"] = py::make_tuple("px", "nx", "py", "ny", "pz", "nz");
+    entry["type"] = "point";
     maps[py::str(dump.light)] = entry;
+  }
+  // Spot maps and cascades come light by light, cascades in order (frame.h).
+  for (const PlanarShadowMapDump& dump : frame.planarShadowMaps) {
+    const py::ssize_t r = dump.resolution;
+    py::array_t<float> texels({r, r});
+    std::memcpy(texels.mutable_data(), dump.distances.data(),
+                dump.distances.size() * sizeof(float));
+    py::dict map;
+    map["distances"] = texels;
+    map["far"] = dump.far;
+    if (dump.planar == "spot") {
+      map["type"] = "spot";
+      maps[py::str(dump.light)] = map;
+      continue;
+    }
+    const py::str light(dump.light);
+    if (!maps.contains(light)) {
+      py::dict entry;
+      entry["type"] = "directional";
+      entry["cascades"] = py::list();
+      maps[light] = entry;
+    }
+    py::list(py::dict(maps[light])["cascades"]).append(map);
   }
   return maps;
 }

@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@ struct PyFrame {
   Frame frame;
   std::shared_ptr<const Scene> scene;
   ViewCamera camera;
+  std::optional<double> time;  // the scene's pose time, for the camera sidecar
   StageTimes times;
   float exposure = 0.0f;
   std::vector<std::string> warnings;  // the scene's, the lights', then the renderer's
@@ -35,6 +37,7 @@ struct PyFrame {
   pybind11::array_t<float> channel(const std::string& name) const;
   pybind11::array_t<float> depth() const;
   pybind11::array_t<std::int32_t> ids(const std::string& channel) const;
+  // The CLI's --camera-json document (renderer/output/camera_sidecar.h) as Python data.
   pybind11::dict cameraDict() const;
   pybind11::dict timesDict() const;
   pybind11::dict shadowMaps() const;

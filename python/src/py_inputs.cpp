@@ -8,6 +8,7 @@
 #include "renderer/scene/drawable_check.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/lights_loader.h"
+#include "renderer/scene/scene_pose.h"
 
 namespace py = pybind11;
 
@@ -66,10 +67,20 @@ std::optional<int> size(const py::object& value, const char* name) {
 
 PyScene loadScene(const std::string& path, const py::object& sceneIndex, const py::object& time,
                   const py::object& animation, bool allowExternalUris) {
-  if (!time.is_none() || !animation.is_none())
-    throw InputError(path +
-                     ": time= and animation= need animated scene support, which this "
-                     "build of omnishadow does not have yet");
+  std::optional<double> seconds;
+  if (!time.is_none()) {
+    if (py::isinstance<py::bool_>(time) ||
+        !py::isinstance(time, py::module_::import("numbers").attr("Real")))
+      throw py::type_error("time: expected a number of seconds or None");
+    seconds = time.cast<double>();
+  }
+  std::string clips;  // the CLI's --animation text: a name, an index or "all"
+  if (py::isinstance<py::str>(animation))
+    clips = animation.cast<std::string>();
+  else if (py::isinstance<py::int_>(animation) && !py::isinstance<py::bool_>(animation))
+    clips = std::to_string(animation.cast<long long>());
+  else if (!animation.is_none())
+    throw py::type_error("animation: expected a name, an index, \"all\" or None");
   GltfLoadOptions options;
   options.allowExternalUris = allowExternalUris;
   if (!sceneIndex.is_none()) {
@@ -81,7 +92,10 @@ PyScene loadScene(const std::string& path, const py::object& sceneIndex, const p
   py::gil_scoped_release release;  // loading is CPU only and may take long
   auto scene = std::make_shared<Scene>(loadGltf(path, options));
   requireTriangles(*scene);
-  return PyScene{std::move(scene)};
+  // Posed like the CLI's render (loadJob): the pose's warnings follow the loader's.
+  const std::vector<std::string> warnings = poseSceneChecked(*scene, path, seconds, clips);
+  scene->warnings.insert(scene->warnings.end(), warnings.begin(), warnings.end());
+  return PyScene{std::move(scene), seconds};
 }
 
 PyLights loadLights(const py::object& source, const std::string& label) {

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@ namespace omnishadow::python {
 // A loaded scene, shared (read only) by every frame rendered from it.
 struct PyScene {
   std::shared_ptr<const Scene> scene;
+  std::optional<double> time;  // the pose's time (load_scene(time=)); none = the rest pose
 };
 
 // A lights file's content: the lights, the ambient term and the loader's warnings.
@@ -27,9 +29,9 @@ struct PyLights {
   std::string label;  // the file, or the label given for Python data
 };
 
-// loadGltf() with the CLI's checks (a scene that draws no triangles is refused). `time` and
-// `animation` are accepted for the interface's sake and refused with an InputError until the
-// renderer poses animated scenes.
+// loadGltf() with the CLI's checks (a scene that draws no triangles is refused), posed at `time`
+// (seconds or None) with the clips `animation` names (a name, an index, "all" or None = all) as
+// the CLI's --time and --animation do, with their messages.
 PyScene loadScene(const std::string& path, const pybind11::object& sceneIndex,
                   const pybind11::object& time, const pybind11::object& animation,
                   bool allowExternalUris);

@@ -100,6 +100,7 @@ PyFrame PyRenderer::render(const PyScene& scene, const py::object& lights,
 
   PyFrame out;
   out.scene = scene.scene;
+  out.time = scene.time;
   out.exposure = options.exposure;
   out.warnings = scene.scene->warnings;
   out.warnings.insert(out.warnings.end(), loadedLights.warnings.begin(),

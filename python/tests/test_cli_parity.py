@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pytest
 
 import omnishadow
 from conftest import DEMO_LIGHTS, DEMO_SCENE, run_cli
@@ -87,12 +88,30 @@ def test_camera_matches_the_request(renderer, demo_scene):
                             camera={"eye": (0, 1, 6), "target": (0, 1, 0), "fov": 60})
     camera = frame.camera
     assert (camera["width"], camera["height"]) == (40, 20)
-    assert camera["eye"] == (0.0, 1.0, 6.0)
-    assert np.allclose(np.array(camera["view"]) @ [0, 1, 0, 1], [0, 0, -6, 1], atol=1e-5)
-    k = np.array(camera["K"])
-    assert np.isclose(k[1, 1], 10 / np.tan(np.radians(30)), rtol=1e-5)
-    assert (k[0, 2], k[1, 2]) == (20.0, 10.0)
+    eye = np.array(camera["opengl"]["cameraToWorld"])[:3, 3]
+    np.testing.assert_allclose(eye, (0.0, 1.0, 6.0), atol=1e-5)
+    view = np.array(camera["opengl"]["worldToCamera"])
+    assert np.allclose(view @ [0, 1, 0, 1], [0, 0, -6, 1], atol=1e-5)
+    k = camera["intrinsics"]
+    assert np.isclose(k["fy"], 10 / np.tan(np.radians(30)), rtol=1e-5)
+    assert (k["cx"], k["cy"]) == (20.0, 10.0)
     assert {"upload", "shadow maps", "lighting", "readback"} <= set(frame.times)
+
+
+@pytest.mark.parametrize("cli_args, render_args", [
+    (["--eye", "0,1,6", "--target", "0,1,0", "--fov", "60"],
+     {"camera": {"eye": (0, 1, 6), "target": (0, 1, 0), "fov": 60}}),
+    ([], {}),  # the framing of the whole scene
+])
+def test_camera_equals_the_cli_sidecar(binary, renderer, demo_scene, tmp_path, cli_args,
+                                       render_args):
+    status, _, stderr = run_cli(binary, "render", DEMO_SCENE, "--width", 40, "--height", 20,
+                                *cli_args, "-o", tmp_path / "a.png", "--camera-json")
+    assert status == 0, stderr
+    sidecar = json.loads((tmp_path / "a.camera.json").read_text())
+    frame = renderer.render(demo_scene, width=40, height=20, **render_args)
+    assert frame.camera == sidecar
+    assert list(frame.camera) == list(sidecar)  # key order too
 
 
 def test_lights_from_python_data_render_like_the_file(renderer, demo_scene):

@@ -97,12 +97,6 @@ def test_python_arguments_raise_input_error(renderer, demo_scene, arguments, mes
     assert str(error.value).startswith(message)
 
 
-def test_time_and_animation_are_refused_until_supported():
-    for arguments in ({"time": 0.5}, {"animation": "walk"}):
-        with pytest.raises(omnishadow.InputError, match="animated scene support"):
-            omnishadow.load_scene(DEMO_SCENE, **arguments)
-
-
 def test_unwritable_output_is_a_render_error(renderer, demo_scene, tmp_path):
     frame = renderer.render(demo_scene, width=8, height=8)
     (tmp_path / "a_file").write_text("")

@@ -132,3 +132,32 @@ def test_unoccluded_pixels_match_the_gpu_under_perspective(renderer, tmp_path, n
     if name == "through_near_plane":  # the clipped edge is in view: the bottom rows are empty
         rows = np.nonzero(frame.masks["instances"].any(axis=1))[0]
         assert rows.max() < 35
+
+
+def test_a_node_without_a_class_takes_its_nearest_ancestors(binary, renderer, tmp_path):
+    scene = QuadScene(W, H)
+    scene.add_quad(2, 2, 6, 6, node="leg")                     # node 0: below "table"
+    scene.add_quad(8, 2, 12, 6, node="top", cls="tabletop")    # node 1: below "table"
+    scene.add_quad(2, 8, 6, 12, node="screw")                  # node 2: below "leg"
+    scene.add_quad(20, 2, 24, 6, node="cup")                   # node 3: a root
+    path = scene.write(tmp_path / "tree.gltf")
+    gltf = json.loads(path.read_text())
+    nodes = gltf["nodes"]
+    nodes[0]["children"] = [2]
+    camera = next(i for i, n in enumerate(nodes) if "camera" in n)
+    table, shelf, lamp = len(nodes), len(nodes) + 1, len(nodes) + 2
+    nodes.append({"name": "table", "children": [0, 1], "extras": {"class": "furniture"}})
+    # A class that is no string counts as none: "lamp" takes its parent's.
+    nodes.append({"name": "shelf", "children": [lamp], "extras": {"class": "storage"}})
+    nodes.append({"name": "lamp", "mesh": 3, "extras": {"class": 7}, "translation": [0, -10, 0]})
+    gltf["scenes"][0]["nodes"] = [table, 3, camera, shelf]
+    path.write_text(json.dumps(gltf))
+
+    frame = renderer.render(omnishadow.load_scene(path), width=W, height=H, masks=True)
+    classes = {e["nodeName"]: e["class"] for e in frame.masks["index"]["instances"]}
+    assert classes == {"leg": "furniture", "screw": "furniture", "top": "tabletop",
+                       "cup": "cup", "lamp": "storage"}
+    status, _, stderr = run_cli(binary, "render", path, "--width", W, "--height", H,
+                                "-o", tmp_path / "a.png", "--masks", tmp_path / "m")
+    assert status == 0, stderr
+    assert json.loads((tmp_path / "m.masks.json").read_text()) == frame.masks["index"]

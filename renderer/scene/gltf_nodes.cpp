@@ -205,9 +205,11 @@ class SceneBuilder {
       std::size_t node;
       glm::mat4 world;
       std::size_t nextChild;
+      std::string className;  // the node's extras "class", else its nearest ancestor's
     };
     std::vector<Frame> stack;
-    const auto enter = [&](int node, const glm::mat4& parentWorld, const std::string& referrer) {
+    const auto enter = [&](int node, const glm::mat4& parentWorld, const std::string& parentClass,
+                           const std::string& referrer) {
       ctx_.checkIndex(referrer, "node", node, nodeCount);
       const auto index = static_cast<std::size_t>(node);
       if (onPath[index]) ctx_.fail(at("nodes", index), "the node hierarchy has a cycle");
@@ -224,11 +226,13 @@ class SceneBuilder {
         onPath[index] = 0;
         return;
       }
-      visit(index, world);
-      stack.push_back({index, world, 0});
+      std::string className = extrasClass(ctx_.model.nodes[index]);
+      if (className.empty()) className = parentClass;
+      visit(index, world, className);
+      stack.push_back({index, world, 0, std::move(className)});
     };
     for (int root : roots) {
-      enter(root, glm::mat4(1.0f), rootsObject);
+      enter(root, glm::mat4(1.0f), std::string(), rootsObject);
       while (!stack.empty()) {
         Frame& top = stack.back();
         const std::vector<int>& children = ctx_.model.nodes[top.node].children;
@@ -239,7 +243,8 @@ class SceneBuilder {
         }
         const int child = children[top.nextChild++];
         const glm::mat4 parentWorld = top.world;  // `top` dies when the stack grows
-        enter(child, parentWorld, at("nodes", top.node) + ".children");
+        const std::string parentClass = top.className;
+        enter(child, parentWorld, parentClass, at("nodes", top.node) + ".children");
       }
     }
     // Cameras keep traversal order within one glTF camera.
@@ -250,7 +255,8 @@ class SceneBuilder {
  private:
   static constexpr int kNotConverted = -2;  // -1: converted, but not drawn
 
-  void visit(std::size_t nodeIndex, const glm::mat4& world) {
+  // `className`: the node's extras "class", inherited from its nearest ancestor that has one.
+  void visit(std::size_t nodeIndex, const glm::mat4& world, const std::string& className) {
     const tinygltf::Node& node = ctx_.model.nodes[nodeIndex];
     if (node.mesh >= 0) {
       ctx_.checkIndex(at("nodes", nodeIndex), "mesh", node.mesh, ctx_.model.meshes.size());
@@ -267,8 +273,8 @@ class SceneBuilder {
         mesh = instanceMesh(meshIndex, p, deformed);
         for (std::size_t i = 0; i < worlds.size(); ++i) {
           if (!isFinite(worlds[i])) continue;
-          ctx_.scene.instances.push_back({mesh, worlds[i], static_cast<int>(nodeIndex), node.name,
-                                          extrasClass(node), inNode[i]});
+          ctx_.scene.instances.push_back(
+              {mesh, worlds[i], static_cast<int>(nodeIndex), node.name, className, inNode[i]});
           ctx_.scene.bounds.extend(
               ctx_.scene.meshes[static_cast<std::size_t>(mesh)].bounds.transformed(worlds[i]));
           if (deformed)

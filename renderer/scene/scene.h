@@ -99,7 +99,9 @@ struct MeshInstance {
   glm::mat4 world{1.0f};
   int node = -1;  // glTF node index
   std::string nodeName;
-  std::string className;  // the node's extras "class" (a string), for semantic masks; else empty
+  // The node's extras "class" (a string), else its nearest ancestor's; for semantic masks; else
+  // empty.
+  std::string className;
   // EXT_mesh_gpu_instancing: this instance's transform within its node (world = node's world x
   // this), kept so that posing can move every instance with its node; identity otherwise.
   glm::mat4 inNode{1.0f};

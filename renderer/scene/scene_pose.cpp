@@ -1,6 +1,7 @@
 #include "renderer/scene/scene_pose.h"
 
 #include <algorithm>
+#include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <utility>
@@ -188,6 +189,19 @@ std::vector<std::string> poseScene(Scene& scene, const PoseRequest& request) {
   for (const MeshInstance& instance : scene.instances)
     scene.bounds.extend(
         scene.meshes[static_cast<std::size_t>(instance.mesh)].bounds.transformed(instance.world));
+  return warnings;
+}
+
+std::vector<std::string> poseSceneChecked(Scene& scene, const std::string& file,
+                                          std::optional<double> time,
+                                          const std::string& animation) {
+  if (!animation.empty() && !time)
+    throw InputError("--animation " + animation + ": needs --time SECONDS");
+  if (time && !std::isfinite(*time))
+    throw InputError("--time: expected a finite number of seconds");
+  std::vector<std::string> warnings = poseScene(scene, {time, animation});
+  if (time && scene.rig.animations.empty())
+    warnings.push_back(file + ": has no animations; --time changes nothing");
   return warnings;
 }
 

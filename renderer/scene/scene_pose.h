@@ -29,4 +29,10 @@ std::vector<int> chooseAnimations(const Scene& scene, const std::string& selecti
 // rig keeps the rest data. Throws InputError for an unknown clip.
 std::vector<std::string> poseScene(Scene& scene, const PoseRequest& request);
 
+// poseScene() with the checks both front ends make, in the CLI's words (--time, --animation):
+// an animation needs a time, the time must be finite; a time given for a file without
+// animations is a warning naming `file`. Returns poseScene()'s warnings, then that one.
+std::vector<std::string> poseSceneChecked(Scene& scene, const std::string& file,
+                                          std::optional<double> time, const std::string& animation);
+
 }  // namespace omnishadow

@@ -1,12 +1,18 @@
-#include "cli/camera_sidecar.h"
+#include "renderer/output/camera_sidecar.h"
 
-#include "cli/common_options.h"
+#include <cmath>
+
 #include "renderer/view/camera_export.h"
 
-namespace omnishadow::cli {
+namespace omnishadow {
 namespace {
 
 using Json = nlohmann::ordered_json;
+
+// JSON has no spelling for infinity or NaN.
+Json jsonNumber(double value) {
+  return std::isfinite(value) ? Json(value) : Json(nullptr);
+}
 
 Json rows(const glm::dmat4& m) {
   Json out = Json::array();
@@ -60,9 +66,4 @@ Json cameraSidecar(const ViewCamera& camera, const Scene& scene, std::optional<d
   return doc;
 }
 
-std::filesystem::path cameraSidecarPath(const std::filesystem::path& image) {
-  std::filesystem::path path = image;
-  return path.replace_extension(".camera.json");
-}
-
-}  // namespace omnishadow::cli
+}  // namespace omnishadow
