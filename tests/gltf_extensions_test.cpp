@@ -282,6 +282,48 @@ TEST_F(GltfExtensionsTest, SpecularGlossinessReplacesTheMetallicRoughnessInputs)
                 "specularGlossinessTexture: texture 9 is out of range (the file has 2 textures)");
 }
 
+TEST_F(GltfExtensionsTest, TransmissionFactorIsReadAndMayBeRequired) {
+  Quad q;
+  makeQuad(q);
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionFactor", Value(0.75)}});
+  q.builder.model().extensionsUsed = {"KHR_materials_transmission"};
+  q.builder.model().extensionsRequired = {"KHR_materials_transmission"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  EXPECT_EQ(scene.materials[0].transmissionFactor, 0.75f);
+
+  // The factor defaults to 0 (the spec's default): the extension alone transmits nothing.
+  q.gltfMaterial().extensions["KHR_materials_transmission"] = object({});
+  EXPECT_EQ(load(q.builder).materials[0].transmissionFactor, 0.0f);
+
+  // A texture is not read: the factor applies alone, and the user is told.
+  q.gltfMaterial().extensions["KHR_materials_transmission"] = object(
+      {{"transmissionFactor", Value(0.5)}, {"transmissionTexture", object({{"index", Value(0)}})}});
+  const Scene textured = load(q.builder);
+  EXPECT_EQ(textured.materials[0].transmissionFactor, 0.5f);
+  ASSERT_EQ(textured.warnings.size(), 1u);
+  EXPECT_EQ(textured.warnings[0], file() +
+                                      ": materials[0].extensions.KHR_materials_transmission: "
+                                      "transmissionTexture is not supported; transmissionFactor "
+                                      "applies alone");
+
+  for (const double bad : {-0.25, 1.5}) {
+    q.gltfMaterial().extensions["KHR_materials_transmission"] =
+        object({{"transmissionFactor", Value(bad)}});
+    EXPECT_EQ(inputError([&] { load(q.builder); }),
+              file() +
+                  ": materials[0].extensions.KHR_materials_transmission: "
+                  "transmissionFactor must be a number in [0, 1]");
+  }
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionFactor", Value("half")}});
+  EXPECT_EQ(inputError([&] { load(q.builder); }),
+            file() +
+                ": materials[0].extensions.KHR_materials_transmission: "
+                "transmissionFactor must be a number");
+}
+
 // A scene whose texture 0 has a PNG `source` (image 0) and a KTX2 image (image 1, a file with
 // the KTX2 signature and nothing a decoder could use) through KHR_texture_basisu.
 class ImageExtensionsTest : public GltfExtensionsTest {
@@ -403,7 +445,7 @@ TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWh
   EXPECT_EQ(scene.source.extensions[2].drawnInstead, "");
 
   for (const std::string name :
-       {"KHR_materials_clearcoat", "VENDOR_made_up", "KHR_materials_transmission"}) {
+       {"KHR_materials_clearcoat", "VENDOR_made_up", "KHR_materials_volume"}) {
     model.extensionsRequired = {name};
     EXPECT_EQ(inputError([&] { load(builder); }),
               file() + ": extensionsRequired: " + name + " is not supported");
