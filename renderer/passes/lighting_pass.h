@@ -32,6 +32,9 @@ struct PassParameters {
   // Aovs, Layers: draw only the blended surfaces, the front-most one per pixel, unblended (the
   // AOVs of pixels no opaque surface covers, renderer.cpp).
   bool blendedOnly = false;
+  // Aovs: -1 = the visibility targets hold each light's scalar shadow term; 0, 1, 2 = that
+  // channel of its RGB term (translucent shadows: the transmittance.<light> AOVs).
+  int visibilityChannel = -1;
 };
 
 // How many lights one lighting pass reports visibility for (one per channel of RGBA32F targets).
@@ -40,6 +43,7 @@ inline constexpr int kVisibilityPerPass = contract::kVisibilityPerPass;
 struct ShadedLight {
   const Light* light = nullptr;
   const LightShadowPlan* shadow = nullptr;  // null = unshadowed
+  bool translucent = false;                 // its group has transmittance layers drawn for it
 };
 
 // The frame's shadow textures, indexed like ShadowAtlasPlan::groups.
@@ -71,9 +75,11 @@ struct LightingFeatures {
   bool planarShadows = false;
   unsigned filters = 0;  // bit per ShadowFilter
   bool debugDepth = false;
+  bool translucentShadows = false;  // some light samples transmittance layers
   bool operator==(const LightingFeatures& o) const {
     return cubeShadows == o.cubeShadows && planarShadows == o.planarShadows &&
-           filters == o.filters && debugDepth == o.debugDepth;
+           filters == o.filters && debugDepth == o.debugDepth &&
+           translucentShadows == o.translucentShadows;
   }
 };
 

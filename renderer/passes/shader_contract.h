@@ -40,6 +40,11 @@ inline constexpr int kPlanarCompareUnit = kCubeDepthUnit + kMaxShadowGroups;
 inline constexpr int kPlanarDepthUnit = kPlanarCompareUnit + kMaxShadowGroups;
 inline constexpr int kCubeMomentsUnit = kPlanarDepthUnit + kMaxShadowGroups;
 inline constexpr int kPlanarMomentsUnit = kCubeMomentsUnit + kMaxShadowGroups;
+// Transmittance layers of translucent shadows (transmittance_pass.h) take the moments units: a
+// group holds vsm lights (moments) or lights with translucent shadows, never both, and 32 units
+// leave no room for two more arrays.
+inline constexpr int kCubeTransmittanceUnit = kCubeMomentsUnit;
+inline constexpr int kPlanarTransmittanceUnit = kPlanarMomentsUnit;
 static_assert(kMaterialUnits <= kCubeCompareUnit, "material and shadow units overlap");
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
 static_assert(kPlanarMomentsUnit + kMaxShadowGroups <= 32, "shadow units beyond 32");
@@ -74,7 +79,8 @@ struct GpuLight {
   glm::vec4 shadowDepth;       // near, far, constant bias (world), slope bias (texels)
   glm::vec4 shadowBias;        // min bias (texels), normal bias (texels), filter radius, samples
   glm::vec4 shadowSoft;        // source radius, vsm bleed reduction, first layer, layer count
-  glm::vec4 shadowProjection;  // spot: tan(half fov); first entry in the view projections
+  glm::vec4 shadowProjection;  // spot: tan(half fov); first entry in the view projections;
+                               // 1 when translucent casters tint the shadow
   glm::vec4 cascadeEnd;        // directional: camera view depth where each cascade ends
   glm::vec4 cascadeTexel;      // directional: world size of a texel in each cascade
 };
@@ -123,6 +129,8 @@ inline std::vector<std::string> shaderContractDefines() {
       define("PLANAR_DEPTH_UNIT", kPlanarDepthUnit),
       define("CUBE_MOMENTS_UNIT", kCubeMomentsUnit),
       define("PLANAR_MOMENTS_UNIT", kPlanarMomentsUnit),
+      define("CUBE_TRANSMITTANCE_UNIT", kCubeTransmittanceUnit),
+      define("PLANAR_TRANSMITTANCE_UNIT", kPlanarTransmittanceUnit),
       define("LIGHTS_BINDING", kLightsBinding),
       define("MODELS_BINDING", kModelsBinding),
       define("DRAW_OBJECTS_BINDING", kDrawObjectsBinding),
