@@ -76,9 +76,9 @@ layout(location = 1) out vec4 outPositionDistance;  // P.xyz, camera distance
 layout(location = 2) out vec4 outNormal;            // shading normal facing the camera
 layout(location = 3) out vec4 outVisibility[VISIBILITY_OUTPUTS];
 uniform int uVisibilityBase;  // first light whose shadow term goes to outVisibility
-// -1: outVisibility holds each light's scalar shadow term; 0, 1, 2: that channel of its RGB
-// term (the shadow times the translucent casters' transmittance).
-uniform int uVisibilityChannel;
+// 0: outVisibility holds each light's scalar shadow term; 1: the RGB terms (the shadow times the
+// translucent casters' transmittance) of VISIBILITY_OUTPUTS * 4 / 3 lights, three scalars each.
+uniform int uVisibilityRgb;
 #endif
 #ifdef WRITE_LAYERS
 layout(location = 1) out vec4 outLayerA;  // mode 0: albedo, roughness; mode 1: diffuse
@@ -198,8 +198,13 @@ void main() {
 #endif
 #ifdef WRITE_AOVS
     int slot = i - uVisibilityBase;
-    if (slot >= 0 && slot < 4 * VISIBILITY_OUTPUTS)
-      visibility[slot] = uVisibilityChannel < 0 ? shadow : shadowColor[uVisibilityChannel];
+    if (uVisibilityRgb == 0) {
+      if (slot >= 0 && slot < 4 * VISIBILITY_OUTPUTS) visibility[slot] = shadow;
+    } else {
+      for (int c = 0; c < 3; ++c)
+        if (slot >= 0 && 3 * slot + c < 4 * VISIBILITY_OUTPUTS)
+          visibility[3 * slot + c] = shadowColor[c];
+    }
 #endif
     if (max(max(shadowColor.r, shadowColor.g), shadowColor.b) <= 0.0) continue;
     vec3 diffuse, specular;

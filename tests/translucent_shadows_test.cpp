@@ -386,3 +386,51 @@ TEST(TranslucentShadows, TransmissionFromAGltfFileTintsTheShadow) {
   EXPECT_EQ(check.matching, check.points);
   expectAgreementWithTheRays(verifyAgainstRays(s, frame), 1000);
 }
+
+// Eight lights take two passes of RGB terms (six lights each): every light's
+// transmittance.<light>.R/G/B holds its own color. Lights 0-3 and 5-7 see the floor's middle
+// through a BLEND pane (alpha 0.75: 0.25 in every channel), light 4 beside the pane sees it lit,
+// and light 6 has translucentShadows off (its cut-out shadow: visibility 0, no channels).
+TEST(TranslucentShadows, ManyLightsEachGetTheirOwnTransmittanceChannels) {
+  Staged s = paneScene(
+      {{glass({1.0f, 0.5f, 0.2f, 0.75f}, AlphaMode::Blend, 0.0f), {0.0f, 1.0f, 0.0f}, 4.0f}});
+  s.lights.clear();
+  for (int i = 0; i < 8; ++i) {
+    Light light;
+    light.name = "l" + std::to_string(i);
+    light.position = {0.1f * static_cast<float>(i) - 0.4f, 5.0f, 0.0f};
+    if (i == 4) light.position = {6.0f, 1.5f, 0.0f};
+    light.shadow.resolution = 64;
+    light.shadow.translucent = i != 6;
+    s.lights.push_back(light);
+  }
+  const Frame frame = renderAovs(s);
+  const FloatImage& aovs = *frame.aovs;
+  // The covered pixel nearest to the floor's middle.
+  const int p = aovs.channelIndex("P.X"), a = aovs.channelIndex("A");
+  int bestX = 0, bestY = 0;
+  float best = 1e30f;
+  for (int y = 0; y < aovs.height; ++y)
+    for (int x = 0; x < aovs.width; ++x) {
+      if (!(aovs.at(x, y, a) > 0.0f)) continue;
+      const float d =
+          glm::length(glm::vec3(aovs.at(x, y, p), aovs.at(x, y, p + 1), aovs.at(x, y, p + 2)));
+      if (d < best) best = d, bestX = x, bestY = y;
+    }
+  ASSERT_LT(best, 0.1f);
+  for (int i = 0; i < 8; ++i) {
+    SCOPED_TRACE(i);
+    const std::string name = "l" + std::to_string(i);
+    const int t = aovs.channelIndex("transmittance." + name + ".R");
+    const float visibility = aovs.at(bestX, bestY, aovs.channelIndex("visibility." + name));
+    if (i == 6) {
+      EXPECT_EQ(t, -1);
+      EXPECT_EQ(visibility, 0.0f);
+      continue;
+    }
+    ASSERT_GE(t, 0);
+    const float expected = i == 4 ? 1.0f : 0.25f;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(aovs.at(bestX, bestY, t + c), expected, 1e-5f);
+    EXPECT_NEAR(visibility, expected, 1e-5f);
+  }
+}

@@ -374,7 +374,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   program_.set("uAmbient", ambient);
   if (outputs_ == PassOutputs::Aovs) {
     program_.set("uVisibilityBase", parameters.visibilityBase);
-    program_.set("uVisibilityChannel", parameters.visibilityChannel);
+    program_.set("uVisibilityRgb", parameters.visibilityRgb ? 1 : 0);
   }
   if (outputs_ == PassOutputs::Layers) {
     program_.set("uLayerMode", parameters.layerMode);

@@ -32,13 +32,15 @@ struct PassParameters {
   // Aovs, Layers: draw only the blended surfaces, the front-most one per pixel, unblended (the
   // AOVs of pixels no opaque surface covers, renderer.cpp).
   bool blendedOnly = false;
-  // Aovs: -1 = the visibility targets hold each light's scalar shadow term; 0, 1, 2 = that
-  // channel of its RGB term (translucent shadows: the transmittance.<light> AOVs).
-  int visibilityChannel = -1;
+  // Aovs: the visibility targets hold the RGB shadow terms (translucent shadows: the
+  // transmittance.<light> AOVs) of kRgbVisibilityPerPass lights from visibilityBase on, R, G, B
+  // of each in turn, instead of the scalar terms of kVisibilityPerPass lights.
+  bool visibilityRgb = false;
 };
 
 // How many lights one lighting pass reports visibility for (one per channel of RGBA32F targets).
 inline constexpr int kVisibilityPerPass = contract::kVisibilityPerPass;
+inline constexpr int kRgbVisibilityPerPass = kVisibilityPerPass / 3;
 // A light as the lighting pass sees it: its description plus where its shadow map is.
 struct ShadedLight {
   const Light* light = nullptr;

@@ -381,24 +381,33 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
                      image, kFixedAovChannels + first);
       }
-      if (!hasTransmittance) continue;
-      // The RGB terms of lights with translucent shadows, one channel per pass.
-      for (int channel = 0; channel < 3; ++channel) {
-        parameters.visibilityChannel = channel;
-        {
-          ScopedStage stage(times, "lighting");
-          pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
-                      parameters);
-          glFinish();
-        }
-        ScopedStage readback(times, "readback");
-        for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
-          const int first = parameters.visibilityBase + target * 4;
-          if (first >= lightCount) break;
-          const std::vector<float> values = readAttachment(targets, 3 + target, flip);
-          for (int l = first; l < std::min(first + 4, lightCount); ++l)
-            if (transmittanceChannel[l] >= 0)
-              copyChannels(values, l - first, 1, image, transmittanceChannel[l] + channel);
+    }
+    if (!hasTransmittance) return;
+    // The RGB terms of the lights with translucent shadows, R, G, B of each light in turn.
+    for (int base = 0; base < lightCount; base += kRgbVisibilityPerPass) {
+      const int end = std::min(base + kRgbVisibilityPerPass, lightCount);
+      if (std::all_of(transmittanceChannel.begin() + base, transmittanceChannel.begin() + end,
+                      [](int channel) { return channel < 0; }))
+        continue;
+      PassParameters parameters;
+      parameters.visibilityBase = base;
+      parameters.blendedOnly = blendedOnly;
+      parameters.visibilityRgb = true;
+      {
+        ScopedStage stage(times, "lighting");
+        pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
+                    parameters);
+        glFinish();
+      }
+      ScopedStage readback(times, "readback");
+      std::vector<std::vector<float>> values(kVisibilityPerPass / 4);
+      for (int l = base; l < end; ++l) {
+        if (transmittanceChannel[l] < 0) continue;
+        for (int c = 0; c < 3; ++c) {
+          const int scalar = 3 * (l - base) + c;
+          std::vector<float>& target = values[scalar / 4];
+          if (target.empty()) target = readAttachment(targets, 3 + scalar / 4, flip);
+          copyChannels(target, scalar % 4, 1, image, transmittanceChannel[l] + c);
         }
       }
     }
