@@ -18,6 +18,7 @@
 #include "renderer/view/shadow_plan.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
+#include "tests/support/shadow_checks.h"
 
 using namespace omnishadow;
 
@@ -75,6 +76,18 @@ std::vector<Light> overheadLights(bool translucent = true) {
   return lights;
 }
 
+// 128 x 96, looking down from `eye`.
+ViewCamera cameraAbove(const Scene& scene, const glm::vec3& eye, const glm::vec3& target) {
+  CameraRequest request;
+  request.eye = eye;
+  request.target = target;
+  request.up = {0.0f, 1.0f, 0.0f};
+  request.fovDegrees = 50.0f;
+  request.width = 128;
+  request.height = 96;
+  return resolveCamera(scene, request);
+}
+
 // Horizontal panes over a white floor, seen from above (blended panes do not hide the floor
 // in the AOVs), plus `extra` opaque boxes (center, half extent).
 Staged paneScene(const std::vector<Pane>& panes,
@@ -92,31 +105,16 @@ Staged paneScene(const std::vector<Pane>& panes,
                     static_cast<int>(s.scene.materials.size()) - 1);
   }
   s.lights = overheadLights();
-  CameraRequest request;
-  request.eye = {0.0f, 7.0f, 2.5f};
-  request.target = {0.0f, 0.0f, 0.0f};
-  request.up = {0.0f, 1.0f, 0.0f};
-  request.fovDegrees = 50.0f;
-  request.width = 128;
-  request.height = 96;
-  s.camera = resolveCamera(s.scene, request);
+  s.camera = cameraAbove(s.scene, {0.0f, 7.0f, 2.5f}, {0.0f, 0.0f, 0.0f});
   return s;
 }
 
 Frame renderAovs(const Staged& s) {
-  RenderSettings settings;
-  settings.aovs = true;
-  StageTimes times;
-  return contextForThisProgram().render(s.scene, s.lights, glm::vec3(0.03f), s.camera, settings,
-                                        times);
+  return test::renderAovs(contextForThisProgram(), s.scene, s.lights, s.camera);
 }
 
 ShadowVerification verifyAgainstRays(const Staged& s, const Frame& frame) {
-  std::vector<LightToVerify> targets;
-  for (const Light& light : s.lights)
-    targets.push_back({light, effectiveShadowFar(light, s.scene.bounds)});
-  const ShadowReference reference(s.scene);
-  return verifyShadows(reference, s.scene.bounds, targets, *frame.aovs, s.camera, VerifySettings{});
+  return test::verifyAgainstRays(s.scene, s.lights, frame, s.camera);
 }
 
 // Every light: interior agreement and false rates within the bar, and the interior RGB
@@ -372,14 +370,7 @@ TEST(TranslucentShadows, TransmissionFromAGltfFileTintsTheShadow) {
   point.intensity = 20.0f;
   point.shadow.resolution = 256;
   s.lights = {point};
-  CameraRequest request;
-  request.eye = {2.0f, 7.0f, 0.5f};
-  request.target = {2.0f, 0.0f, 0.0f};
-  request.up = {0.0f, 1.0f, 0.0f};
-  request.fovDegrees = 50.0f;
-  request.width = 128;
-  request.height = 96;
-  s.camera = resolveCamera(s.scene, request);
+  s.camera = cameraAbove(s.scene, {2.0f, 7.0f, 0.5f}, {2.0f, 0.0f, 0.0f});
   const Frame frame = renderAovs(s);
   const HandCheck check = checkFloor(s, *frame.aovs, point, glm::vec3(0.75f, 0.375f, 0.1875f));
   EXPECT_GT(check.points, 300);

@@ -356,17 +356,21 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
     hasTransmittance = hasTransmittance || transmittanceChannel[l] >= 0;
   }
   const int passes = std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass);
+  // One lighting pass into `targets`; the caller reads them back.
+  auto draw = [&](int visibilityBase, bool blendedOnly, bool visibilityRgb) {
+    PassParameters parameters;
+    parameters.visibilityBase = visibilityBase;
+    parameters.blendedOnly = blendedOnly;
+    parameters.visibilityRgb = visibilityRgb;
+    ScopedStage stage(times, "lighting");
+    pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
+                parameters);
+    glFinish();
+  };
   auto fill = [&](FloatImage& image, bool blendedOnly) {
     for (int p = 0; p < passes; ++p) {
-      PassParameters parameters;
-      parameters.visibilityBase = p * kVisibilityPerPass;
-      parameters.blendedOnly = blendedOnly;
-      {
-        ScopedStage stage(times, "lighting");
-        pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
-                    parameters);
-        glFinish();
-      }
+      const int visibilityBase = p * kVisibilityPerPass;
+      draw(visibilityBase, blendedOnly, false);
       ScopedStage readback(times, "readback");
       if (p == 0) {
         copyChannels(readAttachment(targets, 0, flip), 0, 4, image, 0);
@@ -376,7 +380,7 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         copyChannels(position, 3, 1, image, 10);
       }
       for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
-        const int first = parameters.visibilityBase + target * 4;
+        const int first = visibilityBase + target * 4;
         if (first >= lightCount) break;
         copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
                      image, kFixedAovChannels + first);
@@ -389,16 +393,7 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
       if (std::all_of(transmittanceChannel.begin() + base, transmittanceChannel.begin() + end,
                       [](int channel) { return channel < 0; }))
         continue;
-      PassParameters parameters;
-      parameters.visibilityBase = base;
-      parameters.blendedOnly = blendedOnly;
-      parameters.visibilityRgb = true;
-      {
-        ScopedStage stage(times, "lighting");
-        pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
-                    parameters);
-        glFinish();
-      }
+      draw(base, blendedOnly, true);
       ScopedStage readback(times, "readback");
       std::vector<std::vector<float>> values(kVisibilityPerPass / 4);
       for (int l = base; l < end; ++l) {
