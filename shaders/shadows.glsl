@@ -19,13 +19,10 @@ layout(binding = PLANAR_COMPARE_UNIT) uniform sampler2DArrayShadow uPlanarCompar
 layout(binding = PLANAR_DEPTH_UNIT) uniform sampler2DArray uPlanarDepth[MAX_SHADOW_GROUPS];
 layout(binding = CUBE_MOMENTS_UNIT) uniform samplerCubeArray uCubeMoments[MAX_SHADOW_GROUPS];
 layout(binding = PLANAR_MOMENTS_UNIT) uniform sampler2DArray uPlanarMoments[MAX_SHADOW_GROUPS];
-#ifdef TRANSLUCENT_SHADOWS
-// Transmittance layers (renderer/passes/transmittance_pass.h): RGB the light kept through the
-// translucent casters in front of the opaque map, A the nearest one's reversed depth (0 =
-// none). Groups with them have no moments (vsm keeps cut-out shadows), so they share units.
-layout(binding = CUBE_TRANSMITTANCE_UNIT) uniform samplerCubeArray uCubeTransmittance[MAX_SHADOW_GROUPS];
-layout(binding = PLANAR_TRANSMITTANCE_UNIT) uniform sampler2DArray uPlanarTransmittance[MAX_SHADOW_GROUPS];
-#endif
+// Groups of lights with translucent shadows bind their transmittance layers
+// (renderer/passes/transmittance_pass.h) to the moments arrays: such groups have no moments
+// (vsm keeps cut-out shadows), and arrays of their own would pass the 32 samplers a fragment
+// shader may use.
 
 uniform mat4 uCameraView;  // directional lights pick their cascade by camera view depth
 
@@ -235,8 +232,9 @@ int shadowCascade(Light light, vec3 P) {
 }
 
 #ifdef TRANSLUCENT_SHADOWS
-// What the translucent casters between the light and Q let through (1 = all): the product in
-// Q's texel of the light's transmittance layer, where Q is behind the nearest translucent
+// What the translucent casters between the light and Q let through (1 = all): the product (RGB)
+// in Q's texel of the light's transmittance layer (A: the nearest one's reversed depth, 0 =
+// none), where Q is behind the nearest translucent
 // caster of that texel; receivers in front of it (and the glass itself) are not tinted. The
 // nearest texel: tinted shadows have hard edges.
 vec3 shadowTransmittance(Light light, int cascade, vec3 Q) {
@@ -246,10 +244,10 @@ vec3 shadowTransmittance(Light light, int cascade, vec3 Q) {
   int g = shadowGroup(light);
   vec4 t = vec4(1.0, 1.0, 1.0, 0.0);
 #ifdef SHADOW_CUBE
-  if (lightType(light) == LIGHT_POINT) t = texture(uCubeTransmittance[g], m.coord);
+  if (lightType(light) == LIGHT_POINT) t = texture(uCubeMoments[g], m.coord);
 #endif
 #ifdef SHADOW_PLANAR
-  if (lightType(light) != LIGHT_POINT) t = texture(uPlanarTransmittance[g], m.coord.xyz);
+  if (lightType(light) != LIGHT_POINT) t = texture(uPlanarMoments[g], m.coord.xyz);
 #endif
   return m.reference < t.a ? t.rgb : vec3(1.0);
 }

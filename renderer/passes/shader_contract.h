@@ -40,9 +40,10 @@ inline constexpr int kPlanarCompareUnit = kCubeDepthUnit + kMaxShadowGroups;
 inline constexpr int kPlanarDepthUnit = kPlanarCompareUnit + kMaxShadowGroups;
 inline constexpr int kCubeMomentsUnit = kPlanarDepthUnit + kMaxShadowGroups;
 inline constexpr int kPlanarMomentsUnit = kCubeMomentsUnit + kMaxShadowGroups;
-// Transmittance layers of translucent shadows (transmittance_pass.h) take the moments units: a
-// group holds vsm lights (moments) or lights with translucent shadows, never both, and 32 units
-// leave no room for two more arrays.
+// Transmittance layers of translucent shadows (transmittance_pass.h) take the moments units and
+// the shader reads them through the moments arrays: a group holds vsm lights (moments) or lights
+// with translucent shadows, never both, and two more sampler arrays would pass the 32 samplers
+// of a fragment shader.
 inline constexpr int kCubeTransmittanceUnit = kCubeMomentsUnit;
 inline constexpr int kPlanarTransmittanceUnit = kPlanarMomentsUnit;
 static_assert(kMaterialUnits <= kCubeCompareUnit, "material and shadow units overlap");
@@ -129,8 +130,6 @@ inline std::vector<std::string> shaderContractDefines() {
       define("PLANAR_DEPTH_UNIT", kPlanarDepthUnit),
       define("CUBE_MOMENTS_UNIT", kCubeMomentsUnit),
       define("PLANAR_MOMENTS_UNIT", kPlanarMomentsUnit),
-      define("CUBE_TRANSMITTANCE_UNIT", kCubeTransmittanceUnit),
-      define("PLANAR_TRANSMITTANCE_UNIT", kPlanarTransmittanceUnit),
       define("LIGHTS_BINDING", kLightsBinding),
       define("MODELS_BINDING", kModelsBinding),
       define("DRAW_OBJECTS_BINDING", kDrawObjectsBinding),
