@@ -297,16 +297,28 @@ TEST_F(GltfExtensionsTest, TransmissionFactorIsReadAndMayBeRequired) {
   q.gltfMaterial().extensions["KHR_materials_transmission"] = object({});
   EXPECT_EQ(load(q.builder).materials[0].transmissionFactor, 0.0f);
 
-  // A texture is not read: the factor applies alone, and the user is told.
-  q.gltfMaterial().extensions["KHR_materials_transmission"] = object(
-      {{"transmissionFactor", Value(0.5)}, {"transmissionTexture", object({{"index", Value(0)}})}});
+  // The texture, with its own texCoord and KHR_texture_transform, as any textureInfo.
+  Value::Object textureInfo = {
+      {"index", Value(0)},
+      {"texCoord", Value(1)},
+      {"extensions",
+       object({{"KHR_texture_transform", object({{"offset", numbers({0.5, 0.25})}})}})}};
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionFactor", Value(0.5)}, {"transmissionTexture", Value(textureInfo)}});
   const Scene textured = load(q.builder);
-  EXPECT_EQ(textured.materials[0].transmissionFactor, 0.5f);
-  ASSERT_EQ(textured.warnings.size(), 1u);
-  EXPECT_EQ(textured.warnings[0], file() +
-                                      ": materials[0].extensions.KHR_materials_transmission: "
-                                      "transmissionTexture is not supported; transmissionFactor "
-                                      "applies alone");
+  EXPECT_TRUE(textured.warnings.empty()) << textured.warnings.front();
+  const Material& m = textured.materials[0];
+  EXPECT_EQ(m.transmissionFactor, 0.5f);
+  EXPECT_EQ(m.transmissionTexture.texture, 0);
+  EXPECT_EQ(m.transmissionTexture.texCoord, 1);
+  EXPECT_EQ(glm::vec2(m.transmissionTexture.uvTransform * glm::vec3(0, 0, 1)),
+            glm::vec2(0.5f, 0.25f));
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionTexture", object({{"index", Value(7)}})}});
+  EXPECT_EQ(inputError([&] { load(q.builder); }),
+            file() +
+                ": materials[0].extensions.KHR_materials_transmission.transmissionTexture: "
+                "texture 7 is out of range (the file has 1 texture)");
 
   for (const double bad : {-0.25, 1.5}) {
     q.gltfMaterial().extensions["KHR_materials_transmission"] =

@@ -336,7 +336,9 @@ TEST(TranslucentShadows, TranslucentShadowsOffRestoresCutOutShadows) {
 }
 
 // KHR_materials_transmission from a glTF file: a vertical opaque-mode pane of transmission
-// 0.75 and base color (1, 0.5, 0.25) lets 0.75 x (1, 0.5, 0.25) through to the floor.
+// 0.75 and base color (1, 0.5, 0.25) with a 1 x 2 transmission texture (R 255 where z < 0, 64
+// where z > 0, nearest texels) lets 0.75 x (1, 0.5, 0.25) through to the floor on one side and
+// 0.75 x 64/255 x (1, 0.5, 0.25) on the other.
 TEST(TranslucentShadows, TransmissionFromAGltfFileTintsTheShadow) {
   builder::GltfBuilder b;
   builder::MaterialDesc floor;
@@ -348,7 +350,15 @@ TEST(TranslucentShadows, TransmissionFromAGltfFileTintsTheShadow) {
   pane.doubleSided = true;
   builder::PrimitiveOptions paneOptions;
   paneOptions.material = b.addMaterial(pane);
-  tinygltf::Value::Object transmission = {{"transmissionFactor", tinygltf::Value(0.75)}};
+  const int texture = b.addTexture(1, 2, {255, 0, 0, 255, 64, 0, 0, 255}, "transmission");
+  tinygltf::Sampler nearest;
+  nearest.magFilter = nearest.minFilter = TINYGLTF_TEXTURE_FILTER_NEAREST;
+  b.model().samplers.push_back(nearest);
+  b.model().textures[static_cast<std::size_t>(texture)].sampler =
+      static_cast<int>(b.model().samplers.size()) - 1;
+  tinygltf::Value::Object textureInfo = {{"index", tinygltf::Value(texture)}};
+  tinygltf::Value::Object transmission = {{"transmissionFactor", tinygltf::Value(0.75)},
+                                          {"transmissionTexture", tinygltf::Value(textureInfo)}};
   b.model()
       .materials[static_cast<std::size_t>(paneOptions.material)]
       .extensions["KHR_materials_transmission"] = tinygltf::Value(transmission);
@@ -372,9 +382,13 @@ TEST(TranslucentShadows, TransmissionFromAGltfFileTintsTheShadow) {
   s.lights = {point};
   s.camera = cameraAbove(s.scene, {2.0f, 7.0f, 0.5f}, {2.0f, 0.0f, 0.0f});
   const Frame frame = renderAovs(s);
-  const HandCheck check = checkFloor(s, *frame.aovs, point, glm::vec3(0.75f, 0.375f, 0.1875f));
-  EXPECT_GT(check.points, 300);
-  EXPECT_EQ(check.matching, check.points);
+  const HandCheck full = checkFloor(s, *frame.aovs, point, glm::vec3(0.75f, 0.375f, 0.1875f));
+  const HandCheck quarter =
+      checkFloor(s, *frame.aovs, point, 0.75f * (64.0f / 255.0f) * glm::vec3(1.0f, 0.5f, 0.25f));
+  for (const HandCheck& check : {full, quarter}) {
+    EXPECT_GT(check.points, 150);
+    EXPECT_EQ(check.matching, check.points);
+  }
   expectAgreementWithTheRays(verifyAgainstRays(s, frame), 1000);
 }
 

@@ -28,6 +28,9 @@ inline constexpr int kOcclusionUnit = 3;
 inline constexpr int kEmissiveUnit = 4;
 inline constexpr int kMaterialUnits = 5;
 
+// The transmission texture of shadow_transmittance.frag (its own program: any free unit).
+inline constexpr int kTransmissionUnit = kBaseColorUnit + 1;
+
 // The moments layer the VSM blur reads (its own program, so it may reuse unit 0).
 inline constexpr int kVsmSourceUnit = 0;
 
@@ -122,6 +125,7 @@ inline std::vector<std::string> shaderContractDefines() {
       define("NORMAL_UNIT", kNormalUnit),
       define("OCCLUSION_UNIT", kOcclusionUnit),
       define("EMISSIVE_UNIT", kEmissiveUnit),
+      define("TRANSMISSION_UNIT", kTransmissionUnit),
       define("VSM_SOURCE_UNIT", kVsmSourceUnit),
       define("MAX_SHADOW_GROUPS", kMaxShadowGroups),
       define("CUBE_COMPARE_UNIT", kCubeCompareUnit),

@@ -57,6 +57,11 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
       program_.set("uAlphaMode", static_cast<int>(m.alphaMode));
       program_.set("uAlphaCutoff", m.alphaCutoff);
       program_.set("uTransmission", m.transmissionFactor);
+      program_.set("uHasTransmissionTexture", material.transmission != 0 ? 1 : 0);
+      program_.set("uTransmissionTexCoord", m.transmissionTexture.texCoord);
+      program_.set("uTransmissionUvTransform", m.transmissionTexture.uvTransform);
+      glBindTextureUnit(contract::kTransmissionUnit, material.transmission);
+      glBindSampler(contract::kTransmissionUnit, material.transmissionSampler);
       glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);
       glBindSampler(contract::kBaseColorUnit, material.baseColorSampler);
       const GpuMeshRange& range = scene.meshes()[draw.mesh];

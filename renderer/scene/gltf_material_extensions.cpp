@@ -117,8 +117,8 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
     if (!(factor >= 0.0 && factor <= 1.0))
       ctx.fail(where, "transmissionFactor must be a number in [0, 1]");
     material.transmissionFactor = static_cast<float>(factor);
-    if (transmission->Has("transmissionTexture"))
-      ctx.warn(where + ": transmissionTexture is not supported; transmissionFactor applies alone");
+    material.transmissionTexture = slotFromValue(ctx, where + ".transmissionTexture",
+                                                 transmission->Get("transmissionTexture"));
   }
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;

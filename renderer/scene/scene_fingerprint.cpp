@@ -59,6 +59,14 @@ std::uint64_t shadowFingerprint(const Scene& scene) {
     h.value(m.baseColorFactor.a);
     // Translucent casters tint the transmittance layers with their color.
     h.value(m.transmissionFactor);
+    h.value(m.transmissionTexture.texture);
+    h.value(m.transmissionTexture.texCoord);
+    h.value(m.transmissionTexture.uvTransform);
+    if (m.transmissionTexture.texture >= 0) {
+      const Texture& texture = scene.textures[m.transmissionTexture.texture];
+      h.value(texture.sampler);
+      if (texture.image >= 0) h.vector(scene.images[texture.image].rgba);
+    }
     if (isTranslucentCaster(m)) h.value(glm::vec3(m.baseColorFactor));
     h.value(m.baseColorTexture.texture);
     h.value(m.baseColorTexture.texCoord);

@@ -6,12 +6,15 @@ bool isTranslucentCaster(const Material& material) {
   return material.alphaMode == AlphaMode::Blend || material.transmissionFactor > 0.0f;
 }
 
-glm::vec3 surfaceTransmittance(const Material& material, const glm::vec4& baseColor) {
+glm::vec3 surfaceTransmittance(const Material& material, const glm::vec4& baseColor,
+                               float transmissionTexel) {
   float alpha = 1.0f;
   if (material.alphaMode == AlphaMode::Blend) alpha = glm::clamp(baseColor.a, 0.0f, 1.0f);
   if (material.alphaMode == AlphaMode::Mask && baseColor.a < material.alphaCutoff) return {1, 1, 1};
   const glm::vec3 color = glm::clamp(glm::vec3(baseColor), 0.0f, 1.0f);
-  return glm::vec3(1.0f - alpha) + alpha * material.transmissionFactor * color;
+  const float transmission =
+      material.transmissionFactor * glm::clamp(transmissionTexel, 0.0f, 1.0f);
+  return glm::vec3(1.0f - alpha) + alpha * transmission * color;
 }
 
 bool hasTranslucentCasters(const Scene& scene) {

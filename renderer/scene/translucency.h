@@ -18,9 +18,11 @@ namespace omnishadow {
 bool isTranslucentCaster(const Material& material);
 
 // The light a translucent surface lets through, per RGB channel, where its base color
-// (factor x texture x COLOR_0, linear) is `baseColor`. MASK texels below the cutoff are holes
-// (all light passes); other modes take alpha as given by BLEND, else 1.
-glm::vec3 surfaceTransmittance(const Material& material, const glm::vec4& baseColor);
+// (factor x texture x COLOR_0, linear) is `baseColor` and its transmission texture's R is
+// `transmissionTexel` (1 without one). MASK texels below the cutoff are holes (all light
+// passes); other modes take alpha as given by BLEND, else 1.
+glm::vec3 surfaceTransmittance(const Material& material, const glm::vec4& baseColor,
+                               float transmissionTexel = 1.0f);
 
 // Whether any instance of the scene is drawn with a translucent material.
 bool hasTranslucentCasters(const Scene& scene);

@@ -37,6 +37,12 @@ struct Cutout {
   Material material;
   std::vector<glm::vec3> vertexColor;  // baseColorFactor.rgb * COLOR_0.rgb
   std::vector<glm::vec3> texelColor;   // linear RGB of the base color texture, as texelAlpha
+  // The transmission texture's R at the nearest texel (KHR_texture_transform applied to the
+  // per-vertex UVs, which an affine map allows); width 0 = none.
+  std::vector<glm::vec2> transmissionUv;
+  int transmissionWidth = 0, transmissionHeight = 0;
+  std::vector<float> transmissionTexel;  // row 0 = top
+  int transmissionWrapS = 0, transmissionWrapT = 0;
 };
 
 float srgbToLinear(std::uint8_t value) {
@@ -80,6 +86,39 @@ glm::vec4 baseColorAt(const Cutout& c, unsigned primitive, float u, float v) {
   return color;
 }
 
+// The transmission texture's R at barycentrics (u, v) of triangle `primitive` (1 without one).
+float transmissionTexelAt(const Cutout& c, unsigned primitive, float u, float v) {
+  if (c.transmissionWidth <= 0) return 1.0f;
+  const std::uint32_t i0 = c.indices[3 * primitive], i1 = c.indices[3 * primitive + 1],
+                      i2 = c.indices[3 * primitive + 2];
+  const glm::vec2 uv =
+      (1.0f - u - v) * c.transmissionUv[i0] + u * c.transmissionUv[i1] + v * c.transmissionUv[i2];
+  const int x = wrapTexel(uv.x, c.transmissionWidth, c.transmissionWrapS);
+  const int y = wrapTexel(uv.y, c.transmissionHeight, c.transmissionWrapT);
+  return c.transmissionTexel[static_cast<std::size_t>(y) * c.transmissionWidth + x];
+}
+
+void addTransmissionTexture(const Scene& scene, const Mesh& mesh, const TextureSlot& slot,
+                            Cutout& c) {
+  if (slot.texture < 0 || slot.texture >= static_cast<int>(scene.textures.size())) return;
+  const Texture& texture = scene.textures[slot.texture];
+  if (texture.image < 0 || texture.image >= static_cast<int>(scene.images.size())) return;
+  const Image& image = scene.images[texture.image];
+  const std::size_t texels = static_cast<std::size_t>(image.width) * image.height;
+  if (image.width <= 0 || image.height <= 0 || image.rgba.size() < texels * 4) return;
+  c.transmissionWidth = image.width;
+  c.transmissionHeight = image.height;
+  c.transmissionTexel.resize(texels);
+  for (std::size_t i = 0; i < texels; ++i)
+    c.transmissionTexel[i] = static_cast<float>(image.rgba[i * 4]) / 255.0f;
+  c.transmissionWrapS = texture.sampler.wrapS;
+  c.transmissionWrapT = texture.sampler.wrapT;
+  const std::vector<glm::vec2>& uv = slot.texCoord == 1 ? mesh.uv1 : mesh.uv0;
+  c.transmissionUv.assign(mesh.positions.size(), glm::vec2(0.0f));
+  for (std::size_t i = 0; i < c.transmissionUv.size() && i < uv.size(); ++i)
+    c.transmissionUv[i] = glm::vec2(slot.uvTransform * glm::vec3(uv[i], 1.0f));
+}
+
 // Whether the hit at barycentrics (u, v) of triangle `primitive` is opaque enough to cast.
 bool castsAt(const Cutout& c, unsigned primitive, float u, float v) {
   return baseColorAt(c, primitive, u, v).a >= c.cutoff;  // the shadow pass discards below
@@ -109,6 +148,7 @@ Cutout makeCutout(const Scene& scene, const Mesh& mesh, const Material& material
     c.vertexColor.assign(mesh.positions.size(), glm::vec3(material.baseColorFactor));
     for (std::size_t i = 0; i < mesh.colors.size() && i < c.vertexColor.size(); ++i)
       c.vertexColor[i] *= glm::vec3(mesh.colors[i]);
+    addTransmissionTexture(scene, mesh, material.transmissionTexture, c);
   }
   const TextureSlot& slot = material.baseColorTexture;
   if (slot.texture < 0 || slot.texture >= static_cast<int>(scene.textures.size())) return c;
@@ -326,8 +366,10 @@ glm::vec3 ShadowReference::rayTransmittance(const glm::vec3& origin, const glm::
     RTCGeometry geometry = rtcGetGeometry(impl_->scene, hit->hit.geomID);
     const auto* cutout = static_cast<const Cutout*>(rtcGetGeometryUserData(geometry));
     if (!cutout || !cutout->translucent) return glm::vec3(0.0f);
+    const unsigned primitive = hit->hit.primID;
     transmittance *= surfaceTransmittance(
-        cutout->material, baseColorAt(*cutout, hit->hit.primID, hit->hit.u, hit->hit.v));
+        cutout->material, baseColorAt(*cutout, primitive, hit->hit.u, hit->hit.v),
+        transmissionTexelAt(*cutout, primitive, hit->hit.u, hit->hit.v));
     if (!(std::max({transmittance.r, transmittance.g, transmittance.b}) > 0.0f))
       return glm::vec3(0.0f);
     tnear = hit->ray.tfar + step;

@@ -24,7 +24,8 @@ struct SurfaceHit {
 // Lights with translucent shadows (castsTranslucentShadows(), in a scene with translucent
 // casters) instead follow each shadow ray through every surface it crosses, front or back,
 // multiplying the light by each translucent surface's surfaceTransmittance() (base color from
-// the same nearest texel, sRGB decoded) and stopping at the first opaque or cut-out one.
+// the same nearest texel, sRGB decoded; the transmission texture's R at its nearest texel) and
+// stopping at the first opaque or cut-out one.
 class ShadowReference {
  public:
   // Throws RenderError when Embree cannot build the scene.
