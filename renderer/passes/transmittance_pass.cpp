@@ -30,6 +30,8 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
   state.blend.alphaEquation = GL_MAX;
   state.apply();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kModelsBinding, scene.modelBuffer());
+  // Single draws (uObject) never read DrawObjects, but the vertex stage declares it: any buffer
+  // keeps the binding valid.
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kDrawObjectsBinding, scene.modelBuffer());
   glBindVertexArray(scene.vertexArray());
   program_.use();
