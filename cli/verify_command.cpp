@@ -151,6 +151,11 @@ void printText(const RenderJob& job, const LoadedJob& loaded,
                 "false light");
     printGroup("interior", result.interior);
     printGroup("edge", result.edge);
+    if (result.transmittance.evaluated > 0)
+      std::printf("  transmittance  %lld interior points, %s within %g per channel\n",
+                  static_cast<long long>(result.transmittance.evaluated),
+                  percent(result.transmittance.agreementRate()).c_str(),
+                  static_cast<double>(kTransmittanceTolerance));
   }
   std::printf("\n");
   if (!errorImagePath.empty()) std::printf("error image  %s\n", errorImagePath.c_str());
@@ -193,8 +198,8 @@ void printJson(const RenderJob& job, const LoadedJob& loaded,
     Json entry{
         {"name", result.name}, {"type", toString(light.type)}, {"shadowed", result.shadowed}};
     if (!result.shadowed) {
-      for (const char* key :
-           {"filter", "resolution", "radius", "skipped", "interior", "edge", "pass"})
+      for (const char* key : {"filter", "resolution", "radius", "skipped", "interior", "edge",
+                              "transmittance", "pass"})
         entry[key] = nullptr;
       out["lights"].push_back(entry);
       continue;
@@ -208,6 +213,12 @@ void printJson(const RenderJob& job, const LoadedJob& loaded,
                             {"grazing", s.grazing},         {"beyondShadowFar", s.beyondShadowFar}};
     entry["interior"] = groupJson(result.interior);
     entry["edge"] = groupJson(result.edge);
+    entry["transmittance"] = result.transmittance.evaluated > 0
+                                 ? Json{{"evaluated", result.transmittance.evaluated},
+                                        {"agree", result.transmittance.agree},
+                                        {"agreementRate", result.transmittance.agreementRate()},
+                                        {"tolerance", jsonNumber(kTransmittanceTolerance)}}
+                                 : Json(nullptr);
     entry["pass"] = !maxError || worstInteriorErrorRate(result) <= *maxError;
     out["lights"].push_back(entry);
   }

@@ -76,6 +76,9 @@ layout(location = 1) out vec4 outPositionDistance;  // P.xyz, camera distance
 layout(location = 2) out vec4 outNormal;            // shading normal facing the camera
 layout(location = 3) out vec4 outVisibility[VISIBILITY_OUTPUTS];
 uniform int uVisibilityBase;  // first light whose shadow term goes to outVisibility
+// 0: outVisibility holds each light's scalar shadow term; 1: the RGB terms (the shadow times the
+// translucent casters' transmittance) of VISIBILITY_OUTPUTS * 4 / 3 lights, three scalars each.
+uniform int uVisibilityRgb;
 #endif
 #ifdef WRITE_LAYERS
 layout(location = 1) out vec4 outLayerA;  // mode 0: albedo, roughness; mode 1: diffuse
@@ -169,13 +172,22 @@ void main() {
     float distance;
     incidentLight(light, vIn.worldPosition, L, radiance, distance);
     float shadow = 1.0;
+    vec3 transmittance = vec3(1.0);
     // Lights that do not reach P (range, cone) need no shadow lookup.
     bool reaches = any(greaterThan(radiance, vec3(0.0)));
     if (reaches && shadowGroup(light) >= 0) {
       // The bias uses the geometric normal on the light's side of the surface.
       vec3 Nlight = dot(Ngeom, L) >= 0.0 ? Ngeom : -Ngeom;
-      shadow = shadowVisibility(light, vIn.worldPosition, Nlight, L, cameraDistance);
+      shadow = shadowVisibility(light, vIn.worldPosition, Nlight, L, cameraDistance, transmittance);
     }
+    vec3 shadowColor = vec3(shadow);
+#ifdef TRANSLUCENT_SHADOWS
+    // Lights with translucent casters: the scalar term is the mean of the RGB one.
+    if (light.shadowProjection.z != 0.0) {
+      shadowColor = shadow * transmittance;
+      shadow = (shadowColor.r + shadowColor.g + shadowColor.b) / 3.0;
+    }
+#endif
     if (reaches && shadowGroup(light) >= 0) {
       shadowSum += shadow;
       ++shadowedLights;
@@ -186,9 +198,15 @@ void main() {
 #endif
 #ifdef WRITE_AOVS
     int slot = i - uVisibilityBase;
-    if (slot >= 0 && slot < 4 * VISIBILITY_OUTPUTS) visibility[slot] = shadow;
+    if (uVisibilityRgb == 0) {
+      if (slot >= 0 && slot < 4 * VISIBILITY_OUTPUTS) visibility[slot] = shadow;
+    } else {
+      for (int c = 0; c < 3; ++c)
+        if (slot >= 0 && 3 * slot + c < 4 * VISIBILITY_OUTPUTS)
+          visibility[3 * slot + c] = shadowColor[c];
+    }
 #endif
-    if (shadow <= 0.0) continue;
+    if (max(max(shadowColor.r, shadowColor.g), shadowColor.b) <= 0.0) continue;
     vec3 diffuse, specular;
 #ifdef SHADING_PHONG
     shadePhong(N, V, L, radiance, baseColor.rgb, roughness, diffuse, specular);
@@ -199,12 +217,12 @@ void main() {
     else
       shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, diffuse, specular);
 #endif
-    color += shadow * (diffuse + specular);
+    color += shadowColor * (diffuse + specular);
     if (any(greaterThan(diffuse + specular, vec3(0.0)))) ++contributing;
 #ifdef WRITE_LAYERS
     if (i == uLayerLight) {
-      layerDiffuse = shadow * diffuse;
-      layerSpecular = shadow * specular;
+      layerDiffuse = shadowColor * diffuse;
+      layerSpecular = shadowColor * specular;
     }
 #endif
   }

@@ -8,7 +8,8 @@ struct Light {
   vec4 shadowDepth;       // near, far, constant bias (world), slope bias (texels)
   vec4 shadowBias;        // min bias (texels), normal bias (texels), filter radius, samples
   vec4 shadowSoft;        // source radius, vsm bleed reduction, first layer, layer count
-  vec4 shadowProjection;  // spot: tan(half fov); first entry in uShadowViewProjections
+  vec4 shadowProjection;  // spot: tan(half fov); first entry in uShadowViewProjections;
+                          // 1 when translucent casters tint the shadow
   vec4 cascadeEnd;        // directional: camera view depth where each cascade ends
   vec4 cascadeTexel;      // directional: world size of a texel in each cascade
 };

@@ -19,7 +19,7 @@ uniform int uDrawBase;  // multi-draw: the call's first entry in uDrawObjects
 uniform mat4 uViewProjections[6];
 uniform int uView;
 
-#if defined(ALPHA_MASK) || defined(MOMENTS)
+#if defined(ALPHA_MASK) || defined(MOMENTS) || defined(TRANSMITTANCE)
 #define SHADOW_VARYINGS
 #endif
 
@@ -29,6 +29,9 @@ out ShadowVertex {
   vec2 uv0;
   vec2 uv1;
   float alpha;
+#ifdef TRANSMITTANCE
+  vec3 color;  // COLOR_0.rgb (shadow_transmittance.frag)
+#endif
 } vOut;
 #endif
 
@@ -44,6 +47,9 @@ void main() {
   vOut.uv0 = aUv0;
   vOut.uv1 = aUv1;
   vOut.alpha = aColor.a;
+#ifdef TRANSMITTANCE
+  vOut.color = aColor.rgb;
+#endif
 #endif
 #if defined(LAYER_FROM_INSTANCE)
   int view = gl_BaseInstanceARB + gl_InstanceID;

@@ -19,6 +19,10 @@ layout(binding = PLANAR_COMPARE_UNIT) uniform sampler2DArrayShadow uPlanarCompar
 layout(binding = PLANAR_DEPTH_UNIT) uniform sampler2DArray uPlanarDepth[MAX_SHADOW_GROUPS];
 layout(binding = CUBE_MOMENTS_UNIT) uniform samplerCubeArray uCubeMoments[MAX_SHADOW_GROUPS];
 layout(binding = PLANAR_MOMENTS_UNIT) uniform sampler2DArray uPlanarMoments[MAX_SHADOW_GROUPS];
+// Groups of lights with translucent shadows bind their transmittance layers
+// (renderer/passes/transmittance_pass.h) to the moments arrays: such groups have no moments
+// (vsm keeps cut-out shadows), and arrays of their own would pass the 32 samplers a fragment
+// shader may use.
 
 uniform mat4 uCameraView;  // directional lights pick their cascade by camera view depth
 
@@ -227,9 +231,33 @@ int shadowCascade(Light light, vec3 P) {
   return -1;
 }
 
+#ifdef TRANSLUCENT_SHADOWS
+// What the translucent casters between the light and Q let through (1 = all): the product (RGB)
+// in Q's texel of the light's transmittance layer (A: the nearest one's reversed depth, 0 =
+// none), where Q is behind the nearest translucent
+// caster of that texel; receivers in front of it (and the glass itself) are not tinted. The
+// nearest texel: tinted shadows have hard edges.
+vec3 shadowTransmittance(Light light, int cascade, vec3 Q) {
+  if (light.shadowProjection.z == 0.0) return vec3(1.0);
+  MapPoint m = mapPoint(light, cascade, Q);
+  if (!m.inside) return vec3(1.0);
+  int g = shadowGroup(light);
+  vec4 t = vec4(1.0, 1.0, 1.0, 0.0);
+#ifdef SHADOW_CUBE
+  if (lightType(light) == LIGHT_POINT) t = texture(uCubeMoments[g], m.coord);
+#endif
+#ifdef SHADOW_PLANAR
+  if (lightType(light) != LIGHT_POINT) t = texture(uPlanarMoments[g], m.coord.xyz);
+#endif
+  return m.reference < t.a ? t.rgb : vec3(1.0);
+}
+#endif
+
 // Shadow term (1 = lit) of a light at P. Ngeom: geometric normal on the light's side; L: unit
-// direction towards the light.
-float shadowVisibility(Light light, vec3 P, vec3 Ngeom, vec3 L, float cameraDistance) {
+// direction towards the light. `transmittance`: the translucent casters' color (1 without).
+float shadowVisibility(Light light, vec3 P, vec3 Ngeom, vec3 L, float cameraDistance,
+                       out vec3 transmittance) {
+  transmittance = vec3(1.0);
   if (shadowGroup(light) < 0) return 1.0;
   int cascade = shadowCascade(light, P);
   if (cascade < 0) return 1.0;  // beyond the directional light's shadow distance
@@ -245,6 +273,9 @@ float shadowVisibility(Light light, vec3 P, vec3 Ngeom, vec3 L, float cameraDist
   int samples = int(light.shadowBias.w);
   MapPoint m = mapPoint(light, cascade, Q);
   float visibility = 1.0;
+#ifdef TRANSLUCENT_SHADOWS
+  transmittance = shadowTransmittance(light, cascade, Q);
+#endif
 #ifdef SHADOW_HARD
   if (filterMode == FILTER_HARD) visibility = m.inside ? compareNearest(light, m) : 1.0;
 #endif

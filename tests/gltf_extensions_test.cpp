@@ -272,6 +272,60 @@ TEST_F(GltfExtensionsTest, SpecularGlossinessReplacesTheMetallicRoughnessInputs)
                 "specularGlossinessTexture: texture 9 is out of range (the file has 2 textures)");
 }
 
+TEST_F(GltfExtensionsTest, TransmissionFactorIsReadAndMayBeRequired) {
+  Quad q;
+  makeQuad(q);
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionFactor", Value(0.75)}});
+  q.builder.model().extensionsUsed = {"KHR_materials_transmission"};
+  q.builder.model().extensionsRequired = {"KHR_materials_transmission"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  EXPECT_EQ(scene.materials[0].transmissionFactor, 0.75f);
+
+  // The factor defaults to 0 (the spec's default): the extension alone transmits nothing.
+  q.gltfMaterial().extensions["KHR_materials_transmission"] = object({});
+  EXPECT_EQ(load(q.builder).materials[0].transmissionFactor, 0.0f);
+
+  // The texture, with its own texCoord and KHR_texture_transform, as any textureInfo.
+  Value::Object textureInfo = {
+      {"index", Value(0)},
+      {"texCoord", Value(1)},
+      {"extensions",
+       object({{"KHR_texture_transform", object({{"offset", numbers({0.5, 0.25})}})}})}};
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionFactor", Value(0.5)}, {"transmissionTexture", Value(textureInfo)}});
+  const Scene textured = load(q.builder);
+  EXPECT_TRUE(textured.warnings.empty()) << textured.warnings.front();
+  const Material& m = textured.materials[0];
+  EXPECT_EQ(m.transmissionFactor, 0.5f);
+  EXPECT_EQ(m.transmissionTexture.texture, 0);
+  EXPECT_EQ(m.transmissionTexture.texCoord, 1);
+  EXPECT_EQ(glm::vec2(m.transmissionTexture.uvTransform * glm::vec3(0, 0, 1)),
+            glm::vec2(0.5f, 0.25f));
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionTexture", object({{"index", Value(7)}})}});
+  EXPECT_EQ(inputError([&] { load(q.builder); }),
+            file() +
+                ": materials[0].extensions.KHR_materials_transmission.transmissionTexture: "
+                "texture 7 is out of range (the file has 1 texture)");
+
+  for (const double bad : {-0.25, 1.5}) {
+    q.gltfMaterial().extensions["KHR_materials_transmission"] =
+        object({{"transmissionFactor", Value(bad)}});
+    EXPECT_EQ(inputError([&] { load(q.builder); }),
+              file() +
+                  ": materials[0].extensions.KHR_materials_transmission: "
+                  "transmissionFactor must be a number in [0, 1]");
+  }
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionFactor", Value("half")}});
+  EXPECT_EQ(inputError([&] { load(q.builder); }),
+            file() +
+                ": materials[0].extensions.KHR_materials_transmission: "
+                "transmissionFactor must be a number");
+}
+
 // A scene whose texture 0 has a PNG `source` (image 0) and a KTX2 image (image 1, a file with
 // the KTX2 signature and nothing a decoder could use) through KHR_texture_basisu.
 class ImageExtensionsTest : public GltfExtensionsTest {
@@ -393,7 +447,7 @@ TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWh
   EXPECT_EQ(scene.source.extensions[2].drawnInstead, "");
 
   for (const std::string name :
-       {"KHR_materials_clearcoat", "VENDOR_made_up", "KHR_materials_transmission"}) {
+       {"KHR_materials_clearcoat", "VENDOR_made_up", "KHR_materials_volume"}) {
     model.extensionsRequired = {name};
     EXPECT_EQ(inputError([&] { load(builder); }),
               file() + ": extensionsRequired: " + name + " is not supported");

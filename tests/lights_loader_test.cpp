@@ -197,6 +197,19 @@ TEST(LightsLoader, ShadowObjectOverridesOnlyWhatItNames) {
                               .filter = ShadowFilter::Hard});
 }
 
+TEST(LightsLoader, TranslucentShadowsAreOnUnlessTheLightSaysFalse) {
+  const LightSetup setup = parse(
+      R"({"lights": [{}, {"translucentShadows": false}, {"translucentShadows": true, "shadow": false}]})");
+  EXPECT_TRUE(setup.lights.at(0).shadow.translucent);
+  EXPECT_FALSE(setup.lights.at(1).shadow.translucent);
+  EXPECT_TRUE(setup.lights.at(2).shadow.translucent);
+  EXPECT_FALSE(setup.lights.at(2).shadow.enabled);
+  // Read after "shadow", whatever the order in the file.
+  EXPECT_FALSE(parse(R"({"lights": [{"translucentShadows": false, "shadow": {"resolution": 64}}]})")
+                   .lights.at(0)
+                   .shadow.translucent);
+}
+
 TEST(LightsLoader, ShadowObjectCanBeDisabled) {
   const Light light = parse(R"({"lights": [{"shadow": {"enabled": false}}]})").lights.at(0);
   EXPECT_FALSE(light.shadow.enabled);
@@ -427,6 +440,8 @@ const ErrorCase kErrorCases[] = {
      R"(lights[0].shadow: expected true, false or an object, got "on")"},
     {"ShadowEnabledNumber", R"({"lights": [{"shadow": {"enabled": 1}}]})",
      "lights[0].shadow.enabled: expected true or false, got 1"},
+    {"TranslucentShadowsString", R"({"lights": [{"translucentShadows": "no"}]})",
+     R"(lights[0].translucentShadows: expected true or false, got "no")"},
     {"ResolutionFraction", R"({"lights": [{"shadow": {"resolution": 10.5}}]})",
      "lights[0].shadow.resolution: expected an integer in [1, 16384], got 10.5"},
     {"ResolutionZero", R"({"lights": [{"shadow": {"resolution": 0}}]})",

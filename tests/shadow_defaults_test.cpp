@@ -14,6 +14,7 @@
 #include "renderer/view/shadow_plan.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
+#include "tests/support/shadow_checks.h"
 
 using namespace omnishadow;
 
@@ -89,19 +90,11 @@ StagedScene stageAtScale(float scale) {
 }
 
 Frame renderAovs(const StagedScene& s) {
-  RenderSettings settings;
-  settings.aovs = true;
-  StageTimes times;
-  return contextForThisProgram().render(s.scene, s.lights, glm::vec3(0.03f), s.camera, settings,
-                                        times);
+  return test::renderAovs(contextForThisProgram(), s.scene, s.lights, s.camera);
 }
 
 ShadowVerification verifyAgainstRays(const StagedScene& s, const Frame& frame) {
-  std::vector<LightToVerify> targets;
-  for (const Light& light : s.lights)
-    targets.push_back({light, effectiveShadowFar(light, s.scene.bounds)});
-  const ShadowReference reference(s.scene);
-  return verifyShadows(reference, s.scene.bounds, targets, *frame.aovs, s.camera, VerifySettings{});
+  return test::verifyAgainstRays(s.scene, s.lights, frame, s.camera);
 }
 
 // The fraction of pixels where the lights' visibility differs by more than 0.25, and where

@@ -109,16 +109,55 @@ TEST(ShadowReference, CutOutQuadCastsLightThroughItsHole) {
   EXPECT_EQ(reference.visibility(lamp({-0.5f, 3.0f, -0.5f}), {1.0f, 0.0f, 1.0f}, kUp), 0.0f);
 }
 
+// Lights with "translucentShadows": false (cut-out shadows).
 TEST(ShadowReference, BlendedSurfacesCastWhereAtLeastHalfOpaque) {
   Scene scene = cutoutScene(AlphaMode::Blend);
-  EXPECT_EQ(ShadowReference(scene).visibility(sun(), {-0.5f, 0.0f, -0.5f}, kUp), 1.0f);
-  EXPECT_EQ(ShadowReference(scene).visibility(sun(), {0.5f, 0.0f, 0.5f}, kUp), 0.0f);
+  Light cutOut = sun();
+  cutOut.shadow.translucent = false;
+  EXPECT_EQ(ShadowReference(scene).visibility(cutOut, {-0.5f, 0.0f, -0.5f}, kUp), 1.0f);
+  EXPECT_EQ(ShadowReference(scene).visibility(cutOut, {0.5f, 0.0f, 0.5f}, kUp), 0.0f);
   scene.materials[1].baseColorFactor.a = 0.4f;  // below 0.5 everywhere
-  EXPECT_EQ(ShadowReference(scene).visibility(sun(), {0.5f, 0.0f, 0.5f}, kUp), 1.0f);
+  EXPECT_EQ(ShadowReference(scene).visibility(cutOut, {0.5f, 0.0f, 0.5f}, kUp), 1.0f);
   // Vertex colors count too.
   scene.materials[1].baseColorFactor.a = 1.0f;
   scene.meshes[1].colors.assign(4, glm::vec4(1.0f, 1.0f, 1.0f, 0.3f));
-  EXPECT_EQ(ShadowReference(scene).visibility(sun(), {0.5f, 0.0f, 0.5f}, kUp), 1.0f);
+  EXPECT_EQ(ShadowReference(scene).visibility(cutOut, {0.5f, 0.0f, 0.5f}, kUp), 1.0f);
+}
+
+// Translucent shadows (the default): the ray goes on through every translucent surface,
+// multiplying by what each lets through, and stops at an opaque one.
+TEST(ShadowReference, TranslucentShadowRaysMultiplyThroughEveryCrossing) {
+  Scene scene = cutoutScene(AlphaMode::Blend);
+  // The hole's texel (alpha 0) lets everything through, the others (alpha 1) nothing.
+  EXPECT_EQ(ShadowReference(scene).transmittance(sun(), {-0.5f, 0.0f, -0.5f}, kUp),
+            glm::vec3(1.0f));
+  EXPECT_EQ(ShadowReference(scene).transmittance(sun(), {0.5f, 0.0f, 0.5f}, kUp), glm::vec3(0.0f));
+  // Alpha 0.4 and COLOR_0 alpha 0.5: 1 - 0.2; COLOR_0's color does not tint BLEND alone.
+  scene.materials[1].baseColorFactor.a = 0.4f;
+  scene.meshes[1].colors.assign(4, glm::vec4(1.0f, 0.0f, 1.0f, 0.5f));
+  EXPECT_NEAR(ShadowReference(scene).visibility(sun(), {0.5f, 0.0f, 0.5f}, kUp), 0.8f, 1e-6f);
+  // With transmission 0.5: (1 - 0.2) + 0.2 x 0.5 x (1, 0, 1).
+  scene.materials[1].transmissionFactor = 0.5f;
+  const glm::vec3 once = ShadowReference(scene).transmittance(sun(), {0.5f, 0.0f, 0.5f}, kUp);
+  EXPECT_NEAR(once.r, 0.9f, 1e-6f);
+  EXPECT_NEAR(once.g, 0.8f, 1e-6f);
+  EXPECT_NEAR(once.b, 0.9f, 1e-6f);
+  // A second copy of the quad higher up: both crossings count.
+  Mesh copy = scene.meshes[1];
+  scene.meshes.push_back(copy);
+  glm::mat4 up(1.0f);
+  up[3] = glm::vec4(0.0f, 1.0f, 0.0f, 1.0f);
+  scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, up, -1, {}, {}});
+  const glm::vec3 twice = ShadowReference(scene).transmittance(sun(), {0.5f, 0.0f, 0.5f}, kUp);
+  EXPECT_NEAR(twice.r, 0.81f, 1e-6f);
+  EXPECT_NEAR(twice.g, 0.64f, 1e-6f);
+  // An opaque quad above both blocks everything.
+  scene.materials[0].baseColorFactor = glm::vec4(1.0f);
+  Mesh roof = scene.meshes[0];
+  scene.meshes.push_back(roof);
+  up[3] = glm::vec4(0.0f, 3.0f, 0.0f, 1.0f);
+  scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, up, -1, {}, {}});
+  EXPECT_EQ(ShadowReference(scene).transmittance(sun(), {0.5f, 0.0f, 0.5f}, kUp), glm::vec3(0.0f));
 }
 
 TEST(ShadowReference, OpaqueMaterialsIgnoreAlpha) {

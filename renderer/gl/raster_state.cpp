@@ -45,6 +45,7 @@ void BlendState::apply() const {
     if (!(buffers & (1u << i))) continue;
     glEnablei(GL_BLEND, i);
     glBlendFuncSeparatei(i, sourceColor, destinationColor, sourceAlpha, destinationAlpha);
+    glBlendEquationSeparatei(i, colorEquation, alphaEquation);
   }
 }
 

@@ -45,6 +45,7 @@ struct BlendState {
   std::uint32_t buffers = 0;  // bit i: draw buffer i blends; none by default
   GLenum sourceColor = GL_ONE, destinationColor = GL_ZERO;
   GLenum sourceAlpha = GL_ONE, destinationAlpha = GL_ZERO;
+  GLenum colorEquation = GL_FUNC_ADD, alphaEquation = GL_FUNC_ADD;
   void apply() const;
 };
 

@@ -237,6 +237,8 @@ void GpuScene::uploadMaterials(const Scene& scene) {
     m.occlusionSampler = samplerFor(scene, desc.occlusionTexture);
     m.emissive = textureFor(scene, desc.emissiveTexture, true);
     m.emissiveSampler = samplerFor(scene, desc.emissiveTexture);
+    m.transmission = textureFor(scene, desc.transmissionTexture, false);
+    m.transmissionSampler = samplerFor(scene, desc.transmissionTexture);
     materials_.push_back(std::move(m));
   }
 }

@@ -44,6 +44,7 @@ struct GpuMaterial {
   GLuint baseColor = 0, metallicRoughness = 0, normal = 0, occlusion = 0, emissive = 0;
   GLuint baseColorSampler = 0, metallicRoughnessSampler = 0, normalSampler = 0,
          occlusionSampler = 0, emissiveSampler = 0;
+  GLuint transmission = 0, transmissionSampler = 0;  // KHR_materials_transmission (shadows only)
 };
 
 // The static scene on the GPU: all meshes in one vertex buffer and one index buffer behind a

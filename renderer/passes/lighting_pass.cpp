@@ -30,6 +30,7 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   for (const auto& f : filters)
     if (features.filters & (1u << static_cast<unsigned>(f.filter))) defines.push_back(f.define);
   if (features.debugDepth) defines.push_back("DEBUG_DEPTH");
+  if (features.translucentShadows) defines.push_back("TRANSLUCENT_SHADOWS");
   if (shading == Shading::Phong) defines.push_back("SHADING_PHONG");
   if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
@@ -197,6 +198,8 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
                                 const ShadowGroups& shadowGroups) {
   // Each group takes the next slot of its layout's sampler arrays.
   std::vector<int> slot(shadowGroups.size());
+  static_assert(contract::kCubeTransmittanceUnit == contract::kCubeMomentsUnit &&
+                contract::kPlanarTransmittanceUnit == contract::kPlanarMomentsUnit);
   int cubeSlots = 0, planarSlots = 0;
   for (std::size_t g = 0; g < shadowGroups.size(); ++g) {
     const ShadowGroupTextures& group = shadowGroups[g];
@@ -215,6 +218,11 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
           (cube ? contract::kCubeMomentsUnit : contract::kPlanarMomentsUnit) + s);
       glBindTextureUnit(momentsUnit, group.moments.get());
       glBindSampler(momentsUnit, moments_.get());
+    } else if (group.transmittance) {
+      const auto transmittanceUnit = static_cast<GLuint>(
+          (cube ? contract::kCubeTransmittanceUnit : contract::kPlanarTransmittanceUnit) + s);
+      glBindTextureUnit(transmittanceUnit, group.transmittance.get());
+      glBindSampler(transmittanceUnit, rawDepth_.get());
     }
   }
 
@@ -232,8 +240,8 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
       g.shadowDepth = glm::vec4(plan->near, plan->far, s.bias, s.slopeBias);
       g.shadowBias = glm::vec4(s.minBias, s.normalBias, s.filterRadius, s.samples);
       g.shadowSoft = glm::vec4(s.radius, s.bleedReduction, plan->firstLayer, plan->layerCount);
-      g.shadowProjection =
-          glm::vec4(plan->tanHalfFov, static_cast<float>(viewProjections.size()), 0.0f, 0.0f);
+      g.shadowProjection = glm::vec4(plan->tanHalfFov, static_cast<float>(viewProjections.size()),
+                                     shaded.translucent ? 1.0f : 0.0f, 0.0f);
       for (int c = 0; c < 4; ++c) {
         g.cascadeEnd[c] = plan->cascadeEnd[c];
         g.cascadeTexel[c] = plan->cascadeTexel[c];
@@ -364,7 +372,10 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   program_.set("uViewProjection", camera.projection * camera.view);
   program_.set("uCameraPosition", camera.eye);
   program_.set("uAmbient", ambient);
-  if (outputs_ == PassOutputs::Aovs) program_.set("uVisibilityBase", parameters.visibilityBase);
+  if (outputs_ == PassOutputs::Aovs) {
+    program_.set("uVisibilityBase", parameters.visibilityBase);
+    program_.set("uVisibilityRgb", parameters.visibilityRgb ? 1 : 0);
+  }
   if (outputs_ == PassOutputs::Layers) {
     program_.set("uLayerMode", parameters.layerMode);
     program_.set("uLayerLight", parameters.layerLight);

@@ -32,14 +32,20 @@ struct PassParameters {
   // Aovs, Layers: draw only the blended surfaces, the front-most one per pixel, unblended (the
   // AOVs of pixels no opaque surface covers, renderer.cpp).
   bool blendedOnly = false;
+  // Aovs: the visibility targets hold the RGB shadow terms (translucent shadows: the
+  // transmittance.<light> AOVs) of kRgbVisibilityPerPass lights from visibilityBase on, R, G, B
+  // of each in turn, instead of the scalar terms of kVisibilityPerPass lights.
+  bool visibilityRgb = false;
 };
 
 // How many lights one lighting pass reports visibility for (one per channel of RGBA32F targets).
 inline constexpr int kVisibilityPerPass = contract::kVisibilityPerPass;
+inline constexpr int kRgbVisibilityPerPass = kVisibilityPerPass / 3;
 // A light as the lighting pass sees it: its description plus where its shadow map is.
 struct ShadedLight {
   const Light* light = nullptr;
   const LightShadowPlan* shadow = nullptr;  // null = unshadowed
+  bool translucent = false;                 // its group has transmittance layers drawn for it
 };
 
 // The frame's shadow textures, indexed like ShadowAtlasPlan::groups.
@@ -71,9 +77,11 @@ struct LightingFeatures {
   bool planarShadows = false;
   unsigned filters = 0;  // bit per ShadowFilter
   bool debugDepth = false;
+  bool translucentShadows = false;  // some light samples transmittance layers
   bool operator==(const LightingFeatures& o) const {
     return cubeShadows == o.cubeShadows && planarShadows == o.planarShadows &&
-           filters == o.filters && debugDepth == o.debugDepth;
+           filters == o.filters && debugDepth == o.debugDepth &&
+           translucentShadows == o.translucentShadows;
   }
 };
 

@@ -14,10 +14,12 @@
 #include "renderer/passes/lighting_pass.h"
 #include "renderer/passes/shadow_pass.h"
 #include "renderer/passes/shadow_textures.h"
+#include "renderer/passes/transmittance_pass.h"
 #include "renderer/passes/vsm_filter.h"
 #include "renderer/render/antialiasing.h"
 #include "renderer/render/frame_plan.h"
 #include "renderer/scene/scene_fingerprint.h"
+#include "renderer/scene/translucency.h"
 #include "renderer/view/shadow_views.h"
 
 namespace omnishadow {
@@ -128,6 +130,7 @@ class Renderer::Impl {
   EglContext context_;
   std::unique_ptr<ShadowPass> shadowPass_;
   std::unique_ptr<VsmFilter> vsmFilter_;
+  std::unique_ptr<TransmittancePass> transmittancePass_;  // made by the first translucent light
   ShadowTexturePool shadowTextures_;
   // The last frame's shadow maps, kept for the next render of the same scene (batch jobs of
   // one scene with several cameras): point and spot maps do not depend on the camera.
@@ -158,6 +161,7 @@ struct Renderer::Impl::Prepared {
   ShadowAtlasPlan atlas;
   ShadowGroups groups;  // indexed like atlas.groups
   std::vector<ShadedLight> shaded;
+  std::vector<bool> translucent;  // per light: translucentShadowLights()
 };
 
 namespace {
@@ -223,7 +227,7 @@ bool sameShadowMap(const Light& before, const LightShadowPlan& planBefore, const
          before.position == light.position && a.cullFace == b.cullFace &&
          a.polygonOffsetFactor == b.polygonOffsetFactor &&
          a.polygonOffsetUnits == b.polygonOffsetUnits && a.filter == b.filter &&
-         a.filterRadius == b.filterRadius;
+         a.filterRadius == b.filterRadius && a.translucent == b.translucent;
 }
 
 }  // namespace
@@ -253,19 +257,26 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
     return nullptr;
   };
   const ShadowPassStrategy strategy = resolveShadowPassStrategy(settings.shadowPass, glRenderer_);
+  prepared.translucent = translucentShadowLights(lights, scene);
   std::size_t next = 0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
     ShadedLight s{&lights[i], nullptr};
     if (next < prepared.atlas.lights.size() &&
         prepared.atlas.lights[next].light == static_cast<int>(i)) {
       const LightShadowPlan& plan = prepared.atlas.lights[next++];
-      const ShadowGroupTextures& group = prepared.groups[plan.group];
+      ShadowGroupTextures& group = prepared.groups[plan.group];
       const LightShadowPlan* before = cachedPlan(i);
+      s.translucent = prepared.translucent[i];
       if (before && sameShadowMap(cache->lights[i], *before, lights[i], plan)) {
         if (frame) ++frame->shadowMapsReused;
       } else {
         shadowPass_->render(prepared.gpu, lights[i], plan, group, strategy);
         if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
+        if (s.translucent) {
+          ensureTransmittance(group);
+          if (!transmittancePass_) transmittancePass_ = std::make_unique<TransmittancePass>();
+          transmittancePass_->render(prepared.gpu, lights[i], plan, group);
+        }
         if (frame) ++frame->shadowMapsRendered;
       }
       s.shadow = &plan;
@@ -335,18 +346,31 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
   // One pass gives the fixed channels and the visibility of 20 lights; more lights take more.
   FrameTargets targets(camera.width, camera.height, PassOutputs::Aovs);
   LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, prepared.features);
+  // Where each light's transmittance.<light>.R channel is (-1: none).
+  std::vector<int> transmittanceChannel(prepared.shaded.size(), -1);
+  bool hasTransmittance = false;
+  for (std::size_t l = 0; l < prepared.shaded.size(); ++l) {
+    if (!prepared.shaded[l].translucent) continue;
+    transmittanceChannel[l] =
+        aovs.channelIndex("transmittance." + prepared.shaded[l].light->name + ".R");
+    hasTransmittance = hasTransmittance || transmittanceChannel[l] >= 0;
+  }
   const int passes = std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass);
+  // One lighting pass into `targets`; the caller reads them back.
+  auto draw = [&](int visibilityBase, bool blendedOnly, bool visibilityRgb) {
+    PassParameters parameters;
+    parameters.visibilityBase = visibilityBase;
+    parameters.blendedOnly = blendedOnly;
+    parameters.visibilityRgb = visibilityRgb;
+    ScopedStage stage(times, "lighting");
+    pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
+                parameters);
+    glFinish();
+  };
   auto fill = [&](FloatImage& image, bool blendedOnly) {
     for (int p = 0; p < passes; ++p) {
-      PassParameters parameters;
-      parameters.visibilityBase = p * kVisibilityPerPass;
-      parameters.blendedOnly = blendedOnly;
-      {
-        ScopedStage stage(times, "lighting");
-        pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
-                    parameters);
-        glFinish();
-      }
+      const int visibilityBase = p * kVisibilityPerPass;
+      draw(visibilityBase, blendedOnly, false);
       ScopedStage readback(times, "readback");
       if (p == 0) {
         copyChannels(readAttachment(targets, 0, flip), 0, 4, image, 0);
@@ -356,10 +380,30 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         copyChannels(position, 3, 1, image, 10);
       }
       for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
-        const int first = parameters.visibilityBase + target * 4;
+        const int first = visibilityBase + target * 4;
         if (first >= lightCount) break;
         copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
                      image, kFixedAovChannels + first);
+      }
+    }
+    if (!hasTransmittance) return;
+    // The RGB terms of the lights with translucent shadows, R, G, B of each light in turn.
+    for (int base = 0; base < lightCount; base += kRgbVisibilityPerPass) {
+      const int end = std::min(base + kRgbVisibilityPerPass, lightCount);
+      if (std::all_of(transmittanceChannel.begin() + base, transmittanceChannel.begin() + end,
+                      [](int channel) { return channel < 0; }))
+        continue;
+      draw(base, blendedOnly, true);
+      ScopedStage readback(times, "readback");
+      std::vector<std::vector<float>> values(kVisibilityPerPass / 4);
+      for (int l = base; l < end; ++l) {
+        if (transmittanceChannel[l] < 0) continue;
+        for (int c = 0; c < 3; ++c) {
+          const int scalar = 3 * (l - base) + c;
+          std::vector<float>& target = values[scalar / 4];
+          if (target.empty()) target = readAttachment(targets, 3 + scalar / 4, flip);
+          copyChannels(target, scalar % 4, 1, image, transmittanceChannel[l] + c);
+        }
       }
     }
   };
@@ -420,7 +464,10 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   frame.warnings = std::move(plan.warnings);
 
   ScopedStage shaders(times, "shaders");
-  const LightingFeatures features = lightingFeatures(lights, settings.debugView);
+  LightingFeatures features = lightingFeatures(lights, settings.debugView);
+  const std::vector<bool> translucent = translucentShadowLights(lights, scene);
+  features.translucentShadows =
+      std::find(translucent.begin(), translucent.end(), true) != translucent.end();
   lightingPass(settings.shading, PassOutputs::Beauty, features);  // compiled once per variant
   shaders.stop();
 
@@ -482,7 +529,10 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
                                 const RenderSettings& settings, int debugLight, Frame& frame,
                                 StageTimes& times) {
   if (settings.aovs) {
-    FloatImage aovs{camera.width, camera.height, aovChannels(lights, settings.layers), {}};
+    FloatImage aovs{camera.width,
+                    camera.height,
+                    aovChannels(lights, settings.layers, prepared.translucent),
+                    {}};
     aovs.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height *
                        aovs.channels.size());
     drawAovs(prepared, camera, ambient, settings, aovs, times);

@@ -28,6 +28,9 @@ inline constexpr int kOcclusionUnit = 3;
 inline constexpr int kEmissiveUnit = 4;
 inline constexpr int kMaterialUnits = 5;
 
+// The transmission texture of shadow_transmittance.frag (its own program: any free unit).
+inline constexpr int kTransmissionUnit = kBaseColorUnit + 1;
+
 // The moments layer the VSM blur reads (its own program, so it may reuse unit 0).
 inline constexpr int kVsmSourceUnit = 0;
 
@@ -40,6 +43,12 @@ inline constexpr int kPlanarCompareUnit = kCubeDepthUnit + kMaxShadowGroups;
 inline constexpr int kPlanarDepthUnit = kPlanarCompareUnit + kMaxShadowGroups;
 inline constexpr int kCubeMomentsUnit = kPlanarDepthUnit + kMaxShadowGroups;
 inline constexpr int kPlanarMomentsUnit = kCubeMomentsUnit + kMaxShadowGroups;
+// Transmittance layers of translucent shadows (transmittance_pass.h) take the moments units and
+// the shader reads them through the moments arrays: a group holds vsm lights (moments) or lights
+// with translucent shadows, never both, and two more sampler arrays would pass the 32 samplers
+// of a fragment shader.
+inline constexpr int kCubeTransmittanceUnit = kCubeMomentsUnit;
+inline constexpr int kPlanarTransmittanceUnit = kPlanarMomentsUnit;
 static_assert(kMaterialUnits <= kCubeCompareUnit, "material and shadow units overlap");
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
 static_assert(kPlanarMomentsUnit + kMaxShadowGroups <= 32, "shadow units beyond 32");
@@ -74,7 +83,8 @@ struct GpuLight {
   glm::vec4 shadowDepth;       // near, far, constant bias (world), slope bias (texels)
   glm::vec4 shadowBias;        // min bias (texels), normal bias (texels), filter radius, samples
   glm::vec4 shadowSoft;        // source radius, vsm bleed reduction, first layer, layer count
-  glm::vec4 shadowProjection;  // spot: tan(half fov); first entry in the view projections
+  glm::vec4 shadowProjection;  // spot: tan(half fov); first entry in the view projections;
+                               // 1 when translucent casters tint the shadow
   glm::vec4 cascadeEnd;        // directional: camera view depth where each cascade ends
   glm::vec4 cascadeTexel;      // directional: world size of a texel in each cascade
 };
@@ -115,6 +125,7 @@ inline std::vector<std::string> shaderContractDefines() {
       define("NORMAL_UNIT", kNormalUnit),
       define("OCCLUSION_UNIT", kOcclusionUnit),
       define("EMISSIVE_UNIT", kEmissiveUnit),
+      define("TRANSMISSION_UNIT", kTransmissionUnit),
       define("VSM_SOURCE_UNIT", kVsmSourceUnit),
       define("MAX_SHADOW_GROUPS", kMaxShadowGroups),
       define("CUBE_COMPARE_UNIT", kCubeCompareUnit),

@@ -7,6 +7,7 @@
 #include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/passes/shadow_layer_binding.h"
+#include "renderer/scene/translucency.h"
 #include "renderer/view/caster_culling.h"
 #include "renderer/view/shadow_draws.h"
 
@@ -69,7 +70,8 @@ void describeCasters(const GpuScene& scene, std::vector<ShadowCaster>& casters,
   for (const GpuDraw& draw : scene.draws()) {
     const Material& material = scene.materials()[draw.material].desc;
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
-    // Blended surfaces cast shadows where they are at least half opaque.
+    // Blended surfaces cast cut-out shadows (where at least half opaque) for lights without
+    // translucent shadows.
     casters.push_back({draw.boundsCenter, draw.boundsRadius,
                        material.alphaMode != AlphaMode::Opaque, range.closed, material.doubleSided,
                        draw.mirrored});
@@ -109,7 +111,13 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
   std::vector<ShadowCaster> casters;
   std::vector<CasterGeometry> geometry;
   describeCasters(scene, casters, geometry);
-  const CasterCulling culling = cullCasters(casters, shadowCullingLight(light, plan, cube));
+  CasterCulling culling = cullCasters(casters, shadowCullingLight(light, plan, cube));
+  // With translucent shadows, translucent casters tint the light in the transmittance pass
+  // (transmittance_pass.h) instead of blocking it here.
+  if (castsTranslucentShadows(light))
+    for (std::size_t c = 0; c < casters.size(); ++c)
+      if (isTranslucentCaster(scene.materials()[scene.draws()[c].material].desc))
+        culling.viewMask[c] = 0;
   const ShadowDrawList draws =
       buildShadowDraws(casters, geometry, culling, plan.layerCount, layering);
   commands_.upload(draws.commands);

@@ -21,7 +21,13 @@ struct ShadowGroupTextures {
   int layers = 0;
   gl::Texture depth;    // GL_TEXTURE_CUBE_MAP_ARRAY or GL_TEXTURE_2D_ARRAY
   gl::Texture moments;  // same target, GL_RG32F, when key.moments
+  // Same target, GL_RGBA32F, when a light of the group has translucent shadows
+  // (transmittance_pass.h); made by ensureTransmittance().
+  gl::Texture transmittance;
 };
+
+// Allocates the group's transmittance layers unless it has them.
+void ensureTransmittance(ShadowGroupTextures& group);
 
 // Keeps group textures between renders (batch mode renders many similar scenes), up to a
 // budget; textures are reused only for an exact match of key and layer count.

@@ -2,7 +2,8 @@
 
 namespace omnishadow {
 
-std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers) {
+std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers,
+                                     const std::vector<bool>& translucent) {
   std::vector<std::string> channels = {"R",   "G",   "B",   "A",   "P.X", "P.Y",
                                        "P.Z", "N.X", "N.Y", "N.Z", "Z"};
   for (const Light& light : lights) channels.push_back("visibility." + light.name);
@@ -18,6 +19,10 @@ std::vector<std::string> aovChannels(const std::vector<Light>& lights, const Aov
     if (layers.specular)
       for (const char* c : {"R", "G", "B"}) channels.push_back("specular." + light.name + "." + c);
   }
+  for (std::size_t i = 0; i < lights.size() && i < translucent.size(); ++i)
+    if (translucent[i])
+      for (const char* c : {"R", "G", "B"})
+        channels.push_back("transmittance." + lights[i].name + "." + c);
   return channels;
 }
 

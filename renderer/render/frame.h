@@ -59,7 +59,10 @@ struct Frame {
 // The fixed channels at the start of Frame::aovs: R G B A P.X P.Y P.Z N.X N.Y N.Z Z.
 inline constexpr int kFixedAovChannels = 11;
 
-// Channel names of Frame::aovs for these lights and layers, in order.
-std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers);
+// Channel names of Frame::aovs for these lights and layers, in order; last, the RGB shadow
+// term transmittance.<light>.R/G/B of each light whose `translucent` entry is true (translucent
+// shadows, README "Translucent shadows").
+std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers,
+                                     const std::vector<bool>& translucent = {});
 
 }  // namespace omnishadow

@@ -6,6 +6,7 @@
 
 #include "renderer/core/errors.h"
 #include "renderer/render/antialiasing.h"
+#include "renderer/scene/translucency.h"
 
 namespace omnishadow {
 namespace {
@@ -60,6 +61,24 @@ int findDebugLight(const std::vector<Light>& lights, const RenderSettings& setti
                                                      ": no shadowed light has that name");
 }
 
+// GPU memory of the RGBA32F transmittance layers of the groups that hold a light with
+// translucent shadows (renderer/passes/transmittance_pass.h); they cover the whole group.
+double transmittanceBytes(const ShadowAtlasPlan& atlas, const std::vector<Light>& lights,
+                          const Scene& scene) {
+  const std::vector<bool> translucent = translucentShadowLights(lights, scene);
+  std::vector<bool> counted(atlas.groups.size(), false);
+  double bytes = 0.0;
+  for (const LightShadowPlan& light : atlas.lights) {
+    if (!translucent[static_cast<std::size_t>(light.light)] ||
+        counted[static_cast<std::size_t>(light.group)])
+      continue;
+    counted[static_cast<std::size_t>(light.group)] = true;
+    const ShadowGroupPlan& group = atlas.groups[static_cast<std::size_t>(light.group)];
+    bytes += 16.0 * group.key.resolution * group.key.resolution * group.layers;
+  }
+  return bytes;
+}
+
 }  // namespace
 
 FramePlan planFrame(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
@@ -69,6 +88,7 @@ FramePlan planFrame(const Scene& scene, const std::vector<Light>& lights, const 
   checkFrameSize(camera, limits);
   FramePlan plan;
   plan.shadows = planShadowAtlas(lights, camera, scene.bounds, ShadowLimits{limits.maxArrayLayers});
+  plan.shadows.bytes += transmittanceBytes(plan.shadows, lights, scene);
   const double shadowMiB = plan.shadows.bytes / (1024.0 * 1024.0);
   if (shadowMiB > settings.maxShadowMemoryMiB) {
     char message[256];

@@ -32,7 +32,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     // Materials beyond the core model.
     {"KHR_materials_clearcoat", NotSupported, "the base material, without clearcoat"},
     {"KHR_materials_sheen", NotSupported, "the base material, without sheen"},
-    {"KHR_materials_transmission", NotSupported, "the base material, opaque"},
+    {"KHR_materials_transmission", Supported, ""},
     {"KHR_materials_volume", NotSupported, "the base material, without volume attenuation"},
     {"KHR_materials_ior", NotSupported, "the base material, with IOR 1.5"},
     {"KHR_materials_specular", NotSupported, "the base material, with the default specular"},

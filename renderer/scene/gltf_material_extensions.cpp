@@ -110,6 +110,16 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
   const tinygltf::Material& source = ctx.model.materials[index];
   const std::string object = at("materials", index) + ".extensions.";
   if (extensionOf(source, "KHR_materials_unlit")) material.unlit = true;
+  if (const tinygltf::Value* transmission = extensionOf(source, "KHR_materials_transmission")) {
+    const std::string where = object + "KHR_materials_transmission";
+    if (!transmission->IsObject()) ctx.fail(where, "must be an object");
+    const double factor = number(ctx, where, *transmission, "transmissionFactor", 0.0);
+    if (!(factor >= 0.0 && factor <= 1.0))
+      ctx.fail(where, "transmissionFactor must be a number in [0, 1]");
+    material.transmissionFactor = static_cast<float>(factor);
+    material.transmissionTexture = slotFromValue(ctx, where + ".transmissionTexture",
+                                                 transmission->Get("transmissionTexture"));
+  }
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;
   const std::string where = object + "KHR_materials_pbrSpecularGlossiness";

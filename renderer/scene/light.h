@@ -49,6 +49,9 @@ struct ShadowSettings {
   int cascades = 1;             // directional: 1..4 cascaded maps
   float cascadeSplit = 0.75f;   // directional: 0 = linear splits, 1 = logarithmic
   float distance = 0.0f;  // directional: shadows reach this far from the camera; 0 = scene bounds
+  // Lights file "translucentShadows": translucent casters (translucency.h) tint the shadow;
+  // false gives cut-out shadows (BLEND at alpha 0.5, transmission ignored).
+  bool translucent = true;
 };
 
 struct Light {

@@ -439,7 +439,7 @@ Light readLight(const Reader& reader, std::size_t index, const std::string& orig
   // Cone angles and direction are accepted (and checked) on every type: switching a light's
   // type should not turn its other fields into warnings.
   reader.warnUnknownFields({"name", "type", "position", "direction", "color", "intensity", "range",
-                            "innerConeAngle", "outerConeAngle", "shadow"});
+                            "innerConeAngle", "outerConeAngle", "shadow", "translucentShadows"});
 
   Light light;
   light.name = "light" + std::to_string(index);
@@ -460,6 +460,7 @@ Light readLight(const Reader& reader, std::size_t index, const std::string& orig
   if (auto field = reader.field("range")) light.range = readPositive(*field);
   readConeAngles(reader, light);
   if (auto field = reader.field("shadow")) light.shadow = readShadow(*field);
+  if (auto field = reader.field("translucentShadows")) light.shadow.translucent = readBool(*field);
   return light;
 }
 

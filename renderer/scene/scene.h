@@ -72,6 +72,10 @@ struct Material {
   glm::vec3 specularFactor{1.0f};
   float glossinessFactor = 1.0f;
   TextureSlot specularGlossinessTexture;  // sRGB specular color, linear glossiness in A
+  // KHR_materials_transmission: the fraction of light that passes through the surface, tinted
+  // by its base color; it makes the surface a translucent shadow caster (translucency.h).
+  float transmissionFactor = 0.0f;
+  TextureSlot transmissionTexture;  // linear; R multiplies transmissionFactor
 };
 
 // One glTF primitive as an indexed triangle list, in the mesh's local space.

@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "renderer/scene/translucency.h"
+
 namespace omnishadow {
 namespace {
 
@@ -37,7 +39,8 @@ std::uint64_t shadowFingerprint(const Scene& scene) {
     h.value(mesh.material);
     // Cut-out casters depend on their texture coordinates and vertex alpha too.
     const bool opaque =
-        mesh.material < 0 || scene.materials[mesh.material].alphaMode == AlphaMode::Opaque;
+        mesh.material < 0 || (scene.materials[mesh.material].alphaMode == AlphaMode::Opaque &&
+                              !isTranslucentCaster(scene.materials[mesh.material]));
     if (!opaque) {
       h.vector(mesh.uv0);
       h.vector(mesh.uv1);
@@ -54,10 +57,22 @@ std::uint64_t shadowFingerprint(const Scene& scene) {
     h.value(m.alphaCutoff);
     h.value(m.doubleSided);
     h.value(m.baseColorFactor.a);
+    // Translucent casters tint the transmittance layers with their color.
+    h.value(m.transmissionFactor);
+    h.value(m.transmissionTexture.texture);
+    h.value(m.transmissionTexture.texCoord);
+    h.value(m.transmissionTexture.uvTransform);
+    if (m.transmissionTexture.texture >= 0) {
+      const Texture& texture = scene.textures[m.transmissionTexture.texture];
+      h.value(texture.sampler);
+      if (texture.image >= 0) h.vector(scene.images[texture.image].rgba);
+    }
+    if (isTranslucentCaster(m)) h.value(glm::vec3(m.baseColorFactor));
     h.value(m.baseColorTexture.texture);
     h.value(m.baseColorTexture.texCoord);
     h.value(m.baseColorTexture.uvTransform);
-    if (m.alphaMode != AlphaMode::Opaque && m.baseColorTexture.texture >= 0) {
+    if ((m.alphaMode != AlphaMode::Opaque || isTranslucentCaster(m)) &&
+        m.baseColorTexture.texture >= 0) {
       const Texture& texture = scene.textures[m.baseColorTexture.texture];
       h.value(texture.sampler);
       if (texture.image >= 0) h.vector(scene.images[texture.image].rgba);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "renderer/core/errors.h"
+#include "renderer/scene/translucency.h"
 
 namespace omnishadow {
 namespace {
@@ -31,7 +32,23 @@ struct Cutout {
   std::vector<std::uint8_t> texelAlpha;  // row 0 = top = v 0, as GL samples glTF images
   int wrapS = 0, wrapT = 0;
   float cutoff = 0.5f;
+  // Translucent casters (translucency.h): what a shadow ray crossing them keeps of the light.
+  bool translucent = false;
+  Material material;
+  std::vector<glm::vec3> vertexColor;  // baseColorFactor.rgb * COLOR_0.rgb
+  std::vector<glm::vec3> texelColor;   // linear RGB of the base color texture, as texelAlpha
+  // The transmission texture's R at the nearest texel (KHR_texture_transform applied to the
+  // per-vertex UVs, which an affine map allows); width 0 = none.
+  std::vector<glm::vec2> transmissionUv;
+  int transmissionWidth = 0, transmissionHeight = 0;
+  std::vector<float> transmissionTexel;  // row 0 = top
+  int transmissionWrapS = 0, transmissionWrapT = 0;
 };
+
+float srgbToLinear(std::uint8_t value) {
+  const float c = static_cast<float>(value) / 255.0f;
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
 
 // GL's nearest-texel addressing: the integer texel, then the wrap mode on integers.
 int wrapTexel(float coordinate, int size, int mode) {
@@ -47,19 +64,64 @@ int wrapTexel(float coordinate, int size, int mode) {
   return static_cast<int>(((i % size) + size) % size);
 }
 
-// Whether the hit at barycentrics (u, v) of triangle `primitive` is opaque enough to cast.
-bool castsAt(const Cutout& c, unsigned primitive, float u, float v) {
+// The base color (linear RGB only for translucent casters, else white) and alpha at
+// barycentrics (u, v) of triangle `primitive`, with the texture's nearest texel.
+glm::vec4 baseColorAt(const Cutout& c, unsigned primitive, float u, float v) {
   const std::uint32_t i0 = c.indices[3 * primitive], i1 = c.indices[3 * primitive + 1],
                       i2 = c.indices[3 * primitive + 2];
   const float w = 1.0f - u - v;
-  float alpha = w * c.vertexAlpha[i0] + u * c.vertexAlpha[i1] + v * c.vertexAlpha[i2];
+  glm::vec4 color(1.0f);
+  color.a = w * c.vertexAlpha[i0] + u * c.vertexAlpha[i1] + v * c.vertexAlpha[i2];
+  if (c.translucent)
+    color =
+        glm::vec4(w * c.vertexColor[i0] + u * c.vertexColor[i1] + v * c.vertexColor[i2], color.a);
   if (!c.uv.empty() && c.width > 0 && c.height > 0) {
     const glm::vec2 uv = w * c.uv[i0] + u * c.uv[i1] + v * c.uv[i2];
     const int x = wrapTexel(uv.x, c.width, c.wrapS);
     const int y = wrapTexel(uv.y, c.height, c.wrapT);
-    alpha *= static_cast<float>(c.texelAlpha[static_cast<std::size_t>(y) * c.width + x]) / 255.0f;
+    const std::size_t texel = static_cast<std::size_t>(y) * c.width + x;
+    color.a *= static_cast<float>(c.texelAlpha[texel]) / 255.0f;
+    if (c.translucent) color = glm::vec4(glm::vec3(color) * c.texelColor[texel], color.a);
   }
-  return alpha >= c.cutoff;  // the shadow pass discards alpha < cutoff
+  return color;
+}
+
+// The transmission texture's R at barycentrics (u, v) of triangle `primitive` (1 without one).
+float transmissionTexelAt(const Cutout& c, unsigned primitive, float u, float v) {
+  if (c.transmissionWidth <= 0) return 1.0f;
+  const std::uint32_t i0 = c.indices[3 * primitive], i1 = c.indices[3 * primitive + 1],
+                      i2 = c.indices[3 * primitive + 2];
+  const glm::vec2 uv =
+      (1.0f - u - v) * c.transmissionUv[i0] + u * c.transmissionUv[i1] + v * c.transmissionUv[i2];
+  const int x = wrapTexel(uv.x, c.transmissionWidth, c.transmissionWrapS);
+  const int y = wrapTexel(uv.y, c.transmissionHeight, c.transmissionWrapT);
+  return c.transmissionTexel[static_cast<std::size_t>(y) * c.transmissionWidth + x];
+}
+
+void addTransmissionTexture(const Scene& scene, const Mesh& mesh, const TextureSlot& slot,
+                            Cutout& c) {
+  if (slot.texture < 0 || slot.texture >= static_cast<int>(scene.textures.size())) return;
+  const Texture& texture = scene.textures[slot.texture];
+  if (texture.image < 0 || texture.image >= static_cast<int>(scene.images.size())) return;
+  const Image& image = scene.images[texture.image];
+  const std::size_t texels = static_cast<std::size_t>(image.width) * image.height;
+  if (image.width <= 0 || image.height <= 0 || image.rgba.size() < texels * 4) return;
+  c.transmissionWidth = image.width;
+  c.transmissionHeight = image.height;
+  c.transmissionTexel.resize(texels);
+  for (std::size_t i = 0; i < texels; ++i)
+    c.transmissionTexel[i] = static_cast<float>(image.rgba[i * 4]) / 255.0f;
+  c.transmissionWrapS = texture.sampler.wrapS;
+  c.transmissionWrapT = texture.sampler.wrapT;
+  const std::vector<glm::vec2>& uv = slot.texCoord == 1 ? mesh.uv1 : mesh.uv0;
+  c.transmissionUv.assign(mesh.positions.size(), glm::vec2(0.0f));
+  for (std::size_t i = 0; i < c.transmissionUv.size() && i < uv.size(); ++i)
+    c.transmissionUv[i] = glm::vec2(slot.uvTransform * glm::vec3(uv[i], 1.0f));
+}
+
+// Whether the hit at barycentrics (u, v) of triangle `primitive` is opaque enough to cast.
+bool castsAt(const Cutout& c, unsigned primitive, float u, float v) {
+  return baseColorAt(c, primitive, u, v).a >= c.cutoff;  // the shadow pass discards below
 }
 
 void alphaFilter(const RTCFilterFunctionNArguments* args) {
@@ -80,6 +142,14 @@ Cutout makeCutout(const Scene& scene, const Mesh& mesh, const Material& material
   c.vertexAlpha.assign(mesh.positions.size(), material.baseColorFactor.a);
   for (std::size_t i = 0; i < mesh.colors.size() && i < c.vertexAlpha.size(); ++i)
     c.vertexAlpha[i] *= mesh.colors[i].a;
+  c.translucent = isTranslucentCaster(material);
+  if (c.translucent) {
+    c.material = material;
+    c.vertexColor.assign(mesh.positions.size(), glm::vec3(material.baseColorFactor));
+    for (std::size_t i = 0; i < mesh.colors.size() && i < c.vertexColor.size(); ++i)
+      c.vertexColor[i] *= glm::vec3(mesh.colors[i]);
+    addTransmissionTexture(scene, mesh, material.transmissionTexture, c);
+  }
   const TextureSlot& slot = material.baseColorTexture;
   if (slot.texture < 0 || slot.texture >= static_cast<int>(scene.textures.size())) return c;
   const Texture& texture = scene.textures[slot.texture];
@@ -91,6 +161,12 @@ Cutout makeCutout(const Scene& scene, const Mesh& mesh, const Material& material
   c.height = image.height;
   c.texelAlpha.resize(texels);
   for (std::size_t i = 0; i < texels; ++i) c.texelAlpha[i] = image.rgba[i * 4 + 3];
+  if (c.translucent) {
+    c.texelColor.resize(texels);
+    for (std::size_t i = 0; i < texels; ++i)
+      c.texelColor[i] = {srgbToLinear(image.rgba[i * 4]), srgbToLinear(image.rgba[i * 4 + 1]),
+                         srgbToLinear(image.rgba[i * 4 + 2])};
+  }
   c.wrapS = texture.sampler.wrapS;
   c.wrapT = texture.sampler.wrapT;
   // A missing set samples (0, 0), as an unbound vertex attribute does on the GPU.
@@ -162,6 +238,7 @@ struct ShadowReference::Impl {
   RTCScene scene = nullptr;
   std::vector<std::unique_ptr<Cutout>> cutouts;  // geometry user data; must outlive the scene
   std::string error;                             // the last message from Embree
+  bool translucent = false;                      // the scene has translucent casters
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -230,12 +307,17 @@ ShadowReference::ShadowReference(const Scene& scene) : impl_(std::make_unique<Im
     const AlphaMode mode =
         hasMaterial ? scene.materials[mesh.material].alphaMode : AlphaMode::Opaque;
     rtcSetGeometryMask(geometry, mode == AlphaMode::Blend ? kCastsShadow : kCastsShadow | kInAovs);
-    if (mode != AlphaMode::Opaque) {
+    const bool translucent = hasMaterial && isTranslucentCaster(scene.materials[mesh.material]);
+    impl.translucent = impl.translucent || translucent;
+    if (mode != AlphaMode::Opaque || translucent) {
       impl.cutouts.push_back(std::make_unique<Cutout>(
           makeCutout(scene, mesh, scene.materials[mesh.material], std::move(indices))));
       rtcSetGeometryUserData(geometry, impl.cutouts.back().get());
-      rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
-      rtcSetGeometryOccludedFilterFunction(geometry, alphaFilter);
+      // Shadow rays of cut-out shadows (rtcOccluded1) see BLEND surfaces where alpha >= 0.5;
+      // translucent shadow rays (rtcIntersect1) stop at every BLEND surface, whatever its alpha,
+      // and weigh it (camera rays never see BLEND geometry: the mask keeps them out).
+      if (mode != AlphaMode::Opaque) rtcSetGeometryOccludedFilterFunction(geometry, alphaFilter);
+      if (mode == AlphaMode::Mask) rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
     }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(impl.scene, geometry);
@@ -272,8 +354,74 @@ std::optional<SurfaceHit> ShadowReference::intersect(const glm::vec3& origin,
   return SurfaceHit{hit->ray.tfar, n / length};
 }
 
+glm::vec3 ShadowReference::rayTransmittance(const glm::vec3& origin, const glm::vec3& direction,
+                                            float tnear, float tfar) const {
+  glm::vec3 transmittance(1.0f);
+  // Each crossing counts once: the next search starts just past the last hit, which also
+  // steps over the twin hit of a ray through an edge two triangles share.
+  const float step = 0.01f * epsilon_;
+  for (int crossing = 0; crossing < kMaxTranslucentCrossings; ++crossing) {
+    const std::optional<RTCRayHit> hit = impl_->cast(origin, direction, tnear, tfar, kCastsShadow);
+    if (!hit) return transmittance;
+    RTCGeometry geometry = rtcGetGeometry(impl_->scene, hit->hit.geomID);
+    const auto* cutout = static_cast<const Cutout*>(rtcGetGeometryUserData(geometry));
+    if (!cutout || !cutout->translucent) return glm::vec3(0.0f);
+    const unsigned primitive = hit->hit.primID;
+    transmittance *= surfaceTransmittance(
+        cutout->material, baseColorAt(*cutout, primitive, hit->hit.u, hit->hit.v),
+        transmissionTexelAt(*cutout, primitive, hit->hit.u, hit->hit.v));
+    if (!(std::max({transmittance.r, transmittance.g, transmittance.b}) > 0.0f))
+      return glm::vec3(0.0f);
+    tnear = hit->ray.tfar + step;
+  }
+  return transmittance;
+}
+
+glm::vec3 ShadowReference::transmittance(const Light& light, const glm::vec3& point,
+                                         const glm::vec3& normal, int sourceSamples) const {
+  if (!impl_->translucent || !castsTranslucentShadows(light))
+    return glm::vec3(visibility(light, point, normal, sourceSamples));
+  const glm::vec3 origin = point + normal * epsilon_;
+  const float radius = light.shadow.radius;
+  const bool directional = light.type == LightType::Directional;
+  constexpr float kInfinity = std::numeric_limits<float>::infinity();
+  // Towards one point of the light (or one direction of the sun).
+  const auto towards = [&](const glm::vec3& target) {
+    const glm::vec3 d = target - origin;
+    const float distance = glm::length(d);
+    if (!(distance > epsilon_)) return glm::vec3(1.0f);
+    return rayTransmittance(origin, d / distance, epsilon_, distance);
+  };
+  if (radius <= 0.0f) {
+    if (directional) return rayTransmittance(origin, -light.direction, epsilon_, kInfinity);
+    return towards(light.position);
+  }
+  const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(std::max(sourceSamples, 1)))));
+  const std::vector<glm::vec2>& pattern = diskPattern(n);
+  glm::vec3 sum(0.0f), t1, t2;
+  if (directional) {
+    const glm::vec3 L = glm::normalize(-light.direction);
+    tangents(L, t1, t2);
+    const float spread = std::tan(std::min(radius, 1.5f));
+    for (const glm::vec2& s : pattern)
+      sum += rayTransmittance(origin, glm::normalize(L + spread * (s.x * t1 + s.y * t2)), epsilon_,
+                              kInfinity);
+  } else {
+    const glm::vec3 axis = point - light.position;
+    const float axisLength = glm::length(axis);
+    tangents(axisLength > 0.0f ? axis / axisLength : glm::vec3(0.0f, 0.0f, 1.0f), t1, t2);
+    for (const glm::vec2& s : pattern)
+      sum += towards(light.position + radius * (s.x * t1 + s.y * t2));
+  }
+  return sum / static_cast<float>(pattern.size());
+}
+
 float ShadowReference::visibility(const Light& light, const glm::vec3& point,
                                   const glm::vec3& normal, int sourceSamples) const {
+  if (impl_->translucent && castsTranslucentShadows(light)) {
+    const glm::vec3 t = transmittance(light, point, normal, sourceSamples);
+    return (t.r + t.g + t.b) / 3.0f;
+  }
   const glm::vec3 origin = point + normal * epsilon_;
   const float radius = light.shadow.radius;
   const bool directional = light.type == LightType::Directional;

@@ -13,7 +13,8 @@ namespace {
 // Where the channels of one light's pixels are in the AOV image.
 struct AovLayout {
   int a = -1, p = -1, n = -1, z = -1;
-  std::vector<int> visibility;  // per light
+  std::vector<int> visibility;     // per light
+  std::vector<int> transmittance;  // per light: transmittance.<name>.R, or -1
 };
 
 int requireChannel(const FloatImage& aovs, const std::string& name) {
@@ -31,9 +32,16 @@ AovLayout layoutOf(const FloatImage& aovs, const std::vector<LightToVerify>& lig
   if (aovs.channelIndex("P.Y") != layout.p + 1 || aovs.channelIndex("P.Z") != layout.p + 2 ||
       aovs.channelIndex("N.Y") != layout.n + 1 || aovs.channelIndex("N.Z") != layout.n + 2)
     throw RenderError("the AOVs' P and N channels are not in X, Y, Z order");
-  for (const LightToVerify& l : lights)
+  for (const LightToVerify& l : lights) {
     layout.visibility.push_back(
         l.light.shadow.enabled ? requireChannel(aovs, "visibility." + l.light.name) : -1);
+    const int r = aovs.channelIndex("transmittance." + l.light.name + ".R");
+    if (r >= 0 && (aovs.channelIndex("transmittance." + l.light.name + ".G") != r + 1 ||
+                   aovs.channelIndex("transmittance." + l.light.name + ".B") != r + 2))
+      throw RenderError("the AOVs' transmittance." + l.light.name +
+                        " channels are not in R, G, B order");
+    layout.transmittance.push_back(r);
+  }
   return layout;
 }
 
@@ -65,9 +73,15 @@ bool inShadow(float visibility) {
   return visibility < 0.5f;
 }
 
+bool within(const glm::vec3& a, const glm::vec3& b, float tolerance) {
+  const glm::vec3 d = glm::abs(a - b);
+  return d.x <= tolerance && d.y <= tolerance && d.z <= tolerance;
+}
+
+// `renderedRgb`: the transmittance.<light> AOVs at the point, null when the light has none.
 PointVerdict judge(const ShadowReference& reference, const Bounds& bounds,
                    const LightToVerify& target, const SurfacePoint& s, float rendered,
-                   const VerifySettings& settings) {
+                   const glm::vec3* renderedRgb, const VerifySettings& settings) {
   const Light& light = target.light;
   PointVerdict result;
   glm::vec3 L;
@@ -108,16 +122,27 @@ PointVerdict judge(const ShadowReference& reference, const Bounds& bounds,
     return result;
   }
 
-  const float r =
-      reference.visibility(light, s.position, s.geometricNormal, settings.sourceSamples);
+  glm::vec3 rgb(1.0f);
+  float r;
+  if (renderedRgb) {
+    rgb = reference.transmittance(light, s.position, s.geometricNormal, settings.sourceSamples);
+    r = (rgb.r + rgb.g + rgb.b) / 3.0f;  // as visibility() and the lighting pass average it
+  } else {
+    r = reference.visibility(light, s.position, s.geometricNormal, settings.sourceSamples);
+  }
   const bool shadowed = inShadow(r);
   result.reference = r;
-  const bool renderedShadowed = inShadow(rendered);
+  // Behind translucent casters values near 0.5 are common: within the tolerance is agreement,
+  // whichever side of 0.5 each falls.
+  const bool renderedShadowed = renderedRgb && std::abs(rendered - r) <= kTransmittanceTolerance
+                                    ? shadowed
+                                    : inShadow(rendered);
   result.verdict = renderedShadowed == shadowed ? Verdict::Agree
                    : renderedShadowed           ? Verdict::FalseShadow
                                                 : Verdict::FalseLight;
 
-  result.edge = r > 0.0f && r < 1.0f;
+  // Behind translucent casters a fractional value is no boundary; the shifts below find those.
+  result.edge = !renderedRgb && r > 0.0f && r < 1.0f;
   if (result.edge) return result;
   // Shift the point across the light's view by the band width: along the surface and across L,
   // and along the surface's slope away from L, stretched so that it moves the band width
@@ -136,12 +161,25 @@ PointVerdict judge(const ShadowReference& reference, const Bounds& bounds,
   const glm::vec3 slope =
       perpendicular - L * (glm::dot(perpendicular, Ng) / std::max(glm::dot(L, Ng), 1e-3f));
   for (const glm::vec3& shift : {across, -across, slope, -slope}) {
+    if (renderedRgb) {
+      const glm::vec3 shifted =
+          reference.transmittance(light, s.position + shift * w, Ng, settings.sourceSamples);
+      if (!within(shifted, rgb, kTransmittanceTolerance)) {
+        result.edge = true;
+        break;
+      }
+      continue;
+    }
     const float shifted =
         reference.visibility(light, s.position + shift * w, Ng, settings.sourceSamples);
     if (inShadow(shifted) != shadowed || (shifted > 0.0f && shifted < 1.0f)) {
       result.edge = true;
       break;
     }
+  }
+  if (renderedRgb && !result.edge) {
+    result.transmittanceChecked = true;
+    result.transmittanceAgrees = within(*renderedRgb, rgb, kTransmittanceTolerance);
   }
   return result;
 }
@@ -178,6 +216,10 @@ void count(const PointVerdict& point, LightVerification& light) {
       break;
   }
   ++group.evaluated;
+  if (point.transmittanceChecked) {
+    ++light.transmittance.evaluated;
+    if (point.transmittanceAgrees) ++light.transmittance.agree;
+  }
 }
 
 std::uint8_t toByte(float v) {
@@ -284,8 +326,13 @@ ShadowVerification verifyShadows(const ShadowReference& reference, const Bounds&
         s.geometricNormal = geometricNormalAt(reference, s.position, view, s.normal);
         for (std::size_t i = 0; i < lights.size(); ++i) {
           if (!lights[i].light.shadow.enabled) continue;
-          result.lights[i].points[index] = judge(reference, sceneBounds, lights[i], s,
-                                                 aovs.at(x, y, layout.visibility[i]), settings);
+          const int t = layout.transmittance[i];
+          const glm::vec3 rgb =
+              t >= 0 ? glm::vec3(aovs.at(x, y, t), aovs.at(x, y, t + 1), aovs.at(x, y, t + 2))
+                     : glm::vec3(1.0f);
+          result.lights[i].points[index] =
+              judge(reference, sceneBounds, lights[i], s, aovs.at(x, y, layout.visibility[i]),
+                    t >= 0 ? &rgb : nullptr, settings);
         }
       }
     }

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "renderer/scene/bounds.h"
-#include "renderer/view/camera.h"
 #include "renderer/output/image_writer.h"
+#include "renderer/scene/bounds.h"
 #include "renderer/scene/light.h"
 #include "renderer/verify/shadow_reference.h"
+#include "renderer/view/camera.h"
 
 namespace omnishadow {
 
@@ -45,10 +45,25 @@ enum class Verdict : std::uint8_t {
   FalseLight,   // the renderer lit it, the rays are blocked
 };
 
+// Translucent shadows: a rendered transmittance.<light>.R/G/B agrees with the rays' when every
+// channel is within this of theirs.
+inline constexpr float kTransmittanceTolerance = 0.05f;
+
 struct PointVerdict {
   Verdict verdict = Verdict::Background;
   bool edge = false;       // near a shadow boundary (evaluated points only)
   float reference = 1.0f;  // fraction of the light the rays reach (evaluated points only)
+  // Lights with transmittance.<light> AOVs, interior points: the RGB comparison was made, and
+  // every channel is within kTransmittanceTolerance.
+  bool transmittanceChecked = false, transmittanceAgrees = false;
+};
+
+// Interior points of a light with transmittance AOVs whose RGB term was compared.
+struct TransmittanceCounts {
+  std::int64_t evaluated = 0, agree = 0;
+  double agreementRate() const {
+    return evaluated > 0 ? static_cast<double>(agree) / static_cast<double>(evaluated) : 0.0;
+  }
 };
 
 struct SkipCounts {
@@ -75,7 +90,8 @@ struct LightVerification {
   bool shadowed = true;  // false: shadow.enabled is off; nothing was evaluated
   SkipCounts skipped;
   ClassCounts interior, edge;
-  std::vector<PointVerdict> points;  // width x height, row 0 = top; empty when not shadowed
+  TransmittanceCounts transmittance;  // all zero without transmittance.<light> AOVs
+  std::vector<PointVerdict> points;   // width x height, row 0 = top; empty when not shadowed
 };
 
 struct ShadowVerification {
@@ -98,6 +114,9 @@ float edgeBandWidth(const Light& light, const glm::vec3& point, float cameraDist
 
 // Checks every pixel of `aovs` (Frame::aovs: A, P.X/Y/Z, N.X/Y/Z, Z and visibility.<name> for
 // every light in `lights`) rendered from `camera`. Throws RenderError when a channel is missing.
+// A light whose AOVs have transmittance.<name>.R/G/B (translucent shadows) is also compared in
+// RGB at interior points; its points are edge points where the rays' transmittance changes by
+// more than kTransmittanceTolerance within the band, not where it is fractional.
 ShadowVerification verifyShadows(const ShadowReference& reference, const Bounds& sceneBounds,
                                  const std::vector<LightToVerify>& lights, const FloatImage& aovs,
                                  const ViewCamera& camera, const VerifySettings& settings);

@@ -1,0 +1,447 @@
+// Translucent casters (issue 18): BLEND and KHR_materials_transmission surfaces let part of the
+// light through, tinted by their color, and the renderer's transmittance maps agree with exact
+// rays that multiply through every translucent surface they cross (README, "Translucent
+// shadows"). Every value below is also computed by hand from the material.
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "renderer/render/renderer.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/translucency.h"
+#include "renderer/verify/shadow_reference.h"
+#include "renderer/verify/shadow_verification.h"
+#include "renderer/view/camera.h"
+#include "renderer/view/shadow_plan.h"
+#include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
+#include "tests/support/shadow_checks.h"
+
+using namespace omnishadow;
+
+namespace {
+
+Renderer& contextForThisProgram() {
+  static Renderer renderer(ContextOptions{});
+  return renderer;
+}
+
+Material glass(const glm::vec4& color, AlphaMode mode, float transmission) {
+  Material m;
+  m.baseColorFactor = color;
+  m.alphaMode = mode;
+  m.transmissionFactor = transmission;
+  m.doubleSided = true;
+  return m;
+}
+
+struct Pane {
+  Material material;
+  glm::vec3 center;
+  float size = 2.0f;
+};
+
+struct Staged {
+  Scene scene;
+  std::vector<Light> lights;
+  ViewCamera camera;
+};
+
+// A point light and a spot light above the middle of an 8 x 8 floor, a sun slightly tilted;
+// 256-texel maps.
+std::vector<Light> overheadLights(bool translucent = true) {
+  Light point;
+  point.name = "point";
+  point.position = {0.0f, 5.0f, 0.0f};
+  point.intensity = 20.0f;
+  Light spot = point;
+  spot.name = "spot";
+  spot.type = LightType::Spot;
+  spot.position = {0.2f, 5.0f, -0.1f};
+  spot.direction = {0.0f, -1.0f, 0.0f};
+  spot.outerConeAngle = 0.8f;
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.15f, -1.0f, 0.1f));
+  sun.intensity = 2.0f;
+  std::vector<Light> lights = {point, spot, sun};
+  for (Light& light : lights) {
+    light.shadow.resolution = 256;
+    light.shadow.translucent = translucent;
+  }
+  return lights;
+}
+
+// 128 x 96, looking down from `eye`.
+ViewCamera cameraAbove(const Scene& scene, const glm::vec3& eye, const glm::vec3& target) {
+  CameraRequest request;
+  request.eye = eye;
+  request.target = target;
+  request.up = {0.0f, 1.0f, 0.0f};
+  request.fovDegrees = 50.0f;
+  request.width = 128;
+  request.height = 96;
+  return resolveCamera(scene, request);
+}
+
+// Horizontal panes over a white floor, seen from above (blended panes do not hide the floor
+// in the AOVs), plus `extra` opaque boxes (center, half extent).
+Staged paneScene(const std::vector<Pane>& panes,
+                 const std::vector<std::pair<glm::vec3, float>>& boxes = {}) {
+  Staged s;
+  s.scene.materials.push_back(Material{});
+  test::placeMesh(s.scene, builder::makePlane(8.0f), glm::mat4(1.0f), 0);
+  for (const auto& [center, half] : boxes)
+    test::placeMesh(s.scene, builder::makeBox(glm::vec3(half)),
+                    glm::translate(glm::mat4(1.0f), center), 0);
+  for (const Pane& pane : panes) {
+    s.scene.materials.push_back(pane.material);
+    test::placeMesh(s.scene, builder::makePlane(pane.size),
+                    glm::translate(glm::mat4(1.0f), pane.center),
+                    static_cast<int>(s.scene.materials.size()) - 1);
+  }
+  s.lights = overheadLights();
+  s.camera = cameraAbove(s.scene, {0.0f, 7.0f, 2.5f}, {0.0f, 0.0f, 0.0f});
+  return s;
+}
+
+Frame renderAovs(const Staged& s) {
+  return test::renderAovs(contextForThisProgram(), s.scene, s.lights, s.camera);
+}
+
+ShadowVerification verifyAgainstRays(const Staged& s, const Frame& frame) {
+  return test::verifyAgainstRays(s.scene, s.lights, frame, s.camera);
+}
+
+// Every light: interior agreement and false rates within the bar, and the interior RGB
+// transmittance within kTransmittanceTolerance of the rays' at >= 99.5% of at least
+// `minTinted` points.
+void expectAgreementWithTheRays(const ShadowVerification& v, std::int64_t minChecked) {
+  for (const LightVerification& light : v.lights) {
+    SCOPED_TRACE(light.name);
+    EXPECT_GT(light.interior.evaluated, 1000);
+    EXPECT_GE(light.interior.agreementRate(), 0.999);
+    EXPECT_LE(light.interior.falseShadowRate(), 0.0005);
+    EXPECT_LE(light.interior.falseLightRate(), 0.0005);
+    EXPECT_GE(light.transmittance.evaluated, minChecked);
+    EXPECT_GE(light.transmittance.agreementRate(), 0.995);
+  }
+}
+
+// What the AOVs say of the floor points whose rays find `expected` (within 1e-5) here and a
+// tenth of a unit around: how many, and how many rendered within 0.02 per channel and with
+// visibility = the RGB mean.
+struct HandCheck {
+  int points = 0, matching = 0;
+};
+
+HandCheck checkFloor(const Staged& s, const FloatImage& aovs, const Light& light,
+                     const glm::vec3& expected) {
+  const ShadowReference reference(s.scene);
+  const int p = aovs.channelIndex("P.X"), a = aovs.channelIndex("A");
+  const int t = aovs.channelIndex("transmittance." + light.name + ".R");
+  const int vis = aovs.channelIndex("visibility." + light.name);
+  EXPECT_GE(t, 0);
+  HandCheck check;
+  if (t < 0) return check;
+  const glm::vec3 up(0.0f, 1.0f, 0.0f);
+  for (int y = 0; y < aovs.height; ++y)
+    for (int x = 0; x < aovs.width; ++x) {
+      if (!(aovs.at(x, y, a) > 0.0f)) continue;
+      const glm::vec3 P{aovs.at(x, y, p), aovs.at(x, y, p + 1), aovs.at(x, y, p + 2)};
+      if (std::abs(P.y) > 1e-3f) continue;
+      bool interior = true;
+      for (const glm::vec3& shift : {glm::vec3(0), glm::vec3(0.1f, 0, 0), glm::vec3(-0.1f, 0, 0),
+                                     glm::vec3(0, 0, 0.1f), glm::vec3(0, 0, -0.1f)}) {
+        const glm::vec3 r = reference.transmittance(light, P + shift, up);
+        interior =
+            interior && glm::all(glm::lessThanEqual(glm::abs(r - expected), glm::vec3(1e-5f)));
+      }
+      if (!interior) continue;
+      ++check.points;
+      const glm::vec3 rendered{aovs.at(x, y, t), aovs.at(x, y, t + 1), aovs.at(x, y, t + 2)};
+      const float mean = (rendered.r + rendered.g + rendered.b) / 3.0f;
+      if (glm::all(glm::lessThanEqual(glm::abs(rendered - expected), glm::vec3(0.02f))) &&
+          std::abs(aovs.at(x, y, vis) - mean) < 1e-5f)
+        ++check.matching;
+    }
+  return check;
+}
+
+}  // namespace
+
+TEST(Translucency, SurfaceTransmittanceFollowsTheIssuesFormula) {
+  // BLEND: 1 - alpha, whatever the color.
+  EXPECT_EQ(
+      surfaceTransmittance(glass({1, 0, 0, 1}, AlphaMode::Blend, 0), {0.2f, 0.4f, 0.6f, 0.25f}),
+      glm::vec3(0.75f));
+  // Transmission: transmission x base color.
+  EXPECT_EQ(
+      surfaceTransmittance(glass({1, 1, 1, 1}, AlphaMode::Opaque, 0.5f), {1.0f, 0.5f, 0.25f, 0.1f}),
+      glm::vec3(0.5f, 0.25f, 0.125f));
+  // Both: (1 - alpha) + alpha x transmission x base color.
+  EXPECT_EQ(
+      surfaceTransmittance(glass({1, 1, 1, 1}, AlphaMode::Blend, 0.5f), {1.0f, 0.5f, 0.25f, 0.5f}),
+      glm::vec3(0.75f, 0.625f, 0.5625f));
+  // MASK texels below the cutoff are holes.
+  EXPECT_EQ(
+      surfaceTransmittance(glass({1, 1, 1, 1}, AlphaMode::Mask, 0.5f), {1.0f, 0.0f, 0.0f, 0.4f}),
+      glm::vec3(1.0f));
+  EXPECT_TRUE(isTranslucentCaster(glass({1, 1, 1, 1}, AlphaMode::Opaque, 0.1f)));
+  EXPECT_FALSE(isTranslucentCaster(glass({1, 1, 1, 0.1f}, AlphaMode::Mask, 0.0f)));
+}
+
+// A colored pane (BLEND with transmission) 1 unit over the floor: the floor under it receives
+// (1 - 0.8) + 0.8 x 0.5 x (1, 0.5, 0.2) = (0.6, 0.4, 0.28) of every light, as the rays find.
+TEST(TranslucentShadows, ColoredPaneCastsATintedShadowThatMatchesTheRaysAndTheHandValue) {
+  const Staged s =
+      paneScene({{glass({1.0f, 0.5f, 0.2f, 0.8f}, AlphaMode::Blend, 0.5f), {0.0f, 1.0f, 0.0f}}});
+  const Frame frame = renderAovs(s);
+  const glm::vec3 hand(0.6f, 0.4f, 0.28f);
+  for (const Light& light : s.lights) {
+    SCOPED_TRACE(light.name);
+    const HandCheck check = checkFloor(s, *frame.aovs, light, hand);
+    EXPECT_GT(check.points, 300);
+    EXPECT_EQ(check.matching, check.points);
+  }
+  expectAgreementWithTheRays(verifyAgainstRays(s, frame), 1000);
+}
+
+// Two overlapping panes: where both shade the floor, their transmittances multiply:
+// 0.4 (BLEND alpha 0.6) x 0.8 x (0.25, 0.5, 1) (opaque-alpha BLEND with transmission 0.8).
+TEST(TranslucentShadows, OverlappingPanesMultiply) {
+  const Staged s =
+      paneScene({{glass({1.0f, 1.0f, 1.0f, 0.6f}, AlphaMode::Blend, 0.0f), {-0.6f, 1.0f, 0.0f}},
+                 {glass({0.25f, 0.5f, 1.0f, 1.0f}, AlphaMode::Blend, 0.8f), {0.6f, 1.6f, 0.0f}}});
+  const Frame frame = renderAovs(s);
+  const Light& point = s.lights[0];
+  const HandCheck both = checkFloor(s, *frame.aovs, point, glm::vec3(0.08f, 0.16f, 0.32f));
+  const HandCheck first = checkFloor(s, *frame.aovs, point, glm::vec3(0.4f));
+  const HandCheck second = checkFloor(s, *frame.aovs, point, glm::vec3(0.2f, 0.4f, 0.8f));
+  for (const HandCheck& check : {both, first, second}) {
+    EXPECT_GT(check.points, 100);
+    EXPECT_EQ(check.matching, check.points);
+  }
+  expectAgreementWithTheRays(verifyAgainstRays(s, frame), 1000);
+}
+
+// An opaque box over a colored BLEND pane still blocks every channel on the floor below; the
+// box's top, in front of the pane, and the top of an opaque-mode transmission pane (the glass
+// itself) are not tinted.
+TEST(TranslucentShadows, OpaqueCastersBlockFullyAndReceiversInFrontOfThePaneAreNotTinted) {
+  const Staged s = paneScene(
+      {{glass({0.2f, 0.9f, 0.4f, 1.0f}, AlphaMode::Opaque, 0.7f), {-1.2f, 1.0f, 0.0f}, 1.6f},
+       {glass({0.2f, 0.9f, 0.4f, 0.5f}, AlphaMode::Blend, 1.0f), {1.0f, 1.0f, 0.0f}, 1.6f}},
+      {{{0.8f, 2.5f, 0.0f}, 0.3f}});
+  const Frame frame = renderAovs(s);
+  const FloatImage& aovs = *frame.aovs;
+  const ShadowReference reference(s.scene);
+  const Light& point = s.lights[0];
+  const int p = aovs.channelIndex("P.X"), a = aovs.channelIndex("A");
+  const int t = aovs.channelIndex("transmittance.point.R");
+  const int vis = aovs.channelIndex("visibility.point");
+  ASSERT_GE(t, 0);
+  // The rays' value where it is the same (to float rounding of the interpolated color) a tenth
+  // of a unit around, else -1.
+  const auto steadyReference = [&](const glm::vec3& P) {
+    const glm::vec3 up(0.0f, 1.0f, 0.0f);
+    const glm::vec3 here = reference.transmittance(point, P, up);
+    for (const glm::vec3& shift : {glm::vec3(0.1f, 0, 0), glm::vec3(-0.1f, 0, 0),
+                                   glm::vec3(0, 0, 0.1f), glm::vec3(0, 0, -0.1f)})
+      if (glm::any(glm::greaterThan(glm::abs(reference.transmittance(point, P + shift, up) - here),
+                                    glm::vec3(1e-5f))))
+        return glm::vec3(-1.0f);
+    return here;
+  };
+  int boxTop = 0, paneTop = 0, floorBlocked = 0, floorTinted = 0;
+  for (int y = 0; y < aovs.height; ++y)
+    for (int x = 0; x < aovs.width; ++x) {
+      if (!(aovs.at(x, y, a) > 0.0f)) continue;
+      const glm::vec3 P{aovs.at(x, y, p), aovs.at(x, y, p + 1), aovs.at(x, y, p + 2)};
+      const glm::vec3 rgb{aovs.at(x, y, t), aovs.at(x, y, t + 1), aovs.at(x, y, t + 2)};
+      const glm::vec3 expected = steadyReference(P);
+      if (expected.x < 0.0f) continue;
+      if (std::abs(P.y - 2.8f) < 1e-3f) {
+        ++boxTop;
+        EXPECT_EQ(expected, glm::vec3(1.0f));
+        EXPECT_EQ(rgb, glm::vec3(1.0f)) << P.x << " " << P.z;
+      }
+      // The transmission pane's own top (the BLEND pane is not in the AOVs).
+      if (std::abs(P.y - 1.0f) < 1e-3f) {
+        ++paneTop;
+        EXPECT_EQ(expected, glm::vec3(1.0f));
+        EXPECT_EQ(rgb, glm::vec3(1.0f)) << P.x << " " << P.z;
+      }
+      // The floor in the box's shadow: the pane and the box in line, nothing gets through.
+      if (std::abs(P.y) < 1e-3f && expected == glm::vec3(0.0f)) {
+        ++floorBlocked;
+        EXPECT_EQ(rgb, glm::vec3(0.0f)) << P.x << " " << P.z;
+        EXPECT_EQ(aovs.at(x, y, vis), 0.0f);
+      }
+      // Beside it, under the BLEND pane alone: 0.5 + 0.5 x (0.2, 0.9, 0.4).
+      if (std::abs(P.y) < 1e-3f &&
+          glm::all(
+              glm::lessThan(glm::abs(expected - glm::vec3(0.6f, 0.95f, 0.7f)), glm::vec3(1e-5f)))) {
+        ++floorTinted;
+        EXPECT_LT(glm::length(rgb - expected), 0.02f) << P.x << " " << P.z;
+      }
+    }
+  EXPECT_GT(boxTop, 20);
+  EXPECT_GT(paneTop, 150);
+  EXPECT_GT(floorBlocked, 20);
+  EXPECT_GT(floorTinted, 100);
+  expectAgreementWithTheRays(verifyAgainstRays(s, frame), 500);
+}
+
+// "translucentShadows": false is the cut-out behaviour: a BLEND pane of alpha >= 0.5 blocks
+// fully, one below lets everything through, transmission is ignored, and the AOVs have no
+// transmittance channels. The rays follow the same rule.
+TEST(TranslucentShadows, TranslucentShadowsOffRestoresCutOutShadows) {
+  Staged s = paneScene(
+      {{glass({1.0f, 0.5f, 0.2f, 0.6f}, AlphaMode::Blend, 0.5f), {-1.2f, 1.0f, 0.0f}, 1.6f},
+       {glass({1.0f, 0.5f, 0.2f, 0.4f}, AlphaMode::Blend, 0.5f), {1.2f, 1.0f, 0.0f}, 1.6f}});
+  s.lights = overheadLights(false);
+  const Frame frame = renderAovs(s);
+  const FloatImage& aovs = *frame.aovs;
+  for (const Light& light : s.lights)
+    EXPECT_EQ(aovs.channelIndex("transmittance." + light.name + ".R"), -1);
+  const int p = aovs.channelIndex("P.X"), a = aovs.channelIndex("A");
+  const int vis = aovs.channelIndex("visibility.point");
+  int blocked = 0, open = 0;
+  for (int y = 0; y < aovs.height; ++y)
+    for (int x = 0; x < aovs.width; ++x) {
+      if (!(aovs.at(x, y, a) > 0.0f)) continue;
+      const glm::vec3 P{aovs.at(x, y, p), aovs.at(x, y, p + 1), aovs.at(x, y, p + 2)};
+      if (std::abs(P.y) > 1e-3f || std::abs(P.z) > 0.6f) continue;
+      // Shadows of the panes' centers (x = -+1.2 x 5/4 = -+1.5), away from their edges.
+      if (std::abs(P.x + 1.5f) < 0.5f) {
+        ++blocked;
+        EXPECT_EQ(aovs.at(x, y, vis), 0.0f) << P.x;
+      }
+      if (std::abs(P.x - 1.5f) < 0.5f) {
+        ++open;
+        EXPECT_EQ(aovs.at(x, y, vis), 1.0f) << P.x;
+      }
+    }
+  EXPECT_GT(blocked, 50);
+  EXPECT_GT(open, 50);
+  for (const LightVerification& light : verifyAgainstRays(s, frame).lights) {
+    EXPECT_GE(light.interior.agreementRate(), 0.999) << light.name;
+    EXPECT_EQ(light.transmittance.evaluated, 0) << light.name;
+  }
+}
+
+// KHR_materials_transmission from a glTF file: a vertical opaque-mode pane of transmission
+// 0.75 and base color (1, 0.5, 0.25) with a 1 x 2 transmission texture (R 255 where z < 0, 64
+// where z > 0, nearest texels) lets 0.75 x (1, 0.5, 0.25) through to the floor on one side and
+// 0.75 x 64/255 x (1, 0.5, 0.25) on the other.
+TEST(TranslucentShadows, TransmissionFromAGltfFileTintsTheShadow) {
+  builder::GltfBuilder b;
+  builder::MaterialDesc floor;
+  builder::PrimitiveOptions floorOptions;
+  floorOptions.material = b.addMaterial(floor);
+  b.addNode("floor", {}, b.addMesh(builder::makePlane(8.0f), floorOptions));
+  builder::MaterialDesc pane;
+  pane.baseColor = {1.0f, 0.5f, 0.25f, 1.0f};
+  pane.doubleSided = true;
+  builder::PrimitiveOptions paneOptions;
+  paneOptions.material = b.addMaterial(pane);
+  const int texture = b.addTexture(1, 2, {255, 0, 0, 255, 64, 0, 0, 255}, "transmission");
+  tinygltf::Sampler nearest;
+  nearest.magFilter = nearest.minFilter = TINYGLTF_TEXTURE_FILTER_NEAREST;
+  b.model().samplers.push_back(nearest);
+  b.model().textures[static_cast<std::size_t>(texture)].sampler =
+      static_cast<int>(b.model().samplers.size()) - 1;
+  tinygltf::Value::Object textureInfo = {{"index", tinygltf::Value(texture)}};
+  tinygltf::Value::Object transmission = {{"transmissionFactor", tinygltf::Value(0.75)},
+                                          {"transmissionTexture", tinygltf::Value(textureInfo)}};
+  b.model()
+      .materials[static_cast<std::size_t>(paneOptions.material)]
+      .extensions["KHR_materials_transmission"] = tinygltf::Value(transmission);
+  b.model().extensionsUsed.push_back("KHR_materials_transmission");
+  builder::Transform wall;
+  wall.translation = {0.0f, 1.2f, 0.0f};
+  wall.rotation = glm::angleAxis(glm::radians(90.0f), glm::vec3(0.0f, 0.0f, 1.0f));
+  b.addNode("pane", wall, b.addMesh(builder::makePlane(2.0f), paneOptions));
+  const std::filesystem::path file =
+      std::filesystem::path(::testing::TempDir()) / "translucent_transmission.gltf";
+  b.write(file, builder::FileFormat::GltfEmbedded);
+
+  Staged s;
+  s.scene = loadGltf(file);
+  ASSERT_TRUE(s.scene.warnings.empty()) << s.scene.warnings.front();
+  Light point;
+  point.name = "point";
+  point.position = {-2.5f, 2.0f, 0.0f};
+  point.intensity = 20.0f;
+  point.shadow.resolution = 256;
+  s.lights = {point};
+  s.camera = cameraAbove(s.scene, {2.0f, 7.0f, 0.5f}, {2.0f, 0.0f, 0.0f});
+  const Frame frame = renderAovs(s);
+  const HandCheck full = checkFloor(s, *frame.aovs, point, glm::vec3(0.75f, 0.375f, 0.1875f));
+  const HandCheck quarter =
+      checkFloor(s, *frame.aovs, point, 0.75f * (64.0f / 255.0f) * glm::vec3(1.0f, 0.5f, 0.25f));
+  for (const HandCheck& check : {full, quarter}) {
+    EXPECT_GT(check.points, 150);
+    EXPECT_EQ(check.matching, check.points);
+  }
+  expectAgreementWithTheRays(verifyAgainstRays(s, frame), 1000);
+}
+
+// Eight lights take two passes of RGB terms (six lights each): every light's
+// transmittance.<light>.R/G/B holds its own color. Lights 0-3 and 5-7 see the floor's middle
+// through a BLEND pane (alpha 0.75: 0.25 in every channel), light 4 beside the pane sees it lit;
+// light 6 has translucentShadows off and light 7 is vsm: cut-out shadows, no channels.
+TEST(TranslucentShadows, ManyLightsEachGetTheirOwnTransmittanceChannels) {
+  Staged s = paneScene(
+      {{glass({1.0f, 0.5f, 0.2f, 0.75f}, AlphaMode::Blend, 0.0f), {0.0f, 1.0f, 0.0f}, 4.0f}});
+  s.lights.clear();
+  for (int i = 0; i < 8; ++i) {
+    Light light;
+    light.name = "l" + std::to_string(i);
+    light.position = {0.1f * static_cast<float>(i) - 0.4f, 5.0f, 0.0f};
+    if (i == 4) light.position = {6.0f, 1.5f, 0.0f};
+    light.shadow.resolution = 64;
+    light.shadow.translucent = i != 6;
+    // Every filter in one frame: the lighting pass compiles them all with translucent shadows.
+    const ShadowFilter filters[8] = {
+        ShadowFilter::Pcf, ShadowFilter::PcfDisk, ShadowFilter::Hard, ShadowFilter::Poisson,
+        ShadowFilter::Pcf, ShadowFilter::Pcss,    ShadowFilter::Pcf,  ShadowFilter::Vsm};
+    light.shadow.filter = filters[i];
+    light.shadow.radius = i == 5 ? 0.05f : 0.0f;
+    s.lights.push_back(light);
+  }
+  const Frame frame = renderAovs(s);
+  const FloatImage& aovs = *frame.aovs;
+  // The covered pixel nearest to the floor's middle.
+  const int p = aovs.channelIndex("P.X"), a = aovs.channelIndex("A");
+  int bestX = 0, bestY = 0;
+  float best = 1e30f;
+  for (int y = 0; y < aovs.height; ++y)
+    for (int x = 0; x < aovs.width; ++x) {
+      if (!(aovs.at(x, y, a) > 0.0f)) continue;
+      const float d =
+          glm::length(glm::vec3(aovs.at(x, y, p), aovs.at(x, y, p + 1), aovs.at(x, y, p + 2)));
+      if (d < best) best = d, bestX = x, bestY = y;
+    }
+  ASSERT_LT(best, 0.1f);
+  for (int i = 0; i < 8; ++i) {
+    SCOPED_TRACE(i);
+    const std::string name = "l" + std::to_string(i);
+    const int t = aovs.channelIndex("transmittance." + name + ".R");
+    const float visibility = aovs.at(bestX, bestY, aovs.channelIndex("visibility." + name));
+    if (i == 6 || i == 7) {  // cut-out shadows: off, and vsm
+      EXPECT_EQ(t, -1);
+      EXPECT_LT(visibility, 0.05f);
+      continue;
+    }
+    ASSERT_GE(t, 0);
+    const float expected = i == 4 ? 1.0f : 0.25f;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(aovs.at(bestX, bestY, t + c), expected, 1e-5f);
+    EXPECT_NEAR(visibility, expected, 1e-5f);
+  }
+}
