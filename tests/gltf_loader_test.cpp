@@ -529,6 +529,30 @@ TEST_F(GltfLoaderTest, ReadsStridedNormalizedAndSparseAccessors) {
   EXPECT_TRUE(near(b.positions[2], {0, 3, 0}));
 }
 
+// Float COLOR_0 must lie in 0..1 (glTF 3.7.2.1): values outside are clamped, NaN reads as 1.
+TEST_F(GltfLoaderTest, FloatColorsOutsideZeroToOneAreClampedWithAWarning) {
+  // Positions (0,0,0), (1,0,0), (0,1,0); colors (1.5,0,0), (0,-0.5,0), (NaN,0,0).
+  const fs::path file = path("colors.gltf");
+  std::ofstream(file) << R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1}}]}],
+    "accessors": [
+      {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+       "min": [0, 0, 0], "max": [1, 1, 0]},
+      {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 72}],
+    "buffers": [{"byteLength": 72, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAADAPwAAAAAAAAAAAAAAAAAAAL8AAAAAAADAfwAAAAAAAAAA"}]})";
+  const Scene scene = loadGltf(file);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  EXPECT_EQ(scene.meshes[0].colors,
+            (std::vector<glm::vec4>{{1, 0, 0, 1}, {0, 0, 0, 1}, {1, 0, 0, 1}}));
+  EXPECT_EQ(
+      std::count(scene.warnings.begin(), scene.warnings.end(),
+                 file.string() + ": meshes[0].primitives[0].attributes.COLOR_0: accessors[1] has 3 "
+                                 "values outside 0..1 (the first at element 0); clamped to 0..1"),
+      1);
+}
+
 // Skins and morph targets are applied (tests/animation_test.cpp); what the loader must do is
 // give each posed instance a mesh of its own, since two nodes pose a shared mesh differently.
 TEST_F(GltfLoaderTest, MorphedInstancesOfASharedMeshGetAMeshEach) {

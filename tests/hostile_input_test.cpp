@@ -13,6 +13,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "tests/support/cli_fixture.h"
@@ -413,6 +414,98 @@ TEST_F(HostileInputTest, ForbiddenGltfValuesAreErrorsNamingTheObject) {
   }
 }
 
+// The largest value of the index type restarts the primitive in WebGL, WebGPU and Metal and is
+// a vertex elsewhere; glTF forbids it. 255 (u8) and 65535 (u16) name vertices that exist here
+// (POSITION without a bufferView: zeros), so only the restart rule can refuse them.
+TEST_F(HostileInputTest, ThePrimitiveRestartIndexIsAnInputErrorNamingTheAccessor) {
+  const auto indices = [](int componentType, const std::string& base64, int byteLength,
+                          int vertices) {
+    return [=](json& doc) {
+      doc["accessors"][0] = {{"componentType", 5126},
+                             {"count", vertices},
+                             {"type", "VEC3"},
+                             {"min", {0, 0, 0}},
+                             {"max", {0, 0, 0}}};
+      doc["buffers"][0] = {{"byteLength", byteLength},
+                           {"uri", "data:application/octet-stream;base64," + base64}};
+      doc["bufferViews"][0]["byteLength"] = byteLength;
+      doc["accessors"].push_back(
+          {{"bufferView", 0}, {"componentType", componentType}, {"count", 3}, {"type", "SCALAR"}});
+      doc["meshes"][0]["primitives"][0]["indices"] = 1;
+    };
+  };
+  // 0, 1, 255 / 65535 / 2^32-1, little-endian, as base64.
+  const std::vector<std::tuple<int, std::string, int, int, std::string>> cases = {
+      {5121, "AAH/", 3, 256, "255, the primitive restart value of UNSIGNED_BYTE"},
+      {5123, "AAABAP//", 6, 65536, "65535, the primitive restart value of UNSIGNED_SHORT"},
+      {5125, "AAAAAAEAAAD/////", 12, 3, "4294967295, the primitive restart value of UNSIGNED_INT"},
+  };
+  for (const auto& [type, base64, length, vertices, value] : cases) {
+    EXPECT_TRUE(refused(
+        render(writeTriangle(input("restart.gltf"), indices(type, base64, length, vertices))),
+        "restart.gltf: meshes[0].primitives[0].indices: accessors[1] element 2 is " + value +
+            ", which glTF forbids"));
+  }
+  // 0, 1, 254: the same file with a vertex index below the restart value loads.
+  const RunResult r =
+      runBounded({"info", writeTriangle(input("ok.gltf"), indices(5121, "AAH+", 3, 256))});
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
+// Float colors outside 0..1 are clamped (integer ones cannot be): the render equals that of the
+// same file with the clamped values, and a warning names the accessor.
+TEST_F(HostileInputTest, ColorsOutsideZeroToOneAreClampedWithAWarning) {
+  const auto withColors = [](const std::string& base64) {
+    return [=](json& doc) {
+      doc["buffers"][0]["byteLength"] = 72;
+      doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64;
+      doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 36}});
+      doc["accessors"].push_back(
+          {{"bufferView", 1}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}});
+      doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 1;
+    };
+  };
+  const std::string positions = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";
+  // (1.5, 0, 0), (0, -0.5, 0), (0, 0, 1) and the clamped (1, 0, 0), (0, 0, 0), (0, 0, 1).
+  const RunResult outside = render(
+      writeTriangle(input("outside.gltf"),
+                    withColors(positions + "AADAPwAAAAAAAAAAAAAAAAAAAL8AAAAAAAAAAAAAAAAAAIA/")));
+  EXPECT_EQ(outside.status, 0) << outside.err;
+  EXPECT_TRUE(contains(outside.err,
+                       "outside.gltf: meshes[0].primitives[0].attributes.COLOR_0: accessors[1] has "
+                       "2 values outside 0..1 (the first at element 0); clamped to 0..1"))
+      << outside.err;
+  fs::rename(output("a.png"), output("outside.png"));
+  const RunResult clamped = render(
+      writeTriangle(input("clamped.gltf"),
+                    withColors(positions + "AACAPwAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAIA/")));
+  EXPECT_EQ(clamped.status, 0) << clamped.err;
+  EXPECT_FALSE(contains(clamped.err, "COLOR_0"));
+  EXPECT_TRUE(omnishadow::test_support::sameBytes(output("outside.png"), output("a.png")));
+}
+
+// glTF requires min/max on POSITION accessors; nothing reads them (bounds come from the values),
+// so the file draws as it says, with a warning naming each accessor.
+TEST_F(HostileInputTest, PositionsWithoutMinMaxAreDrawnWithAWarning) {
+  const fs::path scene = writeTriangle(input("nobounds.gltf"), [](json& doc) {
+    doc["accessors"][0].erase("min");
+    doc["accessors"][0].erase("max");
+    // A morph target's POSITION (no bufferView: zeros) without them too.
+    doc["accessors"].push_back({{"componentType", 5126}, {"count", 3}, {"type", "VEC3"}});
+    doc["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", 1}}};
+  });
+  const RunResult r = render(scene);
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const std::string object :
+       {"attributes.POSITION: accessors[0]", "targets[0].POSITION: accessors[1]"}) {
+    EXPECT_TRUE(contains(r.err, "nobounds.gltf: meshes[0].primitives[0]." + object +
+                                    " has no min/max, which glTF requires; bounds are computed "
+                                    "from its values"))
+        << r.err;
+  }
+  EXPECT_TRUE(fs::exists(output("a.png")));
+}
+
 // What tinygltf reads as absent (a negative byteStride, a light range of 0) or reports without
 // its object is checked on the JSON itself.
 TEST_F(HostileInputTest, ValuesTinygltfWouldDropAreErrorsNamingTheObject) {
@@ -507,6 +600,25 @@ TEST_F(HostileInputTest, APlaceholderBufferThatNothingUsesIsIgnored) {
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(contains(r.out + r.err, "buffers[1]: no uri and no bufferView uses it; ignored"))
       << r.out << r.err;
+}
+
+// tinygltf's text ("buffers[0]: 'uri' is missing from non binary glTF file buffer.") names no
+// user and no rule.
+TEST_F(HostileInputTest, ABufferWithoutUriThatAViewUsesIsAnInputErrorNamingBoth) {
+  const auto withoutUri = [](json& doc) { doc["buffers"][0].erase("uri"); };
+  EXPECT_TRUE(refused(runBounded({"info", writeTriangle(input("nouri.gltf"), withoutUri)}),
+                      "nouri.gltf: buffers[0]: has no uri, but bufferViews[0] uses it (only the "
+                      "first buffer of a .glb, its BIN chunk, may leave uri out)"));
+  // In a .glb, only buffer 0 is the BIN chunk.
+  const fs::path glb = boxScene("box.glb", FileFormat::Glb);
+  std::string bytes = readFile(glb);
+  json doc = json::parse(bytes.substr(20, le32(bytes, 12)));
+  doc["buffers"].push_back({{"byteLength", 4}});
+  doc["bufferViews"].push_back({{"buffer", 1}, {"byteLength", 4}});
+  writeBytes(glb, glbWithJson(bytes, doc.dump()));
+  EXPECT_TRUE(refused(runBounded({"info", glb.string()}),
+                      "box.glb: buffers[1]: has no uri, but bufferViews[" +
+                          std::to_string(doc["bufferViews"].size() - 1) + "] uses it"));
 }
 
 // ---------------------------------------------------------------------------------------------

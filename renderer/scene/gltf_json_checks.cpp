@@ -123,15 +123,24 @@ class Reviewer {
   void placeholderBuffers(Json& root, bool binary, JsonReview& review) {
     const auto buffers = root.find("buffers");
     if (buffers == root.end() || !buffers->is_array()) return;
-    std::vector<bool> used(buffers->size(), false);
-    eachObject(root, "bufferViews", [&](std::size_t, const Json& view) {
+    constexpr std::size_t kUnused = SIZE_MAX;
+    std::vector<std::size_t> firstView(buffers->size(), kUnused);
+    eachObject(root, "bufferViews", [&](std::size_t v, const Json& view) {
       const auto buffer = view.find("buffer");
-      if (buffer != view.end() && isInteger(*buffer, 0, std::int64_t(used.size()) - 1))
-        used[buffer->get<std::size_t>()] = true;
+      if (buffer != view.end() && isInteger(*buffer, 0, std::int64_t(firstView.size()) - 1) &&
+          firstView[buffer->get<std::size_t>()] == kUnused) {
+        firstView[buffer->get<std::size_t>()] = v;
+      }
     });
     for (std::size_t i = binary ? 1 : 0; i < buffers->size(); ++i) {
       Json& buffer = (*buffers)[i];
-      if (!buffer.is_object() || buffer.contains("uri") || used[i]) continue;
+      if (!buffer.is_object() || buffer.contains("uri")) continue;
+      // tinygltf's own words name neither the buffer's user nor the rule.
+      if (firstView[i] != kUnused) {
+        fail(at("buffers", i),
+             "has no uri, but " + at("bufferViews", firstView[i]) +
+                 " uses it (only the first buffer of a .glb, its BIN chunk, may leave uri out)");
+      }
       buffer = Json{{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
       review.warnings.push_back(at("buffers", i) + ": no uri and no bufferView uses it; ignored");
       changed_ = true;
