@@ -636,6 +636,33 @@ TEST_F(HostileInputTest, AFrameLargerThanTheGlAllocatesIsAnInputErrorNamingTheLi
   }
 }
 
+// The AOV pass holds 8 RGBA32F targets and a 32-bit depth at once (132 bytes a pixel), the
+// layer pass 3 more and a depth (52), and the AOV image 4 bytes a channel (11 fixed, one
+// visibility per light: the box scene has one). Their sum is checked against --max-memory
+// before any GL allocation; the frame-size check covers one RGBA32F target only.
+TEST_F(HostileInputTest, TheAovPassMemoryIsCheckedAgainstMaxMemoryBeforeAllocating) {
+  const fs::path scene = boxScene("s/a.gltf");
+  const auto aovRender = [&](const std::string& width, const std::string& height,
+                             std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render", scene.string(), "-o",  "a.png",    "--aov",
+                                     "a.exr",  "--width",      width, "--height", height};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return runBounded(args);
+  };
+  // 2000x1500: (132 + 12 * 4) * 3e6 bytes = 515 MiB (378 + 137).
+  EXPECT_TRUE(refused(aovRender("2000", "1500", {"--max-memory", "64"}),
+                      "the AOV pass at 2000x1500 needs 515 MiB (render targets 378 MiB, AOV image "
+                      "137 MiB), more than the 64 MiB allowed (--max-memory)"));
+  // With albedo: (132 + 52) * 3e6 = 526 MiB of targets, 15 channels = 172 MiB of image.
+  EXPECT_TRUE(refused(aovRender("2000", "1500", {"--max-memory", "64", "--aov-layers", "albedo"}),
+                      "the AOV pass at 2000x1500 needs 698 MiB (render targets 526 MiB, AOV image "
+                      "172 MiB), more than the 64 MiB allowed (--max-memory)"));
+  // 64x48 needs 0.53 MiB: within 32 MiB (the shadow maps' own bound needs 24), it renders.
+  const RunResult r = aovRender("64", "48", {"--max-memory", "32"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(output("a.exr")));
+}
+
 TEST_F(HostileInputTest, TooManyShadowedLightsOfOneResolutionAreToldSo) {
   const fs::path scene = boxScene("s/a.gltf");
   std::string lights = R"({"lights": [)";
