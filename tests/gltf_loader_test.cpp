@@ -15,6 +15,7 @@
 #include <iterator>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -879,6 +880,21 @@ TEST_F(GltfLoaderTest, CameraValuesOutsideFloatRangeAreRefused) {
   EXPECT_EQ(cameraProblem(perspective), "perspective znear must be non-zero");
   perspective.znear = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(cameraProblem(perspective), "perspective znear must be a finite number");
+  // yfov from 0.001 degrees to below pi: narrower loses the scene to float precision, pi and
+  // wider turn the picture inside out.
+  perspective.znear = 0.1f;
+  for (const float yfov : {1e-30f, 1.7e-5f, 3.1416f, 4.0f}) {
+    perspective.yfov = yfov;
+    std::ostringstream shown;
+    shown << yfov;
+    EXPECT_EQ(
+        cameraProblem(perspective),
+        "perspective yfov " + shown.str() + " must be from 1.745e-05 (0.001 degrees) to below pi");
+  }
+  for (const float yfov : {1.75e-5f, 3.1415f}) {
+    perspective.yfov = yfov;
+    EXPECT_EQ(cameraProblem(perspective), "") << yfov;
+  }
 }
 
 TEST_F(GltfLoaderTest, PerspectiveCamerasWithoutPositiveYfovOrZnearGetDefaultsAndAWarning) {

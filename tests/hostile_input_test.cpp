@@ -12,6 +12,7 @@
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -680,6 +681,50 @@ TEST_F(HostileInputTest, MaxMemoryMustBeAPositiveFiniteNumber) {
   for (const std::string value : {"nan", "inf", "1e+300", "0", "-5"}) {
     EXPECT_TRUE(refused(render(scene, {"--max-memory", value}),
                         "--max-memory " + value + ": expected a number of MiB in (0, 1048576]"));
+  }
+}
+
+// Extreme camera numbers, on a glTF camera (the box scene) and on automatic framing (the
+// triangle): each renders or is refused naming the option given. --fov 1e-30 was blamed on
+// --eye/--target and --eye 3e38 on --up.
+TEST_F(HostileInputTest, ExtremeCameraNumbersRenderOrNameTheOption) {
+  const fs::path box = boxScene("box.gltf");
+  const fs::path triangle = writeTriangle(input("triangle.gltf"), [](json&) {});
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refusals = {
+      {{"--fov", "1e-30"}, "--fov 1e-30: expected degrees from 0.001 to below 180"},
+      {{"--eye", "1,2,3", "--target", "1,2,3"},
+       "--eye/--target: the eye and the target are the same point"},
+      {{"--eye", "0,5,0", "--target", "0,0,0", "--up", "0,1,0"},
+       "--up: the up vector is parallel to the view direction"},
+      {{"--eye", "-3e38,-3e38,-3e38", "--target", "3e38,3e38,3e38"},
+       "--eye/--target: the eye is too far from the origin"},
+      // Off the axes, the view matrix's translation (-dot(axis, eye)) passes 3.4e38.
+      {{"--eye", "3e38,3e38,3e38"}, "--eye: the eye is too far from the origin"},
+  };
+  const std::vector<std::vector<std::string>> renders = {
+      {"--fov", "179.9999"}, {"--fov", "0.001"}, {"--eye", "3e38,0,0"}};
+  for (const fs::path& scene : {box, triangle}) {
+    for (const auto& [options, message] : refusals) {
+      EXPECT_TRUE(refused(render(scene, options), message)) << scene << " " << options.front();
+    }
+    for (const std::vector<std::string>& options : renders) {
+      const RunResult r = render(scene, options);
+      EXPECT_EQ(r.status, 0) << scene << " " << options.back() << ": " << r.err;
+      fs::remove(output("a.png"));
+    }
+  }
+  // A glTF yfov of pi or more turns the picture inside out; 1e-30 loses the scene.
+  for (const double yfov : {4.0, 1e-30}) {
+    const fs::path scene = writeTriangle(input("yfov.gltf"), [yfov](json& doc) {
+      doc["cameras"] = {
+          {{"type", "perspective"}, {"perspective", {{"yfov", yfov}, {"znear", 0.1}}}}};
+      doc["nodes"].push_back({{"camera", 0}, {"translation", {0.3, 0.3, 3}}});
+      doc["scenes"][0]["nodes"] = {0, 1};
+    });
+    std::ostringstream shown;
+    shown << yfov;
+    EXPECT_TRUE(refused(render(scene), "yfov.gltf: cameras[0]: perspective yfov " + shown.str() +
+                                           " must be from 1.745e-05 (0.001 degrees) to below pi"));
   }
 }
 
