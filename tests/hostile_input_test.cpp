@@ -622,6 +622,47 @@ TEST_F(HostileInputTest, ABufferWithoutUriThatAViewUsesIsAnInputErrorNamingBoth)
                           std::to_string(doc["bufferViews"].size() - 1) + "] uses it"));
 }
 
+// The review parses the JSON with long strings (over 256 bytes: data URIs) cut short, so that
+// a 40 MB data URI is not parsed twice. What it checks still holds with long strings around.
+TEST_F(HostileInputTest, TheJsonReviewSeesPastLongStrings) {
+  // 300 bytes after the positions make the data URI long; 36 + 300 = 336 = 112 * 3 bytes.
+  std::string base64 = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";
+  base64 += std::string(400, 'A');
+  const auto longBuffer = [&](json& doc) {
+    doc["buffers"][0] = {{"byteLength", 336},
+                         {"uri", "data:application/octet-stream;base64," + base64}};
+  };
+  // A rewrite (a placeholder for an unused buffer without uri) keeps the long data URI whole:
+  // the triangle's positions are read from it.
+  const RunResult placeholder = render(writeTriangle(input("long.gltf"), [&](json& doc) {
+    longBuffer(doc);
+    doc["buffers"].push_back({{"byteLength", 4}});
+  }));
+  EXPECT_EQ(placeholder.status, 0) << placeholder.err;
+  EXPECT_TRUE(contains(placeholder.err, "buffers[1]: no uri and no bufferView uses it; ignored"));
+  fs::remove(output("a.png"));
+  // A long WebP data URI is still recognized by its start.
+  const std::string webp = "data:image/webp;base64,UklGRhwAAABXRUJQ" + std::string(400, 'A');
+  const RunResult r = runBounded({"info", writeTriangle(input("webp.gltf"), [&](json& doc) {
+                                            longBuffer(doc);
+                                            doc["extensionsUsed"] = {"EXT_texture_webp"};
+                                            doc["images"] = {{{"uri", webp}}};
+                                            doc["textures"] = {{{"source", 0}}};
+                                          }).string()});
+  EXPECT_TRUE(refused(r, "webp.gltf: textures[0].source: images[0] is WebP")) << r.err;
+  // Quotes, backslashes and non-ASCII bytes around the cut points do not hide a forbidden value.
+  std::string note;
+  for (int i = 0; i < 40; ++i) note += "\"q\" \\ \u00e9 \xc3\xa9 ";
+  EXPECT_TRUE(refused(runBounded({"info", writeTriangle(input("escapes.gltf"),
+                                                        [&](json& doc) {
+                                                          longBuffer(doc);
+                                                          doc["extras"] = {{note, note}};
+                                                          doc["bufferViews"][0]["byteStride"] = -12;
+                                                        })
+                                              .string()}),
+                      "escapes.gltf: bufferViews[0]: byteStride -12 is not a multiple of 4"));
+}
+
 // ---------------------------------------------------------------------------------------------
 // 7. Late or cryptic failures
 

@@ -213,12 +213,49 @@ class Reviewer {
   bool changed_ = false;
 };
 
-}  // namespace
+// Plain bytes of a string that can stand for a cut one: no quote, escape, control or non-ASCII
+// byte, so that any run of them is valid JSON string content.
+bool plainStringByte(char c) {
+  const auto byte = static_cast<unsigned char>(c);
+  return byte >= 0x20 && byte < 0x80 && c != '"' && c != '\\';
+}
 
-JsonReview reviewGltfJson(std::string_view json, const std::string& file, bool binary) {
-  JsonReview review;
+// `json` with every string longer than kLongString bytes cut to its plain first and last
+// (at most kKept) bytes. The review reads no long string but to spot WebP (a data: URI's
+// start, a file name's end): parsed whole, a 40 MB data URI cost nlohmann as much as tinygltf's
+// own parse. Text that is no JSON stays no JSON (an unterminated string is copied as it is).
+std::string withoutLongStrings(std::string_view json) {
+  constexpr std::size_t kLongString = 256, kKept = 32;
+  std::string out;
+  out.reserve(std::min<std::size_t>(json.size(), 1 << 20));
+  std::size_t copied = 0;
+  for (std::size_t i = json.find('"'); i != std::string_view::npos; i = json.find('"', i + 1)) {
+    // i opens a string: find the quote that closes it.
+    std::size_t end = i + 1;
+    while (end < json.size() && json[end] != '"') end += json[end] == '\\' ? 2 : 1;
+    if (end >= json.size()) break;
+    const std::size_t length = end - i - 1;
+    if (length > kLongString) {
+      const std::string_view content = json.substr(i + 1, length);
+      std::size_t head = 0, tail = 0;
+      while (head < kKept && plainStringByte(content[head])) ++head;
+      while (tail < kKept && plainStringByte(content[length - 1 - tail])) ++tail;
+      out.append(json, copied, i + 1 - copied);
+      out.append(content.substr(0, head)).append(content.substr(length - tail));
+      copied = end;
+    }
+    i = end;
+  }
+  out.append(json.substr(copied));
+  return out;
+}
+
+// Runs the review on `json`; with `rewrite`, review.rewritten holds the changed JSON (when
+// something changed). Returns whether something did.
+bool review(std::string_view json, const std::string& file, bool binary, bool rewrite,
+            JsonReview& review) {
   Json root = Json::parse(json.begin(), json.end(), nullptr, /*allow_exceptions=*/false);
-  if (!root.is_object()) return review;
+  if (!root.is_object()) return false;
   Reviewer reviewer(file);
   reviewer.bufferViews(root);
   reviewer.accessors(root);
@@ -226,8 +263,20 @@ JsonReview reviewGltfJson(std::string_view json, const std::string& file, bool b
   reviewer.meshes(root, review);
   reviewer.placeholderBuffers(root, binary, review);
   reviewer.webpImages(root, review);
-  if (!review.hiddenIndices.empty() || reviewer.changed()) review.rewritten = root.dump();
-  return review;
+  const bool changed = !review.hiddenIndices.empty() || reviewer.changed();
+  if (changed && rewrite) review.rewritten = root.dump();
+  return changed;
+}
+
+}  // namespace
+
+JsonReview reviewGltfJson(std::string_view json, const std::string& file, bool binary) {
+  JsonReview cut;
+  // The rewritten JSON keeps the long strings: the rare file that needs one is parsed again.
+  if (!review(withoutLongStrings(json), file, binary, /*rewrite=*/false, cut)) return cut;
+  JsonReview whole;
+  review(json, file, binary, /*rewrite=*/true, whole);
+  return whole;
 }
 
 void restoreHiddenIndices(tinygltf::Model& model, const std::vector<HiddenIndices>& hidden) {
