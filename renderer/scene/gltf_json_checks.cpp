@@ -231,9 +231,16 @@ std::string withoutLongStrings(std::string_view json) {
   std::size_t copied = 0;
   for (std::size_t i = json.find('"'); i != std::string_view::npos; i = json.find('"', i + 1)) {
     // i opens a string: find the quote that closes it.
-    std::size_t end = i + 1;
-    while (end < json.size() && json[end] != '"') end += json[end] == '\\' ? 2 : 1;
-    if (end >= json.size()) break;
+    // A quote after an odd number of backslashes is escaped (found with memchr: the strings
+    // are most of a data URI file).
+    std::size_t end = json.find('"', i + 1);
+    while (end != std::string_view::npos) {
+      std::size_t backslashes = 0;
+      while (json[end - 1 - backslashes] == '\\') ++backslashes;
+      if (backslashes % 2 == 0) break;
+      end = json.find('"', end + 1);
+    }
+    if (end == std::string_view::npos) break;
     const std::size_t length = end - i - 1;
     if (length > kLongString) {
       const std::string_view content = json.substr(i + 1, length);
