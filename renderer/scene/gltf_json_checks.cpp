@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/errors.h"
+#include "renderer/scene/gltf_compressed_json.h"
 #include "renderer/scene/gltf_context.h"
 
 namespace omnishadow::gltf_detail {
@@ -119,22 +120,29 @@ class Reviewer {
   }
 
   // A buffer without a uri (other than a .glb's BIN chunk) that no bufferView uses holds
-  // nothing the file needs; tinygltf refuses it, so it becomes one byte of data.
+  // nothing the file needs; tinygltf refuses it, so it becomes one byte of data. One that
+  // meshopt-compressed bufferViews use is their fallback, left to gltf_compressed_json (which
+  // also names an uncompressed view of it).
   void placeholderBuffers(Json& root, bool binary, JsonReview& review) {
     const auto buffers = root.find("buffers");
     if (buffers == root.end() || !buffers->is_array()) return;
     constexpr std::size_t kUnused = SIZE_MAX;
     std::vector<std::size_t> firstView(buffers->size(), kUnused);
+    std::vector<bool> fallback(buffers->size(), false);
     eachObject(root, "bufferViews", [&](std::size_t v, const Json& view) {
       const auto buffer = view.find("buffer");
-      if (buffer != view.end() && isInteger(*buffer, 0, std::int64_t(firstView.size()) - 1) &&
-          firstView[buffer->get<std::size_t>()] == kUnused) {
-        firstView[buffer->get<std::size_t>()] = v;
+      if (buffer == view.end() || !isInteger(*buffer, 0, std::int64_t(firstView.size()) - 1))
+        return;
+      const auto b = buffer->get<std::size_t>();
+      if (usesMeshopt(view)) {
+        fallback[b] = true;
+      } else if (firstView[b] == kUnused) {
+        firstView[b] = v;
       }
     });
     for (std::size_t i = binary ? 1 : 0; i < buffers->size(); ++i) {
       Json& buffer = (*buffers)[i];
-      if (!buffer.is_object() || buffer.contains("uri")) continue;
+      if (!buffer.is_object() || buffer.contains("uri") || fallback[i]) continue;
       // tinygltf's own words name neither the buffer's user nor the rule.
       if (firstView[i] != kUnused) {
         fail(at("buffers", i),
