@@ -263,6 +263,7 @@ Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loade
   settings.readShadowMaps = !job.dumpDepth.empty();
   settings.lightViewSize = job.lightViews.empty() ? 0 : job.lightViewSize;
   settings.maxShadowMemoryMiB = job.maxMemoryMiB;
+  settings.maxAovMemoryMiB = job.maxMemoryMiB;
   settings.shadowPass = job.shadowPass;
   settings.antialiasing = job.antialiasing;
   return renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera, settings,

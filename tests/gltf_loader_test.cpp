@@ -15,6 +15,7 @@
 #include <iterator>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -518,6 +519,30 @@ TEST_F(GltfLoaderTest, ReadsStridedNormalizedAndSparseAccessors) {
   EXPECT_TRUE(near(b.positions[2], {0, 3, 0}));
 }
 
+// Float COLOR_0 must lie in 0..1 (glTF 3.7.2.1): values outside are clamped, NaN reads as 1.
+TEST_F(GltfLoaderTest, FloatColorsOutsideZeroToOneAreClampedWithAWarning) {
+  // Positions (0,0,0), (1,0,0), (0,1,0); colors (1.5,0,0), (0,-0.5,0), (NaN,0,0).
+  const fs::path file = path("colors.gltf");
+  std::ofstream(file) << R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1}}]}],
+    "accessors": [
+      {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+       "min": [0, 0, 0], "max": [1, 1, 0]},
+      {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 72}],
+    "buffers": [{"byteLength": 72, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAADAPwAAAAAAAAAAAAAAAAAAAL8AAAAAAADAfwAAAAAAAAAA"}]})";
+  const Scene scene = loadGltf(file);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  EXPECT_EQ(scene.meshes[0].colors,
+            (std::vector<glm::vec4>{{1, 0, 0, 1}, {0, 0, 0, 1}, {1, 0, 0, 1}}));
+  EXPECT_EQ(
+      std::count(scene.warnings.begin(), scene.warnings.end(),
+                 file.string() + ": meshes[0].primitives[0].attributes.COLOR_0: accessors[1] has 3 "
+                                 "values outside 0..1 (the first at element 0); clamped to 0..1"),
+      1);
+}
+
 // Skins and morph targets are applied (tests/animation_test.cpp); what the loader must do is
 // give each posed instance a mesh of its own, since two nodes pose a shared mesh differently.
 TEST_F(GltfLoaderTest, MorphedInstancesOfASharedMeshGetAMeshEach) {
@@ -844,6 +869,21 @@ TEST_F(GltfLoaderTest, CameraValuesOutsideFloatRangeAreRefused) {
   EXPECT_EQ(cameraProblem(perspective), "perspective znear must be non-zero");
   perspective.znear = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(cameraProblem(perspective), "perspective znear must be a finite number");
+  // yfov from 0.001 degrees to below pi: narrower loses the scene to float precision, pi and
+  // wider turn the picture inside out.
+  perspective.znear = 0.1f;
+  for (const float yfov : {1e-30f, 1.7e-5f, 3.1416f, 4.0f}) {
+    perspective.yfov = yfov;
+    std::ostringstream shown;
+    shown << yfov;
+    EXPECT_EQ(
+        cameraProblem(perspective),
+        "perspective yfov " + shown.str() + " must be from 1.745e-05 (0.001 degrees) to below pi");
+  }
+  for (const float yfov : {1.75e-5f, 3.1415f}) {
+    perspective.yfov = yfov;
+    EXPECT_EQ(cameraProblem(perspective), "") << yfov;
+  }
 }
 
 TEST_F(GltfLoaderTest, PerspectiveCamerasWithoutPositiveYfovOrZnearGetDefaultsAndAWarning) {

@@ -12,7 +12,9 @@
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "tests/support/cli_fixture.h"
@@ -413,6 +415,98 @@ TEST_F(HostileInputTest, ForbiddenGltfValuesAreErrorsNamingTheObject) {
   }
 }
 
+// The largest value of the index type restarts the primitive in WebGL, WebGPU and Metal and is
+// a vertex elsewhere; glTF forbids it. 255 (u8) and 65535 (u16) name vertices that exist here
+// (POSITION without a bufferView: zeros), so only the restart rule can refuse them.
+TEST_F(HostileInputTest, ThePrimitiveRestartIndexIsAnInputErrorNamingTheAccessor) {
+  const auto indices = [](int componentType, const std::string& base64, int byteLength,
+                          int vertices) {
+    return [=](json& doc) {
+      doc["accessors"][0] = {{"componentType", 5126},
+                             {"count", vertices},
+                             {"type", "VEC3"},
+                             {"min", {0, 0, 0}},
+                             {"max", {0, 0, 0}}};
+      doc["buffers"][0] = {{"byteLength", byteLength},
+                           {"uri", "data:application/octet-stream;base64," + base64}};
+      doc["bufferViews"][0]["byteLength"] = byteLength;
+      doc["accessors"].push_back(
+          {{"bufferView", 0}, {"componentType", componentType}, {"count", 3}, {"type", "SCALAR"}});
+      doc["meshes"][0]["primitives"][0]["indices"] = 1;
+    };
+  };
+  // 0, 1, 255 / 65535 / 2^32-1, little-endian, as base64.
+  const std::vector<std::tuple<int, std::string, int, int, std::string>> cases = {
+      {5121, "AAH/", 3, 256, "255, the primitive restart value of UNSIGNED_BYTE"},
+      {5123, "AAABAP//", 6, 65536, "65535, the primitive restart value of UNSIGNED_SHORT"},
+      {5125, "AAAAAAEAAAD/////", 12, 3, "4294967295, the primitive restart value of UNSIGNED_INT"},
+  };
+  for (const auto& [type, base64, length, vertices, value] : cases) {
+    EXPECT_TRUE(refused(
+        render(writeTriangle(input("restart.gltf"), indices(type, base64, length, vertices))),
+        "restart.gltf: meshes[0].primitives[0].indices: accessors[1] element 2 is " + value +
+            ", which glTF forbids"));
+  }
+  // 0, 1, 254: the same file with a vertex index below the restart value loads.
+  const RunResult r =
+      runBounded({"info", writeTriangle(input("ok.gltf"), indices(5121, "AAH+", 3, 256))});
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
+// Float colors outside 0..1 are clamped (integer ones cannot be): the render equals that of the
+// same file with the clamped values, and a warning names the accessor.
+TEST_F(HostileInputTest, ColorsOutsideZeroToOneAreClampedWithAWarning) {
+  const auto withColors = [](const std::string& base64) {
+    return [=](json& doc) {
+      doc["buffers"][0]["byteLength"] = 72;
+      doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64;
+      doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 36}});
+      doc["accessors"].push_back(
+          {{"bufferView", 1}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}});
+      doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 1;
+    };
+  };
+  const std::string positions = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";
+  // (1.5, 0, 0), (0, -0.5, 0), (0, 0, 1) and the clamped (1, 0, 0), (0, 0, 0), (0, 0, 1).
+  const RunResult outside = render(
+      writeTriangle(input("outside.gltf"),
+                    withColors(positions + "AADAPwAAAAAAAAAAAAAAAAAAAL8AAAAAAAAAAAAAAAAAAIA/")));
+  EXPECT_EQ(outside.status, 0) << outside.err;
+  EXPECT_TRUE(contains(outside.err,
+                       "outside.gltf: meshes[0].primitives[0].attributes.COLOR_0: accessors[1] has "
+                       "2 values outside 0..1 (the first at element 0); clamped to 0..1"))
+      << outside.err;
+  fs::rename(output("a.png"), output("outside.png"));
+  const RunResult clamped = render(
+      writeTriangle(input("clamped.gltf"),
+                    withColors(positions + "AACAPwAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAIA/")));
+  EXPECT_EQ(clamped.status, 0) << clamped.err;
+  EXPECT_FALSE(contains(clamped.err, "COLOR_0"));
+  EXPECT_TRUE(omnishadow::test_support::sameBytes(output("outside.png"), output("a.png")));
+}
+
+// glTF requires min/max on POSITION accessors; nothing reads them (bounds come from the values),
+// so the file draws as it says, with a warning naming each accessor.
+TEST_F(HostileInputTest, PositionsWithoutMinMaxAreDrawnWithAWarning) {
+  const fs::path scene = writeTriangle(input("nobounds.gltf"), [](json& doc) {
+    doc["accessors"][0].erase("min");
+    doc["accessors"][0].erase("max");
+    // A morph target's POSITION (no bufferView: zeros) without them too.
+    doc["accessors"].push_back({{"componentType", 5126}, {"count", 3}, {"type", "VEC3"}});
+    doc["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", 1}}};
+  });
+  const RunResult r = render(scene);
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const std::string object :
+       {"attributes.POSITION: accessors[0]", "targets[0].POSITION: accessors[1]"}) {
+    EXPECT_TRUE(contains(r.err, "nobounds.gltf: meshes[0].primitives[0]." + object +
+                                    " has no min/max, which glTF requires; bounds are computed "
+                                    "from its values"))
+        << r.err;
+  }
+  EXPECT_TRUE(fs::exists(output("a.png")));
+}
+
 // What tinygltf reads as absent (a negative byteStride, a light range of 0) or reports without
 // its object is checked on the JSON itself.
 TEST_F(HostileInputTest, ValuesTinygltfWouldDropAreErrorsNamingTheObject) {
@@ -509,6 +603,66 @@ TEST_F(HostileInputTest, APlaceholderBufferThatNothingUsesIsIgnored) {
       << r.out << r.err;
 }
 
+// tinygltf's text ("buffers[0]: 'uri' is missing from non binary glTF file buffer.") names no
+// user and no rule.
+TEST_F(HostileInputTest, ABufferWithoutUriThatAViewUsesIsAnInputErrorNamingBoth) {
+  const auto withoutUri = [](json& doc) { doc["buffers"][0].erase("uri"); };
+  EXPECT_TRUE(refused(runBounded({"info", writeTriangle(input("nouri.gltf"), withoutUri)}),
+                      "nouri.gltf: buffers[0]: has no uri, but bufferViews[0] uses it (only the "
+                      "first buffer of a .glb, its BIN chunk, may leave uri out)"));
+  // In a .glb, only buffer 0 is the BIN chunk.
+  const fs::path glb = boxScene("box.glb", FileFormat::Glb);
+  std::string bytes = readFile(glb);
+  json doc = json::parse(bytes.substr(20, le32(bytes, 12)));
+  doc["buffers"].push_back({{"byteLength", 4}});
+  doc["bufferViews"].push_back({{"buffer", 1}, {"byteLength", 4}});
+  writeBytes(glb, glbWithJson(bytes, doc.dump()));
+  EXPECT_TRUE(refused(runBounded({"info", glb.string()}),
+                      "box.glb: buffers[1]: has no uri, but bufferViews[" +
+                          std::to_string(doc["bufferViews"].size() - 1) + "] uses it"));
+}
+
+// The review parses the JSON with long strings (over 256 bytes: data URIs) cut short, so that
+// a 40 MB data URI is not parsed twice. What it checks still holds with long strings around.
+TEST_F(HostileInputTest, TheJsonReviewSeesPastLongStrings) {
+  // 300 bytes after the positions make the data URI long; 36 + 300 = 336 = 112 * 3 bytes.
+  std::string base64 = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";
+  base64 += std::string(400, 'A');
+  const auto longBuffer = [&](json& doc) {
+    doc["buffers"][0] = {{"byteLength", 336},
+                         {"uri", "data:application/octet-stream;base64," + base64}};
+  };
+  // A rewrite (a placeholder for an unused buffer without uri) keeps the long data URI whole:
+  // the triangle's positions are read from it.
+  const RunResult placeholder = render(writeTriangle(input("long.gltf"), [&](json& doc) {
+    longBuffer(doc);
+    doc["buffers"].push_back({{"byteLength", 4}});
+  }));
+  EXPECT_EQ(placeholder.status, 0) << placeholder.err;
+  EXPECT_TRUE(contains(placeholder.err, "buffers[1]: no uri and no bufferView uses it; ignored"));
+  fs::remove(output("a.png"));
+  // A long WebP data URI is still recognized by its start.
+  const std::string webp = "data:image/webp;base64,UklGRhwAAABXRUJQ" + std::string(400, 'A');
+  const RunResult r = runBounded({"info", writeTriangle(input("webp.gltf"), [&](json& doc) {
+                                            longBuffer(doc);
+                                            doc["extensionsUsed"] = {"EXT_texture_webp"};
+                                            doc["images"] = {{{"uri", webp}}};
+                                            doc["textures"] = {{{"source", 0}}};
+                                          }).string()});
+  EXPECT_TRUE(refused(r, "webp.gltf: textures[0].source: images[0] is WebP")) << r.err;
+  // Quotes, backslashes and non-ASCII bytes around the cut points do not hide a forbidden value.
+  std::string note;
+  for (int i = 0; i < 40; ++i) note += "\"q\" \\ \u00e9 \xc3\xa9 ";
+  EXPECT_TRUE(refused(runBounded({"info", writeTriangle(input("escapes.gltf"),
+                                                        [&](json& doc) {
+                                                          longBuffer(doc);
+                                                          doc["extras"] = {{note, note}};
+                                                          doc["bufferViews"][0]["byteStride"] = -12;
+                                                        })
+                                              .string()}),
+                      "escapes.gltf: bufferViews[0]: byteStride -12 is not a multiple of 4"));
+}
+
 // ---------------------------------------------------------------------------------------------
 // 7. Late or cryptic failures
 
@@ -522,6 +676,33 @@ TEST_F(HostileInputTest, AFrameLargerThanTheGlAllocatesIsAnInputErrorNamingTheLi
     EXPECT_TRUE(
         refused(r, "--width/--height 16384x16384: more than this GL allocates for a frame"));
   }
+}
+
+// The AOV pass holds 8 RGBA32F targets and a 32-bit depth at once (132 bytes a pixel), the
+// layer pass 3 more and a depth (52), and the AOV image 4 bytes a channel (11 fixed, one
+// visibility per light: the box scene has one). Their sum is checked against --max-memory
+// before any GL allocation; the frame-size check covers one RGBA32F target only.
+TEST_F(HostileInputTest, TheAovPassMemoryIsCheckedAgainstMaxMemoryBeforeAllocating) {
+  const fs::path scene = boxScene("s/a.gltf");
+  const auto aovRender = [&](const std::string& width, const std::string& height,
+                             std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render", scene.string(), "-o",  "a.png",    "--aov",
+                                     "a.exr",  "--width",      width, "--height", height};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return runBounded(args);
+  };
+  // 2000x1500: (132 + 12 * 4) * 3e6 bytes = 515 MiB (378 + 137).
+  EXPECT_TRUE(refused(aovRender("2000", "1500", {"--max-memory", "64"}),
+                      "the AOV pass at 2000x1500 needs 515 MiB (render targets 378 MiB, AOV image "
+                      "137 MiB), more than the 64 MiB allowed (--max-memory)"));
+  // With albedo: (132 + 52) * 3e6 = 526 MiB of targets, 15 channels = 172 MiB of image.
+  EXPECT_TRUE(refused(aovRender("2000", "1500", {"--max-memory", "64", "--aov-layers", "albedo"}),
+                      "the AOV pass at 2000x1500 needs 698 MiB (render targets 526 MiB, AOV image "
+                      "172 MiB), more than the 64 MiB allowed (--max-memory)"));
+  // 64x48 needs 0.53 MiB: within 32 MiB (the shadow maps' own bound needs 24), it renders.
+  const RunResult r = aovRender("64", "48", {"--max-memory", "32"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(output("a.exr")));
 }
 
 TEST_F(HostileInputTest, TooManyShadowedLightsOfOneResolutionAreToldSo) {
@@ -541,6 +722,50 @@ TEST_F(HostileInputTest, MaxMemoryMustBeAPositiveFiniteNumber) {
   for (const std::string value : {"nan", "inf", "1e+300", "0", "-5"}) {
     EXPECT_TRUE(refused(render(scene, {"--max-memory", value}),
                         "--max-memory " + value + ": expected a number of MiB in (0, 1048576]"));
+  }
+}
+
+// Extreme camera numbers, on a glTF camera (the box scene) and on automatic framing (the
+// triangle): each renders or is refused naming the option given. --fov 1e-30 was blamed on
+// --eye/--target and --eye 3e38 on --up.
+TEST_F(HostileInputTest, ExtremeCameraNumbersRenderOrNameTheOption) {
+  const fs::path box = boxScene("box.gltf");
+  const fs::path triangle = writeTriangle(input("triangle.gltf"), [](json&) {});
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refusals = {
+      {{"--fov", "1e-30"}, "--fov 1e-30: expected degrees from 0.001 to below 180"},
+      {{"--eye", "1,2,3", "--target", "1,2,3"},
+       "--eye/--target: the eye and the target are the same point"},
+      {{"--eye", "0,5,0", "--target", "0,0,0", "--up", "0,1,0"},
+       "--up: the up vector is parallel to the view direction"},
+      {{"--eye", "-3e38,-3e38,-3e38", "--target", "3e38,3e38,3e38"},
+       "--eye/--target: the eye is too far from the origin"},
+      // Off the axes, the view matrix's translation (-dot(axis, eye)) passes 3.4e38.
+      {{"--eye", "3e38,3e38,3e38"}, "--eye: the eye is too far from the origin"},
+  };
+  const std::vector<std::vector<std::string>> renders = {
+      {"--fov", "179.9999"}, {"--fov", "0.001"}, {"--eye", "3e38,0,0"}};
+  for (const fs::path& scene : {box, triangle}) {
+    for (const auto& [options, message] : refusals) {
+      EXPECT_TRUE(refused(render(scene, options), message)) << scene << " " << options.front();
+    }
+    for (const std::vector<std::string>& options : renders) {
+      const RunResult r = render(scene, options);
+      EXPECT_EQ(r.status, 0) << scene << " " << options.back() << ": " << r.err;
+      fs::remove(output("a.png"));
+    }
+  }
+  // A glTF yfov of pi or more turns the picture inside out; 1e-30 loses the scene.
+  for (const double yfov : {4.0, 1e-30}) {
+    const fs::path scene = writeTriangle(input("yfov.gltf"), [yfov](json& doc) {
+      doc["cameras"] = {
+          {{"type", "perspective"}, {"perspective", {{"yfov", yfov}, {"znear", 0.1}}}}};
+      doc["nodes"].push_back({{"camera", 0}, {"translation", {0.3, 0.3, 3}}});
+      doc["scenes"][0]["nodes"] = {0, 1};
+    });
+    std::ostringstream shown;
+    shown << yfov;
+    EXPECT_TRUE(refused(render(scene), "yfov.gltf: cameras[0]: perspective yfov " + shown.str() +
+                                           " must be from 1.745e-05 (0.001 degrees) to below pi"));
   }
 }
 

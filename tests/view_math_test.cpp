@@ -280,6 +280,49 @@ TEST(Camera, OverridesMoveAndAimTheCamera) {
   EXPECT_THROW(resolveCamera(scene, badFov), InputError);
 }
 
+// Extreme camera numbers either give a view or an InputError naming the option given. The
+// float length of a vector beyond about 1.8e19 overflows, which once made an --eye at 3e38 read
+// as an --up parallel to the view, and an --fov of 1e-30 framed the scene from 1e32 radii.
+TEST(Camera, ExtremeNumbersGiveAViewOrNameTheOption) {
+  const Scene framed = sceneWithBounds();  // no camera: automatic framing
+  Scene withCamera = sceneWithBounds();
+  withCamera.cameras.push_back(gltfCamera(0, "front", {0, 1, 5}, 0.0f));
+  // The camera's forward axis (world space) is minus the third row of the view's rotation.
+  const auto forward = [](const glm::mat4& view) {
+    return -glm::vec3(view[0][2], view[1][2], view[2][2]);
+  };
+  for (const Scene* scene : std::vector<const Scene*>{&framed, &withCamera}) {
+    EXPECT_EQ(resolveError(*scene, {.fovDegrees = 1e-30f}),
+              "--fov 1e-30: expected degrees from 0.001 to below 180");
+    EXPECT_EQ(resolveError(*scene, {.fovDegrees = 180.0f}),
+              "--fov 180: expected degrees from 0.001 to below 180");
+    EXPECT_EQ(resolveError(*scene, {.fovDegrees = 0.001f}), "");
+    EXPECT_EQ(resolveError(*scene, {.fovDegrees = 179.9999f}), "");
+    EXPECT_EQ(resolveError(*scene, {.eye = glm::vec3(1, 2, 3), .target = glm::vec3(1, 2, 3)}),
+              "--eye/--target: the eye and the target are the same point");
+    EXPECT_EQ(resolveError(*scene, {.eye = glm::vec3(0, 5, 0),
+                                    .target = glm::vec3(0, 0, 0),
+                                    .up = glm::vec3(0, 1, 0)}),
+              "--up: the up vector is parallel to the view direction");
+    EXPECT_EQ(resolveError(*scene, {.eye = glm::vec3(-3e38f), .target = glm::vec3(3e38f)}),
+              "--eye/--target: the eye is too far from the origin: the view matrix overflows "
+              "float");
+    // Far, but a view: it looks from the eye toward what it looked at.
+    const ViewCamera far = resolveCamera(*scene, {.eye = glm::vec3(3e38f, 0, 0)});
+    const glm::vec3 expected = scene == &framed ? glm::vec3(-1, 0, 0)   // the scene's center
+                                                : glm::vec3(0, 0, -1);  // the camera's forward
+    EXPECT_NEAR(glm::length(forward(far.view) - expected), 0.0f, 1e-6f);
+  }
+  // An --eye alone so far out that eye + forward == eye in float keeps the camera's direction.
+  const ViewCamera corner = resolveCamera(withCamera, {.eye = glm::vec3(3e38f)});
+  EXPECT_NEAR(glm::length(forward(corner.view) - glm::vec3(0, 0, -1)), 0.0f, 1e-6f);
+  // Ordinary views are glm's float lookAt to the bit, as before.
+  const ViewCamera plain =
+      resolveCamera(framed, {.eye = glm::vec3(3, 2, 1), .target = glm::vec3(0.5f, 0.25f, 0)});
+  EXPECT_EQ(plain.view,
+            glm::lookAt(glm::vec3(3, 2, 1), glm::vec3(0.5f, 0.25f, 0), glm::vec3(0, 1, 0)));
+}
+
 TEST(Camera, EyeAndTargetWithoutUpLookLevel) {
   // A file camera rolled 30° about its view axis: an --eye/--target view does not keep the roll.
   Scene scene = sceneWithBounds();

@@ -46,6 +46,7 @@ RenderSettings renderSettings(const PyRenderOptions& o) {
   if (!(o.maxMemoryMiB > 0))
     throw InputError("max_memory " + std::to_string(o.maxMemoryMiB) + ": expected MiB > 0");
   settings.maxShadowMemoryMiB = o.maxMemoryMiB;
+  settings.maxAovMemoryMiB = o.maxMemoryMiB;
   if (o.shadowPass != "auto" && o.shadowPass != "six" && o.shadowPass != "geometry" &&
       o.shadowPass != "instanced")
     throw InputError("shadow_pass " + o.shadowPass + ": expected auto, six, geometry or instanced");

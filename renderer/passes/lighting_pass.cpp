@@ -173,6 +173,11 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
                       " framebuffer (status " + hex(status) + ")");
 }
 
+double FrameTargets::bytes(int width, int height, PassOutputs outputs) {
+  const double texels = static_cast<double>(width) * height;
+  return texels * (attachmentsFor(outputs) * 4 * sizeof(float) + sizeof(float));
+}
+
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {
   LightingFeatures features;
   for (const Light& light : lights) {

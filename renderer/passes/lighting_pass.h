@@ -57,6 +57,9 @@ using ShadowGroups = std::vector<ShadowGroupTextures>;
 class FrameTargets {
  public:
   FrameTargets(int width, int height, PassOutputs outputs);
+  // The bytes such targets take (RGBA32F colors and a 32-bit depth), for checks made before
+  // any of them is allocated.
+  static double bytes(int width, int height, PassOutputs outputs);
   GLuint framebuffer() const { return framebuffer_.get(); }
   GLuint color(int attachment) const { return colors_[attachment].get(); }
   int attachmentCount() const { return static_cast<int>(colors_.size()); }

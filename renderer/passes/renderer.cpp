@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <utility>
 
@@ -185,6 +186,30 @@ long long largestFrameTexels(int maxSide) {
     }
   }
   return static_cast<long long>(low) * low;
+}
+
+// The AOV pass holds all its targets at once (with the layer pass's, when layers are asked
+// for) and fills the AOV image: together far more than the one RGBA32F target the frame-size
+// check covers. Their sum is checked before anything is allocated.
+void checkAovMemory(const std::vector<Light>& lights, const ViewCamera& camera,
+                    const RenderSettings& settings) {
+  if (!settings.aovs) return;
+  const int width = camera.width, height = camera.height;
+  double targets = FrameTargets::bytes(width, height, PassOutputs::Aovs);
+  if (settings.layers.any()) targets += FrameTargets::bytes(width, height, PassOutputs::Layers);
+  const double image = static_cast<double>(width) * height *
+                       static_cast<double>(aovChannels(lights, settings.layers).size()) *
+                       sizeof(float);
+  constexpr double kMiB = 1024.0 * 1024.0;
+  if ((targets + image) / kMiB <= settings.maxAovMemoryMiB) return;
+  char message[320];
+  std::snprintf(message, sizeof message,
+                "the AOV pass at %dx%d needs %.0f MiB (render targets %.0f MiB, AOV image %.0f "
+                "MiB), more than the %.0f MiB allowed (--max-memory): lower --width/--height or "
+                "raise --max-memory",
+                width, height, (targets + image) / kMiB, targets / kMiB, image / kMiB,
+                settings.maxAovMemoryMiB);
+  throw InputError(message);
 }
 
 }  // namespace
@@ -460,6 +485,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
                              const RenderSettings& settings, StageTimes& times) {
   // Everything that can be refused is refused here, before any GL allocation.
   FramePlan plan = planFrame(scene, lights, camera, settings, limits_);
+  checkAovMemory(lights, camera, settings);
   Frame frame;
   frame.warnings = std::move(plan.warnings);
 

@@ -51,6 +51,9 @@ struct RenderSettings {
   // Shadow maps may use at most this much memory (MiB); more is an InputError before any GL
   // allocation, naming the size needed.
   double maxShadowMemoryMiB = 4096.0;
+  // With aovs: the AOV pass's render targets and the AOV image together (the CLI gives both
+  // bounds --max-memory); more is an InputError before any GL allocation.
+  double maxAovMemoryMiB = 4096.0;
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
   int antialiasing = 1;  // --aa: beauty samples per pixel, 1, 4, 8 or 16 (render/antialiasing.h)
 };

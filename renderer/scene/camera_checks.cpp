@@ -50,6 +50,12 @@ std::string cameraProblem(const Camera& camera) {
   }
   check(badValue("perspective yfov", camera.yfov, false));
   if (problem.empty() && !(camera.yfov > 0.0f)) check("perspective yfov must be positive");
+  constexpr float kDegreesPerRadian = 57.29577951f;
+  if (problem.empty() && !(camera.yfov * kDegreesPerRadian >= kMinFovDegrees &&
+                           camera.yfov * kDegreesPerRadian < kMaxFovDegrees)) {
+    check("perspective yfov " + number(camera.yfov) +
+          " must be from 1.745e-05 (0.001 degrees) to below pi");
+  }
   check(badValue("perspective znear", camera.znear, false));
   if (problem.empty() && !(camera.znear > 0.0f)) check("perspective znear must be positive");
   check(badValue("perspective zfar", camera.zfar, true));

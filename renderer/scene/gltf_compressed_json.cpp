@@ -4,8 +4,6 @@
 
 namespace omnishadow::gltf_detail {
 
-namespace {
-
 using Json = nlohmann::json;
 
 bool usesMeshopt(const Json& object) {
@@ -14,6 +12,8 @@ bool usesMeshopt(const Json& object) {
          (extensions->contains("EXT_meshopt_compression") ||
           extensions->contains("KHR_meshopt_compression"));
 }
+
+namespace {
 
 // Draco primitives keep their `indices` out of tinygltf's sight.
 bool moveDracoIndices(Json& gltf, CompressionFixups& fixups) {

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <map>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <set>
 #include <string>
@@ -21,6 +22,10 @@ struct CompressionFixups {
   // byteLength the file gave them.
   std::map<std::size_t, double> placeholderBuffers;
 };
+
+// Whether a glTF object (a bufferView) has EXT_ or KHR_meshopt_compression: its `buffer` is
+// then a fallback that may have no data.
+bool usesMeshopt(const nlohmann::json& object);
 
 // The JSON text of a glTF file rewritten as described above, or nullopt when it needs no
 // rewriting (it uses neither extension, or is not JSON that nlohmann parses: then tinygltf's

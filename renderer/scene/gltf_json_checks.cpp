@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/errors.h"
+#include "renderer/scene/gltf_compressed_json.h"
 #include "renderer/scene/gltf_context.h"
 
 namespace omnishadow::gltf_detail {
@@ -119,19 +120,35 @@ class Reviewer {
   }
 
   // A buffer without a uri (other than a .glb's BIN chunk) that no bufferView uses holds
-  // nothing the file needs; tinygltf refuses it, so it becomes one byte of data.
+  // nothing the file needs; tinygltf refuses it, so it becomes one byte of data. One that
+  // meshopt-compressed bufferViews use is their fallback, left to gltf_compressed_json (which
+  // also names an uncompressed view of it).
   void placeholderBuffers(Json& root, bool binary, JsonReview& review) {
     const auto buffers = root.find("buffers");
     if (buffers == root.end() || !buffers->is_array()) return;
-    std::vector<bool> used(buffers->size(), false);
-    eachObject(root, "bufferViews", [&](std::size_t, const Json& view) {
+    constexpr std::size_t kUnused = SIZE_MAX;
+    std::vector<std::size_t> firstView(buffers->size(), kUnused);
+    std::vector<bool> fallback(buffers->size(), false);
+    eachObject(root, "bufferViews", [&](std::size_t v, const Json& view) {
       const auto buffer = view.find("buffer");
-      if (buffer != view.end() && isInteger(*buffer, 0, std::int64_t(used.size()) - 1))
-        used[buffer->get<std::size_t>()] = true;
+      if (buffer == view.end() || !isInteger(*buffer, 0, std::int64_t(firstView.size()) - 1))
+        return;
+      const auto b = buffer->get<std::size_t>();
+      if (usesMeshopt(view)) {
+        fallback[b] = true;
+      } else if (firstView[b] == kUnused) {
+        firstView[b] = v;
+      }
     });
     for (std::size_t i = binary ? 1 : 0; i < buffers->size(); ++i) {
       Json& buffer = (*buffers)[i];
-      if (!buffer.is_object() || buffer.contains("uri") || used[i]) continue;
+      if (!buffer.is_object() || buffer.contains("uri") || fallback[i]) continue;
+      // tinygltf's own words name neither the buffer's user nor the rule.
+      if (firstView[i] != kUnused) {
+        fail(at("buffers", i),
+             "has no uri, but " + at("bufferViews", firstView[i]) +
+                 " uses it (only the first buffer of a .glb, its BIN chunk, may leave uri out)");
+      }
       buffer = Json{{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
       review.warnings.push_back(at("buffers", i) + ": no uri and no bufferView uses it; ignored");
       changed_ = true;
@@ -204,12 +221,56 @@ class Reviewer {
   bool changed_ = false;
 };
 
-}  // namespace
+// Plain bytes of a string that can stand for a cut one: no quote, escape, control or non-ASCII
+// byte, so that any run of them is valid JSON string content.
+bool plainStringByte(char c) {
+  const auto byte = static_cast<unsigned char>(c);
+  return byte >= 0x20 && byte < 0x80 && c != '"' && c != '\\';
+}
 
-JsonReview reviewGltfJson(std::string_view json, const std::string& file, bool binary) {
-  JsonReview review;
+// `json` with every string longer than kLongString bytes cut to its plain first and last
+// (at most kKept) bytes. The review reads no long string but to spot WebP (a data: URI's
+// start, a file name's end): parsed whole, a 40 MB data URI cost nlohmann as much as tinygltf's
+// own parse. Text that is no JSON stays no JSON (an unterminated string is copied as it is).
+std::string withoutLongStrings(std::string_view json) {
+  constexpr std::size_t kLongString = 256, kKept = 32;
+  std::string out;
+  out.reserve(std::min<std::size_t>(json.size(), 1 << 20));
+  std::size_t copied = 0;
+  for (std::size_t i = json.find('"'); i != std::string_view::npos; i = json.find('"', i + 1)) {
+    // i opens a string: find the quote that closes it.
+    // A quote after an odd number of backslashes is escaped (found with memchr: the strings
+    // are most of a data URI file).
+    std::size_t end = json.find('"', i + 1);
+    while (end != std::string_view::npos) {
+      std::size_t backslashes = 0;
+      while (json[end - 1 - backslashes] == '\\') ++backslashes;
+      if (backslashes % 2 == 0) break;
+      end = json.find('"', end + 1);
+    }
+    if (end == std::string_view::npos) break;
+    const std::size_t length = end - i - 1;
+    if (length > kLongString) {
+      const std::string_view content = json.substr(i + 1, length);
+      std::size_t head = 0, tail = 0;
+      while (head < kKept && plainStringByte(content[head])) ++head;
+      while (tail < kKept && plainStringByte(content[length - 1 - tail])) ++tail;
+      out.append(json, copied, i + 1 - copied);
+      out.append(content.substr(0, head)).append(content.substr(length - tail));
+      copied = end;
+    }
+    i = end;
+  }
+  out.append(json.substr(copied));
+  return out;
+}
+
+// Runs the review on `json`; with `rewrite`, review.rewritten holds the changed JSON (when
+// something changed). Returns whether something did.
+bool review(std::string_view json, const std::string& file, bool binary, bool rewrite,
+            JsonReview& review) {
   Json root = Json::parse(json.begin(), json.end(), nullptr, /*allow_exceptions=*/false);
-  if (!root.is_object()) return review;
+  if (!root.is_object()) return false;
   Reviewer reviewer(file);
   reviewer.bufferViews(root);
   reviewer.accessors(root);
@@ -217,8 +278,20 @@ JsonReview reviewGltfJson(std::string_view json, const std::string& file, bool b
   reviewer.meshes(root, review);
   reviewer.placeholderBuffers(root, binary, review);
   reviewer.webpImages(root, review);
-  if (!review.hiddenIndices.empty() || reviewer.changed()) review.rewritten = root.dump();
-  return review;
+  const bool changed = !review.hiddenIndices.empty() || reviewer.changed();
+  if (changed && rewrite) review.rewritten = root.dump();
+  return changed;
+}
+
+}  // namespace
+
+JsonReview reviewGltfJson(std::string_view json, const std::string& file, bool binary) {
+  JsonReview cut;
+  // The rewritten JSON keeps the long strings: the rare file that needs one is parsed again.
+  if (!review(withoutLongStrings(json), file, binary, /*rewrite=*/false, cut)) return cut;
+  JsonReview whole;
+  review(json, file, binary, /*rewrite=*/true, whole);
+  return whole;
 }
 
 void restoreHiddenIndices(tinygltf::Model& model, const std::vector<HiddenIndices>& hidden) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
+#include <map>
 #include <span>
 #include <string>
 #include <vector>
@@ -157,6 +158,49 @@ bool isDrawn(Context& ctx, const tinygltf::Primitive& primitive, const std::stri
   return true;
 }
 
+// glTF requires min and max on every POSITION accessor (3.7.2.1), primitive and morph target
+// alike. Nothing here reads them (bounds come from the values), so the file still draws as it
+// says; a warning names the accessor.
+void warnAboutPositionsWithoutBounds(const Context& ctx, const std::string& object,
+                                     const tinygltf::Primitive& primitive) {
+  const auto check = [&](const std::map<std::string, int>& attributes, const std::string& owner) {
+    const auto found = attributes.find("POSITION");
+    if (found == attributes.end() || found->second < 0 ||
+        static_cast<std::size_t>(found->second) >= ctx.model.accessors.size()) {
+      return;
+    }
+    const tinygltf::Accessor& accessor =
+        ctx.model.accessors[static_cast<std::size_t>(found->second)];
+    if (!accessor.minValues.empty() && !accessor.maxValues.empty()) return;
+    ctx.warn(owner + ".POSITION: " + at("accessors", static_cast<std::size_t>(found->second)) +
+             " has no min/max, which glTF requires; bounds are computed from its values");
+  };
+  check(primitive.attributes, object + ".attributes");
+  for (std::size_t t = 0; t < primitive.targets.size(); ++t) {
+    check(primitive.targets[t], object + "." + at("targets", t));
+  }
+}
+
+// Float COLOR_0 values must lie in 0..1 (glTF 3.7.2.1); integer ones always do. Values outside
+// would brighten or negate the base color: they are clamped (NaN reads as 1, no tint), and a
+// warning names the accessor.
+void clampColors(const Context& ctx, const std::string& object,
+                 const tinygltf::Primitive& primitive, AccessorValues& colors) {
+  std::size_t outside = 0, first = 0;
+  for (std::size_t i = 0; i < colors.values.size(); ++i) {
+    double& value = colors.values[i];
+    if (value >= 0.0 && value <= 1.0) continue;
+    if (outside++ == 0) first = i;
+    value = std::isnan(value) ? 1.0 : std::clamp(value, 0.0, 1.0);
+  }
+  if (outside == 0) return;
+  const auto components = static_cast<std::size_t>(colors.components);
+  ctx.warn(object + ".attributes.COLOR_0: " +
+           at("accessors", static_cast<std::size_t>(primitive.attributes.at("COLOR_0"))) + " has " +
+           std::to_string(outside) + " values outside 0..1 (the first at element " +
+           std::to_string(first / components) + "); clamped to 0..1");
+}
+
 // Reads the vertex attributes into `mesh`, or returns false (with a warning) when POSITION
 // holds non-finite values.
 bool readVertices(Context& ctx, const tinygltf::Primitive& primitive, const std::string& object,
@@ -195,13 +239,34 @@ bool readVertices(Context& ctx, const tinygltf::Primitive& primitive, const std:
                                         n, texcoordNormalize));
   mesh.uv1 = toVectors<2>(readAttribute(ctx, object, primitive, "TEXCOORD_1", {vec2}, texcoordTypes,
                                         n, texcoordNormalize));
-  const AccessorValues colors = readAttribute(ctx, object, primitive, "COLOR_0", {vec3, vec4},
-                                              kFloatOrNormalized, n, Normalize::Integers);
+  AccessorValues colors = readAttribute(ctx, object, primitive, "COLOR_0", {vec3, vec4},
+                                        kFloatOrNormalized, n, Normalize::Integers);
+  clampColors(ctx, object, primitive, colors);
   mesh.colors = toVectors<4>(colors);
   if (colors.components == 3) {
     for (glm::vec4& color : mesh.colors) color.a = 1.0f;
   }
   return true;
+}
+
+// glTF forbids the largest value of the index type (3.7.2.1): WebGL, WebGPU and Metal always
+// restart the primitive there, desktop GL without restart draws a vertex, so the file has no
+// one picture. An input error, as for the other values the specification rules out.
+void rejectPrimitiveRestart(const Context& ctx, const std::string& object, int accessorIndex,
+                            const AccessorValues& values) {
+  const int componentType =
+      ctx.model.accessors[static_cast<std::size_t>(accessorIndex)].componentType;
+  const double restart = componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 255.0
+                         : componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 65535.0
+                                                                                   : 4294967295.0;
+  const auto found = std::find(values.values.begin(), values.values.end(), restart);
+  if (found == values.values.end()) return;
+  ctx.fail(object + ".indices",
+           at("accessors", static_cast<std::size_t>(accessorIndex)) + " element " +
+               std::to_string(found - values.values.begin()) + " is " +
+               std::to_string(static_cast<std::uint64_t>(restart)) +
+               ", the primitive restart value of " + componentTypeName(componentType) +
+               ", which glTF forbids in indices (renderers disagree on what it draws)");
 }
 
 // The primitive's indices (0, 1, 2, ... without an index accessor), each checked against the
@@ -221,6 +286,7 @@ std::vector<std::uint32_t> readIndices(Context& ctx, int accessorIndex, const st
                                         " must be SCALAR unsigned byte, short or int");
     }
     const AccessorValues values = readAccessor(ctx, accessorIndex, Normalize::Never);
+    rejectPrimitiveRestart(ctx, object, accessorIndex, values);
     indices.reserve(values.count);
     for (double value : values.values) {
       if (value >= static_cast<double>(n)) {
@@ -275,6 +341,7 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   // tinygltf gives TRIANGLES where the file has no mode, so a negative one is the file's own.
   const int mode = primitive.mode;
   if (!isDrawn(ctx, primitive, object, mode)) return std::nullopt;
+  warnAboutPositionsWithoutBounds(ctx, object, primitive);
 
   Mesh mesh;
   mesh.name = (source.name.empty() ? "mesh" + std::to_string(meshIndex) : source.name) + "/" +

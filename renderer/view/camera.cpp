@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <sstream>
 
 #include "renderer/core/errors.h"
 #include "renderer/scene/camera_checks.h"
@@ -41,20 +42,55 @@ const Camera* findCamera(const Scene& scene, const std::string& select) {
                    (known.empty() ? " (it has none)" : " (cameras: " + known + ")"));
 }
 
-glm::mat4 lookAtChecked(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up) {
-  const glm::vec3 forward = target - eye;
-  if (glm::length(forward) < 1e-6f)
-    throw InputError("--eye/--target: the eye and the target are the same point");
-  if (glm::length(glm::cross(glm::normalize(forward), glm::normalize(up))) < 1e-4f)
-    throw InputError("--up: the up vector is parallel to the view direction");
-  return glm::lookAt(eye, target, up);
-}
-
 bool isFinite(const glm::mat4& m) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
       if (!std::isfinite(m[c][r])) return false;
   return true;
+}
+
+// Which of --eye and --target placed the view, for messages; "the camera" when neither did.
+std::string placedBy(const CameraRequest& request) {
+  if (request.eye && request.target) return "--eye/--target";
+  if (request.eye) return "--eye";
+  if (request.target) return "--target";
+  return "the camera";
+}
+
+// glm::lookAt(eye, target, up), checked. The checks run in double: the float length of a
+// vector longer than about 1.8e19 is infinite, which made an --eye at 3e38 read as an --up
+// parallel to the view. Ordinary views keep glm's float operations (their pictures do not
+// change by a bit); the others (`direction` is target - eye, or the file camera's forward when
+// the eye is so far out that a unit step is lost) get their axes in double.
+glm::mat4 lookAtChecked(const glm::vec3& eye, const glm::vec3& target, const glm::dvec3& direction,
+                        const glm::vec3& up, const CameraRequest& request) {
+  if (glm::length(direction) < 1e-6)
+    throw InputError(placedBy(request) + ": the eye and the target are the same point");
+  const glm::dvec3 f = glm::normalize(direction);
+  if (glm::length(glm::cross(f, glm::normalize(glm::dvec3(up)))) < 1e-4)
+    throw InputError("--up: the up vector is parallel to the view direction");
+  const float floatLength = glm::length(target - eye);
+  glm::mat4 view;
+  if (floatLength > 0.0f && std::isfinite(floatLength) && std::isfinite(glm::length(up))) {
+    view = glm::lookAt(eye, target, up);
+  } else {
+    const glm::dvec3 s = glm::normalize(glm::cross(f, glm::normalize(glm::dvec3(up))));
+    const glm::dvec3 u = glm::cross(s, f);
+    glm::dmat4 m(1.0);
+    for (int i = 0; i < 3; ++i) {
+      m[i][0] = s[i];
+      m[i][1] = u[i];
+      m[i][2] = -f[i];
+    }
+    m[3][0] = -glm::dot(s, glm::dvec3(eye));
+    m[3][1] = -glm::dot(u, glm::dvec3(eye));
+    m[3][2] = glm::dot(f, glm::dvec3(eye));
+    view = glm::mat4(m);
+  }
+  if (!isFinite(view))
+    throw InputError(placedBy(request) +
+                     ": the eye is too far from the origin: the view matrix overflows float");
+  return view;
 }
 
 }  // namespace
@@ -116,6 +152,14 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
         1, static_cast<int>(std::lround(static_cast<float>(*request.height) * aspectHint)));
   const float aspect = static_cast<float>(out.width) / static_cast<float>(out.height);
 
+  // Checked before automatic framing uses it: a field of view of 1e-30 degrees put the eye
+  // 1e32 scene radii away, where the scene is lost to float precision.
+  if (request.fovDegrees &&
+      !(*request.fovDegrees >= kMinFovDegrees && *request.fovDegrees < kMaxFovDegrees)) {
+    std::ostringstream given;
+    given << *request.fovDegrees;
+    throw InputError("--fov " + given.str() + ": expected degrees from 0.001 to below 180");
+  }
   glm::vec3 eye, forward, up;
   float yfov;
   std::optional<glm::vec3> lookAtPoint;  // what an --eye alone keeps looking at
@@ -146,26 +190,24 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
     out.description = "automatic framing of the scene bounds";
   }
 
-  if (request.fovDegrees) {
-    if (!(*request.fovDegrees > 0.0f && *request.fovDegrees < 180.0f))
-      throw InputError("--fov: expected degrees in (0, 180)");
-    yfov = glm::radians(*request.fovDegrees);
-  }
+  if (request.fovDegrees) yfov = glm::radians(*request.fovDegrees);
   glm::vec3 target = eye + forward;
   if (request.eye) {
     eye = *request.eye;
     if (!request.target) target = lookAtPoint.value_or(eye + forward);
   }
   if (request.target) target = *request.target;
+  glm::dvec3 direction = glm::dvec3(target) - glm::dvec3(eye);
+  if (request.eye && !request.target && !lookAtPoint && direction == glm::dvec3(0.0))
+    direction = glm::dvec3(forward);
   if (request.up) {
     up = *request.up;
   } else if (request.eye || request.target) {
     // A chosen view is level (+Y up, glTF's up), not rolled like the file's camera; looking
     // straight up or down, +Y cannot be up and the top of the image faces -Z.
     up = glm::vec3(0.0f, 1.0f, 0.0f);
-    const glm::vec3 direction = target - eye;
-    if (glm::length(direction) > 0.0f &&
-        glm::length(glm::cross(glm::normalize(direction), up)) < 1e-4f)
+    if (glm::length(direction) > 0.0 &&
+        glm::length(glm::cross(glm::normalize(direction), glm::dvec3(up))) < 1e-4)
       up = glm::vec3(0.0f, 0.0f, -1.0f);
   }
   if (request.eye || request.target || request.up) {
@@ -177,7 +219,7 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
   if (glm::length(up) < 1e-6f) throw InputError("--up: expected a non-zero vector");
 
   out.eye = eye;
-  out.view = lookAtChecked(eye, target, up);
+  out.view = lookAtChecked(eye, target, direction, up, request);
   if (out.orthographic) {
     const float ymag = camera->ymag;
     out.projection = reversedOrthographic(ymag * aspect, ymag, out.znear, out.zfar);
