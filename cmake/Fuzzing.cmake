@@ -46,7 +46,11 @@ target_link_libraries(fuzz_gltf PRIVATE TinyGLTF::TinyGLTF meshoptimizer::meshop
 omnishadow_fuzzer(fuzz_manifest
   tests/fuzz/fuzz_manifest.cpp
   cli/batch_jobs.cpp
+  cli/common_options.cpp
+  cli/frame_set.cpp
   cli/render_job.cpp)
 # render_job.cpp also holds the render step, so the GL passes are linked (never called).
+# common_options.cpp names the demo scene (a manifest job without a scene renders it).
+target_compile_definitions(fuzz_manifest PRIVATE OMNISHADOW_DEMO_SCENE="${OMNISHADOW_DEMO_SCENE}")
 target_link_libraries(fuzz_manifest PRIVATE omnishadow_passes omnishadow_render omnishadow_output
   omnishadow_scene)
