@@ -524,6 +524,16 @@ TEST_F(HostileInputTest, ValuesTinygltfWouldDropAreErrorsNamingTheObject) {
        "accessors[0].count: expected an integer >= 1, got 0"},
       {[](json& d) { d["meshes"][0]["primitives"][0]["mode"] = "x"; },
        "meshes[0].primitives[0].mode: \"x\" is not one of the modes 0 to 6"},
+      // Found by fuzz_gltf: dropped by tinygltf, the primitive after it took its index, and
+      // the restored index accessor of a compressed primitive had no primitive to go to.
+      {[](json& d) {
+         json& primitive = d["meshes"][0]["primitives"][0];
+         primitive["aptributes"] = primitive["attributes"];
+         primitive.erase("attributes");
+       },
+       "meshes[0].primitives[0]: has no attributes object (every primitive must have one)"},
+      {[](json& d) { d["meshes"][0]["primitives"].push_back(7); },
+       "meshes[0].primitives[1]: is not an object"},
   };
   for (const auto& [edit, message] : cases) {
     EXPECT_TRUE(refused(runBounded({"info", writeTriangle(input("bad.gltf"), edit).string()}),

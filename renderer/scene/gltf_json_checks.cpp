@@ -97,8 +97,14 @@ class Reviewer {
       Json& primitives = mesh["primitives"];
       for (std::size_t p = 0; p < primitives.size(); ++p) {
         Json& primitive = primitives[p];
-        if (!primitive.is_object()) continue;
         const std::string object = at("meshes", m) + "." + at("primitives", p);
+        // tinygltf drops such a primitive silently, which would also shift the index of every
+        // primitive after it (and the indices restored below onto the wrong one).
+        if (!primitive.is_object()) fail(object, "is not an object");
+        const auto attributes = primitive.find("attributes");
+        if (attributes == primitive.end() || !attributes->is_object()) {
+          fail(object, "has no attributes object (every primitive must have one)");
+        }
         const auto mode = primitive.find("mode");
         if (mode != primitive.end() && !isInteger(*mode, 0, 6)) {
           fail(object + ".mode", quoted(*mode) + " is not one of the modes 0 to 6");
