@@ -157,7 +157,9 @@ TEST_F(BatchFleetTest, DevicesListsWhatGpuChoosesFrom) {
     EXPECT_EQ(device["index"], i);
     EXPECT_TRUE(device["software"].is_boolean());
     // The software device has no DRM node; a GPU has one.
-    if (device["software"] == true) EXPECT_EQ(device["drmNode"], nullptr) << device.dump();
+    if (device["software"] == true) {
+      EXPECT_EQ(device["drmNode"], nullptr) << device.dump();
+    }
   }
   EXPECT_TRUE(doc.contains("cudaVisibleDevices"));
   EXPECT_TRUE(doc.contains("auto"));

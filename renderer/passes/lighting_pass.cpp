@@ -175,7 +175,7 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
 
 double FrameTargets::bytes(int width, int height, PassOutputs outputs) {
   const double texels = static_cast<double>(width) * height;
-  return texels * (attachmentsFor(outputs) * 4 * sizeof(float) + sizeof(float));
+  return texels * static_cast<double>(attachmentsFor(outputs) * 4 * sizeof(float) + sizeof(float));
 }
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {

@@ -37,7 +37,7 @@ struct LightView {
   std::string light;
   CubeFace face;
   FloatImage beauty;
-  std::string planar;
+  std::string planar{};  // "spot" or "cascade<i>" for planar maps; empty for cube faces
 };
 
 // What one render produces, read back to the CPU; first row = top of the picture.

@@ -10,10 +10,10 @@ namespace omnishadow {
 
 // What the command line says about the camera and the image size.
 struct CameraRequest {
-  std::string select;  // glTF camera name or index; empty = the first camera, if any
-  std::optional<glm::vec3> eye, target, up;
-  std::optional<float> fovDegrees;  // vertical field of view
-  std::optional<int> width, height;
+  std::string select{};  // glTF camera name or index; empty = the first camera, if any
+  std::optional<glm::vec3> eye{}, target{}, up{};
+  std::optional<float> fovDegrees{};  // vertical field of view
+  std::optional<int> width{}, height{};
 };
 
 // The camera a frame is rendered with, resolved against the scene.
