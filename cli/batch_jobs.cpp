@@ -181,8 +181,9 @@ fs::path confinedOutput(const ManifestJob& m, const char* field, const fs::path&
   std::error_code ec;
   const fs::path folder = fs::weakly_canonical(fs::absolute(out), ec);
   const fs::path resolved = fs::weakly_canonical(fs::absolute(out / relative), ec);
+  if (ec) refuse(ec.message());  // e.g. a name longer than the file system allows
   const fs::path inside = resolved.lexically_relative(folder);
-  if (ec || inside.empty() || *inside.begin() == ".." || inside == ".") {
+  if (inside.empty() || *inside.begin() == ".." || inside == ".") {
     refuse("a symbolic link below --out leads outside it");
   }
   return out / relative;

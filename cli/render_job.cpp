@@ -5,6 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <system_error>
 #include <utility>
 
 #include "renderer/core/errors.h"
@@ -30,7 +31,12 @@ namespace {
 // Resolves `.`/`..`/symlinks of the existing part, so that two spellings of one file compare
 // equal even when the file does not exist yet.
 fs::path resolved(const fs::path& path) {
-  return fs::weakly_canonical(fs::absolute(path));
+  std::error_code error;
+  const fs::path absolute = fs::absolute(path);
+  const fs::path canonical = fs::weakly_canonical(absolute, error);
+  // A name the file system cannot resolve (too long, a symlink loop) is no existing input; the
+  // write, or the input's own read, names the problem (found by fuzz_manifest).
+  return error ? absolute.lexically_normal() : canonical;
 }
 
 // A folder option (--dump-depth, --light-views) must not name an existing file.

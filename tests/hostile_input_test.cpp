@@ -203,6 +203,20 @@ TEST_F(HostileInputTest, AManifestNumberBeyondADoubleIsAnInputError) {
                       "manifest.json: a number is too large to be read"));
 }
 
+// Found by fuzz_manifest: an output name longer than the file system allows made the overwrite
+// check's path resolution throw std::filesystem::filesystem_error out of the manifest reader,
+// and the confinement check blamed a symbolic link.
+TEST_F(HostileInputTest, AManifestOutputNameTooLongIsAnInputErrorNamingIt) {
+  const fs::path scene = boxScene("s/a.gltf");
+  const std::string longName(300, 'v');
+  const fs::path manifest =
+      writeText("m/manifest.json", R"({"jobs": [{"scene": ")" + scene.string() +
+                                       R"(", "outputs": [")" + longName + R"(.png"]}]})");
+  EXPECT_TRUE(refused(runBounded({"batch", manifest.string(), "--out", out_.string()}),
+                      "manifest.json: jobs[0].outputs: \"" + longName +
+                          ".png\": File name too long; output names are relative to --out"));
+}
+
 TEST_F(HostileInputTest, ABatchWithOneDeeplyNestedSceneRendersTheOthersAndReports) {
   boxScene("s/a.gltf");
   const fs::path deep = boxScene("s/b.gltf");
