@@ -41,7 +41,8 @@ fs::path resolved(const fs::path& path) {
 
 // A folder option (--dump-depth, --light-views) must not name an existing file.
 void checkFolderOption(const std::string& option, const fs::path& folder) {
-  if (!folder.empty() && fs::exists(folder) && !fs::is_directory(folder))
+  std::error_code error;  // a name that cannot be looked at is no existing file
+  if (!folder.empty() && fs::exists(folder, error) && !fs::is_directory(folder, error))
     throw InputError(option + " " + folder.string() + ": is a file, expected a folder");
 }
 
@@ -85,7 +86,8 @@ std::string lowerExtension(const fs::path& path) {
 
 fs::path defaultLightsFile(const fs::path& scene) {
   fs::path candidate = scene.parent_path() / (scene.stem().string() + ".lights.json");
-  return fs::exists(candidate) ? candidate : fs::path();
+  std::error_code error;  // a name that cannot be looked at (too long) has no lights file
+  return fs::exists(candidate, error) ? candidate : fs::path();
 }
 
 AovLayers parseLayers(const std::string& list) {
@@ -186,7 +188,8 @@ void validateJob(const RenderJob& job) {
                      ": AOVs are written as OpenEXR; use a .exr name");
   const std::vector<fs::path> all = job.outputFiles();
   for (std::size_t i = 0; i < all.size(); ++i) {
-    if (fs::is_directory(all[i]))
+    std::error_code error;  // a name that cannot be looked at is no folder; the write names it
+    if (fs::is_directory(all[i], error))
       throw InputError(all[i].string() + ": is a folder, expected an image file name");
     for (std::size_t j = 0; j < i; ++j)
       if (resolved(all[i]) == resolved(all[j]))
