@@ -43,18 +43,18 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "omnishadow 0.1.0");
   app.require_subcommand(1);
   omnishadow::cli::RenderOptions render;
-  omnishadow::cli::addRenderCommand(app, render);
   omnishadow::cli::InfoOptions info;
-  omnishadow::cli::addInfoCommand(app, info);
   omnishadow::cli::BatchOptions batch;
-  omnishadow::cli::addBatchCommand(app, batch);
   omnishadow::cli::DiffCommandOptions diff;
-  omnishadow::cli::addDiffCommand(app, diff);
   omnishadow::cli::VerifyOptions verify;
-  omnishadow::cli::addVerifyCommand(app, verify);
   omnishadow::cli::DevicesOptions devices;
-  omnishadow::cli::addDevicesCommand(app, devices);
   omnishadow::cli::ReportMergeOptions reportMerge;
+  omnishadow::cli::addRenderCommand(app, render);
+  omnishadow::cli::addInfoCommand(app, info);
+  omnishadow::cli::addBatchCommand(app, batch);
+  omnishadow::cli::addDiffCommand(app, diff);
+  omnishadow::cli::addVerifyCommand(app, verify);
+  omnishadow::cli::addDevicesCommand(app, devices);
   omnishadow::cli::addReportCommand(app, reportMerge);
 
   try {

@@ -5,14 +5,10 @@
 # numbers only.
 # Usage: scripts/bench-batch-worker.sh [N] [ROUNDS]
 set -euo pipefail
-root=$(cd "$(dirname "$0")/.." && pwd)
+source "$(dirname "$0")/lib/bench-scenes.sh"
 count=${1:-200}
 rounds=${2:-3}
-"$root/scripts/build.sh" omnishadow make_bench_scenes
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-"$root/build/make_bench_scenes" "$work/scenes" "$count" 1
-bin="$root/build/omnishadow"
+make_bench_scenes "$count" 1
 
 seconds() {
   local start

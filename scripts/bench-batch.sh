@@ -4,14 +4,9 @@
 # times and their ratio. Not a test: numbers only.
 # Usage: scripts/bench-batch.sh [N] [SEED]
 set -euo pipefail
-root=$(cd "$(dirname "$0")/.." && pwd)
+source "$(dirname "$0")/lib/bench-scenes.sh"
 count=${1:-200}
-seed=${2:-1}
-"$root/scripts/build.sh" omnishadow make_bench_scenes
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-"$root/build/make_bench_scenes" "$work/scenes" "$count" "$seed"
-bin="$root/build/omnishadow"
+make_bench_scenes "$count" "${2:-1}"
 size=(--width 320 --height 240)
 
 start=$(date +%s.%N)

@@ -26,10 +26,7 @@ namespace omnishadow {
 namespace {
 
 namespace fs = std::filesystem;
-using builder::FileFormat;
-using builder::GltfBuilder;
-using builder::MaterialDesc;
-using builder::PrimitiveOptions;
+using namespace builder;
 using test_support::inputError;
 using Json = nlohmann::json;
 using Value = tinygltf::Value;
@@ -88,6 +85,13 @@ class GltfExtensionsTest : public ::testing::Test {
     return loadGltf(file);
   }
   std::string file() const { return (folder / "scene.gltf").string(); }
+
+  // What loading `q` says once the material extension's `slot` names texture `index`.
+  std::string errorForTextureIndex(Quad& q, const std::string& extension, const std::string& slot,
+                                   int index) {
+    q.gltfMaterial().extensions[extension] = object({{slot, object({{"index", Value(index)}})}});
+    return inputError([&] { load(q.builder); });
+  }
 };
 
 // KHR_texture_transform written out (scale, then rotation, then offset), with the rotation's
@@ -264,9 +268,8 @@ TEST_F(GltfExtensionsTest, SpecularGlossinessReplacesTheMetallicRoughnessInputs)
   EXPECT_EQ(d.glossinessFactor, 1.0f);
   EXPECT_EQ(d.specularGlossinessTexture.texture, -1);
 
-  q.gltfMaterial().extensions["KHR_materials_pbrSpecularGlossiness"] =
-      object({{"specularGlossinessTexture", object({{"index", Value(9)}})}});
-  EXPECT_EQ(inputError([&] { load(q.builder); }),
+  EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_pbrSpecularGlossiness",
+                                 "specularGlossinessTexture", 9),
             file() +
                 ": materials[0].extensions.KHR_materials_pbrSpecularGlossiness."
                 "specularGlossinessTexture: texture 9 is out of range (the file has 2 textures)");
@@ -303,9 +306,7 @@ TEST_F(GltfExtensionsTest, TransmissionFactorIsReadAndMayBeRequired) {
   EXPECT_EQ(m.transmissionTexture.texCoord, 1);
   EXPECT_EQ(glm::vec2(m.transmissionTexture.uvTransform * glm::vec3(0, 0, 1)),
             glm::vec2(0.5f, 0.25f));
-  q.gltfMaterial().extensions["KHR_materials_transmission"] =
-      object({{"transmissionTexture", object({{"index", Value(7)}})}});
-  EXPECT_EQ(inputError([&] { load(q.builder); }),
+  EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_transmission", "transmissionTexture", 7),
             file() +
                 ": materials[0].extensions.KHR_materials_transmission.transmissionTexture: "
                 "texture 7 is out of range (the file has 1 texture)");
@@ -332,11 +333,8 @@ class ImageExtensionsTest : public GltfExtensionsTest {
  protected:
   Json writeBasisScene() {
     GltfBuilder builder;
-    MaterialDesc material;
-    material.baseColorTexture = builder.addTexture(1, 1, {255, 0, 0, 255}, "png");
-    PrimitiveOptions options;
-    options.material = builder.addMaterial(material);
-    builder.addNode("quad", {}, builder.addMesh(quad(), options));
+    const int texture = builder.addTexture(1, 1, {255, 0, 0, 255}, "png");
+    builder.addNode("quad", {}, builder.addTexturedMesh(quad(), texture));
     builder.write(folder / "scene.gltf", FileFormat::GltfExternal);
     std::ifstream in(folder / "scene.gltf");
     Json gltf = Json::parse(in);
@@ -375,11 +373,8 @@ TEST_F(ImageExtensionsTest, BasisuTexturesDrawTheirFallbackSource) {
 // The same in a .glb, the KTX2 image in a bufferView of the binary chunk.
 TEST_F(GltfExtensionsTest, BasisuImagesInABinaryFileAreNotDecodedEither) {
   GltfBuilder builder;
-  MaterialDesc material;
-  material.baseColorTexture = builder.addTexture(1, 1, {0, 255, 0, 255}, "png");
-  PrimitiveOptions options;
-  options.material = builder.addMaterial(material);
-  builder.addNode("quad", {}, builder.addMesh(quad(), options));
+  const int texture = builder.addTexture(1, 1, {0, 255, 0, 255}, "png");
+  builder.addNode("quad", {}, builder.addTexturedMesh(quad(), texture));
   tinygltf::Model& model = builder.model();
   const std::vector<unsigned char> ktx2 = {0xAB, 'K',  'T',  'X',  ' ', '2', '0', 0xBB,
                                            0x0D, 0x0A, 0x1A, 0x0A, 1,   2,   3,   4};

@@ -118,6 +118,13 @@ class GltfLoaderTest : public ::testing::Test {
     return loadGltf(file, options);
   }
 
+  // What loading `file` says once `builder` is written to it.
+  static std::string writeAndLoadError(GltfBuilder& builder, const fs::path& file,
+                                       FileFormat format) {
+    builder.write(file, format);
+    return test_support::inputError([&] { loadGltf(file); });
+  }
+
   fs::path dir_;
 };
 
@@ -138,6 +145,37 @@ int addRawAccessor(tinygltf::Model& model, int view, std::size_t offset, int com
   accessor.normalized = normalized;
   model.accessors.push_back(accessor);
   return static_cast<int>(model.accessors.size()) - 1;
+}
+
+// Makes `accessor` sparse: `count` unsigned short indices and their values, each in a new view.
+void makeSparse(tinygltf::Model& model, int accessor, int count,
+                const std::vector<unsigned char>& indices,
+                const std::vector<unsigned char>& values) {
+  auto& sparse = model.accessors[static_cast<std::size_t>(accessor)].sparse;
+  sparse.isSparse = true;
+  sparse.count = count;
+  sparse.indices.bufferView = addRawView(model, indices);
+  sparse.indices.byteOffset = 0;
+  sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  sparse.values.bufferView = addRawView(model, values);
+  sparse.values.byteOffset = 0;
+}
+
+// A triangle, and image 0 (`name`, PNG by its MIME type, `bytes` in a bufferView of its own)
+// used by texture 0 and by nothing else; returns the image's bufferView.
+int addTriangleWithImageInView(GltfBuilder& builder, const std::string& name,
+                               const std::vector<unsigned char>& bytes) {
+  builder.addNode("node", {}, builder.addMesh(triangleMesh()));
+  tinygltf::Model& model = builder.model();
+  tinygltf::Image image;
+  image.name = name;
+  image.mimeType = "image/png";
+  image.bufferView = addRawView(model, bytes);
+  model.images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = 0;
+  model.textures.push_back(texture);
+  return image.bufferView;
 }
 
 template <typename T>
@@ -484,14 +522,7 @@ TEST_F(GltfLoaderTest, ReadsStridedNormalizedAndSparseAccessors) {
   tinygltf::Primitive sparse;
   sparse.mode = TINYGLTF_MODE_TRIANGLES;
   const int sparseAccessor = addRawAccessor(model, -1, 0, kFloat, TINYGLTF_TYPE_VEC3, 3);
-  auto& info = model.accessors[sparseAccessor].sparse;
-  info.isSparse = true;
-  info.count = 2;
-  info.indices.bufferView = addRawView(model, sparseIndices);
-  info.indices.byteOffset = 0;
-  info.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
-  info.values.bufferView = addRawView(model, sparseValues);
-  info.values.byteOffset = 0;
+  makeSparse(model, sparseAccessor, 2, sparseIndices, sparseValues);
   sparse.attributes["POSITION"] = sparseAccessor;
   tinygltf::Mesh mesh;
   mesh.primitives = {strided, sparse};
@@ -586,14 +617,7 @@ TEST_F(GltfLoaderTest, SparseMorphTargetsDisplaceOnlyTheirVertices) {
   append(values, glm::vec3(0, 0, 1));
   const int target =
       addRawAccessor(model, -1, 0, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 3);
-  auto& sparse = model.accessors[static_cast<std::size_t>(target)].sparse;
-  sparse.isSparse = true;
-  sparse.count = 1;
-  sparse.indices.bufferView = addRawView(model, indices);
-  sparse.indices.byteOffset = 0;
-  sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
-  sparse.values.bufferView = addRawView(model, values);
-  sparse.values.byteOffset = 0;
+  makeSparse(model, target, 1, indices, values);
   model.meshes[0].primitives[0].targets = {{{"POSITION", target}}};
   model.meshes[0].weights = {1.0};
   model.nodes[static_cast<std::size_t>(node)].weights = {0.5};  // the node's weights win
@@ -1013,8 +1037,7 @@ TEST_F(GltfLoaderTest, IndexOutOfRangeNamesThePrimitive) {
   builder.addPrimitive(mesh, bad);
   builder.addNode("node", {}, mesh);
   const fs::path file = path("bad.glb");
-  builder.write(file, FileFormat::Glb);
-  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+  EXPECT_EQ(writeAndLoadError(builder, file, FileFormat::Glb),
             file.string() + ": meshes[0].primitives[1]: index 57 >= vertex count 3");
 }
 
@@ -1024,20 +1047,17 @@ TEST_F(GltfLoaderTest, AccessorsAndViewsOutsideTheirBuffersAreInputErrors) {
   const fs::path file = path("bad.gltf");
 
   builder.model().accessors[1].count = 1000;  // NORMAL
-  builder.write(file, FileFormat::GltfEmbedded);
-  EXPECT_TRUE(contains(inputError([&] { loadGltf(file); }),
+  EXPECT_TRUE(contains(writeAndLoadError(builder, file, FileFormat::GltfEmbedded),
                        file.string() + ": meshes[0].primitives[0].attributes.NORMAL: has 1000"));
 
   builder.model().accessors[1].count = 3;
   builder.model().accessors[1].byteOffset = 4;
-  builder.write(file, FileFormat::GltfEmbedded);
-  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+  EXPECT_EQ(writeAndLoadError(builder, file, FileFormat::GltfEmbedded),
             file.string() + ": accessors[1]: extends past the end of bufferViews[1]");
 
   builder.model().accessors[1].byteOffset = 0;
   builder.model().bufferViews[2].byteLength += 1000;  // indices
-  builder.write(file, FileFormat::GltfEmbedded);
-  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+  EXPECT_EQ(writeAndLoadError(builder, file, FileFormat::GltfEmbedded),
             file.string() + ": bufferViews[2]: extends past the end of buffers[0]");
 }
 
@@ -1057,8 +1077,7 @@ TEST_F(GltfLoaderTest, UnsupportedExtensionsFailWhenRequiredAndWarnWhenUsed) {
 
   model.extensionsUsed.push_back("EXT_lights_image_based");
   model.extensionsRequired.push_back("EXT_lights_image_based");
-  builder.write(file, FileFormat::GltfEmbedded);
-  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+  EXPECT_EQ(writeAndLoadError(builder, file, FileFormat::GltfEmbedded),
             file.string() + ": extensionsRequired: EXT_lights_image_based is not supported");
 }
 
@@ -1144,8 +1163,8 @@ TEST_F(GltfLoaderTest, QuantizedAttributesOfEveryAllowedComponentTypeDequantize)
                                    TINYGLTF_TYPE_VEC2, 3);
     model.meshes[mesh].primitives[0].attributes["TEXCOORD_0"] = uvs;
     const fs::path file = path("quantized.glb");
-    builder.write(file, FileFormat::Glb);
-    EXPECT_TRUE(contains(inputError([&] { loadGltf(file); }), "POSITION must be FLOAT"));
+    EXPECT_TRUE(
+        contains(writeAndLoadError(builder, file, FileFormat::Glb), "POSITION must be FLOAT"));
 
     model.extensionsUsed = {"KHR_mesh_quantization"};
     model.extensionsRequired = {"KHR_mesh_quantization"};
@@ -1220,8 +1239,7 @@ TEST_F(GltfLoaderTest, GpuInstancingPlacesOneInstancePerElement) {
   // The attributes must agree on the number of instances.
   model.accessors[static_cast<std::size_t>(s)].count = 1;
   const fs::path file = path("instancing.glb");
-  builder.write(file, FileFormat::Glb);
-  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+  EXPECT_EQ(writeAndLoadError(builder, file, FileFormat::Glb),
             file.string() + ": nodes[" + std::to_string(node) +
                 "].extensions.EXT_mesh_gpu_instancing.attributes.SCALE: accessors[" +
                 std::to_string(s) + "] has 1 elements, but the other attributes have 2");
@@ -1240,24 +1258,19 @@ TEST_F(GltfLoaderTest, NodeCyclesAndBadReferencesAreInputErrors) {
   EXPECT_TRUE(contains(message, "cycle"));
 
   builder.model().nodes[b].children = {7};
-  builder.write(file, FileFormat::Glb);
-  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+  EXPECT_EQ(writeAndLoadError(builder, file, FileFormat::Glb),
             file.string() + ": nodes[1].children: node 7 is out of range (the file has 2 nodes)");
 
   builder.model().nodes[b].children.clear();
   builder.model().nodes[b].mesh = 4;
-  builder.write(file, FileFormat::Glb);
-  EXPECT_EQ(inputError([&] { loadGltf(file); }),
+  EXPECT_EQ(writeAndLoadError(builder, file, FileFormat::Glb),
             file.string() + ": nodes[1]: mesh 4 is out of range (the file has 1 mesh)");
 }
 
 TEST_F(GltfLoaderTest, UnreadableImagesAreInputErrorsNamingTheImage) {
   GltfBuilder builder;
-  MaterialDesc material;
-  material.baseColorTexture = builder.addTexture(1, 1, {1, 2, 3, 4}, "checker");
-  PrimitiveOptions options;
-  options.material = builder.addMaterial(material);
-  builder.addNode("node", {}, builder.addMesh(builder::makeBox(glm::vec3(1.0f)), options));
+  const int texture = builder.addTexture(1, 1, {1, 2, 3, 4}, "checker");
+  builder.addNode("node", {}, builder.addTexturedMesh(builder::makeBox(glm::vec3(1.0f)), texture));
   const fs::path file = path("scene.gltf");
   builder.write(file, FileFormat::GltfExternal);
   ASSERT_NO_THROW(loadGltf(file));
@@ -1275,16 +1288,9 @@ TEST_F(GltfLoaderTest, UnreadableImagesAreInputErrorsNamingTheImage) {
 
 TEST_F(GltfLoaderTest, ImagesInBufferViewsAreCheckedBeforeDecoding) {
   GltfBuilder builder;
-  builder.addNode("node", {}, builder.addMesh(triangleMesh()));
+  const int imageView =
+      addTriangleWithImageInView(builder, "bad", std::vector<unsigned char>(64, 0x5a));
   tinygltf::Model& model = builder.model();
-  tinygltf::Image image;
-  image.name = "bad";
-  image.mimeType = "image/png";
-  image.bufferView = addRawView(model, std::vector<unsigned char>(64, 0x5a));
-  model.images.push_back(image);
-  tinygltf::Texture texture;
-  texture.source = 0;
-  model.textures.push_back(texture);
   const fs::path file = path("images.glb");
 
   builder.write(file, FileFormat::Glb);
@@ -1292,7 +1298,7 @@ TEST_F(GltfLoaderTest, ImagesInBufferViewsAreCheckedBeforeDecoding) {
   EXPECT_TRUE(contains(message, file.string() + ": images[0] \"bad\": "));
 
   // Past the end of the buffer: tinygltf alone would let the decoder read there.
-  model.bufferViews[image.bufferView].byteLength = 100000;
+  model.bufferViews[imageView].byteLength = 100000;
   builder.write(file, FileFormat::Glb);
   message = inputError([&] { loadGltf(file); });
   EXPECT_TRUE(
@@ -1385,19 +1391,11 @@ std::vector<unsigned char> pngClaiming(std::uint32_t width, std::uint32_t height
 
 TEST_F(GltfLoaderTest, ImagesClaimingMoreThanTheirDataAreRefusedBeforeDecoding) {
   GltfBuilder builder;
-  builder.addNode("node", {}, builder.addMesh(triangleMesh()));
+  const int imageView = addTriangleWithImageInView(builder, "big", {});
   tinygltf::Model& model = builder.model();
-  tinygltf::Image image;
-  image.name = "big";
-  image.mimeType = "image/png";
-  image.bufferView = addRawView(model, {});
-  model.images.push_back(image);
-  tinygltf::Texture texture;
-  texture.source = 0;
-  model.textures.push_back(texture);
   const fs::path file = path("images.glb");
   const auto loadWith = [&](const std::vector<unsigned char>& bytes) {
-    tinygltf::BufferView& view = model.bufferViews[image.bufferView];
+    tinygltf::BufferView& view = model.bufferViews[imageView];
     std::vector<unsigned char>& data = model.buffers[0].data;
     data.resize(view.byteOffset);
     data.insert(data.end(), bytes.begin(), bytes.end());
@@ -1429,11 +1427,8 @@ TEST_F(GltfLoaderTest, ImagesClaimingMoreThanTheirDataAreRefusedBeforeDecoding) 
 
   // The same checks for images read from files (and data: URIs).
   GltfBuilder external;
-  MaterialDesc material;
-  material.baseColorTexture = external.addTexture(1, 1, {1, 2, 3, 4}, "checker");
-  PrimitiveOptions options;
-  options.material = external.addMaterial(material);
-  external.addNode("node", {}, external.addMesh(triangleMesh(), options));
+  const int texture = external.addTexture(1, 1, {1, 2, 3, 4}, "checker");
+  external.addNode("node", {}, external.addTexturedMesh(triangleMesh(), texture));
   const fs::path scene = path("scene.gltf");
   external.write(scene, FileFormat::GltfExternal);
   ASSERT_NO_THROW(loadGltf(scene));
@@ -1457,11 +1452,8 @@ TEST_F(GltfLoaderTest, PngChunksPastTheEndOfTheImageAreRefusedBeforeDecoding) {
       0x9c, 0x63, 0xe0, 0x12, 0x91, 0xfb, 0x0f, 0x00, 0x01, 0xa4, 0x01, 0x3c, 0x93, 0x8b,
       0x0e, 0xb7, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
   GltfBuilder builder;
-  MaterialDesc material;
-  material.baseColorTexture = builder.addTexture(1, 1, {1, 2, 3, 4}, "checker");
-  PrimitiveOptions options;
-  options.material = builder.addMaterial(material);
-  builder.addNode("node", {}, builder.addMesh(triangleMesh(), options));
+  const int texture = builder.addTexture(1, 1, {1, 2, 3, 4}, "checker");
+  builder.addNode("node", {}, builder.addTexturedMesh(triangleMesh(), texture));
   const fs::path scene = path("scene.gltf");
   builder.write(scene, FileFormat::GltfExternal);
   const auto writeImage = [&] {

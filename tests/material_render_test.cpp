@@ -23,10 +23,7 @@ namespace omnishadow {
 namespace {
 
 namespace fs = std::filesystem;
-using builder::FileFormat;
-using builder::GltfBuilder;
-using builder::MaterialDesc;
-using builder::PrimitiveOptions;
+using namespace builder;
 using Value = tinygltf::Value;
 using test_support::lookFrom;
 using test_support::sharedRenderer;
@@ -35,11 +32,7 @@ constexpr float kPi = std::numbers::pi_v<float>;
 
 Frame render(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
              DebugView view = DebugView::None) {
-  StageTimes times;
-  RenderSettings settings;
-  settings.aovs = true;
-  settings.debugView = view;
-  return sharedRenderer().render(scene, lights, glm::vec3(0.0f), camera, settings, times);
+  return test_support::renderWithAovs(scene, lights, camera, {.debugView = view});
 }
 
 float srgbToLinear(std::uint8_t value) {

@@ -69,11 +69,8 @@ glm::ivec2 project(const ViewCamera& camera, glm::vec3 p) {
 
 Frame renderAovs(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
                  Shading shading = Shading::Pbr) {
-  StageTimes times;
-  RenderSettings settings;
-  settings.aovs = true;
-  settings.shading = shading;
-  return sharedRenderer().render(scene, lights, glm::vec3(0.03f), camera, settings, times);
+  return test_support::renderWithAovs(scene, lights, camera, {.shading = shading},
+                                      glm::vec3(0.03f));
 }
 
 struct AovPixel {
@@ -520,14 +517,13 @@ TEST(Lighting, SpotConeAndDirectionalLight) {
   const int white = addMaterial(scene, glm::vec4(1.0f));
   addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
   const ViewCamera camera = lookFrom(scene, {0, 6, 0.001f}, {0, 0, 0}, 101, 101, 60.0f);
-  Light spot;
-  spot.name = "spot";
-  spot.type = LightType::Spot;
-  spot.position = {0, 2, 0};
-  spot.direction = {0, -1, 0};
-  spot.intensity = 10.0f;
-  spot.innerConeAngle = 0.2f;
-  spot.outerConeAngle = 0.4f;  // radius tan(0.4) * 2 = 0.85 m on the floor
+  const Light spot{.name = "spot",
+                   .type = LightType::Spot,
+                   .position = {0, 2, 0},
+                   .direction = {0, -1, 0},
+                   .intensity = 10.0f,
+                   .innerConeAngle = 0.2f,
+                   .outerConeAngle = 0.4f};  // radius tan(0.4) * 2 = 0.85 m on the floor
   StageTimes times;
   const Frame lit = sharedRenderer().render(scene, {spot}, glm::vec3(0.0f), camera, {}, times);
   EXPECT_GT(lit.beauty.at(50, 50, 0), 0.5f);  // under the spot

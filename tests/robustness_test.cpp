@@ -73,6 +73,17 @@ class RobustnessTest : public ::testing::Test {
     return path;
   }
 
+  // batch/: a.glb and c.glb, and b.glb between them with the GL fault marker texture.
+  void writeBatchWithAFaultyMiddleScene() {
+    fs::create_directories(root_ / "batch");
+    for (const std::string name : {"a", "c"}) {
+      const fs::path scene = writeScene(name + ".glb", FileFormat::Glb);
+      fs::rename(scene, root_ / "batch" / scene.filename());
+    }
+    const fs::path bad = writeScene("b.glb", FileFormat::Glb, true);
+    fs::rename(bad, root_ / "batch" / "b.glb");
+  }
+
   nlohmann::json readJson(const fs::path& path) { return nlohmann::json::parse(readFile(path)); }
   void writeJson(const fs::path& path, const nlohmann::json& json) {
     std::ofstream(path) << json.dump(2);
@@ -271,6 +282,16 @@ int viewOf(const Json& gltf, int accessor) {
   return gltf["accessors"][accessor]["bufferView"];
 }
 
+// Gives the floor's `semantic` accessor a component type the loader must refuse.
+GltfEdit floorAttributeAs(const std::string& semantic, int componentType, const std::string& name) {
+  return [=](Json& gltf, const fs::path&) {
+    const int accessor = floorAttribute(gltf, semantic);
+    gltf["accessors"][accessor]["componentType"] = componentType;
+    return "meshes[0].primitives[0].attributes." + semantic + ": " + at("accessors", accessor) +
+           " has componentType " + name + "; " + semantic + " must be FLOAT";
+  };
+}
+
 const BrokenScene kBrokenScenes[] = {
     {"MissingBuffer",
      [](Json& gltf, const fs::path& folder) {
@@ -325,22 +346,8 @@ const BrokenScene kBrokenScenes[] = {
        return at("bufferViews", view) + ": byteStride 14 is not a multiple of 4 from 4 to 252";
      },
      {}},
-    {"PositionAsUnsignedByte",
-     [](Json& gltf, const fs::path&) {
-       const int accessor = floorAttribute(gltf, "POSITION");
-       gltf["accessors"][accessor]["componentType"] = 5121;
-       return "meshes[0].primitives[0].attributes.POSITION: " + at("accessors", accessor) +
-              " has componentType UNSIGNED_BYTE; POSITION must be FLOAT";
-     },
-     {}},
-    {"NormalAsShort",
-     [](Json& gltf, const fs::path&) {
-       const int accessor = floorAttribute(gltf, "NORMAL");
-       gltf["accessors"][accessor]["componentType"] = 5122;
-       return "meshes[0].primitives[0].attributes.NORMAL: " + at("accessors", accessor) +
-              " has componentType SHORT; NORMAL must be FLOAT";
-     },
-     {}},
+    {"PositionAsUnsignedByte", floorAttributeAs("POSITION", 5121, "UNSIGNED_BYTE"), {}},
+    {"NormalAsShort", floorAttributeAs("NORMAL", 5122, "SHORT"), {}},
     {"IndicesAsFloat",
      [](Json& gltf, const fs::path&) {
        const int accessor = floorIndices(gltf);
@@ -570,13 +577,7 @@ TEST_F(RobustnessTest, AGlErrorFailsTheRenderWithoutOutput) {
 }
 
 TEST_F(RobustnessTest, BatchGoesOnAfterAGlErrorOrALostContext) {
-  fs::create_directories(root_ / "batch");
-  for (const std::string name : {"a", "c"}) {
-    const fs::path scene = writeScene(name + ".glb", FileFormat::Glb);
-    fs::rename(scene, root_ / "batch" / scene.filename());
-  }
-  const fs::path bad = writeScene("b.glb", FileFormat::Glb, true);
-  fs::rename(bad, root_ / "batch" / "b.glb");
+  writeBatchWithAFaultyMiddleScene();
 
   for (const std::string fault : {"error", "reset"}) {
     SCOPED_TRACE(fault);
@@ -597,13 +598,7 @@ TEST_F(RobustnessTest, BatchGoesOnAfterAGlErrorOrALostContext) {
 // A crash or a hang in one scene costs that scene only: its worker process is replaced and the
 // jobs around it render, in a fresh process, as they do on their own.
 TEST_F(RobustnessTest, BatchGoesOnAfterAWorkerCrashOrHang) {
-  fs::create_directories(root_ / "batch");
-  for (const std::string name : {"a", "c"}) {
-    const fs::path scene = writeScene(name + ".glb", FileFormat::Glb);
-    fs::rename(scene, root_ / "batch" / scene.filename());
-  }
-  const fs::path bad = writeScene("b.glb", FileFormat::Glb, true);
-  fs::rename(bad, root_ / "batch" / "b.glb");
+  writeBatchWithAFaultyMiddleScene();
   const std::vector<std::string> batch = {"batch",    (root_ / "batch").string(),
                                           "--out",    (root_ / "out").string(),
                                           "--width",  "32",

@@ -6,47 +6,26 @@
 
 #include <cstring>
 #include <optional>
+#include <vector>
 
 #include "renderer/core/errors.h"
+#include "renderer/gl/enum_names.h"
 
 namespace omnishadow {
 namespace {
 
 const char* eglErrorName(EGLint error) {
-  switch (error) {
-    case EGL_SUCCESS:
-      return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED:
-      return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS:
-      return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC:
-      return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE:
-      return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONTEXT:
-      return "EGL_BAD_CONTEXT";
-    case EGL_BAD_CONFIG:
-      return "EGL_BAD_CONFIG";
-    case EGL_BAD_CURRENT_SURFACE:
-      return "EGL_BAD_CURRENT_SURFACE";
-    case EGL_BAD_DISPLAY:
-      return "EGL_BAD_DISPLAY";
-    case EGL_BAD_SURFACE:
-      return "EGL_BAD_SURFACE";
-    case EGL_BAD_MATCH:
-      return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER:
-      return "EGL_BAD_PARAMETER";
-    case EGL_BAD_NATIVE_PIXMAP:
-      return "EGL_BAD_NATIVE_PIXMAP";
-    case EGL_BAD_NATIVE_WINDOW:
-      return "EGL_BAD_NATIVE_WINDOW";
-    case EGL_CONTEXT_LOST:
-      return "EGL_CONTEXT_LOST";
-    default:
-      return "unknown EGL error";
-  }
+  static constexpr gl::EnumName<EGLint> kNames[] = {
+      OMNISHADOW_ENUM_NAME(EGL_SUCCESS),           OMNISHADOW_ENUM_NAME(EGL_NOT_INITIALIZED),
+      OMNISHADOW_ENUM_NAME(EGL_BAD_ACCESS),        OMNISHADOW_ENUM_NAME(EGL_BAD_ALLOC),
+      OMNISHADOW_ENUM_NAME(EGL_BAD_ATTRIBUTE),     OMNISHADOW_ENUM_NAME(EGL_BAD_CONTEXT),
+      OMNISHADOW_ENUM_NAME(EGL_BAD_CONFIG),        OMNISHADOW_ENUM_NAME(EGL_BAD_CURRENT_SURFACE),
+      OMNISHADOW_ENUM_NAME(EGL_BAD_DISPLAY),       OMNISHADOW_ENUM_NAME(EGL_BAD_SURFACE),
+      OMNISHADOW_ENUM_NAME(EGL_BAD_MATCH),         OMNISHADOW_ENUM_NAME(EGL_BAD_PARAMETER),
+      OMNISHADOW_ENUM_NAME(EGL_BAD_NATIVE_PIXMAP), OMNISHADOW_ENUM_NAME(EGL_BAD_NATIVE_WINDOW),
+      OMNISHADOW_ENUM_NAME(EGL_CONTEXT_LOST),
+  };
+  return gl::nameOf(error, kNames, "unknown EGL error");
 }
 
 bool hasExtension(const char* list, const char* name) {
@@ -152,8 +131,7 @@ std::vector<Candidate> deviceCandidates(int gpuIndex, std::vector<std::string>& 
   }
   if (gpuIndex >= count)
     throw InputError("--gpu " + std::to_string(gpuIndex) + ": there are only " +
-                      std::to_string(count) + " EGL devices (0.." + std::to_string(count - 1) +
-                      ")");
+                     std::to_string(count) + " EGL devices (0.." + std::to_string(count - 1) + ")");
   std::vector<Candidate> hardware, software;
   for (EGLint i = 0; i < count; ++i) {
     if (gpuIndex >= 0 && i != gpuIndex) continue;
@@ -177,13 +155,12 @@ std::vector<Candidate> deviceCandidates(int gpuIndex, std::vector<std::string>& 
 
 }  // namespace
 
-EglContext::EglContext(const EglContextOptions& options) : impl_(std::make_unique<Impl>()) {
+EglContext::EglContext(const ContextOptions& options) : impl_(std::make_unique<Impl>()) {
   std::vector<std::string> attempts;
   std::vector<Candidate> candidates = deviceCandidates(options.gpuIndex, attempts);
   // Asking for a device that is not there is a usage error, also where EGL lists none at all.
   if (options.gpuIndex >= 0 && candidates.empty())
-    throw InputError("--gpu " + std::to_string(options.gpuIndex) +
-                     ": there are no EGL devices (" +
+    throw InputError("--gpu " + std::to_string(options.gpuIndex) + ": there are no EGL devices (" +
                      (attempts.empty() ? std::string("none listed") : attempts.front()) +
                      "); leave --gpu out to use the surfaceless platform");
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);

@@ -2,14 +2,10 @@
 
 #include <memory>
 #include <string>
-#include <vector>
+
+#include "renderer/core/context_options.h"
 
 namespace omnishadow {
-
-struct EglContextOptions {
-  int gpuIndex = -1;   // EGL device index (--gpu); -1 = hardware devices first, then software
-  bool debug = false;  // debug context + KHR_debug messages printed to stderr (--verbose)
-};
 
 // Headless OpenGL 4.5 core context, current on the calling thread for its lifetime. No window,
 // no surface, no X: rendering goes into the caller's framebuffer objects.
@@ -17,10 +13,8 @@ struct EglContextOptions {
 // Mesa's surfaceless platform. Throws RenderError listing every attempt and what EGL said.
 class EglContext {
  public:
-  explicit EglContext(const EglContextOptions& options);
-  ~EglContext();
-  EglContext(const EglContext&) = delete;
-  EglContext& operator=(const EglContext&) = delete;
+  explicit EglContext(const ContextOptions& options);
+  ~EglContext();  // not copyable, not movable: impl_ is a unique_ptr and the destructor is declared
 
   // "EGL device 0 (NVIDIA ...)" or "EGL surfaceless platform", for --verbose.
   const std::string& platformDescription() const;

@@ -28,7 +28,7 @@ F loadProc(const char* name) {
 // GL's own names for the device, from a context made on it: "vendor | renderer | version".
 void probeWithContext(GpuDevice& device) {
   try {
-    const EglContext context(EglContextOptions{device.index, false});
+    const EglContext context(ContextOptions{device.index, false});
     auto text = [](GLenum name) {
       const auto* s = reinterpret_cast<const char*>(glGetString(name));
       return std::string(s ? s : "");

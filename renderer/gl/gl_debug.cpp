@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "renderer/core/errors.h"
+#include "renderer/gl/enum_names.h"
 
 namespace omnishadow::gl {
 namespace {
@@ -29,24 +30,16 @@ void APIENTRY printMessage(GLenum, GLenum, GLuint, GLenum severity, GLsizei leng
 }
 
 const char* errorName(GLenum error) {
-  switch (error) {
-    case GL_INVALID_ENUM:
-      return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE:
-      return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION:
-      return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION:
-      return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY:
-      return "GL_OUT_OF_MEMORY";
-    case GL_STACK_OVERFLOW:
-      return "GL_STACK_OVERFLOW";
-    case GL_STACK_UNDERFLOW:
-      return "GL_STACK_UNDERFLOW";
-    default:
-      return "unknown GL error";
-  }
+  static constexpr EnumName<GLenum> kNames[] = {
+      OMNISHADOW_ENUM_NAME(GL_INVALID_ENUM),
+      OMNISHADOW_ENUM_NAME(GL_INVALID_VALUE),
+      OMNISHADOW_ENUM_NAME(GL_INVALID_OPERATION),
+      OMNISHADOW_ENUM_NAME(GL_INVALID_FRAMEBUFFER_OPERATION),
+      OMNISHADOW_ENUM_NAME(GL_OUT_OF_MEMORY),
+      OMNISHADOW_ENUM_NAME(GL_STACK_OVERFLOW),
+      OMNISHADOW_ENUM_NAME(GL_STACK_UNDERFLOW),
+  };
+  return nameOf(error, kNames, "unknown GL error");
 }
 
 }  // namespace

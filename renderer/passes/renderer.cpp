@@ -214,8 +214,7 @@ void checkAovMemory(const std::vector<Light>& lights, const ViewCamera& camera,
 
 }  // namespace
 
-Renderer::Impl::Impl(const ContextOptions& options)
-    : context_(EglContextOptions{options.gpuIndex, options.debug}) {
+Renderer::Impl::Impl(const ContextOptions& options) : context_(options) {
   if (options.debug) gl::enableDebugOutput();
   // Reversed depth with a [0,1] clip range keeps float depth precise from near to far.
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);

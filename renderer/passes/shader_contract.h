@@ -54,13 +54,16 @@ static_assert(kMaterialUnits <= kCubeCompareUnit, "material and shadow units ove
 static_assert(kPlanarMomentsUnit + kMaxShadowGroups <= 32, "shadow units beyond 32");
 
 // Shader storage buffer bindings. Models and DrawObjects are the shadow pass's
-// (shaders/shadow_depth.vert); the rest are the lighting pass's.
-inline constexpr int kLightsBinding = 0;
-inline constexpr int kModelsBinding = 1;
-inline constexpr int kDrawObjectsBinding = 2;
-inline constexpr int kShadowViewProjectionsBinding = 3;
-inline constexpr int kClusterRangesBinding = 4;
-inline constexpr int kClusterLightsBinding = 5;
+// (shaders/shadow_depth.vert); the rest are the lighting pass's. Unscoped: they are the ints
+// glBindBufferBase and the shader defines take.
+enum StorageBinding : int {
+  kLightsBinding = 0,
+  kModelsBinding = 1,
+  kDrawObjectsBinding = 2,
+  kShadowViewProjectionsBinding = 3,
+  kClusterRangesBinding = 4,
+  kClusterLightsBinding = 5,
+};
 
 // The lighting pass reports the shadow term of this many lights per pass in RGBA targets.
 inline constexpr int kVisibilityOutputs = 5;

@@ -41,10 +41,10 @@ struct AovLayers {
 
 struct RenderSettings {
   Shading shading = Shading::Pbr;
-  bool aovs = false;  // fill Frame::aovs
-  AovLayers layers;   // with aovs
+  bool aovs = false;   // fill Frame::aovs
+  AovLayers layers{};  // with aovs
   DebugView debugView = DebugView::None;
-  std::string debugLight;       // DebugView::Depth: light name; empty = the first shadowed one
+  std::string debugLight{};     // DebugView::Depth: light name; empty = the first shadowed one
                                 // (DebugView::Cascade: the first shadowed directional one)
   bool readShadowMaps = false;  // fill Frame::shadowMaps
   int lightViewSize = 0;        // > 0: fill Frame::lightViews with images of this size

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/core/context_options.h"
 #include "renderer/core/stage_timer.h"
 #include "renderer/render/frame.h"
 #include "renderer/render/render_settings.h"
@@ -15,11 +16,6 @@
 
 namespace omnishadow {
 
-struct ContextOptions {
-  int gpuIndex = -1;   // EGL device index (--gpu); -1 = hardware devices first, then software
-  bool debug = false;  // debug context + KHR_debug messages printed to stderr (--verbose)
-};
-
 // Owns the headless GL context and the compiled passes; renders frames of any scene. Not
 // thread-safe: use it from the thread that created it. This header is the whole interface to
 // the GPU: nothing in it, or in what it includes, names a GL type.
@@ -27,9 +23,7 @@ class Renderer {
  public:
   // Throws RenderError when no context can be made, InputError for a --gpu that does not exist.
   explicit Renderer(const ContextOptions& options);
-  ~Renderer();
-  Renderer(const Renderer&) = delete;
-  Renderer& operator=(const Renderer&) = delete;
+  ~Renderer();  // not copyable, not movable: impl_ is a unique_ptr and the destructor is declared
 
   // What this device allows; planFrame() checks a frame against it.
   const RenderLimits& limits() const;

@@ -9,6 +9,10 @@ std::string at(std::string_view array, std::size_t index) {
   return std::string(array) + "[" + std::to_string(index) + "]";
 }
 
+std::string nameOrDefault(const std::string& name, std::string_view kind, std::size_t index) {
+  return name.empty() ? std::string(kind) + std::to_string(index) : name;
+}
+
 std::string plural(std::size_t count, std::string_view noun) {
   const char* ending = count == 1 ? "" : noun.ends_with("sh") ? "es" : "s";
   return std::to_string(count) + " " + std::string(noun) + ending;

@@ -18,6 +18,9 @@ namespace omnishadow::gltf_detail {
 
 // "array[index]", the way messages name a glTF object.
 std::string at(std::string_view array, std::size_t index);
+// The file's name for an object, or `kind` and its index ("skin0") where it gives none, so that
+// every object has a name messages and outputs can use.
+std::string nameOrDefault(const std::string& name, std::string_view kind, std::size_t index);
 // "1 mesh", "2 meshes".
 std::string plural(std::size_t count, std::string_view noun);
 // The lines of `text` with trailing blanks removed, empty ones left out.

@@ -83,7 +83,8 @@ Light convertLight(const Context& ctx, int index, const glm::mat4& world,
   const std::string object = "KHR_lights_punctual." + at("lights", static_cast<std::size_t>(index));
   Light light;
   // Light names must be unique within a render; a light placed by two nodes appears twice.
-  const std::string base = source.name.empty() ? "gltf_light" + std::to_string(index) : source.name;
+  const std::string base =
+      nameOrDefault(source.name, "gltf_light", static_cast<std::size_t>(index));
   light.name = base;
   for (int k = 2; !usedNames.insert(light.name).second; ++k)
     light.name = base + "_" + std::to_string(k);

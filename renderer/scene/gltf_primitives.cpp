@@ -344,7 +344,7 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   warnAboutPositionsWithoutBounds(ctx, object, primitive);
 
   Mesh mesh;
-  mesh.name = (source.name.empty() ? "mesh" + std::to_string(meshIndex) : source.name) + "/" +
+  mesh.name = nameOrDefault(source.name, "mesh", static_cast<std::size_t>(meshIndex)) + "/" +
               std::to_string(primIndex);
   if (primitive.material >= 0) {
     ctx.checkIndex(object, "material", primitive.material, ctx.model.materials.size());

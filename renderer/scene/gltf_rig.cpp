@@ -68,38 +68,40 @@ void readNodes(Context& ctx) {
   }
 }
 
-void readSkins(Context& ctx) {
+Skin readSkin(Context& ctx, std::size_t s) {
   const tinygltf::Model& model = ctx.model;
-  for (std::size_t s = 0; s < model.skins.size(); ++s) {
-    const tinygltf::Skin& source = model.skins[s];
-    const std::string object = at("skins", s);
-    Skin skin;
-    skin.name = source.name.empty() ? "skin" + std::to_string(s) : source.name;
-    for (int joint : source.joints) {
-      ctx.checkIndex(object + ".joints", "node", joint, model.nodes.size());
-      skin.joints.push_back(joint);
-    }
-    skin.inverseBindMatrices.assign(skin.joints.size(), glm::mat4(1.0f));
-    if (source.inverseBindMatrices >= 0) {
-      ctx.checkIndex(object + ".inverseBindMatrices", "accessor", source.inverseBindMatrices,
-                     model.accessors.size());
-      const tinygltf::Accessor& accessor =
-          model.accessors[static_cast<std::size_t>(source.inverseBindMatrices)];
-      if (accessor.type != TINYGLTF_TYPE_MAT4 ||
-          accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-        ctx.fail(object + ".inverseBindMatrices", "must be a MAT4 float accessor");
-      const AccessorValues values = readAccessor(ctx, source.inverseBindMatrices, Normalize::Never);
-      if (values.count < skin.joints.size())
-        ctx.fail(object + ".inverseBindMatrices", "has " + std::to_string(values.count) +
-                                                      " matrices for " +
-                                                      plural(skin.joints.size(), "joint"));
-      for (std::size_t j = 0; j < skin.joints.size(); ++j)
-        for (int k = 0; k < 16; ++k)
-          glm::value_ptr(skin.inverseBindMatrices[j])[k] =
-              static_cast<float>(values.get(j, k));  // both column-major
-    }
-    ctx.scene.rig.skins.push_back(std::move(skin));
+  const tinygltf::Skin& source = model.skins[s];
+  const std::string object = at("skins", s);
+  Skin skin{.name = nameOrDefault(source.name, "skin", s)};
+  for (int joint : source.joints) {
+    ctx.checkIndex(object + ".joints", "node", joint, model.nodes.size());
+    skin.joints.push_back(joint);
   }
+  skin.inverseBindMatrices.assign(skin.joints.size(), glm::mat4(1.0f));
+  if (source.inverseBindMatrices >= 0) {
+    ctx.checkIndex(object + ".inverseBindMatrices", "accessor", source.inverseBindMatrices,
+                   model.accessors.size());
+    const tinygltf::Accessor& accessor =
+        model.accessors[static_cast<std::size_t>(source.inverseBindMatrices)];
+    if (accessor.type != TINYGLTF_TYPE_MAT4 ||
+        accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+      ctx.fail(object + ".inverseBindMatrices", "must be a MAT4 float accessor");
+    const AccessorValues values = readAccessor(ctx, source.inverseBindMatrices, Normalize::Never);
+    if (values.count < skin.joints.size())
+      ctx.fail(object + ".inverseBindMatrices", "has " + std::to_string(values.count) +
+                                                    " matrices for " +
+                                                    plural(skin.joints.size(), "joint"));
+    for (std::size_t j = 0; j < skin.joints.size(); ++j)
+      for (int k = 0; k < 16; ++k)
+        glm::value_ptr(skin.inverseBindMatrices[j])[k] =
+            static_cast<float>(values.get(j, k));  // both column-major
+  }
+  return skin;
+}
+
+void readSkins(Context& ctx) {
+  for (std::size_t s = 0; s < ctx.model.skins.size(); ++s)
+    ctx.scene.rig.skins.push_back(readSkin(ctx, s));
 }
 
 bool allFinite(const std::vector<float>& values) {
@@ -162,7 +164,7 @@ void readAnimations(Context& ctx) {
     const tinygltf::Animation& source = model.animations[a];
     const std::string object = at("animations", a);
     Animation animation;
-    animation.name = source.name.empty() ? "animation" + std::to_string(a) : source.name;
+    animation.name = nameOrDefault(source.name, "animation", a);
     for (std::size_t s = 0; s < source.samplers.size(); ++s)
       animation.samplers.push_back(readSampler(ctx, a, s));
     bool any = false;

@@ -64,8 +64,8 @@ struct Light {
   float range = 0.0f;                          // world units; 0 = unlimited
   float innerConeAngle = 0.0f;                 // radians (spot)
   float outerConeAngle = 0.7853981633974483f;  // radians (spot), pi/4
-  ShadowSettings shadow;
-  std::string origin;  // where it came from, for messages: a lights file path or "glTF"
+  ShadowSettings shadow{};
+  std::string origin{};  // where it came from, for messages: a lights file path or "glTF"
 };
 
 struct LightSetup {

@@ -33,8 +33,8 @@ struct RigNode {
 
 struct Skin {
   std::string name;
-  std::vector<int> joints;                     // node indices
-  std::vector<glm::mat4> inverseBindMatrices;  // one per joint (identity when the file has none)
+  std::vector<int> joints{};                     // node indices
+  std::vector<glm::mat4> inverseBindMatrices{};  // one per joint (identity when the file has none)
 };
 
 // POSITION, NORMAL and TANGENT displacements of one morph target; each empty or one per vertex

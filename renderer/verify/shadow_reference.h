@@ -30,9 +30,8 @@ class ShadowReference {
  public:
   // Throws RenderError when Embree cannot build the scene.
   explicit ShadowReference(const Scene& scene);
-  ~ShadowReference();
-  ShadowReference(const ShadowReference&) = delete;
-  ShadowReference& operator=(const ShadowReference&) = delete;
+  ~ShadowReference();  // not copyable, not movable: impl_ is a unique_ptr and the destructor is
+                       // declared
 
   // Scene-scale length that keeps a ray off the surface it starts on: 1e-4 of the bounds'
   // diagonal.

@@ -506,6 +506,12 @@ int GltfBuilder::addMaterial(const MaterialDesc& desc) {
   return static_cast<int>(model.materials.size()) - 1;
 }
 
+int GltfBuilder::addTexturedMesh(const MeshData& data, int baseColorTexture) {
+  MaterialDesc material;
+  material.baseColorTexture = baseColorTexture;
+  return addMesh(data, {.material = addMaterial(material)});
+}
+
 int GltfBuilder::addMesh(const MeshData& data, const PrimitiveOptions& options,
                          const std::string& name) {
   tinygltf::Mesh mesh;

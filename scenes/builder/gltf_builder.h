@@ -101,6 +101,8 @@ class GltfBuilder {
   // A mesh with one primitive.
   int addMesh(const MeshData& data, const PrimitiveOptions& options = {},
               const std::string& name = "");
+  // A mesh with one primitive whose new material's base color is `baseColorTexture`.
+  int addTexturedMesh(const MeshData& data, int baseColorTexture);
   // Adds another primitive to an existing mesh.
   void addPrimitive(int mesh, const MeshData& data, const PrimitiveOptions& options = {});
 

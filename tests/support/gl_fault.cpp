@@ -67,8 +67,9 @@ __attribute__((visibility("default"))) void glTextureSubImage2D(GLuint texture, 
                                                                 GLint x, GLint y, GLsizei width,
                                                                 GLsizei height, GLenum format,
                                                                 GLenum type, const void* pixels) {
-  using Fn = void (*)(GLuint, GLint, GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, const void*);
-  static const Fn next = real<Fn>("glTextureSubImage2D");
+  static const auto next =
+      real<void (*)(GLuint, GLint, GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, const void*)>(
+          "glTextureSubImage2D");
   armOn(width, height);
   next(texture, level, x, y, width, height, format, type, pixels);
 }
@@ -77,8 +78,9 @@ __attribute__((visibility("default"))) void glTexSubImage2D(GLenum target, GLint
                                                             GLint y, GLsizei width, GLsizei height,
                                                             GLenum format, GLenum type,
                                                             const void* pixels) {
-  using Fn = void (*)(GLenum, GLint, GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, const void*);
-  static const Fn next = real<Fn>("glTexSubImage2D");
+  static const auto next =
+      real<void (*)(GLenum, GLint, GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, const void*)>(
+          "glTexSubImage2D");
   armOn(width, height);
   next(target, level, x, y, width, height, format, type, pixels);
 }
@@ -88,8 +90,9 @@ __attribute__((visibility("default"))) void glTexImage2D(GLenum target, GLint le
                                                          GLsizei height, GLint border,
                                                          GLenum format, GLenum type,
                                                          const void* pixels) {
-  using Fn = void (*)(GLenum, GLint, GLint, GLsizei, GLsizei, GLint, GLenum, GLenum, const void*);
-  static const Fn next = real<Fn>("glTexImage2D");
+  static const auto next =
+      real<void (*)(GLenum, GLint, GLint, GLsizei, GLsizei, GLint, GLenum, GLenum, const void*)>(
+          "glTexImage2D");
   armOn(width, height);
   next(target, level, internalFormat, width, height, border, format, type, pixels);
 }
