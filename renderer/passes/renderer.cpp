@@ -528,7 +528,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   const std::vector<bool> translucent = translucentShadowLights(lights, scene);
   features.translucentShadows =
       std::find(translucent.begin(), translucent.end(), true) != translucent.end();
-  lightingPass(settings.shading, PassOutputs::Beauty, features);  // compiled once per variant
+  lightingPass(settings.shading, PassOutputs::Beauty, features);  // made once per feature set
   shaders.stop();
 
   ScopedStage upload(times, "upload");
@@ -538,6 +538,11 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
                         prepared.gpu.warnings().end());
   glFinish();
   upload.stop();
+  {
+    ScopedStage variants(times, "shaders");  // the beauty's material variants
+    lightingPass(settings.shading, PassOutputs::Beauty, features)
+        .compileMaterialVariants(prepared.gpu);
+  }
 
   ScopedStage shadowStage(times, "shadow maps");
   renderShadows(prepared, std::move(plan.shadows), scene, lights, settings, true, &frame);
