@@ -55,7 +55,7 @@ def main():
     scenes = a.scenes.split(",")
     runners = [("three", None), ("omni", a.bin), ("steady", a.bin)]
     if a.baseline:
-        runners.append(("baseline", a.baseline))
+        runners += [("baseline", a.baseline), ("baseline-steady", a.baseline)]
     res = {}
     for r in range(a.rounds):
         for name in scenes:
@@ -67,7 +67,7 @@ def main():
                         x = cmp["run_three"](scene, lf, f"{tmp}/{name}.three.png", w, h, a.filter)
                     else:
                         x = run_omni(binary, scene, lf, f"{tmp}/{name}.{who}.png", w, h,
-                                     a.repeat if who == "steady" else 0)
+                                     a.repeat if who.endswith("steady") else 0)
                 except Exception as e:  # reported, not fatal: the table says "missing"
                     print(f"# {name} {who} failed: {e}", file=sys.stderr)
                     continue
@@ -89,8 +89,9 @@ def main():
     lines = ["| scene | three.js process ms | omnishadow process ms | process ratio (target <= 0.1) "
              "| three.js steady frame ms | omnishadow steady frame ms | steady ratio (target <= 0.5) "
              "| omnishadow first frame ms | first / three.js steady (target <= 1) |"
-             + (" baseline process ms | baseline first frame ms |" if a.baseline else ""),
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|" + ("---:|---:|" if a.baseline else "")]
+             + (" baseline process ms | baseline first frame ms | baseline steady frame ms |"
+                if a.baseline else ""),
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|" + ("---:|---:|---:|" if a.baseline else "")]
     for name in scenes:
         tw, ow = med(name, "three", "wall"), med(name, "omni", "wall")
         tf, of = med(name, "three", "frame"), med(name, "steady", "steady")
@@ -98,7 +99,9 @@ def main():
         row = (f"| {name} | {f(tw)} | {f(ow)} | {ratio(ow, tw)} | {f(tf, '{:.1f}')} | "
                f"{f(of, '{:.1f}')} | {ratio(of, tf)} | {f(first, '{:.1f}')} | {ratio(first, tf)} |")
         if a.baseline:
-            row += f" {f(med(name, 'baseline', 'wall'))} | {f(med(name, 'baseline', 'first'), '{:.1f}')} |"
+            row += (f" {f(med(name, 'baseline', 'wall'))} | "
+                    f"{f(med(name, 'baseline', 'first'), '{:.1f}')} | "
+                    f"{f(med(name, 'baseline-steady', 'steady'), '{:.1f}')} |")
         lines.append(row)
     note = (f"\n{a.filter}, {w}x{h}, 1024^2 shadow maps, {a.rounds} interleaved rounds, medians; "
             f"omnishadow steady frame: median of `render --repeat {a.repeat}` (shadow maps + lighting + "

@@ -51,6 +51,26 @@ uniform int uUnlit;  // KHR_materials_unlit, points and lines: the base color as
 uniform int uSpecularGlossiness;
 uniform vec3 uSpecularFactor;
 uniform float uGlossinessFactor;
+// Material variants (renderer/passes/lighting_pass.cpp): the texture slots and the BRDF a
+// material lacks are constants here, so their reads compile out (llvmpipe would run them).
+#ifndef BASE_COLOR_TEXTURE
+#define uBaseColorTexCoord (-1)
+#endif
+#ifndef METALLIC_ROUGHNESS_TEXTURE
+#define uMetallicRoughnessTexCoord (-1)
+#endif
+#ifndef NORMAL_TEXTURE
+#define uNormalTexCoord (-1)
+#endif
+#ifndef OCCLUSION_TEXTURE
+#define uOcclusionTexCoord (-1)
+#endif
+#ifndef EMISSIVE_TEXTURE
+#define uEmissiveTexCoord (-1)
+#endif
+#ifndef SPECULAR_GLOSSINESS
+#define uSpecularGlossiness 0
+#endif
 
 uniform vec3 uCameraPosition;
 

@@ -376,5 +376,70 @@ TEST(SpecularGlossinessRender, MatchesTheExtensionsBrdfByHand) {
   }
 }
 
+// The lighting pass compiles a program per material variant (texture slots, specular-
+// glossiness) and switches between them from draw to draw: three such materials in one frame,
+// through the beauty pass and the AOV pass, each still shade by its own BRDF worked out by hand.
+TEST(MaterialVariantRender, EachMaterialOfOneFrameKeepsItsOwnBrdf) {
+  test_support::TempFolder folder("omnishadow-material-variants");
+  GltfBuilder builder;
+  MaterialDesc plain;
+  plain.baseColor = {0.6f, 0.4f, 0.2f, 1.0f};
+  plain.roughness = 0.5f;
+  MaterialDesc textured = plain;
+  textured.baseColor = glm::vec4(1.0f);
+  textured.baseColorTexture = builder.addTexture(1, 1, {255, 128, 0, 255}, "orange");
+  PrimitiveOptions options;
+  const glm::vec3 at[3] = {{-3, 0, 0}, {0, 0, 0}, {3, 0, 0}};
+  const int materials[3] = {builder.addMaterial(plain), builder.addMaterial(textured),
+                            builder.addMaterial(MaterialDesc{})};
+  builder.model().materials[2].extensions["KHR_materials_pbrSpecularGlossiness"] =
+      Value(Value::Object{
+          {"diffuseFactor", Value(Value::Array{Value(0.6), Value(0.4), Value(0.2), Value(1.0)})},
+          {"specularFactor", Value(Value::Array{Value(0.5), Value(0.25), Value(0.125)})},
+          {"glossinessFactor", Value(0.25)}});
+  for (int i = 0; i < 3; ++i) {
+    options.material = materials[i];
+    builder.addNode("plane" + std::to_string(i), {at[i]},
+                    builder.addMesh(builder::makePlane(2.0f), options));
+  }
+  const fs::path file = folder / "planes.gltf";
+  builder.write(file, FileFormat::GltfEmbedded);
+  const Scene scene = loadGltf(file);
+
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = {0, -1, 0};
+  sun.intensity = 3.0f;
+  sun.shadow.enabled = false;
+  // 9 m wide at the planes: their centers at pixels 16, 48 and 80. From far away, so that V is
+  // within a degree of N on every plane.
+  const ViewCamera camera = lookFrom(scene, {0, 200, 0}, {0, 0, 0}, 96, 32,
+                                     2.0f * glm::degrees(std::atan(1.5f / 200.0f)), {0, 0, -1});
+  // N = L = V: Fresnel is F0, the GGX lobe 1 / (pi alpha^2), the visibility term 1/4.
+  const auto metallicRoughness = [](glm::vec3 base, float roughness) {
+    const float alpha = roughness * roughness;
+    return (1.0f - 0.04f) * base / kPi * 3.0f +
+           glm::vec3(0.04f / (kPi * alpha * alpha) * 0.25f * 3.0f);
+  };
+  const glm::vec3 specular(0.5f, 0.25f, 0.125f), diffuse(0.6f, 0.4f, 0.2f);
+  const float glossAlpha = 0.75f * 0.75f;
+  const glm::vec3 expected[3] = {metallicRoughness(diffuse, 0.5f),
+                                 metallicRoughness({1.0f, srgbToLinear(128), 0.0f}, 0.5f),
+                                 (glm::vec3(1.0f) - specular) * 0.5f * diffuse / kPi * 3.0f +
+                                     specular / (kPi * glossAlpha * glossAlpha) * 0.25f * 3.0f};
+  for (const bool aovs : {false, true}) {
+    StageTimes times;
+    RenderSettings settings;
+    settings.aovs = aovs;
+    const Frame frame =
+        sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, settings, times);
+    for (int i = 0; i < 3; ++i)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(frame.beauty.at(16 + 32 * i, 16, c), expected[i][c], 0.01f * expected[i][c])
+            << "material " << i << " channel " << c << (aovs ? " (AOV pass)" : " (beauty pass)");
+  }
+}
+
 }  // namespace
 }  // namespace omnishadow

@@ -1418,3 +1418,34 @@ INSTANTIATE_TEST_SUITE_P(LightsAndFilters, ShadowQuality, ::testing::ValuesIn(qu
                              if (c == '-') c = '_';
                            return name;
                          });
+
+// The beauty pass keeps its targets for the next frame of the same size, and the readback turns
+// the rows around in the driver's copy where it can (GL_MESA_pack_invert): a frame after one of
+// another size is the same frame again, top row first (sky above a floor seen from above it).
+TEST(Readback, AFrameAfterOneOfAnotherSizeIsTheSameTopRowFirst) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(40.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeSphere(0.5f, 24, 12), translate({0, 0.5f, 0}), white);
+  const Light light = pointLight("lamp", {1.0f, 3.0f, 1.0f}, ShadowFilter::Pcf, 128);
+  const ViewCamera wide = lookFrom(scene, {0, 1.5f, 4}, {0, 0.8f, 0}, 48, 32, 60.0f);
+  const ViewCamera tall = lookFrom(scene, {0, 1.5f, 4}, {0, 0.8f, 0}, 24, 40, 60.0f);
+  const auto beauty = [&](const ViewCamera& camera) {
+    StageTimes times;
+    return sharedRenderer()
+        .render(scene, {light}, glm::vec3(0.03f), camera, RenderSettings{}, times)
+        .beauty;
+  };
+  const FloatImage first = beauty(wide);
+  const FloatImage between = beauty(tall);
+  const FloatImage again = beauty(wide);
+  EXPECT_EQ(between.width, 24);
+  EXPECT_EQ(between.height, 40);
+  ASSERT_EQ(again.width, 48);
+  ASSERT_EQ(again.height, 32);
+  EXPECT_EQ(first.pixels, again.pixels);
+  for (int x = 0; x < 48; ++x) {
+    EXPECT_EQ(again.at(x, 0, 3), 0.0f) << "sky at the top, column " << x;
+    EXPECT_EQ(again.at(x, 31, 3), 1.0f) << "floor at the bottom, column " << x;
+  }
+}

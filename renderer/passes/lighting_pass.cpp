@@ -1,5 +1,6 @@
 #include "renderer/passes/lighting_pass.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <type_traits>
@@ -15,9 +16,18 @@ namespace {
 
 using contract::GpuLight;
 
+// Texture slots in unit order (kBaseColorUnit + i), as bits of a material variant.
+constexpr const char* kMaterialTextureDefines[contract::kMaterialUnits] = {
+    "BASE_COLOR_TEXTURE", "METALLIC_ROUGHNESS_TEXTURE", "NORMAL_TEXTURE", "OCCLUSION_TEXTURE",
+    "EMISSIVE_TEXTURE"};
+constexpr unsigned kSpecularGlossinessBit = 1u << contract::kMaterialUnits;
+
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
-                                        const LightingFeatures& features) {
+                                        const LightingFeatures& features, unsigned material) {
   std::vector<std::string> defines;
+  for (int i = 0; i < contract::kMaterialUnits; ++i)
+    if (material & (1u << i)) defines.push_back(kMaterialTextureDefines[i]);
+  if (material & kSpecularGlossinessBit) defines.push_back("SPECULAR_GLOSSINESS");
   if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
   if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
   const struct {
@@ -191,16 +201,41 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
 }
 
 LightingPass::LightingPass(Shading shading, PassOutputs outputs, const LightingFeatures& features)
-    : outputs_(outputs),
-      program_("scene.vert", "lighting.frag", variantDefines(shading, outputs, features)),
+    : shading_(shading),
+      outputs_(outputs),
+      features_(features),
       depthOnly_("scene.vert", "depth_only.frag", contract::shaderContractDefines()),
       cubeCompare_(makeCompareSampler(false)),
       planarCompare_(makeCompareSampler(true)),
       rawDepth_(makeRawSampler(GL_NEAREST)),
       moments_(makeRawSampler(GL_LINEAR)) {}
 
-void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
-                                const ShadowGroups& shadowGroups) {
+unsigned LightingPass::materialVariant(const GpuMaterial& material) {
+  const GLuint textures[contract::kMaterialUnits] = {material.baseColor, material.metallicRoughness,
+                                                     material.normal, material.occlusion,
+                                                     material.emissive};
+  unsigned variant = material.desc.specularGlossiness ? kSpecularGlossinessBit : 0u;
+  for (int i = 0; i < contract::kMaterialUnits; ++i)
+    if (textures[i] != 0) variant |= 1u << i;
+  return variant;
+}
+
+const ShaderProgram& LightingPass::program(unsigned variant) {
+  for (const auto& [key, program] : programs_)
+    if (key == variant) return *program;
+  programs_.emplace_back(variant, std::make_unique<ShaderProgram>(
+                                      "scene.vert", "lighting.frag",
+                                      variantDefines(shading_, outputs_, features_, variant)));
+  return *programs_.back().second;
+}
+
+void LightingPass::compileMaterialVariants(const GpuScene& scene) {
+  for (const GpuDraw& draw : scene.draws())
+    program(materialVariant(scene.materials()[draw.material]));
+}
+
+int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
+                               const ShadowGroups& shadowGroups) {
   // Each group takes the next slot of its layout's sampler arrays.
   std::vector<int> slot(shadowGroups.size());
   static_assert(contract::kCubeTransmittanceUnit == contract::kCubeMomentsUnit &&
@@ -264,7 +299,7 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
                              static_cast<float>(s.resolution));
     data.push_back(g);
   }
-  program_.set("uLightCount", static_cast<int>(data.size()));
+  const int lightCount = static_cast<int>(data.size());
   // Blocks are bound with at least one element, even when nothing reads it.
   if (data.empty()) data.emplace_back();
   lightBuffer_.upload(data);
@@ -273,10 +308,11 @@ void LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
   viewProjectionBuffer_.upload(viewProjections);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kShadowViewProjectionsBinding,
                    viewProjectionBuffer_.get());
+  return lightCount;
 }
 
 void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
-                                  const ViewCamera& camera) {
+                                  const ViewCamera& camera, FrameUniforms& uniforms) {
   std::vector<const Light*> list;
   for (const ShadedLight& shaded : lights) list.push_back(shaded.light);
   // View depth along the camera axis: minus the view-space z.
@@ -294,18 +330,49 @@ void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<Shade
   clusterLights_.upload(clusters.lights);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kClusterRangesBinding, clusterRanges_.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kClusterLightsBinding, clusterLights_.get());
-  program_.set("uTileSize", clusters.tileSize);
-  program_.set("uTileColumns", clusters.columns);
-  program_.set("uTileRows", clusters.rows);
-  program_.set("uSlices", clusters.slices);
-  program_.set("uSliceNear", clusters.sliceNear);
-  program_.set("uSliceScale", clusters.sliceScale);
-  program_.set("uViewDepth", depthRow);
-  program_.set("uGlobalLights", static_cast<int>(clusters.globalCount));
+  uniforms.tileSize = clusters.tileSize;
+  uniforms.tileColumns = clusters.columns;
+  uniforms.tileRows = clusters.rows;
+  uniforms.slices = clusters.slices;
+  uniforms.sliceNear = clusters.sliceNear;
+  uniforms.sliceScale = clusters.sliceScale;
+  uniforms.viewDepth = depthRow;
+  uniforms.globalLights = static_cast<int>(clusters.globalCount);
 }
 
-void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram& program) {
-  const bool lighting = &program == &program_;
+void LightingPass::setFrameUniforms(const ShaderProgram& program,
+                                    const FrameUniforms& uniforms) const {
+  const PassParameters& parameters = uniforms.parameters;
+  program.set("uViewProjection", uniforms.viewProjection);
+  program.set("uCameraPosition", uniforms.cameraPosition);
+  program.set("uAmbient", uniforms.ambient);
+  if (outputs_ == PassOutputs::Aovs) {
+    program.set("uVisibilityBase", parameters.visibilityBase);
+    program.set("uVisibilityRgb", parameters.visibilityRgb ? 1 : 0);
+  }
+  if (outputs_ == PassOutputs::Layers) {
+    program.set("uLayerMode", parameters.layerMode);
+    program.set("uLayerLight", parameters.layerLight);
+  }
+  program.set("uDebugView", static_cast<int>(parameters.debugView));
+  program.set("uDebugLight", parameters.debugLight);
+  program.set("uCameraView", uniforms.cameraView);
+  program.set("uLightCount", uniforms.lightCount);
+  program.set("uTileSize", uniforms.tileSize);
+  program.set("uTileColumns", uniforms.tileColumns);
+  program.set("uTileRows", uniforms.tileRows);
+  program.set("uSlices", uniforms.slices);
+  program.set("uSliceNear", uniforms.sliceNear);
+  program.set("uSliceScale", uniforms.sliceScale);
+  program.set("uViewDepth", uniforms.viewDepth);
+  program.set("uGlobalLights", uniforms.globalLights);
+}
+
+void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
+                             const FrameUniforms& uniforms) {
+  const bool lighting = depthOnly == nullptr;
+  const ShaderProgram* current = depthOnly;
+  if (depthOnly) depthOnly->use();
   for (std::size_t index = 0; index < scene.draws().size(); ++index) {
     const GpuDraw& draw = scene.draws()[index];
     const GpuMaterial& material = scene.materials()[draw.material];
@@ -314,6 +381,20 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
                             : mode == AlphaMode::Mask ? DrawSet::Masked
                                                       : DrawSet::Blended;
     if (drawSet != set) continue;
+    if (lighting) {
+      const unsigned variant = materialVariant(material);
+      const ShaderProgram& wanted = program(variant);
+      if (&wanted != current) {
+        current = &wanted;
+        wanted.use();
+        if (std::find(framePrograms_.begin(), framePrograms_.end(), variant) ==
+            framePrograms_.end()) {
+          setFrameUniforms(wanted, uniforms);
+          framePrograms_.push_back(variant);
+        }
+      }
+    }
+    const ShaderProgram& program = *current;
     // A mirrored transform turns the winding around, so front faces are the clockwise ones.
     gl::CullState{!material.desc.doubleSided, GL_BACK,
                   static_cast<GLenum>(draw.mirrored ? GL_CW : GL_CCW)}
@@ -333,14 +414,15 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
         GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4),
         range.baseVertex);
-    if (range.lineIndexCount + range.pointIndexCount > 0) drawPointsAndLines(range, program);
+    if (range.lineIndexCount + range.pointIndexCount > 0)
+      drawPointsAndLines(range, program, lighting);
   }
 }
 
 // One pixel wide (GL's default line width and point size), in their base color: the lighting
 // program skips the lights for them (uUnlit), and the shadow pass never draws them.
-void LightingPass::drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program) {
-  const bool lighting = &program == &program_;
+void LightingPass::drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program,
+                                      bool lighting) {
   if (lighting) program.set("uUnlit", 1);
   std::uintptr_t first = static_cast<std::uintptr_t>(range.firstIndex + range.indexCount);
   for (const auto& [primitive, count] : {std::pair{GLenum{GL_LINES}, range.lineIndexCount},
@@ -373,23 +455,15 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   const float clearDepth = 0.0f;
   glClearNamedFramebufferfv(targets.framebuffer(), GL_DEPTH, 0, &clearDepth);
 
-  program_.use();
-  program_.set("uViewProjection", camera.projection * camera.view);
-  program_.set("uCameraPosition", camera.eye);
-  program_.set("uAmbient", ambient);
-  if (outputs_ == PassOutputs::Aovs) {
-    program_.set("uVisibilityBase", parameters.visibilityBase);
-    program_.set("uVisibilityRgb", parameters.visibilityRgb ? 1 : 0);
-  }
-  if (outputs_ == PassOutputs::Layers) {
-    program_.set("uLayerMode", parameters.layerMode);
-    program_.set("uLayerLight", parameters.layerLight);
-  }
-  program_.set("uDebugView", static_cast<int>(parameters.debugView));
-  program_.set("uDebugLight", parameters.debugLight);
-  program_.set("uCameraView", parameters.cascadeView ? *parameters.cascadeView : camera.view);
-  uploadLights(lights, shadowGroups);
-  uploadClusters(scene, lights, camera);
+  FrameUniforms uniforms;
+  uniforms.viewProjection = camera.projection * camera.view;
+  uniforms.cameraPosition = camera.eye;
+  uniforms.ambient = ambient;
+  uniforms.parameters = parameters;
+  uniforms.cameraView = parameters.cascadeView ? *parameters.cascadeView : camera.view;
+  uniforms.lightCount = uploadLights(lights, shadowGroups);
+  uploadClusters(scene, lights, camera, uniforms);
+  framePrograms_.clear();
   glBindVertexArray(scene.vertexArray());
 
   // Depth of the opaque surfaces first, so the expensive shading runs once per pixel instead
@@ -399,7 +473,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.viewport = {0, 0, targets.width(), targets.height()};
   if (parameters.blendedOnly) {
     state.apply();
-    drawScene(scene, DrawSet::Blended, program_);
+    drawScene(scene, DrawSet::Blended, nullptr, uniforms);
     gl::RasterState::restoreDefaults();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     gl::checkErrors("a pass over the blended surfaces");
@@ -409,16 +483,15 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.apply();
   depthOnly_.use();
   depthOnly_.set("uViewProjection", camera.projection * camera.view);
-  drawScene(scene, DrawSet::Opaque, depthOnly_);
+  drawScene(scene, DrawSet::Opaque, &depthOnly_, uniforms);
   state.color.rgba = {true, true, true, true};
   state.depth.func = GL_GEQUAL;
   state.depth.write = false;
   state.apply();
-  program_.use();
-  drawScene(scene, DrawSet::Opaque, program_);
+  drawScene(scene, DrawSet::Opaque, nullptr, uniforms);
   state.depth = gl::DepthState{};
   state.depth.apply();
-  drawScene(scene, DrawSet::Masked, program_);
+  drawScene(scene, DrawSet::Masked, nullptr, uniforms);
 
   // Blended surfaces over the opaque frame, unsorted; the AOVs keep the opaque surfaces.
   if (outputs_ == PassOutputs::Layers) {
@@ -433,7 +506,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.blend.destinationColor = state.blend.destinationAlpha = GL_ONE_MINUS_SRC_ALPHA;
   for (int i = 1; i < targets.attachmentCount(); ++i) state.color.offBuffers |= 1u << i;
   state.apply();
-  drawScene(scene, DrawSet::Blended, program_);
+  drawScene(scene, DrawSet::Blended, nullptr, uniforms);
   gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the lighting pass");

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "renderer/gl/gl_resources.h"
@@ -94,6 +96,10 @@ class LightingPass {
  public:
   LightingPass(Shading shading, PassOutputs outputs, const LightingFeatures& features);
 
+  // Compiles the material variants the scene's draws use (the pass compiles any missing one
+  // when it first draws with it).
+  void compileMaterialVariants(const GpuScene& scene);
+
   // Draws opaque and masked surfaces, then blended ones (unsorted, depth writes off, AOV
   // targets untouched); layer passes draw no blended surfaces.
   void render(const GpuScene& scene, const ViewCamera& camera,
@@ -101,15 +107,37 @@ class LightingPass {
               const glm::vec3& ambient, FrameTargets& targets, const PassParameters& parameters);
 
  private:
-  void uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups);
+  // The frame's uniforms, the same in every material variant.
+  struct FrameUniforms {
+    glm::mat4 viewProjection{1.0f}, cameraView{1.0f};
+    glm::vec3 cameraPosition{0.0f}, ambient{0.0f};
+    glm::vec4 viewDepth{0.0f};
+    int lightCount = 0, globalLights = 0;
+    int tileSize = 1, tileColumns = 1, tileRows = 1, slices = 1;
+    float sliceNear = 1.0f, sliceScale = 1.0f;
+    PassParameters parameters;
+  };
+  int uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups);
   void uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
-                      const ViewCamera& camera);
+                      const ViewCamera& camera, FrameUniforms& uniforms);
+  void setFrameUniforms(const ShaderProgram& program, const FrameUniforms& uniforms) const;
+  // Material variant: a bit per texture slot the material has (in unit order), then one for
+  // specular-glossiness. llvmpipe runs both sides of every branch, so the shader leaves out
+  // the texture reads and BRDFs the material cannot use.
+  static unsigned materialVariant(const GpuMaterial& material);
+  const ShaderProgram& program(unsigned variant);
   enum class DrawSet { Opaque, Masked, Blended };
-  void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram& program);
-  void drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program);
+  // depthOnly: that program for every draw; null: each material's lighting variant, whose
+  // frame uniforms `uniforms` sets on first use.
+  void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
+                 const FrameUniforms& uniforms);
+  void drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program, bool lighting);
 
+  Shading shading_;
   PassOutputs outputs_;
-  ShaderProgram program_;
+  LightingFeatures features_;
+  std::vector<std::pair<unsigned, std::unique_ptr<ShaderProgram>>> programs_;
+  std::vector<unsigned> framePrograms_;  // the variants holding this frame's uniforms
   ShaderProgram depthOnly_;
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <string_view>
 #include <utility>
 
 #include "renderer/core/errors.h"
@@ -26,13 +27,31 @@
 namespace omnishadow {
 namespace {
 
-// Reads attachment `index` as RGBA floats, top row first unless `glRowOrder`.
-std::vector<float> readAttachment(const FrameTargets& targets, int index, bool glRowOrder) {
+// GL_MESA_pack_invert's pixel store parameter (not in glcorearb.h).
+constexpr GLenum kPackInvertMesa = 0x8758;
+
+bool hasExtension(const char* name) {
+  GLint count = 0;
+  glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+  for (GLint i = 0; i < count; ++i)
+    if (std::string_view(reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, i))) == name)
+      return true;
+  return false;
+}
+
+// Reads attachment `index` as RGBA floats, top row first unless `glRowOrder`. `packInvert`:
+// the driver has GL_MESA_pack_invert and turns the rows around while it copies them, which
+// saves a second pass over the frame.
+std::vector<float> readAttachment(const FrameTargets& targets, int index, bool glRowOrder,
+                                  bool packInvert) {
   const int w = targets.width(), h = targets.height();
   std::vector<float> pixels(static_cast<std::size_t>(w) * h * 4);
+  const bool invert = packInvert && !glRowOrder;
+  if (invert) glPixelStorei(kPackInvertMesa, GL_TRUE);
   glGetTextureImage(targets.color(index), 0, GL_RGBA, GL_FLOAT,
                     static_cast<GLsizei>(pixels.size() * sizeof(float)), pixels.data());
-  if (glRowOrder) return pixels;
+  if (invert) glPixelStorei(kPackInvertMesa, GL_FALSE);
+  if (glRowOrder || invert) return pixels;
   const std::size_t row = static_cast<std::size_t>(w) * 4;
   for (int y = 0; y < h / 2; ++y)
     std::swap_ranges(pixels.begin() + y * row, pixels.begin() + (y + 1) * row,
@@ -108,6 +127,7 @@ class Renderer::Impl {
   struct Prepared;
   LightingPass& lightingPass(Shading shading, PassOutputs outputs,
                              const LightingFeatures& features);
+  FrameTargets& beautyTargets(int width, int height);
   void renderShadows(Prepared& prepared, ShadowAtlasPlan plan, const Scene& scene,
                      const std::vector<Light>& lights, const RenderSettings& settings,
                      bool useCache, Frame* frame);
@@ -144,12 +164,17 @@ class Renderer::Impl {
   std::optional<ShadowCache> shadowCache_;
   RenderLimits limits_;
   std::string glRenderer_;
+  bool packInvert_ = false;  // GL_MESA_pack_invert: readbacks turn the rows around themselves
   struct PassKey {
     Shading shading;
     PassOutputs outputs;
     LightingFeatures features;
   };
   std::vector<std::pair<PassKey, std::unique_ptr<LightingPass>>> lightingPasses_;
+  // The beauty pass's targets, kept for the next frame of the same size: a fresh 1280x720
+  // RGBA32F target costs its pages again (allocation, faults, zeroing) on every frame. The pass
+  // clears them itself. AOV targets are not kept (--max-memory counts them per frame).
+  std::unique_ptr<FrameTargets> beautyTargets_;
 };
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
@@ -226,6 +251,7 @@ Renderer::Impl::Impl(const ContextOptions& options) : context_(options) {
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &limits_.maxTextureSize);
   limits_.maxFrameTexels = largestFrameTexels(limits_.maxTextureSize);
   glRenderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  packInvert_ = hasExtension("GL_MESA_pack_invert");
   gl::checkErrors("context setup");
 }
 
@@ -318,12 +344,20 @@ LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
   return *lightingPasses_.back().second;
 }
 
+FrameTargets& Renderer::Impl::beautyTargets(int width, int height) {
+  if (!beautyTargets_ || beautyTargets_->width() != width || beautyTargets_->height() != height) {
+    beautyTargets_.reset();  // the old one goes before the new one takes its memory
+    beautyTargets_ = std::make_unique<FrameTargets>(width, height, PassOutputs::Beauty);
+  }
+  return *beautyTargets_;
+}
+
 FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& camera,
                                       const glm::vec3& ambient, const RenderSettings& settings,
                                       const PassParameters& parameters, StageTimes* times) {
   StageTimes unused;
   StageTimes& stages = times ? *times : unused;
-  FrameTargets targets(camera.width, camera.height, PassOutputs::Beauty);
+  FrameTargets& targets = beautyTargets(camera.width, camera.height);
   {
     ScopedStage stage(stages, "lighting");
     lightingPass(settings.shading, PassOutputs::Beauty, prepared.features)
@@ -333,7 +367,7 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
   }
   ScopedStage readback(stages, "readback");
   FloatImage image{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
-  image.pixels = readAttachment(targets, 0, camera.glRowOrder);
+  image.pixels = readAttachment(targets, 0, camera.glRowOrder, packInvert_);
   return image;
 }
 
@@ -397,17 +431,17 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
       draw(visibilityBase, blendedOnly, false);
       ScopedStage readback(times, "readback");
       if (p == 0) {
-        copyChannels(readAttachment(targets, 0, flip), 0, 4, image, 0);
-        const std::vector<float> position = readAttachment(targets, 1, flip);
+        copyChannels(readAttachment(targets, 0, flip, packInvert_), 0, 4, image, 0);
+        const std::vector<float> position = readAttachment(targets, 1, flip, packInvert_);
         copyChannels(position, 0, 3, image, 4);
-        copyChannels(readAttachment(targets, 2, flip), 0, 3, image, 7);
+        copyChannels(readAttachment(targets, 2, flip, packInvert_), 0, 3, image, 7);
         copyChannels(position, 3, 1, image, 10);
       }
       for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
         const int first = visibilityBase + target * 4;
         if (first >= lightCount) break;
-        copyChannels(readAttachment(targets, 3 + target, flip), 0, std::min(4, lightCount - first),
-                     image, kFixedAovChannels + first);
+        copyChannels(readAttachment(targets, 3 + target, flip, packInvert_), 0,
+                     std::min(4, lightCount - first), image, kFixedAovChannels + first);
       }
     }
     if (!hasTransmittance) return;
@@ -425,7 +459,7 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         for (int c = 0; c < 3; ++c) {
           const int scalar = 3 * (l - base) + c;
           std::vector<float>& target = values[scalar / 4];
-          if (target.empty()) target = readAttachment(targets, 3 + scalar / 4, flip);
+          if (target.empty()) target = readAttachment(targets, 3 + scalar / 4, flip, packInvert_);
           copyChannels(target, scalar % 4, 1, image, transmittanceChannel[l] + c);
         }
       }
@@ -450,14 +484,14 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
     ScopedStage stage(times, "layers");
     layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
                      parameters);
-    auto result = std::make_pair(readAttachment(layerTargets, 1, flip),
-                                 readAttachment(layerTargets, 2, flip));
+    auto result = std::make_pair(readAttachment(layerTargets, 1, flip, packInvert_),
+                                 readAttachment(layerTargets, 2, flip, packInvert_));
     if (blendedOnly.empty()) return result;
     parameters.blendedOnly = true;
     layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
                      parameters);
-    mergePixels(readAttachment(layerTargets, 1, flip), blendedOnly, result.first);
-    mergePixels(readAttachment(layerTargets, 2, flip), blendedOnly, result.second);
+    mergePixels(readAttachment(layerTargets, 1, flip, packInvert_), blendedOnly, result.first);
+    mergePixels(readAttachment(layerTargets, 2, flip, packInvert_), blendedOnly, result.second);
     return result;
   };
   int next = kFixedAovChannels + lightCount;
@@ -493,7 +527,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   const std::vector<bool> translucent = translucentShadowLights(lights, scene);
   features.translucentShadows =
       std::find(translucent.begin(), translucent.end(), true) != translucent.end();
-  lightingPass(settings.shading, PassOutputs::Beauty, features);  // compiled once per variant
+  lightingPass(settings.shading, PassOutputs::Beauty, features);  // made once per feature set
   shaders.stop();
 
   ScopedStage upload(times, "upload");
@@ -503,6 +537,11 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
                         prepared.gpu.warnings().end());
   glFinish();
   upload.stop();
+  {
+    ScopedStage variants(times, "shaders");  // the beauty's material variants
+    lightingPass(settings.shading, PassOutputs::Beauty, features)
+        .compileMaterialVariants(prepared.gpu);
+  }
 
   ScopedStage shadowStage(times, "shadow maps");
   renderShadows(prepared, std::move(plan.shadows), scene, lights, settings, true, &frame);
