@@ -35,6 +35,16 @@ Frame render(const Scene& scene, const std::vector<Light>& lights, const ViewCam
   return test_support::renderWithAovs(scene, lights, camera, {.debugView = view});
 }
 
+// A directional light named "sun" shining along `direction`, `lux` strong.
+Light sunAlong(glm::vec3 direction, float lux) {
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = direction;
+  sun.intensity = lux;
+  return sun;
+}
+
 float srgbToLinear(std::uint8_t value) {
   const float c = static_cast<float>(value) / 255.0f;
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
@@ -235,11 +245,7 @@ TEST(TextureTransformRender, MaskedShadowsAndCoverageFollowTheTransform) {
   builder.write(file, FileFormat::GltfEmbedded);
   const Scene scene = loadGltf(file);
 
-  Light sun;
-  sun.name = "sun";
-  sun.type = LightType::Directional;
-  sun.direction = glm::normalize(glm::vec3(-1, -1, 0));
-  sun.intensity = 2.0f;
+  Light sun = sunAlong(glm::normalize(glm::vec3(-1, -1, 0)), 2.0f);
   sun.shadow.resolution = 1024;
   sun.shadow.filter = ShadowFilter::Hard;
   const ViewCamera camera = lookFrom(scene, {0, 6, 0}, {0, 0, 0}, 128, 128, 60.0f, {0, 0, -1});
@@ -355,11 +361,7 @@ TEST(SpecularGlossinessRender, MatchesTheExtensionsBrdfByHand) {
   const Scene scene = loadGltf(file);
   ASSERT_TRUE(scene.materials[0].specularGlossiness);
 
-  Light sun;
-  sun.name = "sun";
-  sun.type = LightType::Directional;
-  sun.direction = {0, -1, 0};
-  sun.intensity = 3.0f;
+  Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
   sun.shadow.enabled = false;
   const ViewCamera camera = lookFrom(scene, {0, 20, 0}, {0, 0, 0}, 32, 32, 3.0f, {0, 0, -1});
   const Frame frame = render(scene, {sun}, camera);
@@ -406,11 +408,7 @@ TEST(MaterialVariantRender, EachMaterialOfOneFrameKeepsItsOwnBrdf) {
   builder.write(file, FileFormat::GltfEmbedded);
   const Scene scene = loadGltf(file);
 
-  Light sun;
-  sun.name = "sun";
-  sun.type = LightType::Directional;
-  sun.direction = {0, -1, 0};
-  sun.intensity = 3.0f;
+  Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
   sun.shadow.enabled = false;
   // 9 m wide at the planes: their centers at pixels 16, 48 and 80. From far away, so that V is
   // within a degree of N on every plane.
