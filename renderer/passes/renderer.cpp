@@ -145,6 +145,11 @@ class Renderer::Impl {
                                    const PassParameters& parameters, StageTimes& times);
   void drawAovs(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                 const RenderSettings& settings, FloatImage& aovs, StageTimes& times);
+  // The extra layers (albedo, ids, per-light diffuse and specular) after the fixed channels and
+  // the visibility; `blendedOnly` marks the pixels that take the front-most blended surface.
+  void drawAovLayers(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                     const RenderSettings& settings, const std::vector<std::uint8_t>& blendedOnly,
+                     FloatImage& aovs, StageTimes& times);
   std::vector<LightView> drawLightViews(Prepared& prepared, const ViewCamera& camera,
                                         const glm::vec3& ambient, const RenderSettings& settings);
 
@@ -473,6 +478,15 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
     fill(blended, true);
     return blended;
   });
+  drawAovLayers(prepared, camera, ambient, settings, blendedOnly, aovs, times);
+}
+
+void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
+                                   const glm::vec3& ambient, const RenderSettings& settings,
+                                   const std::vector<std::uint8_t>& blendedOnly, FloatImage& aovs,
+                                   StageTimes& times) {
+  const int lightCount = static_cast<int>(prepared.shaded.size());
+  const bool flip = camera.glRowOrder;
   const AovLayers& layers = settings.layers;
   if (!layers.any()) return;
   FrameTargets layerTargets(camera.width, camera.height, PassOutputs::Layers);

@@ -119,15 +119,11 @@ glm::mat4 reversedOrthographic(float xmag, float ymag, float znear, float zfar) 
   return p;
 }
 
-ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
-  ViewCamera out;
-  const Camera* camera = findCamera(scene, request.select);
-  // A broken glTF camera (orthographic ymag 0, zfar <= znear, ...) is refused here, when it is
-  // rendered from, and not when the file is loaded: like other viewers, the loader accepts the
-  // file (with a warning), so that its other cameras and automatic framing still work.
-  if (camera) checkCameraUsable(scene, *camera);
+namespace {
 
-  // Image size: the camera's aspect ratio fills in the side the user did not give.
+// Image size: the camera's aspect ratio fills in the side the user did not give.
+void imageSize(const Scene& scene, const Camera* camera, const CameraRequest& request,
+               ViewCamera& out) {
   const float aspectHint = camera ? camera->aspectRatio : 0.0f;
   out.width = request.width.value_or(kDefaultWidth);
   out.height = request.height.value_or(kDefaultHeight);
@@ -150,6 +146,19 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
   else if (aspectHint > 0.0f && request.height && !request.width)
     out.width = std::max(
         1, static_cast<int>(std::lround(static_cast<float>(*request.height) * aspectHint)));
+}
+
+}  // namespace
+
+ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request) {
+  ViewCamera out;
+  const Camera* camera = findCamera(scene, request.select);
+  // A broken glTF camera (orthographic ymag 0, zfar <= znear, ...) is refused here, when it is
+  // rendered from, and not when the file is loaded: like other viewers, the loader accepts the
+  // file (with a warning), so that its other cameras and automatic framing still work.
+  if (camera) checkCameraUsable(scene, *camera);
+
+  imageSize(scene, camera, request, out);
   const float aspect = static_cast<float>(out.width) / static_cast<float>(out.height);
 
   // Checked before automatic framing uses it: a field of view of 1e-30 degrees put the eye
