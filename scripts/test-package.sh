@@ -10,13 +10,15 @@
 # --chroot [DIR] does the same in a clean root instead of this machine, which already has every
 # dependency (a Depends that is missing, or a library loaded only at run time, goes unnoticed
 # here): a minimal Debian 12 made with `debootstrap --variant=minbase bookworm`, kept in DIR
-# (default build-package/chroot/) so that a second run skips debootstrap and the downloads.
+# (default build-package/chroot/) with its package lists and every .deb downloaded, so that a
+# second run skips debootstrap and the downloads and needs no network (checked with unshare -n).
 # Each run copies that pristine root, runs `apt-get install -y ./omnishadow_*.deb` in the copy
-# with chroot (/proc and /dev mounted, unmounted on exit), renders the demo from /usr/bin,
+# with chroot (/proc, /dev and /dev/pts mounted, unmounted on exit), renders the demo from /usr/bin,
 # reads an image through the OpenImageIO plugin (`omnishadow diff` of two PPM files) and checks
-# that `omnishadow devices` lists the software device. Needs root and the network (the first
-# time, about 40 MB for debootstrap and the package's dependencies, several hundred MB, from
-# deb.debian.org), so it is no part of CI either. Installs debootstrap if it is missing.
+# that `omnishadow devices` lists the software device. Needs root and, the first time, the
+# network (deb.debian.org: debootstrap, then about 185 MB of the package's dependencies, 228
+# packages), so it is no part of CI either. Installs debootstrap if it is missing. Takes about
+# 3 minutes the first time, 1.5-2 later (copying the root and unpacking the packages).
 # Usage: scripts/test-package.sh [--install | --chroot [DIR]] [package.deb]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -99,6 +101,9 @@ if [[ ! -e "$pristine/.omnishadow-pristine" ]]; then
   echo "test-package: debootstrap --variant=minbase bookworm $pristine (once)"
   debootstrap --variant=minbase bookworm "$pristine" http://deb.debian.org/debian \
     >"$chroot_dir/debootstrap.log" 2>&1 || { tail -20 "$chroot_dir/debootstrap.log" >&2; exit 1; }
+  # The package lists too, so that a later run with every .deb in $archives needs no network.
+  chroot "$pristine" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin apt-get update -qq \
+    >"$chroot_dir/apt.log" 2>&1 || { tail -20 "$chroot_dir/apt.log" >&2; exit 1; }
   touch "$pristine/.omnishadow-pristine"
 fi
 remove_run
@@ -106,6 +111,7 @@ cp -a "$pristine" "$run"
 cp -L /etc/resolv.conf "$run/etc/resolv.conf"
 mount -t proc proc "$run/proc"
 mount --bind /dev "$run/dev"
+mount --bind /dev/pts "$run/dev/pts"  # apt's and dpkg's terminal logs want one
 mount --bind "$archives" "$run/var/cache/apt/archives"
 cp "$deb" "$run/tmp/"
 # A clean environment: nothing of this machine's (LD_PRELOAD, OMNISHADOW_*, EGL_*) leaks in.
@@ -113,8 +119,9 @@ in_root() {
   chroot "$run" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root LANG=C.UTF-8 \
     DEBIAN_FRONTEND=noninteractive "$@"
 }
-in_root apt-get update -qq >"$chroot_dir/apt.log" 2>&1 || { tail -20 "$chroot_dir/apt.log" >&2; exit 1; }
-in_root sh -c "cd /tmp && apt-get install -y ./$(basename "$deb")" >>"$chroot_dir/apt.log" 2>&1 ||
+install_deb() { in_root sh -c "cd /tmp && apt-get install -y ./$(basename "$deb")" >>"$chroot_dir/apt.log" 2>&1; }
+# Lists older than the mirror name .debs it no longer has: then update them and try again.
+install_deb || { in_root apt-get update -qq >>"$chroot_dir/apt.log" 2>&1 && install_deb; } ||
   { tail -30 "$chroot_dir/apt.log" >&2; fail "apt-get install ./$(basename "$deb") failed in the clean root"; }
 echo "test-package: apt-get installed it into a clean bookworm root" \
   "($(in_root dpkg-query -W -f='${binary:Package}\n' | wc -l) packages there now)"
@@ -130,5 +137,6 @@ in_root sh -c "cd /tmp/render && printf 'P6\n2 2\n255\n\377\0\0\0\377\0\0\0\377\
 in_root /usr/bin/omnishadow devices >"$work/devices" || fail "omnishadow devices failed in the clean root"
 grep -qi software "$work/devices" || fail "omnishadow devices lists no software device: $(cat "$work/devices")"
 echo "test-package: in the clean root /usr/bin/omnishadow rendered the demo" \
-  "($(file -b "$run/tmp/render/demo.png" | cut -d, -f2 | tr -d ' ')), read PPM through the plugin," \
-  "and listed: $(tr '\n' ' ' <"$work/devices")"
+  "($(file -b "$run/tmp/render/demo.png" | cut -d, -f2 | tr -d ' ')), read PPM through the plugin" \
+  "and listed these devices:"
+sed 's/^/  /' "$work/devices"
