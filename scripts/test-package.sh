@@ -13,12 +13,12 @@
 # (default build-package/chroot/) with its package lists and every .deb downloaded, so that a
 # second run skips debootstrap and the downloads and needs no network (checked with unshare -n).
 # Each run copies that pristine root, runs `apt-get install -y ./omnishadow_*.deb` in the copy
-# with chroot (/proc, /dev and /dev/pts mounted, unmounted on exit), renders the demo from /usr/bin,
-# reads an image through the OpenImageIO plugin (`omnishadow diff` of two PPM files) and checks
-# that `omnishadow devices` lists the software device. Needs root and, the first time, the
-# network (deb.debian.org: debootstrap, then about 185 MB of the package's dependencies, 228
-# packages), so it is no part of CI either. Installs debootstrap if it is missing. Takes about
-# 3 minutes the first time, 1.5-2 later (copying the root and unpacking the packages).
+# with chroot (/proc, /dev and /dev/pts mounted, unmounted on exit), renders the demo from
+# /usr/bin, reads an image through the OpenImageIO plugin (`omnishadow diff` of two PPM
+# files) and checks that `omnishadow devices` lists the software device. Needs root and, the
+# first time, the network (deb.debian.org: debootstrap, then about 185 MB of the package's
+# dependencies, 283 packages), so it is no part of CI either. Installs debootstrap if it is
+# missing. Takes about 3 minutes the first time, 1.5-2 later (copying the root and unpacking).
 # Usage: scripts/test-package.sh [--install | --chroot [DIR]] [package.deb]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -65,7 +65,9 @@ echo "test-package: $(basename "$deb"): files and Depends ($depends) ok"
 ((EUID == 0)) || fail "--$mode needs root"
 
 if [[ "$mode" == install ]]; then
-  if dpkg -s omnishadow >/dev/null 2>&1; then fail "omnishadow is installed already; not touching it"; fi
+  if dpkg -s omnishadow >/dev/null 2>&1; then
+    fail "omnishadow is installed already; not touching it"
+  fi
   trap 'apt-get remove -y -qq omnishadow >/dev/null 2>&1 || true; rm -rf "$work"' EXIT
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$deb" >/dev/null
   mkdir "$work/render"
@@ -94,6 +96,7 @@ remove_run() {
   if [[ -e "$run" ]]; then rm -rf --one-file-system "$run"; fi
 }
 trap 'remove_run; rm -rf "$work"' EXIT
+trap 'exit 1' INT TERM HUP  # through the EXIT trap: nothing stays mounted
 if [[ ! -e "$pristine/.omnishadow-pristine" ]]; then
   command -v debootstrap >/dev/null ||
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq debootstrap >/dev/null
@@ -103,7 +106,7 @@ if [[ ! -e "$pristine/.omnishadow-pristine" ]]; then
     >"$chroot_dir/debootstrap.log" 2>&1 || { tail -20 "$chroot_dir/debootstrap.log" >&2; exit 1; }
   # The package lists too, so that a later run with every .deb in $archives needs no network.
   chroot "$pristine" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin apt-get update -qq \
-    >"$chroot_dir/apt.log" 2>&1 || { tail -20 "$chroot_dir/apt.log" >&2; exit 1; }
+    >>"$chroot_dir/debootstrap.log" 2>&1 || { tail -20 "$chroot_dir/debootstrap.log" >&2; exit 1; }
   touch "$pristine/.omnishadow-pristine"
 fi
 remove_run
@@ -114,15 +117,19 @@ mount --bind /dev "$run/dev"
 mount --bind /dev/pts "$run/dev/pts"  # apt's and dpkg's terminal logs want one
 mount --bind "$archives" "$run/var/cache/apt/archives"
 cp "$deb" "$run/tmp/"
+: >"$chroot_dir/apt.log"
 # A clean environment: nothing of this machine's (LD_PRELOAD, OMNISHADOW_*, EGL_*) leaks in.
 in_root() {
   chroot "$run" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root LANG=C.UTF-8 \
     DEBIAN_FRONTEND=noninteractive "$@"
 }
-install_deb() { in_root sh -c "cd /tmp && apt-get install -y ./$(basename "$deb")" >>"$chroot_dir/apt.log" 2>&1; }
+install_deb() {
+  in_root sh -c "cd /tmp && apt-get install -y ./$(basename "$deb")" >>"$chroot_dir/apt.log" 2>&1
+}
 # Lists older than the mirror name .debs it no longer has: then update them and try again.
 install_deb || { in_root apt-get update -qq >>"$chroot_dir/apt.log" 2>&1 && install_deb; } ||
-  { tail -30 "$chroot_dir/apt.log" >&2; fail "apt-get install ./$(basename "$deb") failed in the clean root"; }
+  { tail -30 "$chroot_dir/apt.log" >&2; fail "apt-get install ./$(basename "$deb") failed"; }
+# shellcheck disable=SC2016 # ${binary:Package} is dpkg-query's, not the shell's
 echo "test-package: apt-get installed it into a clean bookworm root" \
   "($(in_root dpkg-query -W -f='${binary:Package}\n' | wc -l) packages there now)"
 in_root sh -c 'mkdir -p /tmp/render && cd /tmp/render &&
@@ -131,11 +138,13 @@ in_root sh -c 'mkdir -p /tmp/render && cd /tmp/render &&
 [[ "$(head -c 8 "$run/tmp/render/demo.png" | od -An -tx1 | tr -d ' \n')" == 89504e470d0a1a0a ]] ||
   fail "/usr/bin/omnishadow render wrote no PNG in the clean root"
 # A 2x2 binary PPM: neither PNG nor EXR, so only the OpenImageIO plugin reads it.
-in_root sh -c "cd /tmp/render && printf 'P6\n2 2\n255\n\377\0\0\0\377\0\0\0\377\377\377\377' >a.ppm &&
+in_root sh -c "cd /tmp/render &&
+  printf 'P6\n2 2\n255\n\377\0\0\0\377\0\0\0\377\377\377\377' >a.ppm &&
   cp a.ppm b.ppm && /usr/bin/omnishadow diff a.ppm b.ppm" ||
-  fail "/usr/bin/omnishadow diff could not read PPM files (the OpenImageIO plugin) in the clean root"
-in_root /usr/bin/omnishadow devices >"$work/devices" || fail "omnishadow devices failed in the clean root"
-grep -qi software "$work/devices" || fail "omnishadow devices lists no software device: $(cat "$work/devices")"
+  fail "/usr/bin/omnishadow diff could not read PPM files (the OpenImageIO plugin)"
+in_root /usr/bin/omnishadow devices >"$work/devices" || fail "omnishadow devices failed"
+grep -qi software "$work/devices" ||
+  fail "omnishadow devices lists no software device: $(cat "$work/devices")"
 echo "test-package: in the clean root /usr/bin/omnishadow rendered the demo" \
   "($(file -b "$run/tmp/render/demo.png" | cut -d, -f2 | tr -d ' ')), read PPM through the plugin" \
   "and listed these devices:"
