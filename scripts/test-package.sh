@@ -3,7 +3,7 @@
 # every shared library the binary and its OpenImageIO plugin need comes from a package it
 # depends on. Then, with --install, installs it with `apt-get install ./omnishadow_*.deb`,
 # renders the demo scene with /usr/bin/omnishadow (no arguments but the size: the scene comes
-# from /usr/share/omnishadow), and removes the package again. --install needs root and changes
+# from /usr/share/omnishadow), and purges the package again. --install needs root and changes
 # the machine's packages, so it is no part of scripts/test.sh or CI: run it in a throwaway
 # container or before a release.
 #
@@ -65,17 +65,18 @@ echo "test-package: $(basename "$deb"): files and Depends ($depends) ok"
 ((EUID == 0)) || fail "--$mode needs root"
 
 if [[ "$mode" == install ]]; then
-  if dpkg -s omnishadow >/dev/null 2>&1; then
+  if [[ "$(dpkg-query -W -f='${Status}' omnishadow 2>/dev/null)" == "install ok installed" ]]; then
     fail "omnishadow is installed already; not touching it"
   fi
-  trap 'apt-get remove -y -qq omnishadow >/dev/null 2>&1 || true; rm -rf "$work"' EXIT
+  # Purged, not removed: a removed package stays known to dpkg ("rc").
+  trap 'apt-get purge -y -qq omnishadow >/dev/null 2>&1 || true; rm -rf "$work"' EXIT
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$deb" >/dev/null
   mkdir "$work/render"
   (cd "$work/render" && /usr/bin/omnishadow render --width 160 --height 120 -o demo.png)
   [[ "$(head -c 8 "$work/render/demo.png" | od -An -tx1 | tr -d ' \n')" == 89504e470d0a1a0a ]] ||
     fail "/usr/bin/omnishadow render wrote no PNG"
   /usr/bin/omnishadow devices >/dev/null
-  echo "test-package: apt-get installed it, /usr/bin/omnishadow rendered the demo; removing it"
+  echo "test-package: apt-get installed it, /usr/bin/omnishadow rendered the demo; purging it"
   exit 0
 fi
 
