@@ -9,6 +9,10 @@ set(OMNISHADOW_PACKAGE_CONTACT "omnishadow maintainers <omnishadow@localhost>"
     CACHE STRING "The Debian package's Maintainer field")
 
 install(TARGETS omnishadow RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The OpenImageIO plugin is dlopen'ed from ../lib/omnishadow beside the binary (oiio_plugin.h),
+# not from the multiarch library folder GNUInstallDirs would pick. dpkg-shlibdeps reads its
+# NEEDED entries too, so OpenImageIO's package lands in Depends.
+install(TARGETS omnishadow_oiio LIBRARY DESTINATION lib/omnishadow)
 install(FILES scenes/demo/room.gltf scenes/demo/room.lights.json
         DESTINATION ${CMAKE_INSTALL_DATADIR}/omnishadow/demo)
 install(FILES README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})

@@ -25,6 +25,8 @@ packages=(
   openimageio-tools
   # the Debian package (scripts/package.sh): the man page from --help
   help2man
+  # the clean root scripts/test-package.sh --chroot installs the package into
+  debootstrap
 )
 
 missing=()

@@ -12,7 +12,8 @@ build="$root/build-package"
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_INSTALL_PREFIX=/usr \
-  -DOMNISHADOW_BUILD_TESTS=OFF -DOMNISHADOW_DEMO_SCENE=/usr/share/omnishadow/demo/room.gltf \
+  -DOMNISHADOW_BUILD_TESTS=OFF -DOMNISHADOW_PYTHON=OFF -DOMNISHADOW_PLUGIN_BUILD_DIR=OFF \
+  -DOMNISHADOW_DEMO_SCENE=/usr/share/omnishadow/demo/room.gltf \
   "${launcher[@]}" >/dev/null
 cmake --build "$build" -j"$(nproc 2>/dev/null || echo 2)" --target omnishadow >"$build/build.log" 2>&1 ||
   { cat "$build/build.log" >&2; exit 1; }
