@@ -68,6 +68,9 @@ glm::vec3 geometricNormalAt(const ShadowReference& reference, const glm::vec3& p
                                                               : hit->geometricNormal;
 }
 
+// Most points checked along each edge-band shift (README, "omnishadow verify").
+constexpr int kMaxEdgeSteps = 8;
+
 // Tells an evaluated point's class from a shadow ray fraction.
 bool inShadow(float visibility) {
   return visibility < 0.5f;
@@ -160,22 +163,23 @@ PointVerdict judge(const ShadowReference& reference, const Bounds& bounds,
   // --grazing 0 lets N.L reach 0; the floor keeps the stretch finite.
   const glm::vec3 slope =
       perpendicular - L * (glm::dot(perpendicular, Ng) / std::max(glm::dot(L, Ng), 1e-3f));
+  // Every texel or so along each shift, not only at its end: a lit gap or a thin shadow
+  // narrower than the band would otherwise be stepped over, though the filter sees it.
+  const float texel = shadowTexelWorldSize(light, s.position, bounds);
+  const int steps =
+      texel > 0.0f ? std::clamp(static_cast<int>(std::ceil(w / texel)), 1, kMaxEdgeSteps) : 1;
   for (const glm::vec3& shift : {across, -across, slope, -slope}) {
-    if (renderedRgb) {
-      const glm::vec3 shifted =
-          reference.transmittance(light, s.position + shift * w, Ng, settings.sourceSamples);
-      if (!within(shifted, rgb, kTransmittanceTolerance)) {
-        result.edge = true;
-        break;
+    for (int step = 1; step <= steps && !result.edge; ++step) {
+      const glm::vec3 at = s.position + shift * (w * static_cast<float>(step) / steps);
+      if (renderedRgb) {
+        const glm::vec3 shifted = reference.transmittance(light, at, Ng, settings.sourceSamples);
+        result.edge = !within(shifted, rgb, kTransmittanceTolerance);
+        continue;
       }
-      continue;
+      const float shifted = reference.visibility(light, at, Ng, settings.sourceSamples);
+      result.edge = inShadow(shifted) != shadowed || (shifted > 0.0f && shifted < 1.0f);
     }
-    const float shifted =
-        reference.visibility(light, s.position + shift * w, Ng, settings.sourceSamples);
-    if (inShadow(shifted) != shadowed || (shifted > 0.0f && shifted < 1.0f)) {
-      result.edge = true;
-      break;
-    }
+    if (result.edge) break;
   }
   if (renderedRgb && !result.edge) {
     result.transmittanceChecked = true;
