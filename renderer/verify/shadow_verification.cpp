@@ -164,10 +164,13 @@ PointVerdict judge(const ShadowReference& reference, const Bounds& bounds,
   const glm::vec3 slope =
       perpendicular - L * (glm::dot(perpendicular, Ng) / std::max(glm::dot(L, Ng), 1e-3f));
   // Every texel or so along each shift, not only at its end: a lit gap or a thin shadow
-  // narrower than the band would otherwise be stepped over, though the filter sees it.
+  // narrower than the band would otherwise be stepped over, though the filter sees it. Not for
+  // a light with a size: there such a gap gives fractional references, edges already, and each
+  // point costs sourceSamples rays.
   const float texel = shadowTexelWorldSize(light, s.position, bounds);
-  const int steps =
-      texel > 0.0f ? std::clamp(static_cast<int>(std::ceil(w / texel)), 1, kMaxEdgeSteps) : 1;
+  const int steps = texel > 0.0f && light.shadow.radius <= 0.0f
+                        ? std::clamp(static_cast<int>(std::ceil(w / texel)), 1, kMaxEdgeSteps)
+                        : 1;
   for (const glm::vec3& shift : {across, -across, slope, -slope}) {
     for (int step = 1; step <= steps && !result.edge; ++step) {
       const glm::vec3 at = s.position + shift * (w * static_cast<float>(step) / steps);
