@@ -394,6 +394,27 @@ TEST(ShadowVerification, ALitGapNarrowerThanTheBandMakesItsNeighboursEdgePoints)
   EXPECT_FALSE(points[2].edge);
 }
 
+// KHR_materials_unlit surfaces are lit by nothing, so the lighting gives them no shadow term
+// and their visibility AOV stays 1: an unlit floor in a shadow is skipped, not false light.
+TEST(ShadowVerification, UnlitSurfacesAreSkippedNotCountedAsFalseLight) {
+  SyntheticCase c;
+  c.scene.materials[0].unlit = true;  // the floor; the square above it stays lit
+  const std::vector<Pixel> row = {
+      {.position = {0.0f, 0.0f, 0.0f}, .visibility = {1.0f}},  // the floor in the square's shadow
+      {.position = {0.0f, 1.0f, 0.0f}, .visibility = {1.0f}},  // on the square
+  };
+  const FloatImage aovs = makeAovs(row, {"lamp"}, c.camera.eye);
+  const ShadowReference reference(c.scene);
+  const ShadowVerification v =
+      verifyShadows(reference, c.scene.bounds, {c.lights[0]}, aovs, c.camera, VerifySettings{});
+  const LightVerification& lamp = v.lights.at(0);
+  EXPECT_EQ(lamp.points[0].verdict, Verdict::Unlit);
+  EXPECT_EQ(lamp.skipped.unlit, 1);
+  EXPECT_EQ(lamp.points[1].verdict, Verdict::Agree);
+  EXPECT_EQ(lamp.interior.evaluated + lamp.edge.evaluated, 1);
+  EXPECT_EQ(lamp.interior.falseLight + lamp.edge.falseLight, 0);
+}
+
 TEST(ShadowVerification, SpotConeAndDirectionalDistanceAreSkipped) {
   SyntheticCase c;
   Light spot = lamp({0.0f, 3.0f, 0.0f});

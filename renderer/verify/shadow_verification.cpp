@@ -49,6 +49,7 @@ AovLayout layoutOf(const FloatImage& aovs, const std::vector<LightToVerify>& lig
 struct SurfacePoint {
   glm::vec3 position, normal, geometricNormal;  // both normals face the camera
   float cameraDistance;
+  bool unlit = false;  // the camera ray meets a KHR_materials_unlit triangle there
 };
 
 bool finite(const glm::vec3& v) {
@@ -57,15 +58,17 @@ bool finite(const glm::vec3& v) {
 
 // The camera ray through the point gives its triangle's geometric normal: the AOV normal is the
 // shading normal, smoothed across corners and bent by normal maps, and the shadow map, like the
-// reference rays, only knows the triangles.
-glm::vec3 geometricNormalAt(const ShadowReference& reference, const glm::vec3& position,
-                            const glm::vec3& viewDirection, const glm::vec3& fallback) {
+// reference rays, only knows the triangles. Also whether that triangle is unlit.
+void findTriangle(const ShadowReference& reference, const glm::vec3& viewDirection,
+                  SurfacePoint& s) {
   const float tolerance = 16.0f * reference.epsilon();
-  const std::optional<SurfaceHit> hit = reference.intersect(position - viewDirection * tolerance,
+  const std::optional<SurfaceHit> hit = reference.intersect(s.position - viewDirection * tolerance,
                                                             viewDirection, 0.0f, 2.0f * tolerance);
-  if (!hit) return fallback;
-  return glm::dot(hit->geometricNormal, viewDirection) > 0.0f ? -hit->geometricNormal
-                                                              : hit->geometricNormal;
+  s.geometricNormal = s.normal;
+  if (!hit) return;
+  s.geometricNormal = glm::dot(hit->geometricNormal, viewDirection) > 0.0f ? -hit->geometricNormal
+                                                                           : hit->geometricNormal;
+  s.unlit = hit->unlit;
 }
 
 // Most points checked along each edge-band shift (README, "omnishadow verify").
@@ -87,6 +90,10 @@ PointVerdict judge(const ShadowReference& reference, const Bounds& bounds,
                    const glm::vec3* renderedRgb, const VerifySettings& settings) {
   const Light& light = target.light;
   PointVerdict result;
+  if (s.unlit) {
+    result.verdict = Verdict::Unlit;
+    return result;
+  }
   glm::vec3 L;
   float distance = 0.0f;
   if (light.type == LightType::Directional) {
@@ -212,6 +219,9 @@ void count(const PointVerdict& point, LightVerification& light) {
     case Verdict::BeyondShadowFar:
       ++light.skipped.beyondShadowFar;
       return;
+    case Verdict::Unlit:
+      ++light.skipped.unlit;
+      return;
     case Verdict::Agree:
       ++group.agree;
       break;
@@ -330,7 +340,7 @@ ShadowVerification verifyShadows(const ShadowReference& reference, const Bounds&
         s.normal /= normalLength;
         glm::vec3 view = camera.orthographic ? forward : s.position - camera.eye;
         view = glm::length(view) > 0.0f ? glm::normalize(view) : forward;
-        s.geometricNormal = geometricNormalAt(reference, s.position, view, s.normal);
+        findTriangle(reference, view, s);
         for (std::size_t i = 0; i < lights.size(); ++i) {
           if (!lights[i].light.shadow.enabled) continue;
           const int t = layout.transmittance[i];
