@@ -143,10 +143,11 @@ void printText(const RenderJob& job, const LoadedJob& loaded,
                 static_cast<long long>(result.edge.evaluated));
     std::printf(
         "  skipped    background %lld, out of range %lld, outside cone %lld, facing away "
-        "%lld, grazing %lld, beyond shadow far %lld\n",
+        "%lld, grazing %lld, beyond shadow far %lld, unlit %lld\n",
         static_cast<long long>(s.background), static_cast<long long>(s.outOfRange),
         static_cast<long long>(s.outsideCone), static_cast<long long>(s.facingAway),
-        static_cast<long long>(s.grazing), static_cast<long long>(s.beyondShadowFar));
+        static_cast<long long>(s.grazing), static_cast<long long>(s.beyondShadowFar),
+        static_cast<long long>(s.unlit));
     std::printf("  %-9s %10s  %-10s %-22s %s\n", "", "points", "agreement", "false shadow",
                 "false light");
     printGroup("interior", result.interior);
@@ -208,9 +209,13 @@ void printJson(const RenderJob& job, const LoadedJob& loaded,
     entry["filter"] = toString(light.shadow.filter);
     entry["resolution"] = light.shadow.resolution;
     entry["radius"] = jsonNumber(light.shadow.radius);
-    entry["skipped"] = Json{{"background", s.background},   {"outOfRange", s.outOfRange},
-                            {"outsideCone", s.outsideCone}, {"facingAway", s.facingAway},
-                            {"grazing", s.grazing},         {"beyondShadowFar", s.beyondShadowFar}};
+    entry["skipped"] = Json{{"background", s.background},
+                            {"outOfRange", s.outOfRange},
+                            {"outsideCone", s.outsideCone},
+                            {"facingAway", s.facingAway},
+                            {"grazing", s.grazing},
+                            {"beyondShadowFar", s.beyondShadowFar},
+                            {"unlit", s.unlit}};
     entry["interior"] = groupJson(result.interior);
     entry["edge"] = groupJson(result.edge);
     entry["transmittance"] = result.transmittance.evaluated > 0

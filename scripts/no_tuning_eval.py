@@ -2,9 +2,11 @@
 """No-tuning shadow evaluation (issue 18): every model staged on a floor, seeded random light
 rigs of every type and every filter, default shadow settings, rates from `omnishadow verify`.
 
-For each model and rig, one `omnishadow verify --json` run checks 18 lights at once: a point, a
-spot and a sun light (each at its own random place), each repeated once per filter with every
-other shadow setting at its default. The summary gives, per light type and filter, the
+For each model and rig, one `omnishadow verify --json` run checks every placement (`--types`)
+times every filter at once (48 lights): a point, a spot and a sun light around and above the
+model, a point and a spot light below its centre in front of the camera (the floor stays below
+them), a point and a sun light behind it at a grazing angle (rim lights) and a point light
+straight above, each repeated once per filter with every other shadow setting at its default. The summary gives, per light type and filter, the
 distribution over (model, rig) of the interior agreement and false-shadow / false-light rates:
 worst, 1st percentile (the 99th for the false rates: the bad tail) and median.
 
@@ -27,7 +29,11 @@ import subprocess
 import sys
 
 FILTERS = ["hard", "pcf", "pcf-disk", "poisson", "pcss", "vsm"]
-TYPES = ["point", "spot", "directional"]
+# The first three are placed around and above the model; the others (drawn after them, so the
+# first three stay the same for a seed) light it from below its centre in front of the camera,
+# from behind it at a grazing angle (rim lights), and from straight above.
+TYPES = ["point", "spot", "directional", "point_low", "spot_low", "point_rim", "directional_rim",
+         "point_top"]
 BAR_AGREEMENT, BAR_ERROR = 0.999, 0.0005
 SKIP_VARIANTS = ("glTF-Draco", "glTF-Quantized", "glTF-Embedded")
 
@@ -140,8 +146,10 @@ def stage(model_path, bounds, out_dir):
     return staged
 
 
-def rig(rng, bounds):
-    """One random light of each type and a camera, around and above the model."""
+def rig(rng, bounds, more):
+    """One random light of each placement and a camera. `rng` places the first three (around
+    and above the model) and the camera, `more` the others, so that adding placements keeps the
+    first three rigs of a seed what they were."""
     lo, hi = bounds["min"], bounds["max"]
     center = [(a + b) / 2 for a, b in zip(lo, hi)]
     radius = 0.5 * math.dist(lo, hi)
@@ -166,11 +174,45 @@ def rig(rng, bounds):
     aim = [c + rng.uniform(-0.3, 0.3) * radius for c in center]
     sun = towards(around(2.0, 2.0, 10, 85), center)
     eye = around(2.6, 3.2, 15, 60)
+    eye_azimuth = math.atan2(eye[2] - center[2], eye[0] - center[0])
+    floor = lo[1] + 0.05 * radius
+
+    def placed(azimuth_offset, spread, distance_lo, distance_hi, height_lo, height_hi):
+        """A point at an azimuth relative to the camera's, at a height between two fractions
+        of the way from just above the floor (0) to the model's centre (1), never below the
+        floor, so the floor stays a receiver and the model is lit from below its centre."""
+        azimuth = eye_azimuth + azimuth_offset + math.radians(more.uniform(-spread, spread))
+        d = radius * more.uniform(distance_lo, distance_hi)
+        y = floor + (center[1] - floor) * more.uniform(height_lo, height_hi)
+        return [center[0] + d * math.cos(azimuth), y, center[2] + d * math.sin(azimuth)]
+
+    point_low = placed(0.0, 50, 1.3, 3.0, 0.0, 0.8)
+    spot_low = placed(0.0, 50, 1.5, 3.5, 0.0, 0.8)
+    spot_low_distance = math.dist(spot_low, center)
+    spot_low_cone = min(math.atan(1.6 * radius / spot_low_distance), math.radians(80))
+    point_rim = placed(math.pi, 60, 1.5, 3.5, 0.3, 1.6)
+    rim_azimuth = eye_azimuth + math.pi + math.radians(more.uniform(-60, 60))
+    rim_elevation = math.radians(more.uniform(2, 15))
+    sun_rim = [-math.cos(rim_elevation) * math.cos(rim_azimuth), -math.sin(rim_elevation),
+               -math.cos(rim_elevation) * math.sin(rim_azimuth)]
+    top_azimuth = more.uniform(0, 2 * math.pi)
+    top_elevation = math.radians(more.uniform(75, 90))
+    top_distance = radius * more.uniform(1.2, 2.5)
+    point_top = [center[0] + top_distance * math.cos(top_elevation) * math.cos(top_azimuth),
+                 center[1] + top_distance * math.sin(top_elevation),
+                 center[2] + top_distance * math.cos(top_elevation) * math.sin(top_azimuth)]
+    spot = {"type": "spot", "position": spot, "direction": towards(spot, aim),
+            "outerConeAngle": cone, "innerConeAngle": 0.8 * cone}
     return {
         "point": {"type": "point", "position": point},
-        "spot": {"type": "spot", "position": spot, "direction": towards(spot, aim),
-                 "outerConeAngle": cone, "innerConeAngle": 0.8 * cone},
+        "spot": spot,
         "directional": {"type": "directional", "direction": sun},
+        "point_low": {"type": "point", "position": point_low},
+        "spot_low": {"type": "spot", "position": spot_low, "direction": towards(spot_low, center),
+                     "outerConeAngle": spot_low_cone, "innerConeAngle": 0.8 * spot_low_cone},
+        "point_rim": {"type": "point", "position": point_rim},
+        "directional_rim": {"type": "directional", "direction": sun_rim},
+        "point_top": {"type": "point", "position": point_top},
         "camera": {"eye": eye, "target": center},
     }
 
@@ -198,6 +240,9 @@ def main():
     ap.add_argument("--width", type=int, default=192)
     ap.add_argument("--height", type=int, default=144)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--types", default=",".join(TYPES),
+                    help="comma-separated light placements to check (default: all of "
+                         + ", ".join(TYPES) + ")")
     ap.add_argument("--extra", default="", help="extra shadow settings for every light, JSON "
                     "(e.g. '{\"normalBias\": 2}'), to measure alternatives; default: none")
     ap.add_argument("--out", required=True)
@@ -220,6 +265,10 @@ def main():
         wanted = set(args.models.split(","))
         models = [m for m in models if m[0].split("/")[1] in wanted or m[0] in wanted]
     extra = json.loads(args.extra) if args.extra else {}
+    types = [t for t in args.types.split(",") if t]
+    unknown = [t for t in types if t not in TYPES]
+    if unknown:
+        sys.exit(f"--types: unknown placement {', '.join(unknown)} (known: {', '.join(TYPES)})")
     os.makedirs(args.out, exist_ok=True)
     results_path = os.path.join(args.out, "results.jsonl")
     failures = []
@@ -235,10 +284,11 @@ def main():
                 continue
             staged = stage(path, bounds, os.path.join(args.out, "scenes", label.replace("/", "_")))
             rng = random.Random(f"{args.seed}:{label}")
+            more = random.Random(f"{args.seed}:{label}:more placements")
             for r in range(args.rigs):
-                lights_rig = rig(rng, bounds)
+                lights_rig = rig(rng, bounds, more)
                 lights = []
-                for t in TYPES:
+                for t in types:
                     for f in FILTERS:
                         shadow = {"filter": f}
                         shadow.update(extra)
@@ -265,6 +315,7 @@ def main():
                     results.write(json.dumps({"model": label, "rig": r, "type": t, "filter": f,
                                               "interior": light["interior"],
                                               "edge": light["edge"]}) + "\n")
+                results.flush()  # a run stopped early still leaves every finished rig
                 print(f"{label} rig {r}: done", file=sys.stderr, flush=True)
 
     rows = [json.loads(line) for line in open(results_path)]
@@ -278,6 +329,7 @@ def summarize(rows, args, models, failures):
     lines = [f"Command: `scripts/no_tuning_eval.py --rigs {args.rigs} --seed {args.seed} "
              f"--width {args.width} --height {args.height}"
              + (f" --models {args.models}" if args.models else "")
+             + (f" --types {args.types}" if args.types != ",".join(TYPES) else "")
              + (f" --extra '{args.extra}'" if args.extra else "") + "`",
              f"Models ({len(models)}): " + ", ".join(m[0] for m in models), ""]
     lines.append("| light | filter | runs | interior agreement: worst / 1st pct / median | "

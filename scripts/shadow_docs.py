@@ -223,7 +223,7 @@ def meets_bar(light):
 
 def skipped_text(skipped):
     short = {"background": "bg", "outOfRange": "range", "outsideCone": "cone",
-             "facingAway": "away", "grazing": "grazing", "beyondShadowFar": "far"}
+             "facingAway": "away", "grazing": "grazing", "beyondShadowFar": "far", "unlit": "unlit"}
     parts = [f"{short[k]} {v}" for k, v in skipped.items() if v]
     return ", ".join(parts) if parts else "0"
 

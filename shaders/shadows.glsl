@@ -4,9 +4,13 @@
 // receiver is lit when its own depth is at least the stored one (GL_GEQUAL samplers).
 //
 // Bias (README, "Shadow settings"): the receiver moves along its geometric normal by
-// normalBias texels and towards the light by bias + texel * max(slopeBias * (1 - N.L),
-// minBias), a texel being the world size of one shadow-map texel at the receiver. Filter taps
-// lie in the receiver's tangent plane, so each compares against its own exact depth.
+// normalBias texels (default 0) and towards the light by bias + texel * max(slopeBias * tan,
+// minBias), tan being the tangent of the angle between the geometric normal and the light (N.L
+// floored at 0.05), a texel the world size of one shadow-map texel at the receiver: a plane's
+// depth changes by tan texels per texel across the map, so this follows what the lookup needs
+// without the sideways step of a normal offset, which carried the lookup past casters in
+// creases (issue 18). Filter taps lie in the receiver's tangent plane, so each compares against
+// its own exact depth.
 //
 // The pass is compiled for the light types and filters the frame uses (SHADOW_CUBE,
 // SHADOW_PLANAR, SHADOW_<FILTER>, renderer/passes/lighting_pass.cpp): llvmpipe runs both sides of
@@ -264,8 +268,9 @@ float shadowVisibility(Light light, vec3 P, vec3 Ngeom, vec3 L, float cameraDist
 
   float texel = shadowTexel(light, cascade, P);
   float NdotL = clamp(dot(Ngeom, L), 0.0, 1.0);
-  float depthBias = light.shadowDepth.z +
-                    texel * max(light.shadowDepth.w * (1.0 - NdotL), light.shadowBias.x);
+  float tanNL = sqrt(max(1.0 - NdotL * NdotL, 0.0)) / max(NdotL, 0.05);
+  float depthBias =
+      light.shadowDepth.z + texel * max(light.shadowDepth.w * tanNL, light.shadowBias.x);
   vec3 Q = P + Ngeom * (light.shadowBias.y * texel) + L * depthBias;
 
   int filterMode = int(light.spotFilter.z);

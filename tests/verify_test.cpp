@@ -362,6 +362,59 @@ TEST(ShadowVerification, ClassifiesAndCountsPerLight) {
   EXPECT_DOUBLE_EQ(worstInteriorErrorRate(fill), 0.0);
 }
 
+// Two squares 1 above the floor with a 2 cm gap between them: the lamp 3 above lights a strip
+// |x| < 0.015 of the floor through it. A point 3 mm beside the strip is within the hard
+// filter's band (3 texels, 0.035) of its edge, but a shift of the whole band steps over the
+// strip into shadow again: only the points along the shift find it.
+TEST(ShadowVerification, ALitGapNarrowerThanTheBandMakesItsNeighboursEdgePoints) {
+  Scene scene;
+  add(scene, square(0.0f, -5.0f, -5.0f, 5.0f, 5.0f, addMaterial(scene)));
+  add(scene, square(1.0f, -1.0f, -1.0f, -0.01f, 1.0f, addMaterial(scene)));
+  add(scene, square(1.0f, 0.01f, -1.0f, 1.0f, 1.0f, addMaterial(scene)));
+  Light light = lamp({0.0f, 3.0f, 0.0f});
+  light.shadow.filter = ShadowFilter::Hard;
+  ViewCamera camera;
+  camera.eye = {0.0f, 6.0f, 2.0f};
+  const std::vector<Pixel> row = {
+      {.position = {0.018f, 0.0f, 0.0f}, .visibility = {0.0f}},  // beside the strip
+      {.position = {0.0f, 0.0f, 0.0f}, .visibility = {1.0f}},    // in it
+      {.position = {0.3f, 0.0f, 0.0f}, .visibility = {0.0f}},    // far from it
+  };
+  const FloatImage aovs = makeAovs(row, {"lamp"}, camera.eye);
+  const ShadowReference reference(scene);
+  const ShadowVerification v =
+      verifyShadows(reference, scene.bounds, {{light, 50.0f}}, aovs, camera, VerifySettings{});
+  const std::vector<PointVerdict>& points = v.lights.at(0).points;
+  EXPECT_EQ(points[0].reference, 0.0f);
+  EXPECT_EQ(points[0].verdict, Verdict::Agree);
+  EXPECT_TRUE(points[0].edge);
+  EXPECT_EQ(points[1].reference, 1.0f);
+  EXPECT_TRUE(points[1].edge);
+  EXPECT_EQ(points[2].verdict, Verdict::Agree);
+  EXPECT_FALSE(points[2].edge);
+}
+
+// KHR_materials_unlit surfaces are lit by nothing, so the lighting gives them no shadow term
+// and their visibility AOV stays 1: an unlit floor in a shadow is skipped, not false light.
+TEST(ShadowVerification, UnlitSurfacesAreSkippedNotCountedAsFalseLight) {
+  SyntheticCase c;
+  c.scene.materials[0].unlit = true;  // the floor; the square above it stays lit
+  const std::vector<Pixel> row = {
+      {.position = {0.0f, 0.0f, 0.0f}, .visibility = {1.0f}},  // the floor in the square's shadow
+      {.position = {0.0f, 1.0f, 0.0f}, .visibility = {1.0f}},  // on the square
+  };
+  const FloatImage aovs = makeAovs(row, {"lamp"}, c.camera.eye);
+  const ShadowReference reference(c.scene);
+  const ShadowVerification v =
+      verifyShadows(reference, c.scene.bounds, {c.lights[0]}, aovs, c.camera, VerifySettings{});
+  const LightVerification& lamp = v.lights.at(0);
+  EXPECT_EQ(lamp.points[0].verdict, Verdict::Unlit);
+  EXPECT_EQ(lamp.skipped.unlit, 1);
+  EXPECT_EQ(lamp.points[1].verdict, Verdict::Agree);
+  EXPECT_EQ(lamp.interior.evaluated + lamp.edge.evaluated, 1);
+  EXPECT_EQ(lamp.interior.falseLight + lamp.edge.falseLight, 0);
+}
+
 TEST(ShadowVerification, SpotConeAndDirectionalDistanceAreSkipped) {
   SyntheticCase c;
   Light spot = lamp({0.0f, 3.0f, 0.0f});

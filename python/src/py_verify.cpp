@@ -36,6 +36,7 @@ py::dict skipped(const SkipCounts& s) {
   d["facingAway"] = s.facingAway;
   d["grazing"] = s.grazing;
   d["beyondShadowFar"] = s.beyondShadowFar;
+  d["unlit"] = s.unlit;
   return d;
 }
 

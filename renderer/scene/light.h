@@ -34,9 +34,9 @@ struct ShadowSettings {
   float near = 0.0f;        // world units (point, spot); 0 = from the light and scene scale
   float far = 0.0f;         // world units; 0 = the light's range, or the scene bounds if unlimited
   float bias = 0.0f;        // constant bias in world units
-  float slopeBias = 2.0f;   // texels: max(slopeBias * (1 - N.L), minBias)
-  float minBias = 0.5f;     // texels, the slope term's floor
-  float normalBias = 1.0f;  // texels: the receiver is moved this far along its normal
+  float slopeBias = 2.0f;   // texels: max(slopeBias * tan(N, L), minBias), N.L floored at 0.05
+  float minBias = 1.5f;     // texels, the slope term's floor
+  float normalBias = 0.0f;  // texels: the receiver is moved this far along its normal
   float polygonOffsetFactor = 0.0f;  // glPolygonOffset in the shadow pass
   float polygonOffsetUnits = 0.0f;
   CullFace cullFace = CullFace::None;

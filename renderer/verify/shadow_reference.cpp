@@ -239,6 +239,7 @@ struct ShadowReference::Impl {
   std::vector<std::unique_ptr<Cutout>> cutouts;  // geometry user data; must outlive the scene
   std::string error;                             // the last message from Embree
   bool translucent = false;                      // the scene has translucent casters
+  std::vector<std::uint8_t> unlit;               // per geometry ID: KHR_materials_unlit
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -320,8 +321,10 @@ ShadowReference::ShadowReference(const Scene& scene) : impl_(std::make_unique<Im
       if (mode == AlphaMode::Mask) rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
     }
     rtcCommitGeometry(geometry);
-    rtcAttachGeometry(impl.scene, geometry);
+    const unsigned id = rtcAttachGeometry(impl.scene, geometry);
     rtcReleaseGeometry(geometry);
+    if (impl.unlit.size() <= id) impl.unlit.resize(id + 1, 0);
+    impl.unlit[id] = hasMaterial && scene.materials[mesh.material].unlit ? 1 : 0;
   }
   rtcCommitScene(impl.scene);
   if (rtcGetDeviceError(impl.device) != RTC_ERROR_NONE)
@@ -351,7 +354,8 @@ std::optional<SurfaceHit> ShadowReference::intersect(const glm::vec3& origin,
   const glm::vec3 n{hit->hit.Ng_x, hit->hit.Ng_y, hit->hit.Ng_z};
   const float length = glm::length(n);
   if (!(length > 0.0f)) return std::nullopt;
-  return SurfaceHit{hit->ray.tfar, n / length};
+  const unsigned id = hit->hit.geomID;
+  return SurfaceHit{hit->ray.tfar, n / length, id < impl_->unlit.size() && impl_->unlit[id] != 0};
 }
 
 glm::vec3 ShadowReference::rayTransmittance(const glm::vec3& origin, const glm::vec3& direction,

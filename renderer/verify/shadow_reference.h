@@ -13,6 +13,7 @@ namespace omnishadow {
 struct SurfaceHit {
   float t = 0.0f;
   glm::vec3 geometricNormal{0.0f};  // world space, unit length, as the triangle winds
+  bool unlit = false;               // KHR_materials_unlit: lit by nothing, no shadow term
 };
 
 // Exact shadow rays against the scene's own triangles (Embree 3), to check the renderer's shadow

@@ -32,7 +32,7 @@ struct LightToVerify {
   float shadowFar = 0.0f;
 };
 
-// What became of one pixel for one light. The first six are skipped, the last three evaluated.
+// What became of one pixel for one light. The first seven are skipped, the last three evaluated.
 enum class Verdict : std::uint8_t {
   Background,       // no geometry
   OutOfRange,       // beyond the light's range
@@ -40,6 +40,7 @@ enum class Verdict : std::uint8_t {
   FacingAway,       // N.L <= 0
   Grazing,          // N.L below VerifySettings::grazing
   BeyondShadowFar,  // beyond the shadow's far distance (directional: shadow.distance)
+  Unlit,            // a KHR_materials_unlit surface: the lighting gives it no shadow term
   Agree,
   FalseShadow,  // the renderer shadowed it, the rays reach the light
   FalseLight,   // the renderer lit it, the rays are blocked
@@ -68,7 +69,7 @@ struct TransmittanceCounts {
 
 struct SkipCounts {
   std::int64_t background = 0, outOfRange = 0, outsideCone = 0, facingAway = 0, grazing = 0,
-               beyondShadowFar = 0;
+               beyondShadowFar = 0, unlit = 0;
 };
 
 struct ClassCounts {
