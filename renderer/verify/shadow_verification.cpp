@@ -180,7 +180,8 @@ PointVerdict judge(const ShadowReference& reference, const Bounds& bounds,
                         : 1;
   for (const glm::vec3& shift : {across, -across, slope, -slope}) {
     for (int step = 1; step <= steps && !result.edge; ++step) {
-      const glm::vec3 at = s.position + shift * (w * static_cast<float>(step) / steps);
+      const glm::vec3 at =
+          s.position + shift * (w * static_cast<float>(step) / static_cast<float>(steps));
       if (renderedRgb) {
         const glm::vec3 shifted = reference.transmittance(light, at, Ng, settings.sourceSamples);
         result.edge = !within(shifted, rgb, kTransmittanceTolerance);
