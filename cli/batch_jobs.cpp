@@ -343,7 +343,7 @@ std::vector<BatchEntry> collectJobs(const std::vector<std::string>& inputs,
   for (const BatchEntry& entry : jobs) {
     validateJob(entry.job);
     for (const fs::path& output : entry.job.outputFiles()) {
-      const std::string key = fs::weakly_canonical(fs::absolute(output)).string();
+      const std::string key = resolvedPath(output).string();
       const auto [it, fresh] = writers.emplace(key, entry.name);
       if (!fresh)
         throw InputError(output.string() + ": written by both " + it->second + " and " +

@@ -26,11 +26,8 @@
 namespace fs = std::filesystem;
 
 namespace omnishadow::cli {
-namespace {
 
-// Resolves `.`/`..`/symlinks of the existing part, so that two spellings of one file compare
-// equal even when the file does not exist yet.
-fs::path resolved(const fs::path& path) {
+fs::path resolvedPath(const fs::path& path) {
   std::error_code error;
   const fs::path absolute = fs::absolute(path);
   const fs::path canonical = fs::weakly_canonical(absolute, error);
@@ -38,6 +35,8 @@ fs::path resolved(const fs::path& path) {
   // write, or the input's own read, names the problem (found by fuzz_manifest).
   return error ? absolute.lexically_normal() : canonical;
 }
+
+namespace {
 
 // A folder option (--dump-depth, --light-views) must not name an existing file.
 void checkFolderOption(const std::string& option, const fs::path& folder) {
@@ -171,7 +170,7 @@ std::vector<fs::path> RenderJob::perLightFiles(const std::vector<Light>& rendere
 void checkNotAnInput(const RenderJob& job, const std::vector<std::string>& inputs) {
   for (const fs::path& output : job.outputFiles())
     for (const std::string& input : inputs)
-      if (!input.empty() && resolved(output) == resolved(input))
+      if (!input.empty() && resolvedPath(output) == resolvedPath(input))
         throw InputError(output.string() + ": refusing to overwrite an input file");
 }
 
@@ -192,7 +191,7 @@ void validateJob(const RenderJob& job) {
     if (fs::is_directory(all[i], error))
       throw InputError(all[i].string() + ": is a folder, expected an image file name");
     for (std::size_t j = 0; j < i; ++j)
-      if (resolved(all[i]) == resolved(all[j]))
+      if (resolvedPath(all[i]) == resolvedPath(all[j]))
         throw InputError(all[i].string() + ": the same file is given twice as output");
   }
   if (job.layers.any() && job.aov.empty()) throw InputError("--aov-layers: needs --aov FILE.exr");
@@ -236,10 +235,10 @@ LoadedJob loadJob(const RenderJob& job) {
     const std::vector<fs::path> files = job.perLightFiles(loaded.lights);
     for (const fs::path& file : files) {
       for (const std::string& input : inputs)
-        if (!input.empty() && resolved(file) == resolved(input))
+        if (!input.empty() && resolvedPath(file) == resolvedPath(input))
           throw InputError(file.string() + ": refusing to overwrite an input file");
       for (const fs::path& output : job.outputFiles())
-        if (resolved(file) == resolved(output))
+        if (resolvedPath(file) == resolvedPath(output))
           throw InputError(file.string() + ": the same file is given twice as output");
     }
   }

@@ -98,5 +98,9 @@ DebugView parseDebugView(const std::string& name);
 std::optional<glm::vec3> parseVec3(const std::string& option, const std::string& text);
 // The lights file used when none is given: "<scene stem>.lights.json" beside the scene.
 std::filesystem::path defaultLightsFile(const std::filesystem::path& scene);
+// `path` with `.`/`..` and the symlinks of its existing part resolved, so that two spellings of
+// one file compare equal even when the file does not exist yet; lexically normal where the file
+// system cannot resolve it (too long, a symlink loop). Never throws for the name.
+std::filesystem::path resolvedPath(const std::filesystem::path& path);
 
 }  // namespace omnishadow::cli

@@ -217,6 +217,28 @@ TEST_F(HostileInputTest, AManifestOutputNameTooLongIsAnInputErrorNamingIt) {
                           ".png\": File name too long; output names are relative to --out"));
 }
 
+// A job whose default output name is longer than the file system allows (its scene's name is)
+// fails alone, also when --out exists: the check that no two jobs write one file falls back to
+// the lexical path (found by CI's fuzz_manifest run: filesystem_error escaped collectJobs).
+TEST_F(HostileInputTest, AJobWhoseOutputNameIsTooLongFailsAloneInAnExistingOut) {
+  const fs::path scene = boxScene("s/a.gltf");
+  const fs::path tooLong = scene.parent_path() / (std::string(300, 'v') + ".gltf");
+  const fs::path manifest =
+      writeText("m/manifest.json", R"({"jobs": [{"scene": ")" + scene.string() +
+                                       R"("}, {"scene": ")" + tooLong.string() + R"("}]})");
+  ASSERT_TRUE(fs::is_directory(out_));
+  const RunResult r = runBounded(
+      {"batch", manifest.string(), "--out", out_.string(), "--width", "32", "--height", "24"});
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_EQ(filesIn(out_), std::vector<std::string>{"a.png"});
+  EXPECT_TRUE(contains(r.out, "FAILED  jobs[1]")) << r.out;
+  // --skip-existing asks whether that output exists: a name too long for that is not there.
+  const RunResult again = runBounded({"batch", manifest.string(), "--out", out_.string(), "--width",
+                                      "32", "--height", "24", "--skip-existing"});
+  EXPECT_EQ(again.status, 1) << again.err;
+  EXPECT_TRUE(contains(again.out, "FAILED  jobs[1]")) << again.out;
+}
+
 TEST_F(HostileInputTest, ABatchWithOneDeeplyNestedSceneRendersTheOthersAndReports) {
   boxScene("s/a.gltf");
   const fs::path deep = boxScene("s/b.gltf");

@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const fs::path out = fs::weakly_canonical(defaults.out);
     for (const omnishadow::cli::BatchEntry& entry : jobs) {
       for (const fs::path& output : entry.job.outputFiles()) {
-        const fs::path inside = fs::weakly_canonical(output).lexically_relative(out);
+        const fs::path inside = omnishadow::cli::resolvedPath(output).lexically_relative(out);
         if (inside.empty() || *inside.begin() == "..") {
           std::fprintf(stderr, "fuzz_manifest: %s writes %s, outside --out\n", entry.name.c_str(),
                        output.c_str());
