@@ -12,7 +12,6 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numeric>
-#include <system_error>
 #include <thread>
 
 #include "cli/batch_jobs.h"
@@ -53,9 +52,8 @@ Loaded load(const RenderJob& job) {
 }
 
 bool allOutputsExist(const RenderJob& job) {
-  std::error_code error;  // a name that cannot be looked at (too long) exists no more than others
   for (const fs::path& path : job.outputFiles())
-    if (!fs::exists(path, error)) return false;
+    if (!pathExists(path)) return false;
   return true;
 }
 

@@ -37,8 +37,7 @@ bool hasWildcard(const std::string& text) {
 fs::path sceneLights(const fs::path& scene) {
   if (fs::path own = defaultLightsFile(scene); !own.empty()) return own;
   const fs::path folder = scene.parent_path() / "lights.json";
-  std::error_code error;
-  return fs::exists(folder, error) ? folder : fs::path();
+  return pathExists(folder) ? folder : fs::path();
 }
 
 // A job for `scene` whose outputs are `stem` (no extension) plus the batch's formats.

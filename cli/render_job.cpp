@@ -36,12 +36,21 @@ fs::path resolvedPath(const fs::path& path) {
   return error ? absolute.lexically_normal() : canonical;
 }
 
+bool pathExists(const fs::path& path) {
+  std::error_code error;
+  return fs::exists(path, error);
+}
+
+bool isFolder(const fs::path& path) {
+  std::error_code error;
+  return fs::is_directory(path, error);
+}
+
 namespace {
 
 // A folder option (--dump-depth, --light-views) must not name an existing file.
 void checkFolderOption(const std::string& option, const fs::path& folder) {
-  std::error_code error;  // a name that cannot be looked at is no existing file
-  if (!folder.empty() && fs::exists(folder, error) && !fs::is_directory(folder, error))
+  if (!folder.empty() && pathExists(folder) && !isFolder(folder))
     throw InputError(option + " " + folder.string() + ": is a file, expected a folder");
 }
 
@@ -85,8 +94,7 @@ std::string lowerExtension(const fs::path& path) {
 
 fs::path defaultLightsFile(const fs::path& scene) {
   fs::path candidate = scene.parent_path() / (scene.stem().string() + ".lights.json");
-  std::error_code error;  // a name that cannot be looked at (too long) has no lights file
-  return fs::exists(candidate, error) ? candidate : fs::path();
+  return pathExists(candidate) ? candidate : fs::path();
 }
 
 AovLayers parseLayers(const std::string& list) {
@@ -187,8 +195,7 @@ void validateJob(const RenderJob& job) {
                      ": AOVs are written as OpenEXR; use a .exr name");
   const std::vector<fs::path> all = job.outputFiles();
   for (std::size_t i = 0; i < all.size(); ++i) {
-    std::error_code error;  // a name that cannot be looked at is no folder; the write names it
-    if (fs::is_directory(all[i], error))
+    if (isFolder(all[i]))
       throw InputError(all[i].string() + ": is a folder, expected an image file name");
     for (std::size_t j = 0; j < i; ++j)
       if (resolvedPath(all[i]) == resolvedPath(all[j]))

@@ -102,5 +102,9 @@ std::filesystem::path defaultLightsFile(const std::filesystem::path& scene);
 // one file compare equal even when the file does not exist yet; lexically normal where the file
 // system cannot resolve it (too long, a symlink loop). Never throws for the name.
 std::filesystem::path resolvedPath(const std::filesystem::path& path);
+// Whether `path` names an existing file or folder (a folder): false, not an exception, for a
+// name the file system cannot look at (too long, a symlink loop); its read or write names that.
+bool pathExists(const std::filesystem::path& path);
+bool isFolder(const std::filesystem::path& path);
 
 }  // namespace omnishadow::cli

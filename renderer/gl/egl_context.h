@@ -14,7 +14,7 @@ namespace omnishadow {
 class EglContext {
  public:
   explicit EglContext(const ContextOptions& options);
-  ~EglContext();  // not copyable, not movable: impl_ is a unique_ptr and the destructor is declared
+  ~EglContext();  // with impl_, neither copyable nor movable
 
   // "EGL device 0 (NVIDIA ...)" or "EGL surfaceless platform", for --verbose.
   const std::string& platformDescription() const;

@@ -4,12 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <type_traits>
+#include <utility>
 
 #include "renderer/core/errors.h"
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
-#include "renderer/view/light_clusters.h"
 
 namespace omnishadow {
 namespace {
@@ -330,14 +330,8 @@ void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<Shade
   clusterLights_.upload(clusters.lights);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kClusterRangesBinding, clusterRanges_.get());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kClusterLightsBinding, clusterLights_.get());
-  uniforms.tileSize = clusters.tileSize;
-  uniforms.tileColumns = clusters.columns;
-  uniforms.tileRows = clusters.rows;
-  uniforms.slices = clusters.slices;
-  uniforms.sliceNear = clusters.sliceNear;
-  uniforms.sliceScale = clusters.sliceScale;
   uniforms.viewDepth = depthRow;
-  uniforms.globalLights = static_cast<int>(clusters.globalCount);
+  uniforms.clusters = std::move(clusters);
 }
 
 void LightingPass::setFrameUniforms(const ShaderProgram& program,
@@ -358,14 +352,15 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
   program.set("uDebugLight", parameters.debugLight);
   program.set("uCameraView", uniforms.cameraView);
   program.set("uLightCount", uniforms.lightCount);
-  program.set("uTileSize", uniforms.tileSize);
-  program.set("uTileColumns", uniforms.tileColumns);
-  program.set("uTileRows", uniforms.tileRows);
-  program.set("uSlices", uniforms.slices);
-  program.set("uSliceNear", uniforms.sliceNear);
-  program.set("uSliceScale", uniforms.sliceScale);
+  const LightClusters& clusters = uniforms.clusters;
+  program.set("uTileSize", clusters.tileSize);
+  program.set("uTileColumns", clusters.columns);
+  program.set("uTileRows", clusters.rows);
+  program.set("uSlices", clusters.slices);
+  program.set("uSliceNear", clusters.sliceNear);
+  program.set("uSliceScale", clusters.sliceScale);
   program.set("uViewDepth", uniforms.viewDepth);
-  program.set("uGlobalLights", uniforms.globalLights);
+  program.set("uGlobalLights", static_cast<int>(clusters.globalCount));
 }
 
 void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,

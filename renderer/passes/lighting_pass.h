@@ -12,6 +12,7 @@
 #include "renderer/render/render_settings.h"
 #include "renderer/scene/light.h"
 #include "renderer/view/camera.h"
+#include "renderer/view/light_clusters.h"
 
 namespace omnishadow {
 
@@ -112,9 +113,8 @@ class LightingPass {
     glm::mat4 viewProjection{1.0f}, cameraView{1.0f};
     glm::vec3 cameraPosition{0.0f}, ambient{0.0f};
     glm::vec4 viewDepth{0.0f};
-    int lightCount = 0, globalLights = 0;
-    int tileSize = 1, tileColumns = 1, tileRows = 1, slices = 1;
-    float sliceNear = 1.0f, sliceScale = 1.0f;
+    int lightCount = 0;
+    LightClusters clusters;  // the grid the cluster buffers were built for
     PassParameters parameters;
   };
   int uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups);

@@ -23,7 +23,7 @@ class Renderer {
  public:
   // Throws RenderError when no context can be made, InputError for a --gpu that does not exist.
   explicit Renderer(const ContextOptions& options);
-  ~Renderer();  // not copyable, not movable: impl_ is a unique_ptr and the destructor is declared
+  ~Renderer();  // with impl_, neither copyable nor movable
 
   // What this device allows; planFrame() checks a frame against it.
   const RenderLimits& limits() const;

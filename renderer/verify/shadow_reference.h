@@ -31,8 +31,7 @@ class ShadowReference {
  public:
   // Throws RenderError when Embree cannot build the scene.
   explicit ShadowReference(const Scene& scene);
-  ~ShadowReference();  // not copyable, not movable: impl_ is a unique_ptr and the destructor is
-                       // declared
+  ~ShadowReference();  // with impl_, neither copyable nor movable
 
   // Scene-scale length that keeps a ray off the surface it starts on: 1e-4 of the bounds'
   // diagonal.
