@@ -245,6 +245,21 @@ vec3 shadowTransmittance(Light light, int cascade, vec3 Q) {
   if (light.shadowProjection.z == 0.0) return vec3(1.0);
   MapPoint m = mapPoint(light, cascade, Q);
   if (!m.inside) return vec3(1.0);
+  // shadowProjection.z is 1 + a bit per layer holding translucent casters; the others were
+  // not drawn (nor cleared) this frame and stand for 1. A cube direction on a face edge may
+  // select either face, so every face its largest axes could pick must be untinted.
+  uint tinted = uint(light.shadowProjection.z) - 1u;
+  uint layers = 1u << uint(cascade);
+#ifdef SHADOW_CUBE
+  if (lightType(light) == LIGHT_POINT) {
+    vec3 a = abs(m.coord.xyz);
+    float major = max(max(a.x, a.y), a.z) * (1.0 - 1e-5);
+    layers = (a.x >= major ? (m.coord.x >= 0.0 ? 1u : 2u) : 0u) |
+             (a.y >= major ? (m.coord.y >= 0.0 ? 4u : 8u) : 0u) |
+             (a.z >= major ? (m.coord.z >= 0.0 ? 16u : 32u) : 0u);
+  }
+#endif
+  if ((tinted & layers) == 0u) return vec3(1.0);
   int g = shadowGroup(light);
   vec4 t = vec4(1.0, 1.0, 1.0, 0.0);
 #ifdef SHADOW_CUBE

@@ -234,6 +234,21 @@ void LightingPass::compileMaterialVariants(const GpuScene& scene) {
     program(materialVariant(scene.materials()[draw.material]));
 }
 
+namespace {
+
+// Bit l set: layer l of the light's layers holds translucent casters (tintedLayers).
+float tintedLayerMask(const LightShadowPlan* plan, const ShadowGroups& shadowGroups) {
+  const std::vector<bool>& tinted = shadowGroups[plan->group].tintedLayers;
+  unsigned mask = 0u;
+  for (int layer = 0; layer < plan->layerCount; ++layer)
+    if (plan->firstLayer + layer < static_cast<int>(tinted.size()) &&
+        tinted[plan->firstLayer + layer])
+      mask |= 1u << layer;
+  return static_cast<float>(mask);
+}
+
+}  // namespace
+
 int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
                                const ShadowGroups& shadowGroups) {
   // Each group takes the next slot of its layout's sampler arrays.
@@ -280,8 +295,9 @@ int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
       g.shadowDepth = glm::vec4(plan->near, plan->far, s.bias, s.slopeBias);
       g.shadowBias = glm::vec4(s.minBias, s.normalBias, s.filterRadius, s.samples);
       g.shadowSoft = glm::vec4(s.radius, s.bleedReduction, plan->firstLayer, plan->layerCount);
-      g.shadowProjection = glm::vec4(plan->tanHalfFov, static_cast<float>(viewProjections.size()),
-                                     shaded.translucent ? 1.0f : 0.0f, 0.0f);
+      g.shadowProjection =
+          glm::vec4(plan->tanHalfFov, static_cast<float>(viewProjections.size()),
+                    shaded.translucent ? 1.0f + tintedLayerMask(plan, shadowGroups) : 0.0f, 0.0f);
       for (int c = 0; c < 4; ++c) {
         g.cascadeEnd[c] = plan->cascadeEnd[c];
         g.cascadeTexel[c] = plan->cascadeTexel[c];

@@ -24,6 +24,10 @@ struct ShadowGroupTextures {
   // Same target, GL_RGBA32F, when a light of the group has translucent shadows
   // (transmittance_pass.h); made by ensureTransmittance().
   gl::Texture transmittance;
+  // Per layer: whether the transmittance pass drew translucent casters into it. Layers without
+  // any are neither cleared nor drawn (an RGBA32F clear of a 1024^2 face costs llvmpipe about
+  // 2 ms), and the lighting pass does not sample them (transmittance_pass.h).
+  std::vector<bool> tintedLayers;
 };
 
 // Allocates the group's transmittance layers unless it has them.

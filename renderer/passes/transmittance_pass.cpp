@@ -6,6 +6,7 @@
 #include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/scene/translucency.h"
+#include "renderer/view/caster_culling.h"
 
 namespace omnishadow {
 
@@ -15,7 +16,24 @@ TransmittancePass::TransmittancePass()
       framebuffer_(gl::createFramebuffer()) {}
 
 void TransmittancePass::render(const GpuScene& scene, const Light& light,
-                               const LightShadowPlan& plan, const ShadowGroupTextures& target) {
+                               const LightShadowPlan& plan, ShadowGroupTextures& target) {
+  // Which layers each translucent caster can reach.
+  std::vector<ViewFrustum> views;
+  for (int layer = 0; layer < plan.layerCount; ++layer)
+    views.emplace_back(plan.viewProjection[layer]);
+  std::vector<unsigned> casterLayers(scene.draws().size(), 0u);
+  unsigned tinted = 0u;
+  for (std::size_t index = 0; index < scene.draws().size(); ++index) {
+    const GpuDraw& draw = scene.draws()[index];
+    if (!isTranslucentCaster(scene.materials()[draw.material].desc)) continue;
+    casterLayers[index] = casterViewMask(views, draw.boundsCenter, draw.boundsRadius);
+    tinted |= casterLayers[index];
+  }
+  target.tintedLayers.resize(target.layers, false);
+  for (int layer = 0; layer < plan.layerCount; ++layer)
+    target.tintedLayers[plan.firstLayer + layer] = (tinted >> layer & 1u) != 0;
+  if (tinted == 0u) return;
+
   const GLuint fb = framebuffer_.get();
   glBindFramebuffer(GL_FRAMEBUFFER, fb);
   glNamedFramebufferDrawBuffer(fb, GL_COLOR_ATTACHMENT0);
@@ -40,6 +58,7 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
 
   const float clear[4] = {1.0f, 1.0f, 1.0f, 0.0f};
   for (int layer = 0; layer < plan.layerCount; ++layer) {
+    if ((tinted >> layer & 1u) == 0) continue;
     glNamedFramebufferTextureLayer(fb, GL_DEPTH_ATTACHMENT, target.depth.get(), 0,
                                    plan.firstLayer + layer);
     glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, target.transmittance.get(), 0,
@@ -50,7 +69,7 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
       const GpuDraw& draw = scene.draws()[index];
       const GpuMaterial& material = scene.materials()[draw.material];
       const Material& m = material.desc;
-      if (!isTranslucentCaster(m)) continue;
+      if ((casterLayers[index] >> layer & 1u) == 0) continue;
       program_.set("uObject", static_cast<int>(index));
       program_.set("uBaseColorFactor", m.baseColorFactor);
       program_.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);

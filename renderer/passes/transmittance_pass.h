@@ -16,13 +16,17 @@ namespace omnishadow {
 // depth (depth-tested, not written) multiplies RGB by what the surface lets through, front and
 // back faces alike (no culling: each crossing counts once), and A keeps the largest, i.e.
 // nearest, reversed depth of them (GL_MAX), so receivers in front of the glass stay untinted.
+// Layers whose frustum no translucent caster's bounding sphere touches are skipped and marked
+// untinted in ShadowGroupTextures::tintedLayers; the lighting pass takes their transmittance
+// as 1 (what a cleared layer holds) without reading them.
 class TransmittancePass {
  public:
   TransmittancePass();
 
-  // `target` must have its transmittance layers (ensureTransmittance()).
+  // `target` must have its transmittance layers (ensureTransmittance()); sets its tintedLayers
+  // of the light's layers.
   void render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
-              const ShadowGroupTextures& target);
+              ShadowGroupTextures& target);
 
  private:
   ShaderProgram program_;
