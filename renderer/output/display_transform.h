@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "renderer/output/image_writer.h"
+#include "renderer/scene/srgb_transfer.h"
 
 namespace omnishadow {
 
@@ -13,7 +14,5 @@ std::vector<std::uint8_t> toSrgb8(const FloatImage& beauty, float exposure);
 
 // Same channels with RGB scaled by 2^exposure (alpha untouched), for EXR beauty output.
 FloatImage applyExposure(const FloatImage& beauty, float exposure);
-
-float srgbEncode(float linear);
 
 }  // namespace omnishadow

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "renderer/core/errors.h"
+#include "renderer/scene/image_mipmaps.h"
 #include "renderer/scene/mesh_topology.h"
 
 namespace omnishadow {
@@ -195,7 +196,10 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
     // image's first (top) row goes into row 0 unflipped.
     glTextureSubImage2D(texture.get(), 0, 0, 0, image.width, image.height, GL_RGBA,
                         GL_UNSIGNED_BYTE, image.rgba.data());
-    glGenerateTextureMipmap(texture.get());
+    int level = 1;
+    for (const Image& smaller : mipmapChain(image, srgb))
+      glTextureSubImage2D(texture.get(), level++, 0, 0, smaller.width, smaller.height, GL_RGBA,
+                          GL_UNSIGNED_BYTE, smaller.rgba.data());
   }
   return texture.get();
 }

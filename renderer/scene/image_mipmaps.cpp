@@ -1,0 +1,132 @@
+#include "renderer/scene/image_mipmaps.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "renderer/scene/srgb_transfer.h"
+
+namespace omnishadow {
+namespace {
+
+// The texels of the level above that one texel of a level covers along one axis, and the share
+// of each (they sum to 1). A side shrinks by 2 (a side of 1 stays), so a texel covers at most
+// three and a half texels above it: at most 4 taps.
+struct Taps {
+  int first = 0;
+  int count = 0;
+  std::array<float, 4> weight{};
+};
+
+std::vector<Taps> tapsFor(int from, int to) {
+  std::vector<Taps> taps(static_cast<std::size_t>(to));
+  const double scale = static_cast<double>(from) / to;
+  for (int x = 0; x < to; ++x) {
+    const double begin = x * scale, end = (x + 1) * scale;
+    Taps& t = taps[static_cast<std::size_t>(x)];
+    t.first = static_cast<int>(std::floor(begin));
+    for (int s = t.first; s < from && s < end && t.count < 4; ++s) {
+      const double overlap = std::min(end, s + 1.0) - std::max(begin, static_cast<double>(s));
+      t.weight[static_cast<std::size_t>(t.count++)] = static_cast<float>(overlap / scale);
+    }
+  }
+  return taps;
+}
+
+// A level in linear values, RGBA.
+struct LinearLevel {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgba;
+};
+
+// The level below `width` x `height` texels that `texel(x, y, channel)` reads.
+template <typename Texel>
+LinearLevel downsample(int width, int height, const Texel& texel) {
+  LinearLevel out;
+  out.width = std::max(1, width / 2);
+  out.height = std::max(1, height / 2);
+  out.rgba.resize(static_cast<std::size_t>(out.width) * out.height * 4);
+  float* o = out.rgba.data();
+  if (width % 2 == 0 && height % 2 == 0) {
+    // The common case, a 2x2 box, without the general loop's bookkeeping (3x faster).
+    for (int y = 0; y < out.height; ++y)
+      for (int x = 0; x < out.width; ++x)
+        for (int c = 0; c < 4; ++c)
+          *o++ = 0.25f * ((texel(2 * x, 2 * y, c) + texel(2 * x + 1, 2 * y, c)) +
+                          (texel(2 * x, 2 * y + 1, c) + texel(2 * x + 1, 2 * y + 1, c)));
+    return out;
+  }
+  const std::vector<Taps> columns = tapsFor(width, out.width);
+  const std::vector<Taps> rows = tapsFor(height, out.height);
+  for (const Taps& row : rows)
+    for (const Taps& column : columns) {
+      std::array<float, 4> sum{};
+      for (int j = 0; j < row.count; ++j)
+        for (int i = 0; i < column.count; ++i) {
+          const float w =
+              row.weight[static_cast<std::size_t>(j)] * column.weight[static_cast<std::size_t>(i)];
+          for (int c = 0; c < 4; ++c)
+            sum[static_cast<std::size_t>(c)] += w * texel(column.first + i, row.first + j, c);
+        }
+      for (float s : sum) *o++ = s;
+    }
+  return out;
+}
+
+Image rounded(const LinearLevel& level, bool srgb, const std::string& name) {
+  Image image;
+  image.name = name;
+  image.width = level.width;
+  image.height = level.height;
+  image.rgba.resize(level.rgba.size());
+  const std::size_t texels = level.rgba.size() / 4;
+  for (std::size_t c = 0; c < 4; ++c) {
+    if (srgb && c < 3) {
+      toSrgb8(level.rgba.data() + c, texels, 4, 1.0f, image.rgba.data() + c, 4);
+      continue;
+    }
+    for (std::size_t i = 0; i < texels; ++i) {
+      const float v = std::clamp(level.rgba[i * 4 + c], 0.0f, 1.0f);
+      image.rgba[i * 4 + c] = static_cast<std::uint8_t>(v * 255.0f + 0.5f);
+    }
+  }
+  return image;
+}
+
+}  // namespace
+
+std::vector<Image> mipmapChain(const Image& base, bool srgb) {
+  std::vector<Image> chain;
+  if (base.width <= 1 && base.height <= 1) return chain;
+  std::array<std::array<float, 256>, 2> decode{};  // [0]: RGB, [1]: alpha (and linear RGB)
+  for (int v = 0; v < 256; ++v) {
+    decode[1][static_cast<std::size_t>(v)] = static_cast<float>(v) / 255.0f;
+    decode[0][static_cast<std::size_t>(v)] =
+        srgb ? srgbDecode(static_cast<std::uint8_t>(v)) : decode[1][static_cast<std::size_t>(v)];
+  }
+  const auto baseWidth = static_cast<std::size_t>(base.width);
+  LinearLevel level = downsample(base.width, base.height, [&](int x, int y, int c) {
+    const std::uint8_t code =
+        base.rgba[(static_cast<std::size_t>(y) * baseWidth + static_cast<std::size_t>(x)) * 4 +
+                  static_cast<std::size_t>(c)];
+    return decode[c == 3 ? 1 : 0][code];
+  });
+  chain.push_back(rounded(level, srgb, base.name));
+  while (level.width > 1 || level.height > 1) {
+    const LinearLevel& above = level;
+    const auto width = static_cast<std::size_t>(above.width);
+    LinearLevel next = downsample(above.width, above.height, [&](int x, int y, int c) {
+      return above.rgba[(static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x)) * 4 +
+                        static_cast<std::size_t>(c)];
+    });
+    level = std::move(next);
+    chain.push_back(rounded(level, srgb, base.name));
+  }
+  return chain;
+}
+
+}  // namespace omnishadow

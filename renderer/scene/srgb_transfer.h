@@ -1,0 +1,21 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace omnishadow {
+
+// The sRGB transfer function (IEC 61966-2-1) of a linear value clamped to [0, 1].
+float srgbEncode(float linear);
+
+// round(255 * srgbEncode(linear)), from a table: NaN and values below 0 give 0, above 1 give 255.
+std::uint8_t srgb8(float linear);
+
+// srgb8(linear[i * stride] * scale) into out[i * outStride] for i < count.
+void toSrgb8(const float* linear, std::size_t count, std::size_t stride, float scale,
+             std::uint8_t* out, std::size_t outStride);
+
+// The linear value of an 8-bit sRGB code.
+float srgbDecode(std::uint8_t encoded);
+
+}  // namespace omnishadow

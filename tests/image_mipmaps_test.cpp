@@ -1,0 +1,91 @@
+#include "renderer/scene/image_mipmaps.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "renderer/scene/srgb_transfer.h"
+
+namespace omnishadow {
+namespace {
+
+Image filled(int width, int height, std::vector<std::uint8_t> rgba) {
+  Image image;
+  image.width = width;
+  image.height = height;
+  image.rgba = std::move(rgba);
+  return image;
+}
+
+Image uniform(int width, int height, std::uint8_t r, std::uint8_t g, std::uint8_t b,
+              std::uint8_t a) {
+  std::vector<std::uint8_t> rgba;
+  for (int i = 0; i < width * height; ++i) rgba.insert(rgba.end(), {r, g, b, a});
+  return filled(width, height, rgba);
+}
+
+TEST(ImageMipmaps, LevelsAreSizedAsGlGenerateMipmapSizesThemDownToOneByOne) {
+  const std::vector<Image> chain = mipmapChain(uniform(13, 4, 0, 0, 0, 255), true);
+  const std::vector<std::pair<int, int>> expected = {{6, 2}, {3, 1}, {1, 1}};
+  ASSERT_EQ(chain.size(), expected.size());
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    EXPECT_EQ(chain[i].width, expected[i].first);
+    EXPECT_EQ(chain[i].height, expected[i].second);
+    EXPECT_EQ(chain[i].rgba.size(), static_cast<std::size_t>(chain[i].width * chain[i].height * 4));
+  }
+  EXPECT_TRUE(mipmapChain(uniform(1, 1, 9, 9, 9, 9), false).empty());
+}
+
+TEST(ImageMipmaps, AUniformImageStaysExactlyTheSameAtEveryLevel) {
+  for (bool srgb : {false, true})
+    for (const Image& level : mipmapChain(uniform(37, 10, 17, 128, 250, 77), srgb))
+      for (std::size_t i = 0; i < level.rgba.size(); i += 4) {
+        ASSERT_EQ(level.rgba[i], 17);
+        ASSERT_EQ(level.rgba[i + 1], 128);
+        ASSERT_EQ(level.rgba[i + 2], 250);
+        ASSERT_EQ(level.rgba[i + 3], 77);
+      }
+}
+
+TEST(ImageMipmaps, SrgbColorsAreAveragedInLinearLightAndAlphaAndLinearImagesAsCodes) {
+  // A 2x2 checker of black and white, alpha 0 and 255.
+  const Image checker = filled(2, 2,
+                               {0, 0, 0, 0, 255, 255, 255, 255,  //
+                                255, 255, 255, 255, 0, 0, 0, 0});
+  const Image srgb = mipmapChain(checker, true).at(0);
+  ASSERT_EQ(srgb.width, 1);
+  EXPECT_EQ(srgb.rgba[0], srgb8(0.5f));  // 188: half the light, not half the code
+  EXPECT_EQ(srgb.rgba[0], 188);
+  EXPECT_EQ(srgb.rgba[3], 128);  // alpha is linear: 127.5 rounds up
+  const Image linear = mipmapChain(checker, false).at(0);
+  EXPECT_EQ(linear.rgba[0], 128);
+  EXPECT_EQ(linear.rgba[3], 128);
+}
+
+TEST(ImageMipmaps, EvenSidesTakeTheTwoByTwoBoxAndOddSidesTheAreaEachTexelCovers) {
+  // 4x2 linear ramp in R: each level-1 texel is the mean of its 2x2 block.
+  const Image ramp = filled(4, 2, {0,  0, 0, 0, 40, 0, 0, 0, 80,  0, 0, 0, 120, 0, 0, 0,  //
+                                   20, 0, 0, 0, 60, 0, 0, 0, 100, 0, 0, 0, 140, 0, 0, 0});
+  const Image box = mipmapChain(ramp, false).at(0);
+  ASSERT_EQ(box.width, 2);
+  EXPECT_EQ(box.rgba[0], 30);   // (0 + 40 + 20 + 60) / 4
+  EXPECT_EQ(box.rgba[4], 110);  // (80 + 120 + 100 + 140) / 4
+  // 3x1 -> 1x1: the one texel covers all three, a third each.
+  const Image three = filled(3, 1, {30, 0, 0, 255, 60, 0, 0, 255, 150, 0, 0, 255});
+  const Image area = mipmapChain(three, false).at(0);
+  ASSERT_EQ(area.width, 1);
+  EXPECT_EQ(area.rgba[0], 80);  // (30 + 60 + 150) / 3
+  EXPECT_EQ(area.rgba[3], 255);
+  // 5x1 -> 2x1: each covers 2.5 texels: the first 0, 1 and half of 2.
+  const Image five =
+      filled(5, 1, {0, 0, 0, 0, 50, 0, 0, 0, 100, 0, 0, 0, 150, 0, 0, 0, 200, 0, 0, 0});
+  const Image halves = mipmapChain(five, false).at(0);
+  ASSERT_EQ(halves.width, 2);
+  EXPECT_EQ(halves.rgba[0], 40);   // (0 + 50 + 0.5 * 100) / 2.5
+  EXPECT_EQ(halves.rgba[4], 160);  // (0.5 * 100 + 150 + 200) / 2.5
+}
+
+}  // namespace
+}  // namespace omnishadow
