@@ -310,6 +310,20 @@ TEST_F(CliTest, NoEglContextSaysWhatWasTried) {
   EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
 }
 
+TEST_F(CliTest, ASceneThatCannotLoadIsReportedEvenWhenNoContextCanBeOpenedBesideIt) {
+  // The scene loads on a second thread while the context opens; when both fail, the scene's
+  // error (the user's to fix) is the one reported, as when they ran in turn.
+  const fs::path broken =
+      writeText("broken.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"scenes\": 7}");
+  const Run r = run({"render", broken.string(), "-o", "a.png"},
+                    {"__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/vendor.json"});
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, broken.string())) << r.err;
+  EXPECT_FALSE(contains(r.err, "EGL")) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
+}
+
 TEST_F(CliTest, GpuWhereEglListsNoDeviceIsAUsageError) {
   // Without a vendor library EGL lists no device at all: asking for one is still the user's
   // mistake (exit 2, one line naming --gpu), not a failure of the renderer.

@@ -7,6 +7,11 @@
 
 namespace omnishadow {
 
+inline double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
 // Wall time of the named stages of one render, in the order they first ran (--stats). A stage
 // that runs several times (lighting in several passes) is one row with its total.
 class StageTimes {
