@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -94,6 +95,57 @@ TEST(CasterCulling, SphereOutsideTheDepthRangeTouchesNoFace) {
   EXPECT_EQ(maskOf(light, {0.03f, 0.02f, 0.0f}, 0.001f), 0u);
   // Just reaching across far: still drawn.
   EXPECT_EQ(maskOf(light, {100.5f, 0, 0}, 1.0f), faceBit(CubeFace::PosX));
+}
+
+TEST(CasterCulling, SphereTexelRectBoundsEveryPointOfTheSphereItProjects) {
+  // A sphere straight ahead of +X at distance 5, radius 0.5: its box's near corners, 4.5 ahead
+  // and 0.5 aside, are 0.5 / 4.5 of the half-width (57 of 512 texels) off the center, plus a
+  // texel of margin.
+  const glm::vec3 at(2.0f, -1.0f, 3.0f);
+  const glm::mat4 viewProjection = pointLight(at).viewProjections[0];
+  const int n = 1024;
+  const TexelRect rect = sphereTexelRect(viewProjection, at + glm::vec3(5, 0, 0), 0.5f, n);
+  EXPECT_NEAR(rect.x0, 512 - 57 - 1, 1);
+  EXPECT_NEAR(rect.x1, 512 + 57 + 1, 1);
+  EXPECT_NEAR(rect.y0, 512 - 57 - 1, 1);
+  EXPECT_NEAR(rect.y1, 512 + 57 + 1, 1);
+  // Every point of an off-center sphere lands inside its rectangle.
+  const glm::vec3 center = at + glm::vec3(4.0f, 1.5f, -2.0f);
+  const TexelRect off = sphereTexelRect(viewProjection, center, 0.7f, n);
+  for (int i = 0; i < 2000; ++i) {
+    const float u = static_cast<float>(i) * 0.61803398875f, v = static_cast<float>(i) / 2000.0f;
+    const float z = 2.0f * v - 1.0f, r = std::sqrt(1.0f - z * z);
+    const glm::vec3 p =
+        center + 0.7f * glm::vec3(r * std::cos(6.2831853f * u), r * std::sin(6.2831853f * u), z);
+    const glm::vec4 clip = viewProjection * glm::vec4(p, 1.0f);
+    const glm::vec2 window = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * static_cast<float>(n);
+    ASSERT_GE(window.x, static_cast<float>(off.x0));
+    ASSERT_LT(window.x, static_cast<float>(off.x1));
+    ASSERT_GE(window.y, static_cast<float>(off.y0));
+    ASSERT_LT(window.y, static_cast<float>(off.y1));
+  }
+  // Reaching behind the light's eye plane: the whole face. Beside the face: nothing.
+  const TexelRect around = sphereTexelRect(viewProjection, at + glm::vec3(0.2f, 0, 0), 0.5f, n);
+  EXPECT_EQ(around.x0, 0);
+  EXPECT_EQ(around.y0, 0);
+  EXPECT_EQ(around.x1, n);
+  EXPECT_EQ(around.y1, n);
+  EXPECT_TRUE(sphereTexelRect(viewProjection, at + glm::vec3(5, 20, 0), 0.5f, n).empty());
+}
+
+TEST(CasterCulling, TexelRectsUniteToTheirBoundsAndEmptyOnesAddNothing) {
+  const TexelRect a{10, 20, 30, 40}, b{25, 5, 50, 22};
+  const TexelRect both = a.united(b);
+  EXPECT_EQ(both.x0, 10);
+  EXPECT_EQ(both.y0, 5);
+  EXPECT_EQ(both.x1, 50);
+  EXPECT_EQ(both.y1, 40);
+  const TexelRect alone = a.united(TexelRect{});
+  EXPECT_EQ(alone.x0, a.x0);
+  EXPECT_EQ(alone.x1, a.x1);
+  EXPECT_EQ(TexelRect{}.united(b).y1, b.y1);
+  EXPECT_TRUE(TexelRect{}.empty());
+  EXPECT_FALSE(TexelRect::whole(4).empty());
 }
 
 TEST(CasterCulling, SpotFrustum) {

@@ -229,6 +229,29 @@ TEST(TranslucentShadows, OverlappingPanesMultiply) {
   expectAgreementWithTheRays(verifyAgainstRays(s, frame), 1000);
 }
 
+// The transmittance pass clears only what the previous pass drew and what it draws itself
+// (llvmpipe clears RGBA32F slowly): a pane that moved between two frames of one renderer must
+// leave no tint behind where it was. The second frame's textures are the first's, from the
+// renderer's pool.
+TEST(TranslucentShadows, APaneThatMovedBetweenFramesLeavesNoTintWhereItWas) {
+  const Material tinted = glass({0.2f, 0.9f, 0.4f, 0.7f}, AlphaMode::Blend, 0.0f);
+  const Staged before = paneScene({{tinted, {-1.5f, 1.0f, -1.0f}, 1.2f}});
+  const Staged after = paneScene({{tinted, {1.5f, 1.2f, 1.0f}, 1.2f}});
+  renderAovs(before);
+  const Frame frame = renderAovs(after);
+  for (const Light& light : after.lights) {
+    SCOPED_TRACE(light.name);
+    // Under where the pane was, every channel is lit; under where it is, tinted by 0.3.
+    const HandCheck old = checkFloor(before, *frame.aovs, light, glm::vec3(0.3f));
+    EXPECT_GT(old.points, 50);
+    EXPECT_EQ(old.matching, 0);
+    const HandCheck now = checkFloor(after, *frame.aovs, light, glm::vec3(0.3f));
+    EXPECT_GT(now.points, 50);
+    EXPECT_EQ(now.matching, now.points);
+  }
+  expectAgreementWithTheRays(verifyAgainstRays(after, frame), 200);
+}
+
 // An opaque box over a colored BLEND pane still blocks every channel on the floor below; the
 // box's top, in front of the pane, and the top of an opaque-mode transmission pane (the glass
 // itself) are not tinted.

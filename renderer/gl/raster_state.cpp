@@ -53,6 +53,11 @@ void Viewport::apply() const {
   glViewport(x, y, width, height);
 }
 
+void Scissor::apply() const {
+  setEnabled(GL_SCISSOR_TEST, enabled);
+  if (enabled) glScissor(x, y, width, height);
+}
+
 void RasterState::apply() const {
   depth.apply();
   cull.apply();
@@ -60,6 +65,7 @@ void RasterState::apply() const {
   color.apply();
   blend.apply();
   viewport.apply();
+  scissor.apply();
 }
 
 void RasterState::restoreDefaults() {
@@ -69,6 +75,7 @@ void RasterState::restoreDefaults() {
   defaults.offset.apply();
   defaults.color.apply();
   defaults.blend.apply();
+  defaults.scissor.apply();
 }
 
 }  // namespace omnishadow::gl

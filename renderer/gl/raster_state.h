@@ -54,6 +54,13 @@ struct Viewport {
   void apply() const;
 };
 
+// Off by default; clears obey it too.
+struct Scissor {
+  bool enabled = false;
+  int x = 0, y = 0, width = 0, height = 0;
+  void apply() const;
+};
+
 struct RasterState {
   DepthState depth;
   CullState cull;
@@ -61,6 +68,7 @@ struct RasterState {
   ColorWrites color;
   BlendState blend;
   Viewport viewport;
+  Scissor scissor;
 
   void apply() const;
   // The defaults above, viewport aside (every pass sets its own).

@@ -42,6 +42,7 @@ void ensureTransmittance(ShadowGroupTextures& group) {
       group.key.layout == ShadowLayout::Cube ? GL_TEXTURE_CUBE_MAP_ARRAY : GL_TEXTURE_2D_ARRAY);
   // 32-bit floats: A holds a depth the lighting pass compares with its own.
   glTextureStorage3D(group.transmittance.get(), 1, GL_RGBA32F, n, n, group.layers);
+  group.transmittanceDirty.assign(static_cast<std::size_t>(group.layers), TexelRect::whole(n));
   gl::checkErrors("allocating transmittance maps");
 }
 

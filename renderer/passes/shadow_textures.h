@@ -6,6 +6,7 @@
 
 #include "renderer/gl/gl_resources.h"
 #include "renderer/scene/light.h"
+#include "renderer/view/caster_culling.h"
 #include "renderer/view/cube_distances.h"
 #include "renderer/view/shadow_plan.h"
 
@@ -28,6 +29,10 @@ struct ShadowGroupTextures {
   // any are neither cleared nor drawn (an RGBA32F clear of a 1024^2 face costs llvmpipe about
   // 2 ms), and the lighting pass does not sample them (transmittance_pass.h).
   std::vector<bool> tintedLayers;
+  // Per layer: the texels that may hold something other than the cleared (1, 1, 1, 0): all of
+  // a new texture, then the rectangle the last transmittance pass drew into. The next pass
+  // clears only this and its own rectangle.
+  std::vector<TexelRect> transmittanceDirty;
 };
 
 // Allocates the group's transmittance layers unless it has them.

@@ -15,6 +15,14 @@ TransmittancePass::TransmittancePass()
                contract::withShaderContract({"TRANSMITTANCE"})),
       framebuffer_(gl::createFramebuffer()) {}
 
+namespace {
+
+void scissorTo(const TexelRect& rect) {
+  gl::Scissor{true, rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0}.apply();
+}
+
+}  // namespace
+
 void TransmittancePass::render(const GpuScene& scene, const Light& light,
                                const LightShadowPlan& plan, ShadowGroupTextures& target) {
   // Which layers each translucent caster can reach.
@@ -22,12 +30,22 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
   for (int layer = 0; layer < plan.layerCount; ++layer)
     views.emplace_back(plan.viewProjection[layer]);
   std::vector<unsigned> casterLayers(scene.draws().size(), 0u);
+  std::vector<TexelRect> drawn(static_cast<std::size_t>(plan.layerCount));
+  const int n = target.key.resolution;
   unsigned tinted = 0u;
   for (std::size_t index = 0; index < scene.draws().size(); ++index) {
     const GpuDraw& draw = scene.draws()[index];
     if (!isTranslucentCaster(scene.materials()[draw.material].desc)) continue;
-    casterLayers[index] = casterViewMask(views, draw.boundsCenter, draw.boundsRadius);
-    tinted |= casterLayers[index];
+    unsigned& layers = casterLayers[index];
+    layers = casterViewMask(views, draw.boundsCenter, draw.boundsRadius);
+    for (int layer = 0; layer < plan.layerCount; ++layer) {
+      if ((layers >> layer & 1u) == 0) continue;
+      const TexelRect rect =
+          sphereTexelRect(plan.viewProjection[layer], draw.boundsCenter, draw.boundsRadius, n);
+      if (rect.empty()) layers &= ~(1u << layer);
+      drawn[layer] = drawn[layer].united(rect);
+    }
+    tinted |= layers;
   }
   target.tintedLayers.resize(target.layers, false);
   for (int layer = 0; layer < plan.layerCount; ++layer)
@@ -63,7 +81,13 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
                                    plan.firstLayer + layer);
     glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, target.transmittance.get(), 0,
                                    plan.firstLayer + layer);
+    // Only the texels that may not hold the cleared value, and only those the casters can reach
+    // are drawn: llvmpipe clears RGBA32F a texel at a time.
+    TexelRect& dirty = target.transmittanceDirty[plan.firstLayer + layer];
+    scissorTo(dirty.united(drawn[layer]));
     glClearNamedFramebufferfv(fb, GL_COLOR, 0, clear);
+    scissorTo(drawn[layer]);
+    dirty = drawn[layer];
     program_.set("uView", layer);
     for (std::size_t index = 0; index < scene.draws().size(); ++index) {
       const GpuDraw& draw = scene.draws()[index];

@@ -1,6 +1,8 @@
 #include "renderer/view/caster_culling.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace omnishadow {
 
@@ -18,6 +20,36 @@ bool ViewFrustum::touches(const glm::vec3& center, float radius) const {
   for (const glm::vec4& p : planes_)
     if (glm::dot(glm::vec3(p), center) + p.w < -radius) return false;
   return true;
+}
+
+TexelRect TexelRect::united(const TexelRect& other) const {
+  if (other.empty()) return *this;
+  if (empty()) return other;
+  return {std::min(x0, other.x0), std::min(y0, other.y0), std::max(x1, other.x1),
+          std::max(y1, other.y1)};
+}
+
+TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& center, float radius,
+                          int resolution) {
+  // The sphere's box lies in front of the eye plane when all its corners do (w is linear), and
+  // then its projection is the hull of the projected corners.
+  glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 offset((corner & 1) ? radius : -radius, (corner & 2) ? radius : -radius,
+                           (corner & 4) ? radius : -radius);
+    const glm::vec4 clip = viewProjection * glm::vec4(center + offset, 1.0f);
+    if (!(clip.w > 1e-6f)) return TexelRect::whole(resolution);
+    const glm::vec2 window =
+        (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * static_cast<float>(resolution);
+    low = glm::min(low, window);
+    high = glm::max(high, window);
+  }
+  const auto clamped = [resolution](float v) {
+    return static_cast<int>(std::clamp(v, 0.0f, static_cast<float>(resolution)));
+  };
+  TexelRect rect{clamped(std::floor(low.x) - 1.0f), clamped(std::floor(low.y) - 1.0f),
+                 clamped(std::ceil(high.x) + 1.0f), clamped(std::ceil(high.y) + 1.0f)};
+  return rect.empty() ? TexelRect{} : rect;
 }
 
 ShadowCullingLight shadowCullingLight(const Light& light, const LightShadowPlan& plan, bool cube) {

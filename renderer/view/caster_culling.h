@@ -24,6 +24,22 @@ class ViewFrustum {
   std::array<glm::vec4, 6> planes_;
 };
 
+// Texels [x0, x1) x [y0, y1) of a square view, in window coordinates (y up, as glScissor
+// counts them); empty when x0 >= x1 or y0 >= y1.
+struct TexelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x0 >= x1 || y0 >= y1; }
+  // The smallest rectangle holding both (an empty one adds nothing).
+  TexelRect united(const TexelRect& other) const;
+  static TexelRect whole(int resolution) { return {0, 0, resolution, resolution}; }
+};
+
+// Conservative: the texels of a `resolution`-sided view that a sphere can cover, with a texel
+// of margin; the whole view when the sphere reaches the plane of the view's eye (where a
+// projection no longer bounds it), an empty rectangle when it lies outside the view.
+TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& center, float radius,
+                          int resolution);
+
 // What culling needs to know of one caster (a draw of the scene).
 struct ShadowCaster {
   glm::vec3 center{0.0f};  // world-space bounding sphere
