@@ -23,10 +23,6 @@ layout(binding = PLANAR_COMPARE_UNIT) uniform sampler2DArrayShadow uPlanarCompar
 layout(binding = PLANAR_DEPTH_UNIT) uniform sampler2DArray uPlanarDepth[MAX_SHADOW_GROUPS];
 layout(binding = CUBE_MOMENTS_UNIT) uniform samplerCubeArray uCubeMoments[MAX_SHADOW_GROUPS];
 layout(binding = PLANAR_MOMENTS_UNIT) uniform sampler2DArray uPlanarMoments[MAX_SHADOW_GROUPS];
-// Groups of lights with translucent shadows bind their transmittance layers
-// (renderer/passes/transmittance_pass.h) to the moments arrays: such groups have no moments
-// (vsm keeps cut-out shadows), and arrays of their own would pass the 32 samplers a fragment
-// shader may use.
 
 uniform mat4 uCameraView;  // directional lights pick their cascade by camera view depth
 
@@ -236,38 +232,57 @@ int shadowCascade(Light light, vec3 P) {
 }
 
 #ifdef TRANSLUCENT_SHADOWS
+// The frame's transmittance atlas (renderer/passes/transmittance_pass.h): per light, one layer
+// for each of its shadow layers that translucent casters reach, RGB the product of what they
+// let through, A the nearest one's reversed depth (0 = none).
+layout(binding = TRANSMITTANCE_UNIT) uniform sampler2DArray uTransmittance;
+
+// The cube face a direction selects and the (s, t) in it, as GL's cube map lookup defines them
+// (OpenGL 4.6, section 8.13, table 8.19).
+int cubeFace(vec3 d, out vec2 st) {
+  vec3 a = abs(d);
+  float sc, tc, ma;
+  int face;
+  if (a.x >= a.y && a.x >= a.z) {
+    face = d.x >= 0.0 ? 0 : 1;
+    ma = a.x;
+    sc = d.x >= 0.0 ? -d.z : d.z;
+    tc = -d.y;
+  } else if (a.y >= a.z) {
+    face = d.y >= 0.0 ? 2 : 3;
+    ma = a.y;
+    sc = d.x;
+    tc = d.y >= 0.0 ? d.z : -d.z;
+  } else {
+    face = d.z >= 0.0 ? 4 : 5;
+    ma = a.z;
+    sc = d.z >= 0.0 ? d.x : -d.x;
+    tc = -d.y;
+  }
+  st = 0.5 * vec2(sc, tc) / max(ma, 1e-30) + 0.5;
+  return face;
+}
+
 // What the translucent casters between the light and Q let through (1 = all): the product (RGB)
-// in Q's texel of the light's transmittance layer (A: the nearest one's reversed depth, 0 =
-// none), where Q is behind the nearest translucent
+// in Q's texel of the light's transmittance layer, where Q is behind the nearest translucent
 // caster of that texel; receivers in front of it (and the glass itself) are not tinted. The
 // nearest texel: tinted shadows have hard edges.
 vec3 shadowTransmittance(Light light, int cascade, vec3 Q) {
   if (light.shadowProjection.z == 0.0) return vec3(1.0);
   MapPoint m = mapPoint(light, cascade, Q);
   if (!m.inside) return vec3(1.0);
-  // shadowProjection.z is 1 + a bit per layer holding translucent casters; the others were
-  // not drawn (nor cleared) this frame and stand for 1. A cube direction on a face edge may
-  // select either face, so every face its largest axes could pick must be untinted.
+  // shadowProjection.z is 1 + a bit per shadow layer with an atlas layer, w the first of them.
   uint tinted = uint(light.shadowProjection.z) - 1u;
-  uint layers = 1u << uint(cascade);
+  int layer = cascade;
+  vec2 st = m.coord.xy;
 #ifdef SHADOW_CUBE
-  if (lightType(light) == LIGHT_POINT) {
-    vec3 a = abs(m.coord.xyz);
-    float major = max(max(a.x, a.y), a.z) * (1.0 - 1e-5);
-    layers = (a.x >= major ? (m.coord.x >= 0.0 ? 1u : 2u) : 0u) |
-             (a.y >= major ? (m.coord.y >= 0.0 ? 4u : 8u) : 0u) |
-             (a.z >= major ? (m.coord.z >= 0.0 ? 16u : 32u) : 0u);
-  }
+  if (lightType(light) == LIGHT_POINT) layer = cubeFace(m.coord.xyz, st);
 #endif
-  if ((tinted & layers) == 0u) return vec3(1.0);
-  int g = shadowGroup(light);
-  vec4 t = vec4(1.0, 1.0, 1.0, 0.0);
-#ifdef SHADOW_CUBE
-  if (lightType(light) == LIGHT_POINT) t = texture(uCubeMoments[g], m.coord);
-#endif
-#ifdef SHADOW_PLANAR
-  if (lightType(light) != LIGHT_POINT) t = texture(uPlanarMoments[g], m.coord.xyz);
-#endif
+  if ((tinted & (1u << uint(layer))) == 0u) return vec3(1.0);
+  int atlasLayer = int(light.shadowProjection.w) + bitCount(tinted & ((1u << uint(layer)) - 1u));
+  int n = int(light.spotFilter.w);
+  ivec2 texel = clamp(ivec2(floor(st * float(n))), ivec2(0), ivec2(n - 1));
+  vec4 t = texelFetch(uTransmittance, ivec3(texel, atlasLayer), 0);
   return m.reference < t.a ? t.rgb : vec3(1.0);
 }
 #endif

@@ -252,6 +252,32 @@ TEST(TranslucentShadows, APaneThatMovedBetweenFramesLeavesNoTintWhereItWas) {
   expectAgreementWithTheRays(verifyAgainstRays(after, frame), 200);
 }
 
+// Renders of one scene keep its point and spot maps (the shadow cache) and their transmittance
+// in the atlas. When a light before them in the atlas changes how many layers it needs, a
+// reused map's transmittance moves and must be drawn again: the frame equals a fresh render.
+TEST(TranslucentShadows, AReusedMapWhoseAtlasLayersMovedIsTintedAsAFreshRender) {
+  const Staged s = paneScene(
+      {{glass({0.2f, 0.9f, 0.4f, 0.7f}, AlphaMode::Blend, 0.0f), {0.3f, 1.0f, 0.2f}, 1.6f}});
+  Renderer& renderer = contextForThisProgram();
+  StageTimes times;
+  const glm::vec3 ambient(0.03f);
+  // The point light low and beside the pane reaches it through two cube faces, not one, so
+  // the spot light's atlas layer moves.
+  std::vector<Light> lowPoint = s.lights;
+  lowPoint[0].position = {-1.2f, 1.05f, 0.2f};
+  renderer.render(s.scene, s.lights, ambient, s.camera, {}, times);
+  const Frame moved = renderer.render(s.scene, lowPoint, ambient, s.camera, {}, times);
+  EXPECT_EQ(moved.shadowMapsReused, 1);  // the spot; the point moved, the sun follows the camera
+  const Frame again = renderer.render(s.scene, lowPoint, ambient, s.camera, {}, times);
+  EXPECT_EQ(again.shadowMapsReused, 2);
+  const Staged other = paneScene({});
+  renderer.render(other.scene, other.lights, ambient, other.camera, {}, times);
+  const Frame fresh = renderer.render(s.scene, lowPoint, ambient, s.camera, {}, times);
+  EXPECT_EQ(fresh.shadowMapsReused, 0);
+  EXPECT_EQ(moved.beauty.pixels, fresh.beauty.pixels);
+  EXPECT_EQ(again.beauty.pixels, fresh.beauty.pixels);
+}
+
 // An opaque box over a colored BLEND pane still blocks every channel on the floor below; the
 // box's top, in front of the pane, and the top of an opaque-mode transmission pane (the glass
 // itself) are not tinted.

@@ -234,27 +234,10 @@ void LightingPass::compileMaterialVariants(const GpuScene& scene) {
     program(materialVariant(scene.materials()[draw.material]));
 }
 
-namespace {
-
-// Bit l set: layer l of the light's layers holds translucent casters (tintedLayers).
-float tintedLayerMask(const LightShadowPlan* plan, const ShadowGroups& shadowGroups) {
-  const std::vector<bool>& tinted = shadowGroups[plan->group].tintedLayers;
-  unsigned mask = 0u;
-  for (int layer = 0; layer < plan->layerCount; ++layer)
-    if (plan->firstLayer + layer < static_cast<int>(tinted.size()) &&
-        tinted[plan->firstLayer + layer])
-      mask |= 1u << layer;
-  return static_cast<float>(mask);
-}
-
-}  // namespace
-
 int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
-                               const ShadowGroups& shadowGroups) {
+                               const ShadowGroups& shadowGroups, GLuint transmittanceAtlas) {
   // Each group takes the next slot of its layout's sampler arrays.
   std::vector<int> slot(shadowGroups.size());
-  static_assert(contract::kCubeTransmittanceUnit == contract::kCubeMomentsUnit &&
-                contract::kPlanarTransmittanceUnit == contract::kPlanarMomentsUnit);
   int cubeSlots = 0, planarSlots = 0;
   for (std::size_t g = 0; g < shadowGroups.size(); ++g) {
     const ShadowGroupTextures& group = shadowGroups[g];
@@ -273,13 +256,9 @@ int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
           (cube ? contract::kCubeMomentsUnit : contract::kPlanarMomentsUnit) + s);
       glBindTextureUnit(momentsUnit, group.moments.get());
       glBindSampler(momentsUnit, moments_.get());
-    } else if (group.transmittance) {
-      const auto transmittanceUnit = static_cast<GLuint>(
-          (cube ? contract::kCubeTransmittanceUnit : contract::kPlanarTransmittanceUnit) + s);
-      glBindTextureUnit(transmittanceUnit, group.transmittance.get());
-      glBindSampler(transmittanceUnit, rawDepth_.get());
     }
   }
+  glBindTextureUnit(contract::kTransmittanceUnit, transmittanceAtlas);
 
   std::vector<GpuLight> data;
   std::vector<glm::mat4> viewProjections;
@@ -295,9 +274,10 @@ int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
       g.shadowDepth = glm::vec4(plan->near, plan->far, s.bias, s.slopeBias);
       g.shadowBias = glm::vec4(s.minBias, s.normalBias, s.filterRadius, s.samples);
       g.shadowSoft = glm::vec4(s.radius, s.bleedReduction, plan->firstLayer, plan->layerCount);
-      g.shadowProjection =
-          glm::vec4(plan->tanHalfFov, static_cast<float>(viewProjections.size()),
-                    shaded.translucent ? 1.0f + tintedLayerMask(plan, shadowGroups) : 0.0f, 0.0f);
+      g.shadowProjection = glm::vec4(
+          plan->tanHalfFov, static_cast<float>(viewProjections.size()),
+          shaded.translucent ? 1.0f + static_cast<float>(shaded.transmittanceLayers) : 0.0f,
+          static_cast<float>(shaded.transmittanceFirst));
       for (int c = 0; c < 4; ++c) {
         g.cascadeEnd[c] = plan->cascadeEnd[c];
         g.cascadeTexel[c] = plan->cascadeTexel[c];
@@ -449,8 +429,8 @@ void LightingPass::drawPointsAndLines(const GpuMeshRange& range, const ShaderPro
 
 void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
                           const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
-                          const glm::vec3& ambient, FrameTargets& targets,
-                          const PassParameters& parameters) {
+                          GLuint transmittanceAtlas, const glm::vec3& ambient,
+                          FrameTargets& targets, const PassParameters& parameters) {
   glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
   // Background: no coverage, lit (visibility 1), no object or material (id -1).
   const float zero[4] = {0, 0, 0, 0};
@@ -472,7 +452,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   uniforms.ambient = ambient;
   uniforms.parameters = parameters;
   uniforms.cameraView = parameters.cascadeView ? *parameters.cascadeView : camera.view;
-  uniforms.lightCount = uploadLights(lights, shadowGroups);
+  uniforms.lightCount = uploadLights(lights, shadowGroups, transmittanceAtlas);
   uploadClusters(scene, lights, camera, uniforms);
   framePrograms_.clear();
   glBindVertexArray(scene.vertexArray());

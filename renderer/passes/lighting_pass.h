@@ -48,7 +48,11 @@ inline constexpr int kRgbVisibilityPerPass = kVisibilityPerPass / 3;
 struct ShadedLight {
   const Light* light = nullptr;
   const LightShadowPlan* shadow = nullptr;  // null = unshadowed
-  bool translucent = false;                 // its group has transmittance layers drawn for it
+  bool translucent = false;                 // translucent casters tint its shadow
+  // Where those casters were drawn in the transmittance atlas (transmittance_pass.h); shadow
+  // layers without atlas layers are untinted.
+  int transmittanceFirst = 0;
+  unsigned transmittanceLayers = 0u;
 };
 
 // The frame's shadow textures, indexed like ShadowAtlasPlan::groups.
@@ -105,7 +109,8 @@ class LightingPass {
   // targets untouched); layer passes draw no blended surfaces.
   void render(const GpuScene& scene, const ViewCamera& camera,
               const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
-              const glm::vec3& ambient, FrameTargets& targets, const PassParameters& parameters);
+              GLuint transmittanceAtlas, const glm::vec3& ambient, FrameTargets& targets,
+              const PassParameters& parameters);
 
  private:
   // The frame's uniforms, the same in every material variant.
@@ -117,7 +122,8 @@ class LightingPass {
     LightClusters clusters;  // the grid the cluster buffers were built for
     PassParameters parameters;
   };
-  int uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups);
+  int uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
+                   GLuint transmittanceAtlas);
   void uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
                       const ViewCamera& camera, FrameUniforms& uniforms);
   void setFrameUniforms(const ShaderProgram& program, const FrameUniforms& uniforms) const;

@@ -157,6 +157,7 @@ class Renderer::Impl {
   std::unique_ptr<ShadowPass> shadowPass_;
   std::unique_ptr<VsmFilter> vsmFilter_;
   std::unique_ptr<TransmittancePass> transmittancePass_;  // made by the first translucent light
+  GLuint transmittanceAtlas() const { return transmittancePass_ ? transmittancePass_->atlas() : 0; }
   ShadowTexturePool shadowTextures_;
   // The last frame's shadow maps, kept for the next render of the same scene (batch jobs of
   // one scene with several cameras): point and spot maps do not depend on the camera.
@@ -313,6 +314,23 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
   };
   const ShadowPassStrategy strategy = resolveShadowPassStrategy(settings.shadowPass, glRenderer_);
   prepared.translucent = translucentShadowLights(lights, scene);
+  // Where each translucent light's casters reach, and its place in the transmittance atlas.
+  std::vector<TranslucentReach> reach(lights.size());
+  std::vector<const TranslucentReach*> reachOf(lights.size(), nullptr);
+  std::vector<int> resolutions(lights.size(), 0);
+  for (const LightShadowPlan& plan : prepared.atlas.lights) {
+    const auto i = static_cast<std::size_t>(plan.light);
+    if (!prepared.translucent[i]) continue;
+    resolutions[i] = prepared.groups[static_cast<std::size_t>(plan.group)].key.resolution;
+    reach[i] = translucentReach(prepared.gpu, plan, resolutions[i]);
+    reachOf[i] = &reach[i];
+  }
+  std::vector<AtlasLayers> places(lights.size());
+  std::vector<bool> moved(lights.size(), false);
+  if (std::any_of(reachOf.begin(), reachOf.end(), [](const auto* r) { return r != nullptr; })) {
+    if (!transmittancePass_) transmittancePass_ = std::make_unique<TransmittancePass>();
+    places = transmittancePass_->place(reachOf, resolutions, moved);
+  }
   std::size_t next = 0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
     ShadedLight s{&lights[i], nullptr};
@@ -322,18 +340,19 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
       ShadowGroupTextures& group = prepared.groups[plan.group];
       const LightShadowPlan* before = cachedPlan(i);
       s.translucent = prepared.translucent[i];
-      if (before && sameShadowMap(cache->lights[i], *before, lights[i], plan)) {
+      s.transmittanceFirst = places[i].first;
+      s.transmittanceLayers = places[i].layers;
+      const bool reused = before && sameShadowMap(cache->lights[i], *before, lights[i], plan);
+      if (reused) {
         if (frame) ++frame->shadowMapsReused;
       } else {
         shadowPass_->render(prepared.gpu, lights[i], plan, group, strategy);
         if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
-        if (s.translucent) {
-          ensureTransmittance(group);
-          if (!transmittancePass_) transmittancePass_ = std::make_unique<TransmittancePass>();
-          transmittancePass_->render(prepared.gpu, lights[i], plan, group);
-        }
         if (frame) ++frame->shadowMapsRendered;
       }
+      // A reused map's transmittance is still in the atlas unless its layers moved there.
+      if (s.translucent && (!reused || moved[i]))
+        transmittancePass_->render(prepared.gpu, lights[i], plan, group, reach[i], places[i]);
       s.shadow = &plan;
     }
     prepared.shaded.push_back(s);
@@ -366,8 +385,8 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
   {
     ScopedStage stage(stages, "lighting");
     lightingPass(settings.shading, PassOutputs::Beauty, prepared.features)
-        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
-                parameters);
+        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
+                ambient, targets, parameters);
     glFinish();
   }
   ScopedStage readback(stages, "readback");
@@ -426,8 +445,8 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
     parameters.blendedOnly = blendedOnly;
     parameters.visibilityRgb = visibilityRgb;
     ScopedStage stage(times, "lighting");
-    pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, targets,
-                parameters);
+    pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
+                ambient, targets, parameters);
     glFinish();
   };
   auto fill = [&](FloatImage& image, bool blendedOnly) {
@@ -496,14 +515,14 @@ void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
     parameters.layerMode = mode;
     parameters.layerLight = light;
     ScopedStage stage(times, "layers");
-    layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
-                     parameters);
+    layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
+                     ambient, layerTargets, parameters);
     auto result = std::make_pair(readAttachment(layerTargets, 1, flip, packInvert_),
                                  readAttachment(layerTargets, 2, flip, packInvert_));
     if (blendedOnly.empty()) return result;
     parameters.blendedOnly = true;
-    layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, ambient, layerTargets,
-                     parameters);
+    layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
+                     ambient, layerTargets, parameters);
     mergePixels(readAttachment(layerTargets, 1, flip, packInvert_), blendedOnly, result.first);
     mergePixels(readAttachment(layerTargets, 2, flip, packInvert_), blendedOnly, result.second);
     return result;

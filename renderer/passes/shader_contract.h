@@ -43,12 +43,10 @@ inline constexpr int kPlanarCompareUnit = kCubeDepthUnit + kMaxShadowGroups;
 inline constexpr int kPlanarDepthUnit = kPlanarCompareUnit + kMaxShadowGroups;
 inline constexpr int kCubeMomentsUnit = kPlanarDepthUnit + kMaxShadowGroups;
 inline constexpr int kPlanarMomentsUnit = kCubeMomentsUnit + kMaxShadowGroups;
-// Transmittance layers of translucent shadows (transmittance_pass.h) take the moments units and
-// the shader reads them through the moments arrays: a group holds vsm lights (moments) or lights
-// with translucent shadows, never both, and two more sampler arrays would pass the 32 samplers
-// of a fragment shader.
-inline constexpr int kCubeTransmittanceUnit = kCubeMomentsUnit;
-inline constexpr int kPlanarTransmittanceUnit = kPlanarMomentsUnit;
+// The frame's transmittance atlas of translucent shadows (transmittance_pass.h), one 2D array
+// for every light: a unit between the material and the shadow units.
+inline constexpr int kTransmittanceUnit = kMaterialUnits;
+static_assert(kTransmittanceUnit < kCubeCompareUnit, "the transmittance unit is a shadow unit");
 static_assert(kMaterialUnits <= kCubeCompareUnit, "material and shadow units overlap");
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
 static_assert(kPlanarMomentsUnit + kMaxShadowGroups <= 32, "shadow units beyond 32");
@@ -87,7 +85,8 @@ struct GpuLight {
   glm::vec4 shadowBias;        // min bias (texels), normal bias (texels), filter radius, samples
   glm::vec4 shadowSoft;        // source radius, vsm bleed reduction, first layer, layer count
   glm::vec4 shadowProjection;  // spot: tan(half fov); first entry in the view projections;
-                               // 1 when translucent casters tint the shadow
+                               // translucent shadows: 1 + a bit per shadow layer with atlas
+                               // layers (0: none), the first of them
   glm::vec4 cascadeEnd;        // directional: camera view depth where each cascade ends
   glm::vec4 cascadeTexel;      // directional: world size of a texel in each cascade
 };
@@ -137,6 +136,7 @@ inline std::vector<std::string> shaderContractDefines() {
       define("PLANAR_DEPTH_UNIT", kPlanarDepthUnit),
       define("CUBE_MOMENTS_UNIT", kCubeMomentsUnit),
       define("PLANAR_MOMENTS_UNIT", kPlanarMomentsUnit),
+      define("TRANSMITTANCE_UNIT", kTransmittanceUnit),
       define("LIGHTS_BINDING", kLightsBinding),
       define("MODELS_BINDING", kModelsBinding),
       define("DRAW_OBJECTS_BINDING", kDrawObjectsBinding),

@@ -35,17 +35,6 @@ ShadowGroupTextures ShadowTexturePool::take(const ShadowGroupPlan& plan) {
   return textures;
 }
 
-void ensureTransmittance(ShadowGroupTextures& group) {
-  if (group.transmittance) return;
-  const int n = group.key.resolution;
-  group.transmittance = gl::createTexture(
-      group.key.layout == ShadowLayout::Cube ? GL_TEXTURE_CUBE_MAP_ARRAY : GL_TEXTURE_2D_ARRAY);
-  // 32-bit floats: A holds a depth the lighting pass compares with its own.
-  glTextureStorage3D(group.transmittance.get(), 1, GL_RGBA32F, n, n, group.layers);
-  group.transmittanceDirty.assign(static_cast<std::size_t>(group.layers), TexelRect::whole(n));
-  gl::checkErrors("allocating transmittance maps");
-}
-
 void ShadowTexturePool::give(ShadowGroupTextures&& textures) {
   // Enough for the groups of one frame; older textures are deleted.
   constexpr std::size_t kPoolSize = 8;

@@ -22,21 +22,7 @@ struct ShadowGroupTextures {
   int layers = 0;
   gl::Texture depth;    // GL_TEXTURE_CUBE_MAP_ARRAY or GL_TEXTURE_2D_ARRAY
   gl::Texture moments;  // same target, GL_RG32F, when key.moments
-  // Same target, GL_RGBA32F, when a light of the group has translucent shadows
-  // (transmittance_pass.h); made by ensureTransmittance().
-  gl::Texture transmittance;
-  // Per layer: whether the transmittance pass drew translucent casters into it. Layers without
-  // any are neither cleared nor drawn (an RGBA32F clear of a 1024^2 face costs llvmpipe about
-  // 2 ms), and the lighting pass does not sample them (transmittance_pass.h).
-  std::vector<bool> tintedLayers;
-  // Per layer: the texels that may hold something other than the cleared (1, 1, 1, 0): all of
-  // a new texture, then the rectangle the last transmittance pass drew into. The next pass
-  // clears only this and its own rectangle.
-  std::vector<TexelRect> transmittanceDirty;
 };
-
-// Allocates the group's transmittance layers unless it has them.
-void ensureTransmittance(ShadowGroupTextures& group);
 
 // Keeps group textures between renders (batch mode renders many similar scenes), up to a
 // budget; textures are reused only for an exact match of key and layer count.

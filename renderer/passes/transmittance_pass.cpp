@@ -1,7 +1,11 @@
 #include "renderer/passes/transmittance_pass.h"
 
+#include <algorithm>
+#include <bit>
 #include <cstdint>
+#include <string>
 
+#include "renderer/core/errors.h"
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
@@ -23,41 +27,76 @@ void scissorTo(const TexelRect& rect) {
 
 }  // namespace
 
-void TransmittancePass::render(const GpuScene& scene, const Light& light,
-                               const LightShadowPlan& plan, ShadowGroupTextures& target) {
-  // Which layers each translucent caster can reach.
+TranslucentReach translucentReach(const GpuScene& scene, const LightShadowPlan& plan,
+                                  int resolution) {
   std::vector<ViewFrustum> views;
   for (int layer = 0; layer < plan.layerCount; ++layer)
     views.emplace_back(plan.viewProjection[layer]);
-  std::vector<unsigned> casterLayers(scene.draws().size(), 0u);
-  std::vector<TexelRect> drawn(static_cast<std::size_t>(plan.layerCount));
-  const int n = target.key.resolution;
-  unsigned tinted = 0u;
+  TranslucentReach reach;
+  reach.texels.resize(static_cast<std::size_t>(plan.layerCount));
+  reach.casterLayers.assign(scene.draws().size(), 0u);
   for (std::size_t index = 0; index < scene.draws().size(); ++index) {
     const GpuDraw& draw = scene.draws()[index];
     if (!isTranslucentCaster(scene.materials()[draw.material].desc)) continue;
-    unsigned& layers = casterLayers[index];
+    unsigned& layers = reach.casterLayers[index];
     layers = casterViewMask(views, draw.boundsCenter, draw.boundsRadius);
     for (int layer = 0; layer < plan.layerCount; ++layer) {
       if ((layers >> layer & 1u) == 0) continue;
-      const TexelRect rect =
-          sphereTexelRect(plan.viewProjection[layer], draw.boundsCenter, draw.boundsRadius, n);
+      const TexelRect rect = sphereTexelRect(plan.viewProjection[layer], draw.boundsCenter,
+                                             draw.boundsRadius, resolution);
       if (rect.empty()) layers &= ~(1u << layer);
-      drawn[layer] = drawn[layer].united(rect);
+      reach.texels[layer] = reach.texels[layer].united(rect);
     }
-    tinted |= layers;
+    reach.layers |= layers;
   }
-  target.tintedLayers.resize(target.layers, false);
-  for (int layer = 0; layer < plan.layerCount; ++layer)
-    target.tintedLayers[plan.firstLayer + layer] = (tinted >> layer & 1u) != 0;
-  if (tinted == 0u) return;
+  return reach;
+}
 
+std::vector<AtlasLayers> TransmittancePass::place(const std::vector<const TranslucentReach*>& reach,
+                                                  const std::vector<int>& resolutions,
+                                                  std::vector<bool>& moved) {
+  std::vector<AtlasLayers> places(reach.size());
+  int layers = 0, resolution = 0;
+  for (std::size_t i = 0; i < reach.size(); ++i) {
+    if (!reach[i] || reach[i]->layers == 0u) continue;
+    places[i] = {layers, reach[i]->layers};
+    layers += std::popcount(reach[i]->layers);
+    resolution = std::max(resolution, resolutions[i]);
+  }
+  const bool grow = layers > layers_ || resolution > resolution_;
+  if (grow) {
+    GLint maxLayers = 0;
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    if (layers > maxLayers)
+      throw InputError("translucent shadows need " + std::to_string(layers) +
+                       " transmittance layers, more than this GL's " + std::to_string(maxLayers) +
+                       " (GL_MAX_ARRAY_TEXTURE_LAYERS): fewer lights with translucentShadows");
+    resolution_ = std::max(resolution, resolution_);
+    layers_ = std::max(layers, layers_);
+    atlas_ = gl::createTexture(GL_TEXTURE_2D_ARRAY);
+    // 32-bit floats: A holds a depth the lighting pass compares with its own.
+    glTextureStorage3D(atlas_.get(), 1, GL_RGBA32F, resolution_, resolution_, layers_);
+    gl::checkErrors("allocating the transmittance atlas");
+    dirty_.assign(static_cast<std::size_t>(layers_), TexelRect::whole(resolution_));
+  }
+  moved.assign(reach.size(), false);
+  for (std::size_t i = 0; i < reach.size(); ++i)
+    moved[i] =
+        places[i].layers != 0u && (grow || i >= placed_.size() || !(placed_[i] == places[i]));
+  placed_ = places;
+  return places;
+}
+
+void TransmittancePass::render(const GpuScene& scene, const Light& light,
+                               const LightShadowPlan& plan, const ShadowGroupTextures& depth,
+                               const TranslucentReach& reach, const AtlasLayers& atlasLayers) {
+  if (reach.layers == 0u) return;
   const GLuint fb = framebuffer_.get();
   glBindFramebuffer(GL_FRAMEBUFFER, fb);
   glNamedFramebufferDrawBuffer(fb, GL_COLOR_ATTACHMENT0);
   glNamedFramebufferReadBuffer(fb, GL_NONE);
   gl::RasterState state;
-  state.viewport = {0, 0, target.key.resolution, target.key.resolution};
+  state.viewport = {0, 0, depth.key.resolution, depth.key.resolution};
   state.depth.write = false;  // tested against the opaque casters' depth (reversed: GL_GREATER)
   state.blend.buffers = 1u;
   state.blend.sourceColor = GL_ZERO;
@@ -75,25 +114,25 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
   program_.set("uDrawBase", 0);
 
   const float clear[4] = {1.0f, 1.0f, 1.0f, 0.0f};
+  int atlasLayer = atlasLayers.first;
   for (int layer = 0; layer < plan.layerCount; ++layer) {
-    if ((tinted >> layer & 1u) == 0) continue;
-    glNamedFramebufferTextureLayer(fb, GL_DEPTH_ATTACHMENT, target.depth.get(), 0,
+    if ((reach.layers >> layer & 1u) == 0) continue;
+    glNamedFramebufferTextureLayer(fb, GL_DEPTH_ATTACHMENT, depth.depth.get(), 0,
                                    plan.firstLayer + layer);
-    glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, target.transmittance.get(), 0,
-                                   plan.firstLayer + layer);
+    glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, atlas_.get(), 0, atlasLayer);
     // Only the texels that may not hold the cleared value, and only those the casters can reach
-    // are drawn: llvmpipe clears RGBA32F a texel at a time.
-    TexelRect& dirty = target.transmittanceDirty[plan.firstLayer + layer];
-    scissorTo(dirty.united(drawn[layer]));
+    // are drawn.
+    TexelRect& dirty = dirty_[static_cast<std::size_t>(atlasLayer++)];
+    scissorTo(dirty.united(reach.texels[layer]));
     glClearNamedFramebufferfv(fb, GL_COLOR, 0, clear);
-    scissorTo(drawn[layer]);
-    dirty = drawn[layer];
+    scissorTo(reach.texels[layer]);
+    dirty = reach.texels[layer];
     program_.set("uView", layer);
     for (std::size_t index = 0; index < scene.draws().size(); ++index) {
       const GpuDraw& draw = scene.draws()[index];
       const GpuMaterial& material = scene.materials()[draw.material];
       const Material& m = material.desc;
-      if ((casterLayers[index] >> layer & 1u) == 0) continue;
+      if ((reach.casterLayers[index] >> layer & 1u) == 0) continue;
       program_.set("uObject", static_cast<int>(index));
       program_.set("uBaseColorFactor", m.baseColorFactor);
       program_.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);

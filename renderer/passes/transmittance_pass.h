@@ -1,36 +1,81 @@
 #pragma once
 
+#include <vector>
+
 #include "renderer/gl/gl_resources.h"
 #include "renderer/gl/shader_program.h"
 #include "renderer/passes/gpu_scene.h"
 #include "renderer/passes/shadow_textures.h"
 #include "renderer/scene/light.h"
+#include "renderer/view/caster_culling.h"
 #include "renderer/view/shadow_plan.h"
 
 namespace omnishadow {
 
+// Where a light's translucent casters can tint its shadow: the bit per shadow layer (cube face,
+// spot map, cascade) that some translucent caster's bounding sphere reaches, the texels each
+// such layer's casters can cover, and which layers each caster (a scene draw) reaches.
+struct TranslucentReach {
+  unsigned layers = 0u;
+  std::vector<TexelRect> texels;       // per shadow layer of the light
+  std::vector<unsigned> casterLayers;  // per scene draw, 0 for opaque ones
+};
+
+TranslucentReach translucentReach(const GpuScene& scene, const LightShadowPlan& plan,
+                                  int resolution);
+
+// A light's layers in the transmittance atlas: `layers` (bit per shadow layer) in order from
+// atlas layer `first`.
+struct AtlasLayers {
+  int first = 0;
+  unsigned layers = 0u;
+  bool operator==(const AtlasLayers& other) const = default;
+};
+
 // Translucent shadows (README, "Translucent shadows"): after the shadow pass has drawn a
-// light's opaque and cut-out casters, draws its translucent casters (translucency.h) into the
-// group's transmittance layers, one layer (cube face, spot map, cascade) at a time. Each layer
-// is cleared to (1, 1, 1, 0); every fragment of a translucent caster in front of the opaque
-// depth (depth-tested, not written) multiplies RGB by what the surface lets through, front and
-// back faces alike (no culling: each crossing counts once), and A keeps the largest, i.e.
-// nearest, reversed depth of them (GL_MAX), so receivers in front of the glass stay untinted.
-// Layers whose frustum no translucent caster's bounding sphere touches are skipped and marked
-// untinted in ShadowGroupTextures::tintedLayers; the lighting pass takes their transmittance
-// as 1 (what a cleared layer holds) without reading them.
+// light's opaque and cut-out casters, draws its translucent casters into the frame's
+// transmittance atlas, one atlas layer per shadow layer they reach. Each layer holds
+// (1, 1, 1, 0) where nothing is drawn; every fragment of a translucent caster in front of the
+// opaque depth (depth-tested against the light's map, not written) multiplies RGB by what the
+// surface lets through, front and back faces alike (no culling: each crossing counts once),
+// and A keeps the largest, i.e. nearest, reversed depth of them (GL_MAX), so receivers in front
+// of the glass stay untinted.
+//
+// Only the layers translucent casters reach take atlas layers (3 of 12 for the two point lights
+// of WhackAMole): llvmpipe zeroes a new texture whole, 16 bytes a texel, which made a cube map
+// array per light cost about 50 ms of a first frame. Layers are cleared only where the last
+// pass drew or the casters can draw (llvmpipe clears 16-byte texels one at a time). The
+// lighting pass takes the shadow layers without atlas layers as untinted.
 class TransmittancePass {
  public:
   TransmittancePass();
 
-  // `target` must have its transmittance layers (ensureTransmittance()); sets its tintedLayers
-  // of the light's layers.
+  // Places the frame's translucent lights in the atlas, in order (`reach` per light, null for
+  // the others), growing it when it is too small. Returns each light's place; `moved[i]` is
+  // true where the atlas does not hold what the light's last render() drew there (a new place,
+  // a new atlas), so that a light whose shadow map is reused is drawn again.
+  std::vector<AtlasLayers> place(const std::vector<const TranslucentReach*>& reach,
+                                 const std::vector<int>& resolutions, std::vector<bool>& moved);
+
+  // Draws the light's translucent casters into its atlas layers. `depth`: the group holding
+  // the light's opaque shadow map.
   void render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
-              ShadowGroupTextures& target);
+              const ShadowGroupTextures& depth, const TranslucentReach& reach,
+              const AtlasLayers& atlasLayers);
+
+  // GL_TEXTURE_2D_ARRAY, RGBA32F; 0 before any light was placed.
+  GLuint atlas() const { return atlas_.get(); }
 
  private:
   ShaderProgram program_;
   gl::Framebuffer framebuffer_;
+  gl::Texture atlas_;
+  int resolution_ = 0;
+  int layers_ = 0;
+  // Per atlas layer: the texels that may hold something other than (1, 1, 1, 0).
+  std::vector<TexelRect> dirty_;
+  // Per light of the last place(): where it was put.
+  std::vector<AtlasLayers> placed_;
 };
 
 }  // namespace omnishadow

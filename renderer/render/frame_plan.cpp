@@ -1,5 +1,6 @@
 #include "renderer/render/frame_plan.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -61,22 +62,21 @@ int findDebugLight(const std::vector<Light>& lights, const RenderSettings& setti
                                                      ": no shadowed light has that name");
 }
 
-// GPU memory of the RGBA32F transmittance layers of the groups that hold a light with
-// translucent shadows (renderer/passes/transmittance_pass.h); they cover the whole group.
+// GPU memory of the RGBA32F transmittance atlas (renderer/passes/transmittance_pass.h) at most:
+// every shadow layer of every light with translucent shadows, at the largest of their
+// resolutions (the atlas holds only the layers translucent casters reach).
 double transmittanceBytes(const ShadowAtlasPlan& atlas, const std::vector<Light>& lights,
                           const Scene& scene) {
   const std::vector<bool> translucent = translucentShadowLights(lights, scene);
-  std::vector<bool> counted(atlas.groups.size(), false);
-  double bytes = 0.0;
+  double layers = 0.0, resolution = 0.0;
   for (const LightShadowPlan& light : atlas.lights) {
-    if (!translucent[static_cast<std::size_t>(light.light)] ||
-        counted[static_cast<std::size_t>(light.group)])
-      continue;
-    counted[static_cast<std::size_t>(light.group)] = true;
-    const ShadowGroupPlan& group = atlas.groups[static_cast<std::size_t>(light.group)];
-    bytes += 16.0 * group.key.resolution * group.key.resolution * group.layers;
+    if (!translucent[static_cast<std::size_t>(light.light)]) continue;
+    layers += light.layerCount;
+    resolution = std::max(
+        resolution,
+        static_cast<double>(atlas.groups[static_cast<std::size_t>(light.group)].key.resolution));
   }
-  return bytes;
+  return 16.0 * resolution * resolution * layers;
 }
 
 }  // namespace
