@@ -570,6 +570,19 @@ TEST_F(HostileInputTest, ValuesTinygltfWouldDropAreErrorsNamingTheObject) {
        "meshes[0].primitives[0]: has no attributes object (every primitive must have one)"},
       {[](json& d) { d["meshes"][0]["primitives"].push_back(7); },
        "meshes[0].primitives[1]: is not an object"},
+      // Found by CI's fuzz_gltf run: an attribute holding an object made tinygltf drop the
+      // primitive, and the restored index accessor had no primitive to go to.
+      {[](json& d) {
+         d["meshes"][0]["primitives"][0]["attributes"]["KHR_draco"] = {{"bufferView", 0}};
+       },
+       "meshes[0].primitives[0].attributes.KHR_draco: {\"bufferView\":0} is not an accessor "
+       "index"},
+      {[](json& d) { d["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = -1; },
+       "meshes[0].primitives[0].attributes.NORMAL: -1 is not an accessor index"},
+      {[](json& d) {
+         d["meshes"][0]["primitives"][0]["targets"] = {{{"POSITION", 0}}, {{"POSITION", 1.5}}};
+       },
+       "meshes[0].primitives[0].targets[1].POSITION: 1.5 is not an accessor index"},
   };
   for (const auto& [edit, message] : cases) {
     EXPECT_TRUE(refused(runBounded({"info", writeTriangle(input("bad.gltf"), edit).string()}),

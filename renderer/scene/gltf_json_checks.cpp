@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdint>
 #include <iterator>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "renderer/core/errors.h"
@@ -105,6 +106,19 @@ class Reviewer {
         if (attributes == primitive.end() || !attributes->is_object()) {
           fail(object, "has no attributes object (every primitive must have one)");
         }
+        // tinygltf drops the whole primitive for one attribute that is no integer, and a morph
+        // target's such attribute alone.
+        const auto accessorIndices = [&](const Json& map, const std::string& where) {
+          for (const auto& [name, value] : map.items())
+            if (!isInteger(value, 0, std::numeric_limits<std::int32_t>::max()))
+              fail(where + "." + name, quoted(value) + " is not an accessor index");
+        };
+        accessorIndices(*attributes, object + ".attributes");
+        const auto targets = primitive.find("targets");
+        if (targets != primitive.end() && targets->is_array())
+          for (std::size_t t = 0; t < targets->size(); ++t)
+            if ((*targets)[t].is_object())
+              accessorIndices((*targets)[t], object + "." + at("targets", t));
         const auto mode = primitive.find("mode");
         if (mode != primitive.end() && !isInteger(*mode, 0, 6)) {
           fail(object + ".mode", quoted(*mode) + " is not one of the modes 0 to 6");
