@@ -577,6 +577,10 @@ TEST_F(HostileInputTest, ValuesTinygltfWouldDropAreErrorsNamingTheObject) {
        },
        "meshes[0].primitives[0].attributes.KHR_draco: {\"bufferView\":0} is not an accessor "
        "index"},
+      // tinygltf skips a collection that is no array: the file loaded as an empty one.
+      {[](json& d) { d["scenes"] = 7; }, "scenes: 7 is not an array"},
+      {[](json& d) { d["samplers"] = json::object(); }, "samplers: {} is not an array"},
+      {[](json& d) { d["scene"] = "x"; }, "scene: \"x\" is not a scene index"},
       {[](json& d) { d["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = -1; },
        "meshes[0].primitives[0].attributes.NORMAL: -1 is not an accessor index"},
       {[](json& d) {

@@ -49,6 +49,21 @@ class Reviewer {
     throw InputError(file_ + ": " + object + ": " + problem);
   }
 
+  // tinygltf skips a top-level collection that is no array, members and all, and reads a
+  // `scene` that is no integer as none: the file would load as another one (no nodes, no
+  // meshes) or fail far from the cause.
+  void topLevel(const Json& root) {
+    for (const char* name : {"accessors", "animations", "buffers", "bufferViews", "cameras",
+                             "images", "materials", "meshes", "nodes", "samplers", "scenes",
+                             "skins", "textures", "extensionsUsed", "extensionsRequired"}) {
+      const auto it = root.find(name);
+      if (it != root.end() && !it->is_array()) fail(name, quoted(*it) + " is not an array");
+    }
+    const auto scene = root.find("scene");
+    if (scene != root.end() && !isInteger(*scene, 0, std::numeric_limits<std::int32_t>::max()))
+      fail("scene", quoted(*scene) + " is not a scene index");
+  }
+
   void bufferViews(const Json& root) {
     eachObject(root, "bufferViews", [&](std::size_t i, const Json& view) {
       const auto stride = view.find("byteStride");
@@ -292,6 +307,7 @@ bool review(std::string_view json, const std::string& file, bool binary, bool re
   Json root = Json::parse(json.begin(), json.end(), nullptr, /*allow_exceptions=*/false);
   if (!root.is_object()) return false;
   Reviewer reviewer(file);
+  reviewer.topLevel(root);
   reviewer.bufferViews(root);
   reviewer.accessors(root);
   reviewer.lights(root);
