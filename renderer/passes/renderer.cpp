@@ -316,20 +316,18 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
   prepared.translucent = translucentShadowLights(lights, scene);
   // Where each translucent light's casters reach, and its place in the transmittance atlas.
   std::vector<TranslucentReach> reach(lights.size());
-  std::vector<const TranslucentReach*> reachOf(lights.size(), nullptr);
-  std::vector<int> resolutions(lights.size(), 0);
   for (const LightShadowPlan& plan : prepared.atlas.lights) {
     const auto i = static_cast<std::size_t>(plan.light);
     if (!prepared.translucent[i]) continue;
-    resolutions[i] = prepared.groups[static_cast<std::size_t>(plan.group)].key.resolution;
-    reach[i] = translucentReach(prepared.gpu, plan, resolutions[i]);
-    reachOf[i] = &reach[i];
+    const int resolution = prepared.groups[static_cast<std::size_t>(plan.group)].key.resolution;
+    reach[i] = translucentReach(prepared.gpu, plan, resolution);
   }
   std::vector<AtlasLayers> places(lights.size());
   std::vector<bool> moved(lights.size(), false);
-  if (std::any_of(reachOf.begin(), reachOf.end(), [](const auto* r) { return r != nullptr; })) {
+  if (std::find(prepared.translucent.begin(), prepared.translucent.end(), true) !=
+      prepared.translucent.end()) {
     if (!transmittancePass_) transmittancePass_ = std::make_unique<TransmittancePass>();
-    places = transmittancePass_->place(reachOf, resolutions, moved);
+    places = transmittancePass_->place(reach, moved);
   }
   std::size_t next = 0;
   for (std::size_t i = 0; i < lights.size(); ++i) {

@@ -33,6 +33,7 @@ TranslucentReach translucentReach(const GpuScene& scene, const LightShadowPlan& 
   for (int layer = 0; layer < plan.layerCount; ++layer)
     views.emplace_back(plan.viewProjection[layer]);
   TranslucentReach reach;
+  reach.resolution = resolution;
   reach.texels.resize(static_cast<std::size_t>(plan.layerCount));
   reach.casterLayers.assign(scene.draws().size(), 0u);
   for (std::size_t index = 0; index < scene.draws().size(); ++index) {
@@ -52,16 +53,15 @@ TranslucentReach translucentReach(const GpuScene& scene, const LightShadowPlan& 
   return reach;
 }
 
-std::vector<AtlasLayers> TransmittancePass::place(const std::vector<const TranslucentReach*>& reach,
-                                                  const std::vector<int>& resolutions,
+std::vector<AtlasLayers> TransmittancePass::place(const std::vector<TranslucentReach>& reach,
                                                   std::vector<bool>& moved) {
   std::vector<AtlasLayers> places(reach.size());
   int layers = 0, resolution = 0;
   for (std::size_t i = 0; i < reach.size(); ++i) {
-    if (!reach[i] || reach[i]->layers == 0u) continue;
-    places[i] = {layers, reach[i]->layers};
-    layers += std::popcount(reach[i]->layers);
-    resolution = std::max(resolution, resolutions[i]);
+    if (reach[i].layers == 0u) continue;
+    places[i] = {layers, reach[i].layers};
+    layers += std::popcount(reach[i].layers);
+    resolution = std::max(resolution, reach[i].resolution);
   }
   const bool grow = layers > layers_ || resolution > resolution_;
   if (grow) {

@@ -16,6 +16,7 @@ namespace omnishadow {
 // spot map, cascade) that some translucent caster's bounding sphere reaches, the texels each
 // such layer's casters can cover, and which layers each caster (a scene draw) reaches.
 struct TranslucentReach {
+  int resolution = 0;  // of the light's shadow map, which `texels` counts in
   unsigned layers = 0u;
   std::vector<TexelRect> texels;       // per shadow layer of the light
   std::vector<unsigned> casterLayers;  // per scene draw, 0 for opaque ones
@@ -50,12 +51,12 @@ class TransmittancePass {
  public:
   TransmittancePass();
 
-  // Places the frame's translucent lights in the atlas, in order (`reach` per light, null for
-  // the others), growing it when it is too small. Returns each light's place; `moved[i]` is
-  // true where the atlas does not hold what the light's last render() drew there (a new place,
-  // a new atlas), so that a light whose shadow map is reused is drawn again.
-  std::vector<AtlasLayers> place(const std::vector<const TranslucentReach*>& reach,
-                                 const std::vector<int>& resolutions, std::vector<bool>& moved);
+  // Places the frame's lights in the atlas, in order (`reach` per light; empty for lights
+  // without translucent shadows), growing it when it is too small. Returns each light's place;
+  // `moved[i]` is true where the atlas does not hold what the light's last render() drew there
+  // (a new place, a new atlas), so that a light whose shadow map is reused is drawn again.
+  std::vector<AtlasLayers> place(const std::vector<TranslucentReach>& reach,
+                                 std::vector<bool>& moved);
 
   // Draws the light's translucent casters into its atlas layers. `depth`: the group holding
   // the light's opaque shadow map.
