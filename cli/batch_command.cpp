@@ -34,19 +34,6 @@ using Clock = std::chrono::steady_clock;
 
 using Status = JobStatus;
 
-// A job loaded on a worker thread, with how long loading took.
-struct Loaded {
-  std::shared_ptr<LoadedJob> job;
-  double milliseconds = 0.0;
-};
-
-Loaded load(const RenderJob& job) {
-  const Clock::time_point start = Clock::now();
-  Loaded loaded{std::make_shared<LoadedJob>(loadJob(job)), 0.0};
-  loaded.milliseconds = millisecondsSince(start);
-  return loaded;
-}
-
 bool allOutputsExist(const RenderJob& job) {
   for (const fs::path& path : job.outputFiles())
     if (!pathExists(path)) return false;
@@ -232,7 +219,7 @@ class BatchRunner {
     for (const std::size_t i : upcoming) {
       if (loading_.count(i) || skipped(i)) continue;
       const RenderJob& job = jobs_[i].job;
-      loading_.emplace(i, std::async(std::launch::async, [&job] { return load(job); }));
+      loading_.emplace(i, std::async(std::launch::async, [&job] { return loadJobTimed(job); }));
     }
   }
 
@@ -245,15 +232,16 @@ class BatchRunner {
       return true;
     }
     try {
-      Loaded loaded;
+      TimedLoad loaded;
       if (auto it = loading_.find(i); it != loading_.end()) {
         loaded = it->second.get();
         loading_.erase(it);
       } else {
-        loaded = load(jobs_[i].job);
+        loaded = loadJobTimed(jobs_[i].job);
       }
       result.times.add("load", loaded.milliseconds);
-      std::shared_ptr<LoadedJob> job = loaded.job;
+      // Shared with the encoder, which may run after this job's turn.
+      auto job = std::make_shared<LoadedJob>(std::move(loaded.job));
       auto frame = std::make_shared<Frame>(renderJob(*renderer_, jobs_[i].job, *job, result.times));
       result.warnings = job->warnings;
       result.warnings.insert(result.warnings.end(), frame->warnings.begin(), frame->warnings.end());
@@ -312,7 +300,7 @@ class BatchRunner {
   std::vector<JobResult> results_;
   int workers_ = 0;
   std::unique_ptr<Renderer> renderer_;
-  std::map<std::size_t, std::future<Loaded>> loading_;
+  std::map<std::size_t, std::future<TimedLoad>> loading_;
   std::deque<Pending> encoding_;
 };
 

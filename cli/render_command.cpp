@@ -69,11 +69,8 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   // and driver set-up), so a process pays for the longer of the two, not both. A scene that
   // cannot load is still what is reported when both fail, as when they ran in turn. --stats
   // shows the load's own time and the context's time beyond it.
-  std::future<std::pair<LoadedJob, double>> loading = std::async(std::launch::async, [&job] {
-    const auto loadStart = std::chrono::steady_clock::now();
-    LoadedJob loadedJob = loadJob(job);
-    return std::make_pair(std::move(loadedJob), millisecondsSince(loadStart));
-  });
+  std::future<TimedLoad> loading =
+      std::async(std::launch::async, [&job] { return loadJobTimed(job); });
   std::unique_ptr<Renderer> renderer;
   std::exception_ptr contextError;
   try {

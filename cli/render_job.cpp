@@ -1,6 +1,7 @@
 #include "cli/render_job.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -219,6 +220,13 @@ void validateJob(const RenderJob& job) {
     throw InputError("--exposure " + std::to_string(job.exposure) +
                      ": expected a finite number of stops");
   checkNotAnInput(job, {job.scene.string(), job.lights.string()});
+}
+
+TimedLoad loadJobTimed(const RenderJob& job) {
+  const auto start = std::chrono::steady_clock::now();
+  TimedLoad load{loadJob(job)};
+  load.milliseconds = millisecondsSince(start);
+  return load;
 }
 
 LoadedJob loadJob(const RenderJob& job) {

@@ -64,6 +64,13 @@ void validateJob(const RenderJob& job);
 // Throws InputError.
 LoadedJob loadJob(const RenderJob& job);
 
+// loadJob() and how long it took (the `load` stage), for loads run beside other work.
+struct TimedLoad {
+  LoadedJob job;
+  double milliseconds = 0.0;
+};
+TimedLoad loadJobTimed(const RenderJob& job);
+
 // Poses the loaded scene at `time` (job.animation's clips), then merges its lights with the
 // lights file's again and resolves the camera: what a frame of a sequence changes. Returns the
 // posing warnings.
