@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <optional>
+
+#include "renderer/view/sphere_projection.h"
 
 namespace omnishadow {
 
@@ -31,24 +33,19 @@ TexelRect TexelRect::united(const TexelRect& other) const {
 
 TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& center, float radius,
                           int resolution) {
-  // The sphere's box lies in front of the eye plane when all its corners do (w is linear), and
-  // then its projection is the hull of the projected corners.
-  glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::vec3 offset((corner & 1) ? radius : -radius, (corner & 2) ? radius : -radius,
-                           (corner & 4) ? radius : -radius);
-    const glm::vec4 clip = viewProjection * glm::vec4(center + offset, 1.0f);
-    if (!(clip.w > 1e-6f)) return TexelRect::whole(resolution);
-    const glm::vec2 window =
-        (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * static_cast<float>(resolution);
-    low = glm::min(low, window);
-    high = glm::max(high, window);
-  }
+  const std::optional<NdcBounds> ndc = projectedSphereBox(viewProjection, center, radius);
+  if (!ndc) return TexelRect::whole(resolution);
+  const auto window = [resolution](float v) {
+    return (v * 0.5f + 0.5f) * static_cast<float>(resolution);
+  };
   const auto clamped = [resolution](float v) {
     return static_cast<int>(std::clamp(v, 0.0f, static_cast<float>(resolution)));
   };
-  TexelRect rect{clamped(std::floor(low.x) - 1.0f), clamped(std::floor(low.y) - 1.0f),
-                 clamped(std::ceil(high.x) + 1.0f), clamped(std::ceil(high.y) + 1.0f)};
+  // A texel of margin on every side.
+  const TexelRect rect{clamped(std::floor(window(ndc->low.x)) - 1.0f),
+                       clamped(std::floor(window(ndc->low.y)) - 1.0f),
+                       clamped(std::ceil(window(ndc->high.x)) + 1.0f),
+                       clamped(std::ceil(window(ndc->high.y)) + 1.0f)};
   return rect.empty() ? TexelRect{} : rect;
 }
 

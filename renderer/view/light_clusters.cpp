@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
+
+#include "renderer/view/sphere_projection.h"
 
 namespace omnishadow {
 namespace {
@@ -18,15 +21,10 @@ TileRect coveredTiles(const glm::vec3& c, float r, const ViewCamera& camera,
                       const LightClusters& clusters) {
   const TileRect all{0, 0, clusters.columns - 1, clusters.rows - 1};
   if (!camera.orthographic && -c.z - r < camera.znear) return all;
-  glm::vec2 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
-  for (int i = 0; i < 8; ++i) {
-    const glm::vec3 corner =
-        c + r * glm::vec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
-    const glm::vec4 clip = camera.projection * glm::vec4(corner, 1.0f);
-    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
-    lo = glm::min(lo, ndc);
-    hi = glm::max(hi, ndc);
-  }
+  // In front of the near plane (perspective) or any plane (orthographic), every corner's w > 0.
+  const std::optional<NdcBounds> box = projectedSphereBox(camera.projection, c, r);
+  if (!box) return all;
+  const glm::vec2 lo = box->low, hi = box->high;
   if (hi.x < -1.0f || hi.y < -1.0f || lo.x > 1.0f || lo.y > 1.0f) return {0, 0, -1, -1};
   const auto tile = [&](float ndc, int pixels, int count) {
     const float pixel = (ndc * 0.5f + 0.5f) * static_cast<float>(pixels);
