@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "renderer/scene/srgb_transfer.h"
+
 namespace omnishadow {
 
 std::vector<std::uint8_t> toSrgb8(const FloatImage& beauty, float exposure) {

@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "renderer/output/image_writer.h"
-#include "renderer/scene/srgb_transfer.h"
 
 namespace omnishadow {
 

@@ -30,6 +30,11 @@ bool isInteger(const Json& value, std::int64_t low, std::int64_t high) {
   return number >= low && number <= high;
 }
 
+// An index into a glTF array, as tinygltf holds one (an int).
+bool isIndex(const Json& value) {
+  return isInteger(value, 0, std::numeric_limits<std::int32_t>::max());
+}
+
 // Members of `array` (a top-level glTF array or a nested one), with their index; nothing when
 // the field is missing or not an array (tinygltf reports that).
 template <typename F>
@@ -60,7 +65,7 @@ class Reviewer {
       if (it != root.end() && !it->is_array()) fail(name, quoted(*it) + " is not an array");
     }
     const auto scene = root.find("scene");
-    if (scene != root.end() && !isInteger(*scene, 0, std::numeric_limits<std::int32_t>::max()))
+    if (scene != root.end() && !isIndex(*scene))
       fail("scene", quoted(*scene) + " is not a scene index");
   }
 
@@ -125,7 +130,7 @@ class Reviewer {
         // target's such attribute alone.
         const auto accessorIndices = [&](const Json& map, const std::string& where) {
           for (const auto& [name, value] : map.items())
-            if (!isInteger(value, 0, std::numeric_limits<std::int32_t>::max()))
+            if (!isIndex(value))
               fail(where + "." + name, quoted(value) + " is not an accessor index");
         };
         accessorIndices(*attributes, object + ".attributes");
