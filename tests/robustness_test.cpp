@@ -32,8 +32,6 @@ using test_support::filesIn;
 using test_support::readFile;
 using Result = test_support::RunResult;
 
-std::vector<std::string> glFault(const std::string& fault);
-
 class RobustnessTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -50,17 +48,6 @@ class RobustnessTest : public ::testing::Test {
     options.environment = environment;
     options.fileSizeLimit = fileSizeLimit;
     return test_support::runOmnishadow(args, options);
-  }
-
-  // A 32x24 render of `scene` with `lights` while the GL fault library claims a smaller GL
-  // limit (`limit`: "OMNISHADOW_GL_MAX_...=N", tests/support/gl_fault.cpp).
-  Result renderClaimingGlLimit(const fs::path& scene, const fs::path& lights,
-                               const std::string& limit) {
-    std::vector<std::string> environment = glFault("none");
-    environment.push_back(limit);
-    return run({"render", scene.string(), "-l", lights.string(), "-o", "a.png", "--width", "32",
-                "--height", "24"},
-               environment);
   }
 
   // A floor with a box, written as .gltf with an external .bin and PNG texture (or as `format`
@@ -556,8 +543,11 @@ TEST_F(RobustnessTest, ShadowResolutionAboveTheGlCubeMapLimitIsAnInputError) {
   const fs::path lights = root_ / "scene" / "lights.json";
   std::ofstream(lights)
       << R"({"lights": [{"name": "big", "position": [0, 2, 0], "shadow": {"resolution": 512}}]})";
-  const Result r =
-      renderClaimingGlLimit(scene, lights, "OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=256");
+  std::vector<std::string> environment = glFault("none");
+  environment.push_back("OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=256");
+  const Result r = run({"render", scene.string(), "-l", lights.string(), "-o", "a.png", "--width",
+                        "32", "--height", "24"},
+                       environment);
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_EQ(r.err, "omnishadow: " + lights.string() +
                        ": light \"big\": shadow.resolution 512 exceeds this GL's maximum cube map "
@@ -584,7 +574,11 @@ TEST_F(RobustnessTest, MoreTransmittanceLayersThanTheGlArrayLimitIsAnInputError)
   std::ofstream(lights) << R"({"lights": [
       {"name": "a", "position": [-0.5, 1, 0], "shadow": {"resolution": 32}},
       {"name": "b", "position": [0.5, 1, 0], "shadow": {"resolution": 32}}]})";
-  const Result r = renderClaimingGlLimit(scene, lights, "OMNISHADOW_GL_MAX_ARRAY_TEXTURE_LAYERS=6");
+  std::vector<std::string> environment = glFault("none");
+  environment.push_back("OMNISHADOW_GL_MAX_ARRAY_TEXTURE_LAYERS=6");
+  const Result r = run({"render", scene.string(), "-l", lights.string(), "-o", "a.png", "--width",
+                        "32", "--height", "24"},
+                       environment);
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_EQ(r.err,
             "omnishadow: translucent shadows need 12 transmittance layers, more than this "
