@@ -555,37 +555,6 @@ TEST_F(RobustnessTest, ShadowResolutionAboveTheGlCubeMapLimitIsAnInputError) {
   EXPECT_TRUE(outputEmpty());
 }
 
-TEST_F(RobustnessTest, MoreTransmittanceLayersThanTheGlArrayLimitIsAnInputError) {
-  // Two point lights inside a translucent (BLEND) box reach it through all six cube faces
-  // each: 12 atlas layers, against a GL that claims 6 array layers (enough for each light's
-  // cube map on its own).
-  GltfBuilder b;
-  omnishadow::builder::MaterialDesc glass;
-  glass.baseColor = glm::vec4(0.2f, 0.6f, 1.0f, 0.5f);
-  glass.alphaMode = "BLEND";
-  glass.doubleSided = true;
-  b.addNode("floor", {}, b.addMesh(omnishadow::builder::makePlane(4.0f)));
-  b.addNode(
-      "glass", {.translation = {0, 1.0f, 0}},
-      b.addMesh(omnishadow::builder::makeBox(glm::vec3(1.5f)), {.material = b.addMaterial(glass)}));
-  const fs::path scene = root_ / "scene" / "glass.gltf";
-  b.write(scene, FileFormat::GltfExternal);
-  const fs::path lights = root_ / "scene" / "lights.json";
-  std::ofstream(lights) << R"({"lights": [
-      {"name": "a", "position": [-0.5, 1, 0], "shadow": {"resolution": 32}},
-      {"name": "b", "position": [0.5, 1, 0], "shadow": {"resolution": 32}}]})";
-  std::vector<std::string> environment = glFault("none");
-  environment.push_back("OMNISHADOW_GL_MAX_ARRAY_TEXTURE_LAYERS=6");
-  const Result r = run({"render", scene.string(), "-l", lights.string(), "-o", "a.png", "--width",
-                        "32", "--height", "24"},
-                       environment);
-  EXPECT_EQ(r.status, 2) << r.err;
-  EXPECT_EQ(r.err,
-            "omnishadow: translucent shadows need 12 transmittance layers, more than this "
-            "GL's 6 (GL_MAX_ARRAY_TEXTURE_LAYERS): fewer lights with translucentShadows\n");
-  EXPECT_TRUE(outputEmpty());
-}
-
 TEST_F(RobustnessTest, AGlErrorFailsTheRenderWithoutOutput) {
   const fs::path scene = writeScene("scene.gltf", FileFormat::GltfExternal, true);
   for (const auto& [fault, message] :
