@@ -74,7 +74,8 @@ uniform float uGlossinessFactor;
 
 uniform vec3 uCameraPosition;
 
-// Light clusters (renderer/view/light_clusters.h).
+#ifdef CLUSTERED_LIGHTS
+// Light clusters (renderer/view/light_clusters.h), for frames where some light has a range.
 layout(std430, binding = CLUSTER_RANGES_BINDING) readonly buffer ClusterRanges { uint uClusterRanges[]; };
 layout(std430, binding = CLUSTER_LIGHTS_BINDING) readonly buffer ClusterLights { uint uClusterLights[]; };
 uniform int uTileSize;
@@ -85,6 +86,7 @@ uniform float uSliceNear;
 uniform float uSliceScale;
 uniform vec4 uViewDepth;  // view depth of P: dot(uViewDepth.xyz, P) + uViewDepth.w
 uniform int uGlobalLights;
+#endif
 uniform vec3 uAmbient;
 
 uniform int uDebugView;  // DEBUG_VIEW_*: DebugView in renderer/render/render_settings.h
@@ -175,6 +177,7 @@ void main() {
   int contributing = 0;
   float depthView = 1.0;
   int debugCascade = -1;
+#ifdef CLUSTERED_LIGHTS
   // The lights reaching everywhere, then those of this point's cluster (the lights whose
   // range may reach it).
   ivec2 tile = ivec2(gl_FragCoord.xy) / uTileSize;
@@ -187,6 +190,10 @@ void main() {
   for (uint k = 0u; k < lightCount; ++k) {
     uint entry = k < uint(uGlobalLights) ? k : firstClusterLight + (k - uint(uGlobalLights));
     int i = int(uClusterLights[entry]);
+#else
+  // No light has a range: every light reaches everywhere, and the clusters would list them all.
+  for (int i = 0; i < (uUnlit != 0 ? 0 : uLightCount); ++i) {
+#endif
     Light light = uLights[i];
     vec3 L, radiance;
     float distance;

@@ -14,16 +14,30 @@ struct Light {
   vec4 cascadeTexel;      // directional: world size of a texel in each cascade
 };
 
+// LIGHTS_IN_STORAGE: more lights or view-projections than the uniform blocks hold
+// (renderer/passes/shader_contract.h); the blocks are the faster read on llvmpipe.
+#ifdef LIGHTS_IN_STORAGE
 layout(std430, binding = LIGHTS_BINDING) readonly buffer LightBuffer {
   Light uLights[];
 };
+#else
+layout(std140, binding = LIGHTS_UNIFORM_BINDING) uniform LightBlock {
+  Light uLights[MAX_UNIFORM_LIGHTS];
+};
+#endif
 uniform int uLightCount;
 
 // Spot lights: one view-projection; directional: one per cascade. Kept out of `Light` so the
 // shading loop's copy of a light stays small.
+#ifdef LIGHTS_IN_STORAGE
 layout(std430, binding = SHADOW_VIEW_PROJECTIONS_BINDING) readonly buffer ShadowViewProjections {
   mat4 uShadowViewProjections[];
 };
+#else
+layout(std140, binding = SHADOW_VIEW_PROJECTIONS_UNIFORM_BINDING) uniform ShadowViewProjectionBlock {
+  mat4 uShadowViewProjections[MAX_UNIFORM_VIEW_PROJECTIONS];
+};
+#endif
 
 // KHR_lights_punctual's recommended range window: smooth to zero at the range.
 float rangeWindow(float distance, float range) {

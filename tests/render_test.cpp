@@ -11,8 +11,10 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <tuple>
 
 #include "renderer/core/errors.h"
+#include "renderer/passes/shader_contract.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/verify/shadow_verification.h"
@@ -748,6 +750,59 @@ TEST(Lighting, AThousandRangedLightsReachExactlyThePixelsInTheirRange) {
   }
   EXPECT_GT(checked, 1000);
   EXPECT_GT(reached, 300);
+}
+
+// The lighting pass reads its lights from uniform blocks, or from storage buffers past what the
+// blocks hold, and loops over every light, or over a cluster's lights once some light has a
+// range. Dark extra lights switch each path on without adding light: every path draws the
+// picture of the same three shadowed lights (point, spot, directional).
+TEST(Lighting, EveryWayOfReadingTheLightsDrawsTheSamePicture) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeBox({0.5f, 0.5f, 0.5f}), translate({0, 0.5f, 0}), white);
+  Light spot = pointLight("spot", {1.5f, 3.0f, 1.0f}, ShadowFilter::PcfDisk, 256);
+  spot.type = LightType::Spot;
+  spot.direction = glm::normalize(glm::vec3(-1.5f, -3.0f, -1.0f));
+  spot.outerConeAngle = 0.7f;
+  Light sun = pointLight("sun", {0, 0, 0}, ShadowFilter::Pcf, 256);
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(1.0f, -2.0f, 0.5f));
+  sun.intensity = 1.0f;
+  const std::vector<Light> lit = {pointLight("lamp", {-1.5f, 2.0f, 1.0f}, ShadowFilter::Pcf, 256),
+                                  spot, sun};
+  const auto withDark = [&](int count, bool ranged) {
+    std::vector<Light> lights = lit;
+    for (int i = 0; i < count; ++i) {
+      Light dark = pointLight("dark" + std::to_string(i), {0.1f * i, 1.5f, 0}, ShadowFilter::Pcf);
+      dark.shadow.enabled = false;
+      dark.intensity = 0.0f;
+      dark.range = ranged ? 3.0f : 0.0f;
+      lights.push_back(dark);
+    }
+    return lights;
+  };
+  const ViewCamera camera = lookFrom(scene, {3, 4, 5}, {0, 0, 0}, 96, 72);
+  StageTimes times;
+  const auto draw = [&](const std::vector<Light>& lights) {
+    return sharedRenderer().render(scene, lights, glm::vec3(0.02f), camera, {}, times).beauty;
+  };
+  const FloatImage reference = draw(lit);
+  float brightest = 0.0f;
+  for (const float v : reference.pixels) brightest = std::max(brightest, v);
+  ASSERT_GT(brightest, 0.1f);
+  const int manyLights = contract::kMaxUniformLights;  // with `lit`: past the uniform block
+  for (const auto& [count, ranged, path] :
+       {std::tuple{1, true, "uniform blocks, clusters"},
+        std::tuple{manyLights, false, "storage buffers, every light"},
+        std::tuple{manyLights, true, "storage buffers, clusters"}}) {
+    const FloatImage picture = draw(withDark(count, ranged));
+    ASSERT_EQ(picture.pixels.size(), reference.pixels.size());
+    float largest = 0.0f;
+    for (std::size_t i = 0; i < picture.pixels.size(); ++i)
+      largest = std::max(largest, std::abs(picture.pixels[i] - reference.pixels[i]));
+    EXPECT_LE(largest, 1e-5f * brightest) << path;
+  }
 }
 
 // Batch jobs that render one scene from several cameras keep the point and spot maps of the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <type_traits>
 #include <utility>
 
@@ -41,6 +42,8 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     if (features.filters & (1u << static_cast<unsigned>(f.filter))) defines.push_back(f.define);
   if (features.debugDepth) defines.push_back("DEBUG_DEPTH");
   if (features.translucentShadows) defines.push_back("TRANSLUCENT_SHADOWS");
+  if (features.clusteredLights) defines.push_back("CLUSTERED_LIGHTS");
+  if (features.lightsInStorage) defines.push_back("LIGHTS_IN_STORAGE");
   if (shading == Shading::Phong) defines.push_back("SHADING_PHONG");
   if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
@@ -190,11 +193,16 @@ double FrameTargets::bytes(int width, int height, PassOutputs outputs) {
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {
   LightingFeatures features;
+  std::size_t viewProjections = 0;  // at most: a directional light has up to kMaxCascades
   for (const Light& light : lights) {
+    if (light.type != LightType::Directional && light.range > 0.0f) features.clusteredLights = true;
     if (!light.shadow.enabled) continue;
     (light.type == LightType::Point ? features.cubeShadows : features.planarShadows) = true;
     features.filters |= 1u << static_cast<unsigned>(light.shadow.filter);
+    if (light.type != LightType::Point) viewProjections += contract::kMaxCascades;
   }
+  features.lightsInStorage = lights.size() > contract::kMaxUniformLights ||
+                             viewProjections > contract::kMaxUniformViewProjections;
   // The cascade view reads the debug light's cascade where the depth view reads its map.
   features.debugDepth = debugView == DebugView::Depth || debugView == DebugView::Cascade;
   return features;
@@ -232,6 +240,25 @@ const ShaderProgram& LightingPass::program(unsigned variant) {
 void LightingPass::compileMaterialVariants(const GpuScene& scene) {
   for (const GpuDraw& draw : scene.draws())
     program(materialVariant(scene.materials()[draw.material]));
+}
+
+template <typename T>
+void LightingPass::bindLightBlock(gl::StreamBuffer& buffer, std::vector<T>& items,
+                                  int storageBinding, int uniformBinding,
+                                  std::size_t uniformCapacity) const {
+  if (features_.lightsInStorage) {
+    // Blocks are bound with at least one element, even when nothing reads it.
+    if (items.empty()) items.emplace_back();
+    buffer.upload(items);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(storageBinding), buffer.get());
+    return;
+  }
+  // lightingFeatures() bounds what the frame can upload; a uniform block is bound whole.
+  if (items.size() > uniformCapacity)
+    throw std::logic_error("a light uniform block overflows: lightsInStorage was not set");
+  items.resize(uniformCapacity);
+  buffer.upload(items);
+  glBindBufferBase(GL_UNIFORM_BUFFER, static_cast<GLuint>(uniformBinding), buffer.get());
 }
 
 int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
@@ -296,14 +323,11 @@ int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
     data.push_back(g);
   }
   const int lightCount = static_cast<int>(data.size());
-  // Blocks are bound with at least one element, even when nothing reads it.
-  if (data.empty()) data.emplace_back();
-  lightBuffer_.upload(data);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kLightsBinding, lightBuffer_.get());
-  if (viewProjections.empty()) viewProjections.emplace_back(1.0f);
-  viewProjectionBuffer_.upload(viewProjections);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kShadowViewProjectionsBinding,
-                   viewProjectionBuffer_.get());
+  bindLightBlock(lightBuffer_, data, contract::kLightsBinding, contract::kLightsUniformBinding,
+                 contract::kMaxUniformLights);
+  bindLightBlock(viewProjectionBuffer_, viewProjections, contract::kShadowViewProjectionsBinding,
+                 contract::kShadowViewProjectionsUniformBinding,
+                 contract::kMaxUniformViewProjections);
   return lightCount;
 }
 
@@ -348,6 +372,7 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
   program.set("uDebugLight", parameters.debugLight);
   program.set("uCameraView", uniforms.cameraView);
   program.set("uLightCount", uniforms.lightCount);
+  if (!features_.clusteredLights) return;
   const LightClusters& clusters = uniforms.clusters;
   program.set("uTileSize", clusters.tileSize);
   program.set("uTileColumns", clusters.columns);
@@ -453,7 +478,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   uniforms.parameters = parameters;
   uniforms.cameraView = parameters.cascadeView ? *parameters.cascadeView : camera.view;
   uniforms.lightCount = uploadLights(lights, shadowGroups, transmittanceAtlas);
-  uploadClusters(scene, lights, camera, uniforms);
+  if (features_.clusteredLights) uploadClusters(scene, lights, camera, uniforms);
   framePrograms_.clear();
   glBindVertexArray(scene.vertexArray());
 

@@ -88,11 +88,12 @@ struct LightingFeatures {
   unsigned filters = 0;  // bit per ShadowFilter
   bool debugDepth = false;
   bool translucentShadows = false;  // some light samples transmittance layers
-  bool operator==(const LightingFeatures& o) const {
-    return cubeShadows == o.cubeShadows && planarShadows == o.planarShadows &&
-           filters == o.filters && debugDepth == o.debugDepth &&
-           translucentShadows == o.translucentShadows;
-  }
+  // Some light has a range: fragments loop over their cluster's lights, not over all of them.
+  bool clusteredLights = false;
+  // More lights (or planar shadow view-projections) than the uniform blocks hold: the lights
+  // are read from storage buffers (shader_contract.h).
+  bool lightsInStorage = false;
+  bool operator==(const LightingFeatures&) const = default;
 };
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView);
@@ -124,6 +125,11 @@ class LightingPass {
   };
   int uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
                    GLuint transmittanceAtlas);
+  // Uploads `items` (a frame's lights or view-projections) and binds them where this variant's
+  // shader reads them: the storage binding, or the uniform block padded to its declared size.
+  template <typename T>
+  void bindLightBlock(gl::StreamBuffer& buffer, std::vector<T>& items, int storageBinding,
+                      int uniformBinding, std::size_t uniformCapacity) const;
   void uploadClusters(const GpuScene& scene, const std::vector<ShadedLight>& lights,
                       const ViewCamera& camera, FrameUniforms& uniforms);
   void setFrameUniforms(const ShaderProgram& program, const FrameUniforms& uniforms) const;

@@ -63,6 +63,19 @@ enum StorageBinding : int {
   kClusterLightsBinding = 5,
 };
 
+// Uniform buffer bindings (a namespace of their own in GL). The lighting pass reads its lights
+// and their shadow view-projections from uniform blocks while they fit the smallest block every
+// GL 4.x offers, and from the storage buffers above beyond that: llvmpipe loads a storage
+// buffer one lane at a time, a uniform block with one vector gather, so per pixel and light the
+// uniform block is the cheaper read.
+enum UniformBinding : int {
+  kLightsUniformBinding = 0,
+  kShadowViewProjectionsUniformBinding = 1,
+};
+inline constexpr int kMinUniformBlockBytes = 16384;  // GL_MAX_UNIFORM_BLOCK_SIZE's minimum
+inline constexpr int kMaxUniformLights = kMinUniformBlockBytes / (10 * 16);          // GpuLight
+inline constexpr int kMaxUniformViewProjections = kMinUniformBlockBytes / (16 * 4);  // mat4
+
 // The lighting pass reports the shadow term of this many lights per pass in RGBA targets.
 inline constexpr int kVisibilityOutputs = 5;
 inline constexpr int kVisibilityPerPass = 4 * kVisibilityOutputs;
@@ -73,9 +86,9 @@ static_assert(std::tuple_size_v<decltype(LightShadowPlan::cascadeEnd)> == kMaxCa
                   std::tuple_size_v<decltype(LightShadowPlan::cascadeTexel)> == kMaxCascades,
               "GpuLight::cascadeEnd/cascadeTexel hold one vec4 of cascades");
 
-// std430 mirror of `Light` in shaders/lights.glsl: only vec4 members, so C++ and std430 agree
-// on every offset as long as each stays a multiple of 16. The shader indexes lights by this
-// stride; the asserts below break the build before a reordering breaks the picture.
+// std430 and std140 mirror of `Light` in shaders/lights.glsl: only vec4 members, so C++, std430
+// and std140 agree on every offset as long as each stays a multiple of 16. The shader indexes
+// lights by this stride; the asserts below break the build before a reordering breaks the picture.
 struct GpuLight {
   glm::vec4 positionRange;     // world position, range (0 = unlimited)
   glm::vec4 directionType;     // direction the light travels, LightType
@@ -92,6 +105,7 @@ struct GpuLight {
 };
 static_assert(sizeof(glm::vec4) == 16 && alignof(glm::vec4) <= 16, "glm::vec4 is not a vec4");
 static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight must match the std430 layout of Light");
+static_assert(kMaxUniformLights * sizeof(GpuLight) <= kMinUniformBlockBytes);
 static_assert(sizeof(GpuLight) % 16 == 0, "std430 arrays of Light have a 16-byte stride");
 static_assert(offsetof(GpuLight, positionRange) == 0 * 16);
 static_assert(offsetof(GpuLight, directionType) == 1 * 16);
@@ -143,6 +157,10 @@ inline std::vector<std::string> shaderContractDefines() {
       define("SHADOW_VIEW_PROJECTIONS_BINDING", kShadowViewProjectionsBinding),
       define("CLUSTER_RANGES_BINDING", kClusterRangesBinding),
       define("CLUSTER_LIGHTS_BINDING", kClusterLightsBinding),
+      define("LIGHTS_UNIFORM_BINDING", kLightsUniformBinding),
+      define("SHADOW_VIEW_PROJECTIONS_UNIFORM_BINDING", kShadowViewProjectionsUniformBinding),
+      define("MAX_UNIFORM_LIGHTS", kMaxUniformLights),
+      define("MAX_UNIFORM_VIEW_PROJECTIONS", kMaxUniformViewProjections),
       define("VISIBILITY_OUTPUTS", kVisibilityOutputs),
       define("LIGHT_POINT", e(LightType::Point)),
       define("LIGHT_SPOT", e(LightType::Spot)),
