@@ -1,14 +1,11 @@
 #pragma once
 
-#include <functional>
 #include <optional>
 #include <string>
 
-namespace omnishadow::cli {
+#include "cli/process_environment.h"
 
-// Looks an environment variable up: std::getenv in the product, a map in tests.
-using Environment = std::function<std::optional<std::string>(const std::string& name)>;
-Environment processEnvironment();
+namespace omnishadow::cli {
 
 // The "K/N" that `batch --shard auto` means, from the scheduler's variables:
 //   Slurm job array  SLURM_ARRAY_TASK_ID, with SLURM_ARRAY_TASK_COUNT or _MIN and _MAX (and
