@@ -32,6 +32,8 @@ using test_support::filesIn;
 using test_support::readFile;
 using Result = test_support::RunResult;
 
+std::vector<std::string> glFault(const std::string& fault);
+
 class RobustnessTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -48,6 +50,17 @@ class RobustnessTest : public ::testing::Test {
     options.environment = environment;
     options.fileSizeLimit = fileSizeLimit;
     return test_support::runOmnishadow(args, options);
+  }
+
+  // A 32x24 render of `scene` with `lights` while the GL fault library claims a smaller GL
+  // limit (`limit`: "OMNISHADOW_GL_MAX_...=N", tests/support/gl_fault.cpp).
+  Result renderClaimingGlLimit(const fs::path& scene, const fs::path& lights,
+                               const std::string& limit) {
+    std::vector<std::string> environment = glFault("none");
+    environment.push_back(limit);
+    return run({"render", scene.string(), "-l", lights.string(), "-o", "a.png", "--width", "32",
+                "--height", "24"},
+               environment);
   }
 
   // A floor with a box, written as .gltf with an external .bin and PNG texture (or as `format`
@@ -543,15 +556,39 @@ TEST_F(RobustnessTest, ShadowResolutionAboveTheGlCubeMapLimitIsAnInputError) {
   const fs::path lights = root_ / "scene" / "lights.json";
   std::ofstream(lights)
       << R"({"lights": [{"name": "big", "position": [0, 2, 0], "shadow": {"resolution": 512}}]})";
-  std::vector<std::string> environment = glFault("none");
-  environment.push_back("OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=256");
-  const Result r = run({"render", scene.string(), "-l", lights.string(), "-o", "a.png", "--width",
-                        "32", "--height", "24"},
-                       environment);
+  const Result r =
+      renderClaimingGlLimit(scene, lights, "OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=256");
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_EQ(r.err, "omnishadow: " + lights.string() +
                        ": light \"big\": shadow.resolution 512 exceeds this GL's maximum cube map "
                        "size 256\n");
+  EXPECT_TRUE(outputEmpty());
+}
+
+TEST_F(RobustnessTest, MoreTransmittanceLayersThanTheGlArrayLimitIsAnInputError) {
+  // Two point lights inside a translucent (BLEND) box reach it through all six cube faces
+  // each: 12 atlas layers, against a GL that claims 6 array layers (enough for each light's
+  // cube map on its own).
+  GltfBuilder b;
+  omnishadow::builder::MaterialDesc glass;
+  glass.baseColor = glm::vec4(0.2f, 0.6f, 1.0f, 0.5f);
+  glass.alphaMode = "BLEND";
+  glass.doubleSided = true;
+  b.addNode("floor", {}, b.addMesh(omnishadow::builder::makePlane(4.0f)));
+  b.addNode(
+      "glass", {.translation = {0, 1.0f, 0}},
+      b.addMesh(omnishadow::builder::makeBox(glm::vec3(1.5f)), {.material = b.addMaterial(glass)}));
+  const fs::path scene = root_ / "scene" / "glass.gltf";
+  b.write(scene, FileFormat::GltfExternal);
+  const fs::path lights = root_ / "scene" / "lights.json";
+  std::ofstream(lights) << R"({"lights": [
+      {"name": "a", "position": [-0.5, 1, 0], "shadow": {"resolution": 32}},
+      {"name": "b", "position": [0.5, 1, 0], "shadow": {"resolution": 32}}]})";
+  const Result r = renderClaimingGlLimit(scene, lights, "OMNISHADOW_GL_MAX_ARRAY_TEXTURE_LAYERS=6");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(r.err,
+            "omnishadow: translucent shadows need 12 transmittance layers, more than this "
+            "GL's 6 (GL_MAX_ARRAY_TEXTURE_LAYERS): fewer lights with translucentShadows\n");
   EXPECT_TRUE(outputEmpty());
 }
 

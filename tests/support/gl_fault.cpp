@@ -11,8 +11,8 @@
 //   crash-context  eglCreateContext raises SIGSEGV, as a driver that cannot start would.
 // error and reset happen once; afterwards the real GL answers again, as it would for a fresh
 // context.
-// OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=N makes glGetIntegerv report N as that limit, for
-// tests of what a GL with smaller cube maps refuses.
+// OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=N and OMNISHADOW_GL_MAX_ARRAY_TEXTURE_LAYERS=N make
+// glGetIntegerv report N as that limit, for tests of what a GL with smaller limits refuses.
 //
 // The GL headers are left out on purpose: their prototypes would clash with these definitions.
 
@@ -36,6 +36,7 @@ using GLsizei = int;
 constexpr GLenum kInvalidOperation = 0x0502;
 constexpr GLenum kGuiltyContextReset = 0x8253;
 constexpr GLenum kMaxCubeMapTextureSize = 0x851C;
+constexpr GLenum kMaxArrayTextureLayers = 0x88FF;
 
 std::atomic<bool> armed{false};
 
@@ -109,8 +110,11 @@ __attribute__((visibility("default"))) void glGetIntegerv(GLenum name, GLint* da
   using Fn = void (*)(GLenum, GLint*);
   static const Fn next = real<Fn>("glGetIntegerv");
   next(name, data);
-  const char* limit = std::getenv("OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE");
-  if (name == kMaxCubeMapTextureSize && limit != nullptr) *data = std::atoi(limit);
+  const char* limit =
+      name == kMaxCubeMapTextureSize   ? std::getenv("OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE")
+      : name == kMaxArrayTextureLayers ? std::getenv("OMNISHADOW_GL_MAX_ARRAY_TEXTURE_LAYERS")
+                                       : nullptr;
+  if (limit != nullptr) *data = std::atoi(limit);
 }
 
 __attribute__((visibility("default"))) GLenum glGetError() {
