@@ -12,7 +12,6 @@
 #include "cli/batch_command.h"
 #include "cli/devices_command.h"
 #include "cli/diff_command.h"
-#include "cli/huge_pages.h"
 #include "cli/info_command.h"
 #include "cli/render_command.h"
 #include "cli/report_merge.h"
@@ -40,7 +39,6 @@ bool isInputProblem(const std::error_code& code) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  omnishadow::cli::runWithHugePages(argc, argv);
   CLI::App app{"omnishadow: headless glTF renderer with omnidirectional point-light shadows"};
   app.set_version_flag("--version", "omnishadow 0.1.0");
   app.require_subcommand(1);

@@ -51,6 +51,13 @@ std::string slurmShard(const Environment& environment, std::optional<int> shardC
 
 }  // namespace
 
+Environment processEnvironment() {
+  return [](const std::string& name) -> std::optional<std::string> {
+    const char* value = std::getenv(name.c_str());
+    return value ? std::optional<std::string>(value) : std::nullopt;
+  };
+}
+
 std::string shardFromEnvironment(const Environment& environment, std::optional<int> shardCount) {
   const bool slurm = environment("SLURM_ARRAY_TASK_ID").has_value();
   const bool kubernetes = environment("JOB_COMPLETION_INDEX").has_value();

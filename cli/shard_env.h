@@ -1,11 +1,14 @@
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 
-#include "cli/process_environment.h"
-
 namespace omnishadow::cli {
+
+// Looks an environment variable up: std::getenv in the product, a map in tests.
+using Environment = std::function<std::optional<std::string>(const std::string& name)>;
+Environment processEnvironment();
 
 // The "K/N" that `batch --shard auto` means, from the scheduler's variables:
 //   Slurm job array  SLURM_ARRAY_TASK_ID, with SLURM_ARRAY_TASK_COUNT or _MIN and _MAX (and
