@@ -752,6 +752,50 @@ TEST(Lighting, AThousandRangedLightsReachExactlyThePixelsInTheirRange) {
   EXPECT_GT(reached, 300);
 }
 
+// Shadow maps are cleared only where they may hold something: where the last pass drew and
+// where this pass's casters may draw. A lone box (its bounding sphere covers part of one face)
+// that moves between two renders of one renderer, whose maps come back from its pool, leaves
+// no depth where it was, in a point light's cube face and in a spot light's map: every depth
+// the second render's maps hold is as far as the box is now.
+TEST(Shadows, ACasterThatMovedBetweenRendersLeavesNoDepthWhereItWas) {
+  Light lamp = pointLight("lamp", {0, 0, 0}, ShadowFilter::Hard, 128);
+  Light spot = pointLight("spot", {0, 0, 0}, ShadowFilter::Hard, 128);
+  spot.type = LightType::Spot;
+  spot.direction = {0, -1, 0};
+  spot.outerConeAngle = 0.7f;
+  const auto boxAt = [](glm::vec3 at) {
+    Scene scene;
+    addObject(scene, builder::makeBox({0.2f, 0.2f, 0.2f}), translate(at),
+              addMaterial(scene, glm::vec4(0.8f)));
+    return scene;
+  };
+  const glm::vec3 was{0.3f, -1.5f, 0.2f}, is{-0.5f, -3.0f, -0.4f};  // both below: face -Y
+  RenderSettings settings;
+  settings.readShadowMaps = true;
+  StageTimes times;
+  const Scene before = boxAt(was), after = boxAt(is);
+  const ViewCamera camera = lookFrom(after, {0, 2, 4}, {0, -2, 0}, 32, 24);
+  const Frame first =
+      sharedRenderer().render(before, {lamp, spot}, glm::vec3(0.0f), camera, settings, times);
+  const Frame frame =
+      sharedRenderer().render(after, {lamp, spot}, glm::vec3(0.0f), camera, settings, times);
+  // No part of the moved box is nearer than its center's depth less its bounding radius.
+  const float radius = 0.2f * std::sqrt(3.0f);
+  const auto depths = [](const Frame& f) {
+    std::vector<float> all = f.planarShadowMaps.at(0).distances;
+    for (const std::vector<float>& face : f.shadowMaps.at(0).distances.faces)
+      all.insert(all.end(), face.begin(), face.end());
+    return all;
+  };
+  const auto countBelow = [](const std::vector<float>& values, float limit) {
+    return std::count_if(values.begin(), values.end(), [&](float v) { return v < limit; });
+  };
+  // The first render drew the box where it was, the second only where it is.
+  EXPECT_GT(countBelow(depths(first), glm::length(was) + radius), 100);
+  EXPECT_EQ(countBelow(depths(frame), -is.y - radius), 0);
+  EXPECT_GT(countBelow(depths(frame), glm::length(is) + radius), 100);
+}
+
 // The lighting pass reads its lights from uniform blocks, or from storage buffers past what the
 // blocks hold, and loops over every light, or over a cluster's lights once some light has a
 // range. Dark extra lights switch each path on without adding light: every path draws the

@@ -1,13 +1,19 @@
 #include "renderer/passes/shadow_layer_binding.h"
 
+#include <utility>
+
+#include "renderer/passes/texel_scissor.h"
+
 namespace omnishadow {
 
-ShadowLayerBinding::ShadowLayerBinding(GLuint framebuffer, const ShadowGroupTextures& target,
-                                       int firstLayer, int layerCount)
+ShadowLayerBinding::ShadowLayerBinding(GLuint framebuffer, ShadowGroupTextures& target,
+                                       int firstLayer, int layerCount,
+                                       std::vector<TexelRect> casterTexels)
     : framebuffer_(framebuffer),
       target_(target),
       firstLayer_(firstLayer),
       layerCount_(layerCount),
+      casterTexels_(std::move(casterTexels)),
       cleared_(static_cast<std::size_t>(layerCount), false) {}
 
 gl::Texture ShadowLayerBinding::layersView(const gl::Texture& texture, GLenum format) const {
@@ -18,11 +24,14 @@ gl::Texture ShadowLayerBinding::layersView(const gl::Texture& texture, GLenum fo
   return gl::Texture(id);
 }
 
-void ShadowLayerBinding::clear() {
+void ShadowLayerBinding::clear(const TexelRect& texels) {
+  if (texels.empty()) return;
   const float zero = 0.0f;
   const float farMoments[4] = {1.0f, 1.0f, 0.0f, 0.0f};
+  scissorTo(texels);
   glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &zero);
   if (target_.key.moments) glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, farMoments);
+  gl::Scissor{}.apply();
 }
 
 void ShadowLayerBinding::bind(int layer) {
@@ -35,7 +44,10 @@ void ShadowLayerBinding::bind(int layer) {
     if (moments) momentLayers_ = layersView(target_.moments, GL_RG32F);
     glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, moments ? momentLayers_.get() : 0,
                               0);
-    clear();
+    clear(TexelRect::whole(target_.key.resolution));
+    for (int l = 0; l < layerCount_; ++l)
+      written(l) = moments ? TexelRect::whole(target_.key.resolution)
+                           : casterTexels_[static_cast<std::size_t>(l)];
     allCleared_ = true;
     return;
   }
@@ -47,7 +59,14 @@ void ShadowLayerBinding::bind(int layer) {
   else
     glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, 0, 0);
   if (!cleared_[static_cast<std::size_t>(layer)]) {
-    clear();
+    const TexelRect& casters = casterTexels_[static_cast<std::size_t>(layer)];
+    if (moments) {
+      clear(TexelRect::whole(target_.key.resolution));
+      written(layer) = TexelRect::whole(target_.key.resolution);
+    } else {
+      clear(written(layer).united(casters));
+      written(layer) = casters;
+    }
     cleared_[static_cast<std::size_t>(layer)] = true;
   }
 }

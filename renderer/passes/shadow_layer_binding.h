@@ -6,6 +6,7 @@
 
 #include "renderer/gl/gl_resources.h"
 #include "renderer/passes/shadow_textures.h"
+#include "renderer/view/caster_culling.h"
 
 namespace omnishadow {
 
@@ -16,13 +17,19 @@ namespace omnishadow {
 // clears tile by tile in its rasterizer threads, in the pass that draws, instead of sweeping
 // the texture on the calling thread first. Clears obey the depth and color write masks: the
 // pass's raster state must be applied before the first bind.
+//
+// A depth-only layer bound on its own is cleared only where it may hold something (the group's
+// `written` texels) or where this pass's casters may draw (`casterTexels`), and afterwards
+// holds something only there: elsewhere it already holds the cleared depth. A 1024² face costs
+// llvmpipe about 0.4 ms to clear, six per point light and frame, mostly for texels no caster
+// reaches. Moments (VSM) layers, which the blur spreads, and layers bound all at once are
+// cleared whole.
 class ShadowLayerBinding {
  public:
   static constexpr int kAllLayers = -1;
-
-  ShadowLayerBinding(GLuint framebuffer, const ShadowGroupTextures& target, int firstLayer,
-                     int layerCount);
-
+  // `casterTexels`: per layer of this light, the texels its casters may cover in this pass.
+  ShadowLayerBinding(GLuint framebuffer, ShadowGroupTextures& target, int firstLayer,
+                     int layerCount, std::vector<TexelRect> casterTexels);
   // `layer`: 0..layerCount-1 of this light, or kAllLayers. Nothing happens when it is bound.
   void bind(int layer);
   // Clears the layers no bind reached (views nothing was drawn into).
@@ -30,12 +37,16 @@ class ShadowLayerBinding {
   void detach();
 
  private:
-  void clear();
+  void clear(const TexelRect& texels);
+  TexelRect& written(int layer) {
+    return target_.written[static_cast<std::size_t>(firstLayer_ + layer)];
+  }
   gl::Texture layersView(const gl::Texture& texture, GLenum format) const;
 
   GLuint framebuffer_;
-  const ShadowGroupTextures& target_;
+  ShadowGroupTextures& target_;
   int firstLayer_, layerCount_;
+  std::vector<TexelRect> casterTexels_;
   int bound_ = kAllLayers - 1;  // nothing
   bool allCleared_ = false;
   std::vector<bool> cleared_;

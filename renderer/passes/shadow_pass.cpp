@@ -81,6 +81,22 @@ void describeCasters(const GpuScene& scene, std::vector<ShadowCaster>& casters,
   }
 }
 
+// Per layer of the light: the texels its casters (those culling keeps for the layer) may
+// cover, from their bounding spheres.
+std::vector<TexelRect> casterTexels(const std::vector<ShadowCaster>& casters,
+                                    const CasterCulling& culling, const LightShadowPlan& plan,
+                                    int resolution) {
+  std::vector<TexelRect> texels(static_cast<std::size_t>(plan.layerCount));
+  for (std::size_t c = 0; c < casters.size(); ++c)
+    for (int layer = 0; layer < plan.layerCount; ++layer)
+      if (culling.viewMask[c] >> layer & 1u) {
+        TexelRect& rect = texels[static_cast<std::size_t>(layer)];
+        rect = rect.united(sphereTexelRect(plan.viewProjection[static_cast<std::size_t>(layer)],
+                                           casters[c].center, casters[c].radius, resolution));
+      }
+  return texels;
+}
+
 gl::CullState cullStateOf(CullBucket bucket, CullFace cullFace) {
   gl::CullState cull;
   cull.enabled = bucket != CullBucket::None;
@@ -102,7 +118,7 @@ struct ShadowPass::LightPass {
 };
 
 void ShadowPass::render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
-                        const ShadowGroupTextures& target, ShadowPassStrategy strategy) {
+                        ShadowGroupTextures& target, ShadowPassStrategy strategy) {
   const bool cube = target.key.layout == ShadowLayout::Cube;
   if (!cube || strategy == ShadowPassStrategy::Auto) strategy = ShadowPassStrategy::Six;
   const ShadowLayering layering = layeringOf(strategy);
@@ -132,7 +148,8 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kDrawObjectsBinding, drawObjects_.get());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_.get());
 
-  ShadowLayerBinding layers(fb, target, plan.firstLayer, plan.layerCount);
+  ShadowLayerBinding layers(fb, target, plan.firstLayer, plan.layerCount,
+                            casterTexels(casters, culling, plan, target.key.resolution));
   if (layering != ShadowLayering::PerView) layers.bind(ShadowLayerBinding::kAllLayers);
   const LightPass pass{scene, light, plan, strategy, moments, layers};
   drawOpaque(pass, draws);

@@ -28,8 +28,9 @@ class ShadowPass {
   ShadowPass();
   ~ShadowPass();
 
+  // Draws the light's layers of `target` and updates their `written` texels.
   void render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
-              const ShadowGroupTextures& target, ShadowPassStrategy strategy);
+              ShadowGroupTextures& target, ShadowPassStrategy strategy);
 
  private:
   struct LightPass;

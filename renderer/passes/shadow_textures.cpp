@@ -32,6 +32,7 @@ ShadowGroupTextures ShadowTexturePool::take(const ShadowGroupPlan& plan) {
     glTextureStorage3D(textures.moments.get(), 1, GL_RG32F, n, n, plan.layers);
   }
   gl::checkErrors("allocating shadow maps");
+  textures.written.assign(static_cast<std::size_t>(plan.layers), TexelRect::whole(n));
   return textures;
 }
 

@@ -22,6 +22,10 @@ struct ShadowGroupTextures {
   int layers = 0;
   gl::Texture depth;    // GL_TEXTURE_CUBE_MAP_ARRAY or GL_TEXTURE_2D_ARRAY
   gl::Texture moments;  // same target, GL_RG32F, when key.moments
+  // Per texture layer: the texels that may hold something other than the cleared depth, which
+  // the next pass into the layer must clear (ShadowLayerBinding). The whole layer for a new
+  // texture, whose contents GL leaves undefined.
+  std::vector<TexelRect> written;
 };
 
 // Keeps group textures between renders (batch mode renders many similar scenes), up to a

@@ -9,6 +9,7 @@
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
+#include "renderer/passes/texel_scissor.h"
 #include "renderer/scene/translucency.h"
 #include "renderer/view/caster_culling.h"
 
@@ -18,14 +19,6 @@ TransmittancePass::TransmittancePass()
     : program_("shadow_depth.vert", "shadow_transmittance.frag",
                contract::withShaderContract({"TRANSMITTANCE"})),
       framebuffer_(gl::createFramebuffer()) {}
-
-namespace {
-
-void scissorTo(const TexelRect& rect) {
-  gl::Scissor{true, rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0}.apply();
-}
-
-}  // namespace
 
 TranslucentReach translucentReach(const GpuScene& scene, const LightShadowPlan& plan,
                                   int resolution) {
