@@ -14,7 +14,7 @@
 #                  "bench-peers:begin/end" markers)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-rounds=3 repeat=5 scenes=box,cornell,sundial,whackamole,test_room bin="" baseline=""
+rounds=3 repeat=10 scenes=box,cornell,sundial,whackamole,test_room bin="" baseline=""
 peers="$root/../shared/peers" out="$root/build-bench/peers" doc=1
 while (($#)); do
   case $1 in

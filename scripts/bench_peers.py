@@ -42,7 +42,7 @@ def main():
     ap.add_argument("--baseline", help="another omnishadow binary, measured in the same rounds")
     ap.add_argument("--peers", required=True)
     ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--repeat", type=int, default=5, help="frames timed by render --repeat")
+    ap.add_argument("--repeat", type=int, default=10, help="frames timed by render --repeat")
     ap.add_argument("--scenes", default="box,cornell,sundial,whackamole,test_room")
     ap.add_argument("--filter", default="pcf")
     ap.add_argument("--size", default="1280x720")
