@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli/common_options.h"
+#include "cli/memory_warmup.h"
 #include "cli/render_job.h"
 #include "cli/steady_frames.h"
 #include "renderer/core/errors.h"
@@ -22,6 +23,11 @@ namespace fs = std::filesystem;
 
 namespace omnishadow::cli {
 namespace {
+
+// The most a render's warm-up may fault in: a 1280x720 frame's targets, readback and PNG
+// (about 40 MB) and a few 1024^2 cube maps (24 MB each). Only what idle time allows is
+// touched; the untouched rest costs no memory.
+constexpr std::size_t kWarmupBytes = std::size_t{256} << 20;
 
 // The command line as a job; checks everything that needs no file reading.
 RenderJob jobFromOptions(const RenderOptions& o) {
@@ -69,6 +75,7 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   // and driver set-up), so a process pays for the longer of the two, not both. A scene that
   // cannot load is still what is reported when both fail, as when they ran in turn. --stats
   // shows the load's own time and the context's time beyond it.
+  MemoryWarmup warmup(kWarmupBytes);
   std::future<TimedLoad> loading =
       std::async(std::launch::async, [&job] { return loadJobTimed(job); });
   std::unique_ptr<Renderer> renderer;
@@ -79,6 +86,7 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
     contextError = std::current_exception();
   }
   auto [loaded, loadMilliseconds] = loading.get();
+  warmup.finish();
   if (contextError) std::rethrow_exception(contextError);
   warnings = loaded.warnings;
   times.add("load", loadMilliseconds);

@@ -1,0 +1,58 @@
+#include "cli/memory_warmup.h"
+
+#include <malloc.h>
+#include <pthread.h>
+#include <sched.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <string_view>
+
+namespace omnishadow::cli {
+
+namespace {
+
+bool wanted() {
+#if defined(__SANITIZE_ADDRESS__)
+  return false;  // AddressSanitizer's allocator quarantines the freed block instead of reusing it
+#else
+  const char* setting = std::getenv("OMNISHADOW_MEMORY_WARMUP");
+  if (setting && std::string_view(setting) == "0") return false;
+  // Under valgrind the toucher would only compete with the render for its one running thread.
+  const char* preload = std::getenv("LD_PRELOAD");
+  return !(preload && std::string_view(preload).find("vgpreload") != std::string_view::npos);
+#endif
+}
+
+}  // namespace
+
+MemoryWarmup::MemoryWarmup(std::size_t bytes) {
+  if (bytes == 0 || !wanted()) return;
+  // Every block from the heap (no mmap of its own, which would come with fresh pages) and
+  // nothing given back to the system below 1 GiB: the warm pages stay for the frame.
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  block_ = static_cast<char*>(std::malloc(bytes));
+  if (!block_) return;
+  bytes_ = bytes;
+  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  toucher_ = std::thread([this, page] {
+    sched_param idle{};
+    pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle);
+    for (std::size_t at = 0; at < bytes_ && !stop_.load(std::memory_order_relaxed); at += page)
+      block_[at] = 0;
+  });
+}
+
+MemoryWarmup::~MemoryWarmup() {
+  finish();
+}
+
+void MemoryWarmup::finish() {
+  stop_ = true;
+  if (toucher_.joinable()) toucher_.join();
+  std::free(block_);
+  block_ = nullptr;
+}
+
+}  // namespace omnishadow::cli

@@ -1,0 +1,40 @@
+#pragma once
+
+// Faulting in memory while a render waits for its GL context and scene.
+//
+// A single render's first frame pays for fresh memory: llvmpipe zeroes every new texture and
+// the kernel maps each 4 KiB page on first touch (Box: about 25,000 page faults, Sundial
+// 59,000), on the thread that renders. Opening the GL context and loading the scene leave CPU
+// time unused meanwhile. A thread at idle priority (SCHED_IDLE: it runs only on an otherwise
+// idle core) touches the pages of a large block of malloc's heap in that time; the block then
+// goes back to the heap, where the frame's textures and buffers are carved from pages that are
+// already there. malloc is set to serve every block from its heap and to keep what is freed,
+// so that they are: a process that renders once and exits.
+
+#include <atomic>
+#include <cstddef>
+#include <thread>
+
+namespace omnishadow::cli {
+
+class MemoryWarmup {
+ public:
+  // Reserves `bytes` of malloc's heap and starts touching it. Nothing (no thread, malloc's
+  // settings unchanged) when OMNISHADOW_MEMORY_WARMUP is "0", under valgrind or
+  // AddressSanitizer, or when the block cannot be had.
+  explicit MemoryWarmup(std::size_t bytes);
+  ~MemoryWarmup();
+  MemoryWarmup(const MemoryWarmup&) = delete;
+  MemoryWarmup& operator=(const MemoryWarmup&) = delete;
+
+  // Stops touching and gives the block back to the heap, faulted-in pages and the rest.
+  void finish();
+
+ private:
+  char* block_ = nullptr;
+  std::size_t bytes_ = 0;
+  std::atomic<bool> stop_{false};
+  std::thread toucher_;
+};
+
+}  // namespace omnishadow::cli
