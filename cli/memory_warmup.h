@@ -19,9 +19,9 @@ namespace omnishadow::cli {
 
 class MemoryWarmup {
  public:
-  // Reserves `bytes` of malloc's heap and starts touching it. Nothing (no thread, malloc's
-  // settings unchanged) when OMNISHADOW_MEMORY_WARMUP is "0", under valgrind or
-  // AddressSanitizer, or when the block cannot be had.
+  // Sets malloc up as above, reserves `bytes` of its heap and starts touching them. Nothing at
+  // all when OMNISHADOW_MEMORY_WARMUP is "0" or under valgrind or AddressSanitizer; no block
+  // and no thread when the heap cannot give the block.
   explicit MemoryWarmup(std::size_t bytes);
   ~MemoryWarmup();
   MemoryWarmup(const MemoryWarmup&) = delete;
