@@ -34,6 +34,12 @@ void ShadowLayerBinding::clear(const TexelRect& texels) {
   gl::Scissor{}.apply();
 }
 
+TexelRect ShadowLayerBinding::drawn(int layer) const {
+  // The VSM blur spreads moments over the whole layer.
+  return target_.key.moments ? TexelRect::whole(target_.key.resolution)
+                             : casterTexels_[static_cast<std::size_t>(layer)];
+}
+
 void ShadowLayerBinding::bind(int layer) {
   if (layer == bound_) return;
   bound_ = layer;
@@ -45,9 +51,7 @@ void ShadowLayerBinding::bind(int layer) {
     glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, moments ? momentLayers_.get() : 0,
                               0);
     clear(TexelRect::whole(target_.key.resolution));
-    for (int l = 0; l < layerCount_; ++l)
-      written(l) = moments ? TexelRect::whole(target_.key.resolution)
-                           : casterTexels_[static_cast<std::size_t>(l)];
+    for (int l = 0; l < layerCount_; ++l) written(l) = drawn(l);
     allCleared_ = true;
     return;
   }
@@ -59,14 +63,9 @@ void ShadowLayerBinding::bind(int layer) {
   else
     glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, 0, 0);
   if (!cleared_[static_cast<std::size_t>(layer)]) {
-    const TexelRect& casters = casterTexels_[static_cast<std::size_t>(layer)];
-    if (moments) {
-      clear(TexelRect::whole(target_.key.resolution));
-      written(layer) = TexelRect::whole(target_.key.resolution);
-    } else {
-      clear(written(layer).united(casters));
-      written(layer) = casters;
-    }
+    // Moments layers are written whole, so they are also cleared whole.
+    clear(written(layer).united(drawn(layer)));
+    written(layer) = drawn(layer);
     cleared_[static_cast<std::size_t>(layer)] = true;
   }
 }

@@ -38,6 +38,8 @@ class ShadowLayerBinding {
 
  private:
   void clear(const TexelRect& texels);
+  // What this pass may leave other than the cleared values in `layer`.
+  TexelRect drawn(int layer) const;
   TexelRect& written(int layer) {
     return target_.written[static_cast<std::size_t>(firstLayer_ + layer)];
   }
