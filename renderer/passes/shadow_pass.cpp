@@ -88,12 +88,8 @@ std::vector<TexelRect> casterTexels(const std::vector<ShadowCaster>& casters,
                                     int resolution) {
   std::vector<TexelRect> texels(static_cast<std::size_t>(plan.layerCount));
   for (std::size_t c = 0; c < casters.size(); ++c)
-    for (int layer = 0; layer < plan.layerCount; ++layer)
-      if (culling.viewMask[c] >> layer & 1u) {
-        TexelRect& rect = texels[static_cast<std::size_t>(layer)];
-        rect = rect.united(sphereTexelRect(plan.viewProjection[static_cast<std::size_t>(layer)],
-                                           casters[c].center, casters[c].radius, resolution));
-      }
+    uniteCasterTexels(plan, culling.viewMask[c], casters[c].center, casters[c].radius, resolution,
+                      texels);
   return texels;
 }
 

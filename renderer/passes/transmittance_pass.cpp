@@ -32,15 +32,10 @@ TranslucentReach translucentReach(const GpuScene& scene, const LightShadowPlan& 
   for (std::size_t index = 0; index < scene.draws().size(); ++index) {
     const GpuDraw& draw = scene.draws()[index];
     if (!isTranslucentCaster(scene.materials()[draw.material].desc)) continue;
-    unsigned& layers = reach.casterLayers[index];
-    layers = casterViewMask(views, draw.boundsCenter, draw.boundsRadius);
-    for (int layer = 0; layer < plan.layerCount; ++layer) {
-      if ((layers >> layer & 1u) == 0) continue;
-      const TexelRect rect = sphereTexelRect(plan.viewProjection[layer], draw.boundsCenter,
-                                             draw.boundsRadius, resolution);
-      if (rect.empty()) layers &= ~(1u << layer);
-      reach.texels[layer] = reach.texels[layer].united(rect);
-    }
+    const unsigned layers =
+        uniteCasterTexels(plan, casterViewMask(views, draw.boundsCenter, draw.boundsRadius),
+                          draw.boundsCenter, draw.boundsRadius, resolution, reach.texels);
+    reach.casterLayers[index] = layers;
     reach.layers |= layers;
   }
   return reach;

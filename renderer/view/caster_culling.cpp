@@ -49,6 +49,18 @@ TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& cent
   return rect.empty() ? TexelRect{} : rect;
 }
 
+unsigned uniteCasterTexels(const LightShadowPlan& plan, unsigned viewMask, const glm::vec3& center,
+                           float radius, int resolution, std::vector<TexelRect>& texels) {
+  for (int layer = 0; layer < plan.layerCount; ++layer) {
+    if ((viewMask >> layer & 1u) == 0) continue;
+    const auto l = static_cast<std::size_t>(layer);
+    const TexelRect rect = sphereTexelRect(plan.viewProjection[l], center, radius, resolution);
+    if (rect.empty()) viewMask &= ~(1u << layer);
+    texels[l] = texels[l].united(rect);
+  }
+  return viewMask;
+}
+
 ShadowCullingLight shadowCullingLight(const Light& light, const LightShadowPlan& plan, bool cube) {
   ShadowCullingLight culling;
   culling.type = light.type;

@@ -40,6 +40,12 @@ struct TexelRect {
 TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& center, float radius,
                           int resolution);
 
+// Unites into `texels` (one rectangle per layer of `plan`) what a caster's bounding sphere may
+// cover in each layer of `viewMask`, at `resolution`; returns `viewMask` without the layers
+// where it covers nothing.
+unsigned uniteCasterTexels(const LightShadowPlan& plan, unsigned viewMask, const glm::vec3& center,
+                           float radius, int resolution, std::vector<TexelRect>& texels);
+
 // What culling needs to know of one caster (a draw of the scene).
 struct ShadowCaster {
   glm::vec3 center{0.0f};  // world-space bounding sphere
