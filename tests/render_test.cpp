@@ -796,6 +796,75 @@ TEST(Shadows, ACasterThatMovedBetweenRendersLeavesNoDepthWhereItWas) {
   EXPECT_GT(countBelow(depths(frame), glm::length(is) + radius), 100);
 }
 
+// Renderer::prepare() clears the shadow maps it makes ready, so that the render which takes
+// them need not: maps that come back from the pool holding an earlier render's depths hold none
+// of them after it. (A resolution no other test uses keeps the pool's other maps out of it.)
+TEST(Shadows, PreparedMapsHoldNoDepthOfAnEarlierRender) {
+  const std::vector<Light> lamp = {pointLight("lamp", {0, 0, 0}, ShadowFilter::Hard, 136)};
+  const auto boxAt = [](glm::vec3 at) {
+    Scene scene;
+    addObject(scene, builder::makeBox({0.2f, 0.2f, 0.2f}), translate(at),
+              addMaterial(scene, glm::vec4(0.8f)));
+    return scene;
+  };
+  const glm::vec3 was{0.3f, -1.5f, 0.2f}, is{-0.5f, -3.0f, -0.4f};  // both below: face -Y
+  const float radius = 0.2f * std::sqrt(3.0f);
+  const auto countBelow = [](const CubeDistances& cube, float limit) {
+    long n = 0;
+    for (const std::vector<float>& face : cube.faces)
+      n += std::count_if(face.begin(), face.end(), [&](float v) { return v < limit; });
+    return n;
+  };
+  Renderer& renderer = sharedRenderer();
+  const std::vector<CubeDistances> first = renderer.renderShadowDistances(boxAt(was), lamp);
+  EXPECT_GT(countBelow(first.at(0), glm::length(was) + radius), 100);
+  renderer.prepare(lamp, 32, 24, RenderSettings{});
+  const std::vector<CubeDistances> second = renderer.renderShadowDistances(boxAt(is), lamp);
+  EXPECT_EQ(countBelow(second.at(0), -is.y - radius), 0);
+  EXPECT_GT(countBelow(second.at(0), glm::length(is) + radius), 100);
+}
+
+// A render draws the same picture whether the renderer was prepared for it or not, and what
+// render() refuses, prepare() passes over quietly. Two scenes take turns, so that each render
+// misses the shadow cache and takes its maps from the pool: the prepared ones when there are.
+TEST(Shadows, PreparingChangesNoPixelAndRefusesNothing) {
+  const auto sceneWithBoxAt = [](glm::vec3 at) {
+    Scene scene;
+    const int white = addMaterial(scene, glm::vec4(0.8f));
+    addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+    addObject(scene, builder::makeBox({0.5f, 0.5f, 0.5f}), translate(at), white);
+    return scene;
+  };
+  const Scene a = sceneWithBoxAt({0, 0.5f, 0}), b = sceneWithBoxAt({1.0f, 0.5f, -1.0f});
+  Light spot = pointLight("spot", {1.5f, 3.0f, 1.0f}, ShadowFilter::Pcf, 200);
+  spot.type = LightType::Spot;
+  spot.direction = glm::normalize(glm::vec3(-1.5f, -3.0f, -1.0f));
+  spot.outerConeAngle = 0.7f;
+  const std::vector<Light> lights = {
+      pointLight("lamp", {-1.5f, 2.0f, 1.0f}, ShadowFilter::Vsm, 200), spot};
+  const ViewCamera camera = lookFrom(a, {3, 4, 5}, {0, 0, 0}, 80, 60);
+  RenderSettings settings;
+  StageTimes times;
+  Renderer& renderer = sharedRenderer();
+  const auto draw = [&](const Scene& scene) {
+    return renderer.render(scene, lights, glm::vec3(0.02f), camera, settings, times).beauty.pixels;
+  };
+  const std::vector<float> plainA = draw(a), plainB = draw(b);
+  renderer.prepare(lights, camera.width, camera.height, settings);
+  EXPECT_EQ(draw(a), plainA);
+  renderer.prepare({lights.front()}, 40, 30, settings);  // other lights, another size
+  EXPECT_EQ(draw(b), plainB);
+
+  std::vector<Light> huge = lights;
+  huge.front().shadow.resolution = renderer.limits().maxCubeMapSize * 2;
+  EXPECT_NO_THROW(renderer.prepare(huge, camera.width, camera.height, settings));
+  EXPECT_THROW(renderer.render(a, huge, glm::vec3(0.02f), camera, settings, times), InputError);
+  RenderSettings tight = settings;
+  tight.maxShadowMemoryMiB = 0.01;
+  EXPECT_NO_THROW(renderer.prepare(lights, camera.width, camera.height, tight));
+  EXPECT_THROW(renderer.render(a, lights, glm::vec3(0.02f), camera, tight, times), InputError);
+}
+
 // The lighting pass reads its lights from uniform blocks, or from storage buffers past what the
 // blocks hold, and loops over every light, or over a cluster's lights once some light has a
 // range. Dark extra lights switch each path on without adding light: every path draws the

@@ -119,6 +119,8 @@ class Renderer::Impl {
   std::vector<CubeDistances> renderShadowDistances(const Scene& scene,
                                                    const std::vector<Light>& lights,
                                                    ShadowPassStrategy strategy);
+  void prepare(const std::vector<Light>& lights, int width, int height,
+               const RenderSettings& settings);
 
   const RenderLimits& limits() const { return limits_; }
   const EglContext& context() const { return context_; }
@@ -702,6 +704,32 @@ std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(const Scene& sc
   return out;
 }
 
+void Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int height,
+                             const RenderSettings& settings) {
+  // The checks render() makes, on a stand-in scene: the shadow groups and the frame targets
+  // depend on the lights and the frame size, not on the scene.
+  Scene standIn;
+  standIn.bounds.extend(glm::vec3(-1.0f));
+  standIn.bounds.extend(glm::vec3(1.0f));
+  ViewCamera camera;
+  camera.width = width;
+  camera.height = height;
+  FramePlan plan;
+  try {
+    plan = planFrame(standIn, lights, camera, settings, limits_);
+  } catch (const InputError&) {
+    return;  // render() says why
+  }
+  for (const ShadowGroupPlan& group : plan.shadows.groups) {
+    ShadowGroupTextures textures = shadowTextures_.take(group);
+    clearShadowTextures(textures);
+    shadowTextures_.give(std::move(textures));
+  }
+  if (!settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1)
+    beautyTargets(width, height);
+  glFlush();  // the clears start in the rasterizer threads now
+}
+
 Renderer::Renderer(const ContextOptions& options) : impl_(std::make_unique<Impl>(options)) {}
 Renderer::~Renderer() = default;
 
@@ -727,6 +755,11 @@ std::vector<CubeDistances> Renderer::renderShadowDistances(const Scene& scene,
                                                            const std::vector<Light>& lights,
                                                            ShadowPassStrategy strategy) {
   return impl_->renderShadowDistances(scene, lights, strategy);
+}
+
+void Renderer::prepare(const std::vector<Light>& lights, int width, int height,
+                       const RenderSettings& settings) {
+  impl_->prepare(lights, width, height, settings);
 }
 
 }  // namespace omnishadow

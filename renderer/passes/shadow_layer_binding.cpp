@@ -26,11 +26,9 @@ gl::Texture ShadowLayerBinding::layersView(const gl::Texture& texture, GLenum fo
 
 void ShadowLayerBinding::clear(const TexelRect& texels) {
   if (texels.empty()) return;
-  const float zero = 0.0f;
-  const float farMoments[4] = {1.0f, 1.0f, 0.0f, 0.0f};
   scissorTo(texels);
-  glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &zero);
-  if (target_.key.moments) glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, farMoments);
+  glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &kClearedDepth);
+  if (target_.key.moments) glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, kClearedMoments);
   gl::Scissor{}.apply();
 }
 
@@ -50,7 +48,9 @@ void ShadowLayerBinding::bind(int layer) {
     if (moments) momentLayers_ = layersView(target_.moments, GL_RG32F);
     glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, moments ? momentLayers_.get() : 0,
                               0);
-    clear(TexelRect::whole(target_.key.resolution));
+    TexelRect anyWritten;
+    for (int l = 0; l < layerCount_; ++l) anyWritten = anyWritten.united(written(l));
+    clear(anyWritten);
     for (int l = 0; l < layerCount_; ++l) written(l) = drawn(l);
     allCleared_ = true;
     return;
@@ -64,7 +64,7 @@ void ShadowLayerBinding::bind(int layer) {
     glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, 0, 0);
   if (!cleared_[static_cast<std::size_t>(layer)]) {
     // Moments layers are written whole, so they are also cleared whole.
-    clear(written(layer).united(drawn(layer)));
+    clear(written(layer));
     written(layer) = drawn(layer);
     cleared_[static_cast<std::size_t>(layer)] = true;
   }

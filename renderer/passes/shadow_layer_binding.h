@@ -18,12 +18,12 @@ namespace omnishadow {
 // the texture on the calling thread first. Clears obey the depth and color write masks: the
 // pass's raster state must be applied before the first bind.
 //
-// A depth-only layer bound on its own is cleared only where it may hold something (the group's
-// `written` texels) or where this pass's casters may draw (`casterTexels`), and afterwards
-// holds something only there: elsewhere it already holds the cleared depth. A 1024² face costs
-// llvmpipe about 0.4 ms to clear, six per point light and frame, mostly for texels no caster
-// reaches. Moments (VSM) layers, which the blur spreads, and layers bound all at once are
-// cleared whole.
+// Each layer is cleared only where it may hold something other than the cleared values (the
+// group's `written` texels: where its last pass drew, the whole layer for a new texture,
+// nothing after clearShadowTextures()), and afterwards holds something only where this pass
+// may draw (`casterTexels`, the whole layer for moments, which the VSM blur spreads). A 1024²
+// face costs llvmpipe about 0.4 ms to clear, six per point light and frame, mostly for texels
+// no caster reaches. Layers bound all at once are cleared where any of them may hold something.
 class ShadowLayerBinding {
  public:
   static constexpr int kAllLayers = -1;

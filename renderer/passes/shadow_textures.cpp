@@ -36,6 +36,22 @@ ShadowGroupTextures ShadowTexturePool::take(const ShadowGroupPlan& plan) {
   return textures;
 }
 
+void clearShadowTextures(ShadowGroupTextures& textures) {
+  // Through a layered framebuffer, so that llvmpipe's rasterizer threads clear while the
+  // calling thread goes on. Clears obey the write masks and the scissor, which are at their
+  // defaults between passes.
+  const gl::Framebuffer framebuffer = gl::createFramebuffer();
+  const GLuint fb = framebuffer.get();
+  glNamedFramebufferTexture(fb, GL_DEPTH_ATTACHMENT, textures.depth.get(), 0);
+  glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, textures.moments.get(), 0);
+  glNamedFramebufferDrawBuffer(fb, textures.moments ? GL_COLOR_ATTACHMENT0 : GL_NONE);
+  glNamedFramebufferReadBuffer(fb, GL_NONE);
+  glClearNamedFramebufferfv(fb, GL_DEPTH, 0, &kClearedDepth);
+  if (textures.moments) glClearNamedFramebufferfv(fb, GL_COLOR, 0, kClearedMoments);
+  gl::checkErrors("clearing shadow maps");
+  textures.written.assign(textures.written.size(), TexelRect{});
+}
+
 void ShadowTexturePool::give(ShadowGroupTextures&& textures) {
   // Enough for the groups of one frame; older textures are deleted.
   constexpr std::size_t kPoolSize = 8;

@@ -22,11 +22,20 @@ struct ShadowGroupTextures {
   int layers = 0;
   gl::Texture depth;    // GL_TEXTURE_CUBE_MAP_ARRAY or GL_TEXTURE_2D_ARRAY
   gl::Texture moments;  // same target, GL_RG32F, when key.moments
-  // Per texture layer: the texels that may hold something other than the cleared depth, which
+  // Per texture layer: the texels that may hold something other than the cleared values, which
   // the next pass into the layer must clear (ShadowLayerBinding). The whole layer for a new
-  // texture, whose contents GL leaves undefined.
+  // texture, whose contents GL leaves undefined; none after clearShadowTextures().
   std::vector<TexelRect> written;
 };
+
+// The cleared values: depth 0 (reversed depth: nothing nearer than the far plane) and, for
+// moments (VSM), the moments of the far plane.
+inline constexpr float kClearedDepth = 0.0f;
+inline constexpr float kClearedMoments[4] = {1.0f, 1.0f, 0.0f, 0.0f};
+
+// Clears every layer of the group (llvmpipe does it in its rasterizer threads once the
+// commands are flushed); afterwards no texel is `written`.
+void clearShadowTextures(ShadowGroupTextures& textures);
 
 // Keeps group textures between renders (batch mode renders many similar scenes), up to a
 // budget; textures are reused only for an exact match of key and layer count.

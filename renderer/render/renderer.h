@@ -38,6 +38,14 @@ class Renderer {
   Frame render(const Scene& scene, const std::vector<Light>& lights, const glm::vec3& ambient,
                const ViewCamera& camera, const RenderSettings& settings, StageTimes& times);
 
+  // Does ahead of render() what needs no scene: allocates and clears the shadow maps of
+  // `lights` and the beauty targets of a width x height frame, where the next render() that
+  // needs them takes them. For time that would otherwise be spent waiting (the scene loading);
+  // a render with other lights or another size leaves them unused. What render() would refuse
+  // is not prepared and not reported here.
+  void prepare(const std::vector<Light>& lights, int width, int height,
+               const RenderSettings& settings);
+
   // Depth cube maps of the shadowed point lights, as distances, e.g. for tests.
   std::vector<CubeDistances> renderShadowDistances(
       const Scene& scene, const std::vector<Light>& lights,
