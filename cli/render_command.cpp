@@ -85,6 +85,11 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   } catch (...) {
     contextError = std::current_exception();
   }
+  // While the scene is still loading, this thread allocates and clears what the frame will
+  // need. When it has loaded already, nothing would overlap: the frame allocates its textures
+  // itself, from the pages the warm-up touched.
+  if (renderer && loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    prepareJob(*renderer, job);
   auto [loaded, loadMilliseconds] = loading.get();
   warmup.finish();
   if (contextError) std::rethrow_exception(contextError);

@@ -271,8 +271,9 @@ std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> tim
   return warnings;
 }
 
-Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,
-                StageTimes& times) {
+namespace {
+
+RenderSettings renderSettings(const RenderJob& job) {
   RenderSettings settings;
   settings.shading = job.shading;
   settings.aovs = job.aovs || !job.aov.empty();
@@ -289,8 +290,33 @@ Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loade
   settings.maxAovMemoryMiB = job.maxMemoryMiB;
   settings.shadowPass = job.shadowPass;
   settings.antialiasing = job.antialiasing;
-  return renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera, settings,
-                         times);
+  return settings;
+}
+
+}  // namespace
+
+void prepareJob(Renderer& renderer, const RenderJob& job) {
+  if (job.lights.empty()) return;  // the lights are the scene's or a headlight
+  std::vector<Light> lights;
+  try {
+    std::vector<std::string> warnings;
+    lights = mergeLights({}, loadLightsFile(job.lights, warnings).lights);
+  } catch (const InputError&) {
+    return;  // loadJob() reports it
+  }
+  if (lights.empty()) return;
+  try {
+    renderer.prepare(lights, job.camera.width.value_or(kDefaultWidth),
+                     job.camera.height.value_or(kDefaultHeight), renderSettings(job));
+  } catch (const RenderError&) {
+    // The render meets it again, after the load, whose errors come first.
+  }
+}
+
+Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,
+                StageTimes& times) {
+  return renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera,
+                         renderSettings(job), times);
 }
 
 std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loaded,
