@@ -234,8 +234,11 @@ int shadowCascade(Light light, vec3 P) {
 #ifdef TRANSLUCENT_SHADOWS
 // The frame's transmittance atlas (renderer/passes/transmittance_pass.h): per light, one layer
 // for each of its shadow layers that translucent casters reach, RGB the product of what they
-// let through, A the nearest one's reversed depth (0 = none).
+// let through, A the nearest one's reversed depth (0 = none). Each atlas layer holds, from its
+// corner, the rectangle (x0, y0, x1, y1) of the shadow layer's texels that uTransmittanceRects
+// gives; outside it nothing is tinted.
 layout(binding = TRANSMITTANCE_UNIT) uniform sampler2DArray uTransmittance;
+layout(binding = TRANSMITTANCE_RECTS_UNIT) uniform isamplerBuffer uTransmittanceRects;
 
 // The cube face a direction selects and the (s, t) in it, as GL's cube map lookup defines them
 // (OpenGL 4.6, section 8.13, table 8.19).
@@ -282,7 +285,9 @@ vec3 shadowTransmittance(Light light, int cascade, vec3 Q) {
   int atlasLayer = int(light.shadowProjection.w) + bitCount(tinted & ((1u << uint(layer)) - 1u));
   int n = int(light.spotFilter.w);
   ivec2 texel = clamp(ivec2(floor(st * float(n))), ivec2(0), ivec2(n - 1));
-  vec4 t = texelFetch(uTransmittance, ivec3(texel, atlasLayer), 0);
+  ivec4 rect = texelFetch(uTransmittanceRects, atlasLayer);
+  if (any(lessThan(texel, rect.xy)) || any(greaterThanEqual(texel, rect.zw))) return vec3(1.0);
+  vec4 t = texelFetch(uTransmittance, ivec3(texel - rect.xy, atlasLayer), 0);
   return m.reference < t.a ? t.rgb : vec3(1.0);
 }
 #endif

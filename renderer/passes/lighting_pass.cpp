@@ -262,7 +262,8 @@ void LightingPass::bindLightBlock(gl::StreamBuffer& buffer, std::vector<T>& item
 }
 
 int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
-                               const ShadowGroups& shadowGroups, GLuint transmittanceAtlas) {
+                               const ShadowGroups& shadowGroups,
+                               const TransmittanceAtlas& transmittanceAtlas) {
   // Each group takes the next slot of its layout's sampler arrays.
   std::vector<int> slot(shadowGroups.size());
   int cubeSlots = 0, planarSlots = 0;
@@ -285,7 +286,8 @@ int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
       glBindSampler(momentsUnit, moments_.get());
     }
   }
-  glBindTextureUnit(contract::kTransmittanceUnit, transmittanceAtlas);
+  glBindTextureUnit(contract::kTransmittanceUnit, transmittanceAtlas.layers);
+  glBindTextureUnit(contract::kTransmittanceRectsUnit, transmittanceAtlas.rects);
 
   std::vector<GpuLight> data;
   std::vector<glm::mat4> viewProjections;
@@ -454,7 +456,7 @@ void LightingPass::drawPointsAndLines(const GpuMeshRange& range, const ShaderPro
 
 void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
                           const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
-                          GLuint transmittanceAtlas, const glm::vec3& ambient,
+                          const TransmittanceAtlas& transmittanceAtlas, const glm::vec3& ambient,
                           FrameTargets& targets, const PassParameters& parameters) {
   glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
   // Background: no coverage, lit (visibility 1), no object or material (id -1).

@@ -9,6 +9,7 @@
 #include "renderer/passes/gpu_scene.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/passes/shadow_textures.h"
+#include "renderer/passes/transmittance_pass.h"
 #include "renderer/render/render_settings.h"
 #include "renderer/scene/light.h"
 #include "renderer/view/camera.h"
@@ -110,8 +111,8 @@ class LightingPass {
   // targets untouched); layer passes draw no blended surfaces.
   void render(const GpuScene& scene, const ViewCamera& camera,
               const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
-              GLuint transmittanceAtlas, const glm::vec3& ambient, FrameTargets& targets,
-              const PassParameters& parameters);
+              const TransmittanceAtlas& transmittanceAtlas, const glm::vec3& ambient,
+              FrameTargets& targets, const PassParameters& parameters);
 
  private:
   // The frame's uniforms, the same in every material variant.
@@ -124,7 +125,7 @@ class LightingPass {
     PassParameters parameters;
   };
   int uploadLights(const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
-                   GLuint transmittanceAtlas);
+                   const TransmittanceAtlas& transmittanceAtlas);
   // Uploads `items` (a frame's lights or view-projections) and binds them where this variant's
   // shader reads them: the storage binding, or the uniform block padded to its declared size.
   template <typename T>

@@ -159,7 +159,9 @@ class Renderer::Impl {
   std::unique_ptr<ShadowPass> shadowPass_;
   std::unique_ptr<VsmFilter> vsmFilter_;
   std::unique_ptr<TransmittancePass> transmittancePass_;  // made by the first translucent light
-  GLuint transmittanceAtlas() const { return transmittancePass_ ? transmittancePass_->atlas() : 0; }
+  TransmittanceAtlas transmittanceAtlas() const {
+    return transmittancePass_ ? transmittancePass_->atlas() : TransmittanceAtlas{};
+  }
   ShadowTexturePool shadowTextures_;
   // The last frame's shadow maps, kept for the next render of the same scene (batch jobs of
   // one scene with several cameras): point and spot maps do not depend on the camera.

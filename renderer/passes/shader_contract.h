@@ -46,7 +46,10 @@ inline constexpr int kPlanarMomentsUnit = kCubeMomentsUnit + kMaxShadowGroups;
 // The frame's transmittance atlas of translucent shadows (transmittance_pass.h), one 2D array
 // for every light: a unit between the material and the shadow units.
 inline constexpr int kTransmittanceUnit = kMaterialUnits;
-static_assert(kTransmittanceUnit < kCubeCompareUnit, "the transmittance unit is a shadow unit");
+// The rectangle each atlas layer holds: a buffer texture, the unit after the atlas's.
+inline constexpr int kTransmittanceRectsUnit = kTransmittanceUnit + 1;
+static_assert(kTransmittanceRectsUnit < kCubeCompareUnit,
+              "the transmittance units are shadow units");
 static_assert(kMaterialUnits <= kCubeCompareUnit, "material and shadow units overlap");
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
 static_assert(kPlanarMomentsUnit + kMaxShadowGroups <= 32, "shadow units beyond 32");
@@ -151,6 +154,7 @@ inline std::vector<std::string> shaderContractDefines() {
       define("CUBE_MOMENTS_UNIT", kCubeMomentsUnit),
       define("PLANAR_MOMENTS_UNIT", kPlanarMomentsUnit),
       define("TRANSMITTANCE_UNIT", kTransmittanceUnit),
+      define("TRANSMITTANCE_RECTS_UNIT", kTransmittanceRectsUnit),
       define("LIGHTS_BINDING", kLightsBinding),
       define("MODELS_BINDING", kModelsBinding),
       define("DRAW_OBJECTS_BINDING", kDrawObjectsBinding),

@@ -44,14 +44,17 @@ TranslucentReach translucentReach(const GpuScene& scene, const LightShadowPlan& 
 std::vector<AtlasLayers> TransmittancePass::place(const std::vector<TranslucentReach>& reach,
                                                   std::vector<bool>& moved) {
   std::vector<AtlasLayers> places(reach.size());
-  int layers = 0, resolution = 0;
+  int layers = 0, width = 0, height = 0;
   for (std::size_t i = 0; i < reach.size(); ++i) {
     if (reach[i].layers == 0u) continue;
     places[i] = {layers, reach[i].layers};
     layers += std::popcount(reach[i].layers);
-    resolution = std::max(resolution, reach[i].resolution);
+    for (const TexelRect& rect : reach[i].texels) {
+      width = std::max(width, rect.x1 - rect.x0);
+      height = std::max(height, rect.y1 - rect.y0);
+    }
   }
-  const bool grow = layers > layers_ || resolution > resolution_;
+  const bool grow = layers > layers_ || width > width_ || height > height_;
   if (grow) {
     GLint maxLayers = 0;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
@@ -59,13 +62,20 @@ std::vector<AtlasLayers> TransmittancePass::place(const std::vector<TranslucentR
       throw InputError("translucent shadows need " + std::to_string(layers) +
                        " transmittance layers, more than this GL's " + std::to_string(maxLayers) +
                        " (GL_MAX_ARRAY_TEXTURE_LAYERS): fewer lights with translucentShadows");
-    resolution_ = std::max(resolution, resolution_);
+    width_ = std::max(width, width_);
+    height_ = std::max(height, height_);
     layers_ = std::max(layers, layers_);
     atlas_ = gl::createTexture(GL_TEXTURE_2D_ARRAY);
     // 32-bit floats: A holds a depth the lighting pass compares with its own.
-    glTextureStorage3D(atlas_.get(), 1, GL_RGBA32F, resolution_, resolution_, layers_);
+    glTextureStorage3D(atlas_.get(), 1, GL_RGBA32F, width_, height_, layers_);
+    rectsBuffer_ = gl::createBuffer();
+    const std::vector<glm::ivec4> empty(static_cast<std::size_t>(layers_), glm::ivec4(0));
+    glNamedBufferStorage(rectsBuffer_.get(),
+                         static_cast<GLsizeiptr>(empty.size() * sizeof(glm::ivec4)), empty.data(),
+                         GL_DYNAMIC_STORAGE_BIT);
+    rectsTexture_ = gl::createTexture(GL_TEXTURE_BUFFER);
+    glTextureBuffer(rectsTexture_.get(), GL_RGBA32I, rectsBuffer_.get());
     gl::checkErrors("allocating the transmittance atlas");
-    dirty_.assign(static_cast<std::size_t>(layers_), TexelRect::whole(resolution_));
   }
   moved.assign(reach.size(), false);
   for (std::size_t i = 0; i < reach.size(); ++i)
@@ -73,6 +83,20 @@ std::vector<AtlasLayers> TransmittancePass::place(const std::vector<TranslucentR
         places[i].layers != 0u && (grow || i >= placed_.size() || !(placed_[i] == places[i]));
   placed_ = places;
   return places;
+}
+
+void TransmittancePass::attachTarget(const TexelRect& rect, int atlasLayer, int resolution) {
+  const GLuint fb = framebuffer_.get();
+  if (rect.x0 == 0 && rect.y0 == 0) {
+    glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, atlas_.get(), 0, atlasLayer);
+    return;
+  }
+  if (resolution > scratchResolution_) {
+    scratchResolution_ = resolution;
+    scratch_ = gl::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(scratch_.get(), 1, GL_RGBA32F, resolution, resolution);
+  }
+  glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, scratch_.get(), 0);
 }
 
 void TransmittancePass::render(const GpuScene& scene, const Light& light,
@@ -105,16 +129,13 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
   int atlasLayer = atlasLayers.first;
   for (int layer = 0; layer < plan.layerCount; ++layer) {
     if ((reach.layers >> layer & 1u) == 0) continue;
+    const TexelRect& rect = reach.texels[static_cast<std::size_t>(layer)];
     glNamedFramebufferTextureLayer(fb, GL_DEPTH_ATTACHMENT, depth.depth.get(), 0,
                                    plan.firstLayer + layer);
-    glNamedFramebufferTextureLayer(fb, GL_COLOR_ATTACHMENT0, atlas_.get(), 0, atlasLayer);
-    // Only the texels that may not hold the cleared value, and only those the casters can reach
-    // are drawn.
-    TexelRect& dirty = dirty_[static_cast<std::size_t>(atlasLayer++)];
-    scissorTo(dirty.united(reach.texels[layer]));
+    attachTarget(rect, atlasLayer, depth.key.resolution);
+    // Only the rectangle is read back: it is all that is cleared and drawn.
+    scissorTo(rect);
     glClearNamedFramebufferfv(fb, GL_COLOR, 0, clear);
-    scissorTo(reach.texels[layer]);
-    dirty = reach.texels[layer];
     program_.set("uView", layer);
     for (std::size_t index = 0; index < scene.draws().size(); ++index) {
       const GpuDraw& draw = scene.draws()[index];
@@ -142,6 +163,15 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4),
           range.baseVertex);
     }
+    if (rect.x0 != 0 || rect.y0 != 0)
+      glCopyImageSubData(scratch_.get(), GL_TEXTURE_2D, 0, rect.x0, rect.y0, 0, atlas_.get(),
+                         GL_TEXTURE_2D_ARRAY, 0, 0, 0, atlasLayer, rect.x1 - rect.x0,
+                         rect.y1 - rect.y0, 1);
+    const glm::ivec4 held(rect.x0, rect.y0, rect.x1, rect.y1);
+    glNamedBufferSubData(rectsBuffer_.get(),
+                         static_cast<GLintptr>(atlasLayer) * static_cast<GLintptr>(sizeof held),
+                         sizeof held, &held);
+    ++atlasLayer;
   }
   gl::RasterState::restoreDefaults();
   glNamedFramebufferTexture(fb, GL_DEPTH_ATTACHMENT, 0, 0);

@@ -33,6 +33,13 @@ struct AtlasLayers {
   bool operator==(const AtlasLayers& other) const = default;
 };
 
+// What the lighting pass reads of the transmittance atlas (TransmittancePass::atlas() and
+// rects()); both 0 while no light has translucent shadows.
+struct TransmittanceAtlas {
+  GLuint layers = 0;
+  GLuint rects = 0;
+};
+
 // Translucent shadows (README, "Translucent shadows"): after the shadow pass has drawn a
 // light's opaque and cut-out casters, draws its translucent casters into the frame's
 // transmittance atlas, one atlas layer per shadow layer they reach. Each layer holds
@@ -43,10 +50,15 @@ struct AtlasLayers {
 // of the glass stay untinted.
 //
 // Only the layers translucent casters reach take atlas layers (3 of 12 for the two point lights
-// of WhackAMole): llvmpipe zeroes a new texture whole, 16 bytes a texel, which made a cube map
-// array per light cost about 50 ms of a first frame. Layers are cleared only where the last
-// pass drew or the casters can draw (llvmpipe clears 16-byte texels one at a time). The
-// lighting pass takes the shadow layers without atlas layers as untinted.
+// of WhackAMole), and each atlas layer holds only the texels its casters can cover (the layer's
+// rectangle of `reach.texels`, from the atlas layer's corner): llvmpipe zeroes a new texture
+// whole, 16 bytes a texel, which made full-size layers cost WhackAMole's first frame about 20
+// ms. The atlas is as large as the largest rectangle. A layer whose rectangle starts at the map's
+// corner is drawn in its atlas layer; any other is drawn in a map-sized scratch layer at the
+// map's own coordinates and then copied, so that every caster is rasterized exactly as in the
+// map (a viewport moved by the rectangle's corner would round window coordinates differently).
+// The lighting pass finds each atlas layer's rectangle in a buffer texture (`rects`), and takes
+// texels outside it, and shadow layers without atlas layers, as untinted.
 class TransmittancePass {
  public:
   TransmittancePass();
@@ -64,17 +76,23 @@ class TransmittancePass {
               const ShadowGroupTextures& depth, const TranslucentReach& reach,
               const AtlasLayers& atlasLayers);
 
-  // GL_TEXTURE_2D_ARRAY, RGBA32F; 0 before any light was placed.
-  GLuint atlas() const { return atlas_.get(); }
+  // layers: GL_TEXTURE_2D_ARRAY, RGBA32F. rects: GL_TEXTURE_BUFFER, RGBA32I, per atlas layer
+  // the rectangle (x0, y0, x1, y1) of its light's shadow layer that it holds from its corner.
+  TransmittanceAtlas atlas() const { return {atlas_.get(), rectsTexture_.get()}; }
 
  private:
+  // Where the layer's casters are drawn: its atlas layer, or the scratch layer.
+  void attachTarget(const TexelRect& rect, int atlasLayer, int resolution);
+
   ShaderProgram program_;
   gl::Framebuffer framebuffer_;
   gl::Texture atlas_;
-  int resolution_ = 0;
-  int layers_ = 0;
-  // Per atlas layer: the texels that may hold something other than (1, 1, 1, 0).
-  std::vector<TexelRect> dirty_;
+  int width_ = 0, height_ = 0, layers_ = 0;
+  gl::Buffer rectsBuffer_;
+  gl::Texture rectsTexture_;
+  // A map-sized GL_TEXTURE_2D, made for the first rectangle off the map's corner.
+  gl::Texture scratch_;
+  int scratchResolution_ = 0;
   // Per light of the last place(): where it was put.
   std::vector<AtlasLayers> placed_;
 };

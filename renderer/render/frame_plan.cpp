@@ -63,8 +63,9 @@ int findDebugLight(const std::vector<Light>& lights, const RenderSettings& setti
 }
 
 // GPU memory of the RGBA32F transmittance atlas (renderer/passes/transmittance_pass.h) at most:
-// every shadow layer of every light with translucent shadows, at the largest of their
-// resolutions (the atlas holds only the layers translucent casters reach).
+// every shadow layer of every light with translucent shadows, and its scratch layer, at the
+// largest of their resolutions (the atlas holds only the layers and texels translucent casters
+// reach).
 double transmittanceBytes(const ShadowAtlasPlan& atlas, const std::vector<Light>& lights,
                           const Scene& scene) {
   const std::vector<bool> translucent = translucentShadowLights(lights, scene);
@@ -76,7 +77,7 @@ double transmittanceBytes(const ShadowAtlasPlan& atlas, const std::vector<Light>
         resolution,
         static_cast<double>(atlas.groups[static_cast<std::size_t>(light.group)].key.resolution));
   }
-  return 16.0 * resolution * resolution * layers;
+  return layers > 0.0 ? 16.0 * resolution * resolution * (layers + 1.0) : 0.0;
 }
 
 }  // namespace
