@@ -261,9 +261,9 @@ TEST(ShadowDraws, BatchesPerViewBucketAndSource) {
   EXPECT_TRUE(perView.opaque[1].world);
   EXPECT_EQ(perView.opaque[2].view, 1);
   EXPECT_EQ(perView.objects, (std::vector<std::uint32_t>{0, 1, 0}));
-  EXPECT_EQ(perView.commands[1].baseVertex, 500);  // world stream copy
+  EXPECT_EQ(perView.commands[1].firstIndex, 500u);  // world stream copy: its own indices
+  EXPECT_EQ(perView.commands[1].baseVertex, 0);
   EXPECT_EQ(perView.commands[1].count, 60u);
-  EXPECT_EQ(perView.commands[1].firstIndex, 30u);
   ASSERT_EQ(perView.masked.size(), 1u);
   EXPECT_EQ(perView.masked[0].view, 0);
   EXPECT_EQ(perView.masked[0].caster, 2);
@@ -287,4 +287,61 @@ TEST(ShadowDraws, BatchesPerViewBucketAndSource) {
     EXPECT_EQ(c.instanceCount, 1u);
     EXPECT_EQ(c.baseInstance, 0u);
   }
+}
+
+// World-space copies that follow each other in the caster stream and go to the same faces share
+// one command; the stream's order (when asked for) decides which copies follow each other, and
+// a caster between them that is not drawn, or goes to other faces, splits the run.
+TEST(ShadowDraws, NeighboursInTheStreamShareACommand) {
+  // Stream order: caster 2 (indices 0-29), caster 0 (30-89), caster 3 (90-179), caster 1
+  // (180-299), caster 4 (300-329).
+  std::vector<ShadowCaster> casters(5);
+  std::vector<CasterGeometry> geometry = {
+      {60, 0, 0, 30}, {120, 0, 0, 180}, {30, 0, 0, 0}, {90, 0, 0, 90}, {30, 0, 0, 300}};
+  CasterCulling culling;
+  culling.viewMask = {0b01u, 0b01u, 0b01u, 0b01u, 0b10u};
+  culling.bucket.assign(5, CullBucket::Ccw);
+
+  const ShadowDrawList streamed =
+      buildShadowDraws(casters, geometry, culling, 6, ShadowLayering::PerView, true);
+  // View 0: casters 2, 0, 3, 1 are indices 0-299, one command; view 1: caster 4 alone.
+  ASSERT_EQ(streamed.commands.size(), 2u);
+  EXPECT_EQ(streamed.commands[0].firstIndex, 0u);
+  EXPECT_EQ(streamed.commands[0].count, 300u);
+  EXPECT_EQ(streamed.commands[1].firstIndex, 300u);
+  EXPECT_EQ(streamed.commands[1].count, 30u);
+  ASSERT_EQ(streamed.opaque.size(), 2u);
+  EXPECT_EQ(streamed.opaque[0].count, 1);
+
+  // In the casters' order (0, 1, 2, 3 in view 0) no caster's indices follow the previous one's:
+  // every caster is its own command.
+  const ShadowDrawList ordered =
+      buildShadowDraws(casters, geometry, culling, 6, ShadowLayering::PerView, false);
+  ASSERT_EQ(ordered.commands.size(), 5u);
+  EXPECT_EQ(ordered.objects, (std::vector<std::uint32_t>{0, 1, 2, 3, 4}));
+
+  // Caster 3 off view 0 splits the run in two: 2 and 0 (0-89), then 1 (180-299).
+  culling.viewMask[3] = 0b10u;
+  const ShadowDrawList split =
+      buildShadowDraws(casters, geometry, culling, 6, ShadowLayering::PerView, true);
+  ASSERT_EQ(split.opaque.size(), 2u);
+  ASSERT_EQ(split.opaque[0].count, 2);
+  EXPECT_EQ(split.commands[0].count, 90u);
+  EXPECT_EQ(split.commands[1].firstIndex, 180u);
+  // View 1: caster 3 (90-179), then caster 4 (300-329): not neighbours.
+  EXPECT_EQ(split.opaque[1].count, 2);
+
+  // Instanced: the same faces merge, other faces do not.
+  culling.viewMask = {0b11u, 0b11u, 0b11u, 0b01u, 0b11u};
+  const ShadowDrawList instanced =
+      buildShadowDraws(casters, geometry, culling, 6, ShadowLayering::Instanced, true);
+  // Stream: 2 and 0 (faces 0-1) merge; 3 (face 0) alone; 1 and 4 (faces 0-1; 1 ends where 4
+  // starts) merge.
+  ASSERT_EQ(instanced.commands.size(), 3u);
+  EXPECT_EQ(instanced.commands[0].count, 90u);
+  EXPECT_EQ(instanced.commands[0].instanceCount, 2u);
+  EXPECT_EQ(instanced.commands[1].count, 90u);
+  EXPECT_EQ(instanced.commands[1].instanceCount, 1u);
+  EXPECT_EQ(instanced.commands[2].firstIndex, 180u);
+  EXPECT_EQ(instanced.commands[2].count, 150u);
 }

@@ -144,24 +144,63 @@ void GpuScene::uploadGeometry(const Scene& scene) {
                        models.data(), 0);
 }
 
+namespace {
+
+// Position along a Z-order curve through the unit cube, 10 bits per axis.
+std::uint32_t zOrder(const glm::vec3& unit) {
+  const auto spread = [](float t) {
+    std::uint32_t v = static_cast<std::uint32_t>(std::clamp(t, 0.0f, 1.0f) * 1023.0f);
+    v = (v | v << 16) & 0x030000FFu;
+    v = (v | v << 8) & 0x0300F00Fu;
+    v = (v | v << 4) & 0x030C30C3u;
+    return (v | v << 2) & 0x09249249u;
+  };
+  return spread(unit.x) | spread(unit.y) << 1 | spread(unit.z) << 2;
+}
+
+}  // namespace
+
 void GpuScene::uploadCasterStream(const Scene& scene) {
   std::vector<std::size_t> instancesOf(scene.meshes.size(), 0);
   for (const GpuDraw& draw : draws_) ++instancesOf[static_cast<std::size_t>(draw.mesh)];
-  std::vector<glm::vec3> world;
-  for (GpuDraw& draw : draws_) {
-    const Mesh& mesh = scene.meshes[static_cast<std::size_t>(draw.mesh)];
-    const std::size_t copies = instancesOf[static_cast<std::size_t>(draw.mesh)];
+  std::vector<std::size_t> copied;
+  Bounds centers;
+  for (std::size_t d = 0; d < draws_.size(); ++d) {
+    const Mesh& mesh = scene.meshes[static_cast<std::size_t>(draws_[d].mesh)];
+    const std::size_t copies = instancesOf[static_cast<std::size_t>(draws_[d].mesh)];
     if (copies > 1 && copies * mesh.positions.size() > kMaxCopiedInstanceVertices) continue;
-    draw.casterBaseVertex = static_cast<GLint>(world.size());
+    copied.push_back(d);
+    centers.extend(draws_[d].boundsCenter);
+  }
+  // Copies near each other in space follow each other in the stream (a Z-order curve through
+  // their bounding spheres' centres), so that the casters one shadow view sees form long runs,
+  // each one command (shadow_draws.h).
+  const glm::vec3 extent = glm::max(centers.max - centers.min, glm::vec3(1e-30f));
+  std::vector<std::uint32_t> key(draws_.size(), 0u);
+  for (const std::size_t d : copied)
+    key[d] = zOrder((draws_[d].boundsCenter - centers.min) / extent);
+  std::stable_sort(copied.begin(), copied.end(),
+                   [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
+  std::vector<glm::vec3> world;
+  std::vector<std::uint32_t> indices;
+  for (const std::size_t d : copied) {
+    GpuDraw& draw = draws_[d];
+    const Mesh& mesh = scene.meshes[static_cast<std::size_t>(draw.mesh)];
+    const auto base = static_cast<std::uint32_t>(world.size());
+    draw.casterFirstIndex = static_cast<GLint>(indices.size());
     for (const glm::vec3& p : mesh.positions) world.emplace_back(draw.world * glm::vec4(p, 1.0f));
+    for (const std::uint32_t i : mesh.indices) indices.push_back(base + i);
   }
   casterPositions_ = gl::createBuffer();
   glNamedBufferStorage(casterPositions_.get(),
                        std::max<GLsizeiptr>(1, world.size() * sizeof(glm::vec3)),
                        world.empty() ? nullptr : world.data(), 0);
+  casterIndices_ = gl::createBuffer();
+  glNamedBufferStorage(casterIndices_.get(), std::max<GLsizeiptr>(1, indices.size() * 4),
+                       indices.empty() ? nullptr : indices.data(), 0);
   const GLuint vao = casterVertexArray_.get();
   glVertexArrayVertexBuffer(vao, 0, casterPositions_.get(), 0, sizeof(glm::vec3));
-  glVertexArrayElementBuffer(vao, indices_.get());
+  glVertexArrayElementBuffer(vao, casterIndices_.get());
   setAttribute(vao, 0, 3, 0);
 }
 

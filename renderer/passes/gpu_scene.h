@@ -33,8 +33,9 @@ struct GpuDraw {
   bool mirrored = false;         // negative determinant: front faces are clockwise
   glm::vec3 boundsCenter{0.0f};  // world-space bounding sphere, for culling
   float boundsRadius = 0.0f;
-  // First vertex of this draw's copy in the world-space caster stream; -1 when it has none.
-  GLint casterBaseVertex = -1;
+  // First index of this draw's copy in the world-space caster stream (casterVertexArray()),
+  // whose indices need no base vertex; -1 when it has none.
+  GLint casterFirstIndex = -1;
 };
 
 // GL textures for one material; 0 where the material has no such texture. For a
@@ -54,10 +55,12 @@ class GpuScene {
   explicit GpuScene(const Scene& scene);
 
   GLuint vertexArray() const { return vertexArray_.get(); }
-  // Positions only (attribute 0), already in world space, with the same index buffer: the
+  // Positions only (attribute 0), already in world space, with an index buffer of its own: the
   // shadow pass draws opaque casters from it without a transform per vertex. Holds a copy per
   // draw of each mesh drawn once, and of meshes small enough to copy for all their instances
-  // (GpuDraw::casterBaseVertex); the other draws use vertexArray() and modelBuffer().
+  // (GpuDraw::casterFirstIndex); the other draws use vertexArray() and modelBuffer(). The
+  // copies' triangles follow each other in draw order, their indices counted from the stream's
+  // first vertex, so that consecutive draws are one range of indices: one draw call.
   GLuint casterVertexArray() const { return casterVertexArray_.get(); }
   // std430 array of mat4: draws()[i].world at index i.
   GLuint modelBuffer() const { return models_.get(); }
@@ -75,7 +78,7 @@ class GpuScene {
   GLuint samplerFor(const Scene& scene, const TextureSlot& slot);
 
   gl::VertexArray vertexArray_, casterVertexArray_;
-  gl::Buffer vertices_, indices_, models_, casterPositions_;
+  gl::Buffer vertices_, indices_, models_, casterPositions_, casterIndices_;
   std::vector<gl::Texture> textures_;  // indexed by 2 * image + srgb
   std::vector<gl::Sampler> samplers_;  // indexed by texture
   std::vector<GpuMeshRange> meshes_;

@@ -77,7 +77,7 @@ void describeCasters(const GpuScene& scene, std::vector<ShadowCaster>& casters,
                        draw.mirrored});
     geometry.push_back({static_cast<std::uint32_t>(range.indexCount),
                         static_cast<std::uint32_t>(range.firstIndex), range.baseVertex,
-                        draw.casterBaseVertex});
+                        draw.casterFirstIndex});
   }
 }
 
@@ -131,7 +131,7 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
       if (isTranslucentCaster(scene.materials()[scene.draws()[c].material].desc))
         culling.viewMask[c] = 0;
   const ShadowDrawList draws =
-      buildShadowDraws(casters, geometry, culling, plan.layerCount, layering);
+      buildShadowDraws(casters, geometry, culling, plan.layerCount, layering, !moments);
   commands_.upload(draws.commands);
   drawObjects_.upload(draws.objects);
 

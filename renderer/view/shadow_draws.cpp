@@ -1,5 +1,8 @@
 #include "renderer/view/shadow_draws.h"
 
+#include <algorithm>
+#include <numeric>
+
 namespace omnishadow {
 namespace {
 
@@ -24,24 +27,45 @@ int passViewEnd(ShadowLayering layering, int views) {
 
 ShadowDrawList buildShadowDraws(const std::vector<ShadowCaster>& casters,
                                 const std::vector<CasterGeometry>& geometry,
-                                const CasterCulling& culling, int views, ShadowLayering layering) {
+                                const CasterCulling& culling, int views, ShadowLayering layering,
+                                bool streamOrder) {
+  std::vector<std::size_t> casterOrder(casters.size());
+  std::iota(casterOrder.begin(), casterOrder.end(), std::size_t{0});
+  std::vector<std::size_t> worldOrder = casterOrder;
+  if (streamOrder)
+    std::stable_sort(worldOrder.begin(), worldOrder.end(), [&](std::size_t a, std::size_t b) {
+      return geometry[a].casterFirstIndex < geometry[b].casterFirstIndex;
+    });
   ShadowDrawList list;
   for (int view = firstPassView(layering); view < passViewEnd(layering, views); ++view)
     for (int bucket = 0; bucket < kCullBucketCount; ++bucket)
       for (const bool world : {true, false}) {
         const int first = static_cast<int>(list.objects.size());
-        for (std::size_t c = 0; c < casters.size(); ++c) {
+        for (const std::size_t c : world ? worldOrder : casterOrder) {
           const CasterGeometry& g = geometry[c];
           if (casters[c].masked || culling.bucket[c] != static_cast<CullBucket>(bucket) ||
-              (g.casterBaseVertex >= 0) != world || !drawnIn(view, culling.viewMask[c]))
+              (g.casterFirstIndex >= 0) != world || !drawnIn(view, culling.viewMask[c]))
             continue;
           // Runs of consecutive faces become one command each.
           forEachFaceRun(
               instancesIn(layering, view, culling.viewMask[c]), views,
               [&](int firstInstance, int count) {
-                list.commands.push_back({g.indexCount, static_cast<std::uint32_t>(count),
-                                         g.firstIndex, world ? g.casterBaseVertex : g.baseVertex,
-                                         static_cast<std::uint32_t>(firstInstance)});
+                const IndirectDrawCommand command{
+                    g.indexCount, static_cast<std::uint32_t>(count),
+                    world ? static_cast<std::uint32_t>(g.casterFirstIndex) : g.firstIndex,
+                    world ? 0 : g.baseVertex, static_cast<std::uint32_t>(firstInstance)};
+                // World-space copies that follow each other in the stream, for the same faces,
+                // extend the batch's last command: llvmpipe spends microseconds per command.
+                if (world && static_cast<int>(list.objects.size()) > first) {
+                  IndirectDrawCommand& last = list.commands.back();
+                  if (last.firstIndex + last.count == command.firstIndex &&
+                      last.instanceCount == command.instanceCount &&
+                      last.baseInstance == command.baseInstance) {
+                    last.count += command.count;
+                    return;
+                  }
+                }
+                list.commands.push_back(command);
                 list.objects.push_back(static_cast<std::uint32_t>(c));
               });
         }

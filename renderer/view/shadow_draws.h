@@ -49,8 +49,9 @@ struct CasterGeometry {
   std::uint32_t indexCount = 0;
   std::uint32_t firstIndex = 0;  // in indices
   std::int32_t baseVertex = 0;
-  // First vertex of the caster's copy in the world-space caster stream; -1 when it has none.
-  std::int32_t casterBaseVertex = -1;
+  // First index of the caster's copy in the world-space caster stream, whose indices need no
+  // base vertex; -1 when it has none.
+  std::int32_t casterFirstIndex = -1;
 };
 
 // One multi-draw: commands [first, first + count) of one culling state, view and vertex source.
@@ -70,7 +71,9 @@ struct MaskedShadowDraw {
 };
 
 struct ShadowDrawList {
-  // The shader finds a command's caster (its transform) at objects[batch.first + drawID].
+  // The shader finds a command's caster (its transform) at objects[batch.first + drawID]; a
+  // command of a world batch may cover several casters (the first is named), which the shader
+  // needs no transform for.
   std::vector<IndirectDrawCommand> commands;
   std::vector<std::uint32_t> objects;
   std::vector<OpaqueShadowBatch> opaque;  // in drawing order
@@ -81,8 +84,14 @@ struct ShadowDrawList {
 int firstPassView(ShadowLayering layering);
 int passViewEnd(ShadowLayering layering, int views);
 
+// Casters from the world-space stream are drawn in the stream's order when `streamOrder` (the
+// GpuScene keeps neighbours in space together there), else in the casters' order; either way
+// copies that follow each other in the stream, for the same faces, share one command. A depth
+// map does not depend on the order its triangles are drawn in; moments do, where two casters
+// tie for the nearest depth.
 ShadowDrawList buildShadowDraws(const std::vector<ShadowCaster>& casters,
                                 const std::vector<CasterGeometry>& geometry,
-                                const CasterCulling& culling, int views, ShadowLayering layering);
+                                const CasterCulling& culling, int views, ShadowLayering layering,
+                                bool streamOrder = false);
 
 }  // namespace omnishadow
