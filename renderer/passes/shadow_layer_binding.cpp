@@ -63,7 +63,7 @@ void ShadowLayerBinding::bind(int layer) {
   else
     glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, 0, 0);
   if (!cleared_[static_cast<std::size_t>(layer)]) {
-    // Moments layers are written whole, so they are also cleared whole.
+    // Moments layers are written whole (drawn()), so they are cleared whole unless prepared.
     clear(written(layer));
     written(layer) = drawn(layer);
     cleared_[static_cast<std::size_t>(layer)] = true;
