@@ -33,8 +33,8 @@ struct AtlasLayers {
   bool operator==(const AtlasLayers& other) const = default;
 };
 
-// What the lighting pass reads of the transmittance atlas (TransmittancePass::atlas() and
-// rects()); both 0 while no light has translucent shadows.
+// What the lighting pass reads of the transmittance atlas (TransmittancePass::atlas()); both 0
+// while no light has translucent shadows.
 struct TransmittanceAtlas {
   GLuint layers = 0;
   GLuint rects = 0;
@@ -52,7 +52,7 @@ struct TransmittanceAtlas {
 // Only the layers translucent casters reach take atlas layers (3 of 12 for the two point lights
 // of WhackAMole), and each atlas layer holds only the texels its casters can cover (the layer's
 // rectangle of `reach.texels`, from the atlas layer's corner): llvmpipe zeroes a new texture
-// whole, 16 bytes a texel, which made full-size layers cost WhackAMole's first frame about 20
+// whole, 16 bytes a texel, which made full-size layers cost WhackAMole's first frame about 40
 // ms. The atlas is as large as the largest rectangle. A layer whose rectangle starts at the map's
 // corner is drawn in its atlas layer; any other is drawn in a map-sized scratch layer at the
 // map's own coordinates and then copied, so that every caster is rasterized exactly as in the
