@@ -297,6 +297,13 @@ RenderSettings renderSettings(const RenderJob& job) {
 
 void prepareJob(Renderer& renderer, const RenderJob& job) {
   if (job.lights.empty()) return;  // the lights are the scene's or a headlight
+  // A guess spends little: lights files are kilobytes (the loader reads this one again), and
+  // the warm-up's 256 MiB cover what is prepared.
+  constexpr std::uintmax_t kMaxGuessedLightsFileBytes = 1 << 20;
+  constexpr double kPrepareBudgetMiB = 256.0;
+  std::error_code error;
+  const std::uintmax_t size = fs::file_size(job.lights, error);
+  if (error || size > kMaxGuessedLightsFileBytes) return;
   std::vector<Light> lights;
   try {
     std::vector<std::string> warnings;
@@ -307,7 +314,8 @@ void prepareJob(Renderer& renderer, const RenderJob& job) {
   if (lights.empty()) return;
   try {
     renderer.prepare(lights, job.camera.width.value_or(kDefaultWidth),
-                     job.camera.height.value_or(kDefaultHeight), renderSettings(job));
+                     job.camera.height.value_or(kDefaultHeight), renderSettings(job),
+                     kPrepareBudgetMiB);
   } catch (const RenderError&) {
     // The render meets it again, after the load, whose errors come first.
   }

@@ -78,8 +78,9 @@ std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> tim
                                  LoadedJob& loaded);
 
 // What a render of `job` can do while its scene loads (Renderer::prepare): when a lights file
-// is given, prepares for its lights (as if the scene had none of its own) at the job's size.
-// Reports nothing: what fails here fails again, and is reported, when the job is loaded.
+// is given, prepares for its lights (as if the scene had none of its own) at the job's size, up
+// to 256 MiB. Reports nothing: what fails here fails again, and is reported, when the job is
+// loaded.
 void prepareJob(Renderer& renderer, const RenderJob& job);
 
 // Renders on the renderer's (GL) thread. Throws InputError for limits of this GL. The frame's

@@ -818,15 +818,16 @@ TEST(Shadows, PreparedMapsHoldNoDepthOfAnEarlierRender) {
   Renderer& renderer = sharedRenderer();
   const std::vector<CubeDistances> first = renderer.renderShadowDistances(boxAt(was), lamp);
   EXPECT_GT(countBelow(first.at(0), glm::length(was) + radius), 100);
-  renderer.prepare(lamp, 32, 24, RenderSettings{});
+  EXPECT_GT(renderer.prepare(lamp, 32, 24, RenderSettings{}, 64.0), 0.0);
   const std::vector<CubeDistances> second = renderer.renderShadowDistances(boxAt(is), lamp);
   EXPECT_EQ(countBelow(second.at(0), -is.y - radius), 0);
   EXPECT_GT(countBelow(second.at(0), glm::length(is) + radius), 100);
 }
 
-// A render draws the same picture whether the renderer was prepared for it or not, and what
-// render() refuses, prepare() passes over quietly. Two scenes take turns, so that each render
-// misses the shadow cache and takes its maps from the pool: the prepared ones when there are.
+// A render draws the same picture whether the renderer was prepared for it or not; prepare()
+// keeps to its budget, and passes over what render() refuses. Two scenes take turns, so that each
+// render misses the shadow cache and takes its maps from the pool: the prepared ones when there
+// are.
 TEST(Shadows, PreparingChangesNoPixelAndRefusesNothing) {
   const auto sceneWithBoxAt = [](glm::vec3 at) {
     Scene scene;
@@ -850,18 +851,25 @@ TEST(Shadows, PreparingChangesNoPixelAndRefusesNothing) {
     return renderer.render(scene, lights, glm::vec3(0.02f), camera, settings, times).beauty.pixels;
   };
   const std::vector<float> plainA = draw(a), plainB = draw(b);
-  renderer.prepare(lights, camera.width, camera.height, settings);
+  // A 200^2 cube map and spot map, depth and moments, and an 80x60 beauty target.
+  const double bytes = renderer.prepare(lights, camera.width, camera.height, settings, 64.0);
+  EXPECT_GT(bytes, 6.0 * 200 * 200 * 4);
   EXPECT_EQ(draw(a), plainA);
-  renderer.prepare({lights.front()}, 40, 30, settings);  // other lights, another size
+  // Other lights, another size.
+  EXPECT_GT(renderer.prepare({lights.front()}, 40, 30, settings, 64.0), 0.0);
   EXPECT_EQ(draw(b), plainB);
 
+  // Above the budget nothing is prepared; what render() refuses is neither prepared nor thrown.
+  EXPECT_EQ(renderer.prepare(lights, camera.width, camera.height, settings,
+                             0.999 * bytes / (1024.0 * 1024.0)),
+            0.0);
   std::vector<Light> huge = lights;
   huge.front().shadow.resolution = renderer.limits().maxCubeMapSize * 2;
-  EXPECT_NO_THROW(renderer.prepare(huge, camera.width, camera.height, settings));
+  EXPECT_EQ(renderer.prepare(huge, camera.width, camera.height, settings, 64.0), 0.0);
   EXPECT_THROW(renderer.render(a, huge, glm::vec3(0.02f), camera, settings, times), InputError);
   RenderSettings tight = settings;
   tight.maxShadowMemoryMiB = 0.01;
-  EXPECT_NO_THROW(renderer.prepare(lights, camera.width, camera.height, tight));
+  EXPECT_EQ(renderer.prepare(lights, camera.width, camera.height, tight, 64.0), 0.0);
   EXPECT_THROW(renderer.render(a, lights, glm::vec3(0.02f), camera, tight, times), InputError);
 }
 

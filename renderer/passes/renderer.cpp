@@ -119,8 +119,8 @@ class Renderer::Impl {
   std::vector<CubeDistances> renderShadowDistances(const Scene& scene,
                                                    const std::vector<Light>& lights,
                                                    ShadowPassStrategy strategy);
-  void prepare(const std::vector<Light>& lights, int width, int height,
-               const RenderSettings& settings);
+  double prepare(const std::vector<Light>& lights, int width, int height,
+                 const RenderSettings& settings, double budgetMiB);
 
   const RenderLimits& limits() const { return limits_; }
   const EglContext& context() const { return context_; }
@@ -706,8 +706,8 @@ std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(const Scene& sc
   return out;
 }
 
-void Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int height,
-                             const RenderSettings& settings) {
+double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int height,
+                               const RenderSettings& settings, double budgetMiB) {
   // The checks render() makes, on a stand-in scene: the shadow groups and the frame targets
   // depend on the lights and the frame size, not on the scene.
   Scene standIn;
@@ -720,16 +720,21 @@ void Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int he
   try {
     plan = planFrame(standIn, lights, camera, settings, limits_);
   } catch (const InputError&) {
-    return;  // render() says why
+    return 0.0;  // render() says why
   }
+  const bool beauty =
+      !settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1;
+  const double bytes =
+      plan.shadows.bytes + (beauty ? FrameTargets::bytes(width, height, PassOutputs::Beauty) : 0.0);
+  if (bytes > budgetMiB * 1024.0 * 1024.0) return 0.0;
   for (const ShadowGroupPlan& group : plan.shadows.groups) {
     ShadowGroupTextures textures = shadowTextures_.take(group);
     clearShadowTextures(textures);
     shadowTextures_.give(std::move(textures));
   }
-  if (!settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1)
-    beautyTargets(width, height);
+  if (beauty) beautyTargets(width, height);
   glFlush();  // the clears start in the rasterizer threads now
+  return bytes;
 }
 
 Renderer::Renderer(const ContextOptions& options) : impl_(std::make_unique<Impl>(options)) {}
@@ -759,9 +764,9 @@ std::vector<CubeDistances> Renderer::renderShadowDistances(const Scene& scene,
   return impl_->renderShadowDistances(scene, lights, strategy);
 }
 
-void Renderer::prepare(const std::vector<Light>& lights, int width, int height,
-                       const RenderSettings& settings) {
-  impl_->prepare(lights, width, height, settings);
+double Renderer::prepare(const std::vector<Light>& lights, int width, int height,
+                         const RenderSettings& settings, double budgetMiB) {
+  return impl_->prepare(lights, width, height, settings, budgetMiB);
 }
 
 }  // namespace omnishadow

@@ -41,10 +41,11 @@ class Renderer {
   // Does ahead of render() what needs no scene: allocates and clears the shadow maps of
   // `lights` and the beauty targets of a width x height frame, where the next render() that
   // needs them takes them. For time that would otherwise be spent waiting (the scene loading);
-  // a render with other lights or another size leaves them unused. What render() would refuse
-  // is not prepared and not reported here.
-  void prepare(const std::vector<Light>& lights, int width, int height,
-               const RenderSettings& settings);
+  // a render with other lights or another size leaves them unused. Nothing is prepared when it
+  // would take more than `budgetMiB`, or when render() would refuse the lights or the size
+  // (render() reports that). Returns the bytes it prepared.
+  double prepare(const std::vector<Light>& lights, int width, int height,
+                 const RenderSettings& settings, double budgetMiB);
 
   // Depth cube maps of the shadowed point lights, as distances, e.g. for tests.
   std::vector<CubeDistances> renderShadowDistances(
