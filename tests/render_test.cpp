@@ -92,6 +92,15 @@ AovPixel pixelAt(const FloatImage& aovs, int x, int y, const std::string& light)
 }
 
 // Slab test: does the segment from `from` to `to` pass through the box?
+// A lone box, 0.4 m a side, centred at `at`: a caster whose bounding sphere (radius
+// 0.2 sqrt(3)) covers only part of a shadow view.
+Scene loneBoxAt(glm::vec3 at) {
+  Scene scene;
+  addObject(scene, builder::makeBox({0.2f, 0.2f, 0.2f}), translate(at),
+            addMaterial(scene, glm::vec4(0.8f)));
+  return scene;
+}
+
 bool segmentHitsBox(glm::vec3 from, glm::vec3 to, glm::vec3 boxMin, glm::vec3 boxMax) {
   const glm::vec3 d = to - from;
   float t0 = 0.0f, t1 = 1.0f;
@@ -763,17 +772,11 @@ TEST(Shadows, ACasterThatMovedBetweenRendersLeavesNoDepthWhereItWas) {
   spot.type = LightType::Spot;
   spot.direction = {0, -1, 0};
   spot.outerConeAngle = 0.7f;
-  const auto boxAt = [](glm::vec3 at) {
-    Scene scene;
-    addObject(scene, builder::makeBox({0.2f, 0.2f, 0.2f}), translate(at),
-              addMaterial(scene, glm::vec4(0.8f)));
-    return scene;
-  };
   const glm::vec3 was{0.3f, -1.5f, 0.2f}, is{-0.5f, -3.0f, -0.4f};  // both below: face -Y
   RenderSettings settings;
   settings.readShadowMaps = true;
   StageTimes times;
-  const Scene before = boxAt(was), after = boxAt(is);
+  const Scene before = loneBoxAt(was), after = loneBoxAt(is);
   const ViewCamera camera = lookFrom(after, {0, 2, 4}, {0, -2, 0}, 32, 24);
   const Frame first =
       sharedRenderer().render(before, {lamp, spot}, glm::vec3(0.0f), camera, settings, times);
@@ -801,12 +804,6 @@ TEST(Shadows, ACasterThatMovedBetweenRendersLeavesNoDepthWhereItWas) {
 // of them after it. (A resolution no other test uses keeps the pool's other maps out of it.)
 TEST(Shadows, PreparedMapsHoldNoDepthOfAnEarlierRender) {
   const std::vector<Light> lamp = {pointLight("lamp", {0, 0, 0}, ShadowFilter::Hard, 136)};
-  const auto boxAt = [](glm::vec3 at) {
-    Scene scene;
-    addObject(scene, builder::makeBox({0.2f, 0.2f, 0.2f}), translate(at),
-              addMaterial(scene, glm::vec4(0.8f)));
-    return scene;
-  };
   const glm::vec3 was{0.3f, -1.5f, 0.2f}, is{-0.5f, -3.0f, -0.4f};  // both below: face -Y
   const float radius = 0.2f * std::sqrt(3.0f);
   const auto countBelow = [](const CubeDistances& cube, float limit) {
@@ -816,10 +813,10 @@ TEST(Shadows, PreparedMapsHoldNoDepthOfAnEarlierRender) {
     return n;
   };
   Renderer& renderer = sharedRenderer();
-  const std::vector<CubeDistances> first = renderer.renderShadowDistances(boxAt(was), lamp);
+  const std::vector<CubeDistances> first = renderer.renderShadowDistances(loneBoxAt(was), lamp);
   EXPECT_GT(countBelow(first.at(0), glm::length(was) + radius), 100);
   EXPECT_GT(renderer.prepare(lamp, 32, 24, RenderSettings{}, 64.0), 0.0);
-  const std::vector<CubeDistances> second = renderer.renderShadowDistances(boxAt(is), lamp);
+  const std::vector<CubeDistances> second = renderer.renderShadowDistances(loneBoxAt(is), lamp);
   EXPECT_EQ(countBelow(second.at(0), -is.y - radius), 0);
   EXPECT_GT(countBelow(second.at(0), glm::length(is) + radius), 100);
 }
