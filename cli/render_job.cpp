@@ -290,6 +290,8 @@ RenderSettings renderSettings(const RenderJob& job) {
   settings.maxAovMemoryMiB = job.maxMemoryMiB;
   settings.shadowPass = job.shadowPass;
   settings.antialiasing = job.antialiasing;
+  // Only PNGs of the beauty: the lighting pass may encode their bytes itself.
+  if (!job.png.empty() && job.exr.empty()) settings.srgb8Exposure = job.exposure;
   return settings;
 }
 
@@ -335,10 +337,13 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
     written.push_back(path);
     return transaction.stage(path);
   };
-  const int width = frame.beauty.width, height = frame.beauty.height;
-  if (!job.png.empty()) {
+  if (frame.srgb8) {
+    for (const fs::path& path : job.png)
+      writePng(stage(path), frame.srgb8->width, frame.srgb8->height, 3, frame.srgb8->rgb);
+  } else if (!job.png.empty()) {
     const std::vector<std::uint8_t> srgb = toSrgb8(frame.beauty, job.exposure);
-    for (const fs::path& path : job.png) writePng(stage(path), width, height, 3, srgb);
+    for (const fs::path& path : job.png)
+      writePng(stage(path), frame.beauty.width, frame.beauty.height, 3, srgb);
   }
   const ExrCameraAttributes camera = exrCameraAttributes(loaded.camera);
   if (!job.exr.empty()) {

@@ -1,10 +1,13 @@
 // Lighting pass: material, all lights in one loop, shadows, and the AOVs.
 // Variants: SHADING_PHONG (Blinn-Phong instead of metallic-roughness), WRITE_AOVS (position,
 // normal, distance, visibility), WRITE_LAYERS (material layers or one light's diffuse and
-// specular, chosen by uLayerMode).
+// specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes).
 #include "lights.glsl"
 #include "brdf.glsl"
 #include "shadows.glsl"
+#ifdef WRITE_SRGB8
+#include "srgb8_encode.glsl"
+#endif
 
 in VertexData {
   vec3 worldPosition;
@@ -92,7 +95,13 @@ uniform vec3 uAmbient;
 uniform int uDebugView;  // DEBUG_VIEW_*: DebugView in renderer/render/render_settings.h
 uniform int uDebugLight;  // the light --debug-view depth shows
 
+#ifdef WRITE_SRGB8
+// 2^exposure times the beauty, encoded as toSrgb8() encodes the float beauty; A unused.
+layout(location = 0) out uvec4 outBeauty;
+uniform float uExposureScale;
+#else
 layout(location = 0) out vec4 outBeauty;
+#endif
 #ifdef WRITE_AOVS
 layout(location = 1) out vec4 outPositionDistance;  // P.xyz, camera distance
 layout(location = 2) out vec4 outNormal;            // shading normal facing the camera
@@ -261,7 +270,12 @@ void main() {
   if (uDebugView == DEBUG_VIEW_ALBEDO) color = baseColor.rgb;
   if (uDebugView == DEBUG_VIEW_CASCADE) color = cascadeDebugColor(debugCascade, color);
   if (uDebugView == DEBUG_VIEW_LIGHT_COUNT) color = vec3(float(contributing) / float(max(uLightCount, 1)));
+#ifdef WRITE_SRGB8
+  // The float the RGBA32F target would hold, scaled as the CPU scales it: the same products.
+  outBeauty = srgb8((color * alpha) * uExposureScale);
+#else
   outBeauty = vec4(color * alpha, alpha);  // premultiplied, A = coverage
+#endif
 #ifdef WRITE_AOVS
   outPositionDistance = vec4(vIn.worldPosition, cameraDistance);
   outNormal = vec4(facingNormal, 1.0);

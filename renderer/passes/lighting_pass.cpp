@@ -1,6 +1,7 @@
 #include "renderer/passes/lighting_pass.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
+#include "renderer/scene/srgb_transfer.h"
 
 namespace omnishadow {
 namespace {
@@ -47,6 +49,7 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if (shading == Shading::Phong) defines.push_back("SHADING_PHONG");
   if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
+  if (outputs == PassOutputs::Srgb8) defines.push_back("WRITE_SRGB8");
   return contract::withShaderContract(std::move(defines));
 }
 
@@ -59,6 +62,7 @@ std::string hex(GLenum value) {
 int attachmentsFor(PassOutputs outputs) {
   switch (outputs) {
     case PassOutputs::Beauty:
+    case PassOutputs::Srgb8:
       return 1;
     case PassOutputs::Aovs:
       return 3 + kVisibilityPerPass / 4;
@@ -168,11 +172,12 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
 }  // namespace
 
 FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
-    : width_(width), height_(height), framebuffer_(gl::createFramebuffer()) {
+    : width_(width), height_(height), outputs_(outputs), framebuffer_(gl::createFramebuffer()) {
   const int count = attachmentsFor(outputs);
   std::vector<GLenum> drawBuffers;
   for (int i = 0; i < count; ++i) {
-    colors_.push_back(makeTarget(GL_RGBA32F, width, height));
+    colors_.push_back(
+        makeTarget(outputs == PassOutputs::Srgb8 ? GL_RGBA8UI : GL_RGBA32F, width, height));
     glNamedFramebufferTexture(framebuffer_.get(), GL_COLOR_ATTACHMENT0 + i, colors_.back().get(),
                               0);
     drawBuffers.push_back(GL_COLOR_ATTACHMENT0 + i);
@@ -188,7 +193,8 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
 
 double FrameTargets::bytes(int width, int height, PassOutputs outputs) {
   const double texels = static_cast<double>(width) * height;
-  return texels * static_cast<double>(attachmentsFor(outputs) * 4 * sizeof(float) + sizeof(float));
+  const double texel = outputs == PassOutputs::Srgb8 ? 4.0 : 4.0 * sizeof(float);
+  return texels * (attachmentsFor(outputs) * texel + sizeof(float));
 }
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {
@@ -234,7 +240,12 @@ const ShaderProgram& LightingPass::program(unsigned variant) {
   programs_.emplace_back(variant, std::make_unique<ShaderProgram>(
                                       "scene.vert", "lighting.frag",
                                       variantDefines(shading_, outputs_, features_, variant)));
-  return *programs_.back().second;
+  const ShaderProgram& made = *programs_.back().second;
+  if (outputs_ == PassOutputs::Srgb8) {
+    const std::array<float, 256>& steps = srgb8Steps();
+    made.set("uSrgb8Next", steps.data(), static_cast<int>(steps.size()));
+  }
+  return made;
 }
 
 void LightingPass::compileMaterialVariants(const GpuScene& scene) {
@@ -366,6 +377,7 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
     program.set("uVisibilityBase", parameters.visibilityBase);
     program.set("uVisibilityRgb", parameters.visibilityRgb ? 1 : 0);
   }
+  if (outputs_ == PassOutputs::Srgb8) program.set("uExposureScale", parameters.exposureScale);
   if (outputs_ == PassOutputs::Layers) {
     program.set("uLayerMode", parameters.layerMode);
     program.set("uLayerLight", parameters.layerLight);
@@ -399,6 +411,10 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
                             : mode == AlphaMode::Mask ? DrawSet::Masked
                                                       : DrawSet::Blended;
     if (drawSet != set) continue;
+    // GL does not blend into integer targets: the renderer gives frames with blended surfaces
+    // the float target.
+    if (drawSet == DrawSet::Blended && outputs_ == PassOutputs::Srgb8)
+      throw std::logic_error("the 8-bit beauty pass cannot draw blended surfaces");
     if (lighting) {
       const unsigned variant = materialVariant(material);
       const ShaderProgram& wanted = program(variant);
@@ -468,7 +484,12 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
                          : outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0
                              ? noIds
                              : zero;
-    glClearNamedFramebufferfv(targets.framebuffer(), GL_COLOR, i, value);
+    if (outputs_ == PassOutputs::Srgb8) {
+      const GLuint black[4] = {0, 0, 0, 0};
+      glClearNamedFramebufferuiv(targets.framebuffer(), GL_COLOR, i, black);
+    } else {
+      glClearNamedFramebufferfv(targets.framebuffer(), GL_COLOR, i, value);
+    }
   }
   const float clearDepth = 0.0f;
   glClearNamedFramebufferfv(targets.framebuffer(), GL_DEPTH, 0, &clearDepth);

@@ -20,6 +20,10 @@ namespace omnishadow {
 // Which render targets a lighting pass variant writes besides the beauty.
 enum class PassOutputs {
   Beauty,  // attachment 0 only
+  // Attachment 0 only, RGBA8UI: the beauty times 2^exposure as the 8-bit sRGB bytes toSrgb8()
+  // makes of the float one (shaders/srgb8_encode.glsl). A quarter of the float target's bytes
+  // to clear and read back; it cannot blend, so only for frames without blended surfaces.
+  Srgb8,
   Aovs,    // + position/distance, normal, visibility of 20 lights
   Layers,  // + two layer targets: material layers or one light's diffuse and specular
 };
@@ -40,6 +44,7 @@ struct PassParameters {
   // transmittance.<light> AOVs) of kRgbVisibilityPerPass lights from visibilityBase on, R, G, B
   // of each in turn, instead of the scalar terms of kVisibilityPerPass lights.
   bool visibilityRgb = false;
+  float exposureScale = 1.0f;  // Srgb8: 2^exposure
 };
 
 // How many lights one lighting pass reports visibility for (one per channel of RGBA32F targets).
@@ -59,23 +64,26 @@ struct ShadedLight {
 // The frame's shadow textures, indexed like ShadowAtlasPlan::groups.
 using ShadowGroups = std::vector<ShadowGroupTextures>;
 
-// Render targets of one frame, RGBA32F each: 0 is linear premultiplied RGBA; for Aovs also
+// Render targets of one frame, RGBA32F each (Srgb8: RGBA8UI): 0 is linear premultiplied RGBA
+// (Srgb8: its sRGB bytes); for Aovs also
 // 1: world position + camera distance, 2: camera-facing normal, 3..7: visibility of 20 lights;
 // for Layers 1 and 2 hold the layer values.
 class FrameTargets {
  public:
   FrameTargets(int width, int height, PassOutputs outputs);
-  // The bytes such targets take (RGBA32F colors and a 32-bit depth), for checks made before
+  // The bytes such targets take (their colors and a 32-bit depth), for checks made before
   // any of them is allocated.
   static double bytes(int width, int height, PassOutputs outputs);
   GLuint framebuffer() const { return framebuffer_.get(); }
   GLuint color(int attachment) const { return colors_[attachment].get(); }
   int attachmentCount() const { return static_cast<int>(colors_.size()); }
+  PassOutputs outputs() const { return outputs_; }
   int width() const { return width_; }
   int height() const { return height_; }
 
  private:
   int width_, height_;
+  PassOutputs outputs_;
   gl::Framebuffer framebuffer_;
   std::vector<gl::Texture> colors_;
   gl::Texture depth_;

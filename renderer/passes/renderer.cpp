@@ -59,6 +59,36 @@ std::vector<float> readAttachment(const FrameTargets& targets, int index, bool g
   return pixels;
 }
 
+// The RGB bytes of an Srgb8 target, first row = top.
+Srgb8Image readSrgb8(const FrameTargets& targets, bool glRowOrder) {
+  const int w = targets.width(), h = targets.height();
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * h * 4);
+  glGetTextureImage(targets.color(0), 0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
+                    static_cast<GLsizei>(rgba.size()), rgba.data());
+  Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
+  // The copy into RGB turns the rows around too.
+  for (int y = 0; y < h; ++y) {
+    const std::uint8_t* from =
+        rgba.data() + static_cast<std::size_t>(glRowOrder ? y : h - 1 - y) * w * 4;
+    std::uint8_t* to = image.rgb.data() + static_cast<std::size_t>(y) * w * 3;
+    for (int x = 0; x < w; ++x, from += 4, to += 3) {
+      to[0] = from[0];
+      to[1] = from[1];
+      to[2] = from[2];
+    }
+  }
+  return image;
+}
+
+// Whether the lighting pass can encode the frame's beauty into 8-bit sRGB itself
+// (RenderSettings::srgb8Exposure): a single sample, no AOVs, and nothing to blend, which an
+// integer target cannot.
+bool encodesSrgb8(const Scene& scene, const RenderSettings& settings) {
+  if (!settings.srgb8Exposure || settings.aovs || settings.antialiasing != 1) return false;
+  return std::none_of(scene.materials.begin(), scene.materials.end(),
+                      [](const Material& m) { return m.alphaMode == AlphaMode::Blend; });
+}
+
 // Copies `count` channels starting at `from` of an RGBA buffer into the image from `to` on.
 void copyChannels(const std::vector<float>& rgba, int from, int count, FloatImage& image, int to) {
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
@@ -129,7 +159,7 @@ class Renderer::Impl {
   struct Prepared;
   LightingPass& lightingPass(Shading shading, PassOutputs outputs,
                              const LightingFeatures& features);
-  FrameTargets& beautyTargets(int width, int height);
+  FrameTargets& beautyTargets(int width, int height, PassOutputs outputs);
   void renderShadows(Prepared& prepared, ShadowAtlasPlan plan, const Scene& scene,
                      const std::vector<Light>& lights, const RenderSettings& settings,
                      bool useCache, Frame* frame);
@@ -142,6 +172,9 @@ class Renderer::Impl {
   FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                         const RenderSettings& settings, const PassParameters& parameters,
                         StageTimes* times);
+  Srgb8Image drawSrgb8(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                       const RenderSettings& settings, PassParameters parameters,
+                       StageTimes& times);
   FloatImage drawAntialiasedBeauty(Prepared& prepared, const ViewCamera& camera,
                                    const glm::vec3& ambient, const RenderSettings& settings,
                                    const PassParameters& parameters, StageTimes& times);
@@ -193,6 +226,7 @@ struct Renderer::Impl::Prepared {
   GpuScene gpu;
   Bounds bounds;  // the scene's, for defaults that follow its scale
   LightingFeatures features;
+  PassOutputs beautyOutputs = PassOutputs::Beauty;  // Srgb8 where encodesSrgb8()
   std::uint64_t fingerprint = 0;  // shadowFingerprint() when the shadow cache is used
   ShadowAtlasPlan atlas;
   ShadowGroups groups;  // indexed like atlas.groups
@@ -370,10 +404,11 @@ LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
   return *lightingPasses_.back().second;
 }
 
-FrameTargets& Renderer::Impl::beautyTargets(int width, int height) {
-  if (!beautyTargets_ || beautyTargets_->width() != width || beautyTargets_->height() != height) {
+FrameTargets& Renderer::Impl::beautyTargets(int width, int height, PassOutputs outputs) {
+  if (!beautyTargets_ || beautyTargets_->width() != width || beautyTargets_->height() != height ||
+      beautyTargets_->outputs() != outputs) {
     beautyTargets_.reset();  // the old one goes before the new one takes its memory
-    beautyTargets_ = std::make_unique<FrameTargets>(width, height, PassOutputs::Beauty);
+    beautyTargets_ = std::make_unique<FrameTargets>(width, height, outputs);
   }
   return *beautyTargets_;
 }
@@ -383,7 +418,7 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
                                       const PassParameters& parameters, StageTimes* times) {
   StageTimes unused;
   StageTimes& stages = times ? *times : unused;
-  FrameTargets& targets = beautyTargets(camera.width, camera.height);
+  FrameTargets& targets = beautyTargets(camera.width, camera.height, PassOutputs::Beauty);
   {
     ScopedStage stage(stages, "lighting");
     lightingPass(settings.shading, PassOutputs::Beauty, prepared.features)
@@ -395,6 +430,22 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
   FloatImage image{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
   image.pixels = readAttachment(targets, 0, camera.glRowOrder, packInvert_);
   return image;
+}
+
+Srgb8Image Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
+                                     const glm::vec3& ambient, const RenderSettings& settings,
+                                     PassParameters parameters, StageTimes& times) {
+  FrameTargets& targets = beautyTargets(camera.width, camera.height, PassOutputs::Srgb8);
+  parameters.exposureScale = std::exp2(*settings.srgb8Exposure);  // as toSrgb8() scales
+  {
+    ScopedStage stage(times, "lighting");
+    lightingPass(settings.shading, PassOutputs::Srgb8, prepared.features)
+        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
+                ambient, targets, parameters);
+    glFinish();
+  }
+  ScopedStage readback(times, "readback");
+  return readSrgb8(targets, camera.glRowOrder);
 }
 
 // The mean of the beauty through each sample offset (one offset, the pixel center, without
@@ -562,20 +613,22 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   const std::vector<bool> translucent = translucentShadowLights(lights, scene);
   features.translucentShadows =
       std::find(translucent.begin(), translucent.end(), true) != translucent.end();
-  lightingPass(settings.shading, PassOutputs::Beauty, features);  // made once per feature set
+  const PassOutputs beautyOutputs =
+      encodesSrgb8(scene, settings) ? PassOutputs::Srgb8 : PassOutputs::Beauty;
+  lightingPass(settings.shading, beautyOutputs, features);  // made once per feature set
   shaders.stop();
 
   ScopedStage upload(times, "upload");
   Prepared prepared(scene);
   prepared.features = features;
+  prepared.beautyOutputs = beautyOutputs;
   frame.warnings.insert(frame.warnings.end(), prepared.gpu.warnings().begin(),
                         prepared.gpu.warnings().end());
   glFinish();
   upload.stop();
   {
     ScopedStage variants(times, "shaders");  // the beauty's material variants
-    lightingPass(settings.shading, PassOutputs::Beauty, features)
-        .compileMaterialVariants(prepared.gpu);
+    lightingPass(settings.shading, beautyOutputs, features).compileMaterialVariants(prepared.gpu);
   }
 
   ScopedStage shadowStage(times, "shadow maps");
@@ -641,7 +694,10 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     PassParameters parameters;
     parameters.debugView = settings.debugView;
     parameters.debugLight = debugLight;
-    frame.beauty = drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times);
+    if (prepared.beautyOutputs == PassOutputs::Srgb8)
+      frame.srgb8 = drawSrgb8(prepared, camera, ambient, settings, parameters, times);
+    else
+      frame.beauty = drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times);
     return;
   }
   // The AOV pass already drew the beauty.
@@ -724,15 +780,18 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
   }
   const bool beauty =
       !settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1;
+  // The guess: a scene without blended surfaces (encodesSrgb8()).
+  const PassOutputs outputs =
+      encodesSrgb8(Scene{}, settings) ? PassOutputs::Srgb8 : PassOutputs::Beauty;
   const double bytes =
-      plan.shadows.bytes + (beauty ? FrameTargets::bytes(width, height, PassOutputs::Beauty) : 0.0);
+      plan.shadows.bytes + (beauty ? FrameTargets::bytes(width, height, outputs) : 0.0);
   if (bytes > budgetMiB * 1024.0 * 1024.0) return 0.0;
   for (const ShadowGroupPlan& group : plan.shadows.groups) {
     ShadowGroupTextures textures = shadowTextures_.take(group);
     clearShadowTextures(textures);
     shadowTextures_.give(std::move(textures));
   }
-  if (beauty) beautyTargets(width, height);
+  if (beauty) beautyTargets(width, height, outputs);
   glFlush();  // the clears start in the rasterizer threads now
   return bytes;
 }

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,9 +41,20 @@ struct LightView {
   std::string planar{};  // "spot" or "cascade<i>" for planar maps; empty for cube faces
 };
 
+// An 8-bit RGB picture, 3 bytes a pixel, first row = top.
+struct Srgb8Image {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgb;
+};
+
 // What one render produces, read back to the CPU; first row = top of the picture.
 struct Frame {
-  FloatImage beauty;  // R,G,B,A: linear, premultiplied, A = coverage
+  // R,G,B,A: linear, premultiplied, A = coverage. Empty when srgb8 is set.
+  FloatImage beauty;
+  // Set when the lighting pass encoded the beauty (RenderSettings::srgb8Exposure): what
+  // toSrgb8() makes of the float beauty with that exposure, byte for byte.
+  std::optional<Srgb8Image> srgb8;
   // R,G,B,A, P.X,P.Y,P.Z, N.X,N.Y,N.Z, Z, visibility.<light> per light (README, "Outputs"),
   // then the requested layers.
   std::optional<FloatImage> aovs;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace omnishadow {
@@ -56,6 +57,11 @@ struct RenderSettings {
   double maxAovMemoryMiB = 4096.0;
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
   int antialiasing = 1;  // --aa: beauty samples per pixel, 1, 4, 8 or 16 (render/antialiasing.h)
+  // Set, for callers that want the beauty only as 8-bit sRGB (a PNG): where it can (no AOVs, no
+  // --aa, no blended surfaces in the scene) the lighting pass encodes the beauty times
+  // 2^srgb8Exposure itself, into an 8-bit target a quarter of the float one's size to clear and
+  // read back, and render() fills Frame::srgb8 instead of Frame::beauty.
+  std::optional<float> srgb8Exposure{};
 };
 
 // What the device allows, queried once when the renderer is made. Frame planning checks a

@@ -37,9 +37,12 @@ class Srgb8Table {
       firstOf_[k] = std::bit_cast<float>(high);
     }
     firstOf_[256] = std::numeric_limits<float>::infinity();
+    std::copy(firstOf_.begin() + 1, firstOf_.end(), steps_.begin());
     for (std::uint32_t bucket = 0; bucket < start_.size(); ++bucket)
       start_[bucket] = srgb8Exact(std::bit_cast<float>(bucket << kBucketShift));
   }
+
+  const std::array<float, 256>& steps() const { return steps_; }
 
   // NaN and values below 0 give 0, values above 1 give 255, as srgbEncode clamps them.
   std::uint8_t operator()(float linear) const {
@@ -53,6 +56,7 @@ class Srgb8Table {
   static constexpr int kBucketShift = 15;                 // 32,512 buckets below 1.0f
   std::array<float, 257> firstOf_{};                      // [k]: the first float of byte k
   std::array<std::uint8_t, (kOneBits >> kBucketShift) + 1> start_{};
+  std::array<float, 256> steps_{};  // firstOf_ from byte 1 on
 };
 
 const Srgb8Table& srgb8Table() {
@@ -64,6 +68,10 @@ const Srgb8Table& srgb8Table() {
 
 std::uint8_t srgb8(float linear) {
   return srgb8Table()(linear);
+}
+
+const std::array<float, 256>& srgb8Steps() {
+  return srgb8Table().steps();
 }
 
 void toSrgb8(const float* linear, std::size_t count, std::size_t stride, float scale,

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -10,6 +11,10 @@ float srgbEncode(float linear);
 
 // round(255 * srgbEncode(linear)), from a table: NaN and values below 0 give 0, above 1 give 255.
 std::uint8_t srgb8(float linear);
+
+// [k]: the least float whose srgb8() is k + 1; [255] is +infinity. srgb8() of a value in
+// [0, 1] is the number of these it is at least.
+const std::array<float, 256>& srgb8Steps();
 
 // srgb8(linear[i * stride] * scale) into out[i * outStride] for i < count.
 void toSrgb8(const float* linear, std::size_t count, std::size_t stride, float scale,

@@ -1,0 +1,208 @@
+// The 8-bit beauty (RenderSettings::srgb8Exposure): where the lighting pass encodes the PNG's
+// bytes itself, they are the bytes the CPU makes of the float beauty, exactly; where it cannot
+// (blended surfaces, --aa, AOVs) the frame keeps the float beauty.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/output/display_transform.h"
+#include "renderer/render/renderer.h"
+#include "renderer/scene/srgb_transfer.h"
+#include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
+#include "tests/support/shared_renderer.h"
+
+namespace omnishadow {
+namespace {
+
+using test_support::lookFrom;
+using test_support::sharedRenderer;
+
+Frame render(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
+             const RenderSettings& settings) {
+  StageTimes times;
+  return sharedRenderer().render(scene, lights, glm::vec3(0.02f), camera, settings, times);
+}
+
+int addMaterial(Scene& scene, Material material) {
+  scene.materials.push_back(material);
+  return static_cast<int>(scene.materials.size()) - 1;
+}
+
+Material colored(glm::vec4 color) {
+  Material m;
+  m.baseColorFactor = color;
+  m.metallicFactor = 0.0f;
+  m.roughnessFactor = 0.6f;
+  return m;
+}
+
+// A floor, a box and a sphere: shadows, speculars and dark gradients, where the float values
+// cross many byte steps.
+Scene litScene() {
+  Scene scene;
+  test::placeMesh(scene, builder::makePlane(8.0f, 4), glm::mat4(1.0f),
+                  addMaterial(scene, colored({0.8f, 0.75f, 0.7f, 1.0f})));
+  test::placeMesh(scene, builder::makeBox({0.5f, 0.5f, 0.5f}),
+                  glm::translate(glm::mat4(1.0f), {-0.8f, 0.5f, 0.0f}),
+                  addMaterial(scene, colored({0.9f, 0.2f, 0.1f, 1.0f})));
+  Material metal = colored({0.6f, 0.7f, 0.9f, 1.0f});
+  metal.metallicFactor = 1.0f;
+  metal.roughnessFactor = 0.25f;
+  test::placeMesh(scene, builder::makeSphere(0.6f, 32, 16),
+                  glm::translate(glm::mat4(1.0f), {0.9f, 0.6f, 0.3f}), addMaterial(scene, metal));
+  return scene;
+}
+
+std::vector<Light> litLights() {
+  Light point;
+  point.name = "point";
+  point.position = {0.5f, 2.5f, 1.5f};
+  point.intensity = 12.0f;
+  point.shadow.resolution = 256;
+  point.shadow.filter = ShadowFilter::Pcf;
+  Light spot;
+  spot.name = "spot";
+  spot.type = LightType::Spot;
+  spot.position = {-2.5f, 3.0f, 2.0f};
+  spot.direction = glm::normalize(glm::vec3(2.0f, -3.0f, -2.0f));
+  spot.intensity = 30.0f;
+  spot.shadow.resolution = 256;
+  spot.shadow.filter = ShadowFilter::Pcss;
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  sun.intensity = 1.5f;
+  sun.shadow.resolution = 256;
+  sun.shadow.filter = ShadowFilter::Poisson;
+  return {point, spot, sun};
+}
+
+ViewCamera litCamera(const Scene& scene) {
+  return lookFrom(scene, {0.0f, 3.0f, 5.0f}, {0.0f, 0.3f, 0.0f}, 160, 96);
+}
+
+// The bytes of an encoded frame equal toSrgb8() of the float frame, whatever the exposure, the
+// shading model or the debug view; the float beauty is then left out.
+TEST(Srgb8Beauty, EqualsTheCpuEncodingOfTheFloatBeauty) {
+  const Scene scene = litScene();
+  const std::vector<Light> lights = litLights();
+  const ViewCamera camera = litCamera(scene);
+  struct Case {
+    float exposure;
+    Shading shading;
+    DebugView debugView;
+  };
+  for (const Case& c :
+       {Case{0.0f, Shading::Pbr, DebugView::None}, Case{1.5f, Shading::Pbr, DebugView::None},
+        Case{-2.25f, Shading::Pbr, DebugView::None}, Case{0.7f, Shading::Phong, DebugView::None},
+        Case{0.0f, Shading::Pbr, DebugView::Normals}}) {
+    SCOPED_TRACE("exposure " + std::to_string(c.exposure));
+    RenderSettings settings{.shading = c.shading, .debugView = c.debugView};
+    const Frame linear = render(scene, lights, camera, settings);
+    settings.srgb8Exposure = c.exposure;
+    const Frame encoded = render(scene, lights, camera, settings);
+    ASSERT_TRUE(encoded.srgb8.has_value());
+    EXPECT_TRUE(encoded.beauty.pixels.empty());
+    EXPECT_EQ(encoded.srgb8->width, camera.width);
+    EXPECT_EQ(encoded.srgb8->height, camera.height);
+    const std::vector<std::uint8_t> expected = toSrgb8(linear.beauty, c.exposure);
+    ASSERT_EQ(encoded.srgb8->rgb.size(), expected.size());
+    std::size_t differ = 0, lit = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      differ += encoded.srgb8->rgb[i] != expected[i];
+      lit += expected[i] > 0;
+    }
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(lit, expected.size() / 2);  // the picture is not black
+  }
+}
+
+// Unlit squares whose colors lie on each byte's first float and on the float just below it:
+// the pass's byte changes exactly where the CPU's does.
+TEST(Srgb8Beauty, EveryByteStepIsWhereTheCpuPutsIt) {
+  const std::array<float, 256>& steps = srgb8Steps();
+  Scene scene;
+  constexpr int kSide = 16;  // 16 x 16 squares, 255 of them used
+  const builder::MeshData square = builder::makePlane(1.0f);
+  for (int k = 0; k < kSide * kSide; ++k) {
+    const int step = std::min(k, 254);
+    Material m;
+    m.unlit = true;
+    m.baseColorFactor = {steps[step], std::nextafter(steps[step], 0.0f),
+                         0.5f * (steps[step] + steps[step + 1 < 255 ? step + 1 : step]), 1.0f};
+    test::placeMesh(scene, square,
+                    glm::translate(glm::mat4(1.0f), {(k % kSide) - 7.5f, 0.0f, (k / kSide) - 7.5f}),
+                    addMaterial(scene, m));
+  }
+  // Straight down on the squares, 8 pixels each.
+  const ViewCamera camera = lookFrom(scene, {0.0f, 20.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 128, 128,
+                                     2.0f * glm::degrees(std::atan(8.0f / 20.0f)), {0, 0, -1});
+  const Frame frame = render(scene, {}, camera, {.srgb8Exposure = 0.0f});
+  ASSERT_TRUE(frame.srgb8.has_value());
+  for (int k = 0; k < 255; ++k) {
+    const glm::vec4 clip = camera.projection * camera.view *
+                           glm::vec4((k % kSide) - 7.5f, 0.0f, (k / kSide) - 7.5f, 1.0f);
+    const int x = static_cast<int>((clip.x / clip.w * 0.5f + 0.5f) * camera.width);
+    const int y = static_cast<int>((0.5f - clip.y / clip.w * 0.5f) * camera.height);
+    const std::uint8_t* pixel =
+        frame.srgb8->rgb.data() + (static_cast<std::size_t>(y) * camera.width + x) * 3;
+    const glm::vec4 color = scene.materials[static_cast<std::size_t>(k)].baseColorFactor;
+    SCOPED_TRACE("step " + std::to_string(k + 1));
+    EXPECT_EQ(pixel[0], k + 1);
+    EXPECT_EQ(pixel[1], k);
+    EXPECT_EQ(pixel[0], srgb8(color.r));
+    EXPECT_EQ(pixel[1], srgb8(color.g));
+    EXPECT_EQ(pixel[2], srgb8(color.b));
+  }
+}
+
+// Blended surfaces, several samples a pixel and AOVs need the float beauty: the frame has it,
+// and no 8-bit one.
+TEST(Srgb8Beauty, FramesThePassCannotEncodeKeepTheFloatBeauty) {
+  const std::vector<Light> lights = litLights();
+  Scene glass = litScene();
+  Material blended = colored({0.2f, 0.5f, 0.9f, 0.4f});
+  blended.alphaMode = AlphaMode::Blend;
+  test::placeMesh(glass, builder::makeBox({0.3f, 0.3f, 0.3f}),
+                  glm::translate(glm::mat4(1.0f), {0.0f, 1.5f, 1.0f}), addMaterial(glass, blended));
+  const Scene plain = litScene();
+  struct Case {
+    const char* what;
+    const Scene* scene;
+    RenderSettings settings;
+  };
+  for (const Case& c : {Case{"blended", &glass, {.srgb8Exposure = 0.0f}},
+                        Case{"aa", &plain, {.antialiasing = 4, .srgb8Exposure = 0.0f}},
+                        Case{"aovs", &plain, {.aovs = true, .srgb8Exposure = 0.0f}}}) {
+    SCOPED_TRACE(c.what);
+    const ViewCamera camera = litCamera(*c.scene);
+    const Frame frame = render(*c.scene, lights, camera, c.settings);
+    EXPECT_FALSE(frame.srgb8.has_value());
+    EXPECT_EQ(frame.beauty.pixels.size(),
+              static_cast<std::size_t>(camera.width) * camera.height * 4);
+  }
+}
+
+// The pass keeps its 8-bit targets for the next frame of the same size, and a float frame in
+// between takes its own: each frame is what it would be alone.
+TEST(Srgb8Beauty, EncodedAndFloatFramesTakeTurnsOnOneRenderer) {
+  const Scene scene = litScene();
+  const std::vector<Light> lights = litLights();
+  const ViewCamera camera = litCamera(scene);
+  const Frame first = render(scene, lights, camera, {.srgb8Exposure = 0.5f});
+  const Frame linear = render(scene, lights, camera, {});
+  const Frame again = render(scene, lights, camera, {.srgb8Exposure = 0.5f});
+  ASSERT_TRUE(first.srgb8 && again.srgb8);
+  EXPECT_EQ(first.srgb8->rgb, again.srgb8->rgb);
+  EXPECT_EQ(first.srgb8->rgb, toSrgb8(linear.beauty, 0.5f));
+}
+
+}  // namespace
+}  // namespace omnishadow
