@@ -84,8 +84,8 @@ std::vector<Light> litLights() {
   return {point, spot, sun};
 }
 
-ViewCamera litCamera(const Scene& scene) {
-  return lookFrom(scene, {0.0f, 3.0f, 5.0f}, {0.0f, 0.3f, 0.0f}, 160, 96);
+ViewCamera litCamera(const Scene& scene, int width = 160, int height = 96) {
+  return lookFrom(scene, {0.0f, 3.0f, 5.0f}, {0.0f, 0.3f, 0.0f}, width, height);
 }
 
 // The bytes of an encoded frame equal toSrgb8() of the float frame, whatever the exposure, the
@@ -191,11 +191,11 @@ TEST(Srgb8Beauty, FramesThePassCannotEncodeKeepTheFloatBeauty) {
 }
 
 // The pass keeps its 8-bit targets for the next frame of the same size, and a float frame in
-// between takes its own: each frame is what it would be alone.
+// between takes its own: each frame is what it would be alone, at an odd size too.
 TEST(Srgb8Beauty, EncodedAndFloatFramesTakeTurnsOnOneRenderer) {
   const Scene scene = litScene();
   const std::vector<Light> lights = litLights();
-  const ViewCamera camera = litCamera(scene);
+  const ViewCamera camera = litCamera(scene, 61, 37);
   const Frame first = render(scene, lights, camera, {.srgb8Exposure = 0.5f});
   const Frame linear = render(scene, lights, camera, {});
   const Frame again = render(scene, lights, camera, {.srgb8Exposure = 0.5f});
