@@ -430,6 +430,19 @@ TEST_F(CliTest, ExposureScalesLinearValuesAndBrightensThePng) {
   for (int c = 0; c < 3; ++c) EXPECT_GT(channelMean(pngOne, c), channelMean(pngZero, c) + 0.05);
 }
 
+// A PNG alone is encoded by the lighting pass, a PNG beside an EXR from the float beauty: the
+// bytes are the same, at any exposure.
+TEST_F(CliTest, APngAloneIsTheSameAsAPngBesideAnExr) {
+  const fs::path lights = writeText("lights.json", kKeyLights);
+  for (const std::string exposure : {"0", "1.3", "-0.6"}) {
+    SCOPED_TRACE("exposure " + exposure);
+    render({scene().string(), "-l", lights.string(), "-o", "alone.png", "--exposure", exposure});
+    render({scene().string(), "-l", lights.string(), "-o", "beside.png", "-o", "beside.exr",
+            "--exposure", exposure});
+    EXPECT_TRUE(sameBytes(output("alone.png"), output("beside.png")));
+  }
+}
+
 TEST_F(CliTest, StatsNameEveryStage) {
   const Run r = render({scene().string(), "-o", "a.png", "--stats"});
   for (const char* stage :
