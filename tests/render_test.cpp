@@ -855,6 +855,19 @@ TEST(Shadows, PreparingChangesNoPixelAndRefusesNothing) {
   // Other lights, another size.
   EXPECT_GT(renderer.prepare({lights.front()}, 40, 30, settings, 64.0), 0.0);
   EXPECT_EQ(draw(b), plainB);
+  // Where the lighting pass may encode an 8-bit beauty, the float targets are prepared too (the
+  // scene decides which it takes), and either frame is the one drawn without preparing.
+  RenderSettings encoded = settings;
+  encoded.srgb8Exposure = 0.0f;
+  const auto encode = [&](const Scene& scene) {
+    return renderer.render(scene, lights, glm::vec3(0.02f), camera, encoded, times).srgb8->rgb;
+  };
+  const std::vector<std::uint8_t> encodedA = encode(a);
+  EXPECT_EQ(renderer.prepare(lights, camera.width, camera.height, encoded, 64.0) - bytes,
+            80.0 * 60.0 * (4 + 4));  // RGBA8UI and depth
+  EXPECT_EQ(encode(a), encodedA);
+  renderer.prepare(lights, camera.width, camera.height, encoded, 64.0);
+  EXPECT_EQ(draw(b), plainB);
 
   // Above the budget nothing is prepared; what render() refuses is neither prepared nor thrown.
   EXPECT_EQ(renderer.prepare(lights, camera.width, camera.height, settings,

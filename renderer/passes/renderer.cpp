@@ -3,6 +3,7 @@
 #include <GL/glcorearb.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -216,8 +217,10 @@ class Renderer::Impl {
   std::vector<std::pair<PassKey, std::unique_ptr<LightingPass>>> lightingPasses_;
   // The beauty pass's targets, kept for the next frame of the same size: a fresh 1280x720
   // RGBA32F target costs its pages again (allocation, faults, zeroing) on every frame. The pass
-  // clears them itself. AOV targets are not kept (--max-memory counts them per frame).
-  std::unique_ptr<FrameTargets> beautyTargets_;
+  // clears them itself. AOV targets are not kept (--max-memory counts them per frame). One
+  // slot for the float beauty, one for the 8-bit one: a scene with blended surfaces takes the
+  // float one where the next may take the 8-bit one.
+  std::array<std::unique_ptr<FrameTargets>, 2> beautyTargets_;
 };
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
@@ -405,12 +408,12 @@ LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
 }
 
 FrameTargets& Renderer::Impl::beautyTargets(int width, int height, PassOutputs outputs) {
-  if (!beautyTargets_ || beautyTargets_->width() != width || beautyTargets_->height() != height ||
-      beautyTargets_->outputs() != outputs) {
-    beautyTargets_.reset();  // the old one goes before the new one takes its memory
-    beautyTargets_ = std::make_unique<FrameTargets>(width, height, outputs);
+  std::unique_ptr<FrameTargets>& targets = beautyTargets_[outputs == PassOutputs::Srgb8 ? 1 : 0];
+  if (!targets || targets->width() != width || targets->height() != height) {
+    targets.reset();  // the old one goes before the new one takes its memory
+    targets = std::make_unique<FrameTargets>(width, height, outputs);
   }
-  return *beautyTargets_;
+  return *targets;
 }
 
 FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& camera,
@@ -780,18 +783,20 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
   }
   const bool beauty =
       !settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1;
-  // The guess: a scene without blended surfaces (encodesSrgb8()).
-  const PassOutputs outputs =
-      encodesSrgb8(Scene{}, settings) ? PassOutputs::Srgb8 : PassOutputs::Beauty;
-  const double bytes =
-      plan.shadows.bytes + (beauty ? FrameTargets::bytes(width, height, outputs) : 0.0);
+  // Where the lighting pass may encode the beauty, the scene decides (blended surfaces need the
+  // float one): both are prepared.
+  const bool srgb8 = beauty && encodesSrgb8(Scene{}, settings);
+  const double bytes = plan.shadows.bytes +
+                       (beauty ? FrameTargets::bytes(width, height, PassOutputs::Beauty) : 0.0) +
+                       (srgb8 ? FrameTargets::bytes(width, height, PassOutputs::Srgb8) : 0.0);
   if (bytes > budgetMiB * 1024.0 * 1024.0) return 0.0;
   for (const ShadowGroupPlan& group : plan.shadows.groups) {
     ShadowGroupTextures textures = shadowTextures_.take(group);
     clearShadowTextures(textures);
     shadowTextures_.give(std::move(textures));
   }
-  if (beauty) beautyTargets(width, height, outputs);
+  if (srgb8) beautyTargets(width, height, PassOutputs::Srgb8);
+  if (beauty) beautyTargets(width, height, PassOutputs::Beauty);
   glFlush();  // the clears start in the rasterizer threads now
   return bytes;
 }
