@@ -1,7 +1,8 @@
 // Lighting pass: material, all lights in one loop, shadows, and the AOVs.
 // Variants: SHADING_PHONG (Blinn-Phong instead of metallic-roughness), WRITE_AOVS (position,
 // normal, distance, visibility), WRITE_LAYERS (material layers or one light's diffuse and
-// specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes).
+// specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes), DEBUG_VIEWS
+// (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out).
 #include "lights.glsl"
 #include "brdf.glsl"
 #include "shadows.glsl"
@@ -181,11 +182,13 @@ void main() {
 #ifdef WRITE_LAYERS
   vec3 layerDiffuse = vec3(0.0), layerSpecular = vec3(0.0);
 #endif
+#ifdef DEBUG_VIEWS
   float shadowSum = 0.0;
   int shadowedLights = 0;
   int contributing = 0;
   float depthView = 1.0;
   int debugCascade = -1;
+#endif
 #ifdef CLUSTERED_LIGHTS
   // The lights reaching everywhere, then those of this point's cluster (the lights whose
   // range may reach it).
@@ -224,10 +227,12 @@ void main() {
       shadow = (shadowColor.r + shadowColor.g + shadowColor.b) / 3.0;
     }
 #endif
+#ifdef DEBUG_VIEWS
     if (reaches && shadowGroup(light) >= 0) {
       shadowSum += shadow;
       ++shadowedLights;
     }
+#endif
 #ifdef DEBUG_DEPTH
     if (i == uDebugLight) depthView = shadowDepthView(light, vIn.worldPosition);
     if (i == uDebugLight) debugCascade = shadowCascade(light, vIn.worldPosition);
@@ -254,7 +259,9 @@ void main() {
       shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, diffuse, specular);
 #endif
     color += shadowColor * (diffuse + specular);
+#ifdef DEBUG_VIEWS
     if (any(greaterThan(diffuse + specular, vec3(0.0)))) ++contributing;
+#endif
 #ifdef WRITE_LAYERS
     if (i == uLayerLight) {
       layerDiffuse = shadowColor * diffuse;
@@ -264,12 +271,14 @@ void main() {
   }
 
   if (uUnlit != 0) color = baseColor.rgb;
+#ifdef DEBUG_VIEWS
   if (uDebugView == DEBUG_VIEW_SHADOW) color = vec3(shadowedLights > 0 ? shadowSum / float(shadowedLights) : 1.0);
   if (uDebugView == DEBUG_VIEW_DEPTH) color = vec3(depthView);
   if (uDebugView == DEBUG_VIEW_NORMALS) color = facingNormal * 0.5 + 0.5;
   if (uDebugView == DEBUG_VIEW_ALBEDO) color = baseColor.rgb;
   if (uDebugView == DEBUG_VIEW_CASCADE) color = cascadeDebugColor(debugCascade, color);
   if (uDebugView == DEBUG_VIEW_LIGHT_COUNT) color = vec3(float(contributing) / float(max(uLightCount, 1)));
+#endif
 #ifdef WRITE_SRGB8
   // The float the RGBA32F target would hold, scaled as the CPU scales it: the same products.
   outBeauty = srgb8((color * alpha) * uExposureScale);

@@ -42,6 +42,7 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
       {ShadowFilter::Pcss, "SHADOW_PCSS"},        {ShadowFilter::Vsm, "SHADOW_VSM"}};
   for (const auto& f : filters)
     if (features.filters & (1u << static_cast<unsigned>(f.filter))) defines.push_back(f.define);
+  if (features.debugViews) defines.push_back("DEBUG_VIEWS");
   if (features.debugDepth) defines.push_back("DEBUG_DEPTH");
   if (features.translucentShadows) defines.push_back("TRANSLUCENT_SHADOWS");
   if (features.clusteredLights) defines.push_back("CLUSTERED_LIGHTS");
@@ -210,6 +211,7 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
   features.lightsInStorage = lights.size() > contract::kMaxUniformLights ||
                              viewProjections > contract::kMaxUniformViewProjections;
   // The cascade view reads the debug light's cascade where the depth view reads its map.
+  features.debugViews = debugView != DebugView::None;
   features.debugDepth = debugView == DebugView::Depth || debugView == DebugView::Cascade;
   return features;
 }

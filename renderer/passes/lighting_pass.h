@@ -94,7 +94,8 @@ class FrameTargets {
 struct LightingFeatures {
   bool cubeShadows = false;
   bool planarShadows = false;
-  unsigned filters = 0;  // bit per ShadowFilter
+  unsigned filters = 0;     // bit per ShadowFilter
+  bool debugViews = false;  // a --debug-view picture: DEBUG_VIEWS
   bool debugDepth = false;
   bool translucentShadows = false;  // some light samples transmittance layers
   // Some light has a range: fragments loop over their cluster's lights, not over all of them.
