@@ -507,9 +507,10 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   framePrograms_.clear();
   glBindVertexArray(scene.vertexArray());
 
-  // Depth of the opaque surfaces first, so the expensive shading runs once per pixel instead
-  // of once per overlapping surface. Then opaque surfaces shade where their depth is the
-  // pre-pass's (no depth writes: early depth tests stay on), masked ones test and write as usual.
+  // With the pre-pass (PassParameters::depthPrepass), depth of the opaque surfaces first, so
+  // the expensive shading runs once per pixel instead of once per overlapping surface. Then
+  // opaque surfaces shade where their depth is the pre-pass's (no depth writes: early depth
+  // tests stay on), masked ones test and write as usual.
   gl::RasterState state;
   state.viewport = {0, 0, targets.width(), targets.height()};
   if (parameters.blendedOnly) {
@@ -520,16 +521,28 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
     gl::checkErrors("a pass over the blended surfaces");
     return;
   }
-  state.color.rgba = {false, false, false, false};
-  state.apply();
-  depthOnly_.use();
-  depthOnly_.set("uViewProjection", camera.projection * camera.view);
-  drawScene(scene, DrawSet::Opaque, &depthOnly_, uniforms);
+  counted_ = parameters.depthPrepass && parameters.countFragments;
+  if (counted_ && !prepassFragments_) {
+    prepassFragments_ = gl::createQuery(GL_SAMPLES_PASSED);
+    shadedFragments_ = gl::createQuery(GL_SAMPLES_PASSED);
+  }
+  if (parameters.depthPrepass) {
+    state.color.rgba = {false, false, false, false};
+    state.apply();
+    depthOnly_.use();
+    depthOnly_.set("uViewProjection", camera.projection * camera.view);
+    if (counted_) glBeginQuery(GL_SAMPLES_PASSED, prepassFragments_.get());
+    drawScene(scene, DrawSet::Opaque, &depthOnly_, uniforms);
+    if (counted_) glEndQuery(GL_SAMPLES_PASSED);
+  }
+  // Equal depths pass both ways, so the last drawn of equally near surfaces wins either way.
   state.color.rgba = {true, true, true, true};
   state.depth.func = GL_GEQUAL;
-  state.depth.write = false;
+  state.depth.write = !parameters.depthPrepass;
   state.apply();
+  if (counted_) glBeginQuery(GL_SAMPLES_PASSED, shadedFragments_.get());
   drawScene(scene, DrawSet::Opaque, nullptr, uniforms);
+  if (counted_) glEndQuery(GL_SAMPLES_PASSED);
   state.depth = gl::DepthState{};
   state.depth.apply();
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
@@ -551,6 +564,14 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the lighting pass");
+}
+
+std::optional<OpaqueFragments> LightingPass::opaqueFragments() const {
+  if (!counted_) return std::nullopt;
+  OpaqueFragments counts;
+  glGetQueryObjectui64v(prepassFragments_.get(), GL_QUERY_RESULT, &counts.prepass);
+  glGetQueryObjectui64v(shadedFragments_.get(), GL_QUERY_RESULT, &counts.shaded);
+  return counts;
 }
 
 }  // namespace omnishadow

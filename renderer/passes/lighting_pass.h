@@ -1,6 +1,8 @@
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -45,6 +47,20 @@ struct PassParameters {
   // of each in turn, instead of the scalar terms of kVisibilityPerPass lights.
   bool visibilityRgb = false;
   float exposureScale = 1.0f;  // Srgb8: 2^exposure
+  // Opaque surfaces first write their depth alone, then shade where theirs is the nearest
+  // (each pixel shaded once); without it they test and write depth as they shade (some
+  // pixels shaded several times, no second pass over the triangles). The picture is the same:
+  // the nearest surface, the last drawn of equally near ones. With countFragments the pass
+  // counts the fragments of both ways (opaqueFragments()).
+  bool depthPrepass = true;
+  bool countFragments = false;
+};
+
+// Fragments of a frame's opaque surfaces that the depth pre-pass let through (those shading
+// without it would shade, less ties) and those the pass then shaded (about one a pixel).
+struct OpaqueFragments {
+  std::uint64_t prepass = 0;
+  std::uint64_t shaded = 0;
 };
 
 // How many lights one lighting pass reports visibility for (one per channel of RGBA32F targets).
@@ -123,6 +139,9 @@ class LightingPass {
               const TransmittanceAtlas& transmittanceAtlas, const glm::vec3& ambient,
               FrameTargets& targets, const PassParameters& parameters);
 
+  // The counts of the last render() with depthPrepass and countFragments; waits for them.
+  std::optional<OpaqueFragments> opaqueFragments() const;
+
  private:
   // The frame's uniforms, the same in every material variant.
   struct FrameUniforms {
@@ -163,6 +182,8 @@ class LightingPass {
   ShaderProgram depthOnly_;
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;
+  gl::Query prepassFragments_, shadedFragments_;  // GL_SAMPLES_PASSED, made on first use
+  bool counted_ = false;                          // the last render() counted them
 };
 
 }  // namespace omnishadow

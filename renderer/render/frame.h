@@ -66,6 +66,9 @@ struct Frame {
   // render of the same scene (point and spot lights whose maps cannot have changed).
   int shadowMapsRendered = 0;
   int shadowMapsReused = 0;
+  // The beauty pass drew its depth pre-pass (renderer.cpp chooses per scene; the picture is
+  // the same either way).
+  bool depthPrepass = true;
 };
 
 // The fixed channels at the start of Frame::aovs: R G B A P.X P.Y P.Z N.X N.Y N.Z Z.

@@ -1,0 +1,109 @@
+// The beauty's depth pre-pass is chosen per scene from fragment counts (renderer.cpp): frames
+// drawn with and without it are the same picture, byte for byte, and a scene whose surfaces
+// hardly hide each other drops it after its first frame while one with much overdraw keeps it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <glm/gtc/matrix_transform.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/render/renderer.h"
+#include "renderer/scene/gltf_loader.h"
+#include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
+#include "tests/support/shared_renderer.h"
+
+namespace omnishadow {
+namespace {
+
+using test_support::lookFrom;
+using test_support::sharedRenderer;
+
+Frame render(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera) {
+  StageTimes times;
+  RenderSettings settings;
+  settings.srgb8Exposure = 0.0f;
+  return sharedRenderer().render(scene, lights, glm::vec3(0.03f), camera, settings, times);
+}
+
+Light keyLight(glm::vec3 position) {
+  Light light;
+  light.name = "key";
+  light.position = position;
+  light.intensity = 10.0f;
+  light.shadow.resolution = 256;
+  return light;
+}
+
+std::string scenePath(const std::string& relative) {
+  return std::string(OMNISHADOW_SOURCE_DIR) + "/scenes/thirdparty/" + relative;
+}
+
+// Box alone: the pre-pass lets through exactly the pixels shaded after it, so the second frame
+// goes without it, and every eighth frame counts again. Each frame is the first one's picture.
+TEST(DepthPrepass, ASceneWithoutOverdrawDropsItAndDrawsTheSamePicture) {
+  const Scene scene = loadGltf(scenePath("Box/Box.glb"));
+  const std::vector<Light> lights = {keyLight({1.5f, 2.0f, 2.0f})};
+  const ViewCamera camera = lookFrom(scene, {1.2f, 1.0f, 1.6f}, {0, 0, 0}, 96, 64);
+  const Frame first = render(scene, lights, camera);
+  ASSERT_TRUE(first.srgb8);
+  EXPECT_TRUE(first.depthPrepass);
+  for (int frame = 2; frame <= 10; ++frame) {
+    SCOPED_TRACE("frame " + std::to_string(frame));
+    const Frame next = render(scene, lights, camera);
+    EXPECT_EQ(next.depthPrepass, frame == 9);  // counted again after 7 without
+    EXPECT_EQ(next.srgb8->rgb, first.srgb8->rgb);
+  }
+}
+
+// The Cornell box seen from its open side: the walls behind Suzanne and the boxes are drawn
+// where those hide them, so the pre-pass stays.
+TEST(DepthPrepass, ASceneWithOverdrawKeepsIt) {
+  const Scene scene = loadGltf(scenePath("CornellBoxSuzanne/cornell-box.glb"));
+  const glm::vec3 center = scene.bounds.center();
+  const float size = 2.0f * scene.bounds.radius();
+  const std::vector<Light> lights = {keyLight(center + glm::vec3(0.0f, 0.3f, 0.0f) * size)};
+  const ViewCamera camera =
+      lookFrom(scene, center + glm::vec3(0.0f, 0.0f, 1.2f) * size, center, 96, 64);
+  for (int frame = 0; frame < 3; ++frame) {
+    const Frame next = render(scene, lights, camera);
+    EXPECT_TRUE(next.depthPrepass);
+    EXPECT_GT(std::count_if(next.srgb8->rgb.begin(), next.srgb8->rgb.end(),
+                            [](std::uint8_t v) { return v > 20; }),
+              2000);  // the box fills the picture
+  }
+}
+
+// Two overlapping coplanar squares, the later drawn wins where they tie, with the pre-pass and
+// without it; a box in front hides part of both.
+TEST(DepthPrepass, TiesGoToTheLastDrawnSurfaceEitherWay) {
+  Scene scene;
+  const auto flat = [&](glm::vec4 color) {
+    Material m;
+    m.unlit = true;
+    m.baseColorFactor = color;
+    scene.materials.push_back(m);
+    return static_cast<int>(scene.materials.size()) - 1;
+  };
+  const builder::MeshData square = builder::makePlane(2.0f);
+  test::placeMesh(scene, square, glm::translate(glm::mat4(1.0f), {-0.5f, 0.0f, 0.0f}),
+                  flat({1, 0, 0, 1}));
+  test::placeMesh(scene, square, glm::translate(glm::mat4(1.0f), {0.5f, 0.0f, 0.0f}),
+                  flat({0, 0, 1, 1}));
+  test::placeMesh(scene, builder::makeBox({0.3f, 0.3f, 0.3f}),
+                  glm::translate(glm::mat4(1.0f), {0.0f, 0.6f, 0.0f}), flat({0, 1, 0, 1}));
+  const ViewCamera camera = lookFrom(scene, {0.0f, 5.0f, 0.01f}, {0, 0, 0}, 64, 64);
+  const Frame first = render(scene, {}, camera);
+  const Frame second = render(scene, {}, camera);
+  ASSERT_TRUE(first.depthPrepass);
+  ASSERT_FALSE(second.depthPrepass);  // the squares tie: no more fragments than shaded
+  EXPECT_EQ(second.srgb8->rgb, first.srgb8->rgb);
+  // In the overlap (x = 0), away from the box (z about 0.9): blue, drawn after red.
+  const std::uint8_t* overlap = first.srgb8->rgb.data() + (22 * 64 + 32) * 3;
+  EXPECT_EQ(overlap[0], 0);
+  EXPECT_EQ(overlap[2], 255);
+}
+
+}  // namespace
+}  // namespace omnishadow
