@@ -189,16 +189,16 @@ class Renderer::Impl {
   std::vector<LightView> drawLightViews(Prepared& prepared, const ViewCamera& camera,
                                         const glm::vec3& ambient, const RenderSettings& settings);
   // The beauty's depth pre-pass (PassParameters::depthPrepass: the same picture either way),
-  // chosen per scene (its shadow fingerprint): the scene's first frame draws it and counts
-  // fragments; where the pre-pass let through hardly more than were then shaded (few
-  // surfaces hide others), the scene's next frames shade without it, and every
+  // chosen per scene (its shadow fingerprint): the scene's first two frames draw it, and the
+  // second counts fragments; where the pre-pass let through hardly more than were then shaded
+  // (few surfaces hide others), the scene's next frames shade without it, and every
   // kPrepassRecount-th frame draws it again to count afresh.
   void choosePrepass(std::uint64_t scene, PassParameters& parameters);
-  void notePrepass(std::uint64_t scene, const std::optional<OpaqueFragments>& counts);
+  void notePrepass(const std::optional<OpaqueFragments>& counts);
   static constexpr int kPrepassRecount = 8;
   struct PrepassChoice {
     std::uint64_t scene = 0;
-    int frames = 0;  // since the last count
+    int frames = 0;  // frames of this scene so far
     bool skip = false;
   };
   PrepassChoice prepassChoice_;
@@ -695,17 +695,19 @@ std::vector<PlanarShadowMapDump> Renderer::Impl::readPlanarShadowMaps(const Prep
 
 void Renderer::Impl::choosePrepass(std::uint64_t scene, PassParameters& parameters) {
   PrepassChoice& choice = prepassChoice_;
-  const bool skipping = scene != 0 && choice.scene == scene && choice.skip;
-  parameters.depthPrepass = !skipping || ++choice.frames % kPrepassRecount == 0;
-  parameters.countFragments = parameters.depthPrepass;
+  if (scene == 0 || choice.scene != scene) choice = {scene, 0, false};
+  // Counting costs llvmpipe work in every fragment (Sundial's lighting 3 ms more), so a
+  // scene's first frame, often its only one, does not count; its second frame does.
+  const bool count = choice.frames++ % kPrepassRecount == 1;
+  parameters.depthPrepass = count || !choice.skip;
+  parameters.countFragments = count;
 }
 
-void Renderer::Impl::notePrepass(std::uint64_t scene,
-                                 const std::optional<OpaqueFragments>& counts) {
+void Renderer::Impl::notePrepass(const std::optional<OpaqueFragments>& counts) {
   if (!counts) return;
   // Shading 3% more fragments costs less than drawing every opaque triangle once more (Box:
   // the pre-pass 0.3 ms against 7 ms of shading; WhackAMole, 86k triangles, 5 against 38).
-  prepassChoice_ = {scene, 0, counts->prepass * 100 <= counts->shaded * 103};
+  prepassChoice_.skip = counts->prepass * 100 <= counts->shaded * 103;
 }
 
 void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& lights,
@@ -732,8 +734,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
       frame.srgb8 = drawSrgb8(prepared, camera, ambient, settings, parameters, times);
     else
       frame.beauty = drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times);
-    notePrepass(prepared.fingerprint,
-                lightingPass(settings.shading, prepared.beautyOutputs, prepared.features)
+    notePrepass(lightingPass(settings.shading, prepared.beautyOutputs, prepared.features)
                     .opaqueFragments());
     return;
   }
