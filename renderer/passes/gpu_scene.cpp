@@ -56,8 +56,10 @@ Image halved(const Image& in) {
 
 }  // namespace
 
-GpuScene::GpuScene(const Scene& scene)
-    : vertexArray_(gl::createVertexArray()), casterVertexArray_(gl::createVertexArray()) {
+GpuScene::GpuScene(const Scene& scene, TextureCache* textures)
+    : vertexArray_(gl::createVertexArray()),
+      casterVertexArray_(gl::createVertexArray()),
+      textureCache_(textures) {
   uploadGeometry(scene);
   uploadCasterStream(scene);
   uploadMaterials(scene);
@@ -208,7 +210,7 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
   if (slot.texture < 0) return 0;
   const int imageIndex = scene.textures[slot.texture].image;
   if (imageIndex < 0) return 0;
-  gl::Texture& texture = textures_[2 * imageIndex + (srgb ? 1 : 0)];
+  std::shared_ptr<const gl::Texture>& texture = textures_[2 * imageIndex + (srgb ? 1 : 0)];
   if (!texture) {
     GLint maxSize = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
@@ -225,22 +227,27 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
       source = &fitted;
     }
     const Image& image = *source;
-    texture = gl::createTexture(GL_TEXTURE_2D);
-    const int levels =
-        1 + static_cast<int>(std::floor(std::log2(std::max(image.width, image.height))));
-    glTextureStorage2D(texture.get(), levels, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, image.width,
-                       image.height);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    // glTF's UV (0,0) is the top-left of the image and GL's texel row 0 is t = 0, so the
-    // image's first (top) row goes into row 0 unflipped.
-    glTextureSubImage2D(texture.get(), 0, 0, 0, image.width, image.height, GL_RGBA,
-                        GL_UNSIGNED_BYTE, image.rgba.data());
-    int level = 1;
-    for (const Image& smaller : mipmapChain(image, srgb))
-      glTextureSubImage2D(texture.get(), level++, 0, 0, smaller.width, smaller.height, GL_RGBA,
-                          GL_UNSIGNED_BYTE, smaller.rgba.data());
+    const auto make = [&] {
+      gl::Texture made = gl::createTexture(GL_TEXTURE_2D);
+      const int levels =
+          1 + static_cast<int>(std::floor(std::log2(std::max(image.width, image.height))));
+      glTextureStorage2D(made.get(), levels, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, image.width,
+                         image.height);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+      // glTF's UV (0,0) is the top-left of the image and GL's texel row 0 is t = 0, so the
+      // image's first (top) row goes into row 0 unflipped.
+      glTextureSubImage2D(made.get(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                          image.rgba.data());
+      int level = 1;
+      for (const Image& smaller : mipmapChain(image, srgb))
+        glTextureSubImage2D(made.get(), level++, 0, 0, smaller.width, smaller.height, GL_RGBA,
+                            GL_UNSIGNED_BYTE, smaller.rgba.data());
+      return made;
+    };
+    texture = textureCache_ ? textureCache_->find(image, srgb, make)
+                            : std::make_shared<const gl::Texture>(make());
   }
-  return texture.get();
+  return texture->get();
 }
 
 GLuint GpuScene::samplerFor(const Scene& scene, const TextureSlot& slot) {

@@ -1,10 +1,12 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "renderer/gl/gl_resources.h"
+#include "renderer/passes/texture_cache.h"
 #include "renderer/scene/scene.h"
 
 namespace omnishadow {
@@ -52,7 +54,8 @@ struct GpuMaterial {
 // single vertex array, textures (sRGB where glTF says so) with mipmaps, and sampler objects.
 class GpuScene {
  public:
-  explicit GpuScene(const Scene& scene);
+  // With `textures`, textures are taken from and added to that cache.
+  explicit GpuScene(const Scene& scene, TextureCache* textures = nullptr);
 
   GLuint vertexArray() const { return vertexArray_.get(); }
   // Positions only (attribute 0), already in world space, with an index buffer of its own: the
@@ -79,8 +82,9 @@ class GpuScene {
 
   gl::VertexArray vertexArray_, casterVertexArray_;
   gl::Buffer vertices_, indices_, models_, casterPositions_, casterIndices_;
-  std::vector<gl::Texture> textures_;  // indexed by 2 * image + srgb
-  std::vector<gl::Sampler> samplers_;  // indexed by texture
+  TextureCache* textureCache_;
+  std::vector<std::shared_ptr<const gl::Texture>> textures_;  // indexed by 2 * image + srgb
+  std::vector<gl::Sampler> samplers_;                         // indexed by texture
   std::vector<GpuMeshRange> meshes_;
   std::vector<GpuDraw> draws_;
   std::vector<GpuMaterial> materials_;

@@ -207,6 +207,7 @@ class Renderer::Impl {
   std::unique_ptr<ShadowPass> shadowPass_;
   std::unique_ptr<VsmFilter> vsmFilter_;
   std::unique_ptr<TransmittancePass> transmittancePass_;  // made by the first translucent light
+  TextureCache textureCache_;  // the last render's scene textures, for a render of it again
   TransmittanceAtlas transmittanceAtlas() const {
     return transmittancePass_ ? transmittancePass_->atlas() : TransmittanceAtlas{};
   }
@@ -239,7 +240,7 @@ class Renderer::Impl {
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
 struct Renderer::Impl::Prepared {
-  explicit Prepared(const Scene& s) : gpu(s), bounds(s.bounds) {}
+  Prepared(const Scene& s, TextureCache* textures) : gpu(s, textures), bounds(s.bounds) {}
   GpuScene gpu;
   Bounds bounds;  // the scene's, for defaults that follow its scale
   LightingFeatures features;
@@ -636,7 +637,8 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   shaders.stop();
 
   ScopedStage upload(times, "upload");
-  Prepared prepared(scene);
+  Prepared prepared(scene, &textureCache_);
+  textureCache_.dropUnused();  // an earlier scene's textures this one did not take
   prepared.features = features;
   prepared.beautyOutputs = beautyOutputs;
   frame.warnings.insert(frame.warnings.end(), prepared.gpu.warnings().begin(),
@@ -786,7 +788,7 @@ std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const 
 std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(const Scene& scene,
                                                                  const std::vector<Light>& lights,
                                                                  ShadowPassStrategy strategy) {
-  Prepared prepared(scene);
+  Prepared prepared(scene, nullptr);
   RenderSettings settings;
   settings.shadowPass = strategy;
   ShadowAtlasPlan plan =

@@ -1,0 +1,101 @@
+// Scene textures kept from one render to the next (renderer/passes/texture_cache.h): found
+// again only for the same image bytes, size and color space; a render of a changed image
+// draws the change.
+#include "renderer/passes/texture_cache.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/render/renderer.h"
+#include "renderer/scene/gltf_loader.h"
+#include "tests/support/shared_renderer.h"
+
+namespace omnishadow {
+namespace {
+
+Image image(int width, int height, std::uint8_t fill) {
+  Image out;
+  out.width = width;
+  out.height = height;
+  out.rgba.assign(static_cast<std::size_t>(width) * height * 4, fill);
+  return out;
+}
+
+// The cache calls `make` only for what it does not hold (the same bytes, size and color
+// space); it holds what was found since the last dropUnused().
+TEST(TextureCache, MakesATextureOncePerImageAndColorSpace) {
+  test_support::sharedRenderer();  // its GL context is current here
+  TextureCache cache;
+  int made = 0;
+  const auto maker = [&](const Image& from, bool srgb) {
+    return [&made, &from, srgb] {
+      ++made;
+      gl::Texture texture = gl::createTexture(GL_TEXTURE_2D);
+      glTextureStorage2D(texture.get(), 1, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, from.width,
+                         from.height);
+      glTextureSubImage2D(texture.get(), 0, 0, 0, from.width, from.height, GL_RGBA,
+                          GL_UNSIGNED_BYTE, from.rgba.data());
+      return texture;
+    };
+  };
+  Image a = image(4, 2, 7);
+  a.rgba[5] = 200;  // sRGB texels read back as stored, not decoded
+  const auto first = cache.find(a, true, maker(a, true));
+  EXPECT_EQ(cache.find(a, true, maker(a, true)), first);
+  EXPECT_EQ(made, 1);
+  cache.find(a, false, maker(a, false));  // linear: another texture
+  EXPECT_EQ(made, 2);
+  const Image tall = image(2, 4, 7);  // the same bytes, another shape
+  cache.find(tall, true, maker(tall, true));
+  EXPECT_EQ(made, 3);
+  Image changed = a;
+  changed.rgba[13] ^= 1;  // one bit
+  const auto other = cache.find(changed, true, maker(changed, true));
+  EXPECT_EQ(made, 4);
+  EXPECT_NE(other, first);
+  EXPECT_EQ(cache.size(), 4u);
+
+  cache.dropUnused();  // all four were found since it was made: kept
+  EXPECT_EQ(cache.size(), 4u);
+  cache.find(a, true, maker(a, true));
+  cache.dropUnused();  // only `a` (sRGB) was found since
+  EXPECT_EQ(cache.size(), 1u);
+  EXPECT_EQ(cache.find(a, true, maker(a, true)), first);
+  EXPECT_EQ(made, 4);
+}
+
+// A textured box rendered again is the same picture; with its texture changed in memory the
+// next render shows the change (the cache does not hand back the old texture), and the
+// original again is the first picture.
+TEST(TextureCache, ARenderOfAChangedImageDrawsTheChange) {
+  const Scene original = loadGltf(std::string(OMNISHADOW_SOURCE_DIR) +
+                                  "/scenes/thirdparty/BoxTextured/BoxTextured.glb");
+  ASSERT_FALSE(original.images.empty());
+  Scene inverted = original;
+  for (std::uint8_t& v : inverted.images[0].rgba) v = static_cast<std::uint8_t>(255 - v);
+  Light light;
+  light.name = "key";
+  light.position = {1.5f, 2.0f, 2.0f};
+  light.intensity = 8.0f;
+  const ViewCamera camera = test_support::lookFrom(original, {1.2f, 1.0f, 1.6f}, {0, 0, 0}, 64, 48);
+  RenderSettings settings;
+  settings.srgb8Exposure = 0.0f;
+  const auto draw = [&](const Scene& scene) {
+    StageTimes times;
+    return test_support::sharedRenderer()
+        .render(scene, {light}, glm::vec3(0.05f), camera, settings, times)
+        .srgb8->rgb;
+  };
+  const std::vector<std::uint8_t> first = draw(original);
+  EXPECT_EQ(draw(original), first);
+  const std::vector<std::uint8_t> changed = draw(inverted);
+  EXPECT_NE(changed, first);
+  EXPECT_EQ(draw(original), first);
+  EXPECT_EQ(draw(inverted), changed);
+}
+
+}  // namespace
+}  // namespace omnishadow
