@@ -57,14 +57,24 @@ TEST(TextureCache, MakesATextureOncePerImageAndColorSpace) {
   EXPECT_EQ(made, 4);
   EXPECT_NE(other, first);
   EXPECT_EQ(cache.size(), 4u);
+  // A byte between the sampled words (1024 words over 1 MiB, about 1 KiB apart): the
+  // comparison of all bytes tells the two apart.
+  const Image big = image(512, 512, 3);
+  Image unsampled = big;
+  unsampled.rgba[1500] = 4;
+  const auto bigTexture = cache.find(big, false, maker(big, false));
+  EXPECT_NE(cache.find(unsampled, false, maker(unsampled, false)), bigTexture);
+  EXPECT_EQ(cache.find(big, false, maker(big, false)), bigTexture);
+  EXPECT_EQ(made, 6);
+  EXPECT_EQ(cache.size(), 6u);
 
-  cache.dropUnused();  // all four were found since it was made: kept
-  EXPECT_EQ(cache.size(), 4u);
+  cache.dropUnused();  // all six were found since it was made: kept
+  EXPECT_EQ(cache.size(), 6u);
   cache.find(a, true, maker(a, true));
   cache.dropUnused();  // only `a` (sRGB) was found since
   EXPECT_EQ(cache.size(), 1u);
   EXPECT_EQ(cache.find(a, true, maker(a, true)), first);
-  EXPECT_EQ(made, 4);
+  EXPECT_EQ(made, 6);
 }
 
 // A textured box rendered again is the same picture; with its texture changed in memory the

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -13,8 +14,9 @@ namespace omnishadow {
 // (frame sets, --repeat, batch jobs of one scene, the Python module's renders) takes its
 // textures, mipmaps and all, from here instead of making them again (Sundial's 2048^2 texture
 // was 13 of its 17 ms of upload a frame). A texture is taken for an image of its size and color
-// space whose bytes equal its first level, read back and compared: exact, and nothing to pay
-// for images of other sizes (a first render, a batch of different scenes).
+// space whose bytes equal its first level, read back and compared: exact. Only candidates whose
+// sample of 1024 words matches the image's are read back, so that images of one size (a
+// model's textures, a batch of scenes) are not compared with each other whole.
 class TextureCache {
  public:
   // The texture of `image` as `srgb` says, made by `make` when none is here. Needs the GL
@@ -30,10 +32,12 @@ class TextureCache {
   struct Entry {
     int width = 0, height = 0;
     bool srgb = false;
+    std::uint64_t sample = 0;  // sampleOf() the image
     std::shared_ptr<const gl::Texture> texture;
     bool used = true;
   };
-  bool holds(const Entry& entry, const Image& image);
+  static std::uint64_t sampleOf(const Image& image);
+  bool holds(const Entry& entry, const Image& image, std::uint64_t sample);
   std::vector<Entry> entries_;
   std::vector<std::uint8_t> readback_;  // holds()'s, kept for the next comparison
 };
