@@ -23,14 +23,16 @@ unsigned faceBit(CubeFace face) {
 }
 
 // A point light at `position` with near 0.1 and far 100, like the shadow plan makes it.
-ShadowCullingLight pointLight(const glm::vec3& position, CullFace cullFace = CullFace::None) {
+ShadowCullingLight pointLight(const glm::vec3& position, CullFace cullFace = CullFace::None,
+                              float near = 0.1f, float far = 100.0f) {
   ShadowCullingLight light;
   light.type = LightType::Point;
   light.position = position;
   light.cullFace = cullFace;
-  light.near = 0.1f;
+  light.near = near;
+  light.far = far;
   light.tanHalfFov = 1.0f;
-  const glm::mat4 projection = cubeFaceProjection(light.near, 100.0f);
+  const glm::mat4 projection = cubeFaceProjection(light.near, far);
   for (int face = 0; face < kCubeFaceCount; ++face)
     light.viewProjections.push_back(projection *
                                     cubeFaceView(static_cast<CubeFace>(face), position));
@@ -61,6 +63,43 @@ unsigned maskOf(const ShadowCullingLight& light, const glm::vec3& center, float 
 }
 
 }  // namespace
+
+// cullCasters skips the planes of a point light's faces for spheres beyond a bound of its far
+// distance; the masks must be the planes' own, for spheres on every side of that bound.
+TEST(CasterCulling, CubeReachBoundKeepsThePlanesMasks) {
+  std::uint32_t state = 12345u;
+  const auto uniform = [&state](float lo, float hi) {
+    state = state * 1664525u + 1013904223u;
+    return lo + (hi - lo) * static_cast<float>(state >> 8) / 16777216.0f;
+  };
+  int kept = 0, skipped = 0;
+  for (int l = 0; l < 40; ++l) {
+    const glm::vec3 at(uniform(-50, 50), uniform(-50, 50), uniform(-50, 50));
+    const float far = uniform(0.5f, 30.0f);
+    const ShadowCullingLight light = pointLight(at, CullFace::None, far * 0.01f, far);
+    std::vector<ViewFrustum> views;
+    for (const glm::mat4& m : light.viewProjections) views.emplace_back(m);
+    std::vector<ShadowCaster> casters;
+    for (int c = 0; c < 2000; ++c) {
+      ShadowCaster caster;
+      caster.radius = uniform(0.0f, 1.0f) < 0.2f ? uniform(0.0f, 0.01f) : uniform(0.0f, far);
+      // Around the bound: up to far + 3 r from the light along each axis.
+      const float extent = far + 3.0f * caster.radius;
+      caster.center = at + glm::vec3(uniform(-extent, extent), uniform(-extent, extent),
+                                     uniform(-extent, extent));
+      casters.push_back(caster);
+    }
+    const CasterCulling culling = cullCasters(casters, light);
+    for (std::size_t c = 0; c < casters.size(); ++c) {
+      const unsigned planes = casterViewMask(views, casters[c].center, casters[c].radius);
+      ASSERT_EQ(culling.viewMask[c], planes) << "light " << l << " caster " << c;
+      (planes != 0 ? kept : skipped)++;
+    }
+  }
+  // Both sides of the bound were tried.
+  EXPECT_GT(kept, 10000);
+  EXPECT_GT(skipped, 10000);
+}
 
 TEST(CasterCulling, SphereInsideOneCubeFaceTouchesThatFaceOnly) {
   const glm::vec3 at(2.0f, -1.0f, 3.0f);

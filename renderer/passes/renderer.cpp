@@ -385,6 +385,7 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
     if (!transmittancePass_) transmittancePass_ = std::make_unique<TransmittancePass>();
     places = transmittancePass_->place(reach, moved);
   }
+  const SceneCasters casters = describeCasters(prepared.gpu);
   std::size_t next = 0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
     ShadedLight s{&lights[i], nullptr};
@@ -400,7 +401,7 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
       if (reused) {
         if (frame) ++frame->shadowMapsReused;
       } else {
-        shadowPass_->render(prepared.gpu, lights[i], plan, group, strategy);
+        shadowPass_->render(prepared.gpu, casters, lights[i], plan, group, strategy);
         if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
         if (frame) ++frame->shadowMapsRendered;
       }

@@ -26,6 +26,25 @@ ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
   return ShadowPassStrategy::Six;
 }
 
+SceneCasters describeCasters(const GpuScene& scene) {
+  SceneCasters out;
+  out.casters.reserve(scene.draws().size());
+  out.geometry.reserve(scene.draws().size());
+  for (const GpuDraw& draw : scene.draws()) {
+    const Material& material = scene.materials()[draw.material].desc;
+    const GpuMeshRange& range = scene.meshes()[draw.mesh];
+    // Blended surfaces cast cut-out shadows (where at least half opaque) for lights without
+    // translucent shadows.
+    out.casters.push_back({draw.boundsCenter, draw.boundsRadius,
+                           material.alphaMode != AlphaMode::Opaque, range.closed,
+                           material.doubleSided, draw.mirrored});
+    out.geometry.push_back({static_cast<std::uint32_t>(range.indexCount),
+                            static_cast<std::uint32_t>(range.firstIndex), range.baseVertex,
+                            draw.casterFirstIndex});
+  }
+  return out;
+}
+
 ShadowPass::ShadowPass() : framebuffer_(gl::createFramebuffer()) {}
 ShadowPass::~ShadowPass() = default;
 
@@ -64,23 +83,6 @@ ShadowLayering layeringOf(ShadowPassStrategy strategy) {
   }
 }
 
-// What culling and batching know of the scene's draws, in draw order.
-void describeCasters(const GpuScene& scene, std::vector<ShadowCaster>& casters,
-                     std::vector<CasterGeometry>& geometry) {
-  for (const GpuDraw& draw : scene.draws()) {
-    const Material& material = scene.materials()[draw.material].desc;
-    const GpuMeshRange& range = scene.meshes()[draw.mesh];
-    // Blended surfaces cast cut-out shadows (where at least half opaque) for lights without
-    // translucent shadows.
-    casters.push_back({draw.boundsCenter, draw.boundsRadius,
-                       material.alphaMode != AlphaMode::Opaque, range.closed, material.doubleSided,
-                       draw.mirrored});
-    geometry.push_back({static_cast<std::uint32_t>(range.indexCount),
-                        static_cast<std::uint32_t>(range.firstIndex), range.baseVertex,
-                        draw.casterFirstIndex});
-  }
-}
-
 // Per layer of the light: the texels its casters (those culling keeps for the layer) may
 // cover, from their bounding spheres.
 std::vector<TexelRect> casterTexels(const std::vector<ShadowCaster>& casters,
@@ -113,16 +115,15 @@ struct ShadowPass::LightPass {
   ShadowLayerBinding& layers;
 };
 
-void ShadowPass::render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
-                        ShadowGroupTextures& target, ShadowPassStrategy strategy) {
+void ShadowPass::render(const GpuScene& scene, const SceneCasters& sceneCasters, const Light& light,
+                        const LightShadowPlan& plan, ShadowGroupTextures& target,
+                        ShadowPassStrategy strategy) {
   const bool cube = target.key.layout == ShadowLayout::Cube;
   if (!cube || strategy == ShadowPassStrategy::Auto) strategy = ShadowPassStrategy::Six;
   const ShadowLayering layering = layeringOf(strategy);
   const bool moments = target.key.moments;
 
-  std::vector<ShadowCaster> casters;
-  std::vector<CasterGeometry> geometry;
-  describeCasters(scene, casters, geometry);
+  const std::vector<ShadowCaster>& casters = sceneCasters.casters;
   CasterCulling culling = cullCasters(casters, shadowCullingLight(light, plan, cube));
   // With translucent shadows, translucent casters tint the light in the transmittance pass
   // (transmittance_pass.h) instead of blocking it here.
@@ -130,8 +131,8 @@ void ShadowPass::render(const GpuScene& scene, const Light& light, const LightSh
     for (std::size_t c = 0; c < casters.size(); ++c)
       if (isTranslucentCaster(scene.materials()[scene.draws()[c].material].desc))
         culling.viewMask[c] = 0;
-  const ShadowDrawList draws =
-      buildShadowDraws(casters, geometry, culling, plan.layerCount, layering, !moments);
+  const ShadowDrawList draws = buildShadowDraws(casters, sceneCasters.geometry, culling,
+                                                plan.layerCount, layering, !moments);
   commands_.upload(draws.commands);
   drawObjects_.upload(draws.objects);
 

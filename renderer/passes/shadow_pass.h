@@ -20,6 +20,14 @@ namespace omnishadow {
 ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
                                              const std::string& glRenderer);
 
+// What culling and batching know of a scene's draws, in draw order: the same for every light,
+// so described once per frame rather than once per light.
+struct SceneCasters {
+  std::vector<ShadowCaster> casters;
+  std::vector<CasterGeometry> geometry;
+};
+SceneCasters describeCasters(const GpuScene& scene);
+
 // Renders depth (and vsm moments) of one light's layers. Spot lights and directional cascades
 // are always drawn one layer per pass; the strategy applies to point lights. Opaque casters
 // are drawn with glMultiDrawElementsIndirect; alpha-tested ones one by one with their texture.
@@ -29,8 +37,9 @@ class ShadowPass {
   ~ShadowPass();
 
   // Draws the light's layers of `target` and updates their `written` texels.
-  void render(const GpuScene& scene, const Light& light, const LightShadowPlan& plan,
-              ShadowGroupTextures& target, ShadowPassStrategy strategy);
+  void render(const GpuScene& scene, const SceneCasters& casters, const Light& light,
+              const LightShadowPlan& plan, ShadowGroupTextures& target,
+              ShadowPassStrategy strategy);
 
  private:
   struct LightPass;

@@ -69,6 +69,7 @@ ShadowCullingLight shadowCullingLight(const Light& light, const LightShadowPlan&
   culling.viewProjections.assign(plan.viewProjection.begin(),
                                  plan.viewProjection.begin() + plan.layerCount);
   culling.near = plan.near;
+  culling.far = plan.far;
   culling.tanHalfFov = cube ? 1.0f : plan.tanHalfFov;
   return culling;
 }
@@ -101,16 +102,37 @@ CullBucket cullBucket(const ShadowCaster& caster, const ShadowCullingLight& ligh
   return caster.mirrored ? CullBucket::Cw : CullBucket::Ccw;
 }
 
+namespace {
+
+// Whether every face of a point light's cube rejects the sphere, known from one bound: a
+// face's far plane keeps its axis distance within far + r and its 90-degree side planes keep
+// the other two coordinates within that distance + sqrt(2) r, so a sphere any face keeps has
+// every coordinate within far + (1 + sqrt 2) r of the light (and a negative axis distance
+// below near - r fails the near plane). 2.5 r and the relative margin stand above the float
+// rounding of the planes, so the bound only skips spheres the planes reject: the masks are
+// the planes' own. A light with a range reaches few of a large scene's casters.
+bool outsideCubeReach(const ShadowCullingLight& light, const glm::vec3& center, float radius) {
+  const float reach = light.far + 2.5f * radius + 1e-3f * (light.far + radius);
+  const glm::vec3 d = glm::abs(center - light.position);
+  return d.x > reach || d.y > reach || d.z > reach;
+}
+
+}  // namespace
+
 CasterCulling cullCasters(const std::vector<ShadowCaster>& casters,
                           const ShadowCullingLight& light) {
   std::vector<ViewFrustum> views;
   views.reserve(light.viewProjections.size());
   for (const glm::mat4& viewProjection : light.viewProjections) views.emplace_back(viewProjection);
+  const bool cube = light.type == LightType::Point && views.size() == 6 &&
+                    light.tanHalfFov == 1.0f && light.far > 0.0f;
   CasterCulling culling;
   culling.viewMask.reserve(casters.size());
   culling.bucket.reserve(casters.size());
   for (const ShadowCaster& caster : casters) {
-    culling.viewMask.push_back(casterViewMask(views, caster.center, caster.radius));
+    culling.viewMask.push_back(cube && outsideCubeReach(light, caster.center, caster.radius)
+                                   ? 0u
+                                   : casterViewMask(views, caster.center, caster.radius));
     culling.bucket.push_back(cullBucket(caster, light));
   }
   return culling;

@@ -63,6 +63,7 @@ struct ShadowCullingLight {
   CullFace cullFace = CullFace::None;  // the light's shadow.cullFace
   std::vector<glm::mat4> viewProjections;
   float near = 0.0f;        // depth range start along the view axis
+  float far = 0.0f;         // depth range end along the view axis (0: unknown)
   float tanHalfFov = 1.0f;  // of each view; cube faces are 90 degrees
 };
 

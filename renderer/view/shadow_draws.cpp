@@ -1,7 +1,6 @@
 #include "renderer/view/shadow_draws.h"
 
 #include <algorithm>
-#include <numeric>
 
 namespace omnishadow {
 namespace {
@@ -29,8 +28,12 @@ ShadowDrawList buildShadowDraws(const std::vector<ShadowCaster>& casters,
                                 const std::vector<CasterGeometry>& geometry,
                                 const CasterCulling& culling, int views, ShadowLayering layering,
                                 bool streamOrder) {
-  std::vector<std::size_t> casterOrder(casters.size());
-  std::iota(casterOrder.begin(), casterOrder.end(), std::size_t{0});
+  // Only casters some view keeps: a light with a range usually reaches few of a large scene's
+  // casters, and every pass below walks the list again. Sorting the kept ones alone gives them
+  // the order they have in the sorted whole (a stable sort's order is a total one).
+  std::vector<std::size_t> casterOrder, masked;
+  for (std::size_t c = 0; c < casters.size(); ++c)
+    if (culling.viewMask[c] != 0) (casters[c].masked ? masked : casterOrder).push_back(c);
   std::vector<std::size_t> worldOrder = casterOrder;
   if (streamOrder)
     std::stable_sort(worldOrder.begin(), worldOrder.end(), [&](std::size_t a, std::size_t b) {
@@ -43,7 +46,7 @@ ShadowDrawList buildShadowDraws(const std::vector<ShadowCaster>& casters,
         const int first = static_cast<int>(list.objects.size());
         for (const std::size_t c : world ? worldOrder : casterOrder) {
           const CasterGeometry& g = geometry[c];
-          if (casters[c].masked || culling.bucket[c] != static_cast<CullBucket>(bucket) ||
+          if (culling.bucket[c] != static_cast<CullBucket>(bucket) ||
               (g.casterFirstIndex >= 0) != world || !drawnIn(view, culling.viewMask[c]))
             continue;
           // Runs of consecutive faces become one command each.
@@ -75,8 +78,8 @@ ShadowDrawList buildShadowDraws(const std::vector<ShadowCaster>& casters,
       }
 
   for (int view = firstPassView(layering); view < passViewEnd(layering, views); ++view)
-    for (std::size_t c = 0; c < casters.size(); ++c)
-      if (casters[c].masked && drawnIn(view, culling.viewMask[c]))
+    for (const std::size_t c : masked)
+      if (drawnIn(view, culling.viewMask[c]))
         list.masked.push_back(
             {view, static_cast<int>(c), instancesIn(layering, view, culling.viewMask[c])});
   return list;
