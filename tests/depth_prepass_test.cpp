@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/passes/lighting_pass.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "scenes/builder/gltf_builder.h"
@@ -38,6 +39,13 @@ Light keyLight(glm::vec3 position) {
 
 std::string scenePath(const std::string& relative) {
   return std::string(OMNISHADOW_SOURCE_DIR) + "/scenes/thirdparty/" + relative;
+}
+
+// The pre-pass is llvmpipe's: not drawn on a GPU's driver (NVIDIA's lost pixels with it).
+TEST(DepthPrepass, DrawnOnLlvmpipeOnly) {
+  EXPECT_TRUE(depthPrepassSupported("llvmpipe (LLVM 15.0.6, 256 bits)"));
+  EXPECT_FALSE(depthPrepassSupported("NVIDIA H100 80GB HBM3/PCIe/SSE2"));
+  EXPECT_FALSE(depthPrepassSupported("AMD Radeon RX 7900 XTX (radeonsi, navi31, LLVM 15.0.6)"));
 }
 
 // Box alone: the pre-pass lets through exactly the pixels shaded after it (the second frame

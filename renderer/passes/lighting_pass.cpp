@@ -566,6 +566,10 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   gl::checkErrors("the lighting pass");
 }
 
+bool depthPrepassSupported(std::string_view glRenderer) {
+  return glRenderer.find("llvmpipe") != std::string_view::npos;
+}
+
 std::optional<OpaqueFragments> LightingPass::opaqueFragments() const {
   if (!counted_) return std::nullopt;
   OpaqueFragments counts;

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -55,6 +56,13 @@ struct PassParameters {
   bool depthPrepass = true;
   bool countFragments = false;
 };
+
+// Whether the beauty's depth pre-pass is drawn at all on a GL renderer (its GL_RENDERER
+// string): on llvmpipe, where shading costs more than drawing the triangles again and the
+// pre-pass was measured to pay; not on GPUs, whose early depth tests spare most of that work,
+// and where NVIDIA's driver (580.159, H100) lost blocks of WhackAMole's ground with it (the
+// shading pass's GL_GEQUAL failing against the pre-pass's depths; docs/performance.md).
+bool depthPrepassSupported(std::string_view glRenderer);
 
 // Fragments of a frame's opaque surfaces that the depth pre-pass let through (those shading
 // without it would shade, less ties) and those the pass then shaded (about one a pixel).

@@ -223,7 +223,8 @@ class Renderer::Impl {
   std::optional<ShadowCache> shadowCache_;
   RenderLimits limits_;
   std::string glRenderer_;
-  bool packInvert_ = false;  // GL_MESA_pack_invert: readbacks turn the rows around themselves
+  bool prepassSupported_ = true;  // depthPrepassSupported(glRenderer_)
+  bool packInvert_ = false;       // GL_MESA_pack_invert: readbacks turn the rows around themselves
   struct PassKey {
     Shading shading;
     PassOutputs outputs;
@@ -313,6 +314,7 @@ Renderer::Impl::Impl(const ContextOptions& options) : context_(options) {
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &limits_.maxTextureSize);
   limits_.maxFrameTexels = largestFrameTexels(limits_.maxTextureSize);
   glRenderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  prepassSupported_ = depthPrepassSupported(glRenderer_);
   packInvert_ = hasExtension("GL_MESA_pack_invert");
   gl::checkErrors("context setup");
 }
@@ -697,6 +699,10 @@ std::vector<PlanarShadowMapDump> Renderer::Impl::readPlanarShadowMaps(const Prep
 }
 
 void Renderer::Impl::choosePrepass(std::uint64_t scene, PassParameters& parameters) {
+  if (!prepassSupported_) {
+    parameters.depthPrepass = parameters.countFragments = false;
+    return;
+  }
   PrepassChoice& choice = prepassChoice_;
   if (scene == 0 || choice.scene != scene) choice = {scene, 0, false};
   // Counting costs llvmpipe work in every fragment (Sundial's lighting 3 ms more), so a
