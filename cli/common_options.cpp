@@ -30,7 +30,8 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
   if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
     app.add_option("--shadow-pass", o.shadowPass,
                    "How point-light cube maps are rendered: six, geometry, instanced or auto "
-                   "(default; six, the fastest measured on llvmpipe, on every driver for now)")
+                   "(default; six: the fastest measured on llvmpipe, and within 5% of instanced, "
+                   "1.6x faster than geometry, on an NVIDIA H100)")
         ->check(CLI::IsMember({"auto", "six", "geometry", "instanced"}));
   if (renders)
     app.add_option("--max-memory", o.maxMemoryMiB,

@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# The frame-speed tables on a machine with a GPU (issue 19): the peers' scenes (process, cold and
+# warm first frame, steady frame, the image against llvmpipe's), the shadow passes on the bench
+# room, 256 shadowed point lights on 1M triangles, batch scenes per second. Runs
+# scripts/bench_gpu.py; on a machine without a GPU the same tables measure llvmpipe.
+#
+# Usage: scripts/bench-gpu.sh [--out DIR] [--rounds N] [--repeat N] [--sections LIST]
+#        scripts/bench-gpu.sh --bundle DIR
+# --bundle DIR  build here and pack into DIR what a machine that cannot build needs: the
+#               binaries, the shared libraries they load beyond glibc, the scenes with the
+#               peers' lights, llvmpipe's images of them, and DIR/run.sh. There:
+#               `DIR/run.sh OUT [bench_gpu.py options]` (sets LD_LIBRARY_PATH and NVIDIA's
+#               EGL vendor file when it exists).
+# --out DIR     where gpu.md and the images go (default build-bench/gpu)
+# The scenes come from ../shared (peers/threejs/scenes and scenes-thirdparty).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+shared="$root/../shared"
+bundle="" out="$root/build-bench/gpu" passthrough=()
+while (($#)); do
+  case $1 in
+    --bundle) bundle=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --rounds|--repeat|--sections|--batch-scenes) passthrough+=("$1" "$2"); shift 2 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    *) echo "bench-gpu: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+"$root/scripts/build.sh" omnishadow make_shadow_bench_scene make_bench_scenes
+
+# The peers' scenes with compare.py's lights: pcf, 1024^2, a range of 0 means none.
+make_scenes() {
+  local dir=$1 t="$shared/peers/threejs/scenes" s="$shared/scenes-thirdparty"
+  mkdir -p "$dir"
+  cp "$s/Box/Box.glb" "$dir/box.glb"
+  cp "$s/CornellBoxSuzanne/cornell-box.glb" "$dir/cornell.glb"
+  cp "$s/Sundial/Sundial.glb" "$dir/sundial.glb"
+  cp "$s/WhackAMole/WhackAMole.glb" "$dir/whackamole.glb"
+  cp "$t/test_room.glb" "$dir/test_room.glb"
+  python3 - "$dir" "$t" <<'PY'
+import json, sys
+dir, t = sys.argv[1], sys.argv[2]
+for name, src in (("box", "thirdparty/Box"), ("cornell", "thirdparty/CornellBoxSuzanne"),
+                  ("sundial", "thirdparty/Sundial"), ("whackamole", "thirdparty/WhackAMole"),
+                  ("test_room", "test_room")):
+    d = json.load(open(f"{t}/{src}.lights.json"))
+    for l in d.get("lights", []):
+        if l.get("range") == 0:
+            del l["range"]
+        s = l.get("shadow")
+        if s is False:
+            continue
+        if not isinstance(s, dict):
+            s = l["shadow"] = {}
+        s["filter"] = "pcf"
+        s.setdefault("resolution", 1024)
+    json.dump(d, open(f"{dir}/{name}.lights.json", "w"), indent=1)
+PY
+}
+
+# This machine's images of the same renders (llvmpipe here), for `omnishadow diff` against the GPU's.
+make_references() {
+  local scenes=$1 dir=$2
+  mkdir -p "$dir"
+  for n in box cornell sundial whackamole test_room; do
+    "$root/build/omnishadow" render "$scenes/$n.glb" \
+      -l "$scenes/$n.lights.json" -o "$dir/$n.png" --width 1280 --height 720 --no-gltf-lights \
+      >/dev/null
+  done
+}
+
+if [[ -n "$bundle" ]]; then
+  rm -rf "$bundle"
+  mkdir -p "$bundle/bin" "$bundle/lib"
+  for b in omnishadow make_shadow_bench_scene make_bench_scenes; do
+    strip -o "$bundle/bin/$b" "$root/build/$b"
+  done
+  # Every library beyond glibc: the other machine may have none of Debian's packages, and
+  # glvnd's loaders (libEGL, libOpenGL) find the vendor's driver there.
+  ldd "$root"/build/{omnishadow,make_shadow_bench_scene,make_bench_scenes} |
+    awk '/=>/ { print $3 }' | sort -u |
+    grep -vE '/(libc|libm|libpthread|libdl|librt|ld-linux[^/]*)\.so' |
+    while read -r lib; do cp -L "$lib" "$bundle/lib/"; done
+  cp "$root/scripts/bench_gpu.py" "$bundle/"
+  make_scenes "$bundle/scenes"
+  make_references "$bundle/scenes" "$bundle/reference"
+  cat >"$bundle/run.sh" <<'SH'
+#!/usr/bin/env bash
+# Runs bench_gpu.py from this bundle: run.sh OUT [bench_gpu.py options]
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+out=$1; shift
+export LD_LIBRARY_PATH="$here/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+for d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib; do
+  [[ -d $d ]] && LD_LIBRARY_PATH="$LD_LIBRARY_PATH:$d"
+done
+vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+[[ -f $vendor && -z ${__EGL_VENDOR_LIBRARY_FILENAMES:-} ]] && export __EGL_VENDOR_LIBRARY_FILENAMES=$vendor
+exec python3 "$here/bench_gpu.py" --bin "$here/bin/omnishadow" \
+  --shadow-gen "$here/bin/make_shadow_bench_scene" --batch-gen "$here/bin/make_bench_scenes" \
+  --scenes "$here/scenes" --reference "$here/reference" --out "$out" "$@"
+SH
+  chmod +x "$bundle/run.sh"
+  du -sh "$bundle"
+  exit 0
+fi
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+make_scenes "$work/scenes"
+python3 "$root/scripts/bench_gpu.py" --bin "$root/build/omnishadow" \
+  --shadow-gen "$root/build/make_shadow_bench_scene" --batch-gen "$root/build/make_bench_scenes" \
+  --scenes "$work/scenes" --out "$out" "${passthrough[@]}"
