@@ -499,6 +499,36 @@ TEST(LightClusters, RangedLightsOnlyInTheClustersTheirSphereTouches) {
   EXPECT_LE(smallClusters, 25 * 3);
 }
 
+// Frames of one camera reuse the cluster boxes (ClusterBoxCache); a frame of another camera,
+// or of another far depth, must not: each grid equals the one built without a cache.
+TEST(LightClusters, CachedBoxesGiveTheClustersOfEachCamera) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-12.0f, 12.0f), h(-8.0f, 9.5f), r(0.3f, 3.0f);
+  std::vector<Light> storage(200);
+  std::vector<const Light*> lights;
+  for (Light& light : storage) {
+    light.position = {u(rng), h(rng), u(rng)};
+    light.range = r(rng);
+    lights.push_back(&light);
+  }
+  ViewCamera wide = topDownCamera();
+  ViewCamera narrow = wide;
+  narrow.projection = reversedPerspective(0.4f, 1.0f, 0.05f, 0.0f);
+  ViewCamera ortho = wide;
+  ortho.orthographic = true;
+  ortho.projection = reversedOrthographic(12.0f, 12.0f, 0.01f, 30.0f);
+  ClusterBoxCache cache;
+  const std::pair<const ViewCamera*, float> frames[] = {
+      {&wide, 20.0f}, {&wide, 20.0f},  {&narrow, 20.0f}, {&wide, 20.0f},
+      {&wide, 8.0f},  {&ortho, 20.0f}, {&narrow, 20.0f}};
+  for (const auto& [camera, far] : frames) {
+    const LightClusters cached = buildLightClusters(lights, *camera, far, 16, 24, &cache);
+    const LightClusters fresh = buildLightClusters(lights, *camera, far, 16, 24);
+    EXPECT_EQ(cached.ranges, fresh.ranges);
+    EXPECT_EQ(cached.lights, fresh.lights);
+  }
+}
+
 TEST(LightClusters, EveryPointFindsEveryLightThatReachesItInItsCluster) {
   // Random ranged lights through a perspective and an orthographic view; random points in
   // view: a light whose sphere holds the point must be in the point's cluster, and most

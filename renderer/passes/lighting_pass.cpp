@@ -357,7 +357,7 @@ void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<Shade
   for (const GpuDraw& draw : scene.draws())
     farthest = std::max(farthest,
                         glm::dot(depthRow, glm::vec4(draw.boundsCenter, 1.0f)) + draw.boundsRadius);
-  LightClusters clusters = buildLightClusters(list, camera, farthest);
+  LightClusters clusters = buildLightClusters(list, camera, farthest, 16, 24, &clusterBoxes_);
   static_assert(std::is_same_v<decltype(clusters.ranges)::value_type, contract::GpuClusterIndex> &&
                 std::is_same_v<decltype(clusters.lights)::value_type, contract::GpuClusterIndex>);
   if (clusters.lights.empty()) clusters.lights.push_back(0);  // bound with at least one element

@@ -190,6 +190,7 @@ class LightingPass {
   ShaderProgram depthOnly_;
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;
+  ClusterBoxCache clusterBoxes_;
   gl::Query prepassFragments_, shadedFragments_;  // GL_SAMPLES_PASSED, made on first use
   bool counted_ = false;                          // the last render() counted them
 };

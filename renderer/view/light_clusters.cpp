@@ -35,23 +35,20 @@ TileRect coveredTiles(const glm::vec3& c, float r, const ViewCamera& camera,
           tile(hi.x, camera.width, clusters.columns), tile(hi.y, camera.height, clusters.rows)};
 }
 
-struct Box {
-  glm::vec3 lo{std::numeric_limits<float>::max()};
-  glm::vec3 hi{std::numeric_limits<float>::lowest()};
-  void extend(const glm::vec3& p) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  bool touchesSphere(const glm::vec3& c, float r) const {
-    const glm::vec3 d = glm::max(glm::max(lo - c, c - hi), glm::vec3(0.0f));
-    return glm::dot(d, d) <= r * r;
-  }
-};
+void extend(ClusterBox& box, const glm::vec3& p) {
+  box.lo = glm::min(box.lo, p);
+  box.hi = glm::max(box.hi, p);
+}
+
+bool touchesSphere(const ClusterBox& box, const glm::vec3& c, float r) {
+  const glm::vec3 d = glm::max(glm::max(box.lo - c, c - box.hi), glm::vec3(0.0f));
+  return glm::dot(d, d) <= r * r;
+}
 
 // View-space bounding boxes of every cluster. Depth bounds are widened a little so that a
 // fragment whose slice rounds to a neighbour still finds its lights there; the first slice
 // starts at the camera and the last one reaches well past the farthest geometry.
-std::vector<Box> clusterBoxes(const LightClusters& clusters, const ViewCamera& camera) {
+std::vector<ClusterBox> clusterBoxes(const LightClusters& clusters, const ViewCamera& camera) {
   const glm::mat4 inverse = glm::inverse(camera.projection);
   // The view-space point of normalized device coordinates (x, y) at view depth d.
   auto at = [&](float x, float y, float d) {
@@ -63,8 +60,8 @@ std::vector<Box> clusterBoxes(const LightClusters& clusters, const ViewCamera& c
   std::vector<float> bounds(static_cast<std::size_t>(clusters.slices) + 1);
   for (int s = 0; s <= clusters.slices; ++s)
     bounds[s] = clusters.sliceNear * std::exp(static_cast<float>(s) / clusters.sliceScale);
-  std::vector<Box> boxes(static_cast<std::size_t>(clusters.columns) * clusters.rows *
-                         clusters.slices);
+  std::vector<ClusterBox> boxes(static_cast<std::size_t>(clusters.columns) * clusters.rows *
+                                clusters.slices);
   // Normalized device coordinates spanned by tile `i` along an axis of `pixels`, half a pixel
   // wider on each side.
   const float tile = static_cast<float>(clusters.tileSize);
@@ -80,10 +77,11 @@ std::vector<Box> clusterBoxes(const LightClusters& clusters, const ViewCamera& c
       const std::array<float, 2> ys = ndcSpan(y, camera.height);
       for (int x = 0; x < clusters.columns; ++x) {
         const std::array<float, 2> xs = ndcSpan(x, camera.width);
-        Box& box = boxes[(static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x];
+        ClusterBox& box =
+            boxes[(static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x];
         for (const float d : {d0, d1})
           for (const float nx : xs)
-            for (const float ny : ys) box.extend(at(nx, ny, d));
+            for (const float ny : ys) extend(box, at(nx, ny, d));
       }
     }
   }
@@ -92,6 +90,17 @@ std::vector<Box> clusterBoxes(const LightClusters& clusters, const ViewCamera& c
 
 }  // namespace
 
+const std::vector<ClusterBox>& ClusterBoxCache::boxes(const LightClusters& grid,
+                                                      const ViewCamera& camera) {
+  const Key key{camera.projection, camera.orthographic, camera.width,   camera.height,
+                grid.tileSize,     grid.slices,         grid.sliceNear, grid.sliceScale};
+  if (boxes_.empty() || !(key == key_)) {
+    boxes_ = clusterBoxes(grid, camera);
+    key_ = key;
+  }
+  return boxes_;
+}
+
 int clusterSlice(const LightClusters& clusters, float depth) {
   const float s =
       std::floor(std::log(std::max(depth, 1e-30f) / clusters.sliceNear) * clusters.sliceScale);
@@ -99,7 +108,8 @@ int clusterSlice(const LightClusters& clusters, float depth) {
 }
 
 LightClusters buildLightClusters(const std::vector<const Light*>& lights, const ViewCamera& camera,
-                                 float farthestDepth, int tileSize, int slices) {
+                                 float farthestDepth, int tileSize, int slices,
+                                 ClusterBoxCache* cache) {
   LightClusters clusters;
   clusters.tileSize = tileSize;
   clusters.columns = (camera.width + tileSize - 1) / tileSize;
@@ -114,7 +124,8 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
 
   // (cluster, light) pairs of the ranged lights, in light order.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  std::vector<Box> boxes;
+  std::vector<ClusterBox> ownBoxes;
+  const std::vector<ClusterBox>* boxes = nullptr;
   for (std::size_t i = 0; i < lights.size(); ++i) {
     const Light& light = *lights[i];
     if (light.type == LightType::Directional || light.range <= 0.0f) {
@@ -126,14 +137,21 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
     if (-c.z + r < camera.znear) continue;  // wholly behind the camera
     const TileRect rect = coveredTiles(c, r, camera, clusters);
     if (rect.x1 < rect.x0) continue;
-    if (boxes.empty()) boxes = clusterBoxes(clusters, camera);
+    if (!boxes) {
+      if (cache) {
+        boxes = &cache->boxes(clusters, camera);
+      } else {
+        ownBoxes = clusterBoxes(clusters, camera);
+        boxes = &ownBoxes;
+      }
+    }
     const int s0 = clusterSlice(clusters, -c.z - r), s1 = clusterSlice(clusters, -c.z + r);
     for (int s = std::max(0, s0 - 1); s <= std::min(slices - 1, s1 + 1); ++s)
       for (int y = rect.y0; y <= rect.y1; ++y)
         for (int x = rect.x0; x <= rect.x1; ++x) {
           const std::size_t index =
               (static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x;
-          if (boxes[index].touchesSphere(c, r))
+          if (touchesSphere((*boxes)[index], c, r))
             pairs.emplace_back(static_cast<std::uint32_t>(index), static_cast<std::uint32_t>(i));
         }
   }

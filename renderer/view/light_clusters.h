@@ -1,10 +1,12 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/glm.hpp>
+#include <limits>
 #include <vector>
 
-#include "renderer/view/camera.h"
 #include "renderer/scene/light.h"
+#include "renderer/view/camera.h"
 
 namespace omnishadow {
 
@@ -28,9 +30,36 @@ struct LightClusters {
   std::vector<std::uint32_t> lights;  // light indices, ascending within each list
 };
 
-// `farthestDepth`: the largest view depth of any geometry (the slices end there).
+// A cluster's view-space bounding box.
+struct ClusterBox {
+  glm::vec3 lo{std::numeric_limits<float>::max()};
+  glm::vec3 hi{std::numeric_limits<float>::lowest()};
+};
+
+// The bounding boxes of every cluster of the last grid asked for: they depend on the camera's
+// projection and size and the grid's slices alone, and frames of one camera (batch jobs of one
+// scene, --repeat) ask for the same ones again (86k boxes at 1280x720).
+class ClusterBoxCache {
+ public:
+  const std::vector<ClusterBox>& boxes(const LightClusters& grid, const ViewCamera& camera);
+
+ private:
+  struct Key {
+    glm::mat4 projection{0.0f};
+    bool orthographic = false;
+    int width = 0, height = 0, tileSize = 0, slices = 0;
+    float sliceNear = 0.0f, sliceScale = 0.0f;
+    bool operator==(const Key&) const = default;
+  };
+  Key key_;
+  std::vector<ClusterBox> boxes_;
+};
+
+// `farthestDepth`: the largest view depth of any geometry (the slices end there). `cache`:
+// the boxes of an earlier frame's grid, reused when this grid's are the same.
 LightClusters buildLightClusters(const std::vector<const Light*>& lights, const ViewCamera& camera,
-                                 float farthestDepth, int tileSize = 16, int slices = 24);
+                                 float farthestDepth, int tileSize = 16, int slices = 24,
+                                 ClusterBoxCache* cache = nullptr);
 
 // The slice of view depth `depth`, as shaders/lighting.frag computes it.
 int clusterSlice(const LightClusters& clusters, float depth);
