@@ -153,16 +153,14 @@ class Bench:
             lines.append(f"| {n} | " + " | ".join(
                 f"{statistics.median(x.get(k, 0) for x in res[n]['warm']):.1f}" for k in stage_names) + " |")
         if self.a.reference:
-            lines += ["", "The GPU's image against llvmpipe's (`omnishadow diff`):", ""]
+            lines += ["", "The GPU's image against llvmpipe's (`omnishadow diff`, 8-bit RGB as 0..1):", "",
+                      "| scene | max abs | mean abs | PSNR dB | pixels that differ |",
+                      "|---|---:|---:|---:|---:|"]
             for n in PEERS:
                 ref = os.path.join(self.a.reference, f"{n}.png")
                 if not os.path.exists(ref):
                     continue
-                p = subprocess.run([self.a.bin, "diff", ref, os.path.join(self.a.out, f"{n}.gpu.png")],
-                                   capture_output=True, text=True)
-                text = (p.stdout + p.stderr).splitlines()
-                summary = [l.strip() for l in text if l.strip().startswith("all")] + text[-1:]
-                lines.append(f"- {n}: " + " | ".join(summary))
+                lines.append(diff_row(self.a.bin, n, ref, os.path.join(self.a.out, f"{n}.gpu.png")))
         self.write("Peers' scenes, 1280x720, pcf, 1024^2 cube maps", lines)
 
     def passes(self):
@@ -261,6 +259,16 @@ class Bench:
             s = statistics.median(times[(size, workers)]) / 1000
             lines.append(f"| {size} | {workers} | {s:.2f} | {n / s:.0f} |")
         self.write("Batch throughput", lines)
+
+
+def diff_row(binary, name, a, b):
+    """One table row of `omnishadow diff A B`'s "all" line (max, mean, RMSE, PSNR, count, share)."""
+    p = subprocess.run([binary, "diff", a, b], capture_output=True, text=True)
+    for line in (p.stdout + p.stderr).splitlines():
+        f = line.split()
+        if f[:1] == ["all"] and len(f) >= 7:
+            return f"| {name} | {float(f[1]):.4f} | {float(f[2]):.2e} | {f[4]} | {f[5]} {f[6]} |"
+    return f"| {name} | ? | ? | ? | {(p.stdout + p.stderr).strip()[-80:]} |"
 
 
 def fmt_list(xs, digits=1):
