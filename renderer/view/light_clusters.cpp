@@ -124,7 +124,8 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
 
   // (cluster, light) pairs of the ranged lights, in light order.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  std::vector<ClusterBox> ownBoxes;
+  ClusterBoxCache ownCache;
+  ClusterBoxCache& boxCache = cache ? *cache : ownCache;
   const std::vector<ClusterBox>* boxes = nullptr;
   for (std::size_t i = 0; i < lights.size(); ++i) {
     const Light& light = *lights[i];
@@ -137,14 +138,7 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
     if (-c.z + r < camera.znear) continue;  // wholly behind the camera
     const TileRect rect = coveredTiles(c, r, camera, clusters);
     if (rect.x1 < rect.x0) continue;
-    if (!boxes) {
-      if (cache) {
-        boxes = &cache->boxes(clusters, camera);
-      } else {
-        ownBoxes = clusterBoxes(clusters, camera);
-        boxes = &ownBoxes;
-      }
-    }
+    if (!boxes) boxes = &boxCache.boxes(clusters, camera);
     const int s0 = clusterSlice(clusters, -c.z - r), s1 = clusterSlice(clusters, -c.z + r);
     for (int s = std::max(0, s0 - 1); s <= std::min(slices - 1, s1 + 1); ++s)
       for (int y = rect.y0; y <= rect.y1; ++y)
