@@ -460,6 +460,23 @@ ViewCamera topDownCamera() {
                         {.fovDegrees = 90.0f, .width = 320, .height = 320});
 }
 
+// `count` point lights with ranges, scattered through and around topDownCamera()'s view.
+std::vector<Light> randomRangedLights(std::mt19937& rng, int count) {
+  std::uniform_real_distribution<float> u(-12.0f, 12.0f), h(-8.0f, 9.5f), r(0.3f, 3.0f);
+  std::vector<Light> lights(static_cast<std::size_t>(count));
+  for (Light& light : lights) {
+    light.position = {u(rng), h(rng), u(rng)};
+    light.range = r(rng);
+  }
+  return lights;
+}
+
+std::vector<const Light*> pointersTo(const std::vector<Light>& lights) {
+  std::vector<const Light*> out;
+  for (const Light& light : lights) out.push_back(&light);
+  return out;
+}
+
 TEST(LightClusters, RangedLightsOnlyInTheClustersTheirSphereTouches) {
   const ViewCamera camera = topDownCamera();
   Light small, everywhere, behind, sun;
@@ -503,14 +520,8 @@ TEST(LightClusters, RangedLightsOnlyInTheClustersTheirSphereTouches) {
 // or of another far depth, must not: each grid equals the one built without a cache.
 TEST(LightClusters, CachedBoxesGiveTheClustersOfEachCamera) {
   std::mt19937 rng(9);
-  std::uniform_real_distribution<float> u(-12.0f, 12.0f), h(-8.0f, 9.5f), r(0.3f, 3.0f);
-  std::vector<Light> storage(200);
-  std::vector<const Light*> lights;
-  for (Light& light : storage) {
-    light.position = {u(rng), h(rng), u(rng)};
-    light.range = r(rng);
-    lights.push_back(&light);
-  }
+  const std::vector<Light> storage = randomRangedLights(rng, 200);
+  const std::vector<const Light*> lights = pointersTo(storage);
   ViewCamera wide = topDownCamera();
   ViewCamera narrow = wide;
   narrow.projection = reversedPerspective(0.4f, 1.0f, 0.05f, 0.0f);
@@ -540,14 +551,8 @@ TEST(LightClusters, EveryPointFindsEveryLightThatReachesItInItsCluster) {
       camera.projection = reversedOrthographic(12.0f, 12.0f, 0.01f, 30.0f);
     }
     std::mt19937 rng(5);
-    std::uniform_real_distribution<float> u(-12.0f, 12.0f), h(-8.0f, 9.5f), r(0.3f, 3.0f);
-    std::vector<Light> storage(300);
-    std::vector<const Light*> lights;
-    for (Light& light : storage) {
-      light.position = {u(rng), h(rng), u(rng)};
-      light.range = r(rng);
-      lights.push_back(&light);
-    }
+    const std::vector<Light> storage = randomRangedLights(rng, 300);
+    const std::vector<const Light*> lights = pointersTo(storage);
     const LightClusters clusters = buildLightClusters(lights, camera, 20.0f, 16, 24);
     const glm::mat4 inverse = glm::inverse(camera.projection * camera.view);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
