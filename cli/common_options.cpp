@@ -28,10 +28,11 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
             "lights.json in the scene's folder)"
           : "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
   if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
-    app.add_option("--shadow-pass", o.shadowPass,
-                   "How point-light cube maps are rendered: six, geometry, instanced or auto "
-                   "(default; six: the fastest measured on llvmpipe, and within 5% of instanced, "
-                   "1.6x faster than geometry, on an NVIDIA H100)")
+    app.add_option(
+           "--shadow-pass", o.shadowPass,
+           "How point-light cube maps are rendered: six, geometry, instanced or auto "
+           "(default; six: the fastest measured on llvmpipe; on an NVIDIA H100 within 8% of "
+           "instanced and 1.6x faster than geometry)")
         ->check(CLI::IsMember({"auto", "six", "geometry", "instanced"}));
   if (renders)
     app.add_option("--max-memory", o.maxMemoryMiB,

@@ -20,9 +20,9 @@ ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
   // lights at 1024^2, llvmpipe on 2 cores (9853f53): six 305 ms, instanced 336 ms, geometry
   // 677 ms (medians of 9 rounds). llvmpipe runs the geometry shader on the thread that also does
   // all vertex work and setup, while per-face passes keep that thread light and let the
-  // rasterizer threads work. On an NVIDIA H100 (scripts/bench-gpu.sh, 5 rounds, steady pass):
-  // six 17.8 ms, instanced 16.9, geometry 27.5; instanced was ahead by 3-8% in 4 rounds of 5 and
-  // behind in one, too little to pick by driver.
+  // rasterizer threads work. On an NVIDIA H100 (scripts/bench-gpu.sh, three runs of 5 rounds,
+  // steady pass): six 16.0-17.8 ms, instanced 15.0-16.9, geometry 25.0-27.5; instanced was
+  // ahead of six by 3-8% in 14 rounds of 15. Not yet chosen by driver: one GPU model measured.
   (void)glRenderer;
   return ShadowPassStrategy::Six;
 }
