@@ -28,33 +28,28 @@ while (($#)); do
 done
 "$root/scripts/build.sh" omnishadow make_shadow_bench_scene make_bench_scenes
 
-# The peers' scenes with compare.py's lights: pcf, 1024^2, a range of 0 means none.
+# The peers' scenes with compare.py's lights (its SCENES and with_filter: pcf, 1024^2, a range
+# of 0 means none), as NAME.glb or NAME.gltf beside NAME.lights.json.
 make_scenes() {
-  local dir=$1 t="$shared/peers/threejs/scenes" s="$shared/scenes-thirdparty"
-  mkdir -p "$dir"
-  cp "$s/Box/Box.glb" "$dir/box.glb"
-  cp "$s/CornellBoxSuzanne/cornell-box.glb" "$dir/cornell.glb"
-  cp "$s/Sundial/Sundial.glb" "$dir/sundial.glb"
-  cp "$s/WhackAMole/WhackAMole.glb" "$dir/whackamole.glb"
-  cp "$t/test_room.glb" "$dir/test_room.glb"
-  python3 - "$dir" "$t" <<'PY'
-import json, sys
-dir, t = sys.argv[1], sys.argv[2]
-for name, src in (("box", "thirdparty/Box"), ("cornell", "thirdparty/CornellBoxSuzanne"),
-                  ("sundial", "thirdparty/Sundial"), ("whackamole", "thirdparty/WhackAMole"),
-                  ("test_room", "test_room")):
-    d = json.load(open(f"{t}/{src}.lights.json"))
-    for l in d.get("lights", []):
-        if l.get("range") == 0:
-            del l["range"]
-        s = l.get("shadow")
-        if s is False:
-            continue
-        if not isinstance(s, dict):
-            s = l["shadow"] = {}
-        s["filter"] = "pcf"
-        s.setdefault("resolution", 1024)
-    json.dump(d, open(f"{dir}/{name}.lights.json", "w"), indent=1)
+  python3 - "$1" "$shared/peers" "$root/scripts" <<'PY'
+import os, shutil, sys, tempfile
+dir, peers, scripts = sys.argv[1:4]
+sys.path.insert(0, scripts)
+from bench_peers import load_compare
+cmp = load_compare(peers)
+os.makedirs(dir, exist_ok=True)
+tmp = tempfile.mkdtemp()
+for name in ("box", "cornell", "sundial", "whackamole", "test_room"):
+    scene, lights = cmp["SCENES"][name]
+    stem, ext = os.path.splitext(os.path.basename(scene))
+    shutil.copy(scene, os.path.join(dir, name + ext))
+    if ext == ".gltf":  # its buffers, under the names its URIs give them
+        folder = os.path.dirname(scene)
+        for f in os.listdir(folder):
+            if f.startswith(stem) and f.endswith(".bin"):
+                shutil.copy(os.path.join(folder, f), dir)
+    shutil.copy(cmp["with_filter"](lights, "pcf", tmp), os.path.join(dir, name + ".lights.json"))
+shutil.rmtree(tmp)
 PY
 }
 
@@ -63,7 +58,8 @@ make_references() {
   local scenes=$1 dir=$2
   mkdir -p "$dir"
   for n in box cornell sundial whackamole test_room; do
-    "$root/build/omnishadow" render "$scenes/$n.glb" \
+    local scene=("$scenes/$n".gl*)
+    "$root/build/omnishadow" render "${scene[0]}" \
       -l "$scenes/$n.lights.json" -o "$dir/$n.png" --width 1280 --height 720 --no-gltf-lights \
       >/dev/null
   done

@@ -117,4 +117,5 @@ def main():
         out.write(table)
 
 
-main()
+if __name__ == "__main__":
+    main()
