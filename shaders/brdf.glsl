@@ -18,8 +18,12 @@ float visibilitySmithGgxCorrelated(float NdotV, float NdotL, float alpha) {
 }
 
 vec3 fresnelSchlick(vec3 f0, float VdotH) {
-  // VdotH may exceed 1 by rounding (camera at the light): pow of a negative base is undefined.
-  return f0 + (1.0 - f0) * pow(clamp(1.0 - VdotH, 0.0, 1.0), 5.0);
+  // VdotH may exceed 1 by rounding (camera at the light), hence the clamp. The fifth power by
+  // multiplication: llvmpipe computes pow() as exp2(y log2(x)), two polynomials per fragment
+  // and light.
+  float x = clamp(1.0 - VdotH, 0.0, 1.0);
+  float x2 = x * x;
+  return f0 + (1.0 - f0) * (x2 * x2 * x);
 }
 
 // Outgoing radiance towards V for light arriving from L with the given radiance, split into

@@ -48,23 +48,34 @@ float rangeWindow(float distance, float range) {
   return window * window;
 }
 
-// Direction towards the light (L) and the radiance arriving at P, unshadowed.
+// Direction towards the light (L) and the radiance arriving at P, unshadowed. The pass is
+// compiled for the light types the frame has (DIRECTIONAL_LIGHTS, SPOT_LIGHTS) and, without
+// CLUSTERED_LIGHTS, for lights without a range (renderer/passes/lighting_pass.cpp): llvmpipe
+// runs every branch in every fragment, so code for what the frame lacks would cost each one.
 void incidentLight(Light light, vec3 P, out vec3 L, out vec3 radiance, out float distance) {
   int type = int(light.directionType.w);
+#ifdef DIRECTIONAL_LIGHTS
   if (type == LIGHT_DIRECTIONAL) {
     L = -light.directionType.xyz;
     radiance = light.radianceShadow.rgb;
     distance = 1e30;
     return;
   }
+#endif
   vec3 toLight = light.positionRange.xyz - P;
   distance = length(toLight);
   L = toLight / max(distance, 1e-8);
+#ifdef CLUSTERED_LIGHTS
   float attenuation = rangeWindow(distance, light.positionRange.w) / max(distance * distance, 1e-8);
+#else
+  float attenuation = 1.0 / max(distance * distance, 1e-8);  // rangeWindow() would be 1
+#endif
+#ifdef SPOT_LIGHTS
   if (type == LIGHT_SPOT) {
     float cd = dot(light.directionType.xyz, -L);
     float t = clamp(cd * light.spotFilter.x + light.spotFilter.y, 0.0, 1.0);
     attenuation *= t * t;
   }
+#endif
   radiance = light.radianceShadow.rgb * attenuation;
 }

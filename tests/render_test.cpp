@@ -14,6 +14,7 @@
 #include <tuple>
 
 #include "renderer/core/errors.h"
+#include "renderer/passes/lighting_pass.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/gltf_loader.h"
@@ -934,6 +935,49 @@ TEST(Lighting, EveryWayOfReadingTheLightsDrawsTheSamePicture) {
       largest = std::max(largest, std::abs(picture.pixels[i] - reference.pixels[i]));
     EXPECT_LE(largest, 1e-5f * brightest) << path;
   }
+}
+
+// The lighting pass is compiled without the spot cone and the directional case when the frame
+// has no such light: a frame of point lights draws the same either way.
+TEST(Lighting, PointLightsDrawTheSameWithOrWithoutTheOtherTypesCompiledIn) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeBox({0.5f, 0.5f, 0.5f}), translate({0, 0.5f, 0}), white);
+  const Light lamp = pointLight("lamp", {-1.5f, 2.0f, 1.0f}, ShadowFilter::Pcf, 256);
+  Light spot = pointLight("spot", {1.5f, 3.0f, 1.0f}, ShadowFilter::Pcf);
+  spot.type = LightType::Spot;
+  spot.direction = glm::vec3(0, -1, 0);
+  Light sun = pointLight("sun", {0, 0, 0}, ShadowFilter::Pcf);
+  sun.type = LightType::Directional;
+  sun.direction = glm::vec3(0, -1, 0);
+  for (Light* dark : {&spot, &sun}) {
+    dark->intensity = 0.0f;
+    dark->shadow.enabled = false;
+  }
+
+  const LightingFeatures points = lightingFeatures({lamp}, DebugView::None);
+  EXPECT_FALSE(points.spotLights);
+  EXPECT_FALSE(points.directionalLights);
+  const LightingFeatures all = lightingFeatures({lamp, spot, sun}, DebugView::None);
+  EXPECT_TRUE(all.spotLights);
+  EXPECT_TRUE(all.directionalLights);
+
+  const ViewCamera camera = lookFrom(scene, {3, 4, 5}, {0, 0, 0}, 96, 72);
+  StageTimes times;
+  const auto draw = [&](const std::vector<Light>& lights) {
+    return sharedRenderer().render(scene, lights, glm::vec3(0.02f), camera, {}, times).beauty;
+  };
+  const FloatImage lean = draw({lamp});
+  const FloatImage full = draw({lamp, spot, sun});
+  ASSERT_EQ(lean.pixels.size(), full.pixels.size());
+  float brightest = 0.0f, largest = 0.0f;
+  for (std::size_t i = 0; i < lean.pixels.size(); ++i) {
+    brightest = std::max(brightest, full.pixels[i]);
+    largest = std::max(largest, std::abs(lean.pixels[i] - full.pixels[i]));
+  }
+  ASSERT_GT(brightest, 0.1f);
+  EXPECT_LE(largest, 1e-6f * brightest);
 }
 
 // Batch jobs that render one scene from several cameras keep the point and spot maps of the

@@ -46,6 +46,8 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if (features.debugDepth) defines.push_back("DEBUG_DEPTH");
   if (features.translucentShadows) defines.push_back("TRANSLUCENT_SHADOWS");
   if (features.clusteredLights) defines.push_back("CLUSTERED_LIGHTS");
+  if (features.spotLights) defines.push_back("SPOT_LIGHTS");
+  if (features.directionalLights) defines.push_back("DIRECTIONAL_LIGHTS");
   if (features.lightsInStorage) defines.push_back("LIGHTS_IN_STORAGE");
   if (shading == Shading::Phong) defines.push_back("SHADING_PHONG");
   if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
@@ -203,6 +205,8 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
   std::size_t viewProjections = 0;  // at most: a directional light has up to kMaxCascades
   for (const Light& light : lights) {
     if (light.type != LightType::Directional && light.range > 0.0f) features.clusteredLights = true;
+    if (light.type == LightType::Spot) features.spotLights = true;
+    if (light.type == LightType::Directional) features.directionalLights = true;
     if (!light.shadow.enabled) continue;
     (light.type == LightType::Point ? features.cubeShadows : features.planarShadows) = true;
     features.filters |= 1u << static_cast<unsigned>(light.shadow.filter);

@@ -124,6 +124,10 @@ struct LightingFeatures {
   bool translucentShadows = false;  // some light samples transmittance layers
   // Some light has a range: fragments loop over their cluster's lights, not over all of them.
   bool clusteredLights = false;
+  // The light types present: incidentLight() leaves out the cone or the directional case of a
+  // frame without them (llvmpipe would run both sides of the branch in every fragment).
+  bool spotLights = false;
+  bool directionalLights = false;
   // More lights (or planar shadow view-projections) than the uniform blocks hold: the lights
   // are read from storage buffers (shader_contract.h).
   bool lightsInStorage = false;
