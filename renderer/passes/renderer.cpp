@@ -387,7 +387,9 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
     if (!transmittancePass_) transmittancePass_ = std::make_unique<TransmittancePass>();
     places = transmittancePass_->place(reach, moved);
   }
-  const SceneCasters casters = describeCasters(prepared.gpu);
+  // Described once a light needs its map drawn: frames whose maps are all reused (batch jobs
+  // of one scene from several cameras) or that have none need no description.
+  std::optional<SceneCasters> casters;
   std::size_t next = 0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
     ShadedLight s{&lights[i], nullptr};
@@ -403,7 +405,8 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
       if (reused) {
         if (frame) ++frame->shadowMapsReused;
       } else {
-        shadowPass_->render(prepared.gpu, casters, lights[i], plan, group, strategy);
+        if (!casters) casters = describeCasters(prepared.gpu);
+        shadowPass_->render(prepared.gpu, *casters, lights[i], plan, group, strategy);
         if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
         if (frame) ++frame->shadowMapsRendered;
       }
