@@ -124,6 +124,22 @@ TEST(Srgb8Beauty, EqualsTheCpuEncodingOfTheFloatBeauty) {
   }
 }
 
+// The readback packs RGBA rows into RGB two pixels at a time: odd widths end with a single one.
+TEST(Srgb8Beauty, OddAndNarrowWidthsEqualTheCpuEncodingToo) {
+  const Scene scene = litScene();
+  const std::vector<Light> lights = litLights();
+  for (const int width : {161, 3, 2, 1}) {
+    SCOPED_TRACE("width " + std::to_string(width));
+    const ViewCamera camera = litCamera(scene, width, 97);
+    RenderSettings settings;
+    const Frame linear = render(scene, lights, camera, settings);
+    settings.srgb8Exposure = 0.0f;
+    const Frame encoded = render(scene, lights, camera, settings);
+    ASSERT_TRUE(encoded.srgb8.has_value());
+    EXPECT_EQ(encoded.srgb8->rgb, toSrgb8(linear.beauty, 0.0f));
+  }
+}
+
 // Unlit squares whose colors lie on each byte's first float and on the float just below it:
 // the pass's byte changes exactly where the CPU's does.
 TEST(Srgb8Beauty, EveryByteStepIsWhereTheCpuPutsIt) {
