@@ -1,17 +1,44 @@
 #include "renderer/scene/scene_fingerprint.h"
 
+#include <bit>
+#include <cstdint>
 #include <cstring>
+#include <vector>
 
 #include "renderer/scene/translucency.h"
 
 namespace omnishadow {
 namespace {
 
-class Fnv1a {
+// A 64-bit hash of a sequence of byte strings. Large arrays (a scene's positions and indices:
+// megabytes, hashed every frame the shadow cache is asked) go through four independent
+// multiply-rotate lanes, 32 bytes a step, so that the multiplications overlap instead of each
+// waiting for the one before: byte-wise FNV-1a took 6 ms a frame for the 250k-triangle bench
+// room. Deterministic within a process (the value is never stored); every input bit reaches
+// the result through odd multipliers and rotations.
+class ContentHash {
  public:
   void bytes(const void* data, std::size_t size) {
     const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ull;
+    const std::size_t length = size;
+    if (size >= 32) {
+      std::uint64_t lane[4] = {state_ + kPrime1 + kPrime2, state_ + kPrime2, state_,
+                               state_ - kPrime1};
+      for (; size >= 32; p += 32, size -= 32)
+        for (int i = 0; i < 4; ++i) lane[i] = round(lane[i], load(p + 8 * i));
+      state_ = std::rotl(lane[0], 1) + std::rotl(lane[1], 7) + std::rotl(lane[2], 12) +
+               std::rotl(lane[3], 18);
+      for (const std::uint64_t l : lane) state_ = (state_ ^ round(0, l)) * kPrime1 + kPrime4;
+    }
+    for (; size >= 8; p += 8, size -= 8)
+      state_ = std::rotl(state_ ^ round(0, load(p)), 27) * kPrime1 + kPrime4;
+    if (size > 0) {
+      std::uint64_t tail = 0;
+      std::memcpy(&tail, p, size);
+      state_ = std::rotl(state_ ^ round(0, tail), 27) * kPrime1 + kPrime4;
+    }
+    // The length keeps ("ab", "c") apart from ("a", "bc") and zero bytes from none.
+    state_ = std::rotl(state_ ^ (length * kPrime3), 23) * kPrime2 + kPrime3;
   }
   template <typename T>
   void value(const T& v) {
@@ -19,19 +46,37 @@ class Fnv1a {
   }
   template <typename T>
   void vector(const std::vector<T>& v) {
-    value(v.size());
-    if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
+    bytes(v.data(), v.size() * sizeof(T));
   }
-  std::uint64_t get() const { return hash_; }
+  std::uint64_t get() const {
+    std::uint64_t h = state_;
+    h ^= h >> 33;
+    h *= kPrime2;
+    h ^= h >> 29;
+    h *= kPrime3;
+    return h ^ (h >> 32);
+  }
 
  private:
-  std::uint64_t hash_ = 0xcbf29ce484222325ull;
+  static constexpr std::uint64_t kPrime1 = 0x9E3779B185EBCA87ull;
+  static constexpr std::uint64_t kPrime2 = 0xC2B2AE3D27D4EB4Full;
+  static constexpr std::uint64_t kPrime3 = 0x165667B19E3779F9ull;
+  static constexpr std::uint64_t kPrime4 = 0x85EBCA77C2B2AE63ull;
+  static std::uint64_t load(const unsigned char* p) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, p, sizeof w);
+    return w;
+  }
+  static std::uint64_t round(std::uint64_t lane, std::uint64_t word) {
+    return std::rotl(lane + word * kPrime2, 31) * kPrime1;
+  }
+  std::uint64_t state_ = 0x27D4EB2F165667C5ull;
 };
 
 }  // namespace
 
 std::uint64_t shadowFingerprint(const Scene& scene) {
-  Fnv1a h;
+  ContentHash h;
   h.value(scene.meshes.size());
   for (const Mesh& mesh : scene.meshes) {
     h.vector(mesh.positions);
