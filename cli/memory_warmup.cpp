@@ -3,8 +3,10 @@
 #include <malloc.h>
 #include <pthread.h>
 #include <sched.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <string_view>
 
@@ -24,6 +26,20 @@ bool wanted() {
 #endif
 }
 
+// Asks the kernel to back the block's whole 2 MiB spans with transparent huge pages: one fault
+// then maps and zeroes 2 MiB instead of 4 KiB, so the toucher covers the frame's needs (Sundial,
+// WhackAMole and test_room use more than 100 MB) in the time the context and the load leave
+// it, where 4 KiB faults reached about 70 MB; the frame's textures then also take fewer TLB
+// misses. Where transparent huge pages are off ("never"), or none is free, the kernel maps
+// 4 KiB pages as before.
+void adviseHugePages(char* block, std::size_t bytes) {
+  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+  const auto begin = (reinterpret_cast<std::uintptr_t>(block) + kHuge - 1) & ~(kHuge - 1);
+  const auto end = (reinterpret_cast<std::uintptr_t>(block) + bytes) & ~(kHuge - 1);
+  // NOLINTNEXTLINE(performance-no-int-to-ptr): the block's own pages, aligned
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+}
+
 }  // namespace
 
 MemoryWarmup::MemoryWarmup(std::size_t bytes) {
@@ -35,6 +51,7 @@ MemoryWarmup::MemoryWarmup(std::size_t bytes) {
   block_ = static_cast<char*>(std::malloc(bytes));
   if (!block_) return;
   bytes_ = bytes;
+  adviseHugePages(block_, bytes_);
   const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
   toucher_ = std::thread([this, page] {
     sched_param idle{};

@@ -9,7 +9,8 @@
 // idle core) touches the pages of a large block of malloc's heap in that time; the block then
 // goes back to the heap, where the frame's textures and buffers are carved from pages that are
 // already there. malloc is set to serve every block from its heap and to keep what is freed,
-// so that they are: a process that renders once and exits.
+// so that they are: a process that renders once and exits. The block asks for transparent
+// huge pages, which the toucher faults in 2 MiB at a time.
 
 #include <atomic>
 #include <cstddef>

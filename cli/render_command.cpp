@@ -25,9 +25,11 @@ namespace omnishadow::cli {
 namespace {
 
 // The most a render's warm-up may fault in: a 1280x720 frame's targets, readback and PNG
-// (about 40 MB) and a few 1024^2 cube maps (24 MB each). Only what idle time allows is
-// touched; the untouched rest costs no memory.
-constexpr std::size_t kWarmupBytes = std::size_t{256} << 20;
+// (about 40 MB), a few 1024^2 cube maps (24 MB each) and the scene's textures. Only what idle
+// time allows is touched; the untouched rest costs no memory. With huge pages idle time
+// touches all of it, and 256 MB made single renders slower than 128 (more to zero): process
+// wall, 9 interleaved rounds, Sundial 178 against 195 ms, test_room 223 against 243.
+constexpr std::size_t kWarmupBytes = std::size_t{128} << 20;
 
 // The command line as a job; checks everything that needs no file reading.
 RenderJob jobFromOptions(const RenderOptions& o) {

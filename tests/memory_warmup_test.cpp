@@ -6,7 +6,11 @@
 #include <gtest/gtest.h>
 #include <malloc.h>
 
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -43,6 +47,37 @@ TEST(MemoryWarmup, LargeBlocksComeFromTheHeapOnlyAfterAWarmup) {
   }
   EXPECT_EQ(mappedBlocksFor(kCubeMap), 0);
   EXPECT_EQ(mappedBlocksFor(std::size_t{200} << 20), 0);
+}
+
+// The flags of the mapping that holds `address`, from /proc/self/smaps ("" when none does).
+std::string mappingFlags(const void* address) {
+  std::ifstream smaps("/proc/self/smaps");
+  const auto at = reinterpret_cast<std::uintptr_t>(address);
+  bool inside = false;
+  for (std::string line; std::getline(smaps, line);) {
+    std::uintptr_t begin = 0, end = 0;
+    if (std::sscanf(line.c_str(), "%" SCNxPTR "-%" SCNxPTR " ", &begin, &end) == 2) {
+      inside = begin <= at && at < end;
+    } else if (inside && line.rfind("VmFlags:", 0) == 0) {
+      return line;
+    }
+  }
+  return "";
+}
+
+// The warm block asks for transparent huge pages ("hg" in the mapping's flags: MADV_HUGEPAGE),
+// and a cube map's block carved from it after the warm-up lies in such a mapping.
+TEST(MemoryWarmup, TheBlockAsksForHugePages) {
+  {
+    MemoryWarmup warmup(std::size_t{64} << 20);
+    warmup.finish();
+  }
+  char* cubeMap = static_cast<char*>(std::malloc(std::size_t{24} << 20));
+  ASSERT_NE(cubeMap, nullptr);
+  const std::string flags = mappingFlags(cubeMap + (std::size_t{12} << 20));
+  std::free(cubeMap);
+  ASSERT_FALSE(flags.empty());
+  EXPECT_NE(flags.find(" hg"), std::string::npos) << flags;
 }
 #endif
 
