@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <set>
+#include <string>
 
 #include "scenes/builder/gltf_builder.h"
 

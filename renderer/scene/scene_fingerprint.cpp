@@ -30,12 +30,11 @@ class ContentHash {
                std::rotl(lane[3], 18);
       for (const std::uint64_t l : lane) state_ = (state_ ^ round(0, l)) * kPrime1 + kPrime4;
     }
-    for (; size >= 8; p += 8, size -= 8)
-      state_ = std::rotl(state_ ^ round(0, load(p)), 27) * kPrime1 + kPrime4;
+    for (; size >= 8; p += 8, size -= 8) mixWord(load(p));
     if (size > 0) {
       std::uint64_t tail = 0;
       std::memcpy(&tail, p, size);
-      state_ = std::rotl(state_ ^ round(0, tail), 27) * kPrime1 + kPrime4;
+      mixWord(tail);
     }
     // The length keeps ("ab", "c") apart from ("a", "bc") and zero bytes from none.
     state_ = std::rotl(state_ ^ (length * kPrime3), 23) * kPrime2 + kPrime3;
@@ -69,6 +68,10 @@ class ContentHash {
   }
   static std::uint64_t round(std::uint64_t lane, std::uint64_t word) {
     return std::rotl(lane + word * kPrime2, 31) * kPrime1;
+  }
+  // Words outside the 32-byte blocks go into the state one at a time.
+  void mixWord(std::uint64_t word) {
+    state_ = std::rotl(state_ ^ round(0, word), 27) * kPrime1 + kPrime4;
   }
   std::uint64_t state_ = 0x27D4EB2F165667C5ull;
 };
