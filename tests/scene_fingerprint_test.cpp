@@ -6,6 +6,8 @@
 #include <cstring>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "scenes/builder/gltf_builder.h"
 
@@ -97,6 +99,57 @@ TEST(ShadowFingerprint, IndicesInstancesAndArrayBoundariesCount) {
   Scene zero = original;  // a zero word appended is not nothing
   zero.meshes[0].indices.push_back(0);
   EXPECT_NE(shadowFingerprint(zero), h);
+}
+
+// The geometry's hash: every array of every mesh counts (the GPU vertex holds them all), and
+// so do line and point indices, each mesh's material index and bounds, the instances and the
+// number of materials (the default material's index); materials' contents and images do not.
+TEST(GeometryFingerprint, EveryMeshArrayCountsButNotMaterialsOrImages) {
+  Scene original = twoSpheres();
+  original.meshes[0].uv0.assign(original.meshes[0].positions.size(), glm::vec2(0.25f));
+  original.meshes[0].uv1.assign(original.meshes[0].positions.size(), glm::vec2(0.5f));
+  original.meshes[0].tangents.assign(original.meshes[0].positions.size(), glm::vec4(1, 0, 0, 1));
+  original.meshes[0].colors.assign(original.meshes[0].positions.size(), glm::vec4(1.0f));
+  original.meshes[1].lineIndices = {0, 1};
+  original.meshes[1].pointIndices = {2};
+  original.materials.resize(2);
+  original.images.push_back({"image", 2, 2, std::vector<std::uint8_t>(16, 9)});
+  const std::uint64_t h = geometryFingerprint(original);
+  EXPECT_EQ(geometryFingerprint(Scene(original)), h);
+
+  std::set<std::uint64_t> seen{h};
+  const auto differs = [&](const char* what, void (*change)(Scene&)) {
+    Scene changed = original;
+    change(changed);
+    const std::uint64_t value = geometryFingerprint(changed);
+    EXPECT_NE(value, h) << what;
+    seen.insert(value);
+  };
+  differs("normal", [](Scene& s) { flipBit(s.meshes[1].normals[7].y, 3); });
+  differs("tangent", [](Scene& s) { flipBit(s.meshes[0].tangents[5].w, 31); });
+  differs("uv0", [](Scene& s) { flipBit(s.meshes[0].uv0[9].x, 0); });
+  differs("uv1", [](Scene& s) { flipBit(s.meshes[0].uv1[9].y, 0); });
+  differs("color", [](Scene& s) { flipBit(s.meshes[0].colors.back().a, 20); });
+  differs("position", [](Scene& s) { flipBit(s.meshes[0].positions[3].x, 1); });
+  differs("index", [](Scene& s) { std::swap(s.meshes[1].indices[4], s.meshes[1].indices[5]); });
+  differs("line", [](Scene& s) { s.meshes[1].lineIndices[1] = 3; });
+  differs("point", [](Scene& s) { s.meshes[1].pointIndices[0] = 4; });
+  differs("no point", [](Scene& s) { s.meshes[1].pointIndices.clear(); });
+  differs("material", [](Scene& s) { s.meshes[0].material = 1; });
+  differs("bounds", [](Scene& s) { flipBit(s.meshes[1].bounds.max.z, 2); });
+  differs("instance", [](Scene& s) { flipBit(s.instances[0].world[1][1], 0); });
+  differs("instance mesh", [](Scene& s) { s.instances[1].mesh = 0; });
+  differs("no instance", [](Scene& s) { s.instances.pop_back(); });
+  differs("materials", [](Scene& s) { s.materials.emplace_back(); });
+  EXPECT_EQ(seen.size(), 17u);  // and each change its own value
+
+  Scene shading = original;  // what the materials and images say is not geometry
+  shading.materials[1].baseColorFactor = glm::vec4(0.5f);
+  shading.materials[0].baseColorTexture.texture = 0;
+  shading.images[0].rgba[3] = 1;
+  shading.meshes[0].name = "renamed";
+  shading.instances[1].nodeName = "renamed";
+  EXPECT_EQ(geometryFingerprint(shading), h);
 }
 
 }  // namespace

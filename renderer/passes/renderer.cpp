@@ -224,7 +224,8 @@ class Renderer::Impl {
   std::unique_ptr<ShadowPass> shadowPass_;
   std::unique_ptr<VsmFilter> vsmFilter_;
   std::unique_ptr<TransmittancePass> transmittancePass_;  // made by the first translucent light
-  TextureCache textureCache_;  // the last render's scene textures, for a render of it again
+  TextureCache textureCache_;    // the last render's scene textures, for a render of it again
+  GeometryCache geometryCache_;  // the last render's scene geometry, likewise
   TransmittanceAtlas transmittanceAtlas() const {
     return transmittancePass_ ? transmittancePass_->atlas() : TransmittanceAtlas{};
   }
@@ -258,7 +259,8 @@ class Renderer::Impl {
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
 struct Renderer::Impl::Prepared {
-  Prepared(const Scene& s, TextureCache* textures) : gpu(s, textures), bounds(s.bounds) {}
+  Prepared(const Scene& s, TextureCache* textures, GeometryCache* geometry)
+      : gpu(s, textures, geometry), bounds(s.bounds) {}
   GpuScene gpu;
   Bounds bounds;  // the scene's, for defaults that follow its scale
   LightingFeatures features;
@@ -660,7 +662,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   shaders.stop();
 
   ScopedStage upload(times, "upload");
-  Prepared prepared(scene, &textureCache_);
+  Prepared prepared(scene, &textureCache_, &geometryCache_);
   textureCache_.dropUnused();  // an earlier scene's textures this one did not take
   prepared.features = features;
   prepared.beautyOutputs = beautyOutputs;
@@ -815,7 +817,7 @@ std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const 
 std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(const Scene& scene,
                                                                  const std::vector<Light>& lights,
                                                                  ShadowPassStrategy strategy) {
-  Prepared prepared(scene, nullptr);
+  Prepared prepared(scene, nullptr, nullptr);
   RenderSettings settings;
   settings.shadowPass = strategy;
   ShadowAtlasPlan plan =

@@ -129,4 +129,30 @@ std::uint64_t shadowFingerprint(const Scene& scene) {
   return h.get();
 }
 
+std::uint64_t geometryFingerprint(const Scene& scene) {
+  ContentHash h;
+  h.value(scene.meshes.size());
+  for (const Mesh& mesh : scene.meshes) {
+    h.vector(mesh.positions);
+    h.vector(mesh.normals);
+    h.vector(mesh.tangents);
+    h.vector(mesh.uv0);
+    h.vector(mesh.uv1);
+    h.vector(mesh.colors);
+    h.vector(mesh.indices);
+    h.vector(mesh.lineIndices);
+    h.vector(mesh.pointIndices);
+    h.value(mesh.material);
+    h.value(mesh.bounds);
+  }
+  h.value(scene.instances.size());
+  for (const MeshInstance& instance : scene.instances) {
+    h.value(instance.mesh);
+    h.value(instance.world);
+  }
+  // The default material's index follows the scene's materials.
+  h.value(scene.materials.size());
+  return h.get();
+}
+
 }  // namespace omnishadow

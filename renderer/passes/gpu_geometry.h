@@ -1,0 +1,88 @@
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <memory>
+#include <vector>
+
+#include "renderer/gl/gl_resources.h"
+#include "renderer/scene/scene.h"
+
+namespace omnishadow {
+
+// Where one Mesh lives in the shared vertex and index buffers.
+struct GpuMeshRange {
+  GLint baseVertex = 0;
+  GLsizei firstIndex = 0;  // in indices, not bytes
+  GLsizei indexCount = 0;
+  // Lines (pairs) and points follow the triangles in the index buffer; only the lighting pass
+  // draws them.
+  GLsizei lineIndexCount = 0;
+  GLsizei pointIndexCount = 0;
+  bool hasTangents = false;
+  // The mesh bounds a solid (isClosedSolid): from a light outside it only front faces can be
+  // nearest, so the shadow pass skips its back faces.
+  bool closed = false;
+};
+
+// A mesh instance ready to draw: its range, transform, material and world bounds.
+struct GpuDraw {
+  int mesh = -1;
+  int material = -1;  // index into GpuScene::materials (the default material is appended)
+  glm::mat4 world{1.0f};
+  glm::mat3 normalMatrix{1.0f};
+  bool mirrored = false;         // negative determinant: front faces are clockwise
+  glm::vec3 boundsCenter{0.0f};  // world-space bounding sphere, for culling
+  float boundsRadius = 0.0f;
+  // First index of this draw's copy in the world-space caster stream (casterVertexArray()),
+  // whose indices need no base vertex; -1 when it has none.
+  GLint casterFirstIndex = -1;
+};
+
+// A scene's meshes on the GPU: all of them in one vertex buffer and one index buffer behind a
+// single vertex array, the draws (instances) with their world bounds, and the world-space
+// caster stream of the shadow pass. Made from the meshes, the instances and the number of
+// materials alone (geometryFingerprint()), so that renders of one scene can share it.
+class GpuGeometry {
+ public:
+  explicit GpuGeometry(const Scene& scene);
+
+  GLuint vertexArray() const { return vertexArray_.get(); }
+  // Positions only (attribute 0), already in world space, with an index buffer of its own: the
+  // shadow pass draws opaque casters from it without a transform per vertex. Holds a copy per
+  // draw of each mesh drawn once, and of meshes small enough to copy for all their instances
+  // (GpuDraw::casterFirstIndex); the other draws use vertexArray() and modelBuffer(). The
+  // copies' triangles follow each other in draw order, their indices counted from the stream's
+  // first vertex, so that consecutive draws are one range of indices: one draw call.
+  GLuint casterVertexArray() const { return casterVertexArray_.get(); }
+  // std430 array of mat4: draws()[i].world at index i.
+  GLuint modelBuffer() const { return models_.get(); }
+  const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
+  const std::vector<GpuDraw>& draws() const { return draws_; }
+
+ private:
+  void uploadMeshes(const Scene& scene);
+  void uploadCasterStream(const Scene& scene);
+
+  gl::VertexArray vertexArray_, casterVertexArray_;
+  gl::Buffer vertices_, indices_, models_, casterPositions_, casterIndices_;
+  std::vector<GpuMeshRange> meshes_;
+  std::vector<GpuDraw> draws_;
+};
+
+// The geometry of the last scene uploaded, kept for the next render: a scene rendered again
+// (--repeat, frame sets, batch jobs of one scene, the Python module's renders) takes it instead
+// of building its vertex buffers, closed-solid tests and caster stream again (the 250k-triangle
+// bench room: about 25 ms a render). Found again when geometryFingerprint() matches; a scene
+// posed in place or changed in memory between renders hashes differently and is uploaded anew.
+class GeometryCache {
+ public:
+  // Needs the GL context the buffers belong to.
+  std::shared_ptr<const GpuGeometry> find(const Scene& scene);
+
+ private:
+  std::uint64_t fingerprint_ = 0;
+  std::shared_ptr<const GpuGeometry> geometry_;
+};
+
+}  // namespace omnishadow
