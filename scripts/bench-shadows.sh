@@ -14,6 +14,8 @@
 #   resolution (4)  cube maps of 256, 512, 1024, 2048, 4096 texels, 4 lights
 # --runs N          rounds per configuration (default 5; 1 with --quick). Rounds are
 #                   interleaved (A, B, C, A, B, C, ...) and the tables show medians.
+# --warmup N        untimed renders of a scenario's first configuration before its rounds
+#                   (default 1): the first process after the scenes are written runs cold.
 # --quick           smoke test: smaller scenes and cube maps, 640x360, one run each (minutes).
 # --out DIR         where shadows.csv (one row per run), summary.md and bench-shadows.png go
 #                   (default build-bench/results).
@@ -43,7 +45,7 @@ while (($#)); do
     --out) out=$2; shift 2 ;;
     --build-dir) build_dir=$2; shift 2 ;;
     --bin) bin=$2; shift 2 ;;
-    --runs|--seed|--range|--lights-per-point|--timeout) pass+=("$1" "$2"); shift 2 ;;
+    --runs|--warmup|--seed|--range|--lights-per-point|--timeout) pass+=("$1" "$2"); shift 2 ;;
     --quick|--keep-scenes) pass+=("$1"); shift ;;
     --report-only) report_only=1; shift ;;
     -h|--help) sed -n '2,/^set -e/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;

@@ -125,7 +125,7 @@ class Bench:
             print("  scene: " + summary.split(": ", 1)[1], flush=True)
         return self.scenes[key]
 
-    def render(self, c, scenario, run):
+    def render(self, c, scenario, run, record=True):
         path, range_m, _ = self.scene(c)
         tag = f"{scenario}_{c['param']}"
         image = os.path.join(self.work, tag + ".png")
@@ -166,9 +166,10 @@ class Bench:
                     [l for l in text.splitlines() if l.strip() and "Command" not in l][:1] or [""]
             row["status"] = "failed" if rc != "timeout" else "timeout"
             row["note"] = lines[-1][:200]
-        self.csv.writerow(row)
-        self.csv_file.flush()
-        self.rows.append(row)
+        if record:
+            self.csv.writerow(row)
+            self.csv_file.flush()
+            self.rows.append(row)
         return row
 
     def run_scenario(self, scenario, configs):
@@ -176,6 +177,14 @@ class Bench:
               f"{self.args.width}x{self.args.height}", flush=True)
         for c in configs:
             self.scene(c)
+        # One untimed render of each configuration first: the first processes after the scenes
+        # are written run on a cold machine (in a run at df229c3 the first render's upload and
+        # lighting took 45 and 230 ms against 24 and 165-178 in the rounds after it), whichever
+        # configuration comes first.
+        for c in configs[:1] * self.args.warmup:
+            r = self.render(c, scenario, 0, record=False)
+            print(f"  warm-up {str(c['param']):>9}: shadow {fmt(r.get('shadow_ms')):>8} ms"
+                  f"  total {fmt(r.get('total_ms')):>8} ms (not counted)", flush=True)
         dead = set()
         for run in range(1, self.args.runs + 1):
             for c in configs:
@@ -193,6 +202,25 @@ class Bench:
 
     # ---------------------------------------------------------------------------------------
     # Summaries
+
+    def per_round_ratios(self, scenario):
+        """Each strategy's shadow time over `geometry`'s in the same round."""
+        by = {}
+        for r in self.rows:
+            if r["scenario"] == scenario and r["status"] == "ok" and r.get("shadow_ms"):
+                by.setdefault(r["parameter"], {})[r["run"]] = float(r["shadow_ms"])
+        base = by.get("geometry")
+        if not base:
+            return []
+        lines = ["", "Shadow time over `geometry`'s in the same round, rounds in order:", ""]
+        for p, runs in by.items():
+            if p == "geometry":
+                continue
+            ratios = [runs[k] / base[k] for k in sorted(runs) if k in base]
+            if ratios:
+                lines.append(f"- {p}: " + ", ".join(f"{x:.2f}" for x in ratios) +
+                             f" (largest {max(ratios):.2f})")
+        return lines
 
     def medians(self, scenario):
         """param -> dict of medians over the ok runs, or {'failed': note}; in plan order."""
@@ -245,6 +273,7 @@ class Bench:
             base = med.get("geometry", {}).get("shadow_ms")
             ratio = (lambda p, d: fmt(d["shadow_ms"] / base, 2) + "x" if base and d["shadow_ms"] else "-")
             out += self.table("strategies", med, "--shadow-pass", ("shadow / geometry", ratio))
+            out += self.per_round_ratios("strategies")
             if not a.has_shadow_pass:
                 out += ["", "This binary has no `--shadow-pass` option yet: only its default shadow "
                             "pass was measured."]
@@ -449,6 +478,8 @@ def main():
     ap.add_argument("--gen")
     ap.add_argument("--out", required=True)
     ap.add_argument("--runs", type=int)
+    ap.add_argument("--warmup", type=int, default=1,
+                    help="untimed renders of the first configuration before each scenario's rounds")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--range", default="auto")
