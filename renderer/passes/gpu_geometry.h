@@ -52,8 +52,9 @@ class GpuGeometry {
   // shadow pass draws opaque casters from it without a transform per vertex. Holds a copy per
   // draw of each mesh drawn once, and of meshes small enough to copy for all their instances
   // (GpuDraw::casterFirstIndex); the other draws use vertexArray() and modelBuffer(). The
-  // copies' triangles follow each other in draw order, their indices counted from the stream's
-  // first vertex, so that consecutive draws are one range of indices: one draw call.
+  // copies follow each other along a Z-order curve through their bounding spheres' centres,
+  // their indices counted from the stream's first vertex, so that copies next to each other in
+  // the stream are one range of indices: one draw command.
   GLuint casterVertexArray() const { return casterVertexArray_.get(); }
   // std430 array of mat4: draws()[i].world at index i.
   GLuint modelBuffer() const { return models_.get(); }
