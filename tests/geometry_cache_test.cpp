@@ -63,13 +63,8 @@ TEST(GeometryCache, AMeshChangedInPlaceBetweenRendersDrawsTheChange) {
   light.position = {1.5f, 2.0f, 2.0f};
   light.intensity = 8.0f;
   const ViewCamera camera = test_support::lookFrom(scene, {1.6f, 1.2f, 2.2f}, {0, 0, 0}, 64, 48);
-  RenderSettings settings;
-  settings.srgb8Exposure = 0.0f;
   const auto draw = [&](const Scene& s) {
-    StageTimes times;
-    return test_support::sharedRenderer()
-        .render(s, {light}, glm::vec3(0.05f), camera, settings, times)
-        .srgb8->rgb;
+    return test_support::renderSrgb8(s, {light}, camera, glm::vec3(0.05f));
   };
   const std::vector<std::uint8_t> first = draw(scene);
   EXPECT_EQ(draw(scene), first);

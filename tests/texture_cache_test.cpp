@@ -91,13 +91,8 @@ TEST(TextureCache, ARenderOfAChangedImageDrawsTheChange) {
   light.position = {1.5f, 2.0f, 2.0f};
   light.intensity = 8.0f;
   const ViewCamera camera = test_support::lookFrom(original, {1.2f, 1.0f, 1.6f}, {0, 0, 0}, 64, 48);
-  RenderSettings settings;
-  settings.srgb8Exposure = 0.0f;
-  const auto draw = [&](const Scene& scene) {
-    StageTimes times;
-    return test_support::sharedRenderer()
-        .render(scene, {light}, glm::vec3(0.05f), camera, settings, times)
-        .srgb8->rgb;
+  const auto draw = [&](const Scene& s) {
+    return test_support::renderSrgb8(s, {light}, camera, glm::vec3(0.05f));
   };
   const std::vector<std::uint8_t> first = draw(original);
   EXPECT_EQ(draw(original), first);

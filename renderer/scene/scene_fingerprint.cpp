@@ -76,6 +76,27 @@ class ContentHash {
   std::uint64_t state_ = 0x27D4EB2F165667C5ull;
 };
 
+// Where the instances are, and of which meshes.
+void hashInstances(ContentHash& h, const Scene& scene) {
+  h.value(scene.instances.size());
+  for (const MeshInstance& instance : scene.instances) {
+    h.value(instance.mesh);
+    h.value(instance.world);
+  }
+}
+
+// A material's texture slot; with `withImage`, also the sampler and the pixels of a slot in use.
+void hashTextureSlot(ContentHash& h, const Scene& scene, const TextureSlot& slot, bool withImage) {
+  h.value(slot.texture);
+  h.value(slot.texCoord);
+  h.value(slot.uvTransform);
+  if (withImage && slot.texture >= 0) {
+    const Texture& texture = scene.textures[slot.texture];
+    h.value(texture.sampler);
+    if (texture.image >= 0) h.vector(scene.images[texture.image].rgba);
+  }
+}
+
 }  // namespace
 
 std::uint64_t shadowFingerprint(const Scene& scene) {
@@ -95,11 +116,7 @@ std::uint64_t shadowFingerprint(const Scene& scene) {
       h.vector(mesh.colors);
     }
   }
-  h.value(scene.instances.size());
-  for (const MeshInstance& instance : scene.instances) {
-    h.value(instance.mesh);
-    h.value(instance.world);
-  }
+  hashInstances(h, scene);
   for (const Material& m : scene.materials) {
     h.value(m.alphaMode);
     h.value(m.alphaCutoff);
@@ -107,24 +124,10 @@ std::uint64_t shadowFingerprint(const Scene& scene) {
     h.value(m.baseColorFactor.a);
     // Translucent casters tint the transmittance layers with their color.
     h.value(m.transmissionFactor);
-    h.value(m.transmissionTexture.texture);
-    h.value(m.transmissionTexture.texCoord);
-    h.value(m.transmissionTexture.uvTransform);
-    if (m.transmissionTexture.texture >= 0) {
-      const Texture& texture = scene.textures[m.transmissionTexture.texture];
-      h.value(texture.sampler);
-      if (texture.image >= 0) h.vector(scene.images[texture.image].rgba);
-    }
+    hashTextureSlot(h, scene, m.transmissionTexture, true);
     if (isTranslucentCaster(m)) h.value(glm::vec3(m.baseColorFactor));
-    h.value(m.baseColorTexture.texture);
-    h.value(m.baseColorTexture.texCoord);
-    h.value(m.baseColorTexture.uvTransform);
-    if ((m.alphaMode != AlphaMode::Opaque || isTranslucentCaster(m)) &&
-        m.baseColorTexture.texture >= 0) {
-      const Texture& texture = scene.textures[m.baseColorTexture.texture];
-      h.value(texture.sampler);
-      if (texture.image >= 0) h.vector(scene.images[texture.image].rgba);
-    }
+    hashTextureSlot(h, scene, m.baseColorTexture,
+                    m.alphaMode != AlphaMode::Opaque || isTranslucentCaster(m));
   }
   return h.get();
 }
@@ -145,11 +148,7 @@ std::uint64_t geometryFingerprint(const Scene& scene) {
     h.value(mesh.material);
     h.value(mesh.bounds);
   }
-  h.value(scene.instances.size());
-  for (const MeshInstance& instance : scene.instances) {
-    h.value(instance.mesh);
-    h.value(instance.world);
-  }
+  hashInstances(h, scene);
   // The default material's index follows the scene's materials.
   h.value(scene.materials.size());
   return h.get();

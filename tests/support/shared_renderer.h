@@ -1,6 +1,7 @@
 #pragma once
 // What the in-process rendering tests share: one GL context per test program, and a camera
 // looking from one point at another.
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <vector>
 
@@ -34,6 +35,15 @@ inline Frame renderWithAovs(const Scene& scene, const std::vector<Light>& lights
   settings.aovs = true;
   StageTimes times;
   return sharedRenderer().render(scene, lights, ambient, camera, settings, times);
+}
+
+// The 8-bit sRGB beauty (RGB bytes) from the shared context, at exposure 0.
+inline std::vector<std::uint8_t> renderSrgb8(const Scene& scene, const std::vector<Light>& lights,
+                                             const ViewCamera& camera, glm::vec3 ambient) {
+  RenderSettings settings;
+  settings.srgb8Exposure = 0.0f;
+  StageTimes times;
+  return sharedRenderer().render(scene, lights, ambient, camera, settings, times).srgb8->rgb;
 }
 
 }  // namespace omnishadow::test_support
