@@ -59,7 +59,7 @@ unsigned maskOf(const ShadowCullingLight& light, const glm::vec3& center, float 
   ShadowCaster caster;
   caster.center = center;
   caster.radius = radius;
-  return cullCasters({caster}, light).viewMask[0];
+  return cullCasters({caster}, light, Bounds{}).viewMask[0];
 }
 
 }  // namespace
@@ -89,7 +89,7 @@ TEST(CasterCulling, CubeReachBoundKeepsThePlanesMasks) {
                                      uniform(-extent, extent));
       casters.push_back(caster);
     }
-    const CasterCulling culling = cullCasters(casters, light);
+    const CasterCulling culling = cullCasters(casters, light, Bounds{});
     for (std::size_t c = 0; c < casters.size(); ++c) {
       const unsigned planes = casterViewMask(views, casters[c].center, casters[c].radius);
       ASSERT_EQ(culling.viewMask[c], planes) << "light " << l << " caster " << c;
@@ -383,4 +383,75 @@ TEST(ShadowDraws, NeighboursInTheStreamShareACommand) {
   EXPECT_EQ(instanced.commands[1].instanceCount, 1u);
   EXPECT_EQ(instanced.commands[2].firstIndex, 180u);
   EXPECT_EQ(instanced.commands[2].count, 150u);
+}
+
+namespace {
+
+// A floor (y = 0, facing up) under a room 2 m high.
+MeshPlane floorPlane() {
+  return MeshPlane{{0.0f, 1.0f, 0.0f}, 0.0f, 0.0f};
+}
+
+Bounds room(float bottom = 0.0f) {
+  Bounds b;
+  b.extend(glm::vec3(-3.0f, bottom, -3.0f));
+  b.extend(glm::vec3(3.0f, 2.0f, 3.0f));
+  return b;
+}
+
+}  // namespace
+
+TEST(FlatCasters, AFloorWithEveryReceiverAboveItShadowsNothingFromALightAbove) {
+  EXPECT_TRUE(shadowsNoReceiver(floorPlane(), pointLight({0.5f, 1.8f, 0.0f}), room()));
+  // Receivers a rounding below the floor (a box resting on it) still count as above.
+  EXPECT_TRUE(shadowsNoReceiver(floorPlane(), pointLight({0.5f, 1.8f, 0.0f}), room(-1e-6f)));
+  // The ceiling (y = 2, facing down) from the same light.
+  const MeshPlane ceiling{{0.0f, -1.0f, 0.0f}, 2.0f, 0.0f};
+  EXPECT_TRUE(shadowsNoReceiver(ceiling, pointLight({0.5f, 1.8f, 0.0f}), room()));
+}
+
+TEST(FlatCasters, AFloorIsKeptWhenSomethingCanBeBehindIt) {
+  // A receiver 1 cm under the floor: the floor shadows it.
+  EXPECT_FALSE(shadowsNoReceiver(floorPlane(), pointLight({0.5f, 1.8f, 0.0f}), room(-0.01f)));
+  // The light under the floor: everything in the room is behind it.
+  EXPECT_FALSE(shadowsNoReceiver(floorPlane(), pointLight({0.5f, -1.0f, 0.0f}), room()));
+  // The light in the floor's plane: no side to trust.
+  EXPECT_FALSE(shadowsNoReceiver(floorPlane(), pointLight({0.5f, 0.0f, 0.0f}), room()));
+  // A thick floor (1 cm of thickness) with the light 5 mm above it.
+  const MeshPlane thick{{0.0f, 1.0f, 0.0f}, 0.0f, 0.01f};
+  EXPECT_FALSE(shadowsNoReceiver(thick, pointLight({0.5f, 0.005f, 0.0f}), room()));
+  // Unknown receivers: keep everything.
+  EXPECT_FALSE(shadowsNoReceiver(floorPlane(), pointLight({0.5f, 1.8f, 0.0f}), Bounds{}));
+}
+
+TEST(FlatCasters, DirectionalLightsTakeTheSideTheyComeFrom) {
+  ShadowCullingLight sun;
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));  // shining down
+  EXPECT_TRUE(shadowsNoReceiver(floorPlane(), sun, room()));
+  sun.direction = -sun.direction;  // shining up through the floor
+  EXPECT_FALSE(shadowsNoReceiver(floorPlane(), sun, room()));
+  sun.direction = glm::vec3(1.0f, 0.0f, 0.0f);  // along the floor
+  EXPECT_FALSE(shadowsNoReceiver(floorPlane(), sun, room()));
+}
+
+TEST(FlatCasters, CullingLeavesOutOnlyTheFlatCastersThatShadowNothing) {
+  const ShadowCullingLight light = pointLight({0.5f, 1.8f, 0.0f});
+  ShadowCaster floor;
+  floor.center = glm::vec3(0.0f);
+  floor.radius = 4.3f;
+  floor.plane = floorPlane();
+  ShadowCaster box;  // resting on the floor, not flat
+  box.center = glm::vec3(1.0f, 0.25f, 1.0f);
+  box.radius = 0.45f;
+  ShadowCaster partition = floor;  // a wall across the room at x = 1, the light on its -x side
+  partition.center = glm::vec3(1.0f, 1.0f, 0.0f);
+  partition.plane = MeshPlane{{1.0f, 0.0f, 0.0f}, -1.0f, 0.0f};
+  const CasterCulling culling = cullCasters({floor, box, partition}, light, room());
+  EXPECT_EQ(culling.viewMask[0], 0u);
+  EXPECT_NE(culling.viewMask[1], 0u);
+  EXPECT_NE(culling.viewMask[2], 0u);  // the room goes on behind it
+  EXPECT_EQ(culling.flatLeftOut, 1);
+  // Without receivers (maps that are read back) every caster is drawn.
+  EXPECT_NE(cullCasters({floor, box, partition}, light, Bounds{}).viewMask[0], 0u);
 }

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <optional>
 
 #include "scenes/builder/gltf_builder.h"
 
@@ -78,6 +81,68 @@ TEST(MeshTopology, DegenerateTrianglesAreIgnored) {
   MeshData box = builder::makeBox(glm::vec3(1.0f));
   box.indices.insert(box.indices.end(), {0, 0, 1});
   EXPECT_TRUE(closed(box));
+}
+
+// The largest distance of a mesh's triangle corners, moved by `world`, from a plane.
+float farthestFrom(const MeshPlane& plane, const MeshData& m, const glm::mat4& world) {
+  float farthest = 0.0f;
+  for (const std::uint32_t i : m.indices) {
+    const glm::vec3 p(world * glm::vec4(m.positions[i], 1.0f));
+    farthest = std::max(farthest, std::abs(glm::dot(plane.normal, p) + plane.offset));
+  }
+  return farthest;
+}
+
+TEST(MeshPlane, AFlatMeshHasThePlaneOfItsTriangles) {
+  const MeshData floor = builder::makePlane(4.0f, 8);
+  const std::optional<MeshPlane> plane = flatMeshPlane(floor.positions, floor.indices);
+  ASSERT_TRUE(plane);
+  EXPECT_NEAR(std::abs(plane->normal.y), 1.0f, 1e-6f);
+  EXPECT_NEAR(plane->offset, 0.0f, 1e-6f);
+  EXPECT_EQ(plane->thickness, 0.0f);
+  // Both sides as triangles (a two-sided sheet) are still one plane.
+  const MeshData sheet = merged(floor, flipped(floor), glm::vec3(0.0f));
+  EXPECT_TRUE(flatMeshPlane(sheet.positions, sheet.indices));
+}
+
+TEST(MeshPlane, CurvedBentAndEmptyMeshesHaveNone) {
+  const MeshData box = builder::makeBox(glm::vec3(1.0f));
+  EXPECT_FALSE(flatMeshPlane(box.positions, box.indices));
+  const MeshData sphere = builder::makeSphere(1.0f, 16, 8);
+  EXPECT_FALSE(flatMeshPlane(sphere.positions, sphere.indices));
+  // A 4 m floor with one corner raised by 1 mm: 2.5e-4 of its extent, over the 1e-5 allowed.
+  MeshData bent = builder::makePlane(4.0f, 8);
+  bent.positions[0].y += 1e-3f;
+  EXPECT_FALSE(flatMeshPlane(bent.positions, bent.indices));
+  // Raised by 1e-5 m instead: flat, and the plane's thickness covers the corner.
+  MeshData nearly = builder::makePlane(4.0f, 8);
+  nearly.positions[0].y += 1e-5f;
+  const std::optional<MeshPlane> plane = flatMeshPlane(nearly.positions, nearly.indices);
+  ASSERT_TRUE(plane);
+  EXPECT_GT(plane->thickness, 0.0f);
+  EXPECT_LE(farthestFrom(*plane, nearly, glm::mat4(1.0f)), plane->thickness * 1.0001f);
+  // Only triangles count: without any, or with only degenerate ones, there is no plane.
+  EXPECT_FALSE(flatMeshPlane(nearly.positions, {}));
+  EXPECT_FALSE(flatMeshPlane(nearly.positions, {0, 0, 1, 2, 2, 2}));
+}
+
+TEST(MeshPlane, ATransformedPlaneHoldsTheTransformedMesh) {
+  MeshData wall = builder::makePlane(3.0f, 4);
+  wall.positions[5].y += 2e-5f;  // some thickness to carry through the transform
+  const std::optional<MeshPlane> local = flatMeshPlane(wall.positions, wall.indices);
+  ASSERT_TRUE(local);
+  // Stood up, stretched unevenly, moved far from the origin.
+  glm::mat4 world = glm::translate(glm::mat4(1.0f), glm::vec3(40.0f, 2.0f, -7.0f));
+  world = glm::rotate(world, 1.2f, glm::normalize(glm::vec3(1.0f, 0.3f, -0.4f)));
+  world = glm::scale(world, glm::vec3(2.0f, 5.0f, 0.5f));
+  const std::optional<MeshPlane> moved = transformedPlane(*local, world);
+  ASSERT_TRUE(moved);
+  EXPECT_NEAR(glm::length(moved->normal), 1.0f, 1e-6f);
+  EXPECT_LE(farthestFrom(*moved, wall, world), moved->thickness + 1e-4f);
+  // The thickness scales with the stretch along the normal: 5x here.
+  EXPECT_NEAR(moved->thickness, 5.0f * local->thickness, 1e-3f * local->thickness);
+  // A transform that flattens the plane's normal direction away has no plane.
+  EXPECT_FALSE(transformedPlane(*local, glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 0.0f, 1.0f))));
 }
 
 }  // namespace

@@ -47,6 +47,7 @@ void GpuGeometry::uploadMeshes(const Scene& scene) {
     range.indexCount = static_cast<GLsizei>(mesh.indices.size());
     range.hasTangents = !mesh.tangents.empty();
     range.closed = isClosedSolid(mesh.positions, mesh.indices);
+    range.plane = flatMeshPlane(mesh.positions, mesh.indices);
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
       Vertex v;
       v.position = mesh.positions[i];
@@ -107,6 +108,8 @@ void GpuGeometry::uploadMeshes(const Scene& scene) {
         std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
     draw.boundsCenter = glm::vec3(instance.world * glm::vec4(center, 1.0f));
     draw.boundsRadius = radius * scale * (1.0f + 1e-5f);
+    const std::optional<MeshPlane>& plane = meshes_[static_cast<std::size_t>(instance.mesh)].plane;
+    if (plane) draw.plane = transformedPlane(*plane, instance.world);
     draws_.push_back(draw);
   }
   // World matrices by draw index, for passes that draw many objects in one call.
@@ -162,9 +165,16 @@ void GpuGeometry::uploadCasterStream(const Scene& scene) {
     const Mesh& mesh = scene.meshes[static_cast<std::size_t>(draw.mesh)];
     const auto base = static_cast<std::uint32_t>(world.size());
     draw.casterFirstIndex = static_cast<GLint>(indices.size());
-    for (const glm::vec3& p : mesh.positions) world.emplace_back(draw.world * glm::vec4(p, 1.0f));
+    for (const glm::vec3& p : mesh.positions) {
+      world.emplace_back(draw.world * glm::vec4(p, 1.0f));
+      receiverBounds_.extend(world.back());
+    }
     for (const std::uint32_t i : mesh.indices) indices.push_back(base + i);
   }
+  for (const GpuDraw& draw : draws_)
+    if (draw.casterFirstIndex < 0)
+      receiverBounds_.extend(
+          scene.meshes[static_cast<std::size_t>(draw.mesh)].bounds.transformed(draw.world));
   casterPositions_ = gl::createBuffer();
   glNamedBufferStorage(casterPositions_.get(),
                        std::max<GLsizeiptr>(1, world.size() * sizeof(glm::vec3)),

@@ -3,9 +3,12 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "renderer/gl/gl_resources.h"
+#include "renderer/scene/bounds.h"
+#include "renderer/scene/mesh_topology.h"
 #include "renderer/scene/scene.h"
 
 namespace omnishadow {
@@ -23,6 +26,8 @@ struct GpuMeshRange {
   // The mesh bounds a solid (isClosedSolid): from a light outside it only front faces can be
   // nearest, so the shadow pass skips its back faces.
   bool closed = false;
+  // The plane its triangles lie in, when they are flat (flatMeshPlane): a floor or a wall.
+  std::optional<MeshPlane> plane;
 };
 
 // A mesh instance ready to draw: its range, transform, material and world bounds.
@@ -34,6 +39,7 @@ struct GpuDraw {
   bool mirrored = false;         // negative determinant: front faces are clockwise
   glm::vec3 boundsCenter{0.0f};  // world-space bounding sphere, for culling
   float boundsRadius = 0.0f;
+  std::optional<MeshPlane> plane;  // world space, for flat meshes
   // First index of this draw's copy in the world-space caster stream (casterVertexArray()),
   // whose indices need no base vertex; -1 when it has none.
   GLint casterFirstIndex = -1;
@@ -60,6 +66,9 @@ class GpuGeometry {
   GLuint modelBuffer() const { return models_.get(); }
   const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
   const std::vector<GpuDraw>& draws() const { return draws_; }
+  // World-space box around every vertex of every draw: exact for the draws in the caster
+  // stream, their mesh's box transformed for the others. Where shadows can be received.
+  const Bounds& receiverBounds() const { return receiverBounds_; }
 
  private:
   void uploadMeshes(const Scene& scene);
@@ -69,6 +78,7 @@ class GpuGeometry {
   gl::Buffer vertices_, indices_, models_, casterPositions_, casterIndices_;
   std::vector<GpuMeshRange> meshes_;
   std::vector<GpuDraw> draws_;
+  Bounds receiverBounds_;
 };
 
 // The geometry of the last scene uploaded, kept for the next render: a scene rendered again

@@ -38,6 +38,7 @@ class GpuScene {
   GLuint modelBuffer() const { return geometry_->modelBuffer(); }
   const std::vector<GpuMeshRange>& meshes() const { return geometry_->meshes(); }
   const std::vector<GpuDraw>& draws() const { return geometry_->draws(); }
+  const Bounds& receiverBounds() const { return geometry_->receiverBounds(); }
   const std::vector<GpuMaterial>& materials() const { return materials_; }
   // Images larger than this GL allows were halved until they fit; one line each.
   const std::vector<std::string>& warnings() const { return warnings_; }

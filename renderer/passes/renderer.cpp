@@ -234,6 +234,7 @@ class Renderer::Impl {
   // one scene with several cameras): point and spot maps do not depend on the camera.
   struct ShadowCache {
     std::uint64_t scene = 0;
+    bool everyCaster = false;  // drawn for a read-back (ShadowPass::render)
     ShadowAtlasPlan plan;
     std::vector<Light> lights;
     ShadowGroups groups;
@@ -266,6 +267,7 @@ struct Renderer::Impl::Prepared {
   LightingFeatures features;
   PassOutputs beautyOutputs = PassOutputs::Beauty;  // Srgb8 where encodesSrgb8()
   std::uint64_t fingerprint = 0;  // shadowFingerprint() when the shadow cache is used
+  bool everyCaster = false;       // the maps hold every caster (readsShadowMaps)
   ShadowAtlasPlan atlas;
   ShadowGroups groups;  // indexed like atlas.groups
   std::vector<ShadedLight> shaded;
@@ -340,6 +342,12 @@ Renderer::Impl::Impl(const ContextOptions& options) : context_(options) {
 
 namespace {
 
+// Frames whose shadow maps are read back (depth dumps, the depth view) draw every caster into
+// them: the maps are then the scene as the light sees it, floors and walls included.
+bool readsShadowMaps(const RenderSettings& settings) {
+  return settings.readShadowMaps || settings.debugView == DebugView::Depth;
+}
+
 bool sameGroups(const std::vector<ShadowGroupPlan>& a, const std::vector<ShadowGroupPlan>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
@@ -373,7 +381,13 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
   prepared.fingerprint = fingerprint;
   std::optional<ShadowCache> cache = std::move(shadowCache_);
   shadowCache_.reset();
+  // Maps that are read back hold every caster; the others leave out flat casters that shadow
+  // nothing. Each kind is reused only for its own, so a picture never depends on the renders
+  // before it.
+  const bool everyCaster = readsShadowMaps(settings);
+  prepared.everyCaster = everyCaster;
   const bool reuse = useCache && cache && cache->scene == fingerprint &&
+                     cache->everyCaster == everyCaster &&
                      sameGroups(cache->plan.groups, prepared.atlas.groups);
   if (reuse) {
     prepared.groups = std::move(cache->groups);
@@ -425,7 +439,9 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
         if (frame) ++frame->shadowMapsReused;
       } else {
         if (!casters) casters = describeCasters(prepared.gpu);
-        shadowPass_->render(prepared.gpu, *casters, lights[i], plan, group, strategy);
+        const int leftOut = shadowPass_->render(prepared.gpu, *casters, lights[i], plan, group,
+                                                strategy, everyCaster);
+        if (frame) frame->flatCastersLeftOut += leftOut;
         if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
         if (frame) ++frame->shadowMapsRendered;
       }
@@ -688,8 +704,8 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
     frame.lightViews = drawLightViews(prepared, camera, ambient, settings);
   }
   gl::checkErrors("reading back the frame");
-  shadowCache_ = ShadowCache{prepared.fingerprint, std::move(prepared.atlas), lights,
-                             std::move(prepared.groups)};
+  shadowCache_ = ShadowCache{prepared.fingerprint, prepared.everyCaster, std::move(prepared.atlas),
+                             lights, std::move(prepared.groups)};
   return frame;
 }
 
@@ -820,6 +836,7 @@ std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(const Scene& sc
   Prepared prepared(scene, nullptr, nullptr);
   RenderSettings settings;
   settings.shadowPass = strategy;
+  settings.readShadowMaps = true;
   ShadowAtlasPlan plan =
       planShadowAtlas(lights, ViewCamera{}, scene.bounds, ShadowLimits{limits_.maxArrayLayers});
   renderShadows(prepared, std::move(plan), scene, lights, settings, false, nullptr);

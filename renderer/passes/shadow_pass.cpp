@@ -38,7 +38,7 @@ SceneCasters describeCasters(const GpuScene& scene) {
     // translucent shadows.
     out.casters.push_back({draw.boundsCenter, draw.boundsRadius,
                            material.alphaMode != AlphaMode::Opaque, range.closed,
-                           material.doubleSided, draw.mirrored});
+                           material.doubleSided, draw.mirrored, draw.plane});
     out.geometry.push_back({static_cast<std::uint32_t>(range.indexCount),
                             static_cast<std::uint32_t>(range.firstIndex), range.baseVertex,
                             draw.casterFirstIndex});
@@ -116,16 +116,19 @@ struct ShadowPass::LightPass {
   ShadowLayerBinding& layers;
 };
 
-void ShadowPass::render(const GpuScene& scene, const SceneCasters& sceneCasters, const Light& light,
-                        const LightShadowPlan& plan, ShadowGroupTextures& target,
-                        ShadowPassStrategy strategy) {
+int ShadowPass::render(const GpuScene& scene, const SceneCasters& sceneCasters, const Light& light,
+                       const LightShadowPlan& plan, ShadowGroupTextures& target,
+                       ShadowPassStrategy strategy, bool everyCaster) {
   const bool cube = target.key.layout == ShadowLayout::Cube;
   if (!cube || strategy == ShadowPassStrategy::Auto) strategy = ShadowPassStrategy::Six;
   const ShadowLayering layering = layeringOf(strategy);
   const bool moments = target.key.moments;
 
   const std::vector<ShadowCaster>& casters = sceneCasters.casters;
-  CasterCulling culling = cullCasters(casters, shadowCullingLight(light, plan, cube));
+  // Variance maps are blurred: a left-out floor would change its neighbours' moments.
+  CasterCulling culling = cullCasters(casters, shadowCullingLight(light, plan, cube),
+                                      everyCaster || moments ? Bounds{} : scene.receiverBounds());
+
   // With translucent shadows, translucent casters tint the light in the transmittance pass
   // (transmittance_pass.h) instead of blocking it here.
   if (castsTranslucentShadows(light))
@@ -160,6 +163,7 @@ void ShadowPass::render(const GpuScene& scene, const SceneCasters& sceneCasters,
   layers.detach();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the shadow pass of light \"" + light.name + "\"");
+  return culling.flatLeftOut;
 }
 
 gl::RasterState ShadowPass::rasterState(const ShadowSettings& settings, bool moments,

@@ -66,6 +66,9 @@ struct Frame {
   // render of the same scene (point and spot lights whose maps cannot have changed).
   int shadowMapsRendered = 0;
   int shadowMapsReused = 0;
+  // Over the maps rendered: flat casters left out of a light's map because they shadow no
+  // receiver (a floor or wall with the whole scene on the light's side), counted per light.
+  int flatCastersLeftOut = 0;
   // The beauty pass drew its depth pre-pass (renderer.cpp chooses per scene; the picture is
   // the same either way).
   bool depthPrepass = true;

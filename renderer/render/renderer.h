@@ -47,7 +47,8 @@ class Renderer {
   double prepare(const std::vector<Light>& lights, int width, int height,
                  const RenderSettings& settings, double budgetMiB);
 
-  // Depth cube maps of the shadowed point lights, as distances, e.g. for tests.
+  // Depth cube maps of the shadowed point lights, as distances, with every caster drawn (as the
+  // depth dumps hold them), e.g. for tests.
   std::vector<CubeDistances> renderShadowDistances(
       const Scene& scene, const std::vector<Light>& lights,
       ShadowPassStrategy strategy = ShadowPassStrategy::Auto);

@@ -1,6 +1,7 @@
 #include "renderer/scene/mesh_topology.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 
@@ -112,6 +113,70 @@ bool isClosedSolid(const std::vector<glm::vec3>& positions,
   for (std::size_t root = 0; root < positions.size(); ++root)
     if (origin[root] >= 0 && !(volume[root] > 0.0)) return false;
   return true;
+}
+
+std::optional<MeshPlane> flatMeshPlane(const std::vector<glm::vec3>& positions,
+                                       const std::vector<std::uint32_t>& indices) {
+  // The largest triangle's normal decides which way is up; then the area-weighted mean of the
+  // triangles' normals (turned that way, so that a two-sided sheet does not cancel out)
+  // through their area-weighted centroid, in double. Over one triangle's plane this spreads a
+  // raised corner's tilt across the mesh instead of taking it whole.
+  glm::dvec3 up(0.0), low(1e300), high(-1e300);
+  double largest = 0.0;
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+    const glm::dvec3 a(positions[indices[t]]), b(positions[indices[t + 1]]),
+        c(positions[indices[t + 2]]);
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    const double area = glm::length(n);
+    if (area > largest) {
+      largest = area;
+      up = n;
+    }
+    for (const glm::dvec3& p : {a, b, c}) {
+      low = glm::min(low, p);
+      high = glm::max(high, p);
+    }
+  }
+  if (!(largest > 0.0) || !std::isfinite(largest)) return std::nullopt;
+  glm::dvec3 sum(0.0), centroid(0.0);
+  double area = 0.0;
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+    const glm::dvec3 a(positions[indices[t]]), b(positions[indices[t + 1]]),
+        c(positions[indices[t + 2]]);
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    sum += glm::dot(n, up) < 0.0 ? -n : n;
+    const double weight = glm::length(n);
+    centroid += weight * (a + b + c) / 3.0;
+    area += weight;
+  }
+  const double length = glm::length(sum);
+  if (!(length > 0.0) || !std::isfinite(length)) return std::nullopt;
+  const glm::dvec3 normal = sum / length;
+  const double offset = -glm::dot(normal, centroid / area);
+  double thickness = 0.0;
+  const std::size_t corners = indices.size() - indices.size() % 3;
+  for (std::size_t k = 0; k < corners; ++k)
+    thickness =
+        std::max(thickness, std::abs(glm::dot(normal, glm::dvec3(positions[indices[k]])) + offset));
+  if (!(thickness <= 1e-5 * glm::length(high - low))) return std::nullopt;
+  return MeshPlane{glm::vec3(normal), static_cast<float>(offset), static_cast<float>(thickness)};
+}
+
+std::optional<MeshPlane> transformedPlane(const MeshPlane& plane, const glm::mat4& transform) {
+  // A point q of the plane's slab moves to M q, and dot(n', M q) = dot(n, q) with the normal
+  // n' = M^-T n (unnormalized): distances shrink by |n'|.
+  const glm::dmat4 m(transform);
+  const glm::dmat3 linear(m);
+  const double det = glm::determinant(linear);
+  if (!(std::abs(det) > 0.0) || !std::isfinite(det)) return std::nullopt;
+  const glm::dvec3 n = glm::transpose(glm::inverse(linear)) * glm::dvec3(plane.normal);
+  const double scale = glm::length(n);
+  if (!(scale > 0.0) || !std::isfinite(scale)) return std::nullopt;
+  const glm::dvec3 onPlane = -static_cast<double>(plane.offset) * glm::dvec3(plane.normal);
+  const glm::dvec3 moved = glm::dvec3(m * glm::dvec4(onPlane, 1.0));
+  const glm::dvec3 normal = n / scale;
+  return MeshPlane{glm::vec3(normal), static_cast<float>(-glm::dot(normal, moved)),
+                   static_cast<float>(plane.thickness / scale)};
 }
 
 }  // namespace omnishadow

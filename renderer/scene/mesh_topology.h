@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <optional>
 #include <vector>
 
 namespace omnishadow {
@@ -17,5 +18,25 @@ namespace omnishadow {
 // meshes, inside-out pieces, flat two-sided sheets and meshes without triangles are not closed.
 bool isClosedSolid(const std::vector<glm::vec3>& positions,
                    const std::vector<std::uint32_t>& indices);
+
+// The plane a flat mesh's triangles lie in: |dot(normal, p) + offset| <= thickness for every
+// corner of a triangle. A flat caster can only shadow points strictly on its far side from the
+// light, so a shadow pass may leave out a floor or a wall that has the whole scene on the
+// light's side (renderer/view/caster_culling.h).
+struct MeshPlane {
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};  // unit length
+  float offset = 0.0f;
+  float thickness = 0.0f;
+};
+
+// The plane of a mesh whose triangle corners all lie within 1e-5 of its extent of one plane
+// (the plane of its largest triangle); none for meshes without a triangle of some area, or
+// curved ones. Lines and points do not count.
+std::optional<MeshPlane> flatMeshPlane(const std::vector<glm::vec3>& positions,
+                                       const std::vector<std::uint32_t>& indices);
+
+// A plane under an affine transform (none when it flattens the plane's normal direction): the
+// same points, moved, within the transformed thickness.
+std::optional<MeshPlane> transformedPlane(const MeshPlane& plane, const glm::mat4& transform);
 
 }  // namespace omnishadow

@@ -65,6 +65,7 @@ ShadowCullingLight shadowCullingLight(const Light& light, const LightShadowPlan&
   ShadowCullingLight culling;
   culling.type = light.type;
   culling.position = light.position;
+  culling.direction = light.direction;
   culling.cullFace = light.shadow.cullFace;
   culling.viewProjections.assign(plan.viewProjection.begin(),
                                  plan.viewProjection.begin() + plan.layerCount);
@@ -119,8 +120,40 @@ bool outsideCubeReach(const ShadowCullingLight& light, const glm::vec3& center, 
 
 }  // namespace
 
-CasterCulling cullCasters(const std::vector<ShadowCaster>& casters,
-                          const ShadowCullingLight& light) {
+bool shadowsNoReceiver(const MeshPlane& plane, const ShadowCullingLight& light,
+                       const Bounds& receivers) {
+  if (receivers.empty()) return false;
+  // Receivers and the plane's own points come from float transforms: a tolerance of the
+  // scene's size (and distance from the origin) keeps a box resting on the floor, its bottom a
+  // rounding below it, on the floor's light side. Far below any shadow bias.
+  const glm::vec3 reach = glm::max(glm::abs(receivers.min), glm::abs(receivers.max));
+  const float tolerance =
+      plane.thickness + 1e-5f * std::max(glm::length(receivers.max - receivers.min),
+                                         std::max({reach.x, reach.y, reach.z}));
+  // Which side the light is on: +1 where dot(normal, p) + offset > 0.
+  float side = 0.0f;
+  if (light.type == LightType::Directional) {
+    const float towardsLight = -glm::dot(plane.normal, light.direction);
+    if (std::abs(towardsLight) < 1e-3f) return false;  // grazing: the plane is nearly edge-on
+    side = towardsLight > 0.0f ? 1.0f : -1.0f;
+  } else {
+    const float distance = glm::dot(plane.normal, light.position) + plane.offset;
+    if (!(std::abs(distance) > tolerance)) return false;
+    side = distance > 0.0f ? 1.0f : -1.0f;
+  }
+  // The box corner farthest on the far side.
+  float farthest = -INFINITY;
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 p((corner & 1) ? receivers.max.x : receivers.min.x,
+                      (corner & 2) ? receivers.max.y : receivers.min.y,
+                      (corner & 4) ? receivers.max.z : receivers.min.z);
+    farthest = std::max(farthest, -side * (glm::dot(plane.normal, p) + plane.offset));
+  }
+  return farthest <= tolerance;
+}
+
+CasterCulling cullCasters(const std::vector<ShadowCaster>& casters, const ShadowCullingLight& light,
+                          const Bounds& receivers) {
   std::vector<ViewFrustum> views;
   views.reserve(light.viewProjections.size());
   for (const glm::mat4& viewProjection : light.viewProjections) views.emplace_back(viewProjection);
@@ -130,9 +163,10 @@ CasterCulling cullCasters(const std::vector<ShadowCaster>& casters,
   culling.viewMask.reserve(casters.size());
   culling.bucket.reserve(casters.size());
   for (const ShadowCaster& caster : casters) {
-    culling.viewMask.push_back(cube && outsideCubeReach(light, caster.center, caster.radius)
-                                   ? 0u
-                                   : casterViewMask(views, caster.center, caster.radius));
+    const bool flat = caster.plane && shadowsNoReceiver(*caster.plane, light, receivers);
+    culling.flatLeftOut += flat;
+    const bool skipped = flat || (cube && outsideCubeReach(light, caster.center, caster.radius));
+    culling.viewMask.push_back(skipped ? 0u : casterViewMask(views, caster.center, caster.radius));
     culling.bucket.push_back(cullBucket(caster, light));
   }
   return culling;

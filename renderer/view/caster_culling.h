@@ -2,9 +2,12 @@
 
 #include <array>
 #include <glm/glm.hpp>
+#include <optional>
 #include <vector>
 
+#include "renderer/scene/bounds.h"
 #include "renderer/scene/light.h"
+#include "renderer/scene/mesh_topology.h"
 #include "renderer/view/shadow_plan.h"
 
 namespace omnishadow {
@@ -50,17 +53,19 @@ unsigned uniteCasterTexels(const LightShadowPlan& plan, unsigned viewMask, const
 struct ShadowCaster {
   glm::vec3 center{0.0f};  // world-space bounding sphere
   float radius = 0.0f;
-  bool masked = false;       // alpha-tested or blended: its texture decides coverage
-  bool closed = false;       // its mesh bounds a solid (isClosedSolid)
-  bool doubleSided = false;  // its material's doubleSided
-  bool mirrored = false;     // negative determinant: front faces are clockwise
+  bool masked = false;             // alpha-tested or blended: its texture decides coverage
+  bool closed = false;             // its mesh bounds a solid (isClosedSolid)
+  bool doubleSided = false;        // its material's doubleSided
+  bool mirrored = false;           // negative determinant: front faces are clockwise
+  std::optional<MeshPlane> plane;  // world space, when its triangles are flat
 };
 
 // What culling needs to know of one light and its views.
 struct ShadowCullingLight {
   LightType type = LightType::Point;
   glm::vec3 position{0.0f};
-  CullFace cullFace = CullFace::None;  // the light's shadow.cullFace
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // directional: where the light goes
+  CullFace cullFace = CullFace::None;      // the light's shadow.cullFace
   std::vector<glm::mat4> viewProjections;
   float near = 0.0f;        // depth range start along the view axis
   float far = 0.0f;         // depth range end along the view axis (0: unknown)
@@ -85,12 +90,27 @@ bool seesOnlyFrontFaces(const ShadowCaster& caster, const ShadowCullingLight& li
 
 CullBucket cullBucket(const ShadowCaster& caster, const ShadowCullingLight& light);
 
+// True when a flat caster cannot come between the light and any point of `receivers`: the
+// light lies clearly on one side of the caster's plane and no receiver on the other. Along a
+// ray from the light to a receiver on the light's side (or on the plane itself, as the floor's
+// own points are) the plane is met, if at all, only at the receiver, so the caster changes no
+// comparison a receiver makes, except that it was the nearest surface there: a receiver's own
+// texel, or a filter tap reaching past a floor or wall into nothing. Those compare lit
+// without it, as the exact reference says (the seam where a wall meets the floor). Empty
+// receivers cull nothing. A room's shell (floor, walls, ceiling) covers whole cube faces and
+// is most of a shadow pass's texels.
+bool shadowsNoReceiver(const MeshPlane& plane, const ShadowCullingLight& light,
+                       const Bounds& receivers);
+
 // Per caster, in caster order.
 struct CasterCulling {
   std::vector<unsigned> viewMask;
   std::vector<CullBucket> bucket;
+  int flatLeftOut = 0;  // casters whose mask shadowsNoReceiver() emptied
 };
-CasterCulling cullCasters(const std::vector<ShadowCaster>& casters,
-                          const ShadowCullingLight& light);
+// `receivers`: where shadows can land (GpuGeometry::receiverBounds); empty when every caster
+// must be drawn anyway (variance maps blur what the casters wrote into their neighbours).
+CasterCulling cullCasters(const std::vector<ShadowCaster>& casters, const ShadowCullingLight& light,
+                          const Bounds& receivers);
 
 }  // namespace omnishadow
