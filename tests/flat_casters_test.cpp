@@ -123,3 +123,21 @@ TEST(FlatCasters, DumpsAfterAPlainRenderHoldTheFloor) {
   const int middle = map.resolution / 2;
   EXPECT_NEAR(map.at(CubeFace::NegY, middle, middle), 3.0f, 0.05f);
 }
+
+TEST(FlatCasters, ReceiversDrawnPerVertexCountToo) {
+  // 150 instances of one sphere are too many vertices to copy into the world-space caster
+  // stream; they are drawn from the mesh with a transform each, and hang under the floor.
+  Scene scene = floorScene();
+  const builder::MeshData ball = builder::makeSphere(0.05f, 32, 16);
+  test::placeMesh(scene, ball, at({0.0f, -1.0f, 0.0f}), 0);
+  const int mesh = static_cast<int>(scene.meshes.size()) - 1;
+  for (int i = 1; i < 150; ++i) {
+    const glm::mat4 world = at({0.1f * static_cast<float>(i % 12) - 0.6f, -1.0f,
+                                0.1f * static_cast<float>(i / 12) - 0.6f});
+    scene.instances.push_back({mesh, world, -1, {}, {}});
+    scene.bounds.extend(scene.meshes.back().bounds.transformed(world));
+  }
+  ASSERT_GT(150 * ball.positions.size(), std::size_t{1} << 16);
+  const ViewCamera camera = lookFrom(scene, {0.0f, -0.4f, 1.2f}, {0.0f, -1.0f, 0.0f}, 32, 24);
+  EXPECT_EQ(render(scene, lampAt({0.3f, 3.0f, 0.5f}), camera, false).flatCastersLeftOut, 0);
+}

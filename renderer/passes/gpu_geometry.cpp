@@ -171,10 +171,18 @@ void GpuGeometry::uploadCasterStream(const Scene& scene) {
     }
     for (const std::uint32_t i : mesh.indices) indices.push_back(base + i);
   }
-  for (const GpuDraw& draw : draws_)
-    if (draw.casterFirstIndex < 0)
-      receiverBounds_.extend(
-          scene.meshes[static_cast<std::size_t>(draw.mesh)].bounds.transformed(draw.world));
+  // The other draws: their mesh's box (from its positions, not trusted from the scene), moved.
+  std::vector<std::optional<Bounds>> local(scene.meshes.size());
+  for (const GpuDraw& draw : draws_) {
+    if (draw.casterFirstIndex >= 0) continue;
+    std::optional<Bounds>& box = local[static_cast<std::size_t>(draw.mesh)];
+    if (!box) {
+      box.emplace();
+      for (const glm::vec3& p : scene.meshes[static_cast<std::size_t>(draw.mesh)].positions)
+        box->extend(p);
+    }
+    receiverBounds_.extend(box->transformed(draw.world));
+  }
   casterPositions_ = gl::createBuffer();
   glNamedBufferStorage(casterPositions_.get(),
                        std::max<GLsizeiptr>(1, world.size() * sizeof(glm::vec3)),
