@@ -47,7 +47,8 @@ void GpuGeometry::uploadMeshes(const Scene& scene) {
     range.indexCount = static_cast<GLsizei>(mesh.indices.size());
     range.hasTangents = !mesh.tangents.empty();
     range.closed = isClosedSolid(mesh.positions, mesh.indices);
-    range.plane = flatMeshPlane(mesh.positions, mesh.indices);
+    // A closed solid encloses a volume, so it is never flat.
+    if (!range.closed) range.plane = flatMeshPlane(mesh.positions, mesh.indices);
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
       Vertex v;
       v.position = mesh.positions[i];

@@ -153,12 +153,14 @@ std::optional<MeshPlane> flatMeshPlane(const std::vector<glm::vec3>& positions,
   if (!(length > 0.0) || !std::isfinite(length)) return std::nullopt;
   const glm::dvec3 normal = sum / length;
   const double offset = -glm::dot(normal, centroid / area);
+  const double tolerance = 1e-5 * glm::length(high - low);
   double thickness = 0.0;
   const std::size_t corners = indices.size() - indices.size() % 3;
-  for (std::size_t k = 0; k < corners; ++k)
+  for (std::size_t k = 0; k < corners; ++k) {
     thickness =
         std::max(thickness, std::abs(glm::dot(normal, glm::dvec3(positions[indices[k]])) + offset));
-  if (!(thickness <= 1e-5 * glm::length(high - low))) return std::nullopt;
+    if (!(thickness <= tolerance)) return std::nullopt;  // curved: no need to look further
+  }
   return MeshPlane{glm::vec3(normal), static_cast<float>(offset), static_cast<float>(thickness)};
 }
 
