@@ -2,7 +2,11 @@
 // Variants: SHADING_PHONG (Blinn-Phong instead of metallic-roughness), WRITE_AOVS (position,
 // normal, distance, visibility), WRITE_LAYERS (material layers or one light's diffuse and
 // specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes), DEBUG_VIEWS
-// (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out).
+// (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out),
+// FACING_LIGHT_LOOP (the beauty alone: each lane group loops over the lights it may face).
+#ifdef FACING_LIGHT_LOOP
+#extension GL_ARB_shader_ballot : require
+#endif
 #include "lights.glsl"
 #include "brdf.glsl"
 #include "shadows.glsl"
@@ -202,6 +206,30 @@ void main() {
   for (uint k = 0u; k < lightCount; ++k) {
     uint entry = k < uint(uGlobalLights) ? k : firstClusterLight + (k - uint(uGlobalLights));
     int i = int(uClusterLights[entry]);
+#elif defined(FACING_LIGHT_LOOP)
+  // At most 32 lights, none with a range. A light that the shading normal of every pixel of
+  // this invocation's lane group faces away from adds exactly nothing there (shadeBrdf and
+  // shadePhong return 0 for N.L <= 0), so the loop visits only the lights some pixel of the
+  // group may face. llvmpipe runs both sides of every branch, but a loop only while some lane
+  // is in it: with the group's mask the same in all lanes (a ballot), each light the group
+  // skips saves its shadow lookup and BRDF. The test keeps a margin of 1e-4 in N.L, so that
+  // the lights it leaves out are those the BRDF would have found facing away, whatever the
+  // rounding; a NaN normal keeps every light, as before.
+  uint groupLights = 0u;
+  for (int i = 0; i < (uUnlit != 0 ? 0 : uLightCount); ++i) {
+    vec3 toLight = int(uLights[i].directionType.w) == LIGHT_DIRECTIONAL
+                       ? -uLights[i].directionType.xyz
+                       : uLights[i].positionRange.xyz - vIn.worldPosition;
+    bool awayFromLight = dot(N, toLight) <= -1e-4 * length(toLight);
+    if (ballotARB(!awayFromLight) != 0ul) groupLights |= 1u << uint(i);
+  }
+  // do-while: a loop's exit test sits at its end, so a `while` would run its body once more,
+  // with every lane masked, after the last light.
+  uint pendingLights = groupLights;
+  do {
+    int i = findLSB(pendingLights);  // -1: none (the body then runs once, masked)
+    pendingLights &= pendingLights - 1u;
+    if (i < 0) break;
 #else
   // No light has a range: every light reaches everywhere, and the clusters would list them all.
   for (int i = 0; i < (uUnlit != 0 ? 0 : uLightCount); ++i) {
@@ -268,7 +296,11 @@ void main() {
       layerSpecular = shadowColor * specular;
     }
 #endif
+#ifdef FACING_LIGHT_LOOP
+  } while (pendingLights != 0u);
+#else
   }
+#endif
 
   if (uUnlit != 0) color = baseColor.rgb;
 #ifdef DEBUG_VIEWS

@@ -53,6 +53,10 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
   if (outputs == PassOutputs::Srgb8) defines.push_back("WRITE_SRGB8");
+  // The AOV and layer passes report every light's terms, also where it faces away.
+  if (features.facingLightLoop && !features.debugViews &&
+      (outputs == PassOutputs::Beauty || outputs == PassOutputs::Srgb8))
+    defines.push_back("FACING_LIGHT_LOOP");
   return contract::withShaderContract(std::move(defines));
 }
 
@@ -217,6 +221,7 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
   // The cascade view reads the debug light's cascade where the depth view reads its map.
   features.debugViews = debugView != DebugView::None;
   features.debugDepth = debugView == DebugView::Depth || debugView == DebugView::Cascade;
+  features.facingLightLoop = !features.clusteredLights && lights.size() <= kMaxFacingLoopLights;
   return features;
 }
 

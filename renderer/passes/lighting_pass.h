@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -131,8 +132,15 @@ struct LightingFeatures {
   // More lights (or planar shadow view-projections) than the uniform blocks hold: the lights
   // are read from storage buffers (shader_contract.h).
   bool lightsInStorage = false;
+  // At most kMaxFacingLoopLights lights, none with a range, and a GL with GL_ARB_shader_ballot
+  // (lightingFeatures() leaves that to the caller): the beauty's light loop visits only the
+  // lights some pixel of each lane group faces (shaders/lighting.frag, FACING_LIGHT_LOOP).
+  bool facingLightLoop = false;
   bool operator==(const LightingFeatures&) const = default;
 };
+
+// The facing-light loop keeps its lights in a 32-bit mask.
+inline constexpr std::size_t kMaxFacingLoopLights = 32;
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView);
 

@@ -244,6 +244,7 @@ class Renderer::Impl {
   std::string glRenderer_;
   bool prepassSupported_ = true;  // depthPrepassSupported(glRenderer_)
   bool packInvert_ = false;       // GL_MESA_pack_invert: readbacks turn the rows around themselves
+  bool ballot_ = false;           // GL_ARB_shader_ballot: LightingFeatures::facingLightLoop
   struct PassKey {
     Shading shading;
     PassOutputs outputs;
@@ -337,6 +338,7 @@ Renderer::Impl::Impl(const ContextOptions& options) : context_(options) {
   glRenderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   prepassSupported_ = depthPrepassSupported(glRenderer_);
   packInvert_ = hasExtension("GL_MESA_pack_invert");
+  ballot_ = hasExtension("GL_ARB_shader_ballot");
   gl::checkErrors("context setup");
 }
 
@@ -669,6 +671,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
 
   ScopedStage shaders(times, "shaders");
   LightingFeatures features = lightingFeatures(lights, settings.debugView);
+  features.facingLightLoop = features.facingLightLoop && ballot_;
   const std::vector<bool> translucent = translucentShadowLights(lights, scene);
   features.translucentShadows =
       std::find(translucent.begin(), translucent.end(), true) != translucent.end();
