@@ -217,9 +217,7 @@ void main() {
   // rounding; a NaN normal keeps every light, as before.
   uint groupLights = 0u;
   for (int i = 0; i < (uUnlit != 0 ? 0 : uLightCount); ++i) {
-    vec3 toLight = int(uLights[i].directionType.w) == LIGHT_DIRECTIONAL
-                       ? -uLights[i].directionType.xyz
-                       : uLights[i].positionRange.xyz - vIn.worldPosition;
+    vec3 toLight = towardsLight(uLights[i], vIn.worldPosition);
     bool awayFromLight = dot(N, toLight) <= -1e-4 * length(toLight);
     if (ballotARB(!awayFromLight) != 0ul) groupLights |= 1u << uint(i);
   }

@@ -48,6 +48,15 @@ float rangeWindow(float distance, float range) {
   return window * window;
 }
 
+// From P towards the light, not normalized: to its position, or against a directional light's
+// direction.
+vec3 towardsLight(Light light, vec3 P) {
+#ifdef DIRECTIONAL_LIGHTS
+  if (int(light.directionType.w) == LIGHT_DIRECTIONAL) return -light.directionType.xyz;
+#endif
+  return light.positionRange.xyz - P;
+}
+
 // Direction towards the light (L) and the radiance arriving at P, unshadowed. The pass is
 // compiled for the light types the frame has (DIRECTIONAL_LIGHTS, SPOT_LIGHTS) and, without
 // CLUSTERED_LIGHTS, for lights without a range (renderer/passes/lighting_pass.cpp): llvmpipe
@@ -62,7 +71,7 @@ void incidentLight(Light light, vec3 P, out vec3 L, out vec3 radiance, out float
     return;
   }
 #endif
-  vec3 toLight = light.positionRange.xyz - P;
+  vec3 toLight = light.positionRange.xyz - P;  // towardsLight(), the directional case handled
   distance = length(toLight);
   L = toLight / max(distance, 1e-8);
 #ifdef CLUSTERED_LIGHTS
