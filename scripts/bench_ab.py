@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""Two omnishadow binaries side by side, stage by stage, without three.js (issue 19).
+
+The A/B measurement behind the before/after numbers of docs/performance.md: on the scenes and
+lights of ../shared/peers/compare.py (the same ones scripts/bench-peers.sh times), each round
+runs, for each scene and each binary, a single `render` (its first frame) and a `render --repeat
+N` (its steady frames), the binaries taking turns at going first. No Chromium runs between the
+processes, so small differences (a millisecond of `lighting`) stand out of the noise that
+bench-peers.sh's rounds carry. Prints a markdown table of medians, per scene and binary: steady
+shadow maps, lighting, readback and frame; first-frame shadow maps, lighting and frame (shadow
+maps + lighting + readback); process wall time.
+
+Usage: scripts/bench_ab.py --bin NEW --baseline OLD [--rounds N] [--repeat N] [--scenes a,b]
+                           [--filter F] [--size WxH] [--peers DIR]"""
+import argparse, os, statistics, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_peers import load_compare, run_omni  # noqa: E402
+
+
+def main():
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--bin", required=True, help="the omnishadow to measure")
+    ap.add_argument("--baseline", required=True, help="the omnishadow to compare it with")
+    ap.add_argument("--peers", default=os.path.join(root, "..", "shared", "peers"))
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--repeat", type=int, default=10, help="frames timed by render --repeat")
+    ap.add_argument("--scenes", default="box,cornell,sundial,whackamole,test_room")
+    ap.add_argument("--filter", default="pcf")
+    ap.add_argument("--size", default="1280x720")
+    a = ap.parse_args()
+    if not os.path.isfile(os.path.join(a.peers, "compare.py")):
+        sys.exit(f"bench_ab: no compare.py in {a.peers} (--peers DIR)")
+    cmp = load_compare(a.peers)
+    w, h = map(int, a.size.split("x"))
+    tmp = tempfile.mkdtemp(prefix="bench-ab.")
+    scenes = a.scenes.split(",")
+    binaries = [("new", a.bin), ("baseline", a.baseline)]
+    res = {}
+    for r in range(a.rounds):
+        order = binaries if r % 2 == 0 else binaries[::-1]
+        for name in scenes:
+            scene, lights = cmp["SCENES"][name]
+            lf = cmp["with_filter"](lights, a.filter, tmp)
+            for who, binary in order:
+                out = f"{tmp}/{name}.{who}.png"
+                steady = run_omni(binary, scene, lf, out, w, h, a.repeat)
+                first = run_omni(binary, scene, lf, out, w, h, 0)
+                res.setdefault((name, who), []).append((steady, first))
+                print(f"# round {r} {name} {who} steady {steady['steady']:.1f} "
+                      f"first {first['first']:.1f} wall {first['wall']:.0f}",
+                      file=sys.stderr, flush=True)
+
+    def med(name, who, pick):
+        values = [pick(s, f) for s, f in res[(name, who)]]
+        values = [v for v in values if v is not None]
+        return f"{statistics.median(values):.1f}" if values else "-"
+
+    print("| scene | binary | steady shadow maps | steady lighting | steady readback | steady frame "
+          "| first shadow maps | first lighting | first frame | process ms |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for name in scenes:
+        for who, _ in binaries:
+            cells = [med(name, who, lambda s, f, k=k: s.get(f"steady {k}"))
+                     for k in ("shadow maps", "lighting", "readback", "frame")]
+            cells += [med(name, who, lambda s, f: f.get("shadow maps")),
+                      med(name, who, lambda s, f: f.get("lighting")),
+                      med(name, who, lambda s, f: f["first"]),
+                      med(name, who, lambda s, f: f["wall"])]
+            print(f"| {name} | {who} | " + " | ".join(cells) + " |")
+    print(f"\n{a.filter}, {w}x{h}, 1024^2 shadow maps, {a.rounds} interleaved rounds, medians; "
+          f"steady: `render --repeat {a.repeat}`; first: a single `render`.")
+
+
+if __name__ == "__main__":
+    main()
