@@ -113,7 +113,7 @@ TEST(DepthPrepass, KeptOnlyWhereSurfacesHideATenthOrMore) {
     ASSERT_TRUE(frames[1].depthPrepass);  // counts
     EXPECT_EQ(frames[2].depthPrepass, share > 0.1f);
     EXPECT_EQ(frames[2].srgb8->rgb, frames[0].srgb8->rgb);
-    // The square is drawn: its color in the middle, the floor's at the edge.
+    // The square is drawn: its blue in the middle of the picture.
     const std::uint8_t* middle = frames[2].srgb8->rgb.data() + (48 * 96 + 48) * 3;
     EXPECT_GT(middle[2], middle[0]);
   }
