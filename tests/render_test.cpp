@@ -848,7 +848,7 @@ TEST(Shadows, PreparingChangesNoPixelAndRefusesNothing) {
   const auto draw = [&](const Scene& scene) {
     return renderer.render(scene, lights, glm::vec3(0.02f), camera, settings, times).beauty.pixels;
   };
-  const std::vector<float> plainA = draw(a), plainB = draw(b);
+  const FloatPixels plainA = draw(a), plainB = draw(b);
   // A 200^2 cube map and spot map, depth and moments, and an 80x60 beauty target.
   const double bytes = renderer.prepare(lights, camera.width, camera.height, settings, 64.0);
   EXPECT_GT(bytes, 6.0 * 200 * 200 * 4);

@@ -64,8 +64,8 @@ void writeFace(const fs::path& folder, const std::string& lightName, int face,
   const std::vector<float>& texels = distances.faces[face];
   const std::string base = lightName + "_" + kCubeFaceNames[face];
   // The stored rows are already GL texel rows (row 0 = t 0), which is the documented file layout.
-  writeExr(transaction.stage(folder / (base + ".exr")), FloatImage{n, n, {"Z"}, texels},
-           ExrPixelType::Float);
+  writeExr(transaction.stage(folder / (base + ".exr")),
+           FloatImage{n, n, {"Z"}, FloatPixels(texels.begin(), texels.end())}, ExrPixelType::Float);
   std::vector<std::uint8_t> preview(texels.size());
   std::transform(texels.begin(), texels.end(), preview.begin(),
                  [far](float distance) { return grey(distance, far); });
@@ -77,8 +77,10 @@ void writeFace(const fs::path& folder, const std::string& lightName, int face,
 void writePlanarShadowDump(const fs::path& folder, const std::string& base, int resolution,
                            const std::vector<float>& distances, float far,
                            OutputTransaction& transaction) {
-  writeExr(transaction.stage(folder / (base + ".exr")),
-           FloatImage{resolution, resolution, {"Z"}, distances}, ExrPixelType::Float);
+  writeExr(
+      transaction.stage(folder / (base + ".exr")),
+      FloatImage{resolution, resolution, {"Z"}, FloatPixels(distances.begin(), distances.end())},
+      ExrPixelType::Float);
   std::vector<std::uint8_t> preview(distances.size());
   std::transform(distances.begin(), distances.end(), preview.begin(),
                  [far](float distance) { return grey(distance, far); });

@@ -105,7 +105,7 @@ void writeExrPixels(const std::filesystem::path& path, const Imf::Header& header
   writeFileBytes(path, stream.bytes());
 }
 
-std::vector<Imath::half> toHalf(const std::vector<float>& pixels) {
+std::vector<Imath::half> toHalf(const FloatPixels& pixels) {
   std::vector<Imath::half> halves(pixels.size());
   std::transform(pixels.begin(), pixels.end(), halves.begin(),
                  [](float value) { return Imath::half(value); });

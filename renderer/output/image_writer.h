@@ -7,14 +7,20 @@
 #include <string_view>
 #include <vector>
 
+#include "renderer/core/default_init_allocator.h"
+
 namespace omnishadow {
+
+// A float image's samples. FloatPixels(n) and resize(n) leave them uninitialized (each producer
+// writes every sample); FloatPixels(n, 0.0f) zeroes.
+using FloatPixels = std::vector<float, DefaultInitAllocator<float>>;
 
 // Linear float image with named channels, interleaved, first row = top of the picture.
 struct FloatImage {
   int width = 0;
   int height = 0;
   std::vector<std::string> channels;  // e.g. {"R","G","B","A"} or {"P.X","P.Y","P.Z",...}
-  std::vector<float> pixels;          // width * height * channels.size()
+  FloatPixels pixels;                 // width * height * channels.size()
 
   float& at(int x, int y, int c) {
     return pixels[(std::size_t(y) * width + x) * channels.size() + c];

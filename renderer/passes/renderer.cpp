@@ -46,10 +46,10 @@ bool hasExtension(const char* name) {
 // Reads attachment `index` as RGBA floats, top row first unless `glRowOrder`. `packInvert`:
 // the driver has GL_MESA_pack_invert and turns the rows around while it copies them, which
 // saves a second pass over the frame.
-std::vector<float> readAttachment(const FrameTargets& targets, int index, bool glRowOrder,
-                                  bool packInvert) {
+FloatPixels readAttachment(const FrameTargets& targets, int index, bool glRowOrder,
+                           bool packInvert) {
   const int w = targets.width(), h = targets.height();
-  std::vector<float> pixels(static_cast<std::size_t>(w) * h * 4);
+  FloatPixels pixels(static_cast<std::size_t>(w) * h * 4);  // GL writes every sample
   const bool invert = packInvert && !glRowOrder;
   if (invert) glPixelStorei(kPackInvertMesa, GL_TRUE);
   glGetTextureImage(targets.color(index), 0, GL_RGBA, GL_FLOAT,
@@ -108,7 +108,7 @@ bool encodesSrgb8(const Scene& scene, const RenderSettings& settings) {
 }
 
 // Copies `count` channels starting at `from` of an RGBA buffer into the image from `to` on.
-void copyChannels(const std::vector<float>& rgba, int from, int count, FloatImage& image, int to) {
+void copyChannels(const FloatPixels& rgba, int from, int count, FloatImage& image, int to) {
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
   const std::size_t stride = image.channels.size();
   for (std::size_t i = 0; i < pixels; ++i)
@@ -116,8 +116,8 @@ void copyChannels(const std::vector<float>& rgba, int from, int count, FloatImag
 }
 
 // Replaces the RGBA pixels of `into` where `mask` is set by those of `from`.
-void mergePixels(const std::vector<float>& from, const std::vector<std::uint8_t>& mask,
-                 std::vector<float>& into) {
+void mergePixels(const FloatPixels& from, const std::vector<std::uint8_t>& mask,
+                 FloatPixels& into) {
   for (std::size_t i = 0; i < mask.size(); ++i)
     if (mask[i]) std::copy_n(from.begin() + i * 4, 4, into.begin() + i * 4);
 }
@@ -572,7 +572,7 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
       ScopedStage readback(times, "readback");
       if (p == 0) {
         copyChannels(readAttachment(targets, 0, flip, packInvert_), 0, 4, image, 0);
-        const std::vector<float> position = readAttachment(targets, 1, flip, packInvert_);
+        const FloatPixels position = readAttachment(targets, 1, flip, packInvert_);
         copyChannels(position, 0, 3, image, 4);
         copyChannels(readAttachment(targets, 2, flip, packInvert_), 0, 3, image, 7);
         copyChannels(position, 3, 1, image, 10);
@@ -593,12 +593,12 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         continue;
       draw(base, blendedOnly, true);
       ScopedStage readback(times, "readback");
-      std::vector<std::vector<float>> values(kVisibilityPerPass / 4);
+      std::vector<FloatPixels> values(kVisibilityPerPass / 4);
       for (int l = base; l < end; ++l) {
         if (transmittanceChannel[l] < 0) continue;
         for (int c = 0; c < 3; ++c) {
           const int scalar = 3 * (l - base) + c;
-          std::vector<float>& target = values[scalar / 4];
+          FloatPixels& target = values[scalar / 4];
           if (target.empty()) target = readAttachment(targets, 3 + scalar / 4, flip, packInvert_);
           copyChannels(target, scalar % 4, 1, image, transmittanceChannel[l] + c);
         }
@@ -774,8 +774,9 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
                     camera.height,
                     aovChannels(lights, settings.layers, prepared.translucent),
                     {}};
-    aovs.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height *
-                       aovs.channels.size());
+    // Zeroed: a channel no pass writes (a light without translucent casters) stays 0.
+    aovs.pixels.resize(
+        static_cast<std::size_t>(camera.width) * camera.height * aovs.channels.size(), 0.0f);
     drawAovs(prepared, camera, ambient, settings, aovs, times);
     frame.aovs = std::move(aovs);
   }
