@@ -13,6 +13,8 @@ packages=(
   libgtest-dev
   # PNG and EXR without OpenImageIO on the start-up path (OpenImageIO is a plugin for the rest)
   libpng-dev libdeflate-dev
+  # JPEG textures
+  libturbojpeg0-dev
   # compressed glTF geometry (KHR_draco_mesh_compression, EXT/KHR_meshopt_compression)
   libdraco-dev libmeshoptimizer-dev
   # exact shadow rays for `omnishadow verify`

@@ -10,6 +10,8 @@
 #include <utility>
 
 #include "renderer/core/input_file.h"
+#include "renderer/scene/gltf_context.h"
+#include "renderer/scene/jpeg_decoder.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -139,6 +141,26 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   return {};
 }
 
+bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
+                 const unsigned char* bytes, int size) {
+  const auto length = static_cast<std::size_t>(std::max(size, 0));
+  if (isJpeg(bytes, length)) {
+    DecodedJpeg jpeg = decodeJpeg(bytes, length, kMaxImageSide, kMaxImageTexels);
+    if (jpeg.ok) {
+      image->width = jpeg.width;
+      image->height = jpeg.height;
+      image->component = 4;
+      image->bits = 8;
+      image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+      image->image = std::move(jpeg.rgba);
+      if (!jpeg.warning.empty() && warning)
+        *warning += "damaged JPEG data (" + jpeg.warning + "); drawn as decoded\n";
+      return true;
+    }
+  }
+  return tinygltf::LoadImageData(image, index, error, warning, 0, 0, bytes, size, nullptr);
+}
+
 bool isExtensionImageFormat(const unsigned char* b, std::size_t size) {
   static constexpr unsigned char kKtx2[] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
                                             '0',  0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
@@ -175,7 +197,18 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
     if (error) *error += "images[" + std::to_string(index) + "]: " + why + "\n";
     return false;
   }
-  return tinygltf::LoadImageData(image, index, error, warning, width, height, bytes, size, nullptr);
+  std::string damaged;
+  if (!decodeImage(image, index, error, &damaged, bytes, size)) return false;
+  if (warning) {
+    for (const std::string& line : nonEmptyLines(damaged))
+      *warning += "images[" + std::to_string(index) + "]: " + line + "\n";
+  }
+  // tinygltf asks for a size only where a caller set one; none does, but keep its contract.
+  if ((width > 0 && image->width != width) || (height > 0 && image->height != height)) {
+    if (error) *error += "images[" + std::to_string(index) + "]: unexpected image size\n";
+    return false;
+  }
+  return true;
 }
 
 namespace {

@@ -21,6 +21,13 @@ bool isExtensionImageFormat(const unsigned char* b, std::size_t size);
 // Empty string when a PNG or JPEG may be decoded, else why not.
 std::string imageTooLarge(const unsigned char* bytes, std::size_t size);
 
+// Decodes a PNG or JPEG that passed the checks above into `image`, as tinygltf::LoadImageData
+// would (width, height, component, bits, pixel_type, image): JPEG with libjpeg-turbo, and with
+// stb_image (tinygltf's decoder) what libjpeg-turbo cannot turn into RGB (CMYK); PNG with
+// stb_image. Damaged JPEG data that still gives a picture adds a line to `warning`.
+bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
+                 const unsigned char* bytes, int size);
+
 // tinygltf's image loader (TinyGLTF::SetImageLoader): decodes images read from URIs after the
 // checks above and leaves those in bufferViews to the loader, which checks their bounds first.
 bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,

@@ -31,11 +31,12 @@ tinygltf::Image decodeBufferViewImage(const Context& ctx, std::size_t index,
   if (const std::string why = imageTooLarge(bytes, length); !why.empty()) ctx.fail(object, why);
   tinygltf::Image decoded = source;
   std::string error, warning;
-  if (!tinygltf::LoadImageData(&decoded, static_cast<int>(index), &error, &warning, 0, 0, bytes,
-                               static_cast<int>(length), nullptr)) {
+  if (!decodeImage(&decoded, static_cast<int>(index), &error, &warning, bytes,
+                   static_cast<int>(length))) {
     const std::vector<std::string> lines = nonEmptyLines(error);
     ctx.fail(object, lines.empty() ? "cannot decode the image data" : lines.front());
   }
+  for (const std::string& line : nonEmptyLines(warning)) ctx.warn(object + ": " + line);
   return decoded;
 }
 
@@ -52,6 +53,7 @@ std::vector<std::uint8_t> toRgba8(const Context& ctx, const tinygltf::Image& dec
                          std::to_string(decoded.bits) + " bits)");
   }
   const unsigned char* data = decoded.image.data();
+  if (channels == 4 && bytes == 1) return std::vector<std::uint8_t>(data, data + pixels * 4);
   const auto sample = [&](std::size_t index) -> std::uint8_t {
     if (bytes == 1) return data[index];
     std::uint16_t value;
@@ -98,7 +100,12 @@ void convertImages(Context& ctx) {
     }
     image.width = decoded.width;
     image.height = decoded.height;
-    image.rgba = toRgba8(ctx, decoded, object);
+    const bool rgba8 = decoded.component == 4 && decoded.bits == 8 &&
+                       decoded.image.size() == static_cast<std::size_t>(decoded.width) *
+                                                   static_cast<std::size_t>(decoded.height) * 4;
+    // A decoded JPEG is RGBA8 already; the copy of 16 MB (Sundial) is not free.
+    image.rgba = rgba8 && source.bufferView >= 0 ? std::move(fromBufferView.image)
+                                                 : toRgba8(ctx, decoded, object);
     ctx.scene.images.push_back(std::move(image));
   }
 }

@@ -1,0 +1,222 @@
+// JPEG textures, decoded by libjpeg-turbo (renderer/scene/jpeg_decoder.cpp): texels where the
+// source put them, grey and damaged files, what libjpeg-turbo cannot turn into RGB left to
+// stb_image, and how far the two decoders' pictures lie apart. The JPEGs are made here with
+// TurboJPEG's encoder from known pixels.
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+#include <turbojpeg.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "renderer/scene/gltf_loader.h"
+#include "scenes/builder/gltf_builder.h"
+#include "tests/support/temp_folder.h"
+
+namespace omnishadow {
+namespace {
+
+using builder::FileFormat;
+using builder::GltfBuilder;
+using builder::MeshData;
+using test_support::TempFolder;
+
+// `pixels` (first row = top) in `format` (TJPF_RGB, TJPF_GRAY, TJPF_CMYK) as a JPEG.
+std::vector<unsigned char> encodeJpeg(int width, int height,
+                                      const std::vector<std::uint8_t>& pixels, int format,
+                                      int subsampling, int quality) {
+  tjhandle handle = tjInitCompress();
+  unsigned char* jpeg = nullptr;
+  unsigned long size = 0;
+  const int status = tjCompress2(handle, pixels.data(), width, 0, height, format, &jpeg, &size,
+                                 subsampling, quality, 0);
+  std::vector<unsigned char> bytes;
+  if (status == 0) bytes.assign(jpeg, jpeg + size);
+  tjFree(jpeg);
+  tjDestroy(handle);
+  EXPECT_EQ(status, 0) << tjGetErrorStr2(nullptr);
+  return bytes;
+}
+
+// A smooth picture with a distinct color in each corner, so that a flip or a swapped channel
+// shows: red grows to the right, green downwards, blue along the diagonal.
+std::vector<std::uint8_t> cornersPicture(int width, int height) {
+  std::vector<std::uint8_t> rgb;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      rgb.push_back(static_cast<std::uint8_t>(20 + 200 * x / (width - 1)));
+      rgb.push_back(static_cast<std::uint8_t>(30 + 190 * y / (height - 1)));
+      rgb.push_back(static_cast<std::uint8_t>(40 + 100 * (x + y) / (width + height - 2)));
+    }
+  return rgb;
+}
+
+MeshData triangle() {
+  MeshData mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  mesh.indices = {0, 1, 2};
+  return mesh;
+}
+
+enum class Storage { BufferView, File };
+
+// A scene of one textured triangle whose image is `jpeg`, in a .glb's bufferView or in a file
+// next to a .gltf.
+Scene loadWithJpeg(const TempFolder& folder, const std::vector<unsigned char>& jpeg,
+                   Storage storage) {
+  GltfBuilder builder;
+  builder.addNode("node", {}, builder.addMesh(triangle()));
+  tinygltf::Model& model = builder.model();
+  tinygltf::Image image;
+  image.name = "photo";
+  image.mimeType = "image/jpeg";
+  if (storage == Storage::BufferView) {
+    image.bufferView = builder::appendBufferView(model, jpeg, 0, 0);
+  } else {
+    image.uri = "photo.jpg";
+    std::ofstream(folder / "photo.jpg", std::ios::binary)
+        .write(reinterpret_cast<const char*>(jpeg.data()),
+               static_cast<std::streamsize>(jpeg.size()));
+  }
+  model.images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = 0;
+  model.textures.push_back(texture);
+  const auto path = folder / (storage == Storage::BufferView ? "scene.glb" : "scene.gltf");
+  builder.write(path, storage == Storage::BufferView ? FileFormat::Glb : FileFormat::GltfExternal);
+  return loadGltf(path);
+}
+
+int largestDifference(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  int largest = 0;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    largest = std::max(largest, std::abs(int(a[i]) - int(b[i])));
+  return largest;
+}
+
+std::vector<std::uint8_t> rgbToRgba(const std::vector<std::uint8_t>& rgb) {
+  std::vector<std::uint8_t> rgba;
+  for (std::size_t i = 0; i < rgb.size(); i += 3)
+    rgba.insert(rgba.end(), {rgb[i], rgb[i + 1], rgb[i + 2], 255});
+  return rgba;
+}
+
+TEST(JpegTexture, DecodesToTheSourceTexelsTopRowFirstFromABufferViewOrAFile) {
+  TempFolder folder("jpeg");
+  constexpr int kWidth = 64, kHeight = 48;
+  const std::vector<std::uint8_t> rgb = cornersPicture(kWidth, kHeight);
+  const std::vector<unsigned char> jpeg =
+      encodeJpeg(kWidth, kHeight, rgb, TJPF_RGB, TJSAMP_444, 100);
+  const Scene fromView = loadWithJpeg(folder, jpeg, Storage::BufferView);
+  const Scene fromFile = loadWithJpeg(folder, jpeg, Storage::File);
+  ASSERT_EQ(fromView.images.size(), 1u);
+  ASSERT_EQ(fromFile.images.size(), 1u);
+  const Image& image = fromView.images[0];
+  EXPECT_EQ(image.width, kWidth);
+  EXPECT_EQ(image.height, kHeight);
+  // Quality 100 without chroma subsampling: within a couple of steps of the source, alpha opaque.
+  EXPECT_LE(largestDifference(image.rgba, rgbToRgba(rgb)), 3);
+  EXPECT_EQ(fromFile.images[0].rgba, image.rgba);
+  EXPECT_TRUE(fromView.warnings.empty());
+}
+
+TEST(JpegTexture, GreyJpegGivesEqualRgbAndOpaqueAlpha) {
+  TempFolder folder("jpeg");
+  std::vector<std::uint8_t> grey;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 24; ++x) grey.push_back(static_cast<std::uint8_t>(10 * x + y));
+  const Scene scene = loadWithJpeg(folder, encodeJpeg(24, 16, grey, TJPF_GRAY, TJSAMP_GRAY, 100),
+                                   Storage::BufferView);
+  const Image& image = scene.images.at(0);
+  ASSERT_EQ(image.rgba.size(), grey.size() * 4);
+  int largest = 0;
+  for (std::size_t i = 0; i < grey.size(); ++i) {
+    EXPECT_EQ(image.rgba[4 * i], image.rgba[4 * i + 1]);
+    EXPECT_EQ(image.rgba[4 * i], image.rgba[4 * i + 2]);
+    EXPECT_EQ(image.rgba[4 * i + 3], 255);
+    largest = std::max(largest, std::abs(int(image.rgba[4 * i]) - int(grey[i])));
+  }
+  EXPECT_LE(largest, 2);
+}
+
+// A cut file: libjpeg fills in the missing blocks and says so, as a warning naming the image;
+// the rows before the cut are the picture's.
+TEST(JpegTexture, TruncatedJpegLoadsWithAWarningNamingTheImage) {
+  constexpr int kWidth = 64, kHeight = 64;
+  const std::vector<std::uint8_t> rgb = cornersPicture(kWidth, kHeight);
+  std::vector<unsigned char> jpeg = encodeJpeg(kWidth, kHeight, rgb, TJPF_RGB, TJSAMP_444, 100);
+  const std::vector<unsigned char> whole = jpeg;
+  jpeg.resize(jpeg.size() / 2);
+  for (Storage storage : {Storage::BufferView, Storage::File}) {
+    TempFolder folder("jpeg");
+    const Scene scene = loadWithJpeg(folder, jpeg, storage);
+    const Image& image = scene.images.at(0);
+    EXPECT_EQ(image.width, kWidth);
+    EXPECT_EQ(image.height, kHeight);
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    const std::string& warning = scene.warnings[0];
+    EXPECT_NE(
+        warning.find(storage == Storage::BufferView ? "images[0] \"photo\": " : "images[0]: "),
+        std::string::npos)
+        << warning;
+    EXPECT_NE(warning.find("damaged JPEG data"), std::string::npos) << warning;
+    const std::vector<std::uint8_t> firstRows(image.rgba.begin(),
+                                              image.rgba.begin() + 8 * kWidth * 4);
+    const std::vector<std::uint8_t> source = rgbToRgba(rgb);
+    EXPECT_LE(largestDifference(firstRows, {source.begin(), source.begin() + 8 * kWidth * 4}), 3);
+  }
+  TempFolder folder("jpeg");
+  EXPECT_TRUE(loadWithJpeg(folder, whole, Storage::BufferView).warnings.empty());
+}
+
+// libjpeg-turbo does not convert CMYK to RGB; stb_image, which decoded every JPEG before,
+// still gets those.
+TEST(JpegTexture, CmykJpegIsLeftToStbImage) {
+  TempFolder folder("jpeg");
+  std::vector<std::uint8_t> cmyk;
+  for (int i = 0; i < 16 * 16; ++i) cmyk.insert(cmyk.end(), {0, 255, 255, 0});  // 100% M + Y
+  const std::vector<unsigned char> jpeg = encodeJpeg(16, 16, cmyk, TJPF_CMYK, TJSAMP_444, 100);
+  tinygltf::Image reference;
+  std::string error, warning;
+  const bool stbDecodes = tinygltf::LoadImageData(
+      &reference, 0, &error, &warning, 0, 0, jpeg.data(), static_cast<int>(jpeg.size()), nullptr);
+  ASSERT_TRUE(stbDecodes) << error;
+  const Scene scene = loadWithJpeg(folder, jpeg, Storage::BufferView);
+  EXPECT_EQ(scene.images.at(0).rgba, reference.image);
+}
+
+// What the switch from stb_image changed: a photo-like 4:2:0 JPEG decodes to within 3 steps of
+// stb_image's picture (2 here), and most texels to the same bytes (95% here), but not all.
+TEST(JpegTexture, DiffersFromStbImageByAtMostThreeSteps) {
+  TempFolder folder("jpeg");
+  constexpr int kWidth = 256, kHeight = 192;
+  std::vector<std::uint8_t> rgb = cornersPicture(kWidth, kHeight);
+  std::uint32_t state = 12345;
+  for (std::uint8_t& value : rgb) {  // texture: a little noise on the gradient
+    state = state * 1664525u + 1013904223u;
+    value = static_cast<std::uint8_t>(std::clamp(int(value) + int(state >> 29) - 4, 0, 255));
+  }
+  const std::vector<unsigned char> jpeg =
+      encodeJpeg(kWidth, kHeight, rgb, TJPF_RGB, TJSAMP_420, 90);
+  tinygltf::Image reference;
+  std::string error, warning;
+  ASSERT_TRUE(tinygltf::LoadImageData(&reference, 0, &error, &warning, 0, 0, jpeg.data(),
+                                      static_cast<int>(jpeg.size()), nullptr))
+      << error;
+  const Image& image = loadWithJpeg(folder, jpeg, Storage::BufferView).images.at(0);
+  EXPECT_LE(largestDifference(image.rgba, reference.image), 3);
+  std::size_t same = 0;
+  for (std::size_t i = 0; i < image.rgba.size(); ++i) same += image.rgba[i] == reference.image[i];
+  EXPECT_GT(double(same) / double(image.rgba.size()), 0.9);
+  EXPECT_LT(same, image.rgba.size()) << "the same bytes as stb_image: is libjpeg-turbo used?";
+}
+
+}  // namespace
+}  // namespace omnishadow
