@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -85,6 +86,52 @@ TEST(ImageMipmaps, EvenSidesTakeTheTwoByTwoBoxAndOddSidesTheAreaEachTexelCovers)
   ASSERT_EQ(halves.width, 2);
   EXPECT_EQ(halves.rgba[0], 40);   // (0 + 50 + 0.5 * 100) / 2.5
   EXPECT_EQ(halves.rgba[4], 160);  // (0.5 * 100 + 150 + 200) / 2.5
+}
+
+// Level 1 of a large image is made on two threads, half the rows each: every texel of it is the
+// 2x2 box of its four texels above, summed in the order the one-thread path sums them, and the
+// levels below follow from it. Noise, so that a row taken from the wrong place shows.
+TEST(ImageMipmaps, LevelOneOfALargeImageIsTheTwoByTwoBoxOfEveryTexelOnTwoThreads) {
+  constexpr int kWidth = 1024, kHeight = 512;  // at the two-thread threshold, 512^2 texels
+  std::vector<std::uint8_t> rgba(std::size_t{kWidth} * kHeight * 4);
+  std::uint32_t state = 7;
+  for (std::uint8_t& value : rgba) {
+    state = state * 1664525u + 1013904223u;
+    value = static_cast<std::uint8_t>(state >> 24);
+  }
+  const Image image = filled(kWidth, kHeight, rgba);
+  for (bool srgb : {true, false}) {
+    SCOPED_TRACE(srgb ? "sRGB" : "linear");
+    const std::vector<Image> chain = mipmapChain(image, srgb);
+    ASSERT_EQ(chain.size(), 10u);  // 512x256 down to 1x1
+    const Image& one = chain[0];
+    ASSERT_EQ(one.width, kWidth / 2);
+    ASSERT_EQ(one.height, kHeight / 2);
+    std::size_t wrong = 0;
+    for (int y = 0; y < one.height; ++y)
+      for (int x = 0; x < one.width; ++x)
+        for (int c = 0; c < 4; ++c) {
+          const auto above = [&](int dx, int dy) {
+            const std::uint8_t code =
+                rgba[((std::size_t(2 * y + dy) * kWidth) + std::size_t(2 * x + dx)) * 4 + c];
+            return srgb && c < 3 ? srgbDecode(code) : static_cast<float>(code) / 255.0f;
+          };
+          const float mean = 0.25f * ((above(0, 0) + above(1, 0)) + (above(0, 1) + above(1, 1)));
+          const std::uint8_t expected =
+              srgb && c < 3
+                  ? srgb8(mean)
+                  : static_cast<std::uint8_t>(std::clamp(mean, 0.0f, 1.0f) * 255.0f + 0.5f);
+          wrong += one.rgba[(std::size_t(y) * one.width + x) * 4 + c] != expected;
+        }
+    EXPECT_EQ(wrong, 0u);
+    // Level 2 comes from level 1's unrounded values, each within half a code of its code.
+    if (!srgb) {
+      const Image& two = chain[1];
+      const int row = one.width * 4;
+      EXPECT_NEAR(two.rgba[0],
+                  (one.rgba[0] + one.rgba[4] + one.rgba[row] + one.rgba[row + 4]) / 4.0, 1.0);
+    }
+  }
 }
 
 }  // namespace
