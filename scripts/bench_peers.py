@@ -17,6 +17,18 @@ def load_compare(peers):
     return namespace
 
 
+def settle(limit_s=5.0):
+    """Waits until no Chromium process is left (at most limit_s), then a quarter second: node
+    returns while Chromium's processes still exit and hand their memory back, and a process
+    started then ran up to twice as long (Sundial 234-407 against 141-175 ms in one run)."""
+    end = time.time() + limit_s
+    while time.time() < end:
+        if subprocess.run(["pgrep", "-x", "chromium"], capture_output=True).returncode != 0:
+            break
+        time.sleep(0.05)
+    time.sleep(0.25)
+
+
 def run_omni(binary, scene, lights, out, w, h, repeat):
     args = [binary, "render", scene, "-l", lights, "-o", out, "--width", str(w), "--height", str(h),
             "--no-gltf-lights", "--stats"]
@@ -58,8 +70,8 @@ def main():
         ours += [("baseline", a.baseline), ("baseline-steady", a.baseline)]
     res = {}
     for r in range(a.rounds):
-        # three.js first; the binaries take turns at running right after it: a process that
-        # starts while Chromium's memory is being handed back is slower, whichever it is.
+        # three.js first, then settle(); the binaries still take turns at running right after
+        # it, in case anything else of Chromium's lingers.
         turn = (2 * r) % len(ours)
         runners = [("three", None)] + ours[turn:] + ours[:turn]
         for name in scenes:
@@ -69,6 +81,7 @@ def main():
                 try:
                     if who == "three":
                         x = cmp["run_three"](scene, lf, f"{tmp}/{name}.three.png", w, h, a.filter)
+                        settle()
                     else:
                         x = run_omni(binary, scene, lf, f"{tmp}/{name}.{who}.png", w, h,
                                      a.repeat if who.endswith("steady") else 0)
