@@ -9,12 +9,14 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "renderer/scene/gltf_loader.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/input_error.h"
 #include "tests/support/temp_folder.h"
 
 namespace omnishadow {
@@ -24,6 +26,7 @@ using builder::FileFormat;
 using builder::GltfBuilder;
 using builder::MeshData;
 using test_support::TempFolder;
+namespace fs = std::filesystem;
 
 // `pixels` (first row = top) in `format` (TJPF_RGB, TJPF_GRAY, TJPF_CMYK) as a JPEG.
 std::vector<unsigned char> encodeJpeg(int width, int height,
@@ -216,6 +219,58 @@ TEST(JpegTexture, DiffersFromStbImageByAtMostThreeSteps) {
   for (std::size_t i = 0; i < image.rgba.size(); ++i) same += image.rgba[i] == reference.image[i];
   EXPECT_GT(double(same) / double(image.rgba.size()), 0.9);
   EXPECT_LT(same, image.rgba.size()) << "the same bytes as stb_image: is libjpeg-turbo used?";
+}
+
+// A .glb of one triangle and one image per entry of `images`, each in its own bufferView.
+fs::path glbWithImages(const TempFolder& folder,
+                       const std::vector<std::vector<unsigned char>>& images) {
+  GltfBuilder builder;
+  builder.addNode("node", {}, builder.addMesh(triangle()));
+  tinygltf::Model& model = builder.model();
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    tinygltf::Image image;
+    image.name = "photo" + std::to_string(i);
+    image.mimeType = "image/jpeg";
+    image.bufferView = builder::appendBufferView(model, images[i], 0, 0);
+    model.images.push_back(image);
+    tinygltf::Texture texture;
+    texture.source = static_cast<int>(i);
+    model.textures.push_back(texture);
+  }
+  const fs::path path = folder / "images.glb";
+  builder.write(path, FileFormat::Glb);
+  return path;
+}
+
+// A .glb's images are decoded several at a time: each image still gets its own texels, and of
+// several broken images the error names the first, as when they were decoded one by one.
+TEST(JpegTexture, ImagesDecodedTogetherKeepTheirOwnTexelsAndTheFirstErrorWins) {
+  TempFolder folder("jpeg");
+  std::vector<std::vector<unsigned char>> jpegs;
+  std::vector<std::vector<std::uint8_t>> sources;
+  for (int i = 0; i < 7; ++i) {
+    std::vector<std::uint8_t> rgb = cornersPicture(32 + 8 * i, 24);
+    for (std::size_t k = 0; k < rgb.size(); k += 3) rgb[k] = static_cast<std::uint8_t>(30 * i);
+    jpegs.push_back(encodeJpeg(32 + 8 * i, 24, rgb, TJPF_RGB, TJSAMP_444, 100));
+    sources.push_back(rgbToRgba(rgb));
+  }
+  const Scene scene = loadGltf(glbWithImages(folder, jpegs));
+  ASSERT_EQ(scene.images.size(), jpegs.size());
+  for (std::size_t i = 0; i < jpegs.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(scene.images[i].name, "photo" + std::to_string(i));
+    EXPECT_EQ(scene.images[i].width, 32 + 8 * static_cast<int>(i));
+    // Within a few codes of its own source (4 here at most); another image's red differs by 30.
+    EXPECT_LE(largestDifference(scene.images[i].rgba, sources[i]), 8);
+  }
+
+  std::vector<std::vector<unsigned char>> broken = jpegs;
+  broken[5] = std::vector<unsigned char>(64, 0x5a);  // not an image at all
+  broken[2][4] = 0xc3;                               // SOF3 where the frame header starts
+  broken[2].resize(40);
+  const fs::path path = glbWithImages(folder, broken);
+  const std::string message = test_support::inputError([&] { loadGltf(path); });
+  EXPECT_EQ(message.rfind(path.string() + ": images[2] \"photo2\": ", 0), 0u) << message;
 }
 
 }  // namespace

@@ -1,9 +1,15 @@
 #include "renderer/scene/gltf_materials.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <string>
+#include <system_error>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "renderer/scene/gltf_accessors.h"
@@ -15,9 +21,11 @@ namespace omnishadow::gltf_detail {
 
 namespace {
 
-// Decodes an image stored in a bufferView (see decodeUriImage) into a copy of its description.
-tinygltf::Image decodeBufferViewImage(const Context& ctx, std::size_t index,
-                                      const std::string& object) {
+// The bytes of an image stored in a bufferView (see decodeUriImage). On the loading thread: a
+// meshopt-compressed view is decoded into the context's cache on first use.
+std::pair<const unsigned char*, std::size_t> bufferViewImageBytes(const Context& ctx,
+                                                                  std::size_t index,
+                                                                  const std::string& object) {
   const tinygltf::Image& source = ctx.model.images[index];
   std::size_t length = 0;
   const unsigned char* bytes = bufferViewData(ctx, object, source.bufferView, &length);
@@ -25,19 +33,81 @@ tinygltf::Image decodeBufferViewImage(const Context& ctx, std::size_t index,
     ctx.fail(object, "bufferView " + std::to_string(source.bufferView) + " has " +
                          std::to_string(length) + " bytes");
   }
+  return {bytes, length};
+}
+
+// Decodes those bytes into a copy of the image's description, after the checks of
+// gltf_file_safety; what libjpeg says of damaged data goes to `warnings`. Reads the context
+// only, so images are decoded on several threads.
+tinygltf::Image decodeBufferViewImage(const Context& ctx, std::size_t index,
+                                      const std::string& object, const unsigned char* bytes,
+                                      std::size_t length, std::vector<std::string>& warnings) {
   if (!isPngOrJpeg(bytes, length)) {
     ctx.fail(object, "unknown image format: glTF images are PNG or JPEG");
   }
   if (const std::string why = imageTooLarge(bytes, length); !why.empty()) ctx.fail(object, why);
-  tinygltf::Image decoded = source;
+  tinygltf::Image decoded = ctx.model.images[index];
   std::string error, warning;
   if (!decodeImage(&decoded, static_cast<int>(index), &error, &warning, bytes,
                    static_cast<int>(length))) {
     const std::vector<std::string> lines = nonEmptyLines(error);
     ctx.fail(object, lines.empty() ? "cannot decode the image data" : lines.front());
   }
-  for (const std::string& line : nonEmptyLines(warning)) ctx.warn(object + ": " + line);
+  warnings = nonEmptyLines(warning);
   return decoded;
+}
+
+// One image stored in a bufferView, decoded, or why not.
+struct Decoded {
+  tinygltf::Image image;
+  std::vector<std::string> warnings;
+  std::exception_ptr error;
+};
+
+// At most this many threads decode a file's images: a .glb's five 2048^2 JPEGs (DamagedHelmet)
+// were decoded one after the other, on the thread the load keeps busy while the GL context opens.
+constexpr unsigned kMaxDecodeThreads = 4;
+
+// Decodes the images stored in bufferViews (by image index; the others stay empty), several at
+// a time. Errors are kept, not thrown: convertImages() throws each where a loader decoding one
+// image after the other would have, so that the message is the same.
+std::vector<Decoded> decodeBufferViewImages(const Context& ctx, const std::vector<bool>& undecoded,
+                                            const std::vector<std::string>& objects) {
+  std::vector<Decoded> out(ctx.model.images.size());
+  std::vector<std::pair<std::size_t, std::pair<const unsigned char*, std::size_t>>> work;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (undecoded[i] || ctx.model.images[i].bufferView < 0) continue;
+    try {
+      work.emplace_back(i, bufferViewImageBytes(ctx, i, objects[i]));
+    } catch (...) {
+      out[i].error = std::current_exception();
+    }
+  }
+  std::atomic<std::size_t> next{0};
+  const auto decodeAll = [&] {
+    for (std::size_t k; (k = next.fetch_add(1)) < work.size();) {
+      const auto& [i, bytes] = work[k];
+      try {
+        out[i].image =
+            decodeBufferViewImage(ctx, i, objects[i], bytes.first, bytes.second, out[i].warnings);
+      } catch (...) {
+        out[i].error = std::current_exception();
+      }
+    }
+  };
+  const std::size_t threads = std::min<std::size_t>(
+      {std::max(1u, std::thread::hardware_concurrency()), kMaxDecodeThreads, work.size()});
+  std::vector<std::thread> helpers;
+  for (std::size_t t = 1; t < threads; ++t) {
+    try {
+      helpers.emplace_back(decodeAll);
+    } catch (const std::system_error&) {
+      break;  // no thread to be had: this one decodes the rest
+    }
+  }
+  decodeAll();
+  for (std::thread& helper : helpers) helper.join();
+  return out;
 }
 
 // Any channel count (1 = gray, 2 = gray + alpha) and 8 or 16 bits to RGBA8.
@@ -77,22 +147,31 @@ std::vector<std::uint8_t> toRgba8(const Context& ctx, const tinygltf::Image& dec
 
 void convertImages(Context& ctx) {
   const std::vector<bool> undecoded = imagesOnlyInExtensions(ctx);
+  std::vector<std::string> names, objects;
+  for (std::size_t i = 0; i < ctx.model.images.size(); ++i) {
+    const tinygltf::Image& source = ctx.model.images[i];
+    const bool externalFile = !source.uri.empty() && !tinygltf::IsDataURI(source.uri);
+    names.push_back(!source.name.empty() ? source.name
+                    : externalFile       ? source.uri
+                                         : "image" + std::to_string(i));
+    objects.push_back(at("images", i) + " \"" + names.back() + "\"");
+  }
+  std::vector<Decoded> fromBufferViews = decodeBufferViewImages(ctx, undecoded, objects);
   for (std::size_t i = 0; i < ctx.model.images.size(); ++i) {
     const tinygltf::Image& source = ctx.model.images[i];
     const bool externalFile = !source.uri.empty() && !tinygltf::IsDataURI(source.uri);
     Image image;
-    image.name = !source.name.empty() ? source.name
-                 : externalFile       ? source.uri
-                                      : "image" + std::to_string(i);
+    image.name = names[i];
     if (undecoded[i]) {
       // KTX2 and the like: textures draw their fallback source; an empty image keeps indices.
       ctx.scene.images.push_back(std::move(image));
       continue;
     }
-    const std::string object = at("images", i) + " \"" + image.name + "\"";
-    tinygltf::Image fromBufferView;
-    if (source.bufferView >= 0) fromBufferView = decodeBufferViewImage(ctx, i, object);
-    const tinygltf::Image& decoded = source.bufferView >= 0 ? fromBufferView : source;
+    const std::string& object = objects[i];
+    Decoded& fromBufferView = fromBufferViews[i];
+    if (fromBufferView.error) std::rethrow_exception(fromBufferView.error);
+    for (const std::string& line : fromBufferView.warnings) ctx.warn(object + ": " + line);
+    const tinygltf::Image& decoded = source.bufferView >= 0 ? fromBufferView.image : source;
     if (decoded.image.empty() || decoded.width <= 0 || decoded.height <= 0) {
       // tinygltf only warns when an external image is missing or undecodable.
       ctx.fail(object, externalFile ? "cannot read or decode " + source.uri
@@ -104,8 +183,9 @@ void convertImages(Context& ctx) {
                        decoded.image.size() == static_cast<std::size_t>(decoded.width) *
                                                    static_cast<std::size_t>(decoded.height) * 4;
     // A decoded JPEG is RGBA8 already; the copy of 16 MB (Sundial) is not free.
-    image.rgba = rgba8 && source.bufferView >= 0 ? std::move(fromBufferView.image)
+    image.rgba = rgba8 && source.bufferView >= 0 ? std::move(fromBufferView.image.image)
                                                  : toRgba8(ctx, decoded, object);
+    fromBufferView.image = {};  // the decoded bytes, when they were converted
     ctx.scene.images.push_back(std::move(image));
   }
 }
