@@ -222,18 +222,19 @@ void validateJob(const RenderJob& job) {
   checkNotAnInput(job, {job.scene.string(), job.lights.string()});
 }
 
-TimedLoad loadJobTimed(const RenderJob& job) {
+TimedLoad loadJobTimed(const RenderJob& job, bool mipmapsAhead) {
   const auto start = std::chrono::steady_clock::now();
-  TimedLoad load{loadJob(job)};
+  TimedLoad load{loadJob(job, mipmapsAhead)};
   load.milliseconds = millisecondsSince(start);
   return load;
 }
 
-LoadedJob loadJob(const RenderJob& job) {
+LoadedJob loadJob(const RenderJob& job, bool mipmapsAhead) {
   LoadedJob loaded;
   GltfLoadOptions loadOptions;
   loadOptions.sceneIndex = job.sceneIndex;
   loadOptions.allowExternalUris = job.allowExternalUris;
+  loadOptions.mipmaps = mipmapsAhead;
   loaded.scene = loadGltf(job.scene, loadOptions);
   checkNotAnInput(job, loaded.scene.inputFiles);
   requireTriangles(loaded.scene);
