@@ -213,7 +213,8 @@ TEST(JpegTexture, DiffersFromStbImageByAtMostThreeSteps) {
   ASSERT_TRUE(tinygltf::LoadImageData(&reference, 0, &error, &warning, 0, 0, jpeg.data(),
                                       static_cast<int>(jpeg.size()), nullptr))
       << error;
-  const Image& image = loadWithJpeg(folder, jpeg, Storage::BufferView).images.at(0);
+  const Scene scene = loadWithJpeg(folder, jpeg, Storage::BufferView);
+  const Image& image = scene.images.at(0);
   EXPECT_LE(largestDifference(image.rgba, reference.image), 3);
   std::size_t same = 0;
   for (std::size_t i = 0; i < image.rgba.size(); ++i) same += image.rgba[i] == reference.image[i];
