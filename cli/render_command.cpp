@@ -76,11 +76,10 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   // The scene loads on a second thread while this one opens the GL context (30 ms of llvmpipe
   // and driver set-up), so a process pays for the longer of the two, not both. A scene that
   // cannot load is still what is reported when both fail, as when they ran in turn. --stats
-  // shows the load's own time and the context's time beyond it. The load makes the textures'
-  // mipmaps too, which the upload would make after the context is open.
+  // shows the load's own time and the context's time beyond it.
   MemoryWarmup warmup(kWarmupBytes);
   std::future<TimedLoad> loading =
-      std::async(std::launch::async, [&job] { return loadJobTimed(job, true); });
+      std::async(std::launch::async, [&job] { return loadJobTimed(job); });
   std::unique_ptr<Renderer> renderer;
   std::exception_ptr contextError;
   try {

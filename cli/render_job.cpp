@@ -222,19 +222,18 @@ void validateJob(const RenderJob& job) {
   checkNotAnInput(job, {job.scene.string(), job.lights.string()});
 }
 
-TimedLoad loadJobTimed(const RenderJob& job, bool mipmapsAhead) {
+TimedLoad loadJobTimed(const RenderJob& job) {
   const auto start = std::chrono::steady_clock::now();
-  TimedLoad load{loadJob(job, mipmapsAhead)};
+  TimedLoad load{loadJob(job)};
   load.milliseconds = millisecondsSince(start);
   return load;
 }
 
-LoadedJob loadJob(const RenderJob& job, bool mipmapsAhead) {
+LoadedJob loadJob(const RenderJob& job) {
   LoadedJob loaded;
   GltfLoadOptions loadOptions;
   loadOptions.sceneIndex = job.sceneIndex;
   loadOptions.allowExternalUris = job.allowExternalUris;
-  loadOptions.mipmaps = mipmapsAhead;
   loaded.scene = loadGltf(job.scene, loadOptions);
   checkNotAnInput(job, loaded.scene.inputFiles);
   requireTriangles(loaded.scene);

@@ -60,17 +60,16 @@ struct LoadedJob {
 // Throws InputError.
 void validateJob(const RenderJob& job);
 
-// Reads the scene and lights file, poses the scene at job.time and resolves the camera; with
-// `mipmapsAhead`, also makes its textures' mipmaps (GltfLoadOptions::mipmaps). Throws
-// InputError.
-LoadedJob loadJob(const RenderJob& job, bool mipmapsAhead = false);
+// Reads the scene and lights file, poses the scene at job.time and resolves the camera.
+// Throws InputError.
+LoadedJob loadJob(const RenderJob& job);
 
 // loadJob() and how long it took (the `load` stage), for loads run beside other work.
 struct TimedLoad {
   LoadedJob job;
   double milliseconds = 0.0;
 };
-TimedLoad loadJobTimed(const RenderJob& job, bool mipmapsAhead = false);
+TimedLoad loadJobTimed(const RenderJob& job);
 
 // Poses the loaded scene at `time` (job.animation's clips), then merges its lights with the
 // lights file's again and resolves the camera: what a frame of a sequence changes. Returns the

@@ -73,13 +73,8 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
       // image's first (top) row goes into row 0 unflipped.
       glTextureSubImage2D(made.get(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_UNSIGNED_BYTE,
                           image.rgba.data());
-      // The loader's levels where it made them for this use (GltfLoadOptions::mipmaps).
-      const bool ahead = source == &scene.images[imageIndex] && !image.mipmaps.empty() &&
-                         image.mipmapsSrgb == srgb;
-      std::vector<Image> chain;
-      if (!ahead) chain = mipmapChain(image, srgb);
       int level = 1;
-      for (const Image& smaller : ahead ? image.mipmaps : chain)
+      for (const Image& smaller : mipmapChain(image, srgb))
         glTextureSubImage2D(made.get(), level++, 0, 0, smaller.width, smaller.height, GL_RGBA,
                             GL_UNSIGNED_BYTE, smaller.rgba.data());
       return made;
@@ -113,8 +108,6 @@ void GpuScene::uploadMaterials(const Scene& scene) {
   for (const Material& desc : descs) {
     GpuMaterial m;
     m.desc = desc;
-    // The color spaces here are forEachSampledTexture()'s (image_mipmaps.h), which the loader
-    // makes mipmaps ahead by.
     m.baseColor = textureFor(scene, desc.baseColorTexture, true);
     m.baseColorSampler = samplerFor(scene, desc.baseColorTexture);
     // Specular-glossiness materials have no metallic-roughness texture; their specular color

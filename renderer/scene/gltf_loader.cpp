@@ -14,7 +14,6 @@
 #include "renderer/scene/gltf_nodes.h"
 #include "renderer/scene/gltf_reader.h"
 #include "renderer/scene/gltf_rig.h"
-#include "renderer/scene/image_mipmaps.h"
 #include "renderer/scene/scene_pose.h"
 
 // The loader's steps live beside it: gltf_reader (the file, .glb container), gltf_file_safety
@@ -93,7 +92,6 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   gltf_detail::readRig(ctx);
   gltf_detail::addNodes(ctx, roots, rootsObject);
   poseScene(scene, {});  // skins and default morph weights apply without a time too
-  if (options.mipmaps) makeMipmapsAhead(scene);
   return scene;
 }
 

@@ -10,9 +10,6 @@ struct GltfLoadOptions {
   int sceneIndex = -1;  // -1 = the file's default scene (or scene 0 when it names none)
   // Buffer and image URIs may name files outside the scene's folder (../, absolute paths).
   bool allowExternalUris = false;
-  // Makes the mipmaps of the textures materials sample (makeMipmapsAhead), for a caller that
-  // loads beside other work (a single render, while its GL context opens).
-  bool mipmaps = false;
 };
 
 // Loads a .gltf (external or embedded buffers, data URIs) or .glb into CPU-side plain data:
@@ -20,10 +17,11 @@ struct GltfLoadOptions {
 // type widened to u32), node hierarchy flattened into world matrices, missing normals generated,
 // tangents derived for normal-mapped materials, KHR_lights_punctual lights placed in world space.
 // External files must lie in the scene's folder unless options.allowExternalUris; URIs with
-// other schemes than data: are refused. Primitives with non-finite positions and nodes with
-// non-finite transforms are skipped with a warning. Throws InputError ("<file>: <glTF object>:
-// <problem>") for unreadable or invalid files; recoverable oddities (unsupported optional
-// extensions, skins, morph targets) go to Scene::warnings.
+// other schemes than data: are refused. Primitives with non-finite positions and nodes with non-finite transforms are skipped with a
+// warning.
+// Throws InputError ("<file>: <glTF object>: <problem>") for unreadable or invalid files;
+// recoverable oddities (unsupported optional extensions, skins, morph targets) go to
+// Scene::warnings.
 Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options = {});
 
 }  // namespace omnishadow

@@ -2,13 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <exception>
 #include <string>
-#include <system_error>
 #include <thread>
 
 #include "renderer/core/default_init_allocator.h"
@@ -203,51 +200,6 @@ std::vector<Image> mipmapChain(const Image& base, bool srgb) {
     chain.push_back(rounded(level, srgb, base.name));
   }
   return chain;
-}
-
-void makeMipmapsAhead(Scene& scene) {
-  // The color space of each image's first use: -1 none, 0 linear, 1 sRGB.
-  std::vector<int> use(scene.images.size(), -1);
-  for (const Material& material : scene.materials) {
-    forEachSampledTexture(material, [&](const TextureSlot& slot, bool srgb) {
-      if (slot.texture < 0 || static_cast<std::size_t>(slot.texture) >= scene.textures.size())
-        return;
-      const int image = scene.textures[static_cast<std::size_t>(slot.texture)].image;
-      if (image < 0 || static_cast<std::size_t>(image) >= use.size()) return;
-      if (use[static_cast<std::size_t>(image)] < 0) use[static_cast<std::size_t>(image)] = srgb;
-    });
-  }
-  std::vector<std::size_t> work;
-  for (std::size_t i = 0; i < use.size(); ++i)
-    if (use[i] >= 0 && !scene.images[i].rgba.empty()) work.push_back(i);
-  std::vector<std::exception_ptr> errors(work.size());
-  std::atomic<std::size_t> next{0};
-  const auto makeAll = [&] {
-    for (std::size_t k; (k = next.fetch_add(1)) < work.size();) {
-      Image& image = scene.images[work[k]];
-      try {
-        image.mipmapsSrgb = use[work[k]] == 1;
-        image.mipmaps = mipmapChain(image, image.mipmapsSrgb);
-      } catch (...) {
-        errors[k] = std::current_exception();
-      }
-    }
-  };
-  constexpr std::size_t kMaxThreads = 4;
-  const std::size_t threads = std::min<std::size_t>(
-      {std::max(1u, std::thread::hardware_concurrency()), kMaxThreads, work.size()});
-  std::vector<std::thread> helpers;
-  for (std::size_t t = 1; t < threads; ++t) {
-    try {
-      helpers.emplace_back(makeAll);
-    } catch (const std::system_error&) {
-      break;  // no thread to be had: this one makes the rest
-    }
-  }
-  makeAll();
-  for (std::thread& helper : helpers) helper.join();
-  for (const std::exception_ptr& error : errors)
-    if (error) std::rethrow_exception(error);
 }
 
 }  // namespace omnishadow

@@ -19,11 +19,6 @@ struct Image {
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> rgba;  // 8-bit RGBA, first row = top of the picture (as in the file)
-  // The levels below this one (mipmapChain) when they were made ahead of the upload
-  // (makeMipmapsAhead), for sampling as sRGB or not as `mipmapsSrgb` says; empty otherwise, and
-  // the upload makes them.
-  std::vector<Image> mipmaps{};
-  bool mipmapsSrgb = false;
 };
 
 // glTF sampler codes (GL enums), with glTF's defaults.
