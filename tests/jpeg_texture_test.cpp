@@ -165,10 +165,7 @@ TEST(JpegTexture, TruncatedJpegLoadsWithAWarningNamingTheImage) {
     EXPECT_EQ(image.height, kHeight);
     ASSERT_EQ(scene.warnings.size(), 1u);
     const std::string& warning = scene.warnings[0];
-    EXPECT_NE(
-        warning.find(storage == Storage::BufferView ? "images[0] \"photo\": " : "images[0]: "),
-        std::string::npos)
-        << warning;
+    EXPECT_NE(warning.find("images[0] \"photo\": "), std::string::npos) << warning;
     EXPECT_NE(warning.find("damaged JPEG data"), std::string::npos) << warning;
     const std::vector<std::uint8_t> firstRows(image.rgba.begin(),
                                               image.rgba.begin() + 8 * kWidth * 4);
@@ -222,9 +219,11 @@ TEST(JpegTexture, DiffersFromStbImageByAtMostThreeSteps) {
   EXPECT_LT(same, image.rgba.size()) << "the same bytes as stb_image: is libjpeg-turbo used?";
 }
 
-// A .glb of one triangle and one image per entry of `images`, each in its own bufferView.
-fs::path glbWithImages(const TempFolder& folder,
-                       const std::vector<std::vector<unsigned char>>& images) {
+// A scene of one triangle and one image per entry of `images`: in a .glb, each in its own
+// bufferView, or in a .gltf, each in a file of its own.
+fs::path sceneWithImages(const TempFolder& folder,
+                         const std::vector<std::vector<unsigned char>>& images,
+                         Storage storage = Storage::BufferView) {
   GltfBuilder builder;
   builder.addNode("node", {}, builder.addMesh(triangle()));
   tinygltf::Model& model = builder.model();
@@ -232,19 +231,27 @@ fs::path glbWithImages(const TempFolder& folder,
     tinygltf::Image image;
     image.name = "photo" + std::to_string(i);
     image.mimeType = "image/jpeg";
-    image.bufferView = builder::appendBufferView(model, images[i], 0, 0);
+    if (storage == Storage::BufferView) {
+      image.bufferView = builder::appendBufferView(model, images[i], 0, 0);
+    } else {
+      image.uri = image.name + ".jpg";
+      std::ofstream(folder / image.uri, std::ios::binary)
+          .write(reinterpret_cast<const char*>(images[i].data()),
+                 static_cast<std::streamsize>(images[i].size()));
+    }
     model.images.push_back(image);
     tinygltf::Texture texture;
     texture.source = static_cast<int>(i);
     model.textures.push_back(texture);
   }
-  const fs::path path = folder / "images.glb";
-  builder.write(path, FileFormat::Glb);
+  const fs::path path = folder / (storage == Storage::BufferView ? "images.glb" : "images.gltf");
+  builder.write(path, storage == Storage::BufferView ? FileFormat::Glb : FileFormat::GltfExternal);
   return path;
 }
 
-// A .glb's images are decoded several at a time: each image still gets its own texels, and of
-// several broken images the error names the first, as when they were decoded one by one.
+// A file's images are decoded several at a time, from bufferViews and from files of their own:
+// each image still gets its own texels, and of several broken images the error names the
+// first, as when they were decoded one by one.
 TEST(JpegTexture, ImagesDecodedTogetherKeepTheirOwnTexelsAndTheFirstErrorWins) {
   TempFolder folder("jpeg");
   std::vector<std::vector<unsigned char>> jpegs;
@@ -255,21 +262,22 @@ TEST(JpegTexture, ImagesDecodedTogetherKeepTheirOwnTexelsAndTheFirstErrorWins) {
     jpegs.push_back(encodeJpeg(32 + 8 * i, 24, rgb, TJPF_RGB, TJSAMP_444, 100));
     sources.push_back(rgbToRgba(rgb));
   }
-  const Scene scene = loadGltf(glbWithImages(folder, jpegs));
-  ASSERT_EQ(scene.images.size(), jpegs.size());
-  for (std::size_t i = 0; i < jpegs.size(); ++i) {
-    SCOPED_TRACE(i);
-    EXPECT_EQ(scene.images[i].name, "photo" + std::to_string(i));
-    EXPECT_EQ(scene.images[i].width, 32 + 8 * static_cast<int>(i));
-    // Within a few codes of its own source (4 here at most); another image's red differs by 30.
-    EXPECT_LE(largestDifference(scene.images[i].rgba, sources[i]), 8);
+  for (Storage storage : {Storage::BufferView, Storage::File}) {
+    const Scene scene = loadGltf(sceneWithImages(folder, jpegs, storage));
+    ASSERT_EQ(scene.images.size(), jpegs.size());
+    for (std::size_t i = 0; i < jpegs.size(); ++i) {
+      SCOPED_TRACE(i);
+      EXPECT_EQ(scene.images[i].width, 32 + 8 * static_cast<int>(i));
+      // Within a few codes of its own source (4 here at most); another image's red differs by 30.
+      EXPECT_LE(largestDifference(scene.images[i].rgba, sources[i]), 8);
+    }
   }
 
   std::vector<std::vector<unsigned char>> broken = jpegs;
   broken[5] = std::vector<unsigned char>(64, 0x5a);  // not an image at all
   broken[2][4] = 0xc3;                               // SOF3 where the frame header starts
   broken[2].resize(40);
-  const fs::path path = glbWithImages(folder, broken);
+  const fs::path path = sceneWithImages(folder, broken);
   const std::string message = test_support::inputError([&] { loadGltf(path); });
   EXPECT_EQ(message.rfind(path.string() + ": images[2] \"photo2\": ", 0), 0u) << message;
 }

@@ -197,6 +197,14 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
     if (error) *error += "images[" + std::to_string(index) + "]: " + why + "\n";
     return false;
   }
+  // An image in a file of its own is decoded by the loader with the scene's other images, several
+  // at a time (convertImages); here they would be decoded one after the other as tinygltf parses.
+  // as_is marks the bytes as the file's, not yet decoded.
+  if (!image->uri.empty() && !tinygltf::IsDataURI(image->uri) && width <= 0 && height <= 0) {
+    image->image.assign(bytes, bytes + length);
+    image->as_is = true;
+    return true;
+  }
   std::string damaged;
   if (!decodeImage(image, index, error, &damaged, bytes, size)) return false;
   if (warning) {

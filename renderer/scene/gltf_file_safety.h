@@ -28,8 +28,10 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size);
 bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
                  const unsigned char* bytes, int size);
 
-// tinygltf's image loader (TinyGLTF::SetImageLoader): decodes images read from URIs after the
-// checks above and leaves those in bufferViews to the loader, which checks their bounds first.
+// tinygltf's image loader (TinyGLTF::SetImageLoader): checks images read from URIs as above and
+// decodes those in data: URIs; it leaves those in bufferViews to the loader, which checks their
+// bounds first, and keeps the bytes of those in files of their own (Image::as_is) for the
+// loader to decode with the other images.
 bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
                     int width, int height, const unsigned char* bytes, int size, void*);
 

@@ -36,17 +36,18 @@ std::pair<const unsigned char*, std::size_t> bufferViewImageBytes(const Context&
   return {bytes, length};
 }
 
-// Decodes those bytes into a copy of the image's description, after the checks of
+// Decodes an image's bytes (from a bufferView or its file), after the checks of
 // gltf_file_safety; what libjpeg says of damaged data goes to `warnings`. Reads the context
 // only, so images are decoded on several threads.
-tinygltf::Image decodeBufferViewImage(const Context& ctx, std::size_t index,
-                                      const std::string& object, const unsigned char* bytes,
-                                      std::size_t length, std::vector<std::string>& warnings) {
+tinygltf::Image decodeImageBytes(const Context& ctx, std::size_t index, const std::string& object,
+                                 const unsigned char* bytes, std::size_t length,
+                                 std::vector<std::string>& warnings) {
   if (!isPngOrJpeg(bytes, length)) {
     ctx.fail(object, "unknown image format: glTF images are PNG or JPEG");
   }
   if (const std::string why = imageTooLarge(bytes, length); !why.empty()) ctx.fail(object, why);
-  tinygltf::Image decoded = ctx.model.images[index];
+  tinygltf::Image decoded;
+  decoded.name = ctx.model.images[index].name;  // for stb_image's messages
   std::string error, warning;
   if (!decodeImage(&decoded, static_cast<int>(index), &error, &warning, bytes,
                    static_cast<int>(length))) {
@@ -57,7 +58,7 @@ tinygltf::Image decodeBufferViewImage(const Context& ctx, std::size_t index,
   return decoded;
 }
 
-// One image stored in a bufferView, decoded, or why not.
+// One image stored in a bufferView or a file of its own, decoded, or why not.
 struct Decoded {
   tinygltf::Image image;
   std::vector<std::string> warnings;
@@ -68,15 +69,22 @@ struct Decoded {
 // were decoded one after the other, on the thread the load keeps busy while the GL context opens.
 constexpr unsigned kMaxDecodeThreads = 4;
 
-// Decodes the images stored in bufferViews (by image index; the others stay empty), several at
-// a time. Errors are kept, not thrown: convertImages() throws each where a loader decoding one
-// image after the other would have, so that the message is the same.
-std::vector<Decoded> decodeBufferViewImages(const Context& ctx, const std::vector<bool>& undecoded,
-                                            const std::vector<std::string>& objects) {
+// Decodes the images stored in bufferViews or in files of their own (whose bytes decodeUriImage
+// kept: Image::as_is), by image index (the others stay empty), several at a time. Errors are
+// kept, not thrown: convertImages() throws each where a loader decoding one image after the
+// other would have.
+std::vector<Decoded> decodeImages(const Context& ctx, const std::vector<bool>& undecoded,
+                                  const std::vector<std::string>& objects) {
   std::vector<Decoded> out(ctx.model.images.size());
   std::vector<std::pair<std::size_t, std::pair<const unsigned char*, std::size_t>>> work;
   for (std::size_t i = 0; i < out.size(); ++i) {
-    if (undecoded[i] || ctx.model.images[i].bufferView < 0) continue;
+    const tinygltf::Image& source = ctx.model.images[i];
+    if (undecoded[i]) continue;
+    if (source.as_is && source.bufferView < 0 && !source.image.empty()) {
+      work.emplace_back(i, std::make_pair(source.image.data(), source.image.size()));
+      continue;
+    }
+    if (source.bufferView < 0) continue;
     try {
       work.emplace_back(i, bufferViewImageBytes(ctx, i, objects[i]));
     } catch (...) {
@@ -89,7 +97,7 @@ std::vector<Decoded> decodeBufferViewImages(const Context& ctx, const std::vecto
       const auto& [i, bytes] = work[k];
       try {
         out[i].image =
-            decodeBufferViewImage(ctx, i, objects[i], bytes.first, bytes.second, out[i].warnings);
+            decodeImageBytes(ctx, i, objects[i], bytes.first, bytes.second, out[i].warnings);
       } catch (...) {
         out[i].error = std::current_exception();
       }
@@ -156,7 +164,7 @@ void convertImages(Context& ctx) {
                                          : "image" + std::to_string(i));
     objects.push_back(at("images", i) + " \"" + names.back() + "\"");
   }
-  std::vector<Decoded> fromBufferViews = decodeBufferViewImages(ctx, undecoded, objects);
+  std::vector<Decoded> fromBufferViews = decodeImages(ctx, undecoded, objects);
   for (std::size_t i = 0; i < ctx.model.images.size(); ++i) {
     const tinygltf::Image& source = ctx.model.images[i];
     const bool externalFile = !source.uri.empty() && !tinygltf::IsDataURI(source.uri);
@@ -171,7 +179,8 @@ void convertImages(Context& ctx) {
     Decoded& fromBufferView = fromBufferViews[i];
     if (fromBufferView.error) std::rethrow_exception(fromBufferView.error);
     for (const std::string& line : fromBufferView.warnings) ctx.warn(object + ": " + line);
-    const tinygltf::Image& decoded = source.bufferView >= 0 ? fromBufferView.image : source;
+    const bool decodedHere = source.bufferView >= 0 || source.as_is;
+    const tinygltf::Image& decoded = decodedHere ? fromBufferView.image : source;
     if (decoded.image.empty() || decoded.width <= 0 || decoded.height <= 0) {
       // tinygltf only warns when an external image is missing or undecodable.
       ctx.fail(object, externalFile ? "cannot read or decode " + source.uri
@@ -183,8 +192,8 @@ void convertImages(Context& ctx) {
                        decoded.image.size() == static_cast<std::size_t>(decoded.width) *
                                                    static_cast<std::size_t>(decoded.height) * 4;
     // A decoded JPEG is RGBA8 already; the copy of 16 MB (Sundial) is not free.
-    image.rgba = rgba8 && source.bufferView >= 0 ? std::move(fromBufferView.image.image)
-                                                 : toRgba8(ctx, decoded, object);
+    image.rgba = rgba8 && decodedHere ? std::move(fromBufferView.image.image)
+                                      : toRgba8(ctx, decoded, object);
     fromBufferView.image = {};  // the decoded bytes, when they were converted
     ctx.scene.images.push_back(std::move(image));
   }
