@@ -282,5 +282,44 @@ TEST(JpegTexture, ImagesDecodedTogetherKeepTheirOwnTexelsAndTheFirstErrorWins) {
   EXPECT_EQ(message.rfind(path.string() + ": images[2] \"photo2\": ", 0), 0u) << message;
 }
 
+// `jpeg` with its last scan (SOS to EOI) repeated `copies` more times.
+std::vector<unsigned char> withRepeatedLastScan(const std::vector<unsigned char>& jpeg,
+                                                int copies) {
+  std::size_t sos = 0;
+  for (std::size_t i = 0; i + 1 < jpeg.size(); ++i)
+    if (jpeg[i] == 0xFF && jpeg[i + 1] == 0xDA) sos = i;
+  const std::size_t eoi = jpeg.size() - 2;
+  std::vector<unsigned char> out(jpeg.begin(), jpeg.begin() + static_cast<std::ptrdiff_t>(eoi));
+  for (int c = 0; c < copies; ++c)
+    out.insert(out.end(), jpeg.begin() + static_cast<std::ptrdiff_t>(sos),
+               jpeg.begin() + static_cast<std::ptrdiff_t>(eoi));
+  out.insert(out.end(), {0xFF, 0xD9});
+  return out;
+}
+
+// A JPEG that libjpeg-turbo refuses is an error naming the image, not tried again with
+// stb_image: here a progressive file of more scans than TurboJPEG's limit, a way to make a
+// decoder work for minutes with a small file.
+TEST(JpegTexture, AJpegLibjpegTurboRefusesIsAnErrorNamingTheImage) {
+  TempFolder folder("jpeg");
+  const std::vector<std::uint8_t> rgb = cornersPicture(64, 48);
+  tjhandle handle = tjInitCompress();
+  unsigned char* encoded = nullptr;
+  unsigned long size = 0;
+  ASSERT_EQ(tjCompress2(handle, rgb.data(), 64, 0, 48, TJPF_RGB, &encoded, &size, TJSAMP_420, 90,
+                        TJFLAG_PROGRESSIVE),
+            0);
+  const std::vector<unsigned char> progressive(encoded, encoded + size);
+  tjFree(encoded);
+  tjDestroy(handle);
+  EXPECT_TRUE(loadWithJpeg(folder, progressive, Storage::BufferView).warnings.empty());
+  const std::vector<unsigned char> scans = withRepeatedLastScan(progressive, 600);
+  const fs::path path = sceneWithImages(folder, {scans});
+  const std::string message = test_support::inputError([&] { loadGltf(path); });
+  EXPECT_EQ(message.rfind(path.string() + ": images[0] \"photo0\": cannot decode the JPEG: ", 0),
+            0u)
+      << message;
+}
+
 }  // namespace
 }  // namespace omnishadow

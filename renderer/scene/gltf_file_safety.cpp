@@ -157,6 +157,12 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
         *warning += "damaged JPEG data (" + jpeg.warning + "); drawn as decoded\n";
       return true;
     }
+    // stb_image only for what libjpeg-turbo leaves in CMYK: a file it refuses (too large a
+    // frame, too many progressive scans, data it gives up on) is not tried again.
+    if (!jpeg.cmyk) {
+      if (error) *error += "cannot decode the JPEG: " + jpeg.error + "\n";
+      return false;
+    }
   }
   return tinygltf::LoadImageData(image, index, error, warning, 0, 0, bytes, size, nullptr);
 }

@@ -23,8 +23,9 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size);
 
 // Decodes a PNG or JPEG that passed the checks above into `image`, as tinygltf::LoadImageData
 // would (width, height, component, bits, pixel_type, image): JPEG with libjpeg-turbo, and with
-// stb_image (tinygltf's decoder) what libjpeg-turbo cannot turn into RGB (CMYK); PNG with
-// stb_image. Damaged JPEG data that still gives a picture adds a line to `warning`.
+// stb_image (tinygltf's decoder) the CMYK JPEGs libjpeg-turbo does not turn into RGB; PNG with
+// stb_image. Damaged JPEG data that still gives a picture adds a line to `warning`; a JPEG
+// libjpeg-turbo refuses is an error, not tried again with stb_image.
 bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
                  const unsigned char* bytes, int size);
 

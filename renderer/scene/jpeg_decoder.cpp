@@ -39,6 +39,11 @@ DecodedJpeg decodeJpeg(const unsigned char* bytes, std::size_t size, std::uint32
     out.error = reason(handle.get());
     return out;
   }
+  if (colorspace == TJCS_CMYK || colorspace == TJCS_YCCK) {
+    out.cmyk = true;
+    out.error = "a CMYK JPEG";
+    return out;
+  }
   // The header checks before decoding follow stb_image's parsing; libjpeg may find another frame.
   if (width <= 0 || height <= 0 || static_cast<std::uint32_t>(width) > maxSide ||
       static_cast<std::uint32_t>(height) > maxSide ||
