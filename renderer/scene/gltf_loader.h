@@ -17,11 +17,10 @@ struct GltfLoadOptions {
 // type widened to u32), node hierarchy flattened into world matrices, missing normals generated,
 // tangents derived for normal-mapped materials, KHR_lights_punctual lights placed in world space.
 // External files must lie in the scene's folder unless options.allowExternalUris; URIs with
-// other schemes than data: are refused. Primitives with non-finite positions and nodes with non-finite transforms are skipped with a
-// warning.
-// Throws InputError ("<file>: <glTF object>: <problem>") for unreadable or invalid files;
-// recoverable oddities (unsupported optional extensions, skins, morph targets) go to
-// Scene::warnings.
+// other schemes than data: are refused. Primitives with non-finite positions and nodes with
+// non-finite transforms are skipped with a warning. Throws InputError ("<file>: <glTF object>:
+// <problem>") for unreadable or invalid files; recoverable oddities (unsupported optional
+// extensions, skins, morph targets) go to Scene::warnings.
 Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options = {});
 
 }  // namespace omnishadow
