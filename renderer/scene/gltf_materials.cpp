@@ -58,7 +58,13 @@ tinygltf::Image decodeImageBytes(const Context& ctx, std::size_t index, const st
   return decoded;
 }
 
-// One image stored in a bufferView or a file of its own, decoded, or why not.
+// Whether the loader decodes the image itself (decodeImages): stored in a bufferView, or in a
+// file of its own whose bytes decodeUriImage kept (Image::as_is); tinygltf decoded the others.
+bool decodedByLoader(const tinygltf::Image& source) {
+  return source.bufferView >= 0 || source.as_is;
+}
+
+// One image the loader decodes, decoded, or why not.
 struct Decoded {
   tinygltf::Image image;
   std::vector<std::string> warnings;
@@ -79,12 +85,12 @@ std::vector<Decoded> decodeImages(const Context& ctx, const std::vector<bool>& u
   std::vector<std::pair<std::size_t, std::pair<const unsigned char*, std::size_t>>> work;
   for (std::size_t i = 0; i < out.size(); ++i) {
     const tinygltf::Image& source = ctx.model.images[i];
-    if (undecoded[i]) continue;
-    if (source.as_is && source.bufferView < 0 && !source.image.empty()) {
-      work.emplace_back(i, std::make_pair(source.image.data(), source.image.size()));
+    if (undecoded[i] || !decodedByLoader(source)) continue;
+    if (source.bufferView < 0) {
+      if (!source.image.empty())
+        work.emplace_back(i, std::make_pair(source.image.data(), source.image.size()));
       continue;
     }
-    if (source.bufferView < 0) continue;
     try {
       work.emplace_back(i, bufferViewImageBytes(ctx, i, objects[i]));
     } catch (...) {
@@ -164,7 +170,7 @@ void convertImages(Context& ctx) {
                                          : "image" + std::to_string(i));
     objects.push_back(at("images", i) + " \"" + names.back() + "\"");
   }
-  std::vector<Decoded> fromBufferViews = decodeImages(ctx, undecoded, objects);
+  std::vector<Decoded> decodedHere = decodeImages(ctx, undecoded, objects);
   for (std::size_t i = 0; i < ctx.model.images.size(); ++i) {
     const tinygltf::Image& source = ctx.model.images[i];
     const bool externalFile = !source.uri.empty() && !tinygltf::IsDataURI(source.uri);
@@ -176,11 +182,11 @@ void convertImages(Context& ctx) {
       continue;
     }
     const std::string& object = objects[i];
-    Decoded& fromBufferView = fromBufferViews[i];
-    if (fromBufferView.error) std::rethrow_exception(fromBufferView.error);
-    for (const std::string& line : fromBufferView.warnings) ctx.warn(object + ": " + line);
-    const bool decodedHere = source.bufferView >= 0 || source.as_is;
-    const tinygltf::Image& decoded = decodedHere ? fromBufferView.image : source;
+    Decoded& ours = decodedHere[i];
+    if (ours.error) std::rethrow_exception(ours.error);
+    for (const std::string& line : ours.warnings) ctx.warn(object + ": " + line);
+    const bool byLoader = decodedByLoader(source);
+    const tinygltf::Image& decoded = byLoader ? ours.image : source;
     if (decoded.image.empty() || decoded.width <= 0 || decoded.height <= 0) {
       // tinygltf only warns when an external image is missing or undecodable.
       ctx.fail(object, externalFile ? "cannot read or decode " + source.uri
@@ -192,9 +198,8 @@ void convertImages(Context& ctx) {
                        decoded.image.size() == static_cast<std::size_t>(decoded.width) *
                                                    static_cast<std::size_t>(decoded.height) * 4;
     // A decoded JPEG is RGBA8 already; the copy of 16 MB (Sundial) is not free.
-    image.rgba = rgba8 && decodedHere ? std::move(fromBufferView.image.image)
-                                      : toRgba8(ctx, decoded, object);
-    fromBufferView.image = {};  // the decoded bytes, when they were converted
+    image.rgba = rgba8 && byLoader ? std::move(ours.image.image) : toRgba8(ctx, decoded, object);
+    ours.image = {};  // the decoded bytes, when they were converted
     ctx.scene.images.push_back(std::move(image));
   }
 }
