@@ -4,11 +4,15 @@
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
+#include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <string_view>
+
+#include "cli/huge_page_trial.h"
 
 namespace omnishadow::cli {
 
@@ -26,18 +30,15 @@ bool wanted() {
 #endif
 }
 
-// Asks the kernel to back the block's whole 2 MiB spans with transparent huge pages: one fault
-// then maps and zeroes 2 MiB instead of 4 KiB, so the toucher covers the frame's needs (Sundial,
-// WhackAMole and test_room use more than 100 MB) in the time the context and the load leave
-// it, where 4 KiB faults reached about 70 MB; the frame's textures then also take fewer TLB
-// misses. Where transparent huge pages are off ("never"), or none is free, the kernel maps
-// 4 KiB pages as before.
-void adviseHugePages(char* block, std::size_t bytes) {
-  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-  const auto begin = (reinterpret_cast<std::uintptr_t>(block) + kHuge - 1) & ~(kHuge - 1);
-  const auto end = (reinterpret_cast<std::uintptr_t>(block) + bytes) & ~(kHuge - 1);
+void advise(std::uintptr_t begin, std::uintptr_t end, int advice) {
   // NOLINTNEXTLINE(performance-no-int-to-ptr): the block's own pages, aligned
-  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, advice);
+}
+
+double threadCpuMilliseconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) * 1e3 + static_cast<double>(now.tv_nsec) * 1e-6;
 }
 
 }  // namespace
@@ -51,14 +52,41 @@ MemoryWarmup::MemoryWarmup(std::size_t bytes) {
   block_ = static_cast<char*>(std::malloc(bytes));
   if (!block_) return;
   bytes_ = bytes;
-  adviseHugePages(block_, bytes_);
+  // 4 KiB pages wherever the toucher does not ask for huge ones (cli/huge_page_trial.h), also
+  // where the system's setting is "always".
+  advise(hugeBegin(), hugeEnd(), MADV_NOHUGEPAGE);
   const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
-  toucher_ = std::thread([this, page] {
-    sched_param idle{};
-    pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle);
-    for (std::size_t at = 0; at < bytes_ && !stop_.load(std::memory_order_relaxed); at += page)
-      block_[at] = 0;
-  });
+  toucher_ = std::thread([this, page] { touch(page); });
+}
+
+std::uintptr_t MemoryWarmup::hugeBegin() const {
+  constexpr std::uintptr_t kHuge = HugePageTrial::kHugePage;
+  return (reinterpret_cast<std::uintptr_t>(block_) + kHuge - 1) & ~(kHuge - 1);
+}
+
+std::uintptr_t MemoryWarmup::hugeEnd() const {
+  constexpr std::uintptr_t kHuge = HugePageTrial::kHugePage;
+  return std::max(hugeBegin(), (reinterpret_cast<std::uintptr_t>(block_) + bytes_) & ~(kHuge - 1));
+}
+
+void MemoryWarmup::touch(std::size_t page) {
+  sched_param idle{};
+  pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle);
+  constexpr std::uintptr_t kHuge = HugePageTrial::kHugePage;
+  const auto begin = reinterpret_cast<std::uintptr_t>(block_);
+  const std::uintptr_t end = begin + bytes_;
+  HugePageTrial trial(hugeBegin(), hugeEnd());
+  for (std::uintptr_t at = begin; at < end;) {
+    const std::uintptr_t spanBegin = at & ~(kHuge - 1);
+    const std::uintptr_t spanEnd = std::min(spanBegin + kHuge, end);
+    if (trial.asks(spanBegin, spanEnd)) advise(spanBegin, spanEnd, MADV_HUGEPAGE);
+    const double start = threadCpuMilliseconds();
+    for (; at < spanEnd; at += page) {
+      if (stop_.load(std::memory_order_relaxed)) return;
+      block_[at - begin] = 0;
+    }
+    trial.touched(spanBegin, spanEnd, threadCpuMilliseconds() - start);
+  }
 }
 
 MemoryWarmup::~MemoryWarmup() {

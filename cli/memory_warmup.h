@@ -9,11 +9,13 @@
 // idle core) touches the pages of a large block of malloc's heap in that time; the block then
 // goes back to the heap, where the frame's textures and buffers are carved from pages that are
 // already there. malloc is set to serve every block from its heap and to keep what is freed,
-// so that they are: a process that renders once and exits. The block asks for transparent
-// huge pages, which the toucher faults in 2 MiB at a time.
+// so that they are: a process that renders once and exits. Where they fault quickly, the block
+// gets transparent huge pages, which the toucher faults in 2 MiB at a time
+// (cli/huge_page_trial.h).
 
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <thread>
 
 namespace omnishadow::cli {
@@ -32,6 +34,11 @@ class MemoryWarmup {
   void finish();
 
  private:
+  void touch(std::size_t page);
+  // The block's whole 2 MiB-aligned spans.
+  std::uintptr_t hugeBegin() const;
+  std::uintptr_t hugeEnd() const;
+
   char* block_ = nullptr;
   std::size_t bytes_ = 0;
   std::atomic<bool> stop_{false};
