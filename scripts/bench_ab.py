@@ -10,9 +10,15 @@ bench-peers.sh's rounds carry. Prints a markdown table of medians, per scene and
 shadow maps, lighting, readback and frame; first-frame shadow maps, lighting and frame (shadow
 maps + lighting + readback); process wall time.
 
+--idle S sleeps S seconds before each process: what a single render meets after a pause rather
+than right after another render. On a virtual machine whose host takes back the memory a guest
+frees (virtio-balloon's free page reporting, as here), memory the last process handed back is
+then gone from the host, and faulting it in again costs more (docs/performance.md, "Huge pages
+only while they fault quickly"). --no-steady leaves out the `--repeat` processes.
+
 Usage: scripts/bench_ab.py --bin NEW --baseline OLD [--rounds N] [--repeat N] [--scenes a,b]
-                           [--filter F] [--size WxH] [--peers DIR]"""
-import argparse, os, statistics, sys, tempfile
+                           [--filter F] [--size WxH] [--peers DIR] [--idle S] [--no-steady]"""
+import argparse, os, statistics, sys, tempfile, time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_peers import load_compare, run_omni  # noqa: E402
@@ -29,6 +35,8 @@ def main():
     ap.add_argument("--scenes", default="box,cornell,sundial,whackamole,test_room")
     ap.add_argument("--filter", default="pcf")
     ap.add_argument("--size", default="1280x720")
+    ap.add_argument("--idle", type=float, default=0.0, help="seconds of sleep before each process")
+    ap.add_argument("--no-steady", action="store_true", help="no render --repeat processes")
     a = ap.parse_args()
     if not os.path.isfile(os.path.join(a.peers, "compare.py")):
         sys.exit(f"bench_ab: no compare.py in {a.peers} (--peers DIR)")
@@ -45,10 +53,14 @@ def main():
             lf = cmp["with_filter"](lights, a.filter, tmp)
             for who, binary in order:
                 out = f"{tmp}/{name}.{who}.png"
-                steady = run_omni(binary, scene, lf, out, w, h, a.repeat)
+                steady = {}
+                if not a.no_steady:
+                    time.sleep(a.idle)
+                    steady = run_omni(binary, scene, lf, out, w, h, a.repeat)
+                time.sleep(a.idle)
                 first = run_omni(binary, scene, lf, out, w, h, 0)
                 res.setdefault((name, who), []).append((steady, first))
-                print(f"# round {r} {name} {who} steady {steady['steady']:.1f} "
+                print(f"# round {r} {name} {who} steady {steady.get('steady') or 0:.1f} "
                       f"first {first['first']:.1f} wall {first['wall']:.0f}",
                       file=sys.stderr, flush=True)
 
@@ -70,7 +82,8 @@ def main():
                       med(name, who, lambda s, f: f["wall"])]
             print(f"| {name} | {who} | " + " | ".join(cells) + " |")
     print(f"\n{a.filter}, {w}x{h}, 1024^2 shadow maps, {a.rounds} interleaved rounds, medians; "
-          f"steady: `render --repeat {a.repeat}`; first: a single `render`.")
+          f"steady: `render --repeat {a.repeat}`; first: a single `render`"
+          + (f"; {a.idle:g} s idle before each process." if a.idle else "."))
 
 
 if __name__ == "__main__":
