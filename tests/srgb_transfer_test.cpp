@@ -73,5 +73,25 @@ TEST(SrgbTransfer, ToSrgb8ScalesByTheExposureBeforeEncodingAndDropsAlpha) {
   EXPECT_EQ(srgb, expected);
 }
 
+// Large frames are converted on two threads, each half of the pixels: every byte is the one
+// srgb8() gives its channel, on both sides of the split and at an odd pixel count.
+TEST(SrgbTransfer, ToSrgb8OfALargeFrameIsEveryChannelsByteOnTwoThreads) {
+  FloatImage image;
+  image.width = 1281;
+  image.height = 721;
+  image.channels = {"R", "G", "B", "A"};
+  image.pixels.resize(static_cast<std::size_t>(image.width) * image.height * 4);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i)
+    image.pixels[i] = static_cast<float>((i * 2654435761u) % 100003u) / 90000.0f;
+  const std::vector<std::uint8_t> srgb = toSrgb8(image, -0.5f);
+  ASSERT_EQ(srgb.size(), static_cast<std::size_t>(image.width) * image.height * 3);
+  const float scale = std::exp2(-0.5f);
+  std::size_t mismatches = 0;
+  for (std::size_t p = 0; p < srgb.size() / 3; ++p)
+    for (std::size_t c = 0; c < 3; ++c)
+      if (srgb[3 * p + c] != srgb8(image.pixels[4 * p + c] * scale)) ++mismatches;
+  EXPECT_EQ(mismatches, 0u);
+}
+
 }  // namespace
 }  // namespace omnishadow
