@@ -2,8 +2,8 @@
 
 #include <cmath>
 #include <cstddef>
-#include <thread>
 
+#include "renderer/core/two_halves.h"
 #include "renderer/scene/srgb_transfer.h"
 
 namespace omnishadow {
@@ -26,13 +26,7 @@ std::vector<std::uint8_t> toSrgb8(const FloatImage& beauty, float exposure) {
       toSrgb8(beauty.pixels.data() + first * stride + c, end - first, stride, scale,
               out.data() + first * 3 + c, 3);
   };
-  if (count < kTwoThreadPixels || std::thread::hardware_concurrency() < 2) {
-    pixels(0, count);
-    return out;
-  }
-  std::thread helper(pixels, 0, count / 2);
-  pixels(count / 2, count);
-  helper.join();
+  inTwoHalves(count, count >= kTwoThreadPixels, pixels);
   return out;
 }
 

@@ -6,9 +6,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
-#include <thread>
 
 #include "renderer/core/default_init_allocator.h"
+#include "renderer/core/two_halves.h"
 #include "renderer/scene/srgb_transfer.h"
 
 namespace omnishadow {
@@ -146,20 +146,13 @@ LinearLevel firstLevelEven(const Image& base, const std::array<float, 256>& rgbD
   level.height = base.height / 2;
   level.rgba.resize(static_cast<std::size_t>(level.width) * level.height * 4);
   codes = sized(base.name, level.width, level.height);
-  const auto rows = [&](int y0, int y1) {
+  const auto rows = [&](std::size_t first, std::size_t end) {
+    const auto y0 = static_cast<int>(first), y1 = static_cast<int>(end);
     downsampleEvenBytes(base, rgbDecode, alphaDecode, level, y0, y1);
     roundRows(level, srgb, codes, y0, y1);
   };
-  const bool twoThreads = static_cast<std::size_t>(base.width) * base.height >= kTwoThreadTexels &&
-                          std::thread::hardware_concurrency() > 1;
-  if (!twoThreads) {
-    rows(0, level.height);
-    return level;
-  }
-  const int middle = level.height / 2;
-  std::thread helper(rows, 0, middle);
-  rows(middle, level.height);
-  helper.join();
+  inTwoHalves(static_cast<std::size_t>(level.height),
+              static_cast<std::size_t>(base.width) * base.height >= kTwoThreadTexels, rows);
   return level;
 }
 
