@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "renderer/output/display_transform.h"
 
@@ -91,6 +92,76 @@ TEST(SrgbTransfer, ToSrgb8OfALargeFrameIsEveryChannelsByteOnTwoThreads) {
     for (std::size_t c = 0; c < 3; ++c)
       if (srgb[3 * p + c] != srgb8(image.pixels[4 * p + c] * scale)) ++mismatches;
   EXPECT_EQ(mismatches, 0u);
+}
+
+// Every float from 0 to just above 1 in steps of 61 ulps, the floats on both sides of every
+// step, and values outside [0, 1], as RGBA pixels (the alpha lanes take values too).
+std::vector<float> denseRgba() {
+  std::vector<float> values;
+  const std::uint32_t above = std::bit_cast<std::uint32_t>(1.0f) + 64;
+  for (std::uint32_t bits = 0; bits <= above; bits += 61) values.push_back(fromBits(bits));
+  for (const float step : srgb8Steps()) {
+    if (std::isinf(step)) continue;
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(step);
+    for (std::uint32_t b = bits - 3; b <= bits + 3; ++b) values.push_back(fromBits(b));
+  }
+  const float inf = std::numeric_limits<float>::infinity();
+  for (const float v :
+       {-0.0f, -1.0f, -inf, inf, 1e30f, 2.0f, std::numeric_limits<float>::quiet_NaN(),
+        std::numeric_limits<float>::denorm_min(), 1.0f})
+    values.push_back(v);
+  values.resize((values.size() + 3) / 4 * 4, 0.5f);                         // whole pixels
+  if (values.size() / 4 % 2 == 0) values.resize(values.size() + 4, 0.25f);  // an odd count
+  return values;
+}
+
+// The RGB conversion of whole pixels (eight channels at a time where the CPU has AVX2) gives
+// srgb8() of each channel times the scale, at every count from 0 up, so the tail of an odd
+// count is covered too.
+TEST(SrgbTransfer, RgbaToSrgb8RgbIsEachChannelsSrgb8) {
+  const std::vector<float> rgba = denseRgba();
+  const std::size_t count = rgba.size() / 4;
+  ASSERT_EQ(count % 2, 1u);
+  for (const float scale : {1.0f, 0.70710677f, 4.0f}) {
+    std::vector<std::uint8_t> rgb(count * 3 + 1, 77);
+    rgbaToSrgb8Rgb(rgba.data(), count, scale, rgb.data());
+    std::size_t mismatches = 0;
+    for (std::size_t p = 0; p < count; ++p)
+      for (std::size_t c = 0; c < 3; ++c)
+        if (rgb[3 * p + c] != srgb8(rgba[4 * p + c] * scale)) ++mismatches;
+    EXPECT_EQ(mismatches, 0u) << "scale " << scale;
+    EXPECT_EQ(rgb.back(), 77) << "wrote past the last pixel";
+  }
+  for (std::size_t n = 0; n <= 5; ++n) {
+    std::vector<std::uint8_t> rgb(n * 3 + 8, 77);
+    rgbaToSrgb8Rgb(rgba.data(), n, 1.0f, rgb.data());
+    for (std::size_t i = 0; i < n * 3; ++i)
+      EXPECT_EQ(rgb[i], srgb8(rgba[i / 3 * 4 + i % 3])) << n << " pixels, byte " << i;
+    for (std::size_t i = n * 3; i < rgb.size(); ++i) EXPECT_EQ(rgb[i], 77) << n << " pixels";
+  }
+}
+
+// A mipmap level's texels: R, G and B as srgb8(), alpha rounded linearly.
+TEST(SrgbTransfer, RgbaToSrgb8RgbaEncodesColourAndRoundsAlphaLinearly) {
+  std::vector<float> rgba = denseRgba();
+  for (float& v : rgba)  // a level's values come from averaging decoded bytes: in [0, 1]
+    if (!(v >= 0.0f && v <= 1.0f)) v = 0.0f;
+  const std::size_t count = rgba.size() / 4;
+  std::vector<std::uint8_t> out(count * 4 + 1, 77);
+  rgbaToSrgb8Rgba(rgba.data(), count, out.data());
+  std::size_t mismatches = 0;
+  for (std::size_t p = 0; p < count; ++p) {
+    for (std::size_t c = 0; c < 3; ++c)
+      if (out[4 * p + c] != srgb8(rgba[4 * p + c])) ++mismatches;
+    if (out[4 * p + 3] != static_cast<int>(std::lround(rgba[4 * p + 3] * 255.0f))) ++mismatches;
+  }
+  EXPECT_EQ(mismatches, 0u);
+  EXPECT_EQ(out.back(), 77) << "wrote past the last texel";
+  const float alphas[] = {0.5f, 0.5f, 0.5f, 1.0f / 510.0f, 0.0f, 0.0f, 0.0f, 0.99f};
+  std::uint8_t two[8] = {};
+  rgbaToSrgb8Rgba(alphas, 2, two);
+  EXPECT_EQ(two[3], 1);    // 0.5 + 0.5 rounds up
+  EXPECT_EQ(two[7], 252);  // 252.45
 }
 
 }  // namespace

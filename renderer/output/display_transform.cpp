@@ -22,6 +22,10 @@ std::vector<std::uint8_t> toSrgb8(const FloatImage& beauty, float exposure) {
   const std::size_t stride = beauty.channels.size();
   std::vector<std::uint8_t> out(count * 3);
   const auto pixels = [&](std::size_t first, std::size_t end) {
+    if (stride == 4) {
+      rgbaToSrgb8Rgb(beauty.pixels.data() + first * 4, end - first, scale, out.data() + first * 3);
+      return;
+    }
     for (std::size_t c = 0; c < 3; ++c)
       toSrgb8(beauty.pixels.data() + first * stride + c, end - first, stride, scale,
               out.data() + first * 3 + c, 3);

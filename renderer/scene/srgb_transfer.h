@@ -20,6 +20,14 @@ const std::array<float, 256>& srgb8Steps();
 void toSrgb8(const float* linear, std::size_t count, std::size_t stride, float scale,
              std::uint8_t* out, std::size_t outStride);
 
+// srgb8() of the R, G and B of `count` RGBA pixels times `scale`, into `count` RGB triples.
+// The same bytes as toSrgb8() per channel, eight channels at a time where the CPU has AVX2.
+void rgbaToSrgb8Rgb(const float* rgba, std::size_t count, float scale, std::uint8_t* rgb);
+
+// The bytes of `count` RGBA texels whose R, G and B are sRGB-encoded and whose alpha is linear:
+// srgb8() of R, G and B, and round(255 * A) of A in [0, 1] (the texels of a mipmap level).
+void rgbaToSrgb8Rgba(const float* rgba, std::size_t count, std::uint8_t* out);
+
 // The linear value of an 8-bit sRGB code.
 float srgbDecode(std::uint8_t encoded);
 
