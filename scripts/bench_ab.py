@@ -16,9 +16,15 @@ frees (virtio-balloon's free page reporting, as here), memory the last process h
 then gone from the host, and faulting it in again costs more (docs/performance.md, "Huge pages
 only while they fault quickly"). --no-steady leaves out the `--repeat` processes.
 
+--cold adds, for each scene and binary, a single render with an empty shader cache (a new
+MESA_SHADER_CACHE_DIR each time), as on a fresh machine or in a container: the table gains its
+first frame, `shaders` stage and process time. The other processes use the shader cache as it
+is (warm after the first round).
+
 Usage: scripts/bench_ab.py --bin NEW --baseline OLD [--rounds N] [--repeat N] [--scenes a,b]
-                           [--filter F] [--size WxH] [--peers DIR] [--idle S] [--no-steady]"""
-import argparse, os, statistics, sys, tempfile, time
+                           [--filter F] [--size WxH] [--peers DIR] [--idle S] [--no-steady]
+                           [--cold]"""
+import argparse, os, shutil, statistics, sys, tempfile, time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_peers import load_compare, run_omni  # noqa: E402
@@ -37,6 +43,8 @@ def main():
     ap.add_argument("--size", default="1280x720")
     ap.add_argument("--idle", type=float, default=0.0, help="seconds of sleep before each process")
     ap.add_argument("--no-steady", action="store_true", help="no render --repeat processes")
+    ap.add_argument("--cold", action="store_true",
+                    help="also a single render with an empty shader cache per scene and binary")
     a = ap.parse_args()
     if not os.path.isfile(os.path.join(a.peers, "compare.py")):
         sys.exit(f"bench_ab: no compare.py in {a.peers} (--peers DIR)")
@@ -59,31 +67,45 @@ def main():
                     steady = run_omni(binary, scene, lf, out, w, h, a.repeat)
                 time.sleep(a.idle)
                 first = run_omni(binary, scene, lf, out, w, h, 0)
-                res.setdefault((name, who), []).append((steady, first))
+                cold = {}
+                if a.cold:
+                    cache = tempfile.mkdtemp(prefix="shader-cache.", dir=tmp)
+                    time.sleep(a.idle)
+                    cold = run_omni(binary, scene, lf, out, w, h, 0,
+                                    env=dict(os.environ, MESA_SHADER_CACHE_DIR=cache))
+                    shutil.rmtree(cache)
+                res.setdefault((name, who), []).append((steady, first, cold))
                 print(f"# round {r} {name} {who} steady {steady.get('steady') or 0:.1f} "
-                      f"first {first['first']:.1f} wall {first['wall']:.0f}",
+                      f"first {first['first']:.1f} wall {first['wall']:.0f}"
+                      + (f" cold first {cold['first']:.1f} wall {cold['wall']:.0f}" if cold else ""),
                       file=sys.stderr, flush=True)
 
     def med(name, who, pick):
-        values = [pick(s, f) for s, f in res[(name, who)]]
+        values = [pick(s, f, c) for s, f, c in res[(name, who)]]
         values = [v for v in values if v is not None]
         return f"{statistics.median(values):.1f}" if values else "-"
 
+    cold_heads = " | cold first frame | cold shaders | cold process ms" if a.cold else ""
     print("| scene | binary | steady shadow maps | steady lighting | steady readback | steady frame "
-          "| first shadow maps | first lighting | first frame | process ms |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "| first shadow maps | first lighting | first frame | process ms" + cold_heads + " |")
+    print("|---|---|" + "---:|" * (8 + (3 if a.cold else 0)))
     for name in scenes:
         for who, _ in binaries:
-            cells = [med(name, who, lambda s, f, k=k: s.get(f"steady {k}"))
+            cells = [med(name, who, lambda s, f, c, k=k: s.get(f"steady {k}"))
                      for k in ("shadow maps", "lighting", "readback", "frame")]
-            cells += [med(name, who, lambda s, f: f.get("shadow maps")),
-                      med(name, who, lambda s, f: f.get("lighting")),
-                      med(name, who, lambda s, f: f["first"]),
-                      med(name, who, lambda s, f: f["wall"])]
+            cells += [med(name, who, lambda s, f, c: f.get("shadow maps")),
+                      med(name, who, lambda s, f, c: f.get("lighting")),
+                      med(name, who, lambda s, f, c: f["first"]),
+                      med(name, who, lambda s, f, c: f["wall"])]
+            if a.cold:
+                cells += [med(name, who, lambda s, f, c: c.get("first")),
+                          med(name, who, lambda s, f, c: c.get("shaders")),
+                          med(name, who, lambda s, f, c: c.get("wall"))]
             print(f"| {name} | {who} | " + " | ".join(cells) + " |")
     print(f"\n{a.filter}, {w}x{h}, 1024^2 shadow maps, {a.rounds} interleaved rounds, medians; "
           f"steady: `render --repeat {a.repeat}`; first: a single `render`"
-          + (f"; {a.idle:g} s idle before each process." if a.idle else "."))
+          + (f"; {a.idle:g} s idle before each process" if a.idle else "")
+          + ("; cold: a single `render` with an empty shader cache." if a.cold else "."))
 
 
 if __name__ == "__main__":

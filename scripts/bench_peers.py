@@ -29,13 +29,13 @@ def settle(limit_s=5.0):
     time.sleep(0.25)
 
 
-def run_omni(binary, scene, lights, out, w, h, repeat):
+def run_omni(binary, scene, lights, out, w, h, repeat, env=None):
     args = [binary, "render", scene, "-l", lights, "-o", out, "--width", str(w), "--height", str(h),
             "--no-gltf-lights", "--stats"]
     if repeat:
         args += ["--repeat", str(repeat)]
     t0 = time.time()
-    p = subprocess.run(args, capture_output=True, text=True, timeout=900)
+    p = subprocess.run(args, capture_output=True, text=True, timeout=900, env=env)
     wall = (time.time() - t0) * 1000
     if p.returncode != 0:
         raise RuntimeError(p.stderr[-400:])
