@@ -16,13 +16,16 @@
 // SHADOW_PLANAR, SHADOW_<FILTER>, renderer/passes/lighting_pass.cpp): llvmpipe runs both sides of
 // every branch with lane masks, so code for absent features would cost every pixel.
 //
-// Each sampler array's first unit and MAX_SHADOW_GROUPS come from shader_contract.h.
-layout(binding = CUBE_COMPARE_UNIT) uniform samplerCubeArrayShadow uCubeCompare[MAX_SHADOW_GROUPS];
-layout(binding = CUBE_DEPTH_UNIT) uniform samplerCubeArray uCubeDepth[MAX_SHADOW_GROUPS];
-layout(binding = PLANAR_COMPARE_UNIT) uniform sampler2DArrayShadow uPlanarCompare[MAX_SHADOW_GROUPS];
-layout(binding = PLANAR_DEPTH_UNIT) uniform sampler2DArray uPlanarDepth[MAX_SHADOW_GROUPS];
-layout(binding = CUBE_MOMENTS_UNIT) uniform samplerCubeArray uCubeMoments[MAX_SHADOW_GROUPS];
-layout(binding = PLANAR_MOMENTS_UNIT) uniform sampler2DArray uPlanarMoments[MAX_SHADOW_GROUPS];
+// Each sampler array's first unit comes from shader_contract.h; its size, SHADOW_SLOTS (at most
+// MAX_SHADOW_GROUPS), is the frame's number of groups of the layout that has more
+// (renderer/passes/lighting_pass.cpp): llvmpipe compiles an array's texture code once per slot
+// when the index is not a constant, which a cold shader cache pays for.
+layout(binding = CUBE_COMPARE_UNIT) uniform samplerCubeArrayShadow uCubeCompare[SHADOW_SLOTS];
+layout(binding = CUBE_DEPTH_UNIT) uniform samplerCubeArray uCubeDepth[SHADOW_SLOTS];
+layout(binding = PLANAR_COMPARE_UNIT) uniform sampler2DArrayShadow uPlanarCompare[SHADOW_SLOTS];
+layout(binding = PLANAR_DEPTH_UNIT) uniform sampler2DArray uPlanarDepth[SHADOW_SLOTS];
+layout(binding = CUBE_MOMENTS_UNIT) uniform samplerCubeArray uCubeMoments[SHADOW_SLOTS];
+layout(binding = PLANAR_MOMENTS_UNIT) uniform sampler2DArray uPlanarMoments[SHADOW_SLOTS];
 
 uniform mat4 uCameraView;  // directional lights pick their cascade by camera view depth
 
@@ -35,7 +38,15 @@ struct MapPoint {
 };
 
 int lightType(Light light) { return int(light.directionType.w); }
+// The light's slot in its layout's sampler arrays; negative for a light without a shadow.
 int shadowGroup(Light light) { return int(light.radianceShadow.w); }
+// shadowGroup() of a shadowed light as the index of its sampler: a constant where the arrays
+// have one slot, so that only one copy of the texture code is compiled.
+#if SHADOW_SLOTS == 1
+int shadowSlot(Light light) { return 0; }
+#else
+int shadowSlot(Light light) { return shadowGroup(light); }
+#endif
 
 MapPoint mapPoint(Light light, int cascade, vec3 Q) {
   MapPoint m;
@@ -75,7 +86,7 @@ float storedAxis(Light light, float depth) {
 // Hardware comparison, bilinear where the light's filter asks for it (sampler state).
 float compareMap(Light light, MapPoint m) {
   if (!m.inside) return 1.0;
-  int g = shadowGroup(light);
+  int g = shadowSlot(light);
 #ifdef SHADOW_CUBE
   if (lightType(light) == LIGHT_POINT) return texture(uCubeCompare[g], m.coord, m.reference);
 #endif
@@ -88,7 +99,7 @@ float compareMap(Light light, MapPoint m) {
 // The stored depth nearest to the point's texel (0 = nothing rendered there).
 float storedDepth(Light light, MapPoint m) {
   if (!m.inside) return 0.0;
-  int g = shadowGroup(light);
+  int g = shadowSlot(light);
 #ifdef SHADOW_CUBE
   if (lightType(light) == LIGHT_POINT) return texture(uCubeDepth[g], m.coord).r;
 #endif
@@ -191,7 +202,7 @@ float pcss(Light light, int cascade, vec3 Q, vec3 N, float texel, float receiver
 // reduction: bounds below `bleed` count as shadow and the rest is rescaled.
 float varianceShadow(Light light, MapPoint m, vec3 Q, float texel) {
   if (!m.inside) return 1.0;
-  int g = shadowGroup(light);
+  int g = shadowSlot(light);
   float far = light.shadowDepth.y;
   vec2 moments = vec2(1.0);
   float t = 0.0;

@@ -980,6 +980,60 @@ TEST(Lighting, PointLightsDrawTheSameWithOrWithoutTheOtherTypesCompiledIn) {
   EXPECT_LE(largest, 1e-6f * brightest);
 }
 
+// The lighting pass's shadow sampler arrays are sized to the frame's shadow groups (one slot:
+// a constant index). A shadowed light draws the same picture whichever slot its group takes and
+// however many the arrays have: alone (one slot), after two dark point lights whose maps have
+// other resolutions (its group in the third cube slot), and beside dark spot and directional
+// lights with maps of their own (a cube slot and two planar ones: the arrays of both layouts
+// get two slots, since llvmpipe also indexes a cube array with a planar slot).
+TEST(Lighting, AShadowedLightDrawsTheSameWhicheverSamplerSlotItsGroupTakes) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeBox({0.5f, 0.5f, 0.5f}), translate({0, 0.5f, 0}), white);
+  const Light lamp = pointLight("lamp", {-1.5f, 2.0f, 1.0f}, ShadowFilter::Pcf, 256);
+  Light small = pointLight("small", {1.5f, 2.0f, -1.0f}, ShadowFilter::Pcf, 128);
+  Light smaller = pointLight("smaller", {0.0f, 3.0f, 2.0f}, ShadowFilter::Pcf, 64);
+  Light spot = pointLight("spot", {1.5f, 3.0f, 1.0f}, ShadowFilter::Vsm, 128);
+  spot.type = LightType::Spot;
+  spot.direction = glm::vec3(0, -1, 0);
+  Light sun = pointLight("sun", {0, 0, 0}, ShadowFilter::Pcf, 128);
+  sun.type = LightType::Directional;
+  sun.direction = glm::vec3(0.3f, -1, 0.2f);
+  for (Light* dark : {&small, &smaller, &spot, &sun}) dark->intensity = 0.0f;
+
+  ShadowAtlasPlan atlas;
+  atlas.groups = {{{ShadowLayout::Cube, 256}, 6},
+                  {{ShadowLayout::Planar, 128}, 1},
+                  {{ShadowLayout::Planar, 64}, 1}};
+  LightingFeatures features;
+  setShadowSlots(atlas, features);
+  EXPECT_EQ(features.shadowSlots, 2);
+  setShadowSlots({}, features);
+  EXPECT_EQ(features.shadowSlots, 0);
+
+  const ViewCamera camera = lookFrom(scene, {3, 4, 5}, {0, 0, 0}, 96, 72);
+  StageTimes times;
+  const auto draw = [&](const std::vector<Light>& lights) {
+    return sharedRenderer().render(scene, lights, glm::vec3(0.02f), camera, {}, times).beauty;
+  };
+  const FloatImage alone = draw({lamp});
+  float brightest = 0.0f;
+  for (float v : alone.pixels) brightest = std::max(brightest, v);
+  ASSERT_GT(brightest, 0.1f);
+  const std::vector<std::vector<Light>> frames = {
+      {small, smaller, lamp}, {lamp, spot, sun}, {spot, small, sun, lamp}};
+  for (const std::vector<Light>& lights : frames) {
+    const FloatImage image = draw(lights);
+    ASSERT_EQ(image.pixels.size(), alone.pixels.size());
+    float largest = 0.0f;
+    for (std::size_t i = 0; i < alone.pixels.size(); ++i)
+      largest = std::max(largest, std::abs(alone.pixels[i] - image.pixels[i]));
+    EXPECT_LE(largest, 1e-6f * brightest)
+        << lights.size() << " lights, the first " << lights[0].name;
+  }
+}
+
 // Batch jobs that render one scene from several cameras keep the point and spot maps of the
 // previous render; directional maps follow the camera and are rendered again. The reused maps
 // give the same images as freshly rendered ones.

@@ -33,6 +33,10 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if (material & kSpecularGlossinessBit) defines.push_back("SPECULAR_GLOSSINESS");
   if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
   if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
+  // Both layouts' arrays get the same size: llvmpipe evaluates both sides of a light-type
+  // branch, so a cube array is also indexed with planar slots (an index past a one-slot array
+  // crashed LLVM's compile). At least one slot, so that an array nothing samples is declared.
+  defines.push_back("SHADOW_SLOTS " + std::to_string(std::max(1, features.shadowSlots)));
   const struct {
     ShadowFilter filter;
     const char* define;
@@ -223,6 +227,13 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
   features.debugDepth = debugView == DebugView::Depth || debugView == DebugView::Cascade;
   features.facingLightLoop = !features.clusteredLights && lights.size() <= kMaxFacingLoopLights;
   return features;
+}
+
+void setShadowSlots(const ShadowAtlasPlan& atlas, LightingFeatures& features) {
+  int cube = 0, planar = 0;
+  for (const ShadowGroupPlan& group : atlas.groups)
+    ++(group.key.layout == ShadowLayout::Cube ? cube : planar);
+  features.shadowSlots = std::max(cube, planar);
 }
 
 LightingPass::LightingPass(Shading shading, PassOutputs outputs, const LightingFeatures& features)

@@ -119,6 +119,11 @@ class FrameTargets {
 struct LightingFeatures {
   bool cubeShadows = false;
   bool planarShadows = false;
+  // The slots of the shader's shadow sampler arrays: the frame's shadow groups of the layout
+  // that has more of them (at most kMaxShadowGroups; set from the frame's shadow atlas plan).
+  // llvmpipe compiles the texture code once per slot of an array indexed at run time, so arrays
+  // sized to the frame compile faster on a cold shader cache.
+  int shadowSlots = 0;
   unsigned filters = 0;     // bit per ShadowFilter
   bool debugViews = false;  // a --debug-view picture: DEBUG_VIEWS
   bool debugDepth = false;
@@ -143,6 +148,9 @@ struct LightingFeatures {
 inline constexpr std::size_t kMaxFacingLoopLights = 32;
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView);
+
+// Sets the shadow slots of `features` from the frame's atlas.
+void setShadowSlots(const ShadowAtlasPlan& atlas, LightingFeatures& features);
 
 class LightingPass {
  public:

@@ -673,6 +673,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
 
   ScopedStage shaders(times, "shaders");
   LightingFeatures features = lightingFeatures(lights, settings.debugView);
+  setShadowSlots(plan.shadows, features);
   features.facingLightLoop = features.facingLightLoop && ballot_;
   const std::vector<bool> translucent = translucentShadowLights(lights, scene);
   features.translucentShadows =
