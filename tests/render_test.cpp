@@ -937,13 +937,19 @@ TEST(Lighting, EveryWayOfReadingTheLightsDrawsTheSamePicture) {
   }
 }
 
-// The lighting pass is compiled without the spot cone and the directional case when the frame
-// has no such light: a frame of point lights draws the same either way.
-TEST(Lighting, PointLightsDrawTheSameWithOrWithoutTheOtherTypesCompiledIn) {
+// A box on a plane, both white: the scene of the lighting-variant tests below.
+Scene boxOnAPlane() {
   Scene scene;
   const int white = addMaterial(scene, glm::vec4(0.8f));
   addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
   addObject(scene, builder::makeBox({0.5f, 0.5f, 0.5f}), translate({0, 0.5f, 0}), white);
+  return scene;
+}
+
+// The lighting pass is compiled without the spot cone and the directional case when the frame
+// has no such light: a frame of point lights draws the same either way.
+TEST(Lighting, PointLightsDrawTheSameWithOrWithoutTheOtherTypesCompiledIn) {
+  const Scene scene = boxOnAPlane();
   const Light lamp = pointLight("lamp", {-1.5f, 2.0f, 1.0f}, ShadowFilter::Pcf, 256);
   Light spot = pointLight("spot", {1.5f, 3.0f, 1.0f}, ShadowFilter::Pcf);
   spot.type = LightType::Spot;
@@ -987,10 +993,7 @@ TEST(Lighting, PointLightsDrawTheSameWithOrWithoutTheOtherTypesCompiledIn) {
 // lights with maps of their own (a cube slot and two planar ones: the arrays of both layouts
 // get two slots, since llvmpipe also indexes a cube array with a planar slot).
 TEST(Lighting, AShadowedLightDrawsTheSameWhicheverSamplerSlotItsGroupTakes) {
-  Scene scene;
-  const int white = addMaterial(scene, glm::vec4(0.8f));
-  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
-  addObject(scene, builder::makeBox({0.5f, 0.5f, 0.5f}), translate({0, 0.5f, 0}), white);
+  const Scene scene = boxOnAPlane();
   const Light lamp = pointLight("lamp", {-1.5f, 2.0f, 1.0f}, ShadowFilter::Pcf, 256);
   Light small = pointLight("small", {1.5f, 2.0f, -1.0f}, ShadowFilter::Pcf, 128);
   Light smaller = pointLight("smaller", {0.0f, 3.0f, 2.0f}, ShadowFilter::Pcf, 64);
