@@ -110,10 +110,7 @@ void roundRows(const LinearLevel& level, bool srgb, Image& image, int y0, int y1
     rgbaToSrgb8Rgba(from, texels, to);
     return;
   }
-  for (std::size_t i = 0; i < texels * 4; ++i) {
-    const float v = std::clamp(from[i], 0.0f, 1.0f);
-    to[i] = static_cast<std::uint8_t>(v * 255.0f + 0.5f);
-  }
+  for (std::size_t i = 0; i < texels * 4; ++i) to[i] = linear8(from[i]);
 }
 
 Image sized(const std::string& name, int width, int height) {

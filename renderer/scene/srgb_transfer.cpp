@@ -176,12 +176,12 @@ __attribute__((target("avx2"))) std::size_t rgbaToSrgb8RgbaAvx2(const float* rgb
   return i;
 }
 
-std::uint8_t linear8(float value) {
-  const float v = std::clamp(value, 0.0f, 1.0f);
+}  // namespace
+
+std::uint8_t linear8(float linear) {
+  const float v = std::clamp(linear, 0.0f, 1.0f);
   return static_cast<std::uint8_t>(v * 255.0f + 0.5f);
 }
-
-}  // namespace
 
 void rgbaToSrgb8Rgb(const float* rgba, std::size_t count, float scale, std::uint8_t* rgb) {
   const std::size_t done = hasAvx2() ? rgbaToSrgb8RgbAvx2(rgba, count, scale, rgb) : 0;
@@ -191,10 +191,8 @@ void rgbaToSrgb8Rgb(const float* rgba, std::size_t count, float scale, std::uint
 
 void rgbaToSrgb8Rgba(const float* rgba, std::size_t count, std::uint8_t* out) {
   const std::size_t done = hasAvx2() ? rgbaToSrgb8RgbaAvx2(rgba, count, out) : 0;
-  for (std::size_t i = done; i < count; ++i) {
-    toSrgb8(rgba + i * 4, 3, 1, 1.0f, out + i * 4, 1);
-    out[i * 4 + 3] = linear8(rgba[i * 4 + 3]);
-  }
+  for (std::size_t i = done * 4; i < count * 4; ++i)
+    out[i] = i % 4 == 3 ? linear8(rgba[i]) : srgb8(rgba[i]);
 }
 
 float srgbDecode(std::uint8_t encoded) {

@@ -12,6 +12,10 @@ float srgbEncode(float linear);
 // round(255 * srgbEncode(linear)), from a table: NaN and values below 0 give 0, above 1 give 255.
 std::uint8_t srgb8(float linear);
 
+// round(255 * linear) of a value clamped to [0, 1]: the 8-bit code of a channel stored
+// linearly (alpha, and textures that are not sRGB).
+std::uint8_t linear8(float linear);
+
 // [k]: the least float whose srgb8() is k + 1; [255] is +infinity. srgb8() of a value in
 // [0, 1] is the number of these it is at least.
 const std::array<float, 256>& srgb8Steps();
