@@ -1,0 +1,172 @@
+#!/usr/bin/env python3
+"""CPU per steady frame, by thread, and the frame's floor on this machine's cores (issue 19).
+
+Where bench_ab.py and bench-peers.sh time a frame's stages, this counts what the frame costs in
+CPU and where: `perf record` samples every thread of a `render --repeat N` process (cpu-clock),
+and uprobes on Renderer::Impl::renderShadows (a frame's start) and on the entry and return of
+Renderer::Impl::drawImages (the lighting pass begins; the readback has ended) cut the samples
+into frames. The process's first two frames are left out (shader variants, fresh memory). Per scene it
+prints the frame's wall time under perf, the CPU of the calling thread and of llvmpipe's
+rasterizer threads (threads named llvmpipe-N), the same split for the shadow stage and for the
+lighting pass with its readback, and the floor: the CPU over the cores, the frame if every core
+were busy from its first microsecond to its last. perf's sampling lengthens the frames, so the
+ratio floor / frame is what carries over to frames timed without it.
+
+Needs perf (Debian's linux-perf) with uprobes: root, or perf_event_paranoid <= 1 and access to
+/sys/kernel/tracing. The probes are made in the group `omni_frame_cpu` and removed at the end.
+
+Usage: scripts/frame_cpu.py [--bin FILE] [--scenes a,b] [--repeat N] [--freq HZ] [--filter F]
+                            [--size WxH] [--peers DIR]"""
+import argparse, bisect, collections, os, re, subprocess, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_peers import load_compare  # noqa: E402
+
+GROUP = "omni_frame_cpu"
+SYMBOLS = {  # probe name -> the start of the mangled name of the function it marks
+    "frame": "_ZN10omnishadow8Renderer4Impl13renderShadows",
+    "lighting": "_ZN10omnishadow8Renderer4Impl10drawImages",
+}
+
+
+def function_address(binary, prefix):
+    out = subprocess.run(["nm", binary], capture_output=True, text=True, check=True).stdout
+    found = [fields[0] for fields in map(str.split, out.splitlines())
+             if len(fields) == 3 and fields[1] in "Tt" and fields[2].startswith(prefix) and
+             "." not in fields[2]]  # not GCC's .cold parts
+    if len(found) != 1:
+        sys.exit(f"frame_cpu: {binary}: expected one function {prefix}..., found {len(found)}"
+                 " (a stripped binary has no symbols)")
+    return "0x" + found[0]
+
+
+def add_probes(binary):
+    remove_probes()
+    specs = [f"{GROUP}:frame={function_address(binary, SYMBOLS['frame'])}",
+             f"{GROUP}:lighting={function_address(binary, SYMBOLS['lighting'])}",
+             f"{GROUP}:done={function_address(binary, SYMBOLS['lighting'])}%return"]
+    args = ["perf", "probe", "-q", "-x", binary]
+    for spec in specs:
+        args += ["-a", spec]
+    p = subprocess.run(args, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"frame_cpu: perf probe failed (root or perf_event_paranoid <= 1 needed):\n"
+                 f"{p.stderr.strip()}")
+
+
+def remove_probes():
+    subprocess.run(["perf", "probe", "-q", "-d", f"{GROUP}:*"], capture_output=True)
+
+
+def record(binary, scene, lights, size, repeat, freq, tmp):
+    data = os.path.join(tmp, "perf.data")
+    w, h = size
+    cmd = ["perf", "record", "-q", "-e", "cpu-clock", "-F", str(freq), "-e", f"{GROUP}:*",
+           "-o", data, "--", binary, "render", scene, "-l", lights, "-o",
+           os.path.join(tmp, "frame.png"), "--width", str(w), "--height", str(h),
+           "--no-gltf-lights", "--repeat", str(repeat)]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"frame_cpu: {' '.join(cmd)} failed:\n{p.stderr.strip()}")
+    script = subprocess.run(["perf", "script", "-i", data, "-F", "comm,pid,tid,time,event"],
+                            capture_output=True, text=True, check=True).stdout
+    events = []
+    for line in script.splitlines():
+        m = re.match(r"\s*(\S+)\s+(\d+)/(\d+)\s+([\d.]+):\s+(\S+):", line)
+        if m:
+            events.append((m[1], int(m[2]), int(m[3]), float(m[4]), m[5]))
+    return events
+
+
+def frames_of(events):
+    """(start, lighting, end) of each frame, in seconds, the first two left out."""
+    frames, current = [], None
+    for _, _, _, t, event in events:
+        name = event.split(":", 1)[1] if event.startswith(GROUP) else None
+        if name == "frame":
+            current = [t, None]
+        elif name == "lighting" and current:
+            current[1] = t
+        elif name and name.startswith("done") and current and current[1] is not None:
+            frames.append((current[0], current[1], t))
+            current = None
+    return frames[2:]
+
+
+def measure(events, freq):
+    frames = frames_of(events)
+    if not frames:
+        sys.exit("frame_cpu: no frame between the probes (is --repeat at least 3?)")
+    starts = [f[0] for f in frames]
+    cpu = collections.Counter()
+    for comm, pid, tid, t, event in events:
+        if not event.startswith("cpu-clock"):
+            continue
+        i = bisect.bisect_right(starts, t) - 1
+        if i < 0 or t > frames[i][2]:
+            continue
+        stage = "shadow" if t < frames[i][1] else "lighting"
+        who = "calling" if tid == pid else "raster" if comm.startswith("llvmpipe") else "other"
+        cpu[(stage, who)] += 1
+    n = len(frames)
+    ms = lambda samples: samples / freq * 1000 / n  # noqa: E731
+    wall = {"shadow": sum(b - a for a, b, _ in frames) * 1000 / n,
+            "lighting": sum(c - b for _, b, c in frames) * 1000 / n}
+    r = {"frames": n, "wall": wall["shadow"] + wall["lighting"]}
+    for stage in ("shadow", "lighting"):
+        r[f"{stage} wall"] = wall[stage]
+        for who in ("calling", "raster", "other"):
+            r[f"{stage} {who}"] = ms(cpu[(stage, who)])
+    for who in ("calling", "raster", "other"):
+        r[who] = r[f"shadow {who}"] + r[f"lighting {who}"]
+    return r
+
+
+def main():
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--bin", default=os.path.join(root, "build", "omnishadow"))
+    ap.add_argument("--peers", default=os.path.join(root, "..", "shared", "peers"))
+    ap.add_argument("--scenes", default="box,cornell,sundial,whackamole,test_room")
+    ap.add_argument("--repeat", type=int, default=20, help="frames of render --repeat")
+    ap.add_argument("--freq", type=int, default=4000, help="samples per second and thread")
+    ap.add_argument("--filter", default="pcf")
+    ap.add_argument("--size", default="1280x720")
+    a = ap.parse_args()
+    if a.repeat < 3:
+        sys.exit("frame_cpu: --repeat must be at least 3 (the first two frames are left out)")
+    if not os.path.isfile(os.path.join(a.peers, "compare.py")):
+        sys.exit(f"frame_cpu: no compare.py in {a.peers} (--peers DIR)")
+    binary = os.path.abspath(a.bin)
+    cores = os.cpu_count() or 1
+    size = tuple(map(int, a.size.split("x")))
+    cmp = load_compare(a.peers)
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="frame-cpu.") as tmp:
+        add_probes(binary)
+        try:
+            for name in a.scenes.split(","):
+                scene, lights = cmp["SCENES"][name]
+                lights = cmp["with_filter"](lights, a.filter, tmp)
+                r = measure(record(binary, scene, lights, size, a.repeat, a.freq, tmp), a.freq)
+                rows.append((name, r))
+                print(f"# {name}: {r['frames']} frames, {r['wall']:.1f} ms each under perf",
+                      file=sys.stderr)
+        finally:
+            remove_probes()
+    print(f"| scene | frame under perf ms | calling thread CPU | rasterizer threads CPU | "
+          f"floor (CPU / {cores} cores) | floor / frame | shadow stage: wall, calling, "
+          f"rasterizers | lighting + readback: wall, calling, rasterizers |")
+    print("|---|---:|---:|---:|---:|---:|---|---|")
+    for name, r in rows:
+        floor = (r["calling"] + r["raster"] + r["other"]) / cores
+        print(f"| {name} | {r['wall']:.1f} | {r['calling']:.1f} | {r['raster']:.1f} | "
+              f"{floor:.1f} | {floor / r['wall']:.2f} | {r['shadow wall']:.1f}, "
+              f"{r['shadow calling']:.1f}, {r['shadow raster']:.1f} | {r['lighting wall']:.1f}, "
+              f"{r['lighting calling']:.1f}, {r['lighting raster']:.1f} |")
+    print(f"\n{a.filter}, {a.size}, `render --repeat {a.repeat}` (its {a.repeat + 1} frames "
+          f"less the first two), cpu-clock at {a.freq} Hz; CPU in ms per frame.")
+
+
+if __name__ == "__main__":
+    main()
