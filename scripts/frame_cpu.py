@@ -87,7 +87,7 @@ def frames_of(events):
             current = [t, None]
         elif name == "lighting" and current:
             current[1] = t
-        elif name and name.startswith("done") and current and current[1] is not None:
+        elif name == "done__return" and current and current[1] is not None:  # perf's name
             frames.append((current[0], current[1], t))
             current = None
     return frames[2:]

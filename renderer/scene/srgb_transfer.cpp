@@ -30,6 +30,9 @@ std::uint8_t srgb8Exact(float linear) {
 // was written; tests/srgb_transfer_test.cpp checks a dense sample and every step.
 class Srgb8Table {
  public:
+  // A bucket is the floats with the same bits above these: 32,512 buckets below 1.0f.
+  static constexpr int kBucketShift = 15;
+
   Srgb8Table() {
     for (int k = 1; k < 256; ++k) {
       std::uint32_t low = 0, high = kOneBits;  // srgb8Exact(low) < k <= srgb8Exact(high)
@@ -61,7 +64,6 @@ class Srgb8Table {
 
  private:
   static constexpr std::uint32_t kOneBits = 0x3f800000u;  // 1.0f
-  static constexpr int kBucketShift = 15;                 // 32,512 buckets below 1.0f
   std::array<float, 257> firstOf_{};                      // [k]: the first float of byte k
   std::array<std::uint8_t, (kOneBits >> kBucketShift) + 1 + 3> start_{};
   std::array<float, 256> steps_{};  // firstOf_ from byte 1 on
@@ -114,7 +116,7 @@ __attribute__((target("avx2"))) Vector freshZeros() {
 __attribute__((target("avx2"))) __m256i srgb8Avx2(__m256 linear, const Srgb8Table& table) {
   const __m256 clamped = _mm256_and_ps(_mm256_min_ps(linear, _mm256_set1_ps(1.0f)),
                                        _mm256_cmp_ps(linear, _mm256_setzero_ps(), _CMP_GT_OQ));
-  const __m256i bucket = _mm256_srli_epi32(_mm256_castps_si256(clamped), 15);
+  const __m256i bucket = _mm256_srli_epi32(_mm256_castps_si256(clamped), Srgb8Table::kBucketShift);
   const __m256i every = _mm256_set1_epi32(-1);
   const __m256i start = _mm256_and_si256(
       _mm256_mask_i32gather_epi32(freshZeros<__m256i>(),
