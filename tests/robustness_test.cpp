@@ -632,6 +632,64 @@ TEST_F(RobustnessTest, BatchGoesOnAfterAGlErrorOrALostContext) {
   }
 }
 
+// From a renderer's second frame on, half of the shadow maps of a frame with two or more are
+// drawn in a second GL context (passes/shadow_worker.h). Where that context cannot be made, one
+// context draws them all, the same pictures, and the job says so once; an error in it fails
+// that frame like any GL error, and the next job renders.
+TEST_F(RobustnessTest, TheSecondShadowContextFailingCostsNoPicture) {
+  const fs::path scene = writeScene("scene.glb", FileFormat::Glb);
+  const fs::path folder = scene.parent_path();
+  std::ofstream(folder / "near.lights.json") << R"({"lights": [
+      {"name": "key", "position": [1, 3, 1], "shadow": {"resolution": 32}},
+      {"name": "fill", "position": [-2, 2, 1], "shadow": {"resolution": 32}}]})";
+  std::ofstream(folder / "far.lights.json") << R"({"lights": [
+      {"name": "key", "position": [1.5, 3, 1], "shadow": {"resolution": 32}},
+      {"name": "fill", "position": [-2, 2.5, 1], "shadow": {"resolution": 32}}]})";
+  nlohmann::json manifest;
+  for (const auto& [lights, output] :
+       {std::pair<std::string, std::string>{"near", "1.png"}, {"far", "2.png"}, {"near", "3.png"}})
+    manifest["jobs"].push_back({{"scene", scene.filename().string()},
+                                {"lights", lights + ".lights.json"},
+                                {"outputs", {output}}});
+  writeJson(folder / "jobs.json", manifest);
+  // One worker process renders the three jobs in order with one renderer: the first frame in
+  // one context, the next two in both.
+  auto batch = [&](const std::string& fault) {
+    fs::remove_all(root_ / "out");
+    fs::create_directory(root_ / "out");
+    return run({"batch", (folder / "jobs.json").string(), "--out", (root_ / "out").string(),
+                "--width", "32", "--height", "24", "--report", (root_ / "report.json").string()},
+               glFault(fault));
+  };
+  const Result plain = batch("none");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  std::vector<std::string> pictures;
+  for (const char* name : {"1.png", "2.png", "3.png"})
+    pictures.push_back(readFile(root_ / "out" / name));
+
+  const Result oneContext = batch("no-shared-context");
+  EXPECT_EQ(oneContext.status, 0) << oneContext.err;
+  for (std::size_t i = 0; i < pictures.size(); ++i)
+    EXPECT_EQ(readFile(root_ / "out" / (std::to_string(i + 1) + ".png")), pictures[i]) << i;
+  nlohmann::json report = readJson(root_ / "report.json");
+  ASSERT_EQ(report["jobs"].size(), 3u) << report.dump(2);
+  EXPECT_EQ(report["jobs"][0]["warnings"].size(), 0u) << report.dump(2);
+  ASSERT_EQ(report["jobs"][1]["warnings"].size(), 1u) << report.dump(2);
+  EXPECT_TRUE(report["jobs"][1]["warnings"][0].get<std::string>().starts_with(
+      "shadow maps are drawn in one GL context: cannot create a shared GL context: "))
+      << report.dump(2);
+  EXPECT_EQ(report["jobs"][2]["warnings"].size(), 0u) << report.dump(2);  // not tried again
+
+  const Result failing = batch("error-in-shared-context");
+  EXPECT_EQ(failing.status, 1) << failing.err;
+  EXPECT_EQ(filesIn(root_ / "out"), (std::vector<std::string>{"1.png", "3.png"})) << failing.out;
+  EXPECT_NE(failing.err.find("OpenGL error during the shadow pass of light \"fill\": "
+                             "GL_INVALID_OPERATION"),
+            std::string::npos)
+      << failing.err;
+  EXPECT_EQ(readFile(root_ / "out" / "3.png"), pictures[2]);
+}
+
 // A crash or a hang in one scene costs that scene only: its worker process is replaced and the
 // jobs around it render, in a fresh process, as they do on their own.
 TEST_F(RobustnessTest, BatchGoesOnAfterAWorkerCrashOrHang) {

@@ -54,7 +54,9 @@ struct Candidate {
 
 struct EglContext::Impl {
   EGLDisplay display = EGL_NO_DISPLAY;
+  EGLConfig config = EGL_NO_CONFIG_KHR;
   EGLContext context = EGL_NO_CONTEXT;
+  bool ownsDisplay = true;  // false for a shared context: the first one terminates the display
   std::string description;
 
   // Returns an empty string on success, else why it failed.
@@ -72,13 +74,18 @@ struct EglContext::Impl {
     if (!eglBindAPI(EGL_OPENGL_API)) return fail("eglBindAPI(EGL_OPENGL_API)");
 
     const char* extensions = eglQueryString(display, EGL_EXTENSIONS);
-    EGLConfig config = EGL_NO_CONFIG_KHR;
     if (!hasExtension(extensions, "EGL_KHR_no_config_context")) {
       const EGLint attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
       EGLint count = 0;
       if (!eglChooseConfig(display, attributes, &config, 1, &count) || count == 0)
         return fail("eglChooseConfig (no EGL_KHR_no_config_context)");
     }
+    description = candidate.description;
+    return createContext(EGL_NO_CONTEXT, debug);
+  }
+
+  // Creates the context on `display` and makes it current; an empty string on success.
+  std::string createContext(EGLContext shareWith, bool debug) {
     const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION,
                                         4,
                                         EGL_CONTEXT_MINOR_VERSION,
@@ -88,11 +95,10 @@ struct EglContext::Impl {
                                         EGL_CONTEXT_OPENGL_DEBUG,
                                         debug ? EGL_TRUE : EGL_FALSE,
                                         EGL_NONE};
-    context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttributes);
+    context = eglCreateContext(display, config, shareWith, contextAttributes);
     if (context == EGL_NO_CONTEXT) return fail("eglCreateContext (OpenGL 4.5 core)");
     if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context))
       return fail("eglMakeCurrent without a surface");
-    description = candidate.description;
     return {};
   }
 
@@ -106,7 +112,7 @@ struct EglContext::Impl {
     if (display == EGL_NO_DISPLAY) return;
     eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-    eglTerminate(display);
+    if (ownsDisplay) eglTerminate(display);
     context = EGL_NO_CONTEXT;
     display = EGL_NO_DISPLAY;
   }
@@ -181,6 +187,18 @@ EglContext::EglContext(const ContextOptions& options) : impl_(std::make_unique<I
   for (std::size_t i = 0; i < attempts.size(); ++i) message += (i ? "; " : "") + attempts[i];
   if (attempts.empty()) message += "nothing (no EGL platform available)";
   throw RenderError(message);
+}
+
+EglContext::EglContext(const EglContext& shareWith, bool debug) : impl_(std::make_unique<Impl>()) {
+  impl_->display = shareWith.impl_->display;
+  impl_->config = shareWith.impl_->config;
+  impl_->ownsDisplay = false;
+  impl_->description = shareWith.impl_->description;
+  if (!eglBindAPI(EGL_OPENGL_API))  // per thread
+    throw RenderError("cannot create a shared GL context: eglBindAPI(EGL_OPENGL_API) failed: " +
+                      std::string(eglErrorName(eglGetError())));
+  const std::string why = impl_->createContext(shareWith.impl_->context, debug);
+  if (!why.empty()) throw RenderError("cannot create a shared GL context: " + why);
 }
 
 EglContext::~EglContext() {

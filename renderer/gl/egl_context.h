@@ -14,6 +14,10 @@ namespace omnishadow {
 class EglContext {
  public:
   explicit EglContext(const ContextOptions& options);
+  // A second context on `shareWith`'s display that shares its textures, buffers, programs and
+  // samplers (not its vertex arrays or framebuffers), current on the calling thread, which may
+  // be another thread than shareWith's. Must be destroyed before `shareWith`.
+  EglContext(const EglContext& shareWith, bool debug);
   ~EglContext();  // with impl_, neither copyable nor movable
 
   // "EGL device 0 (NVIDIA ...)" or "EGL surfaceless platform", for --verbose.

@@ -31,10 +31,28 @@ void setAttribute(GLuint vao, GLuint location, GLint size, GLuint offset) {
 
 }  // namespace
 
-GpuGeometry::GpuGeometry(const Scene& scene)
-    : vertexArray_(gl::createVertexArray()), casterVertexArray_(gl::createVertexArray()) {
+GpuGeometry::GpuGeometry(const Scene& scene) {
   uploadMeshes(scene);
   uploadCasterStream(scene);
+  vertexArrays_ = makeVertexArrays();
+}
+
+SceneVertexArrays GpuGeometry::makeVertexArrays() const {
+  SceneVertexArrays arrays{gl::createVertexArray(), gl::createVertexArray()};
+  const GLuint vao = arrays.scene.get();
+  glVertexArrayVertexBuffer(vao, 0, vertices_.get(), 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(vao, indices_.get());
+  setAttribute(vao, 0, 3, offsetof(Vertex, position));
+  setAttribute(vao, 1, 3, offsetof(Vertex, normal));
+  setAttribute(vao, 2, 4, offsetof(Vertex, tangent));
+  setAttribute(vao, 3, 2, offsetof(Vertex, uv0));
+  setAttribute(vao, 4, 2, offsetof(Vertex, uv1));
+  setAttribute(vao, 5, 4, offsetof(Vertex, color));
+  const GLuint casters = arrays.casters.get();
+  glVertexArrayVertexBuffer(casters, 0, casterPositions_.get(), 0, sizeof(glm::vec3));
+  glVertexArrayElementBuffer(casters, casterIndices_.get());
+  setAttribute(casters, 0, 3, 0);
+  return arrays;
 }
 
 void GpuGeometry::uploadMeshes(const Scene& scene) {
@@ -73,15 +91,6 @@ void GpuGeometry::uploadMeshes(const Scene& scene) {
                        vertices.empty() ? nullptr : vertices.data(), 0);
   glNamedBufferStorage(indices_.get(), std::max<GLsizeiptr>(1, indices.size() * 4),
                        indices.empty() ? nullptr : indices.data(), 0);
-  const GLuint vao = vertexArray_.get();
-  glVertexArrayVertexBuffer(vao, 0, vertices_.get(), 0, sizeof(Vertex));
-  glVertexArrayElementBuffer(vao, indices_.get());
-  setAttribute(vao, 0, 3, offsetof(Vertex, position));
-  setAttribute(vao, 1, 3, offsetof(Vertex, normal));
-  setAttribute(vao, 2, 4, offsetof(Vertex, tangent));
-  setAttribute(vao, 3, 2, offsetof(Vertex, uv0));
-  setAttribute(vao, 4, 2, offsetof(Vertex, uv1));
-  setAttribute(vao, 5, 4, offsetof(Vertex, color));
 
   std::vector<float> meshRadius;
   for (const Mesh& mesh : scene.meshes) {
@@ -191,10 +200,6 @@ void GpuGeometry::uploadCasterStream(const Scene& scene) {
   casterIndices_ = gl::createBuffer();
   glNamedBufferStorage(casterIndices_.get(), std::max<GLsizeiptr>(1, indices.size() * 4),
                        indices.empty() ? nullptr : indices.data(), 0);
-  const GLuint vao = casterVertexArray_.get();
-  glVertexArrayVertexBuffer(vao, 0, casterPositions_.get(), 0, sizeof(glm::vec3));
-  glVertexArrayElementBuffer(vao, casterIndices_.get());
-  setAttribute(vao, 0, 3, 0);
 }
 
 std::shared_ptr<const GpuGeometry> GeometryCache::find(const Scene& scene) {

@@ -45,6 +45,13 @@ struct GpuDraw {
   GLint casterFirstIndex = -1;
 };
 
+// The two vertex arrays that read a GpuGeometry's buffers. Vertex arrays are not shared between
+// GL contexts, so a second context (ShadowWorker) makes its own with makeVertexArrays().
+struct SceneVertexArrays {
+  gl::VertexArray scene;    // every attribute (GpuGeometry::vertexArray())
+  gl::VertexArray casters;  // the world-space caster stream (GpuGeometry::casterVertexArray())
+};
+
 // A scene's meshes on the GPU: all of them in one vertex buffer and one index buffer behind a
 // single vertex array, the draws (instances) with their world bounds, and the world-space
 // caster stream of the shadow pass. Made from the meshes, the instances and the number of
@@ -53,7 +60,7 @@ class GpuGeometry {
  public:
   explicit GpuGeometry(const Scene& scene);
 
-  GLuint vertexArray() const { return vertexArray_.get(); }
+  GLuint vertexArray() const { return vertexArrays_.scene.get(); }
   // Positions only (attribute 0), already in world space, with an index buffer of its own: the
   // shadow pass draws opaque casters from it without a transform per vertex. Holds a copy per
   // draw of each mesh drawn once, and of meshes small enough to copy for all their instances
@@ -61,7 +68,11 @@ class GpuGeometry {
   // copies follow each other along a Z-order curve through their bounding spheres' centres,
   // their indices counted from the stream's first vertex, so that copies next to each other in
   // the stream are one range of indices: one draw command.
-  GLuint casterVertexArray() const { return casterVertexArray_.get(); }
+  GLuint casterVertexArray() const { return vertexArrays_.casters.get(); }
+  // Both, as made in the context that made this geometry.
+  const SceneVertexArrays& vertexArrays() const { return vertexArrays_; }
+  // New vertex arrays over this geometry's buffers, in the context current on the calling thread.
+  SceneVertexArrays makeVertexArrays() const;
   // std430 array of mat4: draws()[i].world at index i.
   GLuint modelBuffer() const { return models_.get(); }
   const std::vector<GpuMeshRange>& meshes() const { return meshes_; }
@@ -74,11 +85,11 @@ class GpuGeometry {
   void uploadMeshes(const Scene& scene);
   void uploadCasterStream(const Scene& scene);
 
-  gl::VertexArray vertexArray_, casterVertexArray_;
   gl::Buffer vertices_, indices_, models_, casterPositions_, casterIndices_;
   std::vector<GpuMeshRange> meshes_;
   std::vector<GpuDraw> draws_;
   Bounds receiverBounds_;
+  SceneVertexArrays vertexArrays_;  // after the buffers, which they name
 };
 
 // The geometry of the last scene uploaded, kept for the next render: a scene rendered again

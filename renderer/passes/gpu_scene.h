@@ -34,6 +34,9 @@ class GpuScene {
   GLuint vertexArray() const { return geometry_->vertexArray(); }
   // GpuGeometry::casterVertexArray().
   GLuint casterVertexArray() const { return geometry_->casterVertexArray(); }
+  // GpuGeometry::vertexArrays() and makeVertexArrays().
+  const SceneVertexArrays& vertexArrays() const { return geometry_->vertexArrays(); }
+  SceneVertexArrays makeVertexArrays() const { return geometry_->makeVertexArrays(); }
   // std430 array of mat4: draws()[i].world at index i.
   GLuint modelBuffer() const { return geometry_->modelBuffer(); }
   const std::vector<GpuMeshRange>& meshes() const { return geometry_->meshes(); }

@@ -14,12 +14,14 @@
 #include <utility>
 
 #include "renderer/core/errors.h"
+#include "renderer/gl/context_defaults.h"
 #include "renderer/gl/egl_context.h"
 #include "renderer/gl/gl_debug.h"
 #include "renderer/passes/gpu_scene.h"
 #include "renderer/passes/lighting_pass.h"
 #include "renderer/passes/shadow_pass.h"
 #include "renderer/passes/shadow_textures.h"
+#include "renderer/passes/shadow_worker.h"
 #include "renderer/passes/transmittance_pass.h"
 #include "renderer/passes/vsm_filter.h"
 #include "renderer/render/antialiasing.h"
@@ -223,6 +225,16 @@ class Renderer::Impl {
   PrepassChoice prepassChoice_;
 
   EglContext context_;
+  // Made by the first frame that can use it (shadowWorker()); before context_ in destruction.
+  std::unique_ptr<ShadowWorker> shadowWorker_;
+  bool shadowWorkerFailed_ = false;  // its context could not be made: not tried again
+  // Frames this renderer has rendered. The first one does without the worker: a single render
+  // would pay for its context and shader variants (WhackAMole's first frame 4 ms longer, its
+  // process 10) and have no later frame to repay them.
+  long long shadowFrames_ = 0;
+  bool softwareRasterizer_ = false;  // llvmpipe: where the worker pays
+  bool debug_ = false;               // ContextOptions::debug, for the worker's context
+  ShadowWorker* shadowWorker(const RenderSettings& settings);
   std::unique_ptr<ShadowPass> shadowPass_;
   std::unique_ptr<VsmFilter> vsmFilter_;
   std::unique_ptr<TransmittancePass> transmittancePass_;  // made by the first translucent light
@@ -328,9 +340,7 @@ void checkAovMemory(const std::vector<Light>& lights, const ViewCamera& camera,
 
 Renderer::Impl::Impl(const ContextOptions& options) : context_(options) {
   if (options.debug) gl::enableDebugOutput();
-  // Reversed depth with a [0,1] clip range keeps float depth precise from near to far.
-  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-  glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+  gl::applyContextDefaults();
   shadowPass_ = std::make_unique<ShadowPass>();
   vsmFilter_ = std::make_unique<VsmFilter>();
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &limits_.maxArrayLayers);
@@ -339,6 +349,8 @@ Renderer::Impl::Impl(const ContextOptions& options) : context_(options) {
   limits_.maxFrameTexels = largestFrameTexels(limits_.maxTextureSize);
   glRenderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   prepassSupported_ = depthPrepassSupported(glRenderer_);
+  softwareRasterizer_ = glRenderer_.find("llvmpipe") != std::string::npos;
+  debug_ = options.debug;
   packInvert_ = hasExtension("GL_MESA_pack_invert");
   ballot_ = hasExtension("GL_ARB_shader_ballot");
   gl::checkErrors("context setup");
@@ -427,35 +439,105 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
   // Described once a light needs its map drawn: frames whose maps are all reused (batch jobs
   // of one scene from several cameras) or that have none need no description.
   std::optional<SceneCasters> casters;
+  std::vector<ShadowJob> drawn;  // the maps this frame draws, in light order
+  std::vector<std::size_t> drawnLight;
+  std::vector<std::size_t> transmittanceOnly;  // reused maps whose transmittance layers moved
   std::size_t next = 0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
     ShadedLight s{&lights[i], nullptr};
     if (next < prepared.atlas.lights.size() &&
         prepared.atlas.lights[next].light == static_cast<int>(i)) {
       const LightShadowPlan& plan = prepared.atlas.lights[next++];
-      ShadowGroupTextures& group = prepared.groups[plan.group];
       const LightShadowPlan* before = cachedPlan(i);
       s.translucent = prepared.translucent[i];
       s.transmittanceFirst = places[i].first;
       s.transmittanceLayers = places[i].layers;
-      const bool reused = before && sameShadowMap(cache->lights[i], *before, lights[i], plan);
-      if (reused) {
+      if (before && sameShadowMap(cache->lights[i], *before, lights[i], plan)) {
         if (frame) ++frame->shadowMapsReused;
+        // A reused map's transmittance is still in the atlas unless its layers moved there.
+        if (s.translucent && moved[i]) transmittanceOnly.push_back(i);
       } else {
-        if (!casters) casters = describeCasters(prepared.gpu);
-        const int leftOut = shadowPass_->render(prepared.gpu, *casters, lights[i], plan, group,
-                                                strategy, everyCaster);
-        if (frame) frame->flatCastersLeftOut += leftOut;
-        if (group.key.moments) vsmFilter_->blur(group, plan, lights[i].shadow.filterRadius);
-        if (frame) ++frame->shadowMapsRendered;
+        drawn.push_back({&lights[i], &plan, &prepared.groups[plan.group]});
+        drawnLight.push_back(i);
       }
-      // A reused map's transmittance is still in the atlas unless its layers moved there.
-      if (s.translucent && (!reused || moved[i]))
-        transmittancePass_->render(prepared.gpu, lights[i], plan, group, reach[i], places[i]);
       s.shadow = &plan;
     }
     prepared.shaded.push_back(s);
   }
+  if (!drawn.empty()) casters = describeCasters(prepared.gpu);
+
+  // What follows a light's map: its VSM blur, then its transmittance (tested against the map).
+  auto finishLight = [&](const ShadowJob& job, std::size_t i) {
+    const ShadowGroupTextures& group = *job.target;
+    if (group.key.moments) vsmFilter_->blur(*job.target, *job.plan, job.light->shadow.filterRadius);
+    if (frame) {
+      ++frame->shadowMapsRendered;
+      frame->flatCastersLeftOut += job.flatCastersLeftOut;
+    }
+    if (prepared.translucent[i])
+      transmittancePass_->render(prepared.gpu, lights[i], *job.plan, group, reach[i], places[i]);
+  };
+  auto drawHere = [&](ShadowJob& job) {
+    job.flatCastersLeftOut =
+        shadowPass_->render(prepared.gpu, prepared.gpu.vertexArrays(), *casters, *job.light,
+                            *job.plan, *job.target, strategy, everyCaster);
+  };
+
+  // Every other map to the worker, from the second on; the renderer draws the rest meanwhile.
+  std::vector<ShadowJob> workerJobs;
+  std::vector<std::size_t> workerLights;
+  ShadowWorker* worker = drawn.size() >= 2 && shadowFrames_ > 0 ? shadowWorker(settings) : nullptr;
+  ++shadowFrames_;
+  if (worker) {
+    for (std::size_t k = 1; k < drawn.size(); k += 2) {
+      workerJobs.push_back(drawn[k]);
+      workerLights.push_back(drawnLight[k]);
+    }
+    try {
+      worker->start(prepared.gpu, *casters, workerJobs, strategy, everyCaster);
+    } catch (const std::exception& e) {
+      // One context draws them all, as on a GPU; said once, since it is not tried again.
+      shadowWorkerFailed_ = true;
+      worker = nullptr;
+      workerJobs.clear();
+      if (frame)
+        frame->warnings.push_back(std::string("shadow maps are drawn in one GL context: ") +
+                                  e.what());
+    }
+  }
+  // Waits for the worker also when drawing here throws: it reads what this frame owns.
+  struct WorkerWait {
+    ShadowWorker* worker;
+    ~WorkerWait() {
+      if (!worker) return;
+      try {
+        worker->finish();
+      } catch (...) {  // the error that unwinds this frame is the one reported
+      }
+    }
+  } wait{worker};
+  for (std::size_t k = 0; k < drawn.size(); ++k) {
+    if (worker && k % 2 == 1) continue;
+    drawHere(drawn[k]);
+    finishLight(drawn[k], drawnLight[k]);
+  }
+  if (worker) {
+    wait.worker = nullptr;
+    worker->finish();
+    for (std::size_t k = 0; k < workerJobs.size(); ++k) finishLight(workerJobs[k], workerLights[k]);
+    if (frame) frame->shadowMapsInParallel += static_cast<int>(workerJobs.size());
+  }
+  for (std::size_t i : transmittanceOnly) {
+    const LightShadowPlan& plan = *prepared.shaded[i].shadow;
+    transmittancePass_->render(prepared.gpu, lights[i], plan, prepared.groups[plan.group], reach[i],
+                               places[i]);
+  }
+}
+
+ShadowWorker* Renderer::Impl::shadowWorker(const RenderSettings& settings) {
+  if (!settings.parallelShadowMaps || !softwareRasterizer_ || shadowWorkerFailed_) return nullptr;
+  if (!shadowWorker_) shadowWorker_ = std::make_unique<ShadowWorker>(context_, debug_);
+  return shadowWorker_.get();
 }
 
 LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,

@@ -109,6 +109,7 @@ gl::CullState cullStateOf(CullBucket bucket, CullFace cullFace) {
 // One light's pass: what its helpers share.
 struct ShadowPass::LightPass {
   const GpuScene& scene;
+  const SceneVertexArrays& arrays;
   const Light& light;
   const LightShadowPlan& plan;
   ShadowPassStrategy strategy;
@@ -116,7 +117,8 @@ struct ShadowPass::LightPass {
   ShadowLayerBinding& layers;
 };
 
-int ShadowPass::render(const GpuScene& scene, const SceneCasters& sceneCasters, const Light& light,
+int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
+                       const SceneCasters& sceneCasters, const Light& light,
                        const LightShadowPlan& plan, ShadowGroupTextures& target,
                        ShadowPassStrategy strategy, bool everyCaster) {
   const bool cube = target.key.layout == ShadowLayout::Cube;
@@ -152,7 +154,7 @@ int ShadowPass::render(const GpuScene& scene, const SceneCasters& sceneCasters, 
   ShadowLayerBinding layers(fb, target, plan.firstLayer, plan.layerCount,
                             casterTexels(casters, culling, plan, target.key.resolution));
   if (layering != ShadowLayering::PerView) layers.bind(ShadowLayerBinding::kAllLayers);
-  const LightPass pass{scene, light, plan, strategy, moments, layers};
+  const LightPass pass{scene, arrays, light, plan, strategy, moments, layers};
   drawOpaque(pass, draws);
   drawMasked(pass, draws, culling);
   layers.clearUnbound();  // views nothing was drawn into still hold another frame's depths
@@ -194,7 +196,7 @@ void ShadowPass::drawOpaque(const LightPass& pass, const ShadowDrawList& draws) 
   for (const OpaqueShadowBatch& batch : draws.opaque) {
     pass.layers.bind(batch.view);
     const ShaderProgram& opaque = program(pass.strategy, false, pass.moments, batch.world);
-    glBindVertexArray(batch.world ? pass.scene.casterVertexArray() : pass.scene.vertexArray());
+    glBindVertexArray(batch.world ? pass.arrays.casters.get() : pass.arrays.scene.get());
     prepare(pass, opaque, batch.view);
     opaque.set("uObject", -1);
     opaque.set("uDrawBase", batch.first);
@@ -210,7 +212,7 @@ void ShadowPass::drawOpaque(const LightPass& pass, const ShadowDrawList& draws) 
 // Alpha-tested casters one by one, each with its own texture.
 void ShadowPass::drawMasked(const LightPass& pass, const ShadowDrawList& draws,
                             const CasterCulling& culling) {
-  glBindVertexArray(pass.scene.vertexArray());
+  glBindVertexArray(pass.arrays.scene.get());
   const ShaderProgram& masked = program(pass.strategy, true, pass.moments, false);
   int preparedView = ShadowLayerBinding::kAllLayers - 1;
   for (const MaskedShadowDraw& draw : draws.masked) {

@@ -39,10 +39,11 @@ class ShadowPass {
   // Draws the light's layers of `target` and updates their `written` texels. Flat casters
   // that shadow no receiver (shadowsNoReceiver) are left out unless `everyCaster`: maps that
   // are read back (depth dumps, the depth view) hold the whole scene as the light sees it.
-  // Returns how many flat casters it left out.
-  int render(const GpuScene& scene, const SceneCasters& casters, const Light& light,
-             const LightShadowPlan& plan, ShadowGroupTextures& target, ShadowPassStrategy strategy,
-             bool everyCaster);
+  // Returns how many flat casters it left out. `arrays`: the scene's vertex arrays as the
+  // current context knows them (GpuScene::vertexArrays() in the context that made the scene).
+  int render(const GpuScene& scene, const SceneVertexArrays& arrays, const SceneCasters& casters,
+             const Light& light, const LightShadowPlan& plan, ShadowGroupTextures& target,
+             ShadowPassStrategy strategy, bool everyCaster);
 
  private:
   struct LightPass;

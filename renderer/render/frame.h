@@ -66,6 +66,9 @@ struct Frame {
   // render of the same scene (point and spot lights whose maps cannot have changed).
   int shadowMapsRendered = 0;
   int shadowMapsReused = 0;
+  // Of the maps rendered, those drawn in the renderer's second GL context while the first drew
+  // the others (RenderSettings::parallelShadowMaps).
+  int shadowMapsInParallel = 0;
   // Over the maps rendered: flat casters left out of a light's map because they shadow no
   // receiver (a floor or wall with the whole scene on the light's side), counted per light.
   int flatCastersLeftOut = 0;

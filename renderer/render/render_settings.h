@@ -56,6 +56,10 @@ struct RenderSettings {
   // bounds --max-memory); more is an InputError before any GL allocation.
   double maxAovMemoryMiB = 4096.0;
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
+  // Where the GL is a software rasterizer (llvmpipe) and a frame draws two or more lights' maps,
+  // half of them are drawn in a second GL context at once (passes/shadow_worker.h). The maps,
+  // and so the pictures, are the same either way; false draws every map in the one context.
+  bool parallelShadowMaps = true;
   int antialiasing = 1;  // --aa: beauty samples per pixel, 1, 4, 8 or 16 (render/antialiasing.h)
   // Set, for callers that want the beauty only as 8-bit sRGB (a PNG): where it can (no AOVs, no
   // --aa, no blended surfaces in the scene) the lighting pass encodes the beauty times

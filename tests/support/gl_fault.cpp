@@ -8,7 +8,11 @@
 //   crash  the upload itself raises SIGSEGV, as a driver bug would;
 //   hang   the upload never returns (the batch's --job-timeout tests).
 // And, without any marker:
-//   crash-context  eglCreateContext raises SIGSEGV, as a driver that cannot start would.
+//   crash-context  eglCreateContext raises SIGSEGV, as a driver that cannot start would;
+//   no-shared-context  eglCreateContext fails for a context that shares another's objects (the
+//                  renderer's second context, passes/shadow_worker.h);
+//   error-in-shared-context  the first glGetError() in such a context returns
+//                  GL_INVALID_OPERATION.
 // error and reset happen once; afterwards the real GL answers again, as it would for a fresh
 // context.
 // OMNISHADOW_GL_MAX_CUBE_MAP_TEXTURE_SIZE=N and OMNISHADOW_GL_MAX_ARRAY_TEXTURE_LAYERS=N make
@@ -39,6 +43,8 @@ constexpr GLenum kMaxCubeMapTextureSize = 0x851C;
 constexpr GLenum kMaxArrayTextureLayers = 0x88FF;
 
 std::atomic<bool> armed{false};
+std::atomic<void*> sharedContext{nullptr};  // the last context made sharing another's objects
+std::atomic<bool> sharedErrorLeft{true};
 
 bool faultIs(const char* kind) {
   const char* value = std::getenv("OMNISHADOW_GL_FAULT");
@@ -103,7 +109,10 @@ __attribute__((visibility("default"))) void* eglCreateContext(void* display, voi
   using Fn = void* (*)(void*, void*, void*, const int*);
   static const Fn next = real<Fn>("eglCreateContext");
   if (faultIs("crash-context")) std::raise(SIGSEGV);
-  return next(display, config, share, attributes);
+  if (share != nullptr && faultIs("no-shared-context")) return nullptr;  // EGL_NO_CONTEXT
+  void* context = next(display, config, share, attributes);
+  if (share != nullptr) sharedContext = context;
+  return context;
 }
 
 __attribute__((visibility("default"))) void glGetIntegerv(GLenum name, GLint* data) {
@@ -121,6 +130,12 @@ __attribute__((visibility("default"))) GLenum glGetError() {
   using Fn = GLenum (*)();
   static const Fn next = real<Fn>("glGetError");
   if (faultIs("error") && armed.exchange(false)) return kInvalidOperation;
+  if (faultIs("error-in-shared-context")) {
+    using Current = void* (*)();
+    static const Current current = real<Current>("eglGetCurrentContext");
+    if (sharedContext != nullptr && current() == sharedContext && sharedErrorLeft.exchange(false))
+      return kInvalidOperation;
+  }
   return next();
 }
 
