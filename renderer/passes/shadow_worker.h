@@ -31,6 +31,8 @@ struct ShadowJob {
 // and commands.
 class ShadowWorker {
  public:
+  static constexpr const char* kThreadName = "omni-shadows";
+
   // Starts the thread, which makes its context sharing `renderer`'s objects; returns at once.
   ShadowWorker(const EglContext& renderer, bool debug);
   ~ShadowWorker();  // stops the thread; call after finish()
