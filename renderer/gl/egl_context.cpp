@@ -112,7 +112,10 @@ struct EglContext::Impl {
     if (display == EGL_NO_DISPLAY) return;
     eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-    if (ownsDisplay) eglTerminate(display);
+    if (ownsDisplay)
+      eglTerminate(display);
+    else
+      eglReleaseThread();  // a shared context's thread (ShadowWorker's) ends after it
     context = EGL_NO_CONTEXT;
     display = EGL_NO_DISPLAY;
   }
