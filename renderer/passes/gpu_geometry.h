@@ -40,7 +40,7 @@ struct GpuDraw {
   glm::vec3 boundsCenter{0.0f};  // world-space bounding sphere, for culling
   float boundsRadius = 0.0f;
   std::optional<MeshPlane> plane;  // world space, for flat meshes
-  // First index of this draw's copy in the world-space caster stream (casterVertexArray()),
+  // First index of this draw's copy in the world-space caster stream (SceneVertexArrays::casters),
   // whose indices need no base vertex; -1 when it has none.
   GLint casterFirstIndex = -1;
 };
@@ -48,8 +48,15 @@ struct GpuDraw {
 // The two vertex arrays that read a GpuGeometry's buffers. Vertex arrays are not shared between
 // GL contexts, so a second context (ShadowWorker) makes its own with makeVertexArrays().
 struct SceneVertexArrays {
-  gl::VertexArray scene;    // every attribute (GpuGeometry::vertexArray())
-  gl::VertexArray casters;  // the world-space caster stream (GpuGeometry::casterVertexArray())
+  gl::VertexArray scene;  // every attribute (GpuGeometry::vertexArray())
+  // The world-space caster stream: positions only (attribute 0), already in world space, with an
+  // index buffer of its own: the shadow pass draws opaque casters from it without a transform
+  // per vertex. Holds a copy per draw of each mesh drawn once, and of meshes small enough to
+  // copy for all their instances (GpuDraw::casterFirstIndex); the other draws use `scene` and
+  // GpuGeometry::modelBuffer(). The copies follow each other along a Z-order curve through
+  // their bounding spheres' centres, their indices counted from the stream's first vertex, so
+  // that copies next to each other in the stream are one range of indices: one draw command.
+  gl::VertexArray casters;
 };
 
 // A scene's meshes on the GPU: all of them in one vertex buffer and one index buffer behind a
@@ -61,15 +68,7 @@ class GpuGeometry {
   explicit GpuGeometry(const Scene& scene);
 
   GLuint vertexArray() const { return vertexArrays_.scene.get(); }
-  // Positions only (attribute 0), already in world space, with an index buffer of its own: the
-  // shadow pass draws opaque casters from it without a transform per vertex. Holds a copy per
-  // draw of each mesh drawn once, and of meshes small enough to copy for all their instances
-  // (GpuDraw::casterFirstIndex); the other draws use vertexArray() and modelBuffer(). The
-  // copies follow each other along a Z-order curve through their bounding spheres' centres,
-  // their indices counted from the stream's first vertex, so that copies next to each other in
-  // the stream are one range of indices: one draw command.
-  GLuint casterVertexArray() const { return vertexArrays_.casters.get(); }
-  // Both, as made in the context that made this geometry.
+  // Both vertex arrays, as made in the context that made this geometry.
   const SceneVertexArrays& vertexArrays() const { return vertexArrays_; }
   // New vertex arrays over this geometry's buffers, in the context current on the calling thread.
   SceneVertexArrays makeVertexArrays() const;

@@ -32,8 +32,6 @@ class GpuScene {
                     GeometryCache* geometry = nullptr);
 
   GLuint vertexArray() const { return geometry_->vertexArray(); }
-  // GpuGeometry::casterVertexArray().
-  GLuint casterVertexArray() const { return geometry_->casterVertexArray(); }
   // GpuGeometry::vertexArrays() and makeVertexArrays().
   const SceneVertexArrays& vertexArrays() const { return geometry_->vertexArrays(); }
   SceneVertexArrays makeVertexArrays() const { return geometry_->makeVertexArrays(); }
