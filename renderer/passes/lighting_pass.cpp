@@ -11,6 +11,7 @@
 #include "renderer/core/errors.h"
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
+#include "renderer/gl/software_rasterizer.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/scene/srgb_transfer.h"
 
@@ -587,7 +588,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
 }
 
 bool depthPrepassSupported(std::string_view glRenderer) {
-  return glRenderer.find("llvmpipe") != std::string_view::npos;
+  return gl::isLlvmpipe(glRenderer);
 }
 
 std::optional<OpaqueFragments> LightingPass::opaqueFragments() const {

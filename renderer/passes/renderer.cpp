@@ -17,6 +17,7 @@
 #include "renderer/gl/context_defaults.h"
 #include "renderer/gl/egl_context.h"
 #include "renderer/gl/gl_debug.h"
+#include "renderer/gl/software_rasterizer.h"
 #include "renderer/passes/gpu_scene.h"
 #include "renderer/passes/lighting_pass.h"
 #include "renderer/passes/shadow_pass.h"
@@ -228,10 +229,10 @@ class Renderer::Impl {
   // Made by the first frame that can use it (shadowWorker()); before context_ in destruction.
   std::unique_ptr<ShadowWorker> shadowWorker_;
   bool shadowWorkerFailed_ = false;  // its context could not be made: not tried again
-  // Frames this renderer has rendered. The first one does without the worker: a single render
-  // would pay for its context and shader variants (WhackAMole's first frame 4 ms longer, its
-  // process 10) and have no later frame to repay them.
-  long long shadowFrames_ = 0;
+  // Whether this renderer has rendered a frame. The first one does without the worker: a single
+  // render would pay for its context and shader variants (WhackAMole's first frame 4 ms longer,
+  // its process 10) and have no later frame to repay them.
+  bool renderedBefore_ = false;
   bool softwareRasterizer_ = false;  // llvmpipe: where the worker pays
   bool debug_ = false;               // ContextOptions::debug, for the worker's context
   ShadowWorker* shadowWorker(const RenderSettings& settings);
@@ -349,7 +350,7 @@ Renderer::Impl::Impl(const ContextOptions& options) : context_(options) {
   limits_.maxFrameTexels = largestFrameTexels(limits_.maxTextureSize);
   glRenderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   prepassSupported_ = depthPrepassSupported(glRenderer_);
-  softwareRasterizer_ = glRenderer_.find("llvmpipe") != std::string::npos;
+  softwareRasterizer_ = gl::isLlvmpipe(glRenderer_);
   debug_ = options.debug;
   packInvert_ = hasExtension("GL_MESA_pack_invert");
   ballot_ = hasExtension("GL_ARB_shader_ballot");
@@ -439,8 +440,7 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
   // Described once a light needs its map drawn: frames whose maps are all reused (batch jobs
   // of one scene from several cameras) or that have none need no description.
   std::optional<SceneCasters> casters;
-  std::vector<ShadowJob> drawn;  // the maps this frame draws, in light order
-  std::vector<std::size_t> drawnLight;
+  std::vector<ShadowJob> drawn;                // the maps this frame draws, in light order
   std::vector<std::size_t> transmittanceOnly;  // reused maps whose transmittance layers moved
   std::size_t next = 0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
@@ -458,7 +458,6 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
         if (s.translucent && moved[i]) transmittanceOnly.push_back(i);
       } else {
         drawn.push_back({&lights[i], &plan, &prepared.groups[plan.group]});
-        drawnLight.push_back(i);
       }
       s.shadow = &plan;
     }
@@ -467,7 +466,8 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
   if (!drawn.empty()) casters = describeCasters(prepared.gpu);
 
   // What follows a light's map: its VSM blur, then its transmittance (tested against the map).
-  auto finishLight = [&](const ShadowJob& job, std::size_t i) {
+  auto finishLight = [&](const ShadowJob& job) {
+    const auto i = static_cast<std::size_t>(job.light - lights.data());
     const ShadowGroupTextures& group = *job.target;
     if (group.key.moments) vsmFilter_->blur(*job.target, *job.plan, job.light->shadow.filterRadius);
     if (frame) {
@@ -485,14 +485,10 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
 
   // Every other map to the worker, from the second on; the renderer draws the rest meanwhile.
   std::vector<ShadowJob> workerJobs;
-  std::vector<std::size_t> workerLights;
-  ShadowWorker* worker = drawn.size() >= 2 && shadowFrames_ > 0 ? shadowWorker(settings) : nullptr;
-  ++shadowFrames_;
+  ShadowWorker* worker = drawn.size() >= 2 && renderedBefore_ ? shadowWorker(settings) : nullptr;
+  renderedBefore_ = true;
   if (worker) {
-    for (std::size_t k = 1; k < drawn.size(); k += 2) {
-      workerJobs.push_back(drawn[k]);
-      workerLights.push_back(drawnLight[k]);
-    }
+    for (std::size_t k = 1; k < drawn.size(); k += 2) workerJobs.push_back(drawn[k]);
     try {
       worker->start(prepared.gpu, *casters, workerJobs, strategy, everyCaster);
     } catch (const std::exception& e) {
@@ -519,12 +515,12 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
   for (std::size_t k = 0; k < drawn.size(); ++k) {
     if (worker && k % 2 == 1) continue;
     drawHere(drawn[k]);
-    finishLight(drawn[k], drawnLight[k]);
+    finishLight(drawn[k]);
   }
   if (worker) {
     wait.worker = nullptr;
     worker->finish();
-    for (std::size_t k = 0; k < workerJobs.size(); ++k) finishLight(workerJobs[k], workerLights[k]);
+    for (const ShadowJob& job : workerJobs) finishLight(job);
     if (frame) frame->shadowMapsInParallel += static_cast<int>(workerJobs.size());
   }
   for (std::size_t i : transmittanceOnly) {
