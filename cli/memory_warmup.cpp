@@ -19,8 +19,9 @@ namespace omnishadow::cli {
 namespace {
 
 bool wanted() {
-#if defined(__SANITIZE_ADDRESS__)
-  return false;  // AddressSanitizer's allocator quarantines the freed block instead of reusing it
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  // The sanitizers' allocators ignore mallopt() and do not hand the freed block out again.
+  return false;
 #else
   const char* setting = std::getenv("OMNISHADOW_MEMORY_WARMUP");
   if (setting && std::string_view(setting) == "0") return false;

@@ -3,6 +3,9 @@
 # root CMakeLists.txt). Use a build folder of its own (scripts/test-sanitizers.sh uses
 # build-asan/): instrumented objects must not mix with a normal build's.
 #
+# ThreadSanitizer, -DOMNISHADOW_SANITIZE_THREADS=ON, instead (the two cannot share a process;
+# scripts/test-threads.sh uses build-tsan/).
+#
 # Included from the root CMakeLists.txt before any target is defined, so that the directory-wide
 # add_compile_options/add_link_options reach every target, tests/ included.
 if(OMNISHADOW_SANITIZE)
@@ -22,4 +25,16 @@ if(OMNISHADOW_SANITIZE)
   add_compile_options(${omnishadow_sanitize_flags})
   add_link_options(-fsanitize=${omnishadow_sanitizers})
   message(STATUS "omnishadow: building with AddressSanitizer and UndefinedBehaviorSanitizer")
+endif()
+
+if(OMNISHADOW_SANITIZE_THREADS)
+  if(OMNISHADOW_SANITIZE)
+    message(FATAL_ERROR "OMNISHADOW_SANITIZE and OMNISHADOW_SANITIZE_THREADS exclude each other")
+  endif()
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    message(FATAL_ERROR "OMNISHADOW_SANITIZE_THREADS needs GCC or Clang (got ${CMAKE_CXX_COMPILER_ID})")
+  endif()
+  add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=thread)
+  message(STATUS "omnishadow: building with ThreadSanitizer")
 endif()

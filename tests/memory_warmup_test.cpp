@@ -22,7 +22,7 @@ namespace {
 
 using test_support::sameBytes;
 
-#if !defined(__SANITIZE_ADDRESS__)
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 // Blocks the size of a 1024^2 cube map come from malloc's heap after a warm-up, not from
 // mappings of their own (which would start with fresh pages); not before one, or when it is
 // turned off. One process, so the order is the test's: off first, then on.

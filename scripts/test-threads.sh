@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The tests that run our code on more than one thread, built with ThreadSanitizer
+# (-DOMNISHADOW_SANITIZE_THREADS=ON) in build-tsan/: the second shadow context's worker
+# (renderer/passes/shadow_worker.h), loading beside the GL context, the batch's loaders and
+# encoders, texture decoding and mipmaps on two threads, the memory warm-up's toucher and the
+# reference ray caster. Fails when a test fails or when any process, the CLI started by a test
+# included, wrote a report. Extra arguments go to every test binary (--gtest_filter=...).
+#
+# Not part of .ci/run (it would take CI past its time limit); run it after changing anything
+# that threads share.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build="$root/build-tsan"
+"$root/scripts/install-deps.sh"
+
+tests=(parallel_shadow_maps_test steady_frames_test robustness_test render_test verify_test
+  batch_test cli_test camera_sets_test material_render_test gltf_loader_test jpeg_texture_test
+  image_mipmaps_test memory_warmup_test)
+
+reports="$build/tsan-reports"
+mkdir -p "$build"
+rm -rf "$reports"
+mkdir -p "$reports"
+# halt_on_error=0: every race of a run is reported, not only the first.
+export TSAN_OPTIONS="halt_on_error=0:second_deadlock_stack=1:suppressions=$root/tests/sanitizers/tsan.supp:log_path=$reports/tsan:log_exe_name=1"
+
+start=$SECONDS
+if [[ ! -f "$build/CMakeCache.txt" ]]; then
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOMNISHADOW_SANITIZE_THREADS=ON \
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
+    >"$build/configure.log" 2>&1 || { cat "$build/configure.log" >&2; exit 1; }
+fi
+jobs=$(nproc 2>/dev/null || echo 2)
+if ! cmake --build "$build" -j"$jobs" --target omnishadow "${tests[@]}" >"$build/build.log" 2>&1; then
+  cat "$build/build.log" >&2
+  exit 1
+fi
+built=$SECONDS
+
+# Left out: the tests that make a batch worker crash on purpose (a fault-injection library raises
+# SIGSEGV in it). ThreadSanitizer handles that signal itself and prints its own report instead of
+# the crash the batch is checked to survive.
+crashes="-RobustnessTest.BatchGoesOnAfterAWorkerCrashOrHang:RobustnessTest.BatchGivesUpOnAWorkerThatDiesBeforeAnyJob"
+status=0
+for test in "${tests[@]}"; do
+  filter=()
+  [[ $test == robustness_test ]] && filter=("--gtest_filter=$crashes")
+  if ! (cd "$build/tests" && "./$test" "${filter[@]}" "$@" >"$build/$test.log" 2>&1); then
+    echo "test-threads: $test failed:" >&2
+    grep -E '^\[  FAILED  \]' "$build/$test.log" >&2 || tail -20 "$build/$test.log" >&2
+    status=1
+  fi
+done
+end=$SECONDS
+
+if compgen -G "$reports/*" >/dev/null; then
+  echo "test-threads: ThreadSanitizer reports:" >&2
+  for report in "$reports"/*; do
+    echo "---- $report" >&2
+    cat "$report" >&2
+  done
+  status=1
+fi
+echo "test-threads: build $((built - start))s, tests $((end - built))s"
+exit "$status"
