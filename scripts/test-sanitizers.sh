@@ -5,6 +5,8 @@
 # test fails or when any process, the CLI started by a test included, wrote a sanitizer report.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+# shellcheck source=scripts/lib/sanitizer-build.sh
+source "$root/scripts/lib/sanitizer-build.sh"
 build="$root/build-asan"
 supp="$root/tests/sanitizers"
 "$root/scripts/install-deps.sh"
@@ -29,14 +31,7 @@ export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:exitcode=87:suppressions=$supp/ubsan.supp:log_path=$reports/ubsan:log_exe_name=1"
 
 start=$SECONDS
-# -O1 -g1 instead of RelWithDebInfo's -O2 -g: the build takes half the compiler time (it is most
-# of this script's time in CI, where nothing is reused from build/), and line tables are all
-# that sanitizer stack traces need.
-if [[ ! -f "$build/CMakeCache.txt" ]]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOMNISHADOW_SANITIZE=ON \
-    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
-    >"$build/configure.log" 2>&1 || { cat "$build/configure.log" >&2; exit 1; }
-fi
+configure_instrumented "$root" "$build" OMNISHADOW_SANITIZE
 jobs=$(nproc 2>/dev/null || echo 2)
 # The build runs the test binaries too (gtest_discover_tests lists their tests), under the
 # options above.
@@ -71,13 +66,6 @@ status=0
 unset LD_PRELOAD
 end=$SECONDS
 
-if compgen -G "$reports/*" >/dev/null; then
-  echo "test-sanitizers: sanitizer reports:" >&2
-  for report in "$reports"/*; do
-    echo "---- $report" >&2
-    cat "$report" >&2
-  done
-  status=1
-fi
+print_sanitizer_reports test-sanitizers "$reports" || status=1
 echo "test-sanitizers: build $((built - start))s, tests $((end - built))s"
 exit "$status"

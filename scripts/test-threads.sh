@@ -10,6 +10,8 @@
 # that threads share.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+# shellcheck source=scripts/lib/sanitizer-build.sh
+source "$root/scripts/lib/sanitizer-build.sh"
 build="$root/build-tsan"
 "$root/scripts/install-deps.sh"
 
@@ -25,11 +27,7 @@ mkdir -p "$reports"
 export TSAN_OPTIONS="halt_on_error=0:second_deadlock_stack=1:suppressions=$root/tests/sanitizers/tsan.supp:log_path=$reports/tsan:log_exe_name=1"
 
 start=$SECONDS
-if [[ ! -f "$build/CMakeCache.txt" ]]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOMNISHADOW_SANITIZE_THREADS=ON \
-    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
-    >"$build/configure.log" 2>&1 || { cat "$build/configure.log" >&2; exit 1; }
-fi
+configure_instrumented "$root" "$build" OMNISHADOW_SANITIZE_THREADS
 jobs=$(nproc 2>/dev/null || echo 2)
 if ! cmake --build "$build" -j"$jobs" --target omnishadow "${tests[@]}" >"$build/build.log" 2>&1; then
   cat "$build/build.log" >&2
@@ -53,13 +51,6 @@ for test in "${tests[@]}"; do
 done
 end=$SECONDS
 
-if compgen -G "$reports/*" >/dev/null; then
-  echo "test-threads: ThreadSanitizer reports:" >&2
-  for report in "$reports"/*; do
-    echo "---- $report" >&2
-    cat "$report" >&2
-  done
-  status=1
-fi
+print_sanitizer_reports test-threads "$reports" || status=1
 echo "test-threads: build $((built - start))s, tests $((end - built))s"
 exit "$status"
