@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The tests that run our code on more than one thread, built with ThreadSanitizer
 # (-DOMNISHADOW_SANITIZE_THREADS=ON) in build-tsan/: the second shadow context's worker
-# (renderer/passes/shadow_worker.h), loading beside the GL context, the batch's loaders and
-# encoders, texture decoding and mipmaps on two threads, the memory warm-up's toucher and the
-# reference ray caster. Fails when a test fails or when any process, the CLI started by a test
+# (renderer/passes/shadow_worker.h), renderers on two threads at once, loading beside the GL
+# context, the batch's loaders and encoders, texture decoding and mipmaps on two threads, the
+# memory warm-up's toucher and the reference ray caster. Fails when a test fails or when any process, the CLI started by a test
 # included, wrote a report. Extra arguments go to every test binary (--gtest_filter=...).
 #
 # Not part of .ci/run (it would take CI past its time limit); run it after changing anything
@@ -15,9 +15,9 @@ source "$root/scripts/lib/sanitizer-build.sh"
 build="$root/build-tsan"
 "$root/scripts/install-deps.sh"
 
-tests=(parallel_shadow_maps_test steady_frames_test robustness_test render_test verify_test
-  batch_test cli_test camera_sets_test material_render_test gltf_loader_test jpeg_texture_test
-  image_mipmaps_test memory_warmup_test)
+tests=(parallel_shadow_maps_test concurrent_renderers_test steady_frames_test robustness_test
+  render_test verify_test batch_test cli_test camera_sets_test material_render_test
+  gltf_loader_test jpeg_texture_test image_mipmaps_test memory_warmup_test)
 
 reports="$build/tsan-reports"
 mkdir -p "$build"

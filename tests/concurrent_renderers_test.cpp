@@ -1,0 +1,85 @@
+// Renderers on different threads share nothing (the Python module's "one Renderer per thread",
+// the batch's in-process loaders): two threads that each load a textured glTF scene and render
+// frames with their own Renderer, at the same time, draw byte for byte what one renderer draws
+// alone. Under scripts/test-threads.sh, ThreadSanitizer checks that they touch no common state
+// (the loader's, the texture decoders', the shader sources', the second shadow context's).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <exception>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "renderer/render/renderer.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/view/camera.h"
+
+using namespace omnishadow;
+
+namespace {
+
+const std::filesystem::path kDuck =
+    std::filesystem::path(OMNISHADOW_SOURCE_DIR) / "scenes/thirdparty/Duck/Duck.glb";
+
+Light pointLight(const std::string& name, glm::vec3 position) {
+  Light light;
+  light.name = name;
+  light.type = LightType::Point;
+  light.position = position;
+  light.intensity = 60000.0f;  // the duck is about 160 units across
+  light.shadow.resolution = 128;
+  return light;
+}
+
+// Three frames with moved lights: the second and third draw their two maps in two contexts on
+// llvmpipe (RenderSettings::parallelShadowMaps), and none reuses a map. The frames' 8-bit
+// beauties, in order.
+std::vector<std::vector<std::uint8_t>> renderFrames() {
+  const Scene scene = loadGltf(kDuck);
+  Renderer renderer(ContextOptions{});
+  const ViewCamera camera = resolveCamera(scene, {.width = 64, .height = 48});
+  const bool software = renderer.glDescription().find("llvmpipe") != std::string::npos;
+  RenderSettings settings;
+  settings.srgb8Exposure = 0.0f;
+  std::vector<std::vector<std::uint8_t>> frames;
+  for (int frame = 0; frame < 3; ++frame) {
+    const float shift = 20.0f * static_cast<float>(frame);
+    const std::vector<Light> lights = {pointLight("key", {150.0f + shift, 250.0f, 150.0f}),
+                                       pointLight("fill", {-200.0f, 150.0f + shift, 100.0f})};
+    StageTimes times;
+    const Frame drawn = renderer.render(scene, lights, glm::vec3(0.05f), camera, settings, times);
+    EXPECT_EQ(drawn.shadowMapsRendered, 2);
+    EXPECT_EQ(drawn.shadowMapsInParallel, software && frame > 0 ? 1 : 0);
+    frames.push_back(drawn.srgb8 ? drawn.srgb8->rgb : std::vector<std::uint8_t>{});
+  }
+  return frames;
+}
+
+}  // namespace
+
+TEST(ConcurrentRenderers, TwoThreadsDrawWhatOneRendererDrawsAlone) {
+  const std::vector<std::vector<std::uint8_t>> alone = renderFrames();
+  ASSERT_EQ(alone.size(), 3u);
+  ASSERT_FALSE(alone[0].empty());
+  EXPECT_NE(alone[0], alone[2]);  // the lights moved: the frames are not all one picture
+
+  std::array<std::vector<std::vector<std::uint8_t>>, 2> together;
+  std::array<std::exception_ptr, 2> errors;
+  std::vector<std::thread> threads;
+  for (std::size_t t = 0; t < together.size(); ++t)
+    threads.emplace_back([&, t] {
+      try {
+        together[t] = renderFrames();
+      } catch (...) {
+        errors[t] = std::current_exception();
+      }
+    });
+  for (std::thread& thread : threads) thread.join();
+  for (std::size_t t = 0; t < together.size(); ++t) {
+    SCOPED_TRACE(::testing::Message() << "thread " << t);
+    if (errors[t]) std::rethrow_exception(errors[t]);
+    EXPECT_EQ(together[t], alone);
+  }
+}
