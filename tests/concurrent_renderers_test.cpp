@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "renderer/gl/software_rasterizer.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/view/camera.h"
@@ -40,7 +41,7 @@ std::vector<std::vector<std::uint8_t>> renderFrames() {
   const Scene scene = loadGltf(kDuck);
   Renderer renderer(ContextOptions{});
   const ViewCamera camera = resolveCamera(scene, {.width = 64, .height = 48});
-  const bool software = renderer.glDescription().find("llvmpipe") != std::string::npos;
+  const bool software = gl::isLlvmpipe(renderer.glDescription());
   RenderSettings settings;
   settings.srgb8Exposure = 0.0f;
   std::vector<std::vector<std::uint8_t>> frames;

@@ -6,6 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "renderer/gl/software_rasterizer.h"
 #include "renderer/render/renderer.h"
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
@@ -92,7 +93,7 @@ TEST(ParallelShadowMaps, DrawTheSameMapsAndPicturesAsOneContext) {
   const Frame first = renderer.render(scene, rig(0.0f), glm::vec3(0.03f), camera, settings, times);
   EXPECT_EQ(first.shadowMapsInParallel, 0);
   EXPECT_EQ(first.shadowMapsRendered, 6);
-  const bool software = renderer.glDescription().find("llvmpipe") != std::string::npos;
+  const bool software = gl::isLlvmpipe(renderer.glDescription());
 
   for (const ShadowPassStrategy strategy :
        {ShadowPassStrategy::Auto, ShadowPassStrategy::Geometry, ShadowPassStrategy::Instanced}) {
