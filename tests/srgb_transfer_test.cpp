@@ -142,6 +142,48 @@ TEST(SrgbTransfer, RgbaToSrgb8RgbIsEachChannelsSrgb8) {
 }
 
 // A mipmap level's texels: R, G and B as srgb8(), alpha rounded linearly.
+TEST(SrgbTransfer, ToLinear8IsLinear8OfEachValue) {
+  // A dense sample of [0, 1] with both sides of every rounding step (k + 0.5) / 255, then values
+  // outside it, NaN and infinities.
+  std::vector<float> values;
+  const std::uint32_t one = std::bit_cast<std::uint32_t>(1.0f);
+  for (std::uint32_t bits = 0; bits <= one; bits += 509) values.push_back(fromBits(bits));
+  for (int k = 0; k < 255; ++k) {
+    const float step = (static_cast<float>(k) + 0.5f) / 255.0f;
+    for (float v = step, n = 0; n < 4; ++n) {
+      values.push_back(v);
+      v = std::nextafter(v, 0.0f);
+    }
+    for (float v = step, n = 0; n < 4; ++n) {
+      values.push_back(v);
+      v = std::nextafter(v, 2.0f);
+    }
+  }
+  for (float v : {-0.0f, -1e-30f, -0.5f, 1.0f, 1.0000001f, 1.5f, 255.0f,
+                  std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                  -std::numeric_limits<float>::infinity()})
+    values.push_back(v);
+  std::vector<std::uint8_t> out(values.size() + 1, 77);
+  toLinear8(values.data(), values.size(), out.data());
+  std::size_t mismatches = 0;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (out[i] != linear8(values[i])) ++mismatches;
+  EXPECT_EQ(mismatches, 0u);
+  EXPECT_EQ(out.back(), 77) << "wrote past the last value";
+  EXPECT_EQ(linear8(std::numeric_limits<float>::quiet_NaN()), 0);
+  EXPECT_EQ(linear8(0.5f), 128);         // 127.5 + 0.5
+  EXPECT_EQ(linear8(2.0f / 510.0f), 1);  // 1 + 0.5, truncated
+  // Every count from 0 to 40, so that each leaves a different tail after the blocks of 16.
+  for (std::size_t count = 0; count <= 40; ++count) {
+    std::vector<float> some(values.begin() + 1000, values.begin() + 1000 + count);
+    std::vector<std::uint8_t> bytes(count + 1, 77);
+    toLinear8(some.data(), count, bytes.data());
+    for (std::size_t i = 0; i < count; ++i)
+      ASSERT_EQ(bytes[i], linear8(some[i])) << "count " << count << ", value " << i;
+    EXPECT_EQ(bytes[count], 77) << "count " << count;
+  }
+}
+
 TEST(SrgbTransfer, RgbaToSrgb8RgbaEncodesColourAndRoundsAlphaLinearly) {
   std::vector<float> rgba = denseRgba();
   for (float& v : rgba)  // a level's values come from averaging decoded bytes: in [0, 1]

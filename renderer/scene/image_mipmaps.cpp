@@ -110,7 +110,7 @@ void roundRows(const LinearLevel& level, bool srgb, Image& image, int y0, int y1
     rgbaToSrgb8Rgba(from, texels, to);
     return;
   }
-  for (std::size_t i = 0; i < texels * 4; ++i) to[i] = linear8(from[i]);
+  toLinear8(from, texels * 4, to);
 }
 
 Image sized(const std::string& name, int width, int height) {

@@ -181,8 +181,28 @@ __attribute__((target("avx2"))) std::size_t rgbaToSrgb8RgbaAvx2(const float* rgb
 }  // namespace
 
 std::uint8_t linear8(float linear) {
-  const float v = std::clamp(linear, 0.0f, 1.0f);
+  const float v = linear > 0.0f ? (linear < 1.0f ? linear : 1.0f) : 0.0f;
   return static_cast<std::uint8_t>(v * 255.0f + 0.5f);
+}
+
+void toLinear8(const float* values, std::size_t count, std::uint8_t* out) {
+  // SSE2, which every x86-64 CPU has. A linear texture's mipmaps called linear8() once per
+  // channel: 13-22 ms of a 2048^2 chain, against 8-12 for an sRGB one. The same operations in
+  // the same order, so the same bytes: max with 0 first (NaN gives 0), min with 1, times 255,
+  // plus 0.5, truncated.
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  const __m128 scale = _mm_set1_ps(255.0f), half = _mm_set1_ps(0.5f);
+  const auto codes = [&](const float* four) {
+    const __m128 v = _mm_min_ps(_mm_max_ps(_mm_loadu_ps(four), zero), one);
+    return _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(v, scale), half));
+  };
+  std::size_t i = 0;
+  for (; i + 16 <= count; i += 16) {
+    const __m128i low = _mm_packs_epi32(codes(values + i), codes(values + i + 4));
+    const __m128i high = _mm_packs_epi32(codes(values + i + 8), codes(values + i + 12));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(low, high));
+  }
+  for (; i < count; ++i) out[i] = linear8(values[i]);
 }
 
 void rgbaToSrgb8Rgb(const float* rgba, std::size_t count, float scale, std::uint8_t* rgb) {

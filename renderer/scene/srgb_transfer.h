@@ -13,8 +13,11 @@ float srgbEncode(float linear);
 std::uint8_t srgb8(float linear);
 
 // round(255 * linear) of a value clamped to [0, 1]: the 8-bit code of a channel stored
-// linearly (alpha, and textures that are not sRGB).
+// linearly (alpha, and textures that are not sRGB). NaN gives 0.
 std::uint8_t linear8(float linear);
+
+// linear8() of `count` values into `count` bytes, sixteen at a time.
+void toLinear8(const float* values, std::size_t count, std::uint8_t* out);
 
 // [k]: the least float whose srgb8() is k + 1; [255] is +infinity. srgb8() of a value in
 // [0, 1] is the number of these it is at least.
