@@ -8,6 +8,7 @@
 #include <array>
 #include <exception>
 #include <filesystem>
+#include <future>
 #include <string>
 #include <thread>
 #include <vector>
@@ -83,4 +84,56 @@ TEST(ConcurrentRenderers, TwoThreadsDrawWhatOneRendererDrawsAlone) {
     if (errors[t]) std::rethrow_exception(errors[t]);
     EXPECT_EQ(together[t], alone);
   }
+}
+
+// EGL initializes a display once per process: a renderer that ends while another on the same
+// display lives must leave it initialized, or the other can make no context after that (its
+// second shadow context, on the next frame with two maps). Found as this file's first test
+// failing under load: one thread's renderer ended before the other made its worker.
+TEST(ConcurrentRenderers, ARendererThatEndsLeavesTheOthersDisplayInitialized) {
+  const Scene scene = loadGltf(kDuck);
+  auto first = std::make_unique<Renderer>(ContextOptions{});
+  const bool software = gl::isLlvmpipe(first->glDescription());
+  std::promise<void> secondMadeAFrame, firstEnded;
+  std::vector<Frame> frames;
+  std::exception_ptr error;
+  std::thread second([&] {
+    bool signalled = false;
+    try {
+      Renderer renderer(ContextOptions{});
+      const ViewCamera camera = resolveCamera(scene, {.width = 64, .height = 48});
+      RenderSettings settings;
+      settings.srgb8Exposure = 0.0f;
+      for (int frame = 0; frame < 3; ++frame) {
+        if (frame == 1) {
+          signalled = true;
+          secondMadeAFrame.set_value();
+          firstEnded.get_future().wait();
+        }
+        const float shift = 20.0f * static_cast<float>(frame);
+        const std::vector<Light> lights = {pointLight("key", {150.0f + shift, 250.0f, 150.0f}),
+                                           pointLight("fill", {-200.0f, 150.0f + shift, 100.0f})};
+        StageTimes times;
+        frames.push_back(renderer.render(scene, lights, glm::vec3(0.05f), camera, settings, times));
+      }
+    } catch (...) {
+      error = std::current_exception();
+      if (!signalled) secondMadeAFrame.set_value();
+    }
+  });
+  secondMadeAFrame.get_future().wait();
+  first.reset();
+  firstEnded.set_value();
+  second.join();
+  if (error) std::rethrow_exception(error);
+  ASSERT_EQ(frames.size(), 3u);
+  for (std::size_t frame = 1; frame < frames.size(); ++frame) {
+    SCOPED_TRACE(::testing::Message() << "frame " << frame);
+    EXPECT_EQ(frames[frame].shadowMapsInParallel, software ? 1 : 0);
+    EXPECT_TRUE(frames[frame].warnings.empty())
+        << (frames[frame].warnings.empty() ? "" : frames[frame].warnings.front());
+  }
+  // And a renderer made after both is whole too.
+  Renderer later(ContextOptions{});
+  EXPECT_FALSE(later.glDescription().empty());
 }

@@ -5,6 +5,8 @@
 #include <GL/glcorearb.h>
 
 #include <cstring>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -50,6 +52,39 @@ struct Candidate {
   void* nativeDisplay;
 };
 
+// EGL initializes a display once per process, and eglTerminate() ends it for every renderer
+// on it: the contexts current elsewhere live on, but none can be made there any more (another
+// renderer's second shadow context failed with EGL_NOT_INITIALIZED). So the renderers of a
+// process count their uses of each display, and the last to end terminates it. Process-wide
+// state because EGL's displays are; never destroyed, so that a renderer that ends during exit
+// still finds it.
+class DisplayUses {
+ public:
+  static DisplayUses& instance() {
+    static auto* uses = new DisplayUses;
+    return *uses;
+  }
+
+  bool initialize(EGLDisplay display, EGLint* major, EGLint* minor) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!eglInitialize(display, major, minor)) return false;
+    ++uses_[display];
+    return true;
+  }
+
+  void terminate(EGLDisplay display) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto found = uses_.find(display);
+    if (found == uses_.end() || --found->second > 0) return;
+    uses_.erase(found);
+    eglTerminate(display);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<EGLDisplay, int> uses_;
+};
+
 }  // namespace
 
 struct EglContext::Impl {
@@ -67,7 +102,7 @@ struct EglContext::Impl {
     if (display == EGL_NO_DISPLAY)
       return std::string("eglGetPlatformDisplayEXT failed: ") + eglErrorName(eglGetError());
     EGLint major = 0, minor = 0;
-    if (!eglInitialize(display, &major, &minor)) {
+    if (!DisplayUses::instance().initialize(display, &major, &minor)) {
       display = EGL_NO_DISPLAY;
       return std::string("eglInitialize failed: ") + eglErrorName(eglGetError());
     }
@@ -113,7 +148,7 @@ struct EglContext::Impl {
     eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
     if (ownsDisplay)
-      eglTerminate(display);
+      DisplayUses::instance().terminate(display);
     else
       eglReleaseThread();  // a shared context's thread (ShadowWorker's) ends after it
     context = EGL_NO_CONTEXT;
