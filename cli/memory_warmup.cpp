@@ -47,9 +47,13 @@ double threadCpuMilliseconds() {
 MemoryWarmup::MemoryWarmup(std::size_t bytes) {
   if (bytes == 0 || !wanted()) return;
   // Every block from the heap (no mmap of its own, which would come with fresh pages) and
-  // nothing given back to the system below 1 GiB: the warm pages stay for the frame.
+  // nothing given back to the system below 1 GiB: the warm pages stay for the frame. One heap
+  // for every thread: a thread's own arena would fault in fresh pages where the main heap has
+  // warm ones, and what it frees would not serve the frame (the upload's mipmap thread freed
+  // 16 MiB a texture that the frame then faulted in anew).
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_ARENA_MAX, 1);
   block_ = static_cast<char*>(std::malloc(bytes));
   if (!block_) return;
   bytes_ = bytes;

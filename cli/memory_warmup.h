@@ -8,10 +8,10 @@
 // time unused meanwhile. A thread at idle priority (SCHED_IDLE: it runs only on an otherwise
 // idle core) touches the pages of a large block of malloc's heap in that time; the block then
 // goes back to the heap, where the frame's textures and buffers are carved from pages that are
-// already there. malloc is set to serve every block from its heap and to keep what is freed,
-// so that they are: a process that renders once and exits. Where they fault quickly, the block
-// gets transparent huge pages, which the toucher faults in 2 MiB at a time
-// (cli/huge_page_trial.h).
+// already there. malloc is set to serve every block from its heap, one heap for all threads,
+// and to keep what is freed, so that they are: a process that renders once and exits. Where
+// they fault quickly, the block gets transparent huge pages, which the toucher faults in 2 MiB
+// at a time (cli/huge_page_trial.h).
 
 #include <atomic>
 #include <cstddef>

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "tests/support/cli_fixture.h"
@@ -48,6 +49,24 @@ TEST(MemoryWarmup, LargeBlocksComeFromTheHeapOnlyAfterAWarmup) {
   }
   EXPECT_EQ(mappedBlocksFor(kCubeMap), 0);
   EXPECT_EQ(mappedBlocksFor(std::size_t{200} << 20), 0);
+}
+
+// After a warm-up a thread started later allocates from the main heap, whose pages the warm-up
+// touched and where what the others free goes (an arena of its own would fault in fresh pages
+// and keep what it frees): its block lies below the program break, where no mapping is.
+TEST(MemoryWarmup, ThreadsStartedAfterAWarmupAllocateFromTheWarmedHeap) {
+  {
+    MemoryWarmup warmup(std::size_t{16} << 20);
+    warmup.finish();
+  }
+  std::uintptr_t block = 0;
+  std::thread([&block] {
+    void* taken = std::malloc(std::size_t{4} << 20);
+    block = reinterpret_cast<std::uintptr_t>(taken);
+    std::free(taken);
+  }).join();
+  ASSERT_NE(block, 0u);
+  EXPECT_LT(block, reinterpret_cast<std::uintptr_t>(sbrk(0)));
 }
 
 // The flags of the mapping that holds `address`, from /proc/self/smaps ("" when none does).

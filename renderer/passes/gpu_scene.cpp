@@ -1,10 +1,17 @@
 #include "renderer/passes/gpu_scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <future>
+#include <memory>
+#include <set>
+#include <utility>
+#include <vector>
 
 #include "renderer/core/errors.h"
 #include "renderer/scene/image_mipmaps.h"
+#include "renderer/scene/mipmap_queue.h"
 
 namespace omnishadow {
 namespace {
@@ -33,7 +40,44 @@ Image halved(const Image& in) {
   return out;
 }
 
+// A texture slot of a material, the color space its texels are in, and where its GL texture
+// and sampler go.
+struct TextureUse {
+  const TextureSlot* slot;
+  bool srgb;
+  GLuint GpuMaterial::*texture;
+  GLuint GpuMaterial::*sampler;
+};
+
+std::array<TextureUse, 6> textureUses(const Material& desc) {
+  // Specular-glossiness materials have no metallic-roughness texture; their specular color
+  // (sRGB) and glossiness (alpha, linear either way) take its unit.
+  const TextureSlot& specularOrMetallic =
+      desc.specularGlossiness ? desc.specularGlossinessTexture : desc.metallicRoughnessTexture;
+  return {{{&desc.baseColorTexture, true, &GpuMaterial::baseColor, &GpuMaterial::baseColorSampler},
+           {&specularOrMetallic, desc.specularGlossiness, &GpuMaterial::metallicRoughness,
+            &GpuMaterial::metallicRoughnessSampler},
+           {&desc.normalTexture, false, &GpuMaterial::normal, &GpuMaterial::normalSampler},
+           {&desc.occlusionTexture, false, &GpuMaterial::occlusion, &GpuMaterial::occlusionSampler},
+           {&desc.emissiveTexture, true, &GpuMaterial::emissive, &GpuMaterial::emissiveSampler},
+           {&desc.transmissionTexture, false, &GpuMaterial::transmission,
+            &GpuMaterial::transmissionSampler}}};
+}
+
+// A texture made but for its mipmap levels, whose chain the queue is making.
+struct PendingLevels {
+  GLuint texture = 0;
+  std::future<std::vector<Image>> chain;
+  std::unique_ptr<Image> image;  // the image halved to fit the GL, when it had to be
+};
+
 }  // namespace
+
+struct GpuScene::TextureUploads {
+  explicit TextureUploads(bool chainsOnTheirOwnThread) : chains(chainsOnTheirOwnThread) {}
+  std::vector<PendingLevels> pending;  // declared before the queue, so destroyed after it
+  MipmapQueue chains;
+};
 
 GpuScene::GpuScene(const Scene& scene, TextureCache* textures, GeometryCache* geometry)
     : geometry_(geometry ? geometry->find(scene) : std::make_shared<const GpuGeometry>(scene)),
@@ -41,7 +85,8 @@ GpuScene::GpuScene(const Scene& scene, TextureCache* textures, GeometryCache* ge
   uploadMaterials(scene);
 }
 
-GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool srgb) {
+GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool srgb,
+                            TextureUploads& uploads) {
   if (slot.texture < 0) return 0;
   const int imageIndex = scene.textures[slot.texture].image;
   if (imageIndex < 0) return 0;
@@ -49,20 +94,25 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
   if (!texture) {
     GLint maxSize = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
-    Image fitted;
+    std::unique_ptr<Image> fitted;
     const Image* source = &scene.images[imageIndex];
     if (source->width > maxSize || source->height > maxSize) {
-      fitted = *source;
-      while (fitted.width > maxSize || fitted.height > maxSize) fitted = halved(fitted);
-      warnings_.push_back(
-          "images[" + std::to_string(imageIndex) + "] \"" + source->name +
-          "\": " + std::to_string(source->width) + "x" + std::to_string(source->height) +
-          " exceeds this GL's maximum texture size " + std::to_string(maxSize) +
-          "; downscaled to " + std::to_string(fitted.width) + "x" + std::to_string(fitted.height));
-      source = &fitted;
+      fitted = std::make_unique<Image>(*source);
+      while (fitted->width > maxSize || fitted->height > maxSize) *fitted = halved(*fitted);
+      warnings_.push_back("images[" + std::to_string(imageIndex) + "] \"" + source->name + "\": " +
+                          std::to_string(source->width) + "x" + std::to_string(source->height) +
+                          " exceeds this GL's maximum texture size " + std::to_string(maxSize) +
+                          "; downscaled to " + std::to_string(fitted->width) + "x" +
+                          std::to_string(fitted->height));
+      source = fitted.get();
     }
     const Image& image = *source;
     const auto make = [&] {
+      // The chain is made on the queue's thread while this one makes the storage and the first
+      // level; finishLevels() puts it in.
+      PendingLevels pending;
+      pending.chain = uploads.chains.add(image, srgb);
+      pending.image = std::move(fitted);
       gl::Texture made = gl::createTexture(GL_TEXTURE_2D);
       const int levels =
           1 + static_cast<int>(std::floor(std::log2(std::max(image.width, image.height))));
@@ -73,16 +123,24 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
       // image's first (top) row goes into row 0 unflipped.
       glTextureSubImage2D(made.get(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_UNSIGNED_BYTE,
                           image.rgba.data());
-      int level = 1;
-      for (const Image& smaller : mipmapChain(image, srgb))
-        glTextureSubImage2D(made.get(), level++, 0, 0, smaller.width, smaller.height, GL_RGBA,
-                            GL_UNSIGNED_BYTE, smaller.rgba.data());
+      pending.texture = made.get();
+      uploads.pending.push_back(std::move(pending));
       return made;
     };
     texture = textureCache_ ? textureCache_->find(image, srgb, make)
                             : std::make_shared<const gl::Texture>(make());
   }
   return texture->get();
+}
+
+void GpuScene::finishLevels(TextureUploads& uploads) {
+  for (PendingLevels& pending : uploads.pending) {
+    int level = 1;
+    for (const Image& smaller : pending.chain.get())
+      glTextureSubImage2D(pending.texture, level++, 0, 0, smaller.width, smaller.height, GL_RGBA,
+                          GL_UNSIGNED_BYTE, smaller.rgba.data());
+  }
+  uploads.pending.clear();
 }
 
 GLuint GpuScene::samplerFor(const Scene& scene, const TextureSlot& slot) {
@@ -105,27 +163,24 @@ void GpuScene::uploadMaterials(const Scene& scene) {
   std::vector<Material> descs = scene.materials;
   descs.emplace_back();  // glTF's default material: white, metallic 1, roughness 1
   descs.back().name = "(default)";
+  std::set<std::pair<int, bool>> toMake;  // (image, sRGB) of every texture the materials use
+  for (const Material& desc : descs)
+    for (const TextureUse& use : textureUses(desc)) {
+      const int texture = use.slot->texture;
+      if (texture >= 0 && scene.textures[texture].image >= 0)
+        toMake.emplace(scene.textures[texture].image, use.srgb);
+    }
+  TextureUploads uploads(toMake.size() > 1);
   for (const Material& desc : descs) {
     GpuMaterial m;
     m.desc = desc;
-    m.baseColor = textureFor(scene, desc.baseColorTexture, true);
-    m.baseColorSampler = samplerFor(scene, desc.baseColorTexture);
-    // Specular-glossiness materials have no metallic-roughness texture; their specular color
-    // (sRGB) and glossiness (alpha, linear either way) take its unit.
-    const TextureSlot& specularOrMetallic =
-        desc.specularGlossiness ? desc.specularGlossinessTexture : desc.metallicRoughnessTexture;
-    m.metallicRoughness = textureFor(scene, specularOrMetallic, desc.specularGlossiness);
-    m.metallicRoughnessSampler = samplerFor(scene, specularOrMetallic);
-    m.normal = textureFor(scene, desc.normalTexture, false);
-    m.normalSampler = samplerFor(scene, desc.normalTexture);
-    m.occlusion = textureFor(scene, desc.occlusionTexture, false);
-    m.occlusionSampler = samplerFor(scene, desc.occlusionTexture);
-    m.emissive = textureFor(scene, desc.emissiveTexture, true);
-    m.emissiveSampler = samplerFor(scene, desc.emissiveTexture);
-    m.transmission = textureFor(scene, desc.transmissionTexture, false);
-    m.transmissionSampler = samplerFor(scene, desc.transmissionTexture);
+    for (const TextureUse& use : textureUses(desc)) {
+      m.*use.texture = textureFor(scene, *use.slot, use.srgb, uploads);
+      m.*use.sampler = samplerFor(scene, *use.slot);
+    }
     materials_.push_back(std::move(m));
   }
+  finishLevels(uploads);
 }
 
 }  // namespace omnishadow

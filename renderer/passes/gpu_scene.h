@@ -45,8 +45,11 @@ class GpuScene {
   const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
+  struct TextureUploads;  // the textures of one uploadMaterials() still waiting for mipmaps
   void uploadMaterials(const Scene& scene);
-  GLuint textureFor(const Scene& scene, const TextureSlot& slot, bool srgb);
+  GLuint textureFor(const Scene& scene, const TextureSlot& slot, bool srgb,
+                    TextureUploads& uploads);
+  void finishLevels(TextureUploads& uploads);
   GLuint samplerFor(const Scene& scene, const TextureSlot& slot);
 
   std::shared_ptr<const GpuGeometry> geometry_;
