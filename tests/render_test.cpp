@@ -1597,6 +1597,17 @@ TEST(Materials, TexturesLargerThanTheGlLimitAreDownscaledWithAWarning) {
   EXPECT_NE(frame.warnings[0].find("exceeds this GL's maximum texture size"), std::string::npos)
       << frame.warnings[0];
   EXPECT_GT(frame.beauty.at(8, 8, 0), 0.0f);
+
+  // The same image as sRGB base color and linear occlusion: two textures, so their mipmap
+  // chains are made on the upload's queue (renderer/scene/mipmap_queue.h) from the two halved
+  // copies, which must live until the queue is done with them (AddressSanitizer checks that).
+  scene.materials[material].occlusionTexture.texture = 0;
+  const Frame both =
+      sharedRenderer().render(scene, {lampAbove()}, glm::vec3(0.0f), camera, {}, times);
+  ASSERT_EQ(both.warnings.size(), 2u);
+  for (const std::string& warning : both.warnings)
+    EXPECT_NE(warning.find("exceeds this GL's maximum texture size"), std::string::npos) << warning;
+  EXPECT_GT(both.beauty.at(8, 8, 0), 0.0f);
 }
 
 // ---------------------------------------------------------------------------------------------
