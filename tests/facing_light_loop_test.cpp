@@ -114,7 +114,9 @@ TEST(FacingLightLoop, EachLightOfTheRigLightsOnlyPartOfThePicture) {
       (brighter ? lit : unlit) += 1;
     }
     EXPECT_GT(unlit, 200u);
-    if (l.name != "under") EXPECT_GT(lit, 500u);
+    if (l.name != "under") {
+      EXPECT_GT(lit, 500u);
+    }
   }
 }
 
