@@ -18,6 +18,7 @@
 #include "renderer/passes/shader_contract.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/srgb_transfer.h"
 #include "renderer/verify/shadow_verification.h"
 #include "renderer/view/camera.h"
 #include "renderer/view/cube_faces.h"
@@ -1608,6 +1609,48 @@ TEST(Materials, TexturesLargerThanTheGlLimitAreDownscaledWithAWarning) {
   for (const std::string& warning : both.warnings)
     EXPECT_NE(warning.find("exceeds this GL's maximum texture size"), std::string::npos) << warning;
   EXPECT_GT(both.beauty.at(8, 8, 0), 0.0f);
+}
+
+TEST(Materials, EachOfManyTexturesGetsItsOwnMipmapLevels) {
+  // Seven uniform textures, more than the upload keeps waiting for their levels at once
+  // (gpu_scene.cpp: the chains are made on a queue and put in later), on seven planes seen from
+  // far away, so that their smallest levels are what is sampled. Each must look like a plain
+  // material of its color: a texture left without levels samples black, one given another's
+  // levels another color.
+  constexpr int kTextures = 7;
+  Scene textured, plain;
+  for (int i = 0; i < kTextures; ++i) {
+    const std::uint8_t code[3] = {static_cast<std::uint8_t>(40 + 30 * i),
+                                  static_cast<std::uint8_t>(220 - 25 * i),
+                                  static_cast<std::uint8_t>(90 + 17 * i)};
+    Image image;
+    image.name = "uniform" + std::to_string(i);
+    image.width = 64;
+    image.height = 32;
+    for (int t = 0; t < image.width * image.height; ++t)
+      image.rgba.insert(image.rgba.end(), {code[0], code[1], code[2], 255});
+    textured.images.push_back(image);
+    textured.textures.push_back({i, {}});
+    const glm::mat4 place = translate({4.5f * static_cast<float>(i - kTextures / 2), 0, 0});
+    const int material = addMaterial(textured, glm::vec4(1.0f));
+    textured.materials[material].baseColorTexture.texture = i;
+    addObject(textured, builder::makePlane(4.0f), place, material);
+    const glm::vec4 color(srgbDecode(code[0]), srgbDecode(code[1]), srgbDecode(code[2]), 1.0f);
+    addObject(plain, builder::makePlane(4.0f), place, addMaterial(plain, color));
+  }
+  const ViewCamera camera = lookFrom(textured, {0, 60, 0.01f}, {0, 0, 0}, 64, 16, 30.0f);
+  const Light light = pointLight("lamp", {0, 20, 0}, ShadowFilter::Pcf, 64);
+  StageTimes times;
+  const Frame a = sharedRenderer().render(textured, {light}, glm::vec3(0.1f), camera, {}, times);
+  const Frame b = sharedRenderer().render(plain, {light}, glm::vec3(0.1f), camera, {}, times);
+  ASSERT_EQ(a.beauty.pixels.size(), b.beauty.pixels.size());
+  float largest = 0.0f, difference = 0.0f;
+  for (std::size_t i = 0; i < a.beauty.pixels.size(); ++i) {
+    largest = std::max(largest, b.beauty.pixels[i]);
+    difference = std::max(difference, std::abs(a.beauty.pixels[i] - b.beauty.pixels[i]));
+  }
+  EXPECT_GT(largest, 0.05f) << "the planes are lit and in view";
+  EXPECT_LT(difference, 1e-3f * largest);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <deque>
 #include <future>
 #include <memory>
 #include <set>
@@ -64,6 +65,11 @@ std::array<TextureUse, 6> textureUses(const Material& desc) {
             &GpuMaterial::transmissionSampler}}};
 }
 
+// At most this many textures wait for their mipmap levels: the GL thread goes on making the
+// next textures' storage while the queue makes their chains, and no more chains' levels than
+// this are held in memory at once (a scene of hundreds of large textures held them all).
+constexpr std::size_t kMaxPendingChains = 4;
+
 // A texture made but for its mipmap levels, whose chain the queue is making.
 struct PendingLevels {
   GLuint texture = 0;
@@ -75,7 +81,7 @@ struct PendingLevels {
 
 struct GpuScene::TextureUploads {
   explicit TextureUploads(bool chainsOnTheirOwnThread) : chains(chainsOnTheirOwnThread) {}
-  std::vector<PendingLevels> pending;  // declared before the queue, so destroyed after it
+  std::deque<PendingLevels> pending;  // declared before the queue, so destroyed after it
   MipmapQueue chains;
 };
 
@@ -109,7 +115,7 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
     const Image& image = *source;
     const auto make = [&] {
       // The chain is made on the queue's thread while this one makes the storage and the first
-      // level; finishLevels() puts it in.
+      // level; finishOldest() puts it in, kMaxPendingChains textures later or at the end.
       PendingLevels pending;
       pending.chain = uploads.chains.add(image, srgb);
       pending.image = std::move(fitted);
@@ -125,6 +131,7 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
                           image.rgba.data());
       pending.texture = made.get();
       uploads.pending.push_back(std::move(pending));
+      while (uploads.pending.size() > kMaxPendingChains) finishOldest(uploads);
       return made;
     };
     texture = textureCache_ ? textureCache_->find(image, srgb, make)
@@ -133,14 +140,17 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
   return texture->get();
 }
 
+void GpuScene::finishOldest(TextureUploads& uploads) {
+  PendingLevels& oldest = uploads.pending.front();
+  int level = 1;
+  for (const Image& smaller : oldest.chain.get())
+    glTextureSubImage2D(oldest.texture, level++, 0, 0, smaller.width, smaller.height, GL_RGBA,
+                        GL_UNSIGNED_BYTE, smaller.rgba.data());
+  uploads.pending.pop_front();
+}
+
 void GpuScene::finishLevels(TextureUploads& uploads) {
-  for (PendingLevels& pending : uploads.pending) {
-    int level = 1;
-    for (const Image& smaller : pending.chain.get())
-      glTextureSubImage2D(pending.texture, level++, 0, 0, smaller.width, smaller.height, GL_RGBA,
-                          GL_UNSIGNED_BYTE, smaller.rgba.data());
-  }
-  uploads.pending.clear();
+  while (!uploads.pending.empty()) finishOldest(uploads);
 }
 
 GLuint GpuScene::samplerFor(const Scene& scene, const TextureSlot& slot) {

@@ -49,7 +49,8 @@ class GpuScene {
   void uploadMaterials(const Scene& scene);
   GLuint textureFor(const Scene& scene, const TextureSlot& slot, bool srgb,
                     TextureUploads& uploads);
-  void finishLevels(TextureUploads& uploads);
+  void finishOldest(TextureUploads& uploads);  // puts in the levels of the oldest pending texture
+  void finishLevels(TextureUploads& uploads);  // of every pending texture
   GLuint samplerFor(const Scene& scene, const TextureSlot& slot);
 
   std::shared_ptr<const GpuGeometry> geometry_;
