@@ -204,6 +204,15 @@ TEST(SrgbTransfer, RgbaToSrgb8RgbaEncodesColourAndRoundsAlphaLinearly) {
   rgbaToSrgb8Rgba(alphas, 2, two);
   EXPECT_EQ(two[3], 1);    // 0.5 + 0.5 rounds up
   EXPECT_EQ(two[7], 252);  // 252.45
+  // A NaN alpha gives 0 as linear8() does, in the pairs of the vector path and the odd last
+  // texel alike.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float three[12] = {0.5f, 0.5f, 0.5f, nan, 0.5f, 0.5f, 0.5f, 1.0f, 0.5f, 0.5f, 0.5f, nan};
+  std::uint8_t codes[12] = {};
+  rgbaToSrgb8Rgba(three, 3, codes);
+  EXPECT_EQ(codes[3], 0);
+  EXPECT_EQ(codes[7], 255);
+  EXPECT_EQ(codes[11], 0);
 }
 
 }  // namespace

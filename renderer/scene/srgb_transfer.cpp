@@ -167,9 +167,9 @@ __attribute__((target("avx2"))) std::size_t rgbaToSrgb8RgbaAvx2(const float* rgb
     _mm_prefetch(reinterpret_cast<const char*>(rgba + i * 4) + kPrefetchBytes, _MM_HINT_T0);
     const __m256 texels = _mm256_loadu_ps(rgba + i * 4);
     const __m256i srgb = srgb8Avx2(texels, table);
-    // As the scalar rounding: clamped, times 255, plus 0.5, truncated.
+    // As linear8(): max with 0 first (NaN gives 0), min with 1, times 255, plus 0.5, truncated.
     const __m256 clamped =
-        _mm256_max_ps(_mm256_min_ps(texels, _mm256_set1_ps(1.0f)), _mm256_setzero_ps());
+        _mm256_min_ps(_mm256_max_ps(texels, _mm256_setzero_ps()), _mm256_set1_ps(1.0f));
     const __m256i linear = _mm256_cvttps_epi32(
         _mm256_add_ps(_mm256_mul_ps(clamped, _mm256_set1_ps(255.0f)), _mm256_set1_ps(0.5f)));
     const std::uint64_t bytes = packBytes(_mm256_blend_epi32(srgb, linear, 0x88));
