@@ -35,23 +35,29 @@ Light pointLight(const std::string& name, glm::vec3 position) {
   return light;
 }
 
+// Frame `frame` (0, 1, 2) of the Duck with two shadowed point lights, moved each frame so that
+// no frame reuses a map, as an 8-bit beauty.
+Frame renderMovedLights(Renderer& renderer, const Scene& scene, int frame) {
+  const ViewCamera camera = resolveCamera(scene, {.width = 64, .height = 48});
+  RenderSettings settings;
+  settings.srgb8Exposure = 0.0f;
+  const float shift = 20.0f * static_cast<float>(frame);
+  const std::vector<Light> lights = {pointLight("key", {150.0f + shift, 250.0f, 150.0f}),
+                                     pointLight("fill", {-200.0f, 150.0f + shift, 100.0f})};
+  StageTimes times;
+  return renderer.render(scene, lights, glm::vec3(0.05f), camera, settings, times);
+}
+
 // Three frames with moved lights: the second and third draw their two maps in two contexts on
 // llvmpipe (RenderSettings::parallelShadowMaps), and none reuses a map. The frames' 8-bit
 // beauties, in order.
 std::vector<std::vector<std::uint8_t>> renderFrames() {
   const Scene scene = loadGltf(kDuck);
   Renderer renderer(ContextOptions{});
-  const ViewCamera camera = resolveCamera(scene, {.width = 64, .height = 48});
   const bool software = gl::isLlvmpipe(renderer.glDescription());
-  RenderSettings settings;
-  settings.srgb8Exposure = 0.0f;
   std::vector<std::vector<std::uint8_t>> frames;
   for (int frame = 0; frame < 3; ++frame) {
-    const float shift = 20.0f * static_cast<float>(frame);
-    const std::vector<Light> lights = {pointLight("key", {150.0f + shift, 250.0f, 150.0f}),
-                                       pointLight("fill", {-200.0f, 150.0f + shift, 100.0f})};
-    StageTimes times;
-    const Frame drawn = renderer.render(scene, lights, glm::vec3(0.05f), camera, settings, times);
+    const Frame drawn = renderMovedLights(renderer, scene, frame);
     EXPECT_EQ(drawn.shadowMapsRendered, 2);
     EXPECT_EQ(drawn.shadowMapsInParallel, software && frame > 0 ? 1 : 0);
     frames.push_back(drawn.srgb8 ? drawn.srgb8->rgb : std::vector<std::uint8_t>{});
@@ -101,20 +107,13 @@ TEST(ConcurrentRenderers, ARendererThatEndsLeavesTheOthersDisplayInitialized) {
     bool signalled = false;
     try {
       Renderer renderer(ContextOptions{});
-      const ViewCamera camera = resolveCamera(scene, {.width = 64, .height = 48});
-      RenderSettings settings;
-      settings.srgb8Exposure = 0.0f;
       for (int frame = 0; frame < 3; ++frame) {
         if (frame == 1) {
           signalled = true;
           secondMadeAFrame.set_value();
           firstEnded.get_future().wait();
         }
-        const float shift = 20.0f * static_cast<float>(frame);
-        const std::vector<Light> lights = {pointLight("key", {150.0f + shift, 250.0f, 150.0f}),
-                                           pointLight("fill", {-200.0f, 150.0f + shift, 100.0f})};
-        StageTimes times;
-        frames.push_back(renderer.render(scene, lights, glm::vec3(0.05f), camera, settings, times));
+        frames.push_back(renderMovedLights(renderer, scene, frame));
       }
     } catch (...) {
       error = std::current_exception();
