@@ -12,6 +12,7 @@
 #include "renderer/core/input_file.h"
 #include "renderer/scene/gltf_context.h"
 #include "renderer/scene/jpeg_decoder.h"
+#include "renderer/scene/png_texture_decoder.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -163,6 +164,18 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
       if (error) *error += "cannot decode the JPEG: " + jpeg.error + "\n";
       return false;
     }
+  }
+  // stb_image for every PNG the common-case decoder leaves: palettes, grey, 16 bits,
+  // transparency chunks, interlacing, damaged data.
+  DecodedPng png = decodePngTexture(bytes, length, kMaxImageSide, kMaxImageTexels);
+  if (png.ok) {
+    image->width = png.width;
+    image->height = png.height;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image = std::move(png.rgba);
+    return true;
   }
   return tinygltf::LoadImageData(image, index, error, warning, 0, 0, bytes, size, nullptr);
 }

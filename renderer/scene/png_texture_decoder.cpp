@@ -1,0 +1,172 @@
+#include "renderer/scene/png_texture_decoder.h"
+
+#include <libdeflate.h>
+
+#include <array>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string_view>
+
+namespace omnishadow::gltf_detail {
+
+namespace {
+
+constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+
+std::uint32_t be32(const unsigned char* p) {
+  return std::uint32_t{p[0]} << 24 | std::uint32_t{p[1]} << 16 | std::uint32_t{p[2]} << 8 |
+         std::uint32_t{p[3]};
+}
+
+struct DecompressorDeleter {
+  void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
+};
+
+// The file's layout, when it is one decodePng takes.
+struct Layout {
+  std::uint32_t width = 0, height = 0;
+  int channels = 0;                                                // 3 (RGB) or 4 (RGBA)
+  std::vector<std::pair<const unsigned char*, std::size_t>> data;  // the IDAT chunks, in order
+};
+
+bool parse(const unsigned char* bytes, std::size_t size, Layout& layout) {
+  if (size < kSignature.size() || std::memcmp(bytes, kSignature.data(), kSignature.size()) != 0)
+    return false;
+  bool header = false;
+  for (std::size_t at = kSignature.size();;) {
+    if (size - at < 12) return false;  // no IEND
+    const std::uint32_t length = be32(bytes + at);
+    if (length > size - at - 12) return false;
+    const std::string_view type(reinterpret_cast<const char*>(bytes + at + 4), 4);
+    const unsigned char* data = bytes + at + 8;
+    if (!header) {
+      // IHDR: width, height, bit depth, colour type, compression, filter, interlace.
+      if (type != "IHDR" || length != 13) return false;
+      layout.width = be32(data);
+      layout.height = be32(data + 4);
+      if (data[8] != 8 || (data[9] != 2 && data[9] != 6) || data[10] != 0 || data[11] != 0 ||
+          data[12] != 0)
+        return false;
+      layout.channels = data[9] == 6 ? 4 : 3;
+      header = true;
+    } else if (type == "IDAT") {
+      layout.data.emplace_back(data, length);
+    } else if (type == "IEND") {
+      return !layout.data.empty();
+    } else if ((type[0] & 0x20) == 0 || type == "tRNS") {
+      return false;  // a critical chunk (PLTE, CgBI, ...) or transparency: stb's to handle
+    }
+    at += 12 + std::size_t{length};
+  }
+}
+
+// One row's bytes from its filtered form (PNG, section 9), into RGBA. `up` is the row above
+// (zeros for the first). Byte arithmetic is modulo 256, as the filters are defined.
+template <int N>
+void unfilterRow(unsigned filter, const unsigned char* in, const unsigned char* up,
+                 unsigned char* out, std::size_t width) {
+  const auto u8 = [](unsigned v) { return static_cast<unsigned char>(v); };
+  switch (filter) {
+    case 0:
+      for (std::size_t x = 0; x < width; ++x)
+        for (int c = 0; c < N; ++c) out[4 * x + c] = in[N * x + c];
+      break;
+    case 1:  // Sub: the byte to the left
+      for (int c = 0; c < N; ++c) out[c] = in[c];
+      for (std::size_t x = 1; x < width; ++x)
+        for (int c = 0; c < N; ++c) out[4 * x + c] = u8(in[N * x + c] + out[4 * x - 4 + c]);
+      break;
+    case 2:  // Up
+      for (std::size_t x = 0; x < width; ++x)
+        for (int c = 0; c < N; ++c) out[4 * x + c] = u8(in[N * x + c] + up[4 * x + c]);
+      break;
+    case 3:  // Average of left and up
+      for (int c = 0; c < N; ++c) out[c] = u8(in[c] + (up[c] >> 1));
+      for (std::size_t x = 1; x < width; ++x)
+        for (int c = 0; c < N; ++c)
+          out[4 * x + c] = u8(in[N * x + c] + ((out[4 * x - 4 + c] + up[4 * x + c]) >> 1));
+      break;
+    default:  // 4, Paeth: whichever of left, up and up-left is nearest to left + up - up-left
+      for (int c = 0; c < N; ++c) out[c] = u8(in[c] + up[c]);
+      for (std::size_t x = 1; x < width; ++x)
+        for (int c = 0; c < N; ++c) {
+          const int a = out[4 * x - 4 + c], b = up[4 * x + c], d = up[4 * x - 4 + c];
+          const int pa = std::abs(b - d), pb = std::abs(a - d), pc = std::abs(a + b - 2 * d);
+          const int predictor = pa <= pb && pa <= pc ? a : pb <= pc ? b : d;
+          out[4 * x + c] = u8(in[N * x + c] + static_cast<unsigned>(predictor));
+        }
+      break;
+  }
+  if constexpr (N == 3)
+    for (std::size_t x = 0; x < width; ++x) out[4 * x + 3] = 255;
+}
+
+template <int N>
+bool unfilter(const unsigned char* raw, std::size_t width, std::size_t height,
+              unsigned char* rgba) {
+  const std::size_t inStride = 1 + N * width, outStride = 4 * width;
+  const std::vector<unsigned char> zeros(outStride, 0);
+  const unsigned char* up = zeros.data();
+  for (std::size_t y = 0; y < height; ++y) {
+    const unsigned char* in = raw + y * inStride;
+    if (in[0] > 4) return false;
+    unsigned char* out = rgba + y * outStride;
+    unfilterRow<N>(in[0], in + 1, up, out, width);
+    up = out;
+  }
+  return true;
+}
+
+}  // namespace
+
+DecodedPng decodePngTexture(const unsigned char* bytes, std::size_t size, std::uint32_t maxSide,
+                            std::uint64_t maxTexels) {
+  DecodedPng out;
+  Layout layout;
+  if (!parse(bytes, size, layout)) return out;
+  const std::uint64_t width = layout.width, height = layout.height;
+  if (width == 0 || height == 0 || width > maxSide || height > maxSide ||
+      width * height > maxTexels)
+    return out;
+  const std::uint64_t rawBytes = height * (1 + width * static_cast<std::uint64_t>(layout.channels));
+  if (rawBytes > std::numeric_limits<std::size_t>::max() / 2) return out;
+
+  // One zlib stream over the IDAT chunks, which need joining only when there are several.
+  std::vector<unsigned char> joined;
+  const unsigned char* stream = layout.data.front().first;
+  std::size_t streamBytes = layout.data.front().second;
+  if (layout.data.size() > 1) {
+    std::size_t total = 0;
+    for (const auto& [data, length] : layout.data) total += length;  // within the file's size
+    joined.reserve(total);
+    for (const auto& [data, length] : layout.data) joined.insert(joined.end(), data, data + length);
+    stream = joined.data();
+    streamBytes = joined.size();
+  }
+  const std::unique_ptr<libdeflate_decompressor, DecompressorDeleter> inflater(
+      libdeflate_alloc_decompressor());
+  if (!inflater) return out;
+  std::vector<unsigned char> raw(static_cast<std::size_t>(rawBytes));
+  // Exactly the rows' bytes, with a good Adler-32; anything else goes to stb.
+  if (libdeflate_zlib_decompress(inflater.get(), stream, streamBytes, raw.data(), raw.size(),
+                                 nullptr) != LIBDEFLATE_SUCCESS)
+    return out;
+  joined = {};
+
+  out.rgba.resize(static_cast<std::size_t>(width * height * 4));
+  const bool unfiltered = layout.channels == 4
+                              ? unfilter<4>(raw.data(), width, height, out.rgba.data())
+                              : unfilter<3>(raw.data(), width, height, out.rgba.data());
+  if (!unfiltered) {
+    out.rgba = {};
+    return out;
+  }
+  out.ok = true;
+  out.width = static_cast<int>(width);
+  out.height = static_cast<int>(height);
+  return out;
+}
+
+}  // namespace omnishadow::gltf_detail
