@@ -62,45 +62,55 @@ bool parse(const unsigned char* bytes, std::size_t size, Layout& layout) {
   }
 }
 
-// One row's bytes from its filtered form (PNG, section 9), into RGBA. `up` is the row above
-// (zeros for the first). Byte arithmetic is modulo 256, as the filters are defined.
+// One row's bytes from its filtered form (PNG, section 9), into RGBA: each byte plus the
+// filter's predictor from the bytes to its left (a), above (b) and above-left (c), zero beyond
+// the picture, modulo 256. Sub, Average and Paeth chain from pixel to pixel, so the left and
+// above-left pixels must stay in registers: with the channel loop rolled, GCC kept them in
+// memory, and Avocado's 2048^2 textures decoded 10-25% slower.
+template <int N, class Predictor>
+void unfilterRow(const unsigned char* in, const unsigned char* up, unsigned char* out,
+                 std::size_t width, Predictor predictor) {
+  std::array<unsigned, N> left{}, upLeft{};
+  for (std::size_t x = 0; x < width; ++x)
+#pragma GCC unroll 4
+    for (int c = 0; c < N; ++c) {
+      const unsigned above = up[4 * x + c];
+      const auto value =
+          static_cast<unsigned char>(in[N * x + c] + predictor(left[c], above, upLeft[c]));
+      out[4 * x + c] = value;
+      left[c] = value;
+      upLeft[c] = above;
+    }
+  if constexpr (N == 3)
+    for (std::size_t x = 0; x < width; ++x) out[4 * x + 3] = 255;
+}
+
 template <int N>
 void unfilterRow(unsigned filter, const unsigned char* in, const unsigned char* up,
                  unsigned char* out, std::size_t width) {
-  const auto u8 = [](unsigned v) { return static_cast<unsigned char>(v); };
   switch (filter) {
     case 0:
-      for (std::size_t x = 0; x < width; ++x)
-        for (int c = 0; c < N; ++c) out[4 * x + c] = in[N * x + c];
+      unfilterRow<N>(in, up, out, width, [](unsigned, unsigned, unsigned) { return 0u; });
       break;
-    case 1:  // Sub: the byte to the left
-      for (int c = 0; c < N; ++c) out[c] = in[c];
-      for (std::size_t x = 1; x < width; ++x)
-        for (int c = 0; c < N; ++c) out[4 * x + c] = u8(in[N * x + c] + out[4 * x - 4 + c]);
+    case 1:  // Sub
+      unfilterRow<N>(in, up, out, width, [](unsigned a, unsigned, unsigned) { return a; });
       break;
     case 2:  // Up
-      for (std::size_t x = 0; x < width; ++x)
-        for (int c = 0; c < N; ++c) out[4 * x + c] = u8(in[N * x + c] + up[4 * x + c]);
+      unfilterRow<N>(in, up, out, width, [](unsigned, unsigned b, unsigned) { return b; });
       break;
-    case 3:  // Average of left and up
-      for (int c = 0; c < N; ++c) out[c] = u8(in[c] + (up[c] >> 1));
-      for (std::size_t x = 1; x < width; ++x)
-        for (int c = 0; c < N; ++c)
-          out[4 * x + c] = u8(in[N * x + c] + ((out[4 * x - 4 + c] + up[4 * x + c]) >> 1));
+    case 3:  // Average
+      unfilterRow<N>(in, up, out, width,
+                     [](unsigned a, unsigned b, unsigned) { return (a + b) >> 1; });
       break;
-    default:  // 4, Paeth: whichever of left, up and up-left is nearest to left + up - up-left
-      for (int c = 0; c < N; ++c) out[c] = u8(in[c] + up[c]);
-      for (std::size_t x = 1; x < width; ++x)
-        for (int c = 0; c < N; ++c) {
-          const int a = out[4 * x - 4 + c], b = up[4 * x + c], d = up[4 * x - 4 + c];
-          const int pa = std::abs(b - d), pb = std::abs(a - d), pc = std::abs(a + b - 2 * d);
-          const int predictor = pa <= pb && pa <= pc ? a : pb <= pc ? b : d;
-          out[4 * x + c] = u8(in[N * x + c] + static_cast<unsigned>(predictor));
-        }
+    default:  // 4, Paeth: whichever of a, b and c is nearest to a + b - c, in that order on ties
+      unfilterRow<N>(in, up, out, width, [](unsigned a, unsigned b, unsigned c) {
+        const int pa = std::abs(static_cast<int>(b) - static_cast<int>(c));
+        const int pb = std::abs(static_cast<int>(a) - static_cast<int>(c));
+        const int pc = std::abs(static_cast<int>(a + b) - 2 * static_cast<int>(c));
+        return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+      });
       break;
   }
-  if constexpr (N == 3)
-    for (std::size_t x = 0; x < width; ++x) out[4 * x + 3] = 255;
 }
 
 template <int N>
