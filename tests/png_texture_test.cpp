@@ -184,33 +184,34 @@ fs::path sceneWithPng(const TempFolder& folder, const Bytes& png, bool inFile) {
 }
 
 // Every filter in every position (the first row has no row above, the first pixel nothing to
-// its left), with RGB and RGBA, on widths down to one pixel: the source pixels, byte for byte,
-// and what stb_image decodes.
+// its left), with RGB and RGBA, on widths and heights down to one pixel (the rows are unfiltered
+// in the buffer they were inflated into, where a one-pixel-wide RGB row leaves no slack): the
+// source pixels, byte for byte, and what stb_image decodes.
 TEST(PngTexture, EveryRowFilterGivesTheSourcePixels) {
   const std::vector<std::vector<int>> orders = {{0, 1, 2, 3, 4}, {4, 3, 2, 1, 0}, {2, 4, 3, 1}};
   unsigned seed = 1;
   for (int channels : {3, 4})
     for (int width : {1, 2, 5, 33})
-      for (const std::vector<int>& filters : orders) {
-        constexpr int kHeight = 11;
-        const Bytes pixels =
-            randomPixels(static_cast<std::size_t>(width * kHeight * channels), seed++);
-        PngLayout layout;
-        layout.colorType = channels == 4 ? 6 : 2;
-        const Bytes png = pngFile(
-            width, kHeight, zlib(filterRows(pixels, width, kHeight, channels, filters)), layout);
-        SCOPED_TRACE("channels " + std::to_string(channels) + ", width " + std::to_string(width) +
-                     ", first filter " + std::to_string(filters[0]));
-        const DecodedPng decoded = decodePngTexture(png.data(), png.size(), kMaxSide, kMaxTexels);
-        ASSERT_TRUE(decoded.ok);
-        EXPECT_EQ(decoded.width, width);
-        EXPECT_EQ(decoded.height, kHeight);
-        EXPECT_EQ(decoded.rgba, toRgba(pixels, channels));
-        bool stbDecoded = false;
-        const tinygltf::Image stb = stbDecode(png, stbDecoded);
-        ASSERT_TRUE(stbDecoded);
-        EXPECT_EQ(decoded.rgba, stb.image);
-      }
+      for (int height : {1, 2, 11})
+        for (const std::vector<int>& filters : orders) {
+          const Bytes pixels =
+              randomPixels(static_cast<std::size_t>(width * height * channels), seed++);
+          PngLayout layout;
+          layout.colorType = channels == 4 ? 6 : 2;
+          const Bytes png = pngFile(
+              width, height, zlib(filterRows(pixels, width, height, channels, filters)), layout);
+          SCOPED_TRACE("channels " + std::to_string(channels) + ", " + std::to_string(width) + "x" +
+                       std::to_string(height) + ", first filter " + std::to_string(filters[0]));
+          const DecodedPng decoded = decodePngTexture(png.data(), png.size(), kMaxSide, kMaxTexels);
+          ASSERT_TRUE(decoded.ok);
+          EXPECT_EQ(decoded.width, width);
+          EXPECT_EQ(decoded.height, height);
+          EXPECT_EQ(decoded.rgba, toRgba(pixels, channels));
+          bool stbDecoded = false;
+          const tinygltf::Image stb = stbDecode(png, stbDecoded);
+          ASSERT_TRUE(stbDecoded);
+          EXPECT_EQ(decoded.rgba, stb.image);
+        }
 }
 
 // Paeth's ties (equal distances pick left, then up) and the average's rounding, where random

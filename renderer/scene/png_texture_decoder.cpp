@@ -2,6 +2,7 @@
 
 #include <libdeflate.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <cstring>
@@ -113,6 +114,12 @@ void unfilterRow(unsigned filter, const unsigned char* in, const unsigned char* 
   }
 }
 
+// Unfilters the rows in place: `raw` (a filter byte and N bytes a pixel per row) lies in the
+// same buffer as `rgba` (4 bytes a pixel), ending where the picture ends. Each byte is written
+// only after it has been read: the first row's RGBA starts before its input, and an output row
+// gains on its input one byte per pixel for RGB, none for RGBA, which the distance at the row's
+// start, at least the width, leaves room for. One buffer instead of two: the raw rows of a 2048^2
+// texture are 12-16 MiB of memory each decode would fault in afresh.
 template <int N>
 bool unfilter(const unsigned char* raw, std::size_t width, std::size_t height,
               unsigned char* rgba) {
@@ -121,9 +128,10 @@ bool unfilter(const unsigned char* raw, std::size_t width, std::size_t height,
   const unsigned char* up = zeros.data();
   for (std::size_t y = 0; y < height; ++y) {
     const unsigned char* in = raw + y * inStride;
-    if (in[0] > 4) return false;
+    const unsigned filter = in[0];
+    if (filter > 4) return false;
     unsigned char* out = rgba + y * outStride;
-    unfilterRow<N>(in[0], in + 1, up, out, width);
+    unfilterRow<N>(filter, in + 1, up, out, width);
     up = out;
   }
   return true;
@@ -158,21 +166,25 @@ DecodedPng decodePngTexture(const unsigned char* bytes, std::size_t size, std::u
   const std::unique_ptr<libdeflate_decompressor, DecompressorDeleter> inflater(
       libdeflate_alloc_decompressor());
   if (!inflater) return out;
-  std::vector<unsigned char> raw(static_cast<std::size_t>(rawBytes));
+  const auto pictureBytes = static_cast<std::size_t>(width * height * 4);
+  const std::size_t bufferBytes = std::max(pictureBytes, static_cast<std::size_t>(rawBytes));
+  out.rgba.resize(bufferBytes);
+  unsigned char* raw = out.rgba.data() + (bufferBytes - rawBytes);
   // Exactly the rows' bytes, with a good Adler-32; anything else goes to stb.
-  if (libdeflate_zlib_decompress(inflater.get(), stream, streamBytes, raw.data(), raw.size(),
-                                 nullptr) != LIBDEFLATE_SUCCESS)
+  if (libdeflate_zlib_decompress(inflater.get(), stream, streamBytes, raw,
+                                 static_cast<std::size_t>(rawBytes),
+                                 nullptr) != LIBDEFLATE_SUCCESS) {
+    out.rgba = {};
     return out;
+  }
   joined = {};
-
-  out.rgba.resize(static_cast<std::size_t>(width * height * 4));
-  const bool unfiltered = layout.channels == 4
-                              ? unfilter<4>(raw.data(), width, height, out.rgba.data())
-                              : unfilter<3>(raw.data(), width, height, out.rgba.data());
+  const bool unfiltered = layout.channels == 4 ? unfilter<4>(raw, width, height, out.rgba.data())
+                                               : unfilter<3>(raw, width, height, out.rgba.data());
   if (!unfiltered) {
     out.rgba = {};
     return out;
   }
+  out.rgba.resize(pictureBytes);
   out.ok = true;
   out.width = static_cast<int>(width);
   out.height = static_cast<int>(height);
