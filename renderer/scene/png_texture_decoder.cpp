@@ -25,7 +25,7 @@ struct DecompressorDeleter {
   void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
 };
 
-// The file's layout, when it is one decodePng takes.
+// The file's layout, when it is one decodePngTexture takes.
 struct Layout {
   std::uint32_t width = 0, height = 0;
   int channels = 0;                                                // 3 (RGB) or 4 (RGBA)
