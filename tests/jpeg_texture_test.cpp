@@ -15,16 +15,13 @@
 #include <vector>
 
 #include "renderer/scene/gltf_loader.h"
-#include "scenes/builder/gltf_builder.h"
 #include "tests/support/input_error.h"
 #include "tests/support/temp_folder.h"
+#include "tests/support/textured_triangle.h"
 
 namespace omnishadow {
 namespace {
 
-using builder::FileFormat;
-using builder::GltfBuilder;
-using builder::MeshData;
 using test_support::TempFolder;
 namespace fs = std::filesystem;
 
@@ -58,42 +55,14 @@ std::vector<std::uint8_t> cornersPicture(int width, int height) {
   return rgb;
 }
 
-MeshData triangle() {
-  MeshData mesh;
-  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
-  mesh.indices = {0, 1, 2};
-  return mesh;
-}
-
-enum class Storage { BufferView, File };
+using Storage = test_support::ImageStorage;
 
 // A scene of one textured triangle whose image is `jpeg`, in a .glb's bufferView or in a file
 // next to a .gltf.
 Scene loadWithJpeg(const TempFolder& folder, const std::vector<unsigned char>& jpeg,
                    Storage storage) {
-  GltfBuilder builder;
-  builder.addNode("node", {}, builder.addMesh(triangle()));
-  tinygltf::Model& model = builder.model();
-  tinygltf::Image image;
-  image.name = "photo";
-  image.mimeType = "image/jpeg";
-  if (storage == Storage::BufferView) {
-    image.bufferView = builder::appendBufferView(model, jpeg, 0, 0);
-  } else {
-    image.uri = "photo.jpg";
-    std::ofstream(folder / "photo.jpg", std::ios::binary)
-        .write(reinterpret_cast<const char*>(jpeg.data()),
-               static_cast<std::streamsize>(jpeg.size()));
-  }
-  model.images.push_back(image);
-  tinygltf::Texture texture;
-  texture.source = 0;
-  model.textures.push_back(texture);
-  const auto path = folder / (storage == Storage::BufferView ? "scene.glb" : "scene.gltf");
-  builder.write(path, storage == Storage::BufferView ? FileFormat::Glb : FileFormat::GltfExternal);
-  return loadGltf(path);
+  return loadGltf(test_support::writeTexturedTriangle(
+      folder.path(), {{jpeg, "photo", "image/jpeg", "photo.jpg"}}, storage));
 }
 
 int largestDifference(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
@@ -224,29 +193,12 @@ TEST(JpegTexture, DiffersFromStbImageByAtMostThreeSteps) {
 fs::path sceneWithImages(const TempFolder& folder,
                          const std::vector<std::vector<unsigned char>>& images,
                          Storage storage = Storage::BufferView) {
-  GltfBuilder builder;
-  builder.addNode("node", {}, builder.addMesh(triangle()));
-  tinygltf::Model& model = builder.model();
+  std::vector<test_support::SceneImage> files;
   for (std::size_t i = 0; i < images.size(); ++i) {
-    tinygltf::Image image;
-    image.name = "photo" + std::to_string(i);
-    image.mimeType = "image/jpeg";
-    if (storage == Storage::BufferView) {
-      image.bufferView = builder::appendBufferView(model, images[i], 0, 0);
-    } else {
-      image.uri = image.name + ".jpg";
-      std::ofstream(folder / image.uri, std::ios::binary)
-          .write(reinterpret_cast<const char*>(images[i].data()),
-                 static_cast<std::streamsize>(images[i].size()));
-    }
-    model.images.push_back(image);
-    tinygltf::Texture texture;
-    texture.source = static_cast<int>(i);
-    model.textures.push_back(texture);
+    const std::string name = "photo" + std::to_string(i);
+    files.push_back({images[i], name, "image/jpeg", name + ".jpg"});
   }
-  const fs::path path = folder / (storage == Storage::BufferView ? "images.glb" : "images.gltf");
-  builder.write(path, storage == Storage::BufferView ? FileFormat::Glb : FileFormat::GltfExternal);
-  return path;
+  return test_support::writeTexturedTriangle(folder.path(), files, storage, "images");
 }
 
 // A file's images are decoded several at a time, from bufferViews and from files of their own:

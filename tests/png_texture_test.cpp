@@ -18,16 +18,13 @@
 
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/png_texture_decoder.h"
-#include "scenes/builder/gltf_builder.h"
 #include "tests/support/input_error.h"
 #include "tests/support/temp_folder.h"
+#include "tests/support/textured_triangle.h"
 
 namespace omnishadow {
 namespace {
 
-using builder::FileFormat;
-using builder::GltfBuilder;
-using builder::MeshData;
 using gltf_detail::DecodedPng;
 using gltf_detail::decodePngTexture;
 using test_support::TempFolder;
@@ -149,38 +146,12 @@ tinygltf::Image stbDecode(const Bytes& png, bool& decoded) {
   return image;
 }
 
-MeshData triangle() {
-  MeshData mesh;
-  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
-  mesh.indices = {0, 1, 2};
-  return mesh;
-}
-
 // A scene of one triangle textured with `png`, in a .glb's bufferView or in a file beside a
 // .gltf (the loader decodes both, several at a time).
 fs::path sceneWithPng(const TempFolder& folder, const Bytes& png, bool inFile) {
-  GltfBuilder builder;
-  builder.addNode("node", {}, builder.addMesh(triangle()));
-  tinygltf::Model& model = builder.model();
-  tinygltf::Image image;
-  image.name = "picture";
-  image.mimeType = "image/png";
-  if (inFile) {
-    image.uri = "picture.png";
-    std::ofstream(folder / "picture.png", std::ios::binary)
-        .write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
-  } else {
-    image.bufferView = builder::appendBufferView(model, png, 0, 0);
-  }
-  model.images.push_back(image);
-  tinygltf::Texture texture;
-  texture.source = 0;
-  model.textures.push_back(texture);
-  const fs::path path = folder / (inFile ? "scene.gltf" : "scene.glb");
-  builder.write(path, inFile ? FileFormat::GltfExternal : FileFormat::Glb);
-  return path;
+  return test_support::writeTexturedTriangle(
+      folder.path(), {{png, "picture", "image/png", "picture.png"}},
+      inFile ? test_support::ImageStorage::File : test_support::ImageStorage::BufferView);
 }
 
 // Every filter in every position (the first row has no row above, the first pixel nothing to

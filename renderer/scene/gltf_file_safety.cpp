@@ -142,18 +142,27 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   return {};
 }
 
+namespace {
+
+// A picture our decoders made, as tinygltf describes the RGBA8 ones stb_image makes.
+void setRgba8(tinygltf::Image& image, int width, int height, std::vector<unsigned char> rgba) {
+  image.width = width;
+  image.height = height;
+  image.component = 4;
+  image.bits = 8;
+  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image.image = std::move(rgba);
+}
+
+}  // namespace
+
 bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
                  const unsigned char* bytes, int size) {
   const auto length = static_cast<std::size_t>(std::max(size, 0));
   if (isJpeg(bytes, length)) {
     DecodedJpeg jpeg = decodeJpeg(bytes, length, kMaxImageSide, kMaxImageTexels);
     if (jpeg.ok) {
-      image->width = jpeg.width;
-      image->height = jpeg.height;
-      image->component = 4;
-      image->bits = 8;
-      image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-      image->image = std::move(jpeg.rgba);
+      setRgba8(*image, jpeg.width, jpeg.height, std::move(jpeg.rgba));
       if (!jpeg.warning.empty() && warning)
         *warning += "damaged JPEG data (" + jpeg.warning + "); drawn as decoded\n";
       return true;
@@ -169,12 +178,7 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
   // transparency chunks, interlacing, damaged data.
   DecodedPng png = decodePngTexture(bytes, length, kMaxImageSide, kMaxImageTexels);
   if (png.ok) {
-    image->width = png.width;
-    image->height = png.height;
-    image->component = 4;
-    image->bits = 8;
-    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image->image = std::move(png.rgba);
+    setRgba8(*image, png.width, png.height, std::move(png.rgba));
     return true;
   }
   return tinygltf::LoadImageData(image, index, error, warning, 0, 0, bytes, size, nullptr);

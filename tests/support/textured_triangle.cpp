@@ -1,0 +1,45 @@
+#include "tests/support/textured_triangle.h"
+
+#include <tiny_gltf.h>
+
+#include <fstream>
+
+#include "scenes/builder/gltf_builder.h"
+
+namespace omnishadow::test_support {
+
+std::filesystem::path writeTexturedTriangle(const std::filesystem::path& folder,
+                                            const std::vector<SceneImage>& images,
+                                            ImageStorage storage, const std::string& stem) {
+  builder::MeshData mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  mesh.indices = {0, 1, 2};
+  builder::GltfBuilder builder;
+  builder.addNode("node", {}, builder.addMesh(mesh));
+  tinygltf::Model& model = builder.model();
+  for (const SceneImage& image : images) {
+    tinygltf::Image source;
+    source.name = image.name;
+    source.mimeType = image.mimeType;
+    if (storage == ImageStorage::BufferView) {
+      source.bufferView = builder::appendBufferView(model, image.bytes, 0, 0);
+    } else {
+      source.uri = image.fileName;
+      std::ofstream(folder / image.fileName, std::ios::binary)
+          .write(reinterpret_cast<const char*>(image.bytes.data()),
+                 static_cast<std::streamsize>(image.bytes.size()));
+    }
+    tinygltf::Texture texture;
+    texture.source = static_cast<int>(model.images.size());
+    model.images.push_back(source);
+    model.textures.push_back(texture);
+  }
+  const bool glb = storage == ImageStorage::BufferView;
+  const std::filesystem::path path = folder / (stem + (glb ? ".glb" : ".gltf"));
+  builder.write(path, glb ? builder::FileFormat::Glb : builder::FileFormat::GltfExternal);
+  return path;
+}
+
+}  // namespace omnishadow::test_support
