@@ -340,6 +340,56 @@ TEST(PngTexture, DamagedInterlacedAndOversizedFilesAreNotDecodedHere) {
   EXPECT_FALSE(decodePngTexture(fine.data(), 20, kMaxSide, kMaxTexels).ok);
 }
 
+// A file's images are decoded several at a time, PNGs this decoder takes beside ones it leaves
+// to stb_image (palettes here), from bufferViews and from files of their own: each image gets
+// its own pixels.
+TEST(PngTexture, ImagesDecodedTogetherKeepTheirOwnPixels) {
+  constexpr int kHeight = 13;
+  std::vector<test_support::SceneImage> files;
+  std::vector<Bytes> expected;
+  for (int i = 0; i < 8; ++i) {
+    const int width = 17 + 3 * i;
+    const std::string name = "picture" + std::to_string(i);
+    if (i % 3 == 2) {  // an 8-bit palette of grey levels: stb_image's
+      const Bytes indices = randomPixels(static_cast<std::size_t>(width * kHeight), 200 + i);
+      Bytes palette, rgba;
+      for (int v = 0; v < 256; ++v)
+        palette.insert(palette.end(), {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v),
+                                       static_cast<std::uint8_t>(v)});
+      for (std::uint8_t index : indices) rgba.insert(rgba.end(), {index, index, index, 255});
+      PngLayout layout;
+      layout.colorType = 3;
+      layout.before = {{"PLTE", palette}};
+      files.push_back(
+          {pngFile(width, kHeight, zlib(filterRows(indices, width, kHeight, 1, {1, 4})), layout),
+           name, "image/png", name + ".png"});
+      expected.push_back(rgba);
+    } else {
+      const int channels = i % 2 == 0 ? 4 : 3;
+      const Bytes pixels =
+          randomPixels(static_cast<std::size_t>(width * kHeight * channels), 300 + i);
+      PngLayout layout;
+      layout.colorType = channels == 4 ? 6 : 2;
+      files.push_back(
+          {pngFile(width, kHeight, zlib(filterRows(pixels, width, kHeight, channels, {3, 4, 2})),
+                   layout),
+           name, "image/png", name + ".png"});
+      expected.push_back(toRgba(pixels, channels));
+    }
+  }
+  for (test_support::ImageStorage storage :
+       {test_support::ImageStorage::BufferView, test_support::ImageStorage::File}) {
+    TempFolder folder("png");
+    const Scene scene =
+        loadGltf(test_support::writeTexturedTriangle(folder.path(), files, storage));
+    ASSERT_EQ(scene.images.size(), files.size());
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      SCOPED_TRACE(i);
+      EXPECT_EQ(scene.images[i].rgba, expected[i]);
+    }
+  }
+}
+
 // Real textures nobody here made (the repository's Khronos and compressed scenes): those this
 // decoder takes give stb_image's picture byte for byte; the others (Duck's palette) it leaves.
 TEST(PngTexture, RealTexturesDecodeAsStbImageDecodesThem) {
