@@ -4,6 +4,7 @@
 // ones are the repository's scenes.
 #include <gtest/gtest.h>
 #include <libdeflate.h>
+#include <sys/resource.h>
 #include <tiny_gltf.h>
 
 #include <cstdint>
@@ -388,6 +389,20 @@ TEST(PngTexture, ImagesDecodedTogetherKeepTheirOwnPixels) {
       EXPECT_EQ(scene.images[i].rgba, expected[i]);
     }
   }
+}
+
+// A few bytes claiming the largest picture the limits allow (16384^2 RGBA, 1 GiB) are refused
+// before the picture's buffer is made: DEFLATE cannot expand them that far. The process's peak
+// resident memory shows whether a gigabyte was touched (zeroed) on the way.
+TEST(PngTexture, AFewBytesClaimingAHugePictureTouchNoMemory) {
+  constexpr int kSide = 16384;
+  const Bytes png = pngFile(kSide, kSide, zlib(Bytes(4096, 0)), {});
+  rusage before{};
+  getrusage(RUSAGE_SELF, &before);
+  EXPECT_FALSE(decodePngTexture(png.data(), png.size(), kMaxSide, kMaxTexels).ok);
+  rusage after{};
+  getrusage(RUSAGE_SELF, &after);
+  EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 256 * 1024) << "KiB";  // ru_maxrss is in KiB
 }
 
 // Real textures nobody here made (the repository's Khronos and compressed scenes): those this
