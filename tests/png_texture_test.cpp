@@ -391,18 +391,32 @@ TEST(PngTexture, ImagesDecodedTogetherKeepTheirOwnPixels) {
   }
 }
 
-// A few bytes claiming the largest picture the limits allow (16384^2 RGBA, 1 GiB) are refused
-// before the picture's buffer is made: DEFLATE cannot expand them that far. The process's peak
+// A few bytes of data claiming the largest picture the limits allow (16384^2 RGBA, 1 GiB) are
+// refused before the picture's buffer is made: DEFLATE cannot expand them that far. Through the
+// loader too, in a file padded with a text chunk past the loader's own bound (rows per byte of
+// file): the load fails naming the image, as stb_image failed on it. The process's peak
 // resident memory shows whether a gigabyte was touched (zeroed) on the way.
 TEST(PngTexture, AFewBytesClaimingAHugePictureTouchNoMemory) {
   constexpr int kSide = 16384;
-  const Bytes png = pngFile(kSide, kSide, zlib(Bytes(4096, 0)), {});
-  rusage before{};
-  getrusage(RUSAGE_SELF, &before);
+  const Bytes stream = zlib(Bytes(4096, 0));
+  const auto peakKiB = [] {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss;
+  };
+  const long before = peakKiB();
+  const Bytes png = pngFile(kSide, kSide, stream, {});
   EXPECT_FALSE(decodePngTexture(png.data(), png.size(), kMaxSide, kMaxTexels).ok);
-  rusage after{};
-  getrusage(RUSAGE_SELF, &after);
-  EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 256 * 1024) << "KiB";  // ru_maxrss is in KiB
+
+  PngLayout padded;
+  Bytes text = {'k', 0};
+  text.resize(std::size_t{kSide} * kSide * 4 / gltf_detail::kMaxDeflateExpansion + kSide, 'x');
+  padded.before = {{"tEXt", text}};
+  TempFolder folder("png");
+  const fs::path scene = sceneWithPng(folder, pngFile(kSide, kSide, stream, padded), true);
+  const std::string message = test_support::inputError([&] { loadGltf(scene); });
+  EXPECT_NE(message.find("images[0] \"picture\""), std::string::npos) << message;
+  EXPECT_LT(peakKiB() - before, 256 * 1024) << "KiB more at the peak";
 }
 
 // Real textures nobody here made (the repository's Khronos and compressed scenes): those this

@@ -24,9 +24,8 @@ constexpr std::uint32_t kMaxImageSide = 32768;
 constexpr std::uint64_t kMaxImageTexels = std::uint64_t{1} << 28;  // 1 GiB of RGBA8
 // Nor may a header claim more than its data can hold: stb_image allocates for the header before
 // it finds the data missing (a 400-byte JPEG can claim 16384 x 16384: 1 GiB, then decoded).
-// Deflate expands at most 1032 times, so a PNG's unfiltered rows fit in 1032 bytes per byte of
-// file; a JPEG codes each 8x8 block with at least one bit, so it holds 512 texels per byte.
-constexpr std::uint64_t kMaxPngExpansion = 1032;
+// A PNG's unfiltered rows fit in kMaxDeflateExpansion bytes per byte of file; a JPEG codes
+// each 8x8 block with at least one bit, so it holds 512 texels per byte.
 constexpr std::uint64_t kMaxJpegTexelsPerByte = 512;
 
 bool isPng(const unsigned char* b, std::size_t size) {
@@ -103,7 +102,7 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
     width = be32(16);
     height = be32(20);
     rawBytes = (1 + (std::uint64_t{width} * channels * depth + 7) / 8) * height;
-    neededBytes = (rawBytes + kMaxPngExpansion - 1) / kMaxPngExpansion;
+    neededBytes = (rawBytes + kMaxDeflateExpansion - 1) / kMaxDeflateExpansion;
     format = "PNG";
   } else if (isJpeg(bytes, size)) {
     const auto frame = jpegFrameSize(bytes, size);

@@ -163,11 +163,10 @@ DecodedPng decodePngTexture(const unsigned char* bytes, std::size_t size, std::u
     stream = joined.data();
     streamBytes = joined.size();
   }
-  // DEFLATE expands at most 1032-fold (a 258-byte match in 2 bits): a stream too short for
-  // the rows is refused before their buffer is made, so that a few bytes claiming a 16384^2
-  // picture cannot make the decoder touch a gigabyte.
-  constexpr std::uint64_t kMostExpansion = 1032, kSlack = 1024;
-  if (rawBytes > streamBytes * kMostExpansion + kSlack) return out;
+  // A stream too short for the rows is refused before their buffer is made: the loader bounds
+  // the rows by the file's size, but a file padded with an ancillary chunk passes that, and a
+  // few bytes of data claiming a 16384^2 picture would make this decoder zero a gigabyte.
+  if (rawBytes > streamBytes * kMaxDeflateExpansion) return out;
   const std::unique_ptr<libdeflate_decompressor, DecompressorDeleter> inflater(
       libdeflate_alloc_decompressor());
   if (!inflater) return out;

@@ -7,6 +7,10 @@
 
 namespace omnishadow::gltf_detail {
 
+// DEFLATE expands at most this many times (a 258-byte match coded in 2 bits): a PNG's rows
+// cannot be longer than this times its compressed data.
+constexpr std::uint64_t kMaxDeflateExpansion = 1032;
+
 struct DecodedPng {
   bool ok = false;  // false: not a PNG this decoder takes; stb_image decodes it as before
   int width = 0, height = 0;
