@@ -8,12 +8,13 @@ namespace omnishadow {
 
 ShadowLayerBinding::ShadowLayerBinding(GLuint framebuffer, ShadowGroupTextures& target,
                                        int firstLayer, int layerCount,
-                                       std::vector<TexelRect> casterTexels)
+                                       std::vector<TexelRect> casterTexels, int spread)
     : framebuffer_(framebuffer),
       target_(target),
       firstLayer_(firstLayer),
       layerCount_(layerCount),
       casterTexels_(std::move(casterTexels)),
+      spread_(spread),
       cleared_(static_cast<std::size_t>(layerCount), false) {}
 
 gl::Texture ShadowLayerBinding::layersView(const gl::Texture& texture, GLenum format) const {
@@ -33,9 +34,8 @@ void ShadowLayerBinding::clear(const TexelRect& texels) {
 }
 
 TexelRect ShadowLayerBinding::drawn(int layer) const {
-  // The VSM blur spreads moments over the whole layer.
-  return target_.key.moments ? TexelRect::whole(target_.key.resolution)
-                             : casterTexels_[static_cast<std::size_t>(layer)];
+  return casterTexels_[static_cast<std::size_t>(layer)].grown(spread_, spread_,
+                                                              target_.key.resolution);
 }
 
 void ShadowLayerBinding::bind(int layer) {
@@ -63,7 +63,6 @@ void ShadowLayerBinding::bind(int layer) {
   else
     glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, 0, 0);
   if (!cleared_[static_cast<std::size_t>(layer)]) {
-    // Moments layers are written whole (drawn()), so they are cleared whole unless prepared.
     clear(written(layer));
     written(layer) = drawn(layer);
     cleared_[static_cast<std::size_t>(layer)] = true;

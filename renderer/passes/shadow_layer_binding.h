@@ -21,15 +21,16 @@ namespace omnishadow {
 // Each layer is cleared only where it may hold something other than the cleared values (the
 // group's `written` texels: where its last pass drew, the whole layer for a new texture,
 // nothing after clearShadowTextures()), and afterwards holds something only where this pass
-// may draw (`casterTexels`, the whole layer for moments, which the VSM blur spreads). A 1024²
-// face costs llvmpipe about 0.4 ms to clear, six per point light and frame, mostly for texels
-// no caster reaches. Layers bound all at once are cleared where any of them may hold something.
+// may draw (`casterTexels`), grown by `spread` texels where a later pass spreads what it drew
+// (the VSM blur of moments, which then filters only those texels). A 1024² face costs llvmpipe
+// about 0.4 ms to clear, six per point light and frame, mostly for texels no caster reaches.
+// Layers bound all at once are cleared where any of them may hold something.
 class ShadowLayerBinding {
  public:
   static constexpr int kAllLayers = -1;
   // `casterTexels`: per layer of this light, the texels its casters may cover in this pass.
   ShadowLayerBinding(GLuint framebuffer, ShadowGroupTextures& target, int firstLayer,
-                     int layerCount, std::vector<TexelRect> casterTexels);
+                     int layerCount, std::vector<TexelRect> casterTexels, int spread);
   // `layer`: 0..layerCount-1 of this light, or kAllLayers. Nothing happens when it is bound.
   void bind(int layer);
   // Clears the layers no bind reached (views nothing was drawn into).
@@ -49,6 +50,7 @@ class ShadowLayerBinding {
   ShadowGroupTextures& target_;
   int firstLayer_, layerCount_;
   std::vector<TexelRect> casterTexels_;
+  int spread_;
   int bound_ = kAllLayers - 1;  // nothing
   bool allCleared_ = false;
   std::vector<bool> cleared_;

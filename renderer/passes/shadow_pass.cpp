@@ -7,6 +7,7 @@
 #include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/passes/shadow_layer_binding.h"
+#include "renderer/passes/vsm_filter.h"
 #include "renderer/scene/translucency.h"
 #include "renderer/view/caster_culling.h"
 #include "renderer/view/shadow_draws.h"
@@ -152,7 +153,8 @@ int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_.get());
 
   ShadowLayerBinding layers(fb, target, plan.firstLayer, plan.layerCount,
-                            casterTexels(casters, culling, plan, target.key.resolution));
+                            casterTexels(casters, culling, plan, target.key.resolution),
+                            moments ? VsmFilter::spread(light.shadow.filterRadius) : 0);
   if (layering != ShadowLayering::PerView) layers.bind(ShadowLayerBinding::kAllLayers);
   const LightPass pass{scene, arrays, light, plan, strategy, moments, layers};
   drawOpaque(pass, draws);

@@ -31,6 +31,12 @@ TexelRect TexelRect::united(const TexelRect& other) const {
           std::max(y1, other.y1)};
 }
 
+TexelRect TexelRect::grown(int dx, int dy, int resolution) const {
+  if (empty()) return *this;
+  return {std::max(x0 - dx, 0), std::max(y0 - dy, 0), std::min(x1 + dx, resolution),
+          std::min(y1 + dy, resolution)};
+}
+
 TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& center, float radius,
                           int resolution) {
   const std::optional<NdcBounds> ndc = projectedSphereBox(viewProjection, center, radius);

@@ -34,6 +34,9 @@ struct TexelRect {
   bool empty() const { return x0 >= x1 || y0 >= y1; }
   // The smallest rectangle holding both (an empty one adds nothing).
   TexelRect united(const TexelRect& other) const;
+  // Grown by dx texels left and right and dy up and down, within a `resolution`-sided view (an
+  // empty one stays empty).
+  TexelRect grown(int dx, int dy, int resolution) const;
   static TexelRect whole(int resolution) { return {0, 0, resolution, resolution}; }
 };
 
