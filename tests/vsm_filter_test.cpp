@@ -3,11 +3,14 @@
 // (renderer/passes/shadow_layer_binding.h, grown by the blur's spread). That is exact only if
 // the blur leaves cleared moments exactly as they are and every texel it reads was filtered or
 // cleared: so after two frames whose casters cover other texels, a light's layers must hold, bit
-// for bit, what a blur of whole layers gives for the second frame's moments alone.
+// for bit, what a blur of whole layers gives for the second frame's moments alone. That blur
+// is in turn checked against the same Gaussian in doubles.
 #include "renderer/passes/vsm_filter.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <ostream>
 #include <random>
@@ -68,6 +71,41 @@ std::vector<float> layerOf(const std::vector<float>& all, int layer) {
 
 void PrintTo(const Layout& layout, std::ostream* out) {
   *out << layout.name;
+}
+
+// The separable Gaussian of VsmFilter in doubles: sigma = radius / 2, taps out to the radius,
+// texels beyond an edge read as the edge's.
+std::vector<float> gaussian(const std::vector<float>& layer, float radius) {
+  const int taps = VsmFilter::spread(radius);
+  const double sigma = std::max(0.5, radius * 0.5);
+  std::vector<double> weights;
+  double total = 0.0;
+  for (int i = -taps; i <= taps; ++i) {
+    weights.push_back(std::exp(-0.5 * i * i / (sigma * sigma)));
+    total += weights.back();
+  }
+  const auto at = [](int x, int y) {
+    return (static_cast<std::size_t>(std::clamp(y, 0, kSize - 1)) * kSize +
+            static_cast<std::size_t>(std::clamp(x, 0, kSize - 1))) *
+           2;
+  };
+  std::vector<double> rows(layer.size());
+  std::vector<float> out(layer.size());
+  for (int pass = 0; pass < 2; ++pass)
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x)
+        for (int c = 0; c < 2; ++c) {
+          double sum = 0.0;
+          for (int i = -taps; i <= taps; ++i) {
+            const double w = weights[static_cast<std::size_t>(i + taps)];
+            sum += pass == 0 ? w * layer[at(x + i, y) + c] : w * rows[at(x, y + i) + c];
+          }
+          if (pass == 0)
+            rows[at(x, y) + c] = sum / total;
+          else
+            out[at(x, y) + c] = static_cast<float>(sum / total);
+        }
+  return out;
 }
 
 class VsmFilterTest : public ::testing::TestWithParam<Layout> {};
@@ -136,6 +174,12 @@ TEST_P(VsmFilterTest, FilteringWhatFramesWroteEqualsFilteringWholeLayers) {
   for (int layer = plan.firstLayer; layer < plan.firstLayer + plan.layerCount; ++layer) {
     const auto got = layerOf(filtered, layer), want = layerOf(reference, layer);
     const auto drawn = layerOf(unfiltered, layer);
+    // The filter itself, against doubles: weights, edges and both directions.
+    const std::vector<float> exact = gaussian(drawn, kRadius);
+    float worst = 0.0f;
+    for (std::size_t i = 0; i < want.size(); ++i)
+      worst = std::max(worst, std::abs(want[i] - exact[i]));
+    EXPECT_LT(worst, 1e-5f) << layout.name << " layer " << layer;
     ASSERT_EQ(got.size(), want.size());
     int differ = 0;
     for (std::size_t i = 0; i < got.size(); ++i) differ += got[i] != want[i] ? 1 : 0;

@@ -19,7 +19,13 @@ int VsmFilter::spread(float radiusTexels) {
 VsmFilter::VsmFilter(double maxScratchBytes)
     : maxScratchBytes_(maxScratchBytes),
       framebuffer_(gl::createFramebuffer()),
-      empty_(gl::createVertexArray()) {}
+      empty_(gl::createVertexArray()),
+      nearest_(gl::createSampler()) {
+  glSamplerParameteri(nearest_.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(nearest_.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glSamplerParameteri(nearest_.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(nearest_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
 
 const ShaderProgram& VsmFilter::program(int layers) {
   auto& slot = programs_[static_cast<std::size_t>(layers)];
@@ -75,7 +81,7 @@ void VsmFilter::blur(const ShadowGroupTextures& group, const LightShadowPlan& pl
   state.apply();
   glBindVertexArray(empty_.get());
   constexpr auto unit = static_cast<GLuint>(contract::kVsmSourceUnit);
-  glBindSampler(unit, 0);
+  glBindSampler(unit, nearest_.get());
 
   // One direction over `count` layers: output i reads `source`'s layer sourceLayers[i] and
   // goes to `target`'s layer targetLayers[i], within `rect`.
@@ -111,6 +117,7 @@ void VsmFilter::blur(const ShadowGroupTextures& group, const LightShadowPlan& pl
   for (int i = 0; i < kMaxLayersPerDraw; ++i)
     glNamedFramebufferTexture(fb, static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i), 0, 0);
   glBindTextureUnit(unit, 0);
+  glBindSampler(unit, 0);
   gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("filtering the vsm moments of a light");

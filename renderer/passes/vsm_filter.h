@@ -42,6 +42,7 @@ class VsmFilter {
   std::array<std::unique_ptr<ShaderProgram>, kMaxLayersPerDraw + 1> programs_;
   gl::Framebuffer framebuffer_;
   gl::VertexArray empty_;
+  gl::Sampler nearest_;  // texel centres, clamped at the edges
   gl::Texture scratch_;  // RG32F layers of the group's size: the horizontal pass's output
   int scratchSize_ = 0;
   int scratchLayers_ = 0;
