@@ -18,6 +18,7 @@
 #include "renderer/gl/egl_context.h"
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/software_rasterizer.h"
+#include "renderer/passes/attachment_readback.h"
 #include "renderer/passes/gpu_scene.h"
 #include "renderer/passes/lighting_pass.h"
 #include "renderer/passes/shadow_pass.h"
@@ -268,10 +269,13 @@ class Renderer::Impl {
   std::vector<std::pair<PassKey, std::unique_ptr<LightingPass>>> lightingPasses_;
   // The beauty pass's targets, kept for the next frame of the same size: a fresh 1280x720
   // RGBA32F target costs its pages again (allocation, faults, zeroing) on every frame. The pass
-  // clears them itself. AOV targets are not kept (--max-memory counts them per frame). One
-  // slot for the float beauty, one for the 8-bit one: a scene with blended surfaces takes the
-  // float one where the next may take the 8-bit one.
+  // clears them itself. One slot for the float beauty, one for the 8-bit one: a scene with
+  // blended surfaces takes the float one where the next may take the 8-bit one.
   std::array<std::unique_ptr<FrameTargets>, 2> beautyTargets_;
+  // The AOV pass's targets (eight RGBA32F, 118 MB at 1280x720), kept while frames ask for AOVs:
+  // a frame's AOV memory (checkAovMemory) is the same whether they are new or kept, and a frame
+  // without AOVs lets them go.
+  std::unique_ptr<FrameTargets> aovTargets_;
 };
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
@@ -545,13 +549,22 @@ LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
   return *lightingPasses_.back().second;
 }
 
-FrameTargets& Renderer::Impl::beautyTargets(int width, int height, PassOutputs outputs) {
-  std::unique_ptr<FrameTargets>& targets = beautyTargets_[outputs == PassOutputs::Srgb8 ? 1 : 0];
-  if (!targets || targets->width() != width || targets->height() != height) {
-    targets.reset();  // the old one goes before the new one takes its memory
-    targets = std::make_unique<FrameTargets>(width, height, outputs);
+namespace {
+
+// `kept`, remade first when it is missing or of another size.
+FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, int width, int height,
+                          PassOutputs outputs) {
+  if (!kept || kept->width() != width || kept->height() != height) {
+    kept.reset();  // the old one goes before the new one takes its memory
+    kept = std::make_unique<FrameTargets>(width, height, outputs);
   }
-  return *targets;
+  return *kept;
+}
+
+}  // namespace
+
+FrameTargets& Renderer::Impl::beautyTargets(int width, int height, PassOutputs outputs) {
+  return keptTargets(beautyTargets_[outputs == PassOutputs::Srgb8 ? 1 : 0], width, height, outputs);
 }
 
 FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& camera,
@@ -620,7 +633,7 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
   const int lightCount = static_cast<int>(prepared.shaded.size());
   const bool flip = camera.glRowOrder;
   // One pass gives the fixed channels and the visibility of 20 lights; more lights take more.
-  FrameTargets targets(camera.width, camera.height, PassOutputs::Aovs);
+  FrameTargets& targets = keptTargets(aovTargets_, camera.width, camera.height, PassOutputs::Aovs);
   LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, prepared.features);
   // Where each light's transmittance.<light>.R channel is (-1: none).
   std::vector<int> transmittanceChannel(prepared.shaded.size(), -1);
@@ -648,19 +661,18 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
       const int visibilityBase = p * kVisibilityPerPass;
       draw(visibilityBase, blendedOnly, false);
       ScopedStage readback(times, "readback");
+      std::vector<ChannelCopy> copies;
       if (p == 0) {
-        copyChannels(readAttachment(targets, 0, flip, packInvert_), 0, 4, image, 0);
-        const FloatPixels position = readAttachment(targets, 1, flip, packInvert_);
-        copyChannels(position, 0, 3, image, 4);
-        copyChannels(readAttachment(targets, 2, flip, packInvert_), 0, 3, image, 7);
-        copyChannels(position, 3, 1, image, 10);
+        // RGBA; P from the position target's RGB, N; Z from its A.
+        copies = {{0, 0, 4, 0}, {1, 0, 3, 4}, {2, 0, 3, 7}, {1, 3, 1, 10}};
       }
       for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
         const int first = visibilityBase + target * 4;
         if (first >= lightCount) break;
-        copyChannels(readAttachment(targets, 3 + target, flip, packInvert_), 0,
-                     std::min(4, lightCount - first), image, kFixedAovChannels + first);
+        copies.push_back(
+            {3 + target, 0, std::min(4, lightCount - first), kFixedAovChannels + first});
       }
+      readChannels(targets, copies, flip, image);
     }
     if (!hasTransmittance) return;
     // The RGB terms of the lights with translucent shadows, R, G, B of each light in turn.
@@ -671,16 +683,15 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         continue;
       draw(base, blendedOnly, true);
       ScopedStage readback(times, "readback");
-      std::vector<FloatPixels> values(kVisibilityPerPass / 4);
+      std::vector<ChannelCopy> copies;
       for (int l = base; l < end; ++l) {
         if (transmittanceChannel[l] < 0) continue;
         for (int c = 0; c < 3; ++c) {
           const int scalar = 3 * (l - base) + c;
-          FloatPixels& target = values[scalar / 4];
-          if (target.empty()) target = readAttachment(targets, 3 + scalar / 4, flip, packInvert_);
-          copyChannels(target, scalar % 4, 1, image, transmittanceChannel[l] + c);
+          copies.push_back({3 + scalar / 4, scalar % 4, 1, transmittanceChannel[l] + c});
         }
       }
+      readChannels(targets, copies, flip, image);
     }
   };
   fill(aovs, false);
@@ -848,6 +859,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
                                 const ViewCamera& camera, const glm::vec3& ambient,
                                 const RenderSettings& settings, int debugLight, Frame& frame,
                                 StageTimes& times) {
+  if (!settings.aovs) aovTargets_.reset();
   if (settings.aovs) {
     FloatImage aovs{camera.width,
                     camera.height,

@@ -1,0 +1,65 @@
+#include "renderer/passes/attachment_readback.h"
+
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <cstddef>
+
+namespace omnishadow {
+namespace {
+
+constexpr int kBandRows = 16;  // a 1280-pixel row of RGBA32F is 20 KiB
+
+// One copy over the `count` pixels of one row: `from` and `to` point at its first pixel's
+// channels, `stride` is the image's channels per pixel.
+template <int Count>
+void copyRow(const float* from, float* to, std::size_t stride, int count) {
+  for (int x = 0; x < count; ++x, from += 4, to += stride)
+    for (int c = 0; c < Count; ++c) to[c] = from[c];
+}
+
+}  // namespace
+
+void readChannels(const FrameTargets& targets, const std::vector<ChannelCopy>& copies,
+                  bool glRowOrder, FloatImage& image) {
+  const int w = targets.width(), h = targets.height();
+  const std::size_t stride = image.channels.size();
+  std::vector<int> attachments;
+  for (const ChannelCopy& copy : copies)
+    if (std::find(attachments.begin(), attachments.end(), copy.attachment) == attachments.end())
+      attachments.push_back(copy.attachment);
+  const std::size_t bandFloats = static_cast<std::size_t>(w) * kBandRows * 4;
+  std::vector<FloatPixels> bands(attachments.size(), FloatPixels(bandFloats));
+  for (int y0 = 0; y0 < h; y0 += kBandRows) {
+    const int rows = std::min(kBandRows, h - y0);
+    for (std::size_t a = 0; a < attachments.size(); ++a)
+      glGetTextureSubImage(targets.color(attachments[a]), 0, 0, y0, 0, w, rows, 1, GL_RGBA,
+                           GL_FLOAT, static_cast<GLsizei>(bandFloats * sizeof(float)),
+                           bands[a].data());
+    for (const ChannelCopy& copy : copies) {
+      const auto a = static_cast<std::size_t>(
+          std::find(attachments.begin(), attachments.end(), copy.attachment) - attachments.begin());
+      for (int r = 0; r < rows; ++r) {
+        const int y = glRowOrder ? y0 + r : h - 1 - (y0 + r);
+        const float* from = bands[a].data() + static_cast<std::size_t>(r) * w * 4 + copy.from;
+        float* to = image.pixels.data() + static_cast<std::size_t>(y) * w * stride + copy.to;
+        switch (copy.count) {
+          case 1:
+            copyRow<1>(from, to, stride, w);
+            break;
+          case 2:
+            copyRow<2>(from, to, stride, w);
+            break;
+          case 3:
+            copyRow<3>(from, to, stride, w);
+            break;
+          default:
+            copyRow<4>(from, to, stride, w);
+            break;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace omnishadow
