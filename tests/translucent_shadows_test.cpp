@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "renderer/passes/lighting_pass.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/translucency.h"
@@ -439,6 +441,67 @@ TEST(TranslucentShadows, TransmissionFromAGltfFileTintsTheShadow) {
     EXPECT_EQ(check.matching, check.points);
   }
   expectAgreementWithTheRays(verifyAgainstRays(s, frame), 1000);
+}
+
+// The AOV pass has as many visibility targets as the frame's lights need
+// (aovVisibilityOutputs(): one per four scalar terms, and room for the RGB terms of up to six
+// lights with translucent shadows). A light's channels are the same whatever the number of
+// lights beside it: frames of 1 to 9 and of 21 lights give the first and the last light, bit for
+// bit, the visibility, transmittance, position, normal and distance it has alone.
+TEST(TranslucentShadows, ALightsAovsAreTheSameWhateverTheLightsBesideIt) {
+  EXPECT_EQ(aovVisibilityOutputs(1, false), 1);
+  EXPECT_EQ(aovVisibilityOutputs(4, false), 1);
+  EXPECT_EQ(aovVisibilityOutputs(5, false), 2);
+  EXPECT_EQ(aovVisibilityOutputs(20, false), 5);
+  EXPECT_EQ(aovVisibilityOutputs(21, false), 5);
+  for (int lights = 1; lights <= 30; ++lights) {
+    const int outputs = aovVisibilityOutputs(lights, true);
+    EXPECT_GE(rgbLightsPerPass(outputs), std::min(lights, 6)) << lights;
+    EXPECT_LE(outputs, contract::kMaxVisibilityOutputs);
+  }
+  Staged s = paneScene(
+      {{glass({1.0f, 0.5f, 0.2f, 0.75f}, AlphaMode::Blend, 0.0f), {0.0f, 1.0f, 0.0f}, 4.0f}});
+  s.camera.width = 48;
+  s.camera.height = 36;
+  const auto light = [](int i) {
+    Light l;
+    l.name = "l" + std::to_string(i);
+    l.position = {0.15f * static_cast<float>(i % 7) - 0.45f, 5.0f,
+                  0.1f * static_cast<float>(i / 7)};
+    l.shadow.resolution = 64;
+    l.shadow.translucent = true;
+    return l;
+  };
+  // The channels of light `i` in a frame of `lights`, by name suffix.
+  const auto channelsOf = [](const Frame& frame, int i) {
+    const FloatImage& aovs = *frame.aovs;
+    const std::string name = "l" + std::to_string(i);
+    std::vector<float> values;
+    for (const std::string& channel :
+         std::vector<std::string>{"P.X", "P.Y", "P.Z", "N.X", "N.Y", "N.Z", "Z",
+                                  "visibility." + name, "transmittance." + name + ".R",
+                                  "transmittance." + name + ".G", "transmittance." + name + ".B"}) {
+      const int c = aovs.channelIndex(channel);
+      EXPECT_GE(c, 0) << channel;
+      if (c < 0) return values;
+      for (int y = 0; y < aovs.height; ++y)
+        for (int x = 0; x < aovs.width; ++x) values.push_back(aovs.at(x, y, c));
+    }
+    return values;
+  };
+  const auto alone = [&](int i) {
+    s.lights = {light(i)};
+    return channelsOf(renderAovs(s), i);
+  };
+  const std::vector<float> first = alone(0);
+  for (int count : {2, 3, 4, 5, 6, 7, 8, 9, 21}) {
+    SCOPED_TRACE(count);
+    s.lights.clear();
+    for (int i = 0; i < count; ++i) s.lights.push_back(light(i));
+    const Frame frame = renderAovs(s);
+    EXPECT_TRUE(channelsOf(frame, 0) == first);
+    EXPECT_TRUE(channelsOf(frame, count - 1) == alone(count - 1));
+  }
 }
 
 // Eight lights take two passes of RGB terms (six lights each): every light's

@@ -55,7 +55,10 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if (features.directionalLights) defines.push_back("DIRECTIONAL_LIGHTS");
   if (features.lightsInStorage) defines.push_back("LIGHTS_IN_STORAGE");
   if (shading == Shading::Phong) defines.push_back("SHADING_PHONG");
-  if (outputs == PassOutputs::Aovs) defines.push_back("WRITE_AOVS");
+  if (outputs == PassOutputs::Aovs) {
+    defines.push_back("WRITE_AOVS");
+    defines.push_back("VISIBILITY_OUTPUTS " + std::to_string(features.visibilityOutputs));
+  }
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
   if (outputs == PassOutputs::Srgb8) defines.push_back("WRITE_SRGB8");
   // The AOV and layer passes report every light's terms, also where it faces away.
@@ -71,13 +74,13 @@ std::string hex(GLenum value) {
   return text;
 }
 
-int attachmentsFor(PassOutputs outputs) {
+int attachmentsFor(PassOutputs outputs, int visibilityOutputs) {
   switch (outputs) {
     case PassOutputs::Beauty:
     case PassOutputs::Srgb8:
       return 1;
     case PassOutputs::Aovs:
-      return 3 + kVisibilityPerPass / 4;
+      return 3 + visibilityOutputs;
     case PassOutputs::Layers:
       return 3;
   }
@@ -183,9 +186,22 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
 
 }  // namespace
 
-FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
-    : width_(width), height_(height), outputs_(outputs), framebuffer_(gl::createFramebuffer()) {
-  const int count = attachmentsFor(outputs);
+int aovVisibilityOutputs(int lights, bool rgbTerms) {
+  int outputs = std::clamp((lights + 3) / 4, 1, contract::kMaxVisibilityOutputs);
+  if (rgbTerms) {
+    const int rgbLights = std::min(lights, rgbLightsPerPass(contract::kMaxVisibilityOutputs));
+    outputs = std::max(outputs, std::min((3 * rgbLights + 3) / 4, contract::kMaxVisibilityOutputs));
+  }
+  return outputs;
+}
+
+FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visibilityOutputs)
+    : width_(width),
+      height_(height),
+      outputs_(outputs),
+      visibilityOutputs_(outputs == PassOutputs::Aovs ? visibilityOutputs : 0),
+      framebuffer_(gl::createFramebuffer()) {
+  const int count = attachmentsFor(outputs, visibilityOutputs);
   std::vector<GLenum> drawBuffers;
   for (int i = 0; i < count; ++i) {
     colors_.push_back(
@@ -206,7 +222,8 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs)
 double FrameTargets::bytes(int width, int height, PassOutputs outputs) {
   const double texels = static_cast<double>(width) * height;
   const double texel = outputs == PassOutputs::Srgb8 ? 4.0 : 4.0 * sizeof(float);
-  return texels * (attachmentsFor(outputs) * texel + sizeof(float));
+  return texels *
+         (attachmentsFor(outputs, contract::kMaxVisibilityOutputs) * texel + sizeof(float));
 }
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {

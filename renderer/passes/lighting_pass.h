@@ -28,7 +28,7 @@ enum class PassOutputs {
   // makes of the float one (shaders/srgb8_encode.glsl). A quarter of the float target's bytes
   // to clear and read back; it cannot blend, so only for frames without blended surfaces.
   Srgb8,
-  Aovs,    // + position/distance, normal, visibility of 20 lights
+  Aovs,    // + position/distance, normal, visibility of up to 20 lights
   Layers,  // + two layer targets: material layers or one light's diffuse and specular
 };
 
@@ -45,8 +45,8 @@ struct PassParameters {
   // AOVs of pixels no opaque surface covers, renderer.cpp).
   bool blendedOnly = false;
   // Aovs: the visibility targets hold the RGB shadow terms (translucent shadows: the
-  // transmittance.<light> AOVs) of kRgbVisibilityPerPass lights from visibilityBase on, R, G, B
-  // of each in turn, instead of the scalar terms of kVisibilityPerPass lights.
+  // transmittance.<light> AOVs) of rgbLightsPerPass() lights from visibilityBase on, R, G, B
+  // of each in turn, instead of the scalar terms of 4 lights per visibility target.
   bool visibilityRgb = false;
   float exposureScale = 1.0f;  // Srgb8: 2^exposure
   // Opaque surfaces first write their depth alone, then shade where theirs is the nearest
@@ -72,9 +72,16 @@ struct OpaqueFragments {
   std::uint64_t shaded = 0;
 };
 
-// How many lights one lighting pass reports visibility for (one per channel of RGBA32F targets).
-inline constexpr int kVisibilityPerPass = contract::kVisibilityPerPass;
-inline constexpr int kRgbVisibilityPerPass = kVisibilityPerPass / 3;
+// The visibility targets of the AOV pass of a frame with `lights` lights (one light per
+// channel, up to contract::kMaxVisibilityOutputs targets), enough for the RGB terms of
+// rgbLightsPerPass() lights when `rgbTerms` (translucent shadows). Fewer targets than the most
+// are fewer to clear and write for every pixel: a one-light frame's AOV pass took 35 ms with
+// five, 21 with one.
+int aovVisibilityOutputs(int lights, bool rgbTerms);
+// The RGB shadow terms (three channels each) that `visibilityOutputs` targets hold.
+inline int rgbLightsPerPass(int visibilityOutputs) {
+  return 4 * visibilityOutputs / 3;
+}
 // A light as the lighting pass sees it: its description plus where its shadow map is.
 struct ShadedLight {
   const Light* light = nullptr;
@@ -90,18 +97,20 @@ struct ShadedLight {
 using ShadowGroups = std::vector<ShadowGroupTextures>;
 
 // Render targets of one frame, RGBA32F each (Srgb8: RGBA8UI): 0 is linear premultiplied RGBA
-// (Srgb8: its sRGB bytes); for Aovs also
-// 1: world position + camera distance, 2: camera-facing normal, 3..7: visibility of 20 lights;
-// for Layers 1 and 2 hold the layer values.
+// (Srgb8: its sRGB bytes); for Aovs also 1: world position + camera distance, 2: camera-facing
+// normal, 3 on: `visibilityOutputs` targets of 4 lights' visibility; for Layers 1 and 2 hold the
+// layer values.
 class FrameTargets {
  public:
-  FrameTargets(int width, int height, PassOutputs outputs);
-  // The bytes such targets take (their colors and a 32-bit depth), for checks made before
+  FrameTargets(int width, int height, PassOutputs outputs,
+               int visibilityOutputs = contract::kMaxVisibilityOutputs);
+  // The most bytes such targets take (their colors and a 32-bit depth), for checks made before
   // any of them is allocated.
   static double bytes(int width, int height, PassOutputs outputs);
   GLuint framebuffer() const { return framebuffer_.get(); }
   GLuint color(int attachment) const { return colors_[attachment].get(); }
   int attachmentCount() const { return static_cast<int>(colors_.size()); }
+  int visibilityOutputs() const { return visibilityOutputs_; }  // Aovs; 0 for the others
   PassOutputs outputs() const { return outputs_; }
   int width() const { return width_; }
   int height() const { return height_; }
@@ -109,6 +118,7 @@ class FrameTargets {
  private:
   int width_, height_;
   PassOutputs outputs_;
+  int visibilityOutputs_;
   gl::Framebuffer framebuffer_;
   std::vector<gl::Texture> colors_;
   gl::Texture depth_;
@@ -141,6 +151,8 @@ struct LightingFeatures {
   // (lightingFeatures() leaves that to the caller): the beauty's light loop visits only the
   // lights some pixel of each lane group faces (shaders/lighting.frag, FACING_LIGHT_LOOP).
   bool facingLightLoop = false;
+  // Aovs: the visibility targets (aovVisibilityOutputs()); 0 for the other outputs.
+  int visibilityOutputs = 0;
   bool operator==(const LightingFeatures&) const = default;
 };
 

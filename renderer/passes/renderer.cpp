@@ -551,12 +551,14 @@ LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
 
 namespace {
 
-// `kept`, remade first when it is missing or of another size.
+// `kept`, remade first when it is missing or of another size or shape.
 FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, int width, int height,
-                          PassOutputs outputs) {
-  if (!kept || kept->width() != width || kept->height() != height) {
+                          PassOutputs outputs,
+                          int visibilityOutputs = contract::kMaxVisibilityOutputs) {
+  if (!kept || kept->width() != width || kept->height() != height ||
+      (outputs == PassOutputs::Aovs && kept->visibilityOutputs() != visibilityOutputs)) {
     kept.reset();  // the old one goes before the new one takes its memory
-    kept = std::make_unique<FrameTargets>(width, height, outputs);
+    kept = std::make_unique<FrameTargets>(width, height, outputs, visibilityOutputs);
   }
   return *kept;
 }
@@ -633,8 +635,6 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
   const int lightCount = static_cast<int>(prepared.shaded.size());
   const bool flip = camera.glRowOrder;
   // One pass gives the fixed channels and the visibility of 20 lights; more lights take more.
-  FrameTargets& targets = keptTargets(aovTargets_, camera.width, camera.height, PassOutputs::Aovs);
-  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, prepared.features);
   // Where each light's transmittance.<light>.R channel is (-1: none).
   std::vector<int> transmittanceChannel(prepared.shaded.size(), -1);
   bool hasTransmittance = false;
@@ -644,7 +644,14 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         aovs.channelIndex("transmittance." + prepared.shaded[l].light->name + ".R");
     hasTransmittance = hasTransmittance || transmittanceChannel[l] >= 0;
   }
-  const int passes = std::max(1, (lightCount + kVisibilityPerPass - 1) / kVisibilityPerPass);
+  LightingFeatures features = prepared.features;
+  features.visibilityOutputs = aovVisibilityOutputs(lightCount, hasTransmittance);
+  const int visibilityPerPass = 4 * features.visibilityOutputs;
+  const int rgbPerPass = rgbLightsPerPass(features.visibilityOutputs);
+  FrameTargets& targets = keptTargets(aovTargets_, camera.width, camera.height, PassOutputs::Aovs,
+                                      features.visibilityOutputs);
+  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, features);
+  const int passes = std::max(1, (lightCount + visibilityPerPass - 1) / visibilityPerPass);
   // One lighting pass into `targets`; the caller reads them back.
   auto draw = [&](int visibilityBase, bool blendedOnly, bool visibilityRgb) {
     PassParameters parameters;
@@ -658,7 +665,7 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
   };
   auto fill = [&](FloatImage& image, bool blendedOnly) {
     for (int p = 0; p < passes; ++p) {
-      const int visibilityBase = p * kVisibilityPerPass;
+      const int visibilityBase = p * visibilityPerPass;
       draw(visibilityBase, blendedOnly, false);
       ScopedStage readback(times, "readback");
       std::vector<ChannelCopy> copies;
@@ -666,7 +673,7 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         // RGBA; P from the position target's RGB, N; Z from its A.
         copies = {{0, 0, 4, 0}, {1, 0, 3, 4}, {2, 0, 3, 7}, {1, 3, 1, 10}};
       }
-      for (int target = 0; target < kVisibilityPerPass / 4; ++target) {
+      for (int target = 0; target < features.visibilityOutputs; ++target) {
         const int first = visibilityBase + target * 4;
         if (first >= lightCount) break;
         copies.push_back(
@@ -676,8 +683,8 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
     }
     if (!hasTransmittance) return;
     // The RGB terms of the lights with translucent shadows, R, G, B of each light in turn.
-    for (int base = 0; base < lightCount; base += kRgbVisibilityPerPass) {
-      const int end = std::min(base + kRgbVisibilityPerPass, lightCount);
+    for (int base = 0; base < lightCount; base += rgbPerPass) {
+      const int end = std::min(base + rgbPerPass, lightCount);
       if (std::all_of(transmittanceChannel.begin() + base, transmittanceChannel.begin() + end,
                       [](int channel) { return channel < 0; }))
         continue;

@@ -79,9 +79,9 @@ inline constexpr int kMinUniformBlockBytes = 16384;  // GL_MAX_UNIFORM_BLOCK_SIZ
 inline constexpr int kMaxUniformLights = kMinUniformBlockBytes / (10 * 16);          // GpuLight
 inline constexpr int kMaxUniformViewProjections = kMinUniformBlockBytes / (16 * 4);  // mat4
 
-// The lighting pass reports the shadow term of this many lights per pass in RGBA targets.
-inline constexpr int kVisibilityOutputs = 5;
-inline constexpr int kVisibilityPerPass = 4 * kVisibilityOutputs;
+// The AOV pass reports the shadow terms of up to 4 lights per RGBA target, in at most this many
+// targets (VISIBILITY_OUTPUTS, a variant define: LightingFeatures::visibilityOutputs).
+inline constexpr int kMaxVisibilityOutputs = 5;
 
 // A directional light's cascade ends and texel sizes travel as one vec4 each.
 inline constexpr int kMaxCascades = 4;
@@ -165,7 +165,6 @@ inline std::vector<std::string> shaderContractDefines() {
       define("SHADOW_VIEW_PROJECTIONS_UNIFORM_BINDING", kShadowViewProjectionsUniformBinding),
       define("MAX_UNIFORM_LIGHTS", kMaxUniformLights),
       define("MAX_UNIFORM_VIEW_PROJECTIONS", kMaxUniformViewProjections),
-      define("VISIBILITY_OUTPUTS", kVisibilityOutputs),
       define("LIGHT_POINT", e(LightType::Point)),
       define("LIGHT_SPOT", e(LightType::Spot)),
       define("LIGHT_DIRECTIONAL", e(LightType::Directional)),
