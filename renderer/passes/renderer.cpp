@@ -111,21 +111,6 @@ bool encodesSrgb8(const Scene& scene, const RenderSettings& settings) {
                       [](const Material& m) { return m.alphaMode == AlphaMode::Blend; });
 }
 
-// Copies `count` channels starting at `from` of an RGBA buffer into the image from `to` on.
-void copyChannels(const FloatPixels& rgba, int from, int count, FloatImage& image, int to) {
-  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
-  const std::size_t stride = image.channels.size();
-  for (std::size_t i = 0; i < pixels; ++i)
-    for (int c = 0; c < count; ++c) image.pixels[i * stride + to + c] = rgba[i * 4 + from + c];
-}
-
-// Replaces the RGBA pixels of `into` where `mask` is set by those of `from`.
-void mergePixels(const FloatPixels& from, const std::vector<std::uint8_t>& mask,
-                 FloatPixels& into) {
-  for (std::size_t i = 0; i < mask.size(); ++i)
-    if (mask[i]) std::copy_n(from.begin() + i * 4, 4, into.begin() + i * 4);
-}
-
 bool hasBlendedSurfaces(const GpuScene& scene) {
   for (const GpuDraw& draw : scene.draws())
     if (scene.materials()[draw.material].desc.alphaMode == AlphaMode::Blend) return true;
@@ -276,6 +261,7 @@ class Renderer::Impl {
   // a frame's AOV memory (checkAovMemory) is the same whether they are new or kept, and a frame
   // without AOVs lets them go.
   std::unique_ptr<FrameTargets> aovTargets_;
+  std::unique_ptr<FrameTargets> layerTargets_;  // the same for the AOV layer pass
 };
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
@@ -720,40 +706,59 @@ void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
   const bool flip = camera.glRowOrder;
   const AovLayers& layers = settings.layers;
   if (!layers.any()) return;
-  FrameTargets layerTargets(camera.width, camera.height, PassOutputs::Layers);
+  FrameTargets& layerTargets =
+      keptTargets(layerTargets_, camera.width, camera.height, PassOutputs::Layers);
   LightingPass& layerPass = lightingPass(settings.shading, PassOutputs::Layers, prepared.features);
-  auto runLayerPass = [&](int mode, int light) {
+  // One layer pass, its `copies` (attachments 1 and 2) read into the AOV image; where only
+  // blended surfaces cover a pixel, a second pass of those gives it theirs.
+  auto runLayerPass = [&](int mode, int light, const std::vector<ChannelCopy>& copies) {
     PassParameters parameters;
     parameters.layerMode = mode;
     parameters.layerLight = light;
     ScopedStage stage(times, "layers");
     layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                      ambient, layerTargets, parameters);
-    auto result = std::make_pair(readAttachment(layerTargets, 1, flip, packInvert_),
-                                 readAttachment(layerTargets, 2, flip, packInvert_));
-    if (blendedOnly.empty()) return result;
+    readChannels(layerTargets, copies, flip, aovs);
+    if (blendedOnly.empty()) return;
     parameters.blendedOnly = true;
     layerPass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                      ambient, layerTargets, parameters);
-    mergePixels(readAttachment(layerTargets, 1, flip, packInvert_), blendedOnly, result.first);
-    mergePixels(readAttachment(layerTargets, 2, flip, packInvert_), blendedOnly, result.second);
-    return result;
+    FloatImage blended{camera.width, camera.height, {}, {}};
+    std::vector<ChannelCopy> toBlended;
+    for (const ChannelCopy& copy : copies) {
+      toBlended.push_back({copy.attachment, copy.from, copy.count,
+                           static_cast<int>(blended.channels.size())});
+      blended.channels.resize(blended.channels.size() + static_cast<std::size_t>(copy.count));
+    }
+    blended.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height *
+                          blended.channels.size());
+    readChannels(layerTargets, toBlended, flip, blended);
+    const std::size_t stride = aovs.channels.size(), blendedStride = blended.channels.size();
+    for (std::size_t i = 0; i < blendedOnly.size(); ++i) {
+      if (!blendedOnly[i]) continue;
+      for (std::size_t k = 0; k < copies.size(); ++k)
+        std::copy_n(blended.pixels.begin() + i * blendedStride + toBlended[k].to, copies[k].count,
+                    aovs.pixels.begin() + i * stride + copies[k].to);
+    }
   };
   int next = kFixedAovChannels + lightCount;
   if (layers.albedo || layers.roughness || layers.metallic || layers.objectId ||
       layers.materialId) {
-    const auto [a, b] = runLayerPass(0, -1);  // a: albedo.rgb, roughness; b: metallic, ids
-    if (layers.albedo) copyChannels(a, 0, 3, aovs, std::exchange(next, next + 3));
-    if (layers.roughness) copyChannels(a, 3, 1, aovs, next++);
-    if (layers.metallic) copyChannels(b, 0, 1, aovs, next++);
-    if (layers.objectId) copyChannels(b, 1, 1, aovs, next++);
-    if (layers.materialId) copyChannels(b, 2, 1, aovs, next++);
+    // Attachment 1: albedo.rgb, roughness; 2: metallic, objectId, materialId.
+    std::vector<ChannelCopy> copies;
+    if (layers.albedo) copies.push_back({1, 0, 3, std::exchange(next, next + 3)});
+    if (layers.roughness) copies.push_back({1, 3, 1, next++});
+    if (layers.metallic) copies.push_back({2, 0, 1, next++});
+    if (layers.objectId) copies.push_back({2, 1, 1, next++});
+    if (layers.materialId) copies.push_back({2, 2, 1, next++});
+    runLayerPass(0, -1, copies);
   }
   if (layers.diffuse || layers.specular) {
     for (int light = 0; light < lightCount; ++light) {
-      const auto [diffuse, specular] = runLayerPass(1, light);
-      if (layers.diffuse) copyChannels(diffuse, 0, 3, aovs, std::exchange(next, next + 3));
-      if (layers.specular) copyChannels(specular, 0, 3, aovs, std::exchange(next, next + 3));
+      std::vector<ChannelCopy> copies;  // attachment 1: the light's diffuse; 2: its specular
+      if (layers.diffuse) copies.push_back({1, 0, 3, std::exchange(next, next + 3)});
+      if (layers.specular) copies.push_back({2, 0, 3, std::exchange(next, next + 3)});
+      runLayerPass(1, light, copies);
     }
   }
 }
@@ -867,6 +872,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
                                 const RenderSettings& settings, int debugLight, Frame& frame,
                                 StageTimes& times) {
   if (!settings.aovs) aovTargets_.reset();
+  if (!settings.aovs || !settings.layers.any()) layerTargets_.reset();
   if (settings.aovs) {
     FloatImage aovs{camera.width,
                     camera.height,
