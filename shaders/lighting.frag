@@ -111,10 +111,12 @@ layout(location = 0) out vec4 outBeauty;
 layout(location = 1) out vec4 outPositionDistance;  // P.xyz, camera distance
 layout(location = 2) out vec4 outNormal;            // shading normal facing the camera
 layout(location = 3) out vec4 outVisibility[VISIBILITY_OUTPUTS];
-uniform int uVisibilityBase;  // first light whose shadow term goes to outVisibility
-// 0: outVisibility holds each light's scalar shadow term; 1: the RGB terms (the shadow times the
-// translucent casters' transmittance) of VISIBILITY_OUTPUTS * 4 / 3 lights, three scalars each.
-uniform int uVisibilityRgb;
+uniform int uVisibilityBase;  // first light whose shadow terms go to outVisibility
+// Channels 0 to uScalarTerms - 1 of outVisibility hold the lights' scalar shadow terms; from
+// channel uRgbFirst on (-1: none), their RGB terms (the shadow times the translucent casters'
+// transmittance), three channels each, as many as fit.
+uniform int uScalarTerms;
+uniform int uRgbFirst;
 #endif
 #ifdef WRITE_LAYERS
 layout(location = 1) out vec4 outLayerA;  // mode 0: albedo, roughness; mode 1: diffuse
@@ -265,13 +267,12 @@ void main() {
 #endif
 #ifdef WRITE_AOVS
     int slot = i - uVisibilityBase;
-    if (uVisibilityRgb == 0) {
-      if (slot >= 0 && slot < 4 * VISIBILITY_OUTPUTS) visibility[slot] = shadow;
-    } else {
-      for (int c = 0; c < 3; ++c)
-        if (slot >= 0 && 3 * slot + c < 4 * VISIBILITY_OUTPUTS)
-          visibility[3 * slot + c] = shadowColor[c];
-    }
+    if (slot >= 0 && slot < uScalarTerms) visibility[slot] = shadow;
+    if (uRgbFirst >= 0)
+      for (int c = 0; c < 3; ++c) {
+        int channel = uRgbFirst + 3 * slot + c;
+        if (slot >= 0 && channel < 4 * VISIBILITY_OUTPUTS) visibility[channel] = shadowColor[c];
+      }
 #endif
     if (max(max(shadowColor.r, shadowColor.g), shadowColor.b) <= 0.0) continue;
     vec3 diffuse, specular;

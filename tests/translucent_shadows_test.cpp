@@ -444,20 +444,30 @@ TEST(TranslucentShadows, TransmissionFromAGltfFileTintsTheShadow) {
 }
 
 // The AOV pass has as many visibility targets as the frame's lights need
-// (aovVisibilityOutputs(): one per four scalar terms, and room for the RGB terms of up to six
-// lights with translucent shadows). A light's channels are the same whatever the number of
-// lights beside it: frames of 1 to 9 and of 21 lights give the first and the last light, bit for
-// bit, the visibility, transmittance, position, normal and distance it has alone.
+// (aovVisibilityLayout(): one per four scalar terms; with translucent shadows, up to four
+// lights' scalar and RGB terms in one pass, more lights' RGB terms in passes of their own, six
+// a pass). A light's channels are the same whatever the number of lights beside it: frames of 1
+// to 9 and of 21 lights give the first and the last light, bit for bit, the visibility,
+// transmittance, position, normal and distance it has alone.
 TEST(TranslucentShadows, ALightsAovsAreTheSameWhateverTheLightsBesideIt) {
-  EXPECT_EQ(aovVisibilityOutputs(1, false), 1);
-  EXPECT_EQ(aovVisibilityOutputs(4, false), 1);
-  EXPECT_EQ(aovVisibilityOutputs(5, false), 2);
-  EXPECT_EQ(aovVisibilityOutputs(20, false), 5);
-  EXPECT_EQ(aovVisibilityOutputs(21, false), 5);
+  for (const auto& [lights, outputs] :
+       std::vector<std::pair<int, int>>{{0, 1}, {1, 1}, {4, 1}, {5, 2}, {20, 5}, {21, 5}}) {
+    const AovVisibilityLayout layout = aovVisibilityLayout(lights, false);
+    EXPECT_EQ(layout.outputs, outputs) << lights;
+    EXPECT_EQ(layout.scalarPerPass, 4 * outputs) << lights;
+    EXPECT_FALSE(layout.combined);
+  }
   for (int lights = 1; lights <= 30; ++lights) {
-    const int outputs = aovVisibilityOutputs(lights, true);
-    EXPECT_GE(rgbLightsPerPass(outputs), std::min(lights, 6)) << lights;
-    EXPECT_LE(outputs, contract::kMaxVisibilityOutputs);
+    const AovVisibilityLayout layout = aovVisibilityLayout(lights, true);
+    EXPECT_LE(layout.outputs, contract::kMaxVisibilityOutputs) << lights;
+    EXPECT_EQ(layout.combined, lights <= kMaxCombinedLights) << lights;
+    if (layout.combined) {
+      EXPECT_GE(layout.scalarPerPass, lights);
+      EXPECT_GE(4 * layout.outputs, layout.scalarPerPass + 3 * lights) << lights;
+    } else {
+      EXPECT_GE(layout.rgbPerPass, std::min(lights, 6)) << lights;
+      EXPECT_GE(4 * layout.outputs, 3 * layout.rgbPerPass) << lights;
+    }
   }
   Staged s = paneScene(
       {{glass({1.0f, 0.5f, 0.2f, 0.75f}, AlphaMode::Blend, 0.0f), {0.0f, 1.0f, 0.0f}, 4.0f}});

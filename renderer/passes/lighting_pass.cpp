@@ -186,13 +186,23 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
 
 }  // namespace
 
-int aovVisibilityOutputs(int lights, bool rgbTerms) {
-  int outputs = std::clamp((lights + 3) / 4, 1, contract::kMaxVisibilityOutputs);
-  if (rgbTerms) {
-    const int rgbLights = std::min(lights, rgbLightsPerPass(contract::kMaxVisibilityOutputs));
-    outputs = std::max(outputs, std::min((3 * rgbLights + 3) / 4, contract::kMaxVisibilityOutputs));
+AovVisibilityLayout aovVisibilityLayout(int lights, bool rgbTerms) {
+  AovVisibilityLayout layout;
+  const auto targetsFor = [](int channels) { return (channels + 3) / 4; };
+  if (rgbTerms && lights <= kMaxCombinedLights) {
+    layout.combined = true;
+    layout.scalarPerPass = 4;  // one target
+    layout.rgbPerPass = lights;
+    layout.outputs = 1 + targetsFor(3 * lights);
+    return layout;
   }
-  return outputs;
+  constexpr int kMost = contract::kMaxVisibilityOutputs;
+  layout.outputs = std::clamp(targetsFor(lights), 1, kMost);
+  if (rgbTerms)
+    layout.outputs = std::max(layout.outputs, targetsFor(3 * std::min(lights, 4 * kMost / 3)));
+  layout.scalarPerPass = 4 * layout.outputs;
+  layout.rgbPerPass = rgbTerms ? 4 * layout.outputs / 3 : 0;
+  return layout;
 }
 
 FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visibilityOutputs)
@@ -415,7 +425,8 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
   program.set("uAmbient", uniforms.ambient);
   if (outputs_ == PassOutputs::Aovs) {
     program.set("uVisibilityBase", parameters.visibilityBase);
-    program.set("uVisibilityRgb", parameters.visibilityRgb ? 1 : 0);
+    program.set("uScalarTerms", parameters.scalarTerms);
+    program.set("uRgbFirst", parameters.rgbFirst);
   }
   if (outputs_ == PassOutputs::Srgb8) program.set("uExposureScale", parameters.exposureScale);
   if (outputs_ == PassOutputs::Layers) {

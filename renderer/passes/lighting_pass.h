@@ -44,10 +44,12 @@ struct PassParameters {
   // Aovs, Layers: draw only the blended surfaces, the front-most one per pixel, unblended (the
   // AOVs of pixels no opaque surface covers, renderer.cpp).
   bool blendedOnly = false;
-  // Aovs: the visibility targets hold the RGB shadow terms (translucent shadows: the
-  // transmittance.<light> AOVs) of rgbLightsPerPass() lights from visibilityBase on, R, G, B
-  // of each in turn, instead of the scalar terms of 4 lights per visibility target.
-  bool visibilityRgb = false;
+  // Aovs: the visibility targets' channels from 0 hold the scalar shadow terms of
+  // `scalarTerms` lights from visibilityBase on; from channel `rgbFirst` on (-1: none), the RGB
+  // terms (translucent shadows: the transmittance.<light> AOVs) of those lights, R, G, B of each
+  // in turn, as many as fit (AovVisibilityLayout).
+  int scalarTerms = 0;
+  int rgbFirst = -1;
   float exposureScale = 1.0f;  // Srgb8: 2^exposure
   // Opaque surfaces first write their depth alone, then shade where theirs is the nearest
   // (each pixel shaded once); without it they test and write depth as they shade (some
@@ -72,16 +74,20 @@ struct OpaqueFragments {
   std::uint64_t shaded = 0;
 };
 
-// The visibility targets of the AOV pass of a frame with `lights` lights (one light per
-// channel, up to contract::kMaxVisibilityOutputs targets), enough for the RGB terms of
-// rgbLightsPerPass() lights when `rgbTerms` (translucent shadows). Fewer targets than the most
-// are fewer to clear and write for every pixel: a one-light frame's AOV pass took 35 ms with
-// five, 21 with one.
-int aovVisibilityOutputs(int lights, bool rgbTerms);
-// The RGB shadow terms (three channels each) that `visibilityOutputs` targets hold.
-inline int rgbLightsPerPass(int visibilityOutputs) {
-  return 4 * visibilityOutputs / 3;
-}
+// How the AOV passes of a frame report its lights' shadow terms in their visibility targets:
+// the scalar terms one light per channel, the RGB terms of translucent shadows (`rgbTerms`)
+// three channels per light, in passes of their own or, for up to kMaxCombinedLights lights,
+// after the scalar terms in the same pass. As few targets as that takes, up to
+// contract::kMaxVisibilityOutputs: each is one more to clear and write for every pixel (a
+// one-light frame's AOV pass took 35 ms with five, 21 with one), and each pass draws the scene.
+struct AovVisibilityLayout {
+  int outputs = 1;        // visibility targets
+  int scalarPerPass = 4;  // lights whose scalar terms one pass reports
+  int rgbPerPass = 0;     // lights whose RGB terms one pass reports
+  bool combined = false;  // one pass: the RGB terms from channel scalarPerPass on
+};
+inline constexpr int kMaxCombinedLights = 4;
+AovVisibilityLayout aovVisibilityLayout(int lights, bool rgbTerms);
 // A light as the lighting pass sees it: its description plus where its shadow map is.
 struct ShadedLight {
   const Light* light = nullptr;
@@ -151,7 +157,7 @@ struct LightingFeatures {
   // (lightingFeatures() leaves that to the caller): the beauty's light loop visits only the
   // lights some pixel of each lane group faces (shaders/lighting.frag, FACING_LIGHT_LOOP).
   bool facingLightLoop = false;
-  // Aovs: the visibility targets (aovVisibilityOutputs()); 0 for the other outputs.
+  // Aovs: the visibility targets (AovVisibilityLayout::outputs); 0 for the other outputs.
   int visibilityOutputs = 0;
   bool operator==(const LightingFeatures&) const = default;
 };

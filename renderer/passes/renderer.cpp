@@ -630,60 +630,71 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         aovs.channelIndex("transmittance." + prepared.shaded[l].light->name + ".R");
     hasTransmittance = hasTransmittance || transmittanceChannel[l] >= 0;
   }
+  const AovVisibilityLayout layout = aovVisibilityLayout(lightCount, hasTransmittance);
   LightingFeatures features = prepared.features;
-  features.visibilityOutputs = aovVisibilityOutputs(lightCount, hasTransmittance);
-  const int visibilityPerPass = 4 * features.visibilityOutputs;
-  const int rgbPerPass = rgbLightsPerPass(features.visibilityOutputs);
-  FrameTargets& targets = keptTargets(aovTargets_, camera.width, camera.height, PassOutputs::Aovs,
-                                      features.visibilityOutputs);
+  features.visibilityOutputs = layout.outputs;
+  FrameTargets& targets =
+      keptTargets(aovTargets_, camera.width, camera.height, PassOutputs::Aovs, layout.outputs);
   LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, features);
-  const int passes = std::max(1, (lightCount + visibilityPerPass - 1) / visibilityPerPass);
   // One lighting pass into `targets`; the caller reads them back.
-  auto draw = [&](int visibilityBase, bool blendedOnly, bool visibilityRgb) {
+  auto draw = [&](int visibilityBase, bool blendedOnly, int scalarTerms, int rgbFirst) {
     PassParameters parameters;
     parameters.visibilityBase = visibilityBase;
     parameters.blendedOnly = blendedOnly;
-    parameters.visibilityRgb = visibilityRgb;
+    parameters.scalarTerms = scalarTerms;
+    parameters.rgbFirst = rgbFirst;
     ScopedStage stage(times, "lighting");
     pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
     glFinish();
   };
+  // The copies of the scalar terms of lights [base, end) from channel 0 on.
+  auto scalarCopies = [&](int base, int end, std::vector<ChannelCopy>& copies) {
+    for (int first = base; first < end; first += 4)
+      copies.push_back(
+          {3 + (first - base) / 4, 0, std::min(4, end - first), kFixedAovChannels + first});
+  };
+  // The copies of the RGB terms of lights [base, end) from channel `rgbFirst` on; false when
+  // none of them has transmittance channels.
+  auto rgbCopies = [&](int base, int end, int rgbFirst, std::vector<ChannelCopy>& copies) {
+    bool any = false;
+    for (int l = base; l < end; ++l) {
+      if (transmittanceChannel[l] < 0) continue;
+      any = true;
+      for (int c = 0; c < 3; ++c) {
+        const int channel = rgbFirst + 3 * (l - base) + c;
+        copies.push_back({3 + channel / 4, channel % 4, 1, transmittanceChannel[l] + c});
+      }
+    }
+    return any;
+  };
+  // RGBA; P from the position target's RGB, N; Z from its A.
+  const std::vector<ChannelCopy> fixedCopies = {
+      {0, 0, 4, 0}, {1, 0, 3, 4}, {2, 0, 3, 7}, {1, 3, 1, 10}};
   auto fill = [&](FloatImage& image, bool blendedOnly) {
-    for (int p = 0; p < passes; ++p) {
-      const int visibilityBase = p * visibilityPerPass;
-      draw(visibilityBase, blendedOnly, false);
+    if (layout.combined) {
+      draw(0, blendedOnly, lightCount, layout.scalarPerPass);
+      ScopedStage readback(times, "readback");
+      std::vector<ChannelCopy> copies = fixedCopies;
+      scalarCopies(0, lightCount, copies);
+      rgbCopies(0, lightCount, layout.scalarPerPass, copies);
+      readChannels(targets, copies, flip, image);
+      return;
+    }
+    for (int base = 0; base == 0 || base < lightCount; base += layout.scalarPerPass) {
+      draw(base, blendedOnly, layout.scalarPerPass, -1);
       ScopedStage readback(times, "readback");
       std::vector<ChannelCopy> copies;
-      if (p == 0) {
-        // RGBA; P from the position target's RGB, N; Z from its A.
-        copies = {{0, 0, 4, 0}, {1, 0, 3, 4}, {2, 0, 3, 7}, {1, 3, 1, 10}};
-      }
-      for (int target = 0; target < features.visibilityOutputs; ++target) {
-        const int first = visibilityBase + target * 4;
-        if (first >= lightCount) break;
-        copies.push_back(
-            {3 + target, 0, std::min(4, lightCount - first), kFixedAovChannels + first});
-      }
+      if (base == 0) copies = fixedCopies;
+      scalarCopies(base, std::min(base + layout.scalarPerPass, lightCount), copies);
       readChannels(targets, copies, flip, image);
     }
     if (!hasTransmittance) return;
-    // The RGB terms of the lights with translucent shadows, R, G, B of each light in turn.
-    for (int base = 0; base < lightCount; base += rgbPerPass) {
-      const int end = std::min(base + rgbPerPass, lightCount);
-      if (std::all_of(transmittanceChannel.begin() + base, transmittanceChannel.begin() + end,
-                      [](int channel) { return channel < 0; }))
-        continue;
-      draw(base, blendedOnly, true);
-      ScopedStage readback(times, "readback");
+    for (int base = 0; base < lightCount; base += layout.rgbPerPass) {
       std::vector<ChannelCopy> copies;
-      for (int l = base; l < end; ++l) {
-        if (transmittanceChannel[l] < 0) continue;
-        for (int c = 0; c < 3; ++c) {
-          const int scalar = 3 * (l - base) + c;
-          copies.push_back({3 + scalar / 4, scalar % 4, 1, transmittanceChannel[l] + c});
-        }
-      }
+      if (!rgbCopies(base, std::min(base + layout.rgbPerPass, lightCount), 0, copies)) continue;
+      draw(base, blendedOnly, 0, 0);
+      ScopedStage readback(times, "readback");
       readChannels(targets, copies, flip, image);
     }
   };
@@ -726,8 +737,8 @@ void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
     FloatImage blended{camera.width, camera.height, {}, {}};
     std::vector<ChannelCopy> toBlended;
     for (const ChannelCopy& copy : copies) {
-      toBlended.push_back({copy.attachment, copy.from, copy.count,
-                           static_cast<int>(blended.channels.size())});
+      toBlended.push_back(
+          {copy.attachment, copy.from, copy.count, static_cast<int>(blended.channels.size())});
       blended.channels.resize(blended.channels.size() + static_cast<std::size_t>(copy.count));
     }
     blended.pixels.resize(static_cast<std::size_t>(camera.width) * camera.height *
