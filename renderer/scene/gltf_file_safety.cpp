@@ -12,6 +12,7 @@
 #include "renderer/core/input_file.h"
 #include "renderer/scene/gltf_context.h"
 #include "renderer/scene/jpeg_decoder.h"
+#include "renderer/scene/png_chunks.h"
 #include "renderer/scene/png_texture_decoder.h"
 
 namespace omnishadow::gltf_detail {
@@ -28,9 +29,6 @@ constexpr std::uint64_t kMaxImageTexels = std::uint64_t{1} << 28;  // 1 GiB of R
 // each 8x8 block with at least one bit, so it holds 512 texels per byte.
 constexpr std::uint64_t kMaxJpegTexelsPerByte = 512;
 
-bool isPng(const unsigned char* b, std::size_t size) {
-  return size >= 8 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0;
-}
 bool isJpeg(const unsigned char* b, std::size_t size) {
   return size >= 2 && b[0] == 0xFF && b[1] == 0xD8;
 }
@@ -130,13 +128,12 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   }
   // Every PNG chunk up to IEND must lie within the data: stb reserves memory for an IDAT
   // chunk's declared length before reading it (a 70-byte PNG from the fuzzer declared 1 GiB).
-  for (std::size_t at = 8; format == "PNG";) {
-    if (size - at < 12 || be32(at) > size - at - 12) {
+  if (format == "PNG") {
+    const auto any = [](std::string_view, const unsigned char*, std::uint32_t) { return true; };
+    if (const std::size_t at = walkPngChunks(bytes, size, any); at != 0) {
       return "a PNG chunk at byte " + std::to_string(at) + " extends past the end of the " +
              std::to_string(size) + " bytes";
     }
-    if (std::memcmp(bytes + at + 4, "IEND", 4) == 0) break;
-    at += 12 + std::size_t{be32(at)};
   }
   return {};
 }

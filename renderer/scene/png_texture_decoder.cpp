@@ -10,16 +10,11 @@
 #include <memory>
 #include <string_view>
 
+#include "renderer/scene/png_chunks.h"
+
 namespace omnishadow::gltf_detail {
 
 namespace {
-
-constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-
-std::uint32_t be32(const unsigned char* p) {
-  return std::uint32_t{p[0]} << 24 | std::uint32_t{p[1]} << 16 | std::uint32_t{p[2]} << 8 |
-         std::uint32_t{p[3]};
-}
 
 struct DecompressorDeleter {
   void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
@@ -33,34 +28,30 @@ struct Layout {
 };
 
 bool parse(const unsigned char* bytes, std::size_t size, Layout& layout) {
-  if (size < kSignature.size() || std::memcmp(bytes, kSignature.data(), kSignature.size()) != 0)
-    return false;
-  bool header = false;
-  for (std::size_t at = kSignature.size();;) {
-    if (size - at < 12) return false;  // no IEND
-    const std::uint32_t length = be32(bytes + at);
-    if (length > size - at - 12) return false;
-    const std::string_view type(reinterpret_cast<const char*>(bytes + at + 4), 4);
-    const unsigned char* data = bytes + at + 8;
+  if (!isPng(bytes, size)) return false;
+  bool header = false, taken = true, ended = false;
+  const auto visit = [&](std::string_view type, const unsigned char* data, std::uint32_t length) {
     if (!header) {
       // IHDR: width, height, bit depth, colour type, compression, filter, interlace.
-      if (type != "IHDR" || length != 13) return false;
-      layout.width = be32(data);
-      layout.height = be32(data + 4);
-      if (data[8] != 8 || (data[9] != 2 && data[9] != 6) || data[10] != 0 || data[11] != 0 ||
-          data[12] != 0)
-        return false;
-      layout.channels = data[9] == 6 ? 4 : 3;
+      taken = type == "IHDR" && length == 13 && data[8] == 8 && (data[9] == 2 || data[9] == 6) &&
+              data[10] == 0 && data[11] == 0 && data[12] == 0;
+      if (taken) {
+        layout.width = pngBe32(data);
+        layout.height = pngBe32(data + 4);
+        layout.channels = data[9] == 6 ? 4 : 3;
+      }
       header = true;
     } else if (type == "IDAT") {
       layout.data.emplace_back(data, length);
     } else if (type == "IEND") {
-      return !layout.data.empty();
+      ended = true;
     } else if ((type[0] & 0x20) == 0 || type == "tRNS") {
-      return false;  // a critical chunk (PLTE, CgBI, ...) or transparency: stb's to handle
+      taken = false;  // a critical chunk (PLTE, CgBI, ...) or transparency: stb's to handle
     }
-    at += 12 + std::size_t{length};
-  }
+    return taken;
+  };
+  // Every chunk within the data, up to IEND.
+  return walkPngChunks(bytes, size, visit) == 0 && taken && ended && !layout.data.empty();
 }
 
 // One row's bytes from its filtered form (PNG, section 9), into RGBA: each byte plus the
