@@ -7,7 +7,9 @@
 # Usage: scripts/bench-peers.sh [--rounds N] [--repeat N] [--scenes a,b] [--bin FILE]
 #                               [--baseline FILE] [--peers DIR] [--out DIR] [--no-doc]
 # --bin FILE       the omnishadow to measure (default: build/omnishadow, built by scripts/build.sh)
-# --baseline FILE  another binary measured in the same rounds (before/after columns)
+# --baseline FILE  another binary measured in the same rounds (before/after columns; the
+#                  rounds are raised to an even number, so that each binary runs right after
+#                  three.js equally often)
 # --peers DIR      the peers folder (default: ../shared/peers beside the repository)
 # --out DIR        where peers.md goes (default build-bench/peers)
 # --no-doc         do not write the table into docs/performance.md (between the
