@@ -257,9 +257,9 @@ class Renderer::Impl {
   // clears them itself. One slot for the float beauty, one for the 8-bit one: a scene with
   // blended surfaces takes the float one where the next may take the 8-bit one.
   std::array<std::unique_ptr<FrameTargets>, 2> beautyTargets_;
-  // The AOV pass's targets (eight RGBA32F, 118 MB at 1280x720), kept while frames ask for AOVs:
-  // a frame's AOV memory (checkAovMemory) is the same whether they are new or kept, and a frame
-  // without AOVs lets them go.
+  // The AOV pass's targets (up to eight RGBA32F, 118 MB at 1280x720), kept while frames ask for
+  // AOVs: a frame's AOV memory (checkAovMemory) is the same whether they are new or kept, and a
+  // frame without AOVs lets them go.
   std::unique_ptr<FrameTargets> aovTargets_;
   std::unique_ptr<FrameTargets> layerTargets_;  // the same for the AOV layer pass
 };
@@ -620,7 +620,6 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
                               FloatImage& aovs, StageTimes& times) {
   const int lightCount = static_cast<int>(prepared.shaded.size());
   const bool flip = camera.glRowOrder;
-  // One pass gives the fixed channels and the visibility of 20 lights; more lights take more.
   // Where each light's transmittance.<light>.R channel is (-1: none).
   std::vector<int> transmittanceChannel(prepared.shaded.size(), -1);
   bool hasTransmittance = false;
@@ -630,6 +629,8 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
         aovs.channelIndex("transmittance." + prepared.shaded[l].light->name + ".R");
     hasTransmittance = hasTransmittance || transmittanceChannel[l] >= 0;
   }
+  // The first pass gives the fixed channels; the lights' shadow terms take the passes and
+  // visibility targets aovVisibilityLayout() gives.
   const AovVisibilityLayout layout = aovVisibilityLayout(lightCount, hasTransmittance);
   LightingFeatures features = prepared.features;
   features.visibilityOutputs = layout.outputs;
