@@ -78,10 +78,6 @@ std::optional<std::pair<std::uint32_t, std::uint32_t>> jpegFrameSize(const unsig
 
 // Empty string when a PNG or JPEG may be decoded, else why not.
 std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
-  auto be32 = [&](std::size_t at) {
-    return std::uint32_t{bytes[at]} << 24 | std::uint32_t{bytes[at + 1]} << 16 |
-           std::uint32_t{bytes[at + 2]} << 8 | bytes[at + 3];
-  };
   std::uint32_t width = 0, height = 0;
   std::uint64_t rawBytes = 0;     // PNG: the unfiltered rows
   std::uint64_t neededBytes = 0;  // the least data that can hold the image
@@ -97,8 +93,8 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
                                    : colorType == 6                 ? 4
                                                                     : 0;
     if (channels == 0) return {};
-    width = be32(16);
-    height = be32(20);
+    width = pngBe32(bytes + 16);
+    height = pngBe32(bytes + 20);
     rawBytes = (1 + (std::uint64_t{width} * channels * depth + 7) / 8) * height;
     neededBytes = (rawBytes + kMaxDeflateExpansion - 1) / kMaxDeflateExpansion;
     format = "PNG";

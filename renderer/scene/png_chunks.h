@@ -26,8 +26,9 @@ inline std::uint32_t pngBe32(const unsigned char* p) {
 template <class Visit>
 std::size_t walkPngChunks(const unsigned char* bytes, std::size_t size, Visit visit) {
   for (std::size_t at = 8;;) {
-    if (size < at || size - at < 12 || pngBe32(bytes + at) > size - at - 12) return at;
+    if (size < at || size - at < 12) return at;
     const std::uint32_t length = pngBe32(bytes + at);
+    if (length > size - at - 12) return at;
     const std::string_view type(reinterpret_cast<const char*>(bytes + at + 4), 4);
     if (!visit(type, bytes + at + 8, length) || type == "IEND") return 0;
     at += 12 + std::size_t{length};
