@@ -24,10 +24,14 @@ void readChannels(const FrameTargets& targets, const std::vector<ChannelCopy>& c
                   bool glRowOrder, FloatImage& image) {
   const int w = targets.width(), h = targets.height();
   const std::size_t stride = image.channels.size();
+  // The attachments the copies read, each once, and each copy's among them.
   std::vector<int> attachments;
-  for (const ChannelCopy& copy : copies)
-    if (std::find(attachments.begin(), attachments.end(), copy.attachment) == attachments.end())
-      attachments.push_back(copy.attachment);
+  std::vector<std::size_t> source;
+  for (const ChannelCopy& copy : copies) {
+    const auto found = std::find(attachments.begin(), attachments.end(), copy.attachment);
+    source.push_back(static_cast<std::size_t>(found - attachments.begin()));
+    if (found == attachments.end()) attachments.push_back(copy.attachment);
+  }
   const std::size_t bandFloats = static_cast<std::size_t>(w) * kBandRows * 4;
   std::vector<FloatPixels> bands(attachments.size(), FloatPixels(bandFloats));
   for (int y0 = 0; y0 < h; y0 += kBandRows) {
@@ -36,12 +40,12 @@ void readChannels(const FrameTargets& targets, const std::vector<ChannelCopy>& c
       glGetTextureSubImage(targets.color(attachments[a]), 0, 0, y0, 0, w, rows, 1, GL_RGBA,
                            GL_FLOAT, static_cast<GLsizei>(bandFloats * sizeof(float)),
                            bands[a].data());
-    for (const ChannelCopy& copy : copies) {
-      const auto a = static_cast<std::size_t>(
-          std::find(attachments.begin(), attachments.end(), copy.attachment) - attachments.begin());
+    for (std::size_t k = 0; k < copies.size(); ++k) {
+      const ChannelCopy& copy = copies[k];
       for (int r = 0; r < rows; ++r) {
         const int y = glRowOrder ? y0 + r : h - 1 - (y0 + r);
-        const float* from = bands[a].data() + static_cast<std::size_t>(r) * w * 4 + copy.from;
+        const float* from =
+            bands[source[k]].data() + static_cast<std::size_t>(r) * w * 4 + copy.from;
         float* to = image.pixels.data() + static_cast<std::size_t>(y) * w * stride + copy.to;
         switch (copy.count) {
           case 1:
