@@ -5,8 +5,8 @@
 # Usage: scripts/compare-outputs.sh OLD_BINARY NEW_BINARY [WORK_DIR]
 #
 # The jobs: the demo (PNG, EXR, AOVs with every layer, shadow map dumps, light views, each debug
-# view, phong shading, each --shadow-pass), the scenes in scenes/thirdparty with the demo's
-# lights, a point, a spot and a directional light with every filter on the demo room, a batch
+# view, phong shading, each --shadow-pass, mixed lights with every layer and masks), the scenes
+# in scenes/thirdparty with the demo's lights (with every AOV layer and masks), a point, a spot and a directional light with every filter on the demo room, a batch
 # of several cameras (shadow cache), and `info --json` of every scene. Prints one line per
 # differing file and exits 1 when any differs; 0 when all are identical.
 set -euo pipefail
@@ -58,7 +58,7 @@ jobs=(
   "demo-dumps|render $demo -o @OUT/demo.png --dump-depth @OUT/depth --light-views @OUT/views --light-view-size 64 --width 160 --height 90"
   "demo-phong|render $demo --shading phong -o @OUT/phong.png --width 320 --height 180"
   "demo-exposure|render $demo --exposure 1.5 -o @OUT/bright.png --width 320 --height 180"
-  "demo-mixed|render $demo -l $lights/mixed.json -o @OUT/mixed.png --aov @OUT/mixed.exr --width 320 --height 180"
+  "demo-mixed|render $demo -l $lights/mixed.json -o @OUT/mixed.png --aov @OUT/mixed.exr --aov-layers all --masks @OUT/mixed --width 320 --height 180"
 )
 for view in shadow depth normals albedo lightcount; do
   jobs+=("debug-$view|render $demo --debug-view $view -o @OUT/$view.png --width 160 --height 90")
@@ -73,7 +73,7 @@ for type in point spot sun; do
 done
 for scene in "$root"/scenes/thirdparty/*/*.gl*; do
   name=$(basename "${scene%.*}")
-  jobs+=("scene-$name|render $scene -o @OUT/$name.png --aov @OUT/$name.exr --width 240 --height 135")
+  jobs+=("scene-$name|render $scene -o @OUT/$name.png --aov @OUT/$name.exr --aov-layers all --masks @OUT/$name --width 240 --height 135")
   jobs+=("lit-$name|render $scene -l $lights/point-pcf.json -o @OUT/lit-$name.png --width 240 --height 135")
   jobs+=("info-$name|info --json $scene")
 done

@@ -195,6 +195,17 @@ void main() {
   float depthView = 1.0;
   int debugCascade = -1;
 #endif
+  // The lights the loop visits. A layer pass writes no beauty that is read: material layers
+  // (mode 0) need no light, one light's diffuse and specular (mode 1) only that light.
+  bool noLights = uUnlit != 0;
+  int firstLight = 0, endLight = uLightCount;
+#ifdef WRITE_LAYERS
+  noLights = noLights || uLayerMode == 0;
+  if (uLayerMode == 1) {
+    firstLight = uLayerLight;
+    endLight = uLayerLight + 1;
+  }
+#endif
 #ifdef CLUSTERED_LIGHTS
   // The lights reaching everywhere, then those of this point's cluster (the lights whose
   // range may reach it).
@@ -204,7 +215,7 @@ void main() {
                         float(uSlices - 1)));
   int cluster = (slice * uTileRows + tile.y) * uTileColumns + tile.x;
   uint firstClusterLight = uClusterRanges[2 * cluster];
-  uint lightCount = uUnlit != 0 ? 0u : uint(uGlobalLights) + uClusterRanges[2 * cluster + 1];
+  uint lightCount = noLights ? 0u : uint(uGlobalLights) + uClusterRanges[2 * cluster + 1];
   for (uint k = 0u; k < lightCount; ++k) {
     uint entry = k < uint(uGlobalLights) ? k : firstClusterLight + (k - uint(uGlobalLights));
     int i = int(uClusterLights[entry]);
@@ -218,7 +229,7 @@ void main() {
   // the lights it leaves out are those the BRDF would have found facing away, whatever the
   // rounding; a NaN normal keeps every light, as before.
   uint groupLights = 0u;
-  for (int i = 0; i < (uUnlit != 0 ? 0 : uLightCount); ++i) {
+  for (int i = 0; i < (noLights ? 0 : uLightCount); ++i) {
     vec3 toLight = towardsLight(uLights[i], vIn.worldPosition);
     bool awayFromLight = dot(N, toLight) <= -1e-4 * length(toLight);
     if (ballotARB(!awayFromLight) != 0ul) groupLights |= 1u << uint(i);
@@ -232,7 +243,7 @@ void main() {
     if (i < 0) break;
 #else
   // No light has a range: every light reaches everywhere, and the clusters would list them all.
-  for (int i = 0; i < (uUnlit != 0 ? 0 : uLightCount); ++i) {
+  for (int i = firstLight; i < (noLights ? 0 : endLight); ++i) {
 #endif
     Light light = uLights[i];
     vec3 L, radiance;
