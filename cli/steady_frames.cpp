@@ -35,7 +35,11 @@ void printSteadyFrames(Renderer& renderer, const RenderJob& job, const LoadedJob
     for (const auto& [stage, ms] : times.stages()) {
       if (!stages.count(stage)) order.push_back(stage);
       stages[stage].push_back(ms);
-      if (stage == "shadow maps" || stage == "lighting" || stage == "readback") sum += ms;
+      // Everything the frame draws and reads back (not the shaders and uploads, which the first
+      // frame paid for): a frame with AOV layers or masks pays for its layer passes too.
+      if (stage == "shadow maps" || stage == "lighting" || stage == "readback" ||
+          stage == "layers" || stage == "light views")
+        sum += ms;
     }
     frames.push_back(sum);
   }
