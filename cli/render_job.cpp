@@ -278,10 +278,9 @@ RenderSettings renderSettings(const RenderJob& job) {
   settings.shading = job.shading;
   settings.aovs = job.aovs || !job.aov.empty();
   settings.layers = job.layers;
-  if (!job.masks.empty()) {  // masks are made from the objectId layer
-    settings.aovs = true;
-    settings.layers.objectId = true;
-  }
+  // Masks are made from the objectId layer: the AOVs' when they are asked for, else a pass
+  // of its own.
+  if (!job.masks.empty()) (settings.aovs ? settings.layers.objectId : settings.objectIds) = true;
   settings.debugView = job.debugView;
   settings.debugLight = job.debugLight;
   settings.readShadowMaps = !job.dumpDepth.empty();
@@ -360,8 +359,8 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
   }
   if (!job.masks.empty()) {
     for (const fs::path& file : annotationMaskFiles(job.masks)) written.push_back(file);
-    writeAnnotationMasks(annotationMasks(loaded.scene, loaded.camera, *frame.aovs), job.masks,
-                         transaction);
+    writeAnnotationMasks(annotationMasks(loaded.scene, loaded.camera, objectIdImage(frame)),
+                         job.masks, transaction);
   }
   if (job.layers.objectId || job.layers.materialId) {
     written.push_back(idSidecarPath(job));

@@ -68,6 +68,10 @@ const FloatImage& PyFrame::aovs(const std::string& wanted) const {
   return *frame.aovs;
 }
 
+const FloatImage& PyFrame::objectIds() const {
+  return frame.objectIds ? *frame.objectIds : aovs("masks");
+}
+
 bool PyFrame::contains(const std::string& name) const {
   if (!frame.aovs) return false;
   for (const std::string& channel : frame.aovs->channels)
@@ -155,7 +159,7 @@ py::dict PyFrame::idIndex() const {
 }
 
 py::dict PyFrame::masks() const {
-  const AnnotationMasks made = annotationMasks(*scene, camera, aovs("masks"));
+  const AnnotationMasks made = annotationMasks(*scene, camera, objectIds());
   auto array = [&](const std::vector<std::uint16_t>& values) {
     py::array_t<std::uint16_t> out({py::ssize_t(made.height), py::ssize_t(made.width)});
     std::memcpy(out.mutable_data(), values.data(), values.size() * sizeof(std::uint16_t));
@@ -170,7 +174,7 @@ py::dict PyFrame::masks() const {
 
 void PyFrame::saveMasks(const std::string& stem) const {
   OutputTransaction transaction;
-  writeAnnotationMasks(annotationMasks(*scene, camera, aovs("masks")), stem, transaction);
+  writeAnnotationMasks(annotationMasks(*scene, camera, objectIds()), stem, transaction);
   transaction.commit();
 }
 

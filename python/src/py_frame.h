@@ -55,6 +55,8 @@ struct PyFrame {
 
  private:
   const FloatImage& aovs(const std::string& wanted) const;
+  // What masks are made from: Frame::objectIds (masks=True), else the AOVs.
+  const FloatImage& objectIds() const;
 };
 
 }  // namespace omnishadow::python

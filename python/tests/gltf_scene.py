@@ -19,9 +19,15 @@ class QuadScene:
         self.quads = []  # (4 world corners, node name, mesh name, class or None, material)
         self.materials = []
 
-    def material(self, name, color=(0.8, 0.8, 0.8, 1.0), double_sided=False):
-        self.materials.append({"name": name, "doubleSided": double_sided, "pbrMetallicRoughness": {
-            "baseColorFactor": list(color), "metallicFactor": 0.0}})
+    def material(self, name, color=(0.8, 0.8, 0.8, 1.0), double_sided=False, alpha_mode=None,
+                 alpha_cutoff=None):
+        material = {"name": name, "doubleSided": double_sided, "pbrMetallicRoughness": {
+            "baseColorFactor": list(color), "metallicFactor": 0.0}}
+        if alpha_mode is not None:
+            material["alphaMode"] = alpha_mode
+        if alpha_cutoff is not None:
+            material["alphaCutoff"] = alpha_cutoff
+        self.materials.append(material)
         return len(self.materials) - 1
 
     def add_quad(self, x0, y0, x1, y1, z=0.0, node=None, mesh=None, cls=None, material=None):

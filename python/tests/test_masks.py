@@ -83,6 +83,57 @@ def test_cli_writes_the_same_masks(binary, renderer, quads, tmp_path):
         assert (tmp_path / ("py" + suffix)).read_bytes() == (tmp_path / ("m" + suffix)).read_bytes()
 
 
+@pytest.fixture(scope="module")
+def see_through(tmp_path_factory):
+    # Opaque, blended and masked quads: the ids of blended surfaces show only where no opaque
+    # or masked one covers the pixel and their coverage (A) is above 0.
+    scene = QuadScene(W, H)
+    opaque = scene.material("opaque")
+    glass = scene.material("glass", (0.2, 0.6, 0.9, 0.5), alpha_mode="BLEND")
+    clear = scene.material("clear", (0.2, 0.6, 0.9, 0.0), alpha_mode="BLEND")
+    cut = scene.material("cut", (0.5, 0.5, 0.5, 0.3), alpha_mode="MASK", alpha_cutoff=0.5)
+    kept = scene.material("kept", (0.5, 0.5, 0.5, 0.8), alpha_mode="MASK", alpha_cutoff=0.5)
+    scene.add_quad(2, 2, 10, 10, material=opaque)              # 0
+    scene.add_quad(6, 6, 14, 14, z=1.0, material=glass)        # 1: in front of 0, then alone
+    scene.add_quad(16, 2, 20, 6, z=1.0, material=clear)        # 2: covers nothing (A = 0)
+    scene.add_quad(22, 2, 26, 6, material=cut)                 # 3: cut away
+    scene.add_quad(22, 8, 26, 12, material=kept)               # 4
+    scene.add_quad(0, 16, 6, 22, z=-1.0, material=glass)      # 5: behind 1's twin below
+    scene.add_quad(3, 14, 9, 20, z=2.0, material=glass)        # 6: in front of 5
+    scene.add_quad(12, 16, 20, 22, z=-1.0, material=glass)    # 7: behind an opaque one
+    scene.add_quad(14, 18, 18, 22, material=opaque)            # 8
+    return scene.write(tmp_path_factory.mktemp("see_through") / "see_through.gltf")
+
+
+def test_masks_of_blended_surfaces_are_the_objectid_layers(renderer, see_through, binary,
+                                                           tmp_path):
+    expected = np.zeros((H, W), np.uint16)
+    expected[6:14, 6:14] = 2
+    expected[2:10, 2:10] = 1
+    expected[8:12, 22:26] = 5
+    expected[16:22, 0:6] = 6
+    expected[14:20, 3:9] = 7
+    expected[16:22, 12:20] = 8
+    expected[18:22, 14:18] = 9
+    scene = omnishadow.load_scene(see_through)
+    alone = renderer.render(scene, width=W, height=H, masks=True)
+    assert alone.channels == []  # masks alone make no AOV image
+    np.testing.assert_array_equal(alone.masks["instances"], expected)
+    # The AOVs' objectId layer gives the same masks.
+    with_aovs = renderer.render(scene, width=W, height=H, aovs=["objectId"])
+    np.testing.assert_array_equal(with_aovs["objectId"], expected.astype(np.float32) - 1)
+    assert with_aovs.masks["index"] == alone.masks["index"]
+    # So do the CLI's --masks alone and with --aov, file for file; the beauty too.
+    for stem, extra in [("alone", []), ("aov", ["--aov", tmp_path / "a.exr"])]:
+        status, _, stderr = run_cli(binary, "render", see_through, "--width", W, "--height", H,
+                                    "-o", tmp_path / f"{stem}.png", "--masks", tmp_path / stem,
+                                    *extra)
+        assert status == 0, stderr
+    for suffix in (".png", ".instances.png", ".semantic.png", ".masks.json"):
+        assert (tmp_path / ("alone" + suffix)).read_bytes() == \
+            (tmp_path / ("aov" + suffix)).read_bytes(), suffix
+
+
 def test_masks_need_the_objectid_layer(renderer, quads):
     frame = renderer.render(omnishadow.load_scene(quads), width=W, height=H)
     with pytest.raises(KeyError, match="no AOVs"):

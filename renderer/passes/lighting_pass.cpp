@@ -596,8 +596,9 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.depth.apply();
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
 
-  // Blended surfaces over the opaque frame, unsorted; the AOVs keep the opaque surfaces.
-  if (outputs_ == PassOutputs::Layers) {
+  // Blended surfaces over the opaque frame, unsorted; the AOVs and layers keep the opaque
+  // surfaces.
+  if (outputs_ == PassOutputs::Layers && !parameters.blendedCoverage) {
     gl::RasterState::restoreDefaults();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     gl::checkErrors("a layer pass");

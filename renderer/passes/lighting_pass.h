@@ -44,6 +44,9 @@ struct PassParameters {
   // Aovs, Layers: draw only the blended surfaces, the front-most one per pixel, unblended (the
   // AOVs of pixels no opaque surface covers, renderer.cpp).
   bool blendedOnly = false;
+  // Layers: the blended surfaces are also drawn over the opaque ones, into the beauty
+  // attachment only, so that its A is the coverage the AOV pass's A is.
+  bool blendedCoverage = false;
   // Aovs: the visibility targets' channels from 0 hold the scalar shadow terms of
   // `scalarTerms` lights from visibilityBase on; from channel `rgbFirst` on (-1: none), the RGB
   // terms (translucent shadows: the transmittance.<light> AOVs) of those lights, R, G, B of each

@@ -192,6 +192,9 @@ class Renderer::Impl {
   void drawAovLayers(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                      const RenderSettings& settings, const std::vector<std::uint8_t>& blendedOnly,
                      FloatImage& aovs, StageTimes& times);
+  // Frame::objectIds without the AOV pass (RenderSettings::objectIds).
+  FloatImage drawObjectIds(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                           const RenderSettings& settings, StageTimes& times);
   std::vector<LightView> drawLightViews(Prepared& prepared, const ViewCamera& camera,
                                         const glm::vec3& ambient, const RenderSettings& settings);
   // The beauty's depth pre-pass (PassParameters::depthPrepass: the same picture either way),
@@ -308,13 +311,16 @@ long long largestFrameTexels(int maxSide) {
 // check covers. Their sum is checked before anything is allocated.
 void checkAovMemory(const std::vector<Light>& lights, const ViewCamera& camera,
                     const RenderSettings& settings) {
-  if (!settings.aovs) return;
+  const bool objectIdsAlone = settings.objectIds && !settings.aovs;
+  if (!settings.aovs && !objectIdsAlone) return;
   const int width = camera.width, height = camera.height;
-  double targets = FrameTargets::bytes(width, height, PassOutputs::Aovs);
-  if (settings.layers.any()) targets += FrameTargets::bytes(width, height, PassOutputs::Layers);
-  const double image = static_cast<double>(width) * height *
-                       static_cast<double>(aovChannels(lights, settings.layers).size()) *
-                       sizeof(float);
+  double targets = settings.aovs ? FrameTargets::bytes(width, height, PassOutputs::Aovs) : 0.0;
+  if (settings.layers.any() || objectIdsAlone)
+    targets += FrameTargets::bytes(width, height, PassOutputs::Layers);
+  // drawObjectIds() holds coverage and ids, then the ids of the blended surfaces.
+  const std::size_t channels = settings.aovs ? aovChannels(lights, settings.layers).size() : 3;
+  const double image =
+      static_cast<double>(width) * height * static_cast<double>(channels) * sizeof(float);
   constexpr double kMiB = 1024.0 * 1024.0;
   if ((targets + image) / kMiB <= settings.maxAovMemoryMiB) return;
   char message[320];
@@ -710,6 +716,48 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
   drawAovLayers(prepared, camera, ambient, settings, blendedOnly, aovs, times);
 }
 
+FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& camera,
+                                         const glm::vec3& ambient, const RenderSettings& settings,
+                                         StageTimes& times) {
+  // The layer pass's ids are the AOVs' objectId layer where an opaque or masked surface covers
+  // a pixel (the same draws, the same depth tests); its material layers need no light. The
+  // blended surfaces it then draws for their coverage make its A the AOV pass's A, so the
+  // pixels that take the front-most blended surface's id are found as the AOVs find them:
+  // covered (A > 0) by no opaque surface (id -1 there; no camera distance in the AOVs).
+  FrameTargets& targets =
+      keptTargets(layerTargets_, camera.width, camera.height, PassOutputs::Layers);
+  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Layers, prepared.features);
+  ScopedStage stage(times, "layers");
+  PassParameters parameters;
+  parameters.layerMode = 0;
+  parameters.blendedCoverage = hasBlendedSurfaces(prepared.gpu);
+  const int width = camera.width, height = camera.height;
+  const auto count = static_cast<std::size_t>(width) * height;
+  FloatImage covered{width, height, {"A", "objectId"}, {}};
+  covered.pixels.resize(count * 2);
+  pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(), ambient,
+              targets, parameters);
+  readChannels(targets, {{0, 3, 1, 0}, {2, 1, 1, 1}}, camera.glRowOrder, covered);
+  FloatImage ids{width, height, {"objectId"}, {}};
+  ids.pixels.resize(count);
+  bool blendedOnly = false;
+  for (std::size_t i = 0; i < count; ++i) {
+    ids.pixels[i] = covered.pixels[2 * i + 1];
+    blendedOnly = blendedOnly || (covered.pixels[2 * i] > 0.0f && ids.pixels[i] < 0.0f);
+  }
+  if (!blendedOnly) return ids;
+  parameters.blendedOnly = true;
+  parameters.blendedCoverage = false;
+  pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(), ambient,
+              targets, parameters);
+  FloatImage blended{width, height, {"objectId"}, {}};
+  blended.pixels.resize(count);
+  readChannels(targets, {{2, 1, 1, 0}}, camera.glRowOrder, blended);
+  for (std::size_t i = 0; i < count; ++i)
+    if (covered.pixels[2 * i] > 0.0f && ids.pixels[i] < 0.0f) ids.pixels[i] = blended.pixels[i];
+  return ids;
+}
+
 void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
                                    const glm::vec3& ambient, const RenderSettings& settings,
                                    const std::vector<std::uint8_t>& blendedOnly, FloatImage& aovs,
@@ -883,8 +931,9 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
                                 const ViewCamera& camera, const glm::vec3& ambient,
                                 const RenderSettings& settings, int debugLight, Frame& frame,
                                 StageTimes& times) {
+  const bool objectIdsAlone = settings.objectIds && !settings.aovs;
   if (!settings.aovs) aovTargets_.reset();
-  if (!settings.aovs || !settings.layers.any()) layerTargets_.reset();
+  if (!(settings.aovs && settings.layers.any()) && !objectIdsAlone) layerTargets_.reset();
   if (settings.aovs) {
     FloatImage aovs{camera.width,
                     camera.height,
@@ -908,6 +957,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
       frame.beauty = drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times);
     notePrepass(lightingPass(settings.shading, prepared.beautyOutputs, prepared.features)
                     .opaqueFragments());
+    if (objectIdsAlone) frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times);
     return;
   }
   // The AOV pass already drew the beauty.

@@ -1,5 +1,7 @@
 #include "renderer/render/frame.h"
 
+#include "renderer/core/errors.h"
+
 namespace omnishadow {
 
 std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers,
@@ -24,6 +26,12 @@ std::vector<std::string> aovChannels(const std::vector<Light>& lights, const Aov
       for (const char* c : {"R", "G", "B"})
         channels.push_back("transmittance." + lights[i].name + "." + c);
   return channels;
+}
+
+const FloatImage& objectIdImage(const Frame& frame) {
+  if (frame.aovs && frame.aovs->channelIndex("objectId") >= 0) return *frame.aovs;
+  if (frame.objectIds) return *frame.objectIds;
+  throw RenderError("annotation masks need the objectId AOV layer");
 }
 
 }  // namespace omnishadow

@@ -58,6 +58,8 @@ struct Frame {
   // R,G,B,A, P.X,P.Y,P.Z, N.X,N.Y,N.Z, Z, visibility.<light> per light (README, "Outputs"),
   // then the requested layers.
   std::optional<FloatImage> aovs;
+  // With RenderSettings::objectIds: one channel, "objectId", as the AOVs' objectId layer.
+  std::optional<FloatImage> objectIds;
   std::vector<ShadowMapDump> shadowMaps;
   std::vector<PlanarShadowMapDump> planarShadowMaps;  // with shadowMaps: spot maps, cascades
   std::vector<LightView> lightViews;
@@ -85,5 +87,9 @@ inline constexpr int kFixedAovChannels = 11;
 // shadows, README "Translucent shadows").
 std::vector<std::string> aovChannels(const std::vector<Light>& lights, const AovLayers& layers,
                                      const std::vector<bool>& translucent = {});
+
+// What annotation masks are made from: the AOVs (with their objectId layer) when the frame
+// has them, else Frame::objectIds. Throws RenderError when it has neither.
+const FloatImage& objectIdImage(const Frame& frame);
 
 }  // namespace omnishadow

@@ -44,6 +44,9 @@ struct RenderSettings {
   Shading shading = Shading::Pbr;
   bool aovs = false;   // fill Frame::aovs
   AovLayers layers{};  // with aovs
+  // Without aovs: fill Frame::objectIds, the objectId layer alone (annotation masks), from a
+  // pass that draws no light instead of the AOV pass. With aovs, ask for layers.objectId.
+  bool objectIds = false;
   DebugView debugView = DebugView::None;
   std::string debugLight{};     // DebugView::Depth: light name; empty = the first shadowed one
                                 // (DebugView::Cascade: the first shadowed directional one)
@@ -52,8 +55,8 @@ struct RenderSettings {
   // Shadow maps may use at most this much memory (MiB); more is an InputError before any GL
   // allocation, naming the size needed.
   double maxShadowMemoryMiB = 4096.0;
-  // With aovs: the AOV pass's render targets and the AOV image together (the CLI gives both
-  // bounds --max-memory); more is an InputError before any GL allocation.
+  // With aovs (or objectIds): the AOV pass's render targets and the AOV image together (the
+  // CLI gives both bounds --max-memory); more is an InputError before any GL allocation.
   double maxAovMemoryMiB = 4096.0;
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
   // Where the GL is a software rasterizer (llvmpipe) and a frame draws two or more lights' maps,
