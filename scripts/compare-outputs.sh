@@ -6,9 +6,10 @@
 #
 # The jobs: the demo (PNG, EXR, AOVs with every layer, shadow map dumps, light views, each debug
 # view, phong shading, each --shadow-pass, mixed lights with every layer and masks), the scenes
-# in scenes/thirdparty with the demo's lights (with every AOV layer and masks), a point, a spot and a directional light with every filter on the demo room, a batch
-# of several cameras (shadow cache), and `info --json` of every scene. Prints one line per
-# differing file and exits 1 when any differs; 0 when all are identical.
+# in scenes/thirdparty with the demo's lights (with every AOV layer and masks) and with a point
+# light (alone and with masks), a point, a spot and a directional light with every filter on
+# the demo room, a batch of several cameras (shadow cache), and `info --json` of every scene.
+# Prints one line per differing file and exits 1 when any differs; 0 when all are identical.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 old=$(realpath "$1")
@@ -75,6 +76,7 @@ for scene in "$root"/scenes/thirdparty/*/*.gl*; do
   name=$(basename "${scene%.*}")
   jobs+=("scene-$name|render $scene -o @OUT/$name.png --aov @OUT/$name.exr --aov-layers all --masks @OUT/$name --width 240 --height 135")
   jobs+=("lit-$name|render $scene -l $lights/point-pcf.json -o @OUT/lit-$name.png --width 240 --height 135")
+  jobs+=("masks-$name|render $scene -l $lights/point-pcf.json -o @OUT/m-$name.png --masks @OUT/m-$name --width 240 --height 135")
   jobs+=("info-$name|info --json $scene")
 done
 jobs+=("batch|batch $work/batch.json --out @OUT --width 160 --height 90")

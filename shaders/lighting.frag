@@ -1,7 +1,8 @@
 // Lighting pass: material, all lights in one loop, shadows, and the AOVs.
 // Variants: SHADING_PHONG (Blinn-Phong instead of metallic-roughness), WRITE_AOVS (position,
 // normal, distance, visibility), WRITE_LAYERS (material layers or one light's diffuse and
-// specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes), DEBUG_VIEWS
+// specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes), WRITE_IDS
+// (the surface's objectId and coverage alone: no material beyond the alpha, no light), DEBUG_VIEWS
 // (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out),
 // FACING_LIGHT_LOOP (the beauty alone: each lane group loops over the lights it may face).
 #ifdef FACING_LIGHT_LOOP
@@ -100,7 +101,12 @@ uniform vec3 uAmbient;
 uniform int uDebugView;  // DEBUG_VIEW_*: DebugView in renderer/render/render_settings.h
 uniform int uDebugLight;  // the light --debug-view depth shows
 
-#ifdef WRITE_SRGB8
+#if defined(WRITE_IDS)
+// R: objectId; G: coverage, which the blended surfaces blend over (A, their alpha, is the
+// blend's factor) as they blend the beauty's A.
+layout(location = 0) out vec4 outIds;
+uniform float uObjectId;
+#elif defined(WRITE_SRGB8)
 // 2^exposure times the beauty, encoded as toSrgb8() encodes the float beauty; A unused.
 layout(location = 0) out uvec4 outBeauty;
 uniform float uExposureScale;
@@ -136,6 +142,10 @@ void main() {
   if (uBaseColorTexCoord >= 0) baseColor *= texture(uBaseColorTexture, uvFor(uBaseColorTexCoord, uBaseColorUvTransform));
   if (uAlphaMode == 1 && baseColor.a < uAlphaCutoff) discard;
   float alpha = uAlphaMode == 2 ? baseColor.a : 1.0;
+#ifdef WRITE_IDS
+  outIds = vec4(uObjectId, alpha, 0.0, alpha);
+  return;
+#endif
 
   float metallic = uMetallicFactor;
   float roughness = uRoughnessFactor;
@@ -321,10 +331,10 @@ void main() {
   if (uDebugView == DEBUG_VIEW_CASCADE) color = cascadeDebugColor(debugCascade, color);
   if (uDebugView == DEBUG_VIEW_LIGHT_COUNT) color = vec3(float(contributing) / float(max(uLightCount, 1)));
 #endif
-#ifdef WRITE_SRGB8
+#if defined(WRITE_SRGB8)
   // The float the RGBA32F target would hold, scaled as the CPU scales it: the same products.
   outBeauty = srgb8((color * alpha) * uExposureScale);
-#else
+#elif !defined(WRITE_IDS)
   outBeauty = vec4(color * alpha, alpha);  // premultiplied, A = coverage
 #endif
 #ifdef WRITE_AOVS

@@ -768,6 +768,24 @@ TEST_F(HostileInputTest, TheAovPassMemoryIsCheckedAgainstMaxMemoryBeforeAllocati
   EXPECT_TRUE(fs::exists(output("a.exr")));
 }
 
+// Masks without --aov take no AOV pass: the id pass holds one RG32F target and a 32-bit depth
+// (12 bytes a pixel) and four channels of ids and coverage (16 bytes), checked the same way.
+TEST_F(HostileInputTest, TheMaskPassMemoryIsCheckedAgainstMaxMemoryBeforeAllocating) {
+  const fs::path scene = boxScene("s/a.gltf");
+  const auto maskRender = [&](const std::string& width, const std::string& height,
+                              const std::string& maxMemory) {
+    return runBounded({"render", scene.string(), "-o", "a.png", "--masks", "m", "--width", width,
+                       "--height", height, "--max-memory", maxMemory});
+  };
+  // 2000x1500: 12 * 3e6 bytes = 34 MiB of targets, 16 * 3e6 = 46 MiB of ids.
+  EXPECT_TRUE(refused(maskRender("2000", "1500", "64"),
+                      "the mask pass at 2000x1500 needs 80 MiB (render targets 34 MiB, id image "
+                      "46 MiB), more than the 64 MiB allowed (--max-memory)"));
+  const RunResult r = maskRender("2000", "1500", "96");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(output("m.instances.png")));
+}
+
 TEST_F(HostileInputTest, TooManyShadowedLightsOfOneResolutionAreToldSo) {
   const fs::path scene = boxScene("s/a.gltf");
   std::string lights = R"({"lights": [)";

@@ -61,6 +61,7 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   }
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
   if (outputs == PassOutputs::Srgb8) defines.push_back("WRITE_SRGB8");
+  if (outputs == PassOutputs::Ids) defines.push_back("WRITE_IDS");
   // The AOV and layer passes report every light's terms, also where it faces away.
   if (features.facingLightLoop && !features.debugViews &&
       (outputs == PassOutputs::Beauty || outputs == PassOutputs::Srgb8))
@@ -78,6 +79,7 @@ int attachmentsFor(PassOutputs outputs, int visibilityOutputs) {
   switch (outputs) {
     case PassOutputs::Beauty:
     case PassOutputs::Srgb8:
+    case PassOutputs::Ids:
       return 1;
     case PassOutputs::Aovs:
       return 3 + visibilityOutputs;
@@ -115,6 +117,17 @@ gl::Sampler makeCompareSampler(bool planar) {
   // Reversed depth: the receiver is lit when its reference is at least the stored depth.
   glSamplerParameteri(sampler.get(), GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL);
   return sampler;
+}
+
+GLenum colorFormat(PassOutputs outputs) {
+  switch (outputs) {
+    case PassOutputs::Srgb8:
+      return GL_RGBA8UI;
+    case PassOutputs::Ids:
+      return GL_RG32F;
+    default:
+      return GL_RGBA32F;
+  }
 }
 
 gl::Texture makeTarget(GLenum format, int width, int height) {
@@ -214,8 +227,7 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visib
   const int count = attachmentsFor(outputs, visibilityOutputs);
   std::vector<GLenum> drawBuffers;
   for (int i = 0; i < count; ++i) {
-    colors_.push_back(
-        makeTarget(outputs == PassOutputs::Srgb8 ? GL_RGBA8UI : GL_RGBA32F, width, height));
+    colors_.push_back(makeTarget(colorFormat(outputs), width, height));
     glNamedFramebufferTexture(framebuffer_.get(), GL_COLOR_ATTACHMENT0 + i, colors_.back().get(),
                               0);
     drawBuffers.push_back(GL_COLOR_ATTACHMENT0 + i);
@@ -231,7 +243,9 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visib
 
 double FrameTargets::bytes(int width, int height, PassOutputs outputs) {
   const double texels = static_cast<double>(width) * height;
-  const double texel = outputs == PassOutputs::Srgb8 ? 4.0 : 4.0 * sizeof(float);
+  const double texel = outputs == PassOutputs::Srgb8 ? 4.0
+                       : outputs == PassOutputs::Ids ? 2.0 * sizeof(float)
+                                                     : 4.0 * sizeof(float);
   return texels *
          (attachmentsFor(outputs, contract::kMaxVisibilityOutputs) * texel + sizeof(float));
 }
@@ -490,7 +504,7 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
       program.set("uNormalMatrix", draw.normalMatrix);
       bindMaterial(program, material);
       program.set("uHasTangents", range.hasTangents ? 1 : 0);
-      if (outputs_ == PassOutputs::Layers) {
+      if (outputs_ == PassOutputs::Layers || outputs_ == PassOutputs::Ids) {
         program.set("uObjectId", static_cast<float>(index));
         program.set("uMaterialId", static_cast<float>(draw.material));
       }
@@ -530,11 +544,13 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   const float zero[4] = {0, 0, 0, 0};
   const float lit[4] = {1, 1, 1, 1};
   const float noIds[4] = {0, -1, -1, 0};
+  const float noId[4] = {-1, 0, 0, 0};
   for (int i = 0; i < targets.attachmentCount(); ++i) {
     const float* value = outputs_ == PassOutputs::Aovs && i >= 3 ? lit
                          : outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0
                              ? noIds
-                             : zero;
+                         : outputs_ == PassOutputs::Ids ? noId
+                                                        : zero;
     if (outputs_ == PassOutputs::Srgb8) {
       const GLuint black[4] = {0, 0, 0, 0};
       glClearNamedFramebufferuiv(targets.framebuffer(), GL_COLOR, i, black);
@@ -596,9 +612,9 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.depth.apply();
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
 
-  // Blended surfaces over the opaque frame, unsorted; the AOVs and layers keep the opaque
-  // surfaces.
-  if (outputs_ == PassOutputs::Layers && !parameters.blendedCoverage) {
+  // Blended surfaces over the opaque frame, unsorted; the AOVs, layers and ids keep the opaque
+  // surfaces (the ids take the blended ones' coverage alone).
+  if (outputs_ == PassOutputs::Layers) {
     gl::RasterState::restoreDefaults();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     gl::checkErrors("a layer pass");
@@ -609,6 +625,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.blend.sourceColor = state.blend.sourceAlpha = GL_ONE;
   state.blend.destinationColor = state.blend.destinationAlpha = GL_ONE_MINUS_SRC_ALPHA;
   for (int i = 1; i < targets.attachmentCount(); ++i) state.color.offBuffers |= 1u << i;
+  if (outputs_ == PassOutputs::Ids) state.color.rgba = {false, true, false, false};
   state.apply();
   drawScene(scene, DrawSet::Blended, nullptr, uniforms);
   gl::RasterState::restoreDefaults();

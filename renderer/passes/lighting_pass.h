@@ -30,6 +30,10 @@ enum class PassOutputs {
   Srgb8,
   Aovs,    // + position/distance, normal, visibility of up to 20 lights
   Layers,  // + two layer targets: material layers or one light's diffuse and specular
+  // Attachment 0 only, RG32F: the surface's objectId (R; -1 = none) and its coverage (G:
+  // blended surfaces blended over the opaque ones as into the beauty's A, their ids left
+  // out). No material or light beyond the base color's alpha.
+  Ids,
 };
 
 // Per-pass choices of a lighting pass.
@@ -41,12 +45,9 @@ struct PassParameters {
   int layerLight = -1;  // Layers, mode 1: the light
   // Directional cascades were fitted to this camera; null = the camera being drawn.
   const glm::mat4* cascadeView = nullptr;
-  // Aovs, Layers: draw only the blended surfaces, the front-most one per pixel, unblended (the
-  // AOVs of pixels no opaque surface covers, renderer.cpp).
+  // Aovs, Layers, Ids: draw only the blended surfaces, the front-most one per pixel, unblended
+  // (the AOVs of pixels no opaque surface covers, renderer.cpp).
   bool blendedOnly = false;
-  // Layers: the blended surfaces are also drawn over the opaque ones, into the beauty
-  // attachment only, so that its A is the coverage the AOV pass's A is.
-  bool blendedCoverage = false;
   // Aovs: the visibility targets' channels from 0 hold the scalar shadow terms of
   // `scalarTerms` lights from visibilityBase on; from channel `rgbFirst` on (-1: none), the RGB
   // terms (translucent shadows: the transmittance.<light> AOVs) of those lights, R, G, B of each

@@ -265,6 +265,7 @@ class Renderer::Impl {
   // frame without AOVs lets them go.
   std::unique_ptr<FrameTargets> aovTargets_;
   std::unique_ptr<FrameTargets> layerTargets_;  // the same for the AOV layer pass
+  std::unique_ptr<FrameTargets> idTargets_;     // and for the ids of masks without AOVs
 };
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
@@ -308,27 +309,33 @@ long long largestFrameTexels(int maxSide) {
 
 // The AOV pass holds all its targets at once (with the layer pass's, when layers are asked
 // for) and fills the AOV image: together far more than the one RGBA32F target the frame-size
-// check covers. Their sum is checked before anything is allocated.
+// check covers. The id pass of masks without AOVs holds its target and three channels of ids
+// and coverage. Their sum is checked before anything is allocated.
 void checkAovMemory(const std::vector<Light>& lights, const ViewCamera& camera,
                     const RenderSettings& settings) {
   const bool objectIdsAlone = settings.objectIds && !settings.aovs;
   if (!settings.aovs && !objectIdsAlone) return;
   const int width = camera.width, height = camera.height;
-  double targets = settings.aovs ? FrameTargets::bytes(width, height, PassOutputs::Aovs) : 0.0;
-  if (settings.layers.any() || objectIdsAlone)
-    targets += FrameTargets::bytes(width, height, PassOutputs::Layers);
-  // drawObjectIds() holds coverage and ids, then the ids of the blended surfaces.
-  const std::size_t channels = settings.aovs ? aovChannels(lights, settings.layers).size() : 3;
+  double targets = 0.0;
+  std::size_t channels = 4;  // drawObjectIds(): ids and coverage, blended ids, the result
+  if (settings.aovs) {
+    targets = FrameTargets::bytes(width, height, PassOutputs::Aovs);
+    if (settings.layers.any()) targets += FrameTargets::bytes(width, height, PassOutputs::Layers);
+    channels = aovChannels(lights, settings.layers).size();
+  } else {
+    targets = FrameTargets::bytes(width, height, PassOutputs::Ids);
+  }
   const double image =
       static_cast<double>(width) * height * static_cast<double>(channels) * sizeof(float);
   constexpr double kMiB = 1024.0 * 1024.0;
   if ((targets + image) / kMiB <= settings.maxAovMemoryMiB) return;
   char message[320];
   std::snprintf(message, sizeof message,
-                "the AOV pass at %dx%d needs %.0f MiB (render targets %.0f MiB, AOV image %.0f "
+                "the %s pass at %dx%d needs %.0f MiB (render targets %.0f MiB, %s image %.0f "
                 "MiB), more than the %.0f MiB allowed (--max-memory): lower --width/--height or "
                 "raise --max-memory",
-                width, height, (targets + image) / kMiB, targets / kMiB, image / kMiB,
+                settings.aovs ? "AOV" : "mask", width, height, (targets + image) / kMiB,
+                targets / kMiB, settings.aovs ? "AOV" : "id", image / kMiB,
                 settings.maxAovMemoryMiB);
   throw InputError(message);
 }
@@ -719,43 +726,41 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
 FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& camera,
                                          const glm::vec3& ambient, const RenderSettings& settings,
                                          StageTimes& times) {
-  // The layer pass's ids are the AOVs' objectId layer where an opaque or masked surface covers
-  // a pixel (the same draws, the same depth tests); its material layers need no light. The
-  // blended surfaces it then draws for their coverage make its A the AOV pass's A, so the
-  // pixels that take the front-most blended surface's id are found as the AOVs find them:
-  // covered (A > 0) by no opaque surface (id -1 there; no camera distance in the AOVs).
-  FrameTargets& targets =
-      keptTargets(layerTargets_, camera.width, camera.height, PassOutputs::Layers);
-  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Layers, prepared.features);
+  // The id pass draws what the AOV pass draws, with its depth tests: where an opaque or masked
+  // surface covers a pixel, its id is the AOVs' objectId. Its coverage finds the pixels that
+  // take the front-most blended surface's id as the AOVs find them: covered (A > 0 there) by no
+  // opaque surface (id -1; no camera distance in the AOVs).
+  FrameTargets& targets = keptTargets(idTargets_, camera.width, camera.height, PassOutputs::Ids);
+  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Ids, prepared.features);
   ScopedStage stage(times, "layers");
   PassParameters parameters;
-  parameters.layerMode = 0;
-  parameters.blendedCoverage = hasBlendedSurfaces(prepared.gpu);
   const int width = camera.width, height = camera.height;
   const auto count = static_cast<std::size_t>(width) * height;
-  FloatImage covered{width, height, {"A", "objectId"}, {}};
-  covered.pixels.resize(count * 2);
-  pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(), ambient,
-              targets, parameters);
-  readChannels(targets, {{0, 3, 1, 0}, {2, 1, 1, 1}}, camera.glRowOrder, covered);
-  FloatImage ids{width, height, {"objectId"}, {}};
-  ids.pixels.resize(count);
-  bool blendedOnly = false;
+  auto draw = [&](FloatImage& image, const std::vector<ChannelCopy>& copies) {
+    pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
+                ambient, targets, parameters);
+    readChannels(targets, copies, camera.glRowOrder, image);
+  };
+  FloatImage ids{width, height, {"objectId", "coverage"}, {}};
+  ids.pixels.resize(count * 2);
+  draw(ids, {{0, 0, 2, 0}});
+  std::vector<std::uint8_t> blendedOnly(count, 0);
+  bool any = false;
   for (std::size_t i = 0; i < count; ++i) {
-    ids.pixels[i] = covered.pixels[2 * i + 1];
-    blendedOnly = blendedOnly || (covered.pixels[2 * i] > 0.0f && ids.pixels[i] < 0.0f);
+    blendedOnly[i] = ids.pixels[2 * i] < 0.0f && ids.pixels[2 * i + 1] > 0.0f;
+    any = any || blendedOnly[i];
   }
-  if (!blendedOnly) return ids;
-  parameters.blendedOnly = true;
-  parameters.blendedCoverage = false;
-  pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(), ambient,
-              targets, parameters);
   FloatImage blended{width, height, {"objectId"}, {}};
-  blended.pixels.resize(count);
-  readChannels(targets, {{2, 1, 1, 0}}, camera.glRowOrder, blended);
+  if (any) {
+    parameters.blendedOnly = true;
+    blended.pixels.resize(count);
+    draw(blended, {{0, 0, 1, 0}});
+  }
+  FloatImage objectIds{width, height, {"objectId"}, {}};
+  objectIds.pixels.resize(count);
   for (std::size_t i = 0; i < count; ++i)
-    if (covered.pixels[2 * i] > 0.0f && ids.pixels[i] < 0.0f) ids.pixels[i] = blended.pixels[i];
-  return ids;
+    objectIds.pixels[i] = blendedOnly[i] ? blended.pixels[i] : ids.pixels[2 * i];
+  return objectIds;
 }
 
 void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
@@ -933,7 +938,8 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
                                 StageTimes& times) {
   const bool objectIdsAlone = settings.objectIds && !settings.aovs;
   if (!settings.aovs) aovTargets_.reset();
-  if (!(settings.aovs && settings.layers.any()) && !objectIdsAlone) layerTargets_.reset();
+  if (!settings.aovs || !settings.layers.any()) layerTargets_.reset();
+  if (!objectIdsAlone) idTargets_.reset();
   if (settings.aovs) {
     FloatImage aovs{camera.width,
                     camera.height,
