@@ -79,8 +79,7 @@ AnnotationMasks annotationMasks(const Scene& scene, const ViewCamera& camera,
     const std::size_t material =
         mesh.material >= 0 ? static_cast<std::size_t>(mesh.material) : scene.materials.size();
     const InstanceStats& s = stats[i];
-    const std::vector<std::uint8_t> alone = instanceCoverage(scene, instance, camera);
-    const auto unoccluded = static_cast<std::size_t>(std::count(alone.begin(), alone.end(), 1));
+    const std::size_t unoccluded = coveredPixelCount(scene, instance, camera);
     nlohmann::ordered_json entry;
     entry["id"] = i + 1;
     entry["objectId"] = i;

@@ -23,7 +23,7 @@ struct AnnotationMasks {
   //   pixels, bbox, visibleFraction}], "classes": [{id, name}], "background": 0}.
   // bbox = [xmin, ymin, xmax, ymax] in pixels, max exclusive, null when no pixel is visible.
   // visibleFraction = pixels / the pixel centers the instance covers when drawn alone
-  // (instanceCoverage()), at most 1; null when it covers none (outside the view).
+  // (coveredPixelCount()), at most 1; null when it covers none (outside the view).
   nlohmann::ordered_json index;
 };
 

@@ -21,38 +21,57 @@ std::vector<glm::vec3> clip(const std::vector<glm::vec3>& polygon, const glm::ve
   return out;
 }
 
-// Marks the pixel centers inside the screen-space triangle (x right, y down, in pixels).
-void rasterize(const std::array<glm::dvec2, 3>& v, int width, int height,
-               std::vector<std::uint8_t>& covered) {
-  const double area = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
-  if (area == 0.0 || !std::isfinite(area)) return;
-  const double sign = area > 0 ? 1.0 : -1.0;
+// A block of pixels [x0, x1) x [y0, y1) of the frame, one byte each: 1 = covered.
+struct PixelBlock {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  std::vector<std::uint8_t> covered;
+};
+
+// The pixel centers [x0, x1] x [y0, y1] (inclusive) a triangle's box may hold, in the frame.
+struct CenterRange {
+  int x0, x1, y0, y1;
+};
+
+CenterRange centerRange(const std::array<glm::dvec2, 3>& v, int width, int height) {
   const double minX = std::min({v[0].x, v[1].x, v[2].x});
   const double maxX = std::max({v[0].x, v[1].x, v[2].x});
   const double minY = std::min({v[0].y, v[1].y, v[2].y});
   const double maxY = std::max({v[0].y, v[1].y, v[2].y});
-  const int x0 = std::max(0, static_cast<int>(std::floor(minX - 0.5)));
-  const int x1 = std::min(width - 1, static_cast<int>(std::ceil(maxX - 0.5)));
-  const int y0 = std::max(0, static_cast<int>(std::floor(minY - 0.5)));
-  const int y1 = std::min(height - 1, static_cast<int>(std::ceil(maxY - 0.5)));
+  // Clamped before the conversion: a vertex far outside the frame is no int.
+  auto toInt = [](double v, int limit) {
+    return static_cast<int>(std::clamp(v, -1.0, static_cast<double>(limit)));
+  };
+  return {std::max(0, toInt(std::floor(minX - 0.5), width)),
+          std::min(width - 1, toInt(std::ceil(maxX - 0.5), width)),
+          std::max(0, toInt(std::floor(minY - 0.5), height)),
+          std::min(height - 1, toInt(std::ceil(maxY - 0.5), height))};
+}
+
+// Marks the pixel centers inside the screen-space triangle (x right, y down, in pixels).
+// `v` has a finite area other than 0.
+void rasterize(const std::array<glm::dvec2, 3>& v, int width, int height, PixelBlock& block) {
+  const double area = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
+  const double sign = area > 0 ? 1.0 : -1.0;
+  const CenterRange r = centerRange(v, width, height);
   auto edge = [](const glm::dvec2& a, const glm::dvec2& b, double x, double y) {
     return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
   };
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x) {
+  const auto stride = static_cast<std::size_t>(block.x1 - block.x0);
+  for (int y = r.y0; y <= r.y1; ++y)
+    for (int x = r.x0; x <= r.x1; ++x) {
       const double px = x + 0.5, py = y + 0.5;
       if (sign * edge(v[0], v[1], px, py) >= 0 && sign * edge(v[1], v[2], px, py) >= 0 &&
           sign * edge(v[2], v[0], px, py) >= 0)
-        covered[static_cast<std::size_t>(y) * width + x] = 1;
+        block.covered[static_cast<std::size_t>(y - block.y0) * stride +
+                      static_cast<std::size_t>(x - block.x0)] = 1;
     }
 }
 
 }  // namespace
 
-std::vector<std::uint8_t> instanceCoverage(const Scene& scene, const MeshInstance& instance,
-                                           const ViewCamera& camera) {
+std::size_t coveredPixelCount(const Scene& scene, const MeshInstance& instance,
+                              const ViewCamera& camera) {
   const int w = camera.width, h = camera.height;
-  std::vector<std::uint8_t> covered(static_cast<std::size_t>(w) * h, 0);
   const Mesh& mesh = scene.meshes[static_cast<std::size_t>(instance.mesh)];
   const bool doubleSided =
       mesh.material >= 0 && scene.materials[static_cast<std::size_t>(mesh.material)].doubleSided;
@@ -62,6 +81,10 @@ std::vector<std::uint8_t> instanceCoverage(const Scene& scene, const MeshInstanc
   // View space looks down -Z: keep znear <= -z (<= zfar when the far plane is finite).
   std::vector<glm::vec4> planes = {{0, 0, -1, -camera.znear}};
   if (camera.zfar > 0) planes.push_back({0, 0, 1, camera.zfar});
+  // The screen triangles that face the camera (or need not), then the block of pixels their
+  // boxes span: an instance small on screen fills and counts that block, not the frame.
+  std::vector<std::array<glm::dvec2, 3>> triangles;
+  PixelBlock block{w, h, 0, 0, {}};
   for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
     std::vector<glm::vec3> polygon;
     for (int k = 0; k < 3; ++k)
@@ -79,12 +102,24 @@ std::vector<std::uint8_t> instanceCoverage(const Scene& scene, const MeshInstanc
       // Counter-clockwise on screen with y up is front facing; y runs down here.
       const double area = (triangle[1].x - triangle[0].x) * (triangle[2].y - triangle[0].y) -
                           (triangle[2].x - triangle[0].x) * (triangle[1].y - triangle[0].y);
+      if (area == 0.0 || !std::isfinite(area)) continue;  // covers no pixel center
       const bool front = (area < 0) != mirrored;
       if (!doubleSided && !front) continue;
-      rasterize(triangle, w, h, covered);
+      triangles.push_back(triangle);
+      const CenterRange r = centerRange(triangle, w, h);
+      if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+      block.x0 = std::min(block.x0, r.x0);
+      block.y0 = std::min(block.y0, r.y0);
+      block.x1 = std::max(block.x1, r.x1 + 1);
+      block.y1 = std::max(block.y1, r.y1 + 1);
     }
   }
-  return covered;
+  if (block.x0 >= block.x1 || block.y0 >= block.y1) return 0;
+  block.covered.assign(
+      static_cast<std::size_t>(block.x1 - block.x0) * static_cast<std::size_t>(block.y1 - block.y0),
+      0);
+  for (const auto& triangle : triangles) rasterize(triangle, w, h, block);
+  return static_cast<std::size_t>(std::count(block.covered.begin(), block.covered.end(), 1));
 }
 
 }  // namespace omnishadow
