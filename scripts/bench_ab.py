@@ -7,14 +7,18 @@ runs, for each scene and each binary, a single `render` (its first frame) and a 
 N` (its steady frames), the binaries taking turns at going first. No Chromium runs between the
 processes, so small differences (a millisecond of `lighting`) stand out of the noise that
 bench-peers.sh's rounds carry. Prints a markdown table of medians, per scene and binary: steady
-shadow maps, lighting, readback and frame; first-frame shadow maps, lighting and frame (shadow
-maps + lighting + readback); process wall time.
+shadow maps, lighting, readback, layers and frame; first-frame shadow maps, lighting and frame
+(shadow maps + lighting + readback + layer passes); process wall time.
 
 --idle S sleeps S seconds before each process: what a single render meets after a pause rather
 than right after another render. On a virtual machine whose host takes back the memory a guest
 frees (virtio-balloon's free page reporting, as here), memory the last process handed back is
 then gone from the host, and faulting it in again costs more (docs/performance.md, "Huge pages
 only while they fault quickly"). --no-steady leaves out the `--repeat` processes.
+
+--outputs "ARGS" adds render arguments to every process, for outputs beyond the PNG, with {tmp}
+standing for a scratch folder: --outputs "--masks {tmp}/m" or --outputs "--aov {tmp}/a.exr
+--aov-layers all". The frames then count their layer passes (steady frame and first frame alike).
 
 --cold adds, for each scene and binary, a single render with an empty shader cache (a new
 MESA_SHADER_CACHE_DIR each time), as on a fresh machine or in a container: the table gains its
@@ -23,7 +27,7 @@ is (warm after the first round).
 
 Usage: scripts/bench_ab.py --bin NEW --baseline OLD [--rounds N] [--repeat N] [--scenes a,b]
                            [--filter F] [--size WxH] [--peers DIR] [--idle S] [--no-steady]
-                           [--cold]"""
+                           [--cold] [--outputs "ARGS"]"""
 import argparse, os, shutil, statistics, sys, tempfile, time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -43,6 +47,8 @@ def main():
     ap.add_argument("--size", default="1280x720")
     ap.add_argument("--idle", type=float, default=0.0, help="seconds of sleep before each process")
     ap.add_argument("--no-steady", action="store_true", help="no render --repeat processes")
+    ap.add_argument("--outputs", default="", help='render arguments for more outputs; {tmp}: a '
+                    'scratch folder, e.g. "--masks {tmp}/m"')
     ap.add_argument("--cold", action="store_true",
                     help="also a single render with an empty shader cache per scene and binary")
     a = ap.parse_args()
@@ -51,6 +57,7 @@ def main():
     cmp = load_compare(a.peers)
     w, h = map(int, a.size.split("x"))
     tmp = tempfile.mkdtemp(prefix="bench-ab.")
+    extra = [arg.replace("{tmp}", tmp) for arg in a.outputs.split()]
     scenes = a.scenes.split(",")
     binaries = [("new", a.bin), ("baseline", a.baseline)]
     res = {}
@@ -64,15 +71,15 @@ def main():
                 steady = {}
                 if not a.no_steady:
                     time.sleep(a.idle)
-                    steady = run_omni(binary, scene, lf, out, w, h, a.repeat)
+                    steady = run_omni(binary, scene, lf, out, w, h, a.repeat, extra=extra)
                 time.sleep(a.idle)
-                first = run_omni(binary, scene, lf, out, w, h, 0)
+                first = run_omni(binary, scene, lf, out, w, h, 0, extra=extra)
                 cold = {}
                 if a.cold:
                     cache = tempfile.mkdtemp(prefix="shader-cache.", dir=tmp)
                     time.sleep(a.idle)
                     cold = run_omni(binary, scene, lf, out, w, h, 0,
-                                    env=dict(os.environ, MESA_SHADER_CACHE_DIR=cache))
+                                    env=dict(os.environ, MESA_SHADER_CACHE_DIR=cache), extra=extra)
                     shutil.rmtree(cache)
                 res.setdefault((name, who), []).append((steady, first, cold))
                 print(f"# round {r} {name} {who} steady {steady.get('steady') or 0:.1f} "
@@ -86,13 +93,14 @@ def main():
         return f"{statistics.median(values):.1f}" if values else "-"
 
     cold_heads = " | cold first frame | cold shaders | cold process ms" if a.cold else ""
-    print("| scene | binary | steady shadow maps | steady lighting | steady readback | steady frame "
+    print("| scene | binary | steady shadow maps | steady lighting | steady readback | steady layers "
+          "| steady frame "
           "| first shadow maps | first lighting | first frame | process ms" + cold_heads + " |")
-    print("|---|---|" + "---:|" * (8 + (3 if a.cold else 0)))
+    print("|---|---|" + "---:|" * (9 + (3 if a.cold else 0)))
     for name in scenes:
         for who, _ in binaries:
             cells = [med(name, who, lambda s, f, c, k=k: s.get(f"steady {k}"))
-                     for k in ("shadow maps", "lighting", "readback", "frame")]
+                     for k in ("shadow maps", "lighting", "readback", "layers", "frame")]
             cells += [med(name, who, lambda s, f, c: f.get("shadow maps")),
                       med(name, who, lambda s, f, c: f.get("lighting")),
                       med(name, who, lambda s, f, c: f["first"]),
@@ -105,7 +113,8 @@ def main():
     print(f"\n{a.filter}, {w}x{h}, 1024^2 shadow maps, {a.rounds} interleaved rounds, medians; "
           f"steady: `render --repeat {a.repeat}`; first: a single `render`"
           + (f"; {a.idle:g} s idle before each process" if a.idle else "")
-          + ("; cold: a single `render` with an empty shader cache." if a.cold else "."))
+          + ("; cold: a single `render` with an empty shader cache" if a.cold else "")
+          + (f"; outputs `{a.outputs}`." if a.outputs else "."))
 
 
 if __name__ == "__main__":

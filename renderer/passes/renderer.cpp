@@ -309,7 +309,7 @@ long long largestFrameTexels(int maxSide) {
 
 // The AOV pass holds all its targets at once (with the layer pass's, when layers are asked
 // for) and fills the AOV image: together far more than the one RGBA32F target the frame-size
-// check covers. The id pass of masks without AOVs holds its target and three channels of ids
+// check covers. The id pass of masks without AOVs holds its target and four channels of ids
 // and coverage. Their sum is checked before anything is allocated.
 void checkAovMemory(const std::vector<Light>& lights, const ViewCamera& camera,
                     const RenderSettings& settings) {
@@ -734,6 +734,9 @@ FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& c
   LightingPass& pass = lightingPass(settings.shading, PassOutputs::Ids, prepared.features);
   ScopedStage stage(times, "layers");
   PassParameters parameters;
+  // Its shading is no dearer than the pre-pass's depth: the pre-pass would only draw the
+  // triangles twice. Either way the nearest surface is drawn, the last of equally near ones.
+  parameters.depthPrepass = false;
   const int width = camera.width, height = camera.height;
   const auto count = static_cast<std::size_t>(width) * height;
   auto draw = [&](FloatImage& image, const std::vector<ChannelCopy>& copies) {
