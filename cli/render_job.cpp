@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <future>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
@@ -324,6 +325,8 @@ void prepareJob(Renderer& renderer, const RenderJob& job) {
 
 Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,
                 StageTimes& times) {
+  // Refused before the frame is drawn, not after.
+  if (!job.masks.empty()) checkMaskInstances(loaded.scene, job.scene.string());
   return renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera,
                          renderSettings(job), times);
 }
@@ -336,6 +339,13 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
     written.push_back(path);
     return transaction.stage(path);
   };
+  // The masks (every instance rasterized alone on the CPU, the pixels counted) are made on a
+  // second thread while this one encodes the beauty; their errors still come where they did.
+  std::future<AnnotationMasks> masks;
+  if (!job.masks.empty())
+    masks = std::async(std::launch::async, [&] {
+      return annotationMasks(loaded.scene, loaded.camera, objectIdImage(frame));
+    });
   if (frame.srgb8) {
     for (const fs::path& path : job.png)
       writePng(stage(path), frame.srgb8->width, frame.srgb8->height, 3, frame.srgb8->rgb);
@@ -359,8 +369,7 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
   }
   if (!job.masks.empty()) {
     for (const fs::path& file : annotationMaskFiles(job.masks)) written.push_back(file);
-    writeAnnotationMasks(annotationMasks(loaded.scene, loaded.camera, objectIdImage(frame)),
-                         job.masks, transaction);
+    writeAnnotationMasks(masks.get(), job.masks, transaction);
   }
   if (job.layers.objectId || job.layers.materialId) {
     written.push_back(idSidecarPath(job));

@@ -1,6 +1,8 @@
 """Annotation masks (--masks and render(masks=True)) are exact on constructed scenes."""
 
+import base64
 import json
+import struct
 
 import numpy as np
 import pytest
@@ -132,6 +134,42 @@ def test_masks_of_blended_surfaces_are_the_objectid_layers(renderer, see_through
     for suffix in (".png", ".instances.png", ".semantic.png", ".masks.json"):
         assert (tmp_path / ("alone" + suffix)).read_bytes() == \
             (tmp_path / ("aov" + suffix)).read_bytes(), suffix
+
+
+def test_more_instances_than_a_16_bit_mask_holds_are_refused(binary, renderer, tmp_path):
+    # One triangle drawn 65536 times (EXT_mesh_gpu_instancing): one instance too many.
+    count = 65536
+    triangle = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    offsets = b"".join(struct.pack("<3f", (i % 256) * 0.01, (i // 256) * 0.01, 0)
+                       for i in range(count))
+    blob = triangle + offsets
+    gltf = {
+        "asset": {"version": "2.0"}, "extensionsUsed": ["EXT_mesh_gpu_instancing"], "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "extensions": {
+            "EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": 1}}}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]},
+                      {"bufferView": 1, "componentType": 5126, "count": count, "type": "VEC3"}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": len(triangle)},
+                        {"buffer": 0, "byteOffset": len(triangle), "byteLength": len(offsets)}],
+        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(blob).decode()}]}
+    path = tmp_path / "many.gltf"
+    path.write_text(json.dumps(gltf))
+    out = tmp_path / "out"
+    out.mkdir()
+    status, _, stderr = run_cli(binary, "render", path, "--width", 16, "--height", 16,
+                                "-o", out / "a.png", "--masks", out / "m")
+    assert status == 2
+    assert stderr.strip().splitlines()[-1] == (
+        f"omnishadow: {path}: --masks: the scene has 65536 mesh instances, more than the 65535 a "
+        "16-bit mask holds")
+    assert list(out.iterdir()) == []
+    frame = renderer.render(omnishadow.load_scene(path), width=16, height=16, masks=True)
+    with pytest.raises(omnishadow.InputError, match="65536 mesh instances"):
+        frame.masks
 
 
 def test_masks_need_the_objectid_layer(renderer, quads):

@@ -11,8 +11,6 @@
 namespace omnishadow {
 namespace {
 
-constexpr std::size_t kMaxMaskId = std::numeric_limits<std::uint16_t>::max();
-
 struct InstanceStats {
   std::size_t pixels = 0;
   int xmin = std::numeric_limits<int>::max(), ymin = std::numeric_limits<int>::max();
@@ -32,13 +30,19 @@ std::string instanceClass(const Scene& scene, const MeshInstance& instance) {
   return mesh.empty() ? "node " + std::to_string(instance.node) : mesh;
 }
 
+void checkMaskInstances(const Scene& scene, const std::string& source) {
+  static_assert(kMaxMaskInstances == std::numeric_limits<std::uint16_t>::max());
+  if (scene.instances.size() <= kMaxMaskInstances) return;
+  throw InputError((source.empty() ? "" : source + ": ") + "--masks: the scene has " +
+                   std::to_string(scene.instances.size()) +
+                   " mesh instances, more than the 65535 a 16-bit mask holds");
+}
+
 AnnotationMasks annotationMasks(const Scene& scene, const ViewCamera& camera,
                                 const FloatImage& aovs) {
   const int objectChannel = aovs.channelIndex("objectId");
   if (objectChannel < 0) throw RenderError("annotation masks need the objectId AOV layer");
-  if (scene.instances.size() > kMaxMaskId)
-    throw InputError("--masks: the scene has " + std::to_string(scene.instances.size()) +
-                     " mesh instances, more than the 65535 a 16-bit mask holds");
+  checkMaskInstances(scene);
   // Classes numbered 1.. in name order, so that ids do not depend on the instances' order.
   std::map<std::string, int> classIds;
   for (const MeshInstance& instance : scene.instances) classIds[instanceClass(scene, instance)];

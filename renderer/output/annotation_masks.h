@@ -31,8 +31,13 @@ struct AnnotationMasks {
 // mesh's name, else "node <index>".
 std::string instanceClass(const Scene& scene, const MeshInstance& instance);
 
+// A 16-bit mask holds the ids of at most this many mesh instances (0 is the background).
+inline constexpr std::size_t kMaxMaskInstances = 65535;
+// Throws InputError, naming `source` (the scene's file) when given, for a scene with more.
+void checkMaskInstances(const Scene& scene, const std::string& source = {});
+
 // From a frame's AOVs with the objectId layer. Throws InputError when the scene has more mesh
-// instances than a 16-bit mask holds (65535).
+// instances than a 16-bit mask holds.
 AnnotationMasks annotationMasks(const Scene& scene, const ViewCamera& camera,
                                 const FloatImage& aovs);
 
