@@ -279,9 +279,7 @@ RenderSettings renderSettings(const RenderJob& job) {
   settings.shading = job.shading;
   settings.aovs = job.aovs || !job.aov.empty();
   settings.layers = job.layers;
-  // Masks are made from the objectId layer: the AOVs' when they are asked for, else a pass
-  // of its own.
-  if (!job.masks.empty()) (settings.aovs ? settings.layers.objectId : settings.objectIds) = true;
+  if (!job.masks.empty()) requestObjectIds(settings);  // what masks are made from
   settings.debugView = job.debugView;
   settings.debugLight = job.debugLight;
   settings.readShadowMaps = !job.dumpDepth.empty();

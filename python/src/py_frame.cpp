@@ -69,7 +69,8 @@ const FloatImage& PyFrame::aovs(const std::string& wanted) const {
 }
 
 const FloatImage& PyFrame::objectIds() const {
-  return frame.objectIds ? *frame.objectIds : aovs("masks");
+  if (!frame.objectIds) aovs("masks");  // without AOVs either: a KeyError that says how to ask
+  return objectIdImage(frame);
 }
 
 bool PyFrame::contains(const std::string& name) const {

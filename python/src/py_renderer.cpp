@@ -35,7 +35,7 @@ RenderSettings renderSettings(const PyRenderOptions& o) {
   settings.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
   settings.aovs = !o.aovs.is_none();
   if (settings.aovs) settings.layers = aovLayers(o.aovs);
-  if (o.masks) (settings.aovs ? settings.layers.objectId : settings.objectIds) = true;
+  if (o.masks) requestObjectIds(settings);
   if (!std::isfinite(o.exposure))
     throw InputError("exposure " + std::to_string(o.exposure) +
                      ": expected a finite number of stops");

@@ -307,14 +307,19 @@ long long largestFrameTexels(int maxSide) {
   return static_cast<long long>(low) * low;
 }
 
+// Frame::objectIds come from a pass of their own: asked for without AOVs (with them, from
+// the AOVs' objectId layer).
+bool drawsObjectIdPass(const RenderSettings& settings) {
+  return settings.objectIds && !settings.aovs;
+}
+
 // The AOV pass holds all its targets at once (with the layer pass's, when layers are asked
 // for) and fills the AOV image: together far more than the one RGBA32F target the frame-size
 // check covers. The id pass of masks without AOVs holds its target and four channels of ids
 // and coverage. Their sum is checked before anything is allocated.
 void checkAovMemory(const std::vector<Light>& lights, const ViewCamera& camera,
                     const RenderSettings& settings) {
-  const bool objectIdsAlone = settings.objectIds && !settings.aovs;
-  if (!settings.aovs && !objectIdsAlone) return;
+  if (!settings.aovs && !drawsObjectIdPass(settings)) return;
   const int width = camera.width, height = camera.height;
   double targets = 0.0;
   std::size_t channels = 4;  // drawObjectIds(): ids and coverage, blended ids, the result
@@ -747,22 +752,23 @@ FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& c
   FloatImage ids{width, height, {"objectId", "coverage"}, {}};
   ids.pixels.resize(count * 2);
   draw(ids, {{0, 0, 2, 0}});
-  std::vector<std::uint8_t> blendedOnly(count, 0);
-  bool any = false;
-  for (std::size_t i = 0; i < count; ++i) {
-    blendedOnly[i] = ids.pixels[2 * i] < 0.0f && ids.pixels[2 * i + 1] > 0.0f;
-    any = any || blendedOnly[i];
-  }
-  FloatImage blended{width, height, {"objectId"}, {}};
-  if (any) {
-    parameters.blendedOnly = true;
-    blended.pixels.resize(count);
-    draw(blended, {{0, 0, 1, 0}});
-  }
+  auto blendedOnly = [&](std::size_t i) {
+    return ids.pixels[2 * i] < 0.0f && ids.pixels[2 * i + 1] > 0.0f;
+  };
   FloatImage objectIds{width, height, {"objectId"}, {}};
   objectIds.pixels.resize(count);
+  bool any = false;
+  for (std::size_t i = 0; i < count; ++i) {
+    objectIds.pixels[i] = ids.pixels[2 * i];
+    any = any || blendedOnly(i);
+  }
+  if (!any) return objectIds;
+  parameters.blendedOnly = true;
+  FloatImage blended{width, height, {"objectId"}, {}};
+  blended.pixels.resize(count);
+  draw(blended, {{0, 0, 1, 0}});
   for (std::size_t i = 0; i < count; ++i)
-    objectIds.pixels[i] = blendedOnly[i] ? blended.pixels[i] : ids.pixels[2 * i];
+    if (blendedOnly(i)) objectIds.pixels[i] = blended.pixels[i];
   return objectIds;
 }
 
@@ -939,10 +945,10 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
                                 const ViewCamera& camera, const glm::vec3& ambient,
                                 const RenderSettings& settings, int debugLight, Frame& frame,
                                 StageTimes& times) {
-  const bool objectIdsAlone = settings.objectIds && !settings.aovs;
+  const bool objectIdPass = drawsObjectIdPass(settings);
   if (!settings.aovs) aovTargets_.reset();
   if (!settings.aovs || !settings.layers.any()) layerTargets_.reset();
-  if (!objectIdsAlone) idTargets_.reset();
+  if (!objectIdPass) idTargets_.reset();
   if (settings.aovs) {
     FloatImage aovs{camera.width,
                     camera.height,
@@ -966,7 +972,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
       frame.beauty = drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times);
     notePrepass(lightingPass(settings.shading, prepared.beautyOutputs, prepared.features)
                     .opaqueFragments());
-    if (objectIdsAlone) frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times);
+    if (objectIdPass) frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times);
     return;
   }
   // The AOV pass already drew the beauty.

@@ -23,4 +23,8 @@ ShadowPassStrategy parseShadowPassStrategy(const std::string& name) {
   return ShadowPassStrategy::Auto;
 }
 
+void requestObjectIds(RenderSettings& settings) {
+  (settings.aovs ? settings.layers.objectId : settings.objectIds) = true;
+}
+
 }  // namespace omnishadow

@@ -71,6 +71,10 @@ struct RenderSettings {
   std::optional<float> srgb8Exposure{};
 };
 
+// Asks for each pixel's objectId (annotation masks): the AOVs' objectId layer when `settings`
+// asks for AOVs, else Frame::objectIds from a pass of its own.
+void requestObjectIds(RenderSettings& settings);
+
 // What the device allows, queried once when the renderer is made. Frame planning checks a
 // frame against these before any GL call.
 struct RenderLimits {
