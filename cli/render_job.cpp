@@ -280,6 +280,8 @@ RenderSettings renderSettings(const RenderJob& job) {
   settings.aovs = job.aovs || !job.aov.empty();
   settings.layers = job.layers;
   if (!job.masks.empty()) requestObjectIds(settings);  // what masks are made from
+  // Masks without an image (`batch --no-png --masks`) need neither shadow maps nor the beauty.
+  settings.beauty = !job.png.empty() || !job.exr.empty();
   settings.debugView = job.debugView;
   settings.debugLight = job.debugLight;
   settings.readShadowMaps = !job.dumpDepth.empty();

@@ -1079,6 +1079,64 @@ TEST(Shadows, StaticShadowMapsAreReusedForTheSameSceneAndLights) {
   EXPECT_EQ(fresh.beauty.pixels, reused.beauty.pixels);
 }
 
+// Masks without a picture (`batch --no-png --masks`) draw the ids alone: no shadow map, no
+// beauty. Their ids are those of a lit frame, and the next lit frame still finds the maps the
+// last lit one left.
+TEST(Shadows, ObjectIdsWithoutTheBeautyDrawNoShadowMapsAndKeepTheCache) {
+  Scene scene;
+  const int white = addMaterial(scene, glm::vec4(0.8f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
+  addObject(scene, builder::makeSphere(0.5f, 24, 12), translate({0, 1, 0}), white);
+  Light spot = pointLight("spot", {1, 3, 0}, ShadowFilter::Pcf, 256);
+  spot.type = LightType::Spot;
+  spot.direction = glm::normalize(glm::vec3(-1, -3, 0));
+  spot.outerConeAngle = 0.8f;
+  const std::vector<Light> lights = {pointLight("lamp", {0, 3, 0}, ShadowFilter::Pcf, 128), spot};
+  const ViewCamera camera = lookFrom(scene, {0, 6, 4}, {0, 0, 0}, 64, 48);
+  Renderer& renderer = sharedRenderer();
+  auto stageNames = [](const StageTimes& times) {
+    std::vector<std::string> names;
+    for (const auto& stage : times.stages()) names.push_back(stage.first);
+    return names;
+  };
+  auto has = [](const std::vector<std::string>& names, const char* name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  RenderSettings lit;
+  requestObjectIds(lit);
+  RenderSettings idsOnly = lit;
+  idsOnly.beauty = false;
+  StageTimes litTimes, idTimes, againTimes;
+  const Frame a = renderer.render(scene, lights, glm::vec3(0.03f), camera, lit, litTimes);
+  const Frame ids = renderer.render(scene, lights, glm::vec3(0.03f), camera, idsOnly, idTimes);
+  const Frame again = renderer.render(scene, lights, glm::vec3(0.03f), camera, lit, againTimes);
+  ASSERT_TRUE(a.objectIds && ids.objectIds);
+  EXPECT_EQ(ids.objectIds->pixels, a.objectIds->pixels);
+  EXPECT_TRUE(ids.beauty.pixels.empty());
+  EXPECT_FALSE(ids.srgb8);
+  EXPECT_EQ(ids.shadowMapsRendered + ids.shadowMapsReused, 0);
+  EXPECT_TRUE(has(stageNames(litTimes), "shadow maps"));
+  EXPECT_FALSE(has(stageNames(idTimes), "shadow maps"));
+  EXPECT_FALSE(has(stageNames(idTimes), "lighting"));
+  EXPECT_TRUE(has(stageNames(idTimes), "layers"));
+  EXPECT_EQ(again.shadowMapsReused, 2);
+  EXPECT_EQ(again.srgb8.has_value(), a.srgb8.has_value());
+  EXPECT_EQ(again.beauty.pixels, a.beauty.pixels);
+
+  // What needs the lit frame draws it, with or without a beauty asked for.
+  for (auto ask : {+[](RenderSettings& s) { s.readShadowMaps = true; },
+                   +[](RenderSettings& s) { s.lightViewSize = 16; },
+                   +[](RenderSettings& s) { s.debugView = DebugView::Shadow; },
+                   +[](RenderSettings& s) { s.objectIds = false; }}) {
+    RenderSettings settings = idsOnly;
+    ask(settings);
+    StageTimes times;
+    const Frame frame = renderer.render(scene, lights, glm::vec3(0.03f), camera, settings, times);
+    EXPECT_EQ(frame.beauty.width, camera.width);
+    EXPECT_TRUE(has(stageNames(times), "lighting"));
+  }
+}
+
 TEST(Shadows, MoreShadowTexturesThanTheShaderSamplesIsAnInputError) {
   Scene scene;
   addObject(scene, builder::makePlane(2.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(1.0f)));

@@ -134,6 +134,13 @@ def test_masks_of_blended_surfaces_are_the_objectid_layers(renderer, see_through
     for suffix in (".png", ".instances.png", ".semantic.png", ".masks.json"):
         assert (tmp_path / ("alone" + suffix)).read_bytes() == \
             (tmp_path / ("aov" + suffix)).read_bytes(), suffix
+    # Masks without an image (no shadow maps, no beauty drawn) are the same files.
+    status, _, stderr = run_cli(binary, "batch", see_through, "--out", tmp_path / "batch",
+                                "--width", W, "--height", H, "--no-png", "--masks", "-q")
+    assert status == 0, stderr
+    for suffix in (".instances.png", ".semantic.png", ".masks.json"):
+        assert (tmp_path / "batch" / ("see_through" + suffix)).read_bytes() == \
+            (tmp_path / ("alone" + suffix)).read_bytes(), suffix
 
 
 def test_more_instances_than_a_16_bit_mask_holds_are_refused(binary, renderer, tmp_path):

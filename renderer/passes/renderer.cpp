@@ -853,9 +853,10 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   const std::vector<bool> translucent = translucentShadowLights(lights, scene);
   features.translucentShadows =
       std::find(translucent.begin(), translucent.end(), true) != translucent.end();
+  const bool lit = drawsLitFrame(settings);
   const PassOutputs beautyOutputs =
       encodesSrgb8(scene, settings) ? PassOutputs::Srgb8 : PassOutputs::Beauty;
-  lightingPass(settings.shading, beautyOutputs, features);  // made once per feature set
+  if (lit) lightingPass(settings.shading, beautyOutputs, features);  // made once per feature set
   shaders.stop();
 
   ScopedStage upload(times, "upload");
@@ -867,6 +868,17 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
                         prepared.gpu.warnings().end());
   glFinish();
   upload.stop();
+  if (!lit) {
+    // Masks alone: the id pass reads no light and no shadow map. The shadow cache stays as the
+    // last lit frame left it.
+    for (const Light& light : lights) prepared.shaded.push_back({&light, nullptr});
+    prepared.translucent.assign(lights.size(), false);
+    aovTargets_.reset();
+    layerTargets_.reset();
+    frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times);
+    gl::checkErrors("reading back the frame");
+    return frame;
+  }
   {
     ScopedStage variants(times, "shaders");  // the beauty's material variants
     lightingPass(settings.shading, beautyOutputs, features).compileMaterialVariants(prepared.gpu);
@@ -1054,6 +1066,7 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
   } catch (const InputError&) {
     return 0.0;  // render() says why
   }
+  if (!drawsLitFrame(settings)) return 0.0;  // masks alone: no shadow maps, no beauty
   const bool beauty =
       !settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1;
   // Where the lighting pass may encode the beauty, the scene decides (blended surfaces need the

@@ -27,4 +27,9 @@ void requestObjectIds(RenderSettings& settings) {
   (settings.aovs ? settings.layers.objectId : settings.objectIds) = true;
 }
 
+bool drawsLitFrame(const RenderSettings& settings) {
+  return settings.beauty || !settings.objectIds || settings.aovs || settings.readShadowMaps ||
+         settings.lightViewSize > 0 || settings.debugView != DebugView::None;
+}
+
 }  // namespace omnishadow

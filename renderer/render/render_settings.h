@@ -47,6 +47,11 @@ struct RenderSettings {
   // Without aovs: fill Frame::objectIds, the objectId layer alone (annotation masks), from a
   // pass that draws no light instead of the AOV pass. With aovs, ask for layers.objectId.
   bool objectIds = false;
+  // False: the caller needs no picture. A frame that then asks for objectIds alone (masks
+  // without an image: no AOVs, shadow map dumps, light views or debug view, which all need the
+  // lit frame) draws neither shadow maps nor the beauty, and Frame::beauty and Frame::srgb8
+  // stay empty; any other frame draws the beauty anyway.
+  bool beauty = true;
   DebugView debugView = DebugView::None;
   std::string debugLight{};     // DebugView::Depth: light name; empty = the first shadowed one
                                 // (DebugView::Cascade: the first shadowed directional one)
@@ -74,6 +79,10 @@ struct RenderSettings {
 // Asks for each pixel's objectId (annotation masks): the AOVs' objectId layer when `settings`
 // asks for AOVs, else Frame::objectIds from a pass of its own.
 void requestObjectIds(RenderSettings& settings);
+
+// Whether the frame draws its shadow maps and the beauty: every frame except one that asks for
+// objectIds alone (RenderSettings::beauty).
+bool drawsLitFrame(const RenderSettings& settings);
 
 // What the device allows, queried once when the renderer is made. Frame planning checks a
 // frame against these before any GL call.
