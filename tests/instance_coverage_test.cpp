@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <random>
 
 namespace omnishadow {
 namespace {
@@ -90,6 +91,45 @@ TEST(InstanceCoverage, VerticesFarOutsideTheFrameCoverItWhole) {
   scene.meshes[0].positions = {{-1e30f, -1e30f, 0}, {1e30f, -1e30f, 0}, {0, 1e30f, 0}};
   scene.meshes[0].indices = {0, 1, 2};
   EXPECT_EQ(count(scene), std::size_t{kWidth * kHeight});
+}
+
+// Triangles of every shape, vertices on a quarter-pixel grid so that the screen positions and
+// edge values are exact, many centers exactly on an edge: the count is the geometric one.
+TEST(InstanceCoverage, SeededTrianglesCoverExactlyTheCentersInsideOrOnTheirEdges) {
+  constexpr int kSide = 16;  // 2/16 is exact: world x, y map to pixel x + 8, 8 - y
+  ViewCamera square = camera();
+  square.width = square.height = kSide;
+  square.projection = glm::ortho(-kSide / 2.0f, kSide / 2.0f, -kSide / 2.0f, kSide / 2.0f);
+  std::mt19937 random(19);
+  std::uniform_int_distribution<int> quarter(-4 * 4, 4 * (kSide + 4));  // beyond the frame too
+  for (int t = 0; t < 3000; ++t) {
+    std::array<glm::ivec2, 3> v;  // quarter pixels
+    for (glm::ivec2& p : v) p = {quarter(random), quarter(random)};
+    if (t % 3 == 0) v[2] = v[0] + (v[1] - v[0]) * 2 + glm::ivec2(t % 2, 0);  // slivers
+    const long long area = static_cast<long long>(v[1].x - v[0].x) * (v[2].y - v[0].y) -
+                           static_cast<long long>(v[2].x - v[0].x) * (v[1].y - v[0].y);
+    std::size_t expected = 0;
+    for (int y = 0; y < kSide && area != 0; ++y)
+      for (int x = 0; x < kSide; ++x) {
+        const glm::ivec2 c(4 * x + 2, 4 * y + 2);
+        bool inside = true;
+        for (int k = 0; k < 3; ++k) {
+          const glm::ivec2 a = v[k], b = v[(k + 1) % 3];
+          const long long e = static_cast<long long>(b.x - a.x) * (c.y - a.y) -
+                              static_cast<long long>(b.y - a.y) * (c.x - a.x);
+          inside = inside && (area > 0 ? e >= 0 : e <= 0);
+        }
+        expected += inside;
+      }
+    Scene scene = quads({}, false, true);
+    for (const glm::ivec2& p : v)
+      scene.meshes[0].positions.push_back(
+          {p.x / 4.0f - kSide / 2.0f, kSide / 2.0f - p.y / 4.0f, 0.0f});
+    scene.meshes[0].indices = {0, 1, 2};
+    ASSERT_EQ(coveredPixelCount(scene, scene.instances[0], square), expected)
+        << "triangle " << t << ": (" << v[0].x << ", " << v[0].y << ") (" << v[1].x << ", "
+        << v[1].y << ") (" << v[2].x << ", " << v[2].y << ") in quarter pixels";
+  }
 }
 
 }  // namespace

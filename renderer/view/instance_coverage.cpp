@@ -57,14 +57,56 @@ void rasterize(const std::array<glm::dvec2, 3>& v, int width, int height, PixelB
     return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
   };
   const auto stride = static_cast<std::size_t>(block.x1 - block.x0);
-  for (int y = r.y0; y <= r.y1; ++y)
-    for (int x = r.x0; x <= r.x1; ++x) {
-      const double px = x + 0.5, py = y + 0.5;
-      if (sign * edge(v[0], v[1], px, py) >= 0 && sign * edge(v[1], v[2], px, py) >= 0 &&
-          sign * edge(v[2], v[0], px, py) >= 0)
-        block.covered[static_cast<std::size_t>(y - block.y0) * stride +
-                      static_cast<std::size_t>(x - block.x0)] = 1;
+  for (int y = r.y0; y <= r.y1; ++y) {
+    const double py = y + 0.5;
+    // Along a row an edge's value only falls or only rises with x, also as rounded (each
+    // subtraction and product rounds monotonically), so the centers inside an edge are the
+    // row's first or last ones and those inside all three one run. Its ends are found by
+    // bisection with the same expression a test of every center would use: the same pixels.
+    int x0 = r.x0, x1 = r.x1;
+    for (int k = 0; k < 3 && x0 <= x1; ++k) {
+      const glm::dvec2& a = v[static_cast<std::size_t>(k)];
+      const glm::dvec2& b = v[static_cast<std::size_t>((k + 1) % 3)];
+      auto inside = [&](int x) { return sign * edge(a, b, x + 0.5, py) >= 0; };
+      const double falls = sign * (b.y - a.y);  // > 0: the value falls as x grows
+      if (falls > 0) {
+        if (!inside(x0)) {
+          x1 = x0 - 1;
+          continue;
+        }
+        int lo = x0, hi = x1;  // the last center inside: inside(lo) holds
+        while (lo < hi) {
+          const int mid = lo + (hi - lo + 1) / 2;
+          if (inside(mid)) {
+            lo = mid;
+          } else {
+            hi = mid - 1;
+          }
+        }
+        x1 = lo;
+      } else if (falls < 0) {
+        if (!inside(x1)) {
+          x0 = x1 + 1;
+          continue;
+        }
+        int lo = x0, hi = x1;  // the first center inside: inside(hi) holds
+        while (lo < hi) {
+          const int mid = lo + (hi - lo) / 2;
+          if (inside(mid)) {
+            hi = mid;
+          } else {
+            lo = mid + 1;
+          }
+        }
+        x0 = hi;
+      } else if (!inside(x0)) {
+        x1 = x0 - 1;
+      }
     }
+    if (x0 > x1) continue;
+    std::uint8_t* row = block.covered.data() + static_cast<std::size_t>(y - block.y0) * stride;
+    std::fill(row + (x0 - block.x0), row + (x1 + 1 - block.x0), std::uint8_t{1});
+  }
 }
 
 }  // namespace
@@ -81,38 +123,63 @@ std::size_t coveredPixelCount(const Scene& scene, const MeshInstance& instance,
   // View space looks down -Z: keep znear <= -z (<= zfar when the far plane is finite).
   std::vector<glm::vec4> planes = {{0, 0, -1, -camera.znear}};
   if (camera.zfar > 0) planes.push_back({0, 0, 1, camera.zfar});
+  auto toScreen = [&](const glm::vec3& p) {
+    const glm::vec4 clipped = camera.projection * glm::vec4(p, 1.0f);
+    const double x = double(clipped.x) / clipped.w, y = double(clipped.y) / clipped.w;
+    return glm::dvec2((x + 1.0) * 0.5 * w, (1.0 - y) * 0.5 * h);
+  };
+  // Each vertex once (meshes share most vertices between triangles): in view space, whether
+  // every clip plane keeps it, and where it lands on screen. A triangle whose vertices all stay
+  // is the polygon clipping would give back unchanged, so it takes these as they are.
+  struct ViewVertex {
+    glm::vec3 view;
+    glm::dvec2 screen;
+    bool kept;
+  };
+  std::vector<ViewVertex> vertices(mesh.positions.size());
+  for (std::size_t v = 0; v < vertices.size(); ++v) {
+    ViewVertex& out = vertices[v];
+    out.view = glm::vec3(modelView * glm::vec4(mesh.positions[v], 1.0f));
+    out.kept = std::all_of(planes.begin(), planes.end(), [&](const glm::vec4& plane) {
+      return glm::dot(plane, glm::vec4(out.view, 1.0f)) >= 0;
+    });
+    if (out.kept) out.screen = toScreen(out.view);
+  }
   // The screen triangles that face the camera (or need not), then the block of pixels their
   // boxes span: an instance small on screen fills and counts that block, not the frame.
   std::vector<std::array<glm::dvec2, 3>> triangles;
   PixelBlock block{w, h, 0, 0, {}};
+  auto add = [&](const std::array<glm::dvec2, 3>& triangle) {
+    // Counter-clockwise on screen with y up is front facing; y runs down here.
+    const double area = (triangle[1].x - triangle[0].x) * (triangle[2].y - triangle[0].y) -
+                        (triangle[2].x - triangle[0].x) * (triangle[1].y - triangle[0].y);
+    if (area == 0.0 || !std::isfinite(area)) return;  // covers no pixel center
+    const bool front = (area < 0) != mirrored;
+    if (!doubleSided && !front) return;
+    triangles.push_back(triangle);
+    const CenterRange r = centerRange(triangle, w, h);
+    if (r.x0 > r.x1 || r.y0 > r.y1) return;
+    block.x0 = std::min(block.x0, r.x0);
+    block.y0 = std::min(block.y0, r.y0);
+    block.x1 = std::max(block.x1, r.x1 + 1);
+    block.y1 = std::max(block.y1, r.y1 + 1);
+  };
+  std::vector<glm::vec3> polygon;
+  std::vector<glm::dvec2> screen;
   for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-    std::vector<glm::vec3> polygon;
-    for (int k = 0; k < 3; ++k)
-      polygon.emplace_back(modelView * glm::vec4(mesh.positions[mesh.indices[t + k]], 1.0f));
+    const ViewVertex& a = vertices[mesh.indices[t]];
+    const ViewVertex& b = vertices[mesh.indices[t + 1]];
+    const ViewVertex& c = vertices[mesh.indices[t + 2]];
+    if (a.kept && b.kept && c.kept) {
+      add({a.screen, b.screen, c.screen});
+      continue;
+    }
+    polygon = {a.view, b.view, c.view};
     for (const glm::vec4& plane : planes) polygon = clip(polygon, plane);
     if (polygon.size() < 3) continue;
-    std::vector<glm::dvec2> screen;
-    for (const glm::vec3& p : polygon) {
-      const glm::vec4 clipped = camera.projection * glm::vec4(p, 1.0f);
-      const double x = double(clipped.x) / clipped.w, y = double(clipped.y) / clipped.w;
-      screen.emplace_back((x + 1.0) * 0.5 * w, (1.0 - y) * 0.5 * h);
-    }
-    for (std::size_t k = 1; k + 1 < screen.size(); ++k) {
-      const std::array<glm::dvec2, 3> triangle = {screen[0], screen[k], screen[k + 1]};
-      // Counter-clockwise on screen with y up is front facing; y runs down here.
-      const double area = (triangle[1].x - triangle[0].x) * (triangle[2].y - triangle[0].y) -
-                          (triangle[2].x - triangle[0].x) * (triangle[1].y - triangle[0].y);
-      if (area == 0.0 || !std::isfinite(area)) continue;  // covers no pixel center
-      const bool front = (area < 0) != mirrored;
-      if (!doubleSided && !front) continue;
-      triangles.push_back(triangle);
-      const CenterRange r = centerRange(triangle, w, h);
-      if (r.x0 > r.x1 || r.y0 > r.y1) continue;
-      block.x0 = std::min(block.x0, r.x0);
-      block.y0 = std::min(block.y0, r.y0);
-      block.x1 = std::max(block.x1, r.x1 + 1);
-      block.y1 = std::max(block.y1, r.y1 + 1);
-    }
+    screen.clear();
+    for (const glm::vec3& p : polygon) screen.push_back(toScreen(p));
+    for (std::size_t k = 1; k + 1 < screen.size(); ++k) add({screen[0], screen[k], screen[k + 1]});
   }
   if (block.x0 >= block.x1 || block.y0 >= block.y1) return 0;
   block.covered.assign(
