@@ -339,12 +339,14 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
     written.push_back(path);
     return transaction.stage(path);
   };
-  // The masks (every instance rasterized alone on the CPU, the pixels counted) are made on a
-  // second thread while this one encodes the beauty; their errors still come where they did.
-  std::future<AnnotationMasks> masks;
+  // The masks (every instance rasterized alone on the CPU, the pixels counted) are made and
+  // encoded on a second thread while this one encodes the beauty; their errors still come
+  // where they did.
+  std::future<EncodedAnnotationMasks> masks;
   if (!job.masks.empty())
     masks = std::async(std::launch::async, [&] {
-      return annotationMasks(loaded.scene, loaded.camera, objectIdImage(frame));
+      return encodeAnnotationMasks(
+          annotationMasks(loaded.scene, loaded.camera, objectIdImage(frame)));
     });
   if (frame.srgb8) {
     for (const fs::path& path : job.png)

@@ -175,7 +175,8 @@ py::dict PyFrame::masks() const {
 
 void PyFrame::saveMasks(const std::string& stem) const {
   OutputTransaction transaction;
-  writeAnnotationMasks(annotationMasks(*scene, camera, objectIds()), stem, transaction);
+  writeAnnotationMasks(encodeAnnotationMasks(annotationMasks(*scene, camera, objectIds())), stem,
+                       transaction);
   transaction.commit();
 }
 

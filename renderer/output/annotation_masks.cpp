@@ -1,11 +1,11 @@
 #include "renderer/output/annotation_masks.h"
 
 #include <algorithm>
-#include <fstream>
 #include <limits>
 #include <map>
 
 #include "renderer/core/errors.h"
+#include "renderer/output/png_encoder.h"
 #include "renderer/view/instance_coverage.h"
 
 namespace omnishadow {
@@ -115,14 +115,17 @@ std::vector<std::filesystem::path> annotationMaskFiles(const std::filesystem::pa
           stem.string() + ".masks.json"};
 }
 
-void writeAnnotationMasks(const AnnotationMasks& masks, const std::filesystem::path& stem,
+EncodedAnnotationMasks encodeAnnotationMasks(const AnnotationMasks& masks) {
+  return {encodePng16(masks.width, masks.height, masks.instances),
+          encodePng16(masks.width, masks.height, masks.classes), masks.index.dump(2) + "\n"};
+}
+
+void writeAnnotationMasks(const EncodedAnnotationMasks& files, const std::filesystem::path& stem,
                           OutputTransaction& transaction) {
-  const std::vector<std::filesystem::path> files = annotationMaskFiles(stem);
-  writePng16(transaction.stage(files[0]), masks.width, masks.height, masks.instances);
-  writePng16(transaction.stage(files[1]), masks.width, masks.height, masks.classes);
-  std::ofstream out(transaction.stage(files[2]));
-  out << masks.index.dump(2) << "\n";
-  if (!out.flush()) throw RenderError("cannot write " + files[2].string());
+  const std::vector<std::filesystem::path> paths = annotationMaskFiles(stem);
+  writeFileBytes(transaction.stage(paths[0]), files.instances);
+  writeFileBytes(transaction.stage(paths[1]), files.semantic);
+  writeFileBytes(transaction.stage(paths[2]), files.index);
 }
 
 }  // namespace omnishadow

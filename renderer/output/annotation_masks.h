@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "renderer/output/image_writer.h"
@@ -43,7 +44,13 @@ AnnotationMasks annotationMasks(const Scene& scene, const ViewCamera& camera,
 
 // "<stem>.instances.png", "<stem>.semantic.png" (16-bit grey PNG) and "<stem>.masks.json".
 std::vector<std::filesystem::path> annotationMaskFiles(const std::filesystem::path& stem);
-void writeAnnotationMasks(const AnnotationMasks& masks, const std::filesystem::path& stem,
+// The bytes of those three files. Encoding the PNGs is most of the work of writing them, so it
+// may run on another thread than the one that writes (the CLI's, while the beauty encodes).
+struct EncodedAnnotationMasks {
+  std::string instances, semantic, index;
+};
+EncodedAnnotationMasks encodeAnnotationMasks(const AnnotationMasks& masks);
+void writeAnnotationMasks(const EncodedAnnotationMasks& files, const std::filesystem::path& stem,
                           OutputTransaction& transaction);
 
 }  // namespace omnishadow

@@ -126,14 +126,6 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
   writeFileBytes(path, encodePng(width, height, channels, pixels));
 }
 
-void writePng16(const std::filesystem::path& path, int width, int height,
-                const std::vector<std::uint16_t>& pixels) {
-  if (width <= 0 || height <= 0 || pixels.size() != pixelCount(width, height))
-    throw std::invalid_argument("writePng16: pixel buffer size does not match " +
-                                std::to_string(width) + "x" + std::to_string(height));
-  writeFileBytes(path, encodePng16(width, height, pixels));
-}
-
 void writeFileBytes(const std::filesystem::path& path, std::string_view bytes) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) throw RenderError(cannotWrite(path, std::strerror(errno)));

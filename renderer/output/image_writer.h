@@ -38,10 +38,6 @@ enum class ExrPixelType { Half, Float };
 void writePng(const std::filesystem::path& path, int width, int height, int channels,
               const std::vector<std::uint8_t>& pixels);
 
-// 16-bit grey PNG (annotation masks: one id per pixel), byte-identical like writePng.
-void writePng16(const std::filesystem::path& path, int width, int height,
-                const std::vector<std::uint16_t>& pixels);
-
 // The camera an image was rendered with, as OpenEXR's standard attributes hold it: 4x4
 // matrices in the memory order of glm (column-major for column vectors, which is Imath's
 // row-major for row vectors). worldToCamera maps to OpenEXR's left-handed camera space (+x
