@@ -10,6 +10,9 @@
 #include <memory>
 #include <new>
 #include <string_view>
+#include <vector>
+
+#include "renderer/core/default_init_allocator.h"
 
 namespace omnishadow {
 namespace {
@@ -81,22 +84,30 @@ struct CompressorDeleter {
   void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
 };
 
-// `bitDepth` 8 or 16; `bytes` hold the samples as PNG stores them (16-bit ones big-endian).
-std::string encode(int width, int height, int channels, int bitDepth, const std::uint8_t* bytes,
+template <class T>
+using Buffer = std::vector<T, DefaultInitAllocator<T>>;
+
+// `bitDepth` 8 or 16; `rowBytes(y, out)` gives row y (top first) as PNG stores its samples
+// (16-bit ones big-endian), in `out` or elsewhere, and returns where they are.
+template <class RowBytes>
+std::string encode(int width, int height, int channels, int bitDepth, RowBytes rowBytesOf,
                    const PngEncoding& encoding) {
   // Filters work on bytes, comparing each with the same byte of the pixel to its left.
   const std::size_t bpp = static_cast<std::size_t>(channels * bitDepth / 8);
   const std::size_t rowBytes = static_cast<std::size_t>(width) * bpp;
   const auto rows = static_cast<std::size_t>(height);
-
-  // Each row: its filter type byte, then the filtered bytes.
-  std::vector<std::uint8_t> filtered(rows * (rowBytes + 1));
+  // Each row: its filter type byte, then the filtered bytes. Every byte is written below, and
+  // buffers this size (megabytes) are fresh pages: zeroing them first would fault them twice.
+  Buffer<std::uint8_t> filtered(rows * (rowBytes + 1));
   const std::vector<std::uint8_t> zeros(rowBytes, 0);
-  std::array<std::vector<std::uint8_t>, 5> candidates;
-  for (auto& candidate : candidates) candidate.resize(rowBytes);
+  std::array<Buffer<std::uint8_t>, 2> rowCopies;  // where a row source needs them
+  for (auto& copy : rowCopies) copy.resize(rowBytes);
+  std::array<Buffer<std::uint8_t>, 5> candidates;
+  if (encoding.filter == kAdaptivePngFilter)
+    for (auto& candidate : candidates) candidate.resize(rowBytes);
+  const std::uint8_t* previous = zeros.data();
   for (std::size_t y = 0; y < rows; ++y) {
-    const std::uint8_t* row = bytes + y * rowBytes;
-    const std::uint8_t* previous = y > 0 ? row - rowBytes : zeros.data();
+    const std::uint8_t* row = rowBytesOf(y, rowCopies[y % 2].data());
     std::uint8_t* out = filtered.data() + y * (rowBytes + 1);
     int best = encoding.filter;
     if (encoding.filter == kAdaptivePngFilter) {
@@ -109,36 +120,34 @@ std::string encode(int width, int height, int channels, int bitDepth, const std:
           best = type;
         }
       }
+      std::copy(candidates[best].begin(), candidates[best].end(), out + 1);
     } else {
-      filterRow(best, row, previous, rowBytes, bpp, candidates[best].data());
+      filterRow(best, row, previous, rowBytes, bpp, out + 1);
     }
     out[0] = static_cast<std::uint8_t>(best);
-    std::copy(candidates[best].begin(), candidates[best].end(), out + 1);
+    previous = row;
   }
-
   const int level = encoding.level > 0 ? encoding.level : kDefaultPngLevel;
   std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressor(
       libdeflate_alloc_compressor(level));
   if (!compressor) throw std::bad_alloc();
-  std::string compressed(libdeflate_zlib_compress_bound(compressor.get(), filtered.size()), '\0');
+  Buffer<char> compressed(libdeflate_zlib_compress_bound(compressor.get(), filtered.size()));
   const std::size_t size = libdeflate_zlib_compress(
       compressor.get(), filtered.data(), filtered.size(), compressed.data(), compressed.size());
-  compressed.resize(size);
-
   static constexpr char kColorType[] = {0, 0, 4, 2, 6};  // by channel count
   std::string header;
   appendBigEndian(header, static_cast<std::uint32_t>(width));
   appendBigEndian(header, static_cast<std::uint32_t>(height));
   // bit depth, colour type, deflate, filters, no interlace
   header += {static_cast<char>(bitDepth), kColorType[channels], 0, 0, 0};
-
   std::string png("\x89PNG\r\n\x1a\n", 8);
-  png.reserve(png.size() + 25 + compressed.size() + 12 + 12);
+  png.reserve(png.size() + 25 + size + 12 + 12);
   appendChunk(png, "IHDR", header);
   // PNG chunks hold at most 2^31 - 1 bytes; decoders join consecutive IDATs.
   constexpr std::size_t kMaxChunk = std::size_t{1} << 30;
-  for (std::size_t at = 0; at < compressed.size(); at += kMaxChunk)
-    appendChunk(png, "IDAT", std::string_view(compressed).substr(at, kMaxChunk));
+  const std::string_view data(compressed.data(), size);
+  for (std::size_t at = 0; at < size; at += kMaxChunk)
+    appendChunk(png, "IDAT", data.substr(at, kMaxChunk));
   appendChunk(png, "IEND", {});
   return png;
 }
@@ -147,17 +156,26 @@ std::string encode(int width, int height, int channels, int bitDepth, const std:
 
 std::string encodePng(int width, int height, int channels, const std::vector<std::uint8_t>& pixels,
                       const PngEncoding& encoding) {
-  return encode(width, height, channels, 8, pixels.data(), encoding);
+  const std::size_t rowBytes = static_cast<std::size_t>(width) * static_cast<std::size_t>(channels);
+  return encode(
+      width, height, channels, 8,
+      [&](std::size_t y, std::uint8_t*) { return pixels.data() + y * rowBytes; }, encoding);
 }
 
 std::string encodePng16(int width, int height, const std::vector<std::uint16_t>& pixels,
                         const PngEncoding& encoding) {
-  std::vector<std::uint8_t> bigEndian(pixels.size() * 2);
-  for (std::size_t i = 0; i < pixels.size(); ++i) {
-    bigEndian[2 * i] = static_cast<std::uint8_t>(pixels[i] >> 8);
-    bigEndian[2 * i + 1] = static_cast<std::uint8_t>(pixels[i] & 0xff);
-  }
-  return encode(width, height, 1, 16, bigEndian.data(), encoding);
+  const auto w = static_cast<std::size_t>(width);
+  return encode(
+      width, height, 1, 16,
+      [&](std::size_t y, std::uint8_t* out) {
+        const std::uint16_t* row = pixels.data() + y * w;
+        for (std::size_t x = 0; x < w; ++x) {
+          out[2 * x] = static_cast<std::uint8_t>(row[x] >> 8);
+          out[2 * x + 1] = static_cast<std::uint8_t>(row[x] & 0xff);
+        }
+        return static_cast<const std::uint8_t*>(out);
+      },
+      encoding);
 }
 
 }  // namespace omnishadow
