@@ -159,8 +159,13 @@ py::dict PyFrame::idIndex() const {
   return jsonToPython(omnishadow::idIndex(*scene));
 }
 
+const AnnotationMasks& PyFrame::annotationMasks() const {
+  if (!masks_) masks_ = omnishadow::annotationMasks(*scene, camera, objectIds());
+  return *masks_;
+}
+
 py::dict PyFrame::masks() const {
-  const AnnotationMasks made = annotationMasks(*scene, camera, objectIds());
+  const AnnotationMasks& made = annotationMasks();
   auto array = [&](const std::vector<std::uint16_t>& values) {
     py::array_t<std::uint16_t> out({py::ssize_t(made.height), py::ssize_t(made.width)});
     std::memcpy(out.mutable_data(), values.data(), values.size() * sizeof(std::uint16_t));
@@ -175,8 +180,7 @@ py::dict PyFrame::masks() const {
 
 void PyFrame::saveMasks(const std::string& stem) const {
   OutputTransaction transaction;
-  writeAnnotationMasks(encodeAnnotationMasks(annotationMasks(*scene, camera, objectIds())), stem,
-                       transaction);
+  writeAnnotationMasks(encodeAnnotationMasks(annotationMasks()), stem, transaction);
   transaction.commit();
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "renderer/core/stage_timer.h"
+#include "renderer/output/annotation_masks.h"
 #include "renderer/render/frame.h"
 #include "renderer/scene/scene.h"
 #include "renderer/view/camera.h"
@@ -57,6 +58,10 @@ struct PyFrame {
   const FloatImage& aovs(const std::string& wanted) const;
   // What masks are made from: Frame::objectIds (masks=True), else the AOVs.
   const FloatImage& objectIds() const;
+  // Made by the first masks() or saveMasks() (every instance rasterized alone on the CPU: tens
+  // of milliseconds on a real scene), kept for the next; Python calls them holding the GIL.
+  const AnnotationMasks& annotationMasks() const;
+  mutable std::optional<AnnotationMasks> masks_;
 };
 
 }  // namespace omnishadow::python
