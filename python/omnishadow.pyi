@@ -93,6 +93,7 @@ class Renderer:
         aa: int = 1,
         shadow_maps: bool = False,
         masks: bool = False,
+        beauty: bool = True,
         no_gltf_lights: bool = False,
         max_memory: float = 4096.0,
         shadow_pass: str = "auto",

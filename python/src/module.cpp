@@ -97,8 +97,8 @@ void bindFrame(py::module_& m) {
                     "The scene's, the lights' and the renderer's warnings, as the CLI prints "
                     "them.")
       .def_readonly("exposure", &PyFrame::exposure)
-      .def_property_readonly("width", [](const PyFrame& f) { return f.frame.beauty.width; })
-      .def_property_readonly("height", [](const PyFrame& f) { return f.frame.beauty.height; })
+      .def_property_readonly("width", [](const PyFrame& f) { return f.camera.width; })
+      .def_property_readonly("height", [](const PyFrame& f) { return f.camera.height; })
       .def(
           "save", [](const PyFrame& f, const py::object& path) { f.save(fsPath(path)); },
           py::arg("path"),
@@ -127,7 +127,7 @@ void bindRenderer(py::module_& m) {
           [](PyRenderer& r, const PyScene& scene, const py::object& lights,
              const py::object& camera, const py::object& width, const py::object& height,
              const py::object& aovs, const std::string& shading, float exposure, int aa,
-             bool shadowMaps, bool masks, bool noGltfLights, double maxMemory,
+             bool shadowMaps, bool masks, bool beauty, bool noGltfLights, double maxMemory,
              const std::string& shadowPass) {
             PyRenderOptions o;
             o.camera = camera;
@@ -138,6 +138,7 @@ void bindRenderer(py::module_& m) {
             o.exposure = exposure;
             o.shadowMaps = shadowMaps;
             o.masks = masks;
+            o.beauty = beauty;
             o.antialiasing = aa;
             o.noGltfLights = noGltfLights;
             o.maxMemoryMiB = maxMemory;
@@ -148,13 +149,16 @@ void bindRenderer(py::module_& m) {
           py::arg("camera") = py::none(), py::arg("width") = py::none(),
           py::arg("height") = py::none(), py::arg("aovs") = py::none(), py::arg("shading") = "pbr",
           py::arg("exposure") = 0.0f, py::arg("aa") = 1, py::arg("shadow_maps") = false,
-          py::arg("masks") = false, py::arg("no_gltf_lights") = false,
+          py::arg("masks") = false, py::arg("beauty") = true, py::arg("no_gltf_lights") = false,
           py::arg("max_memory") = 4096.0, py::arg("shadow_pass") = "auto",
           "Renders `scene` (from load_scene) with the glTF's lights and `lights` (a Lights, a "
           "lights file path, a dict like the file or a list of light dicts; None = the glTF's "
           "only, a headlight when there is none). camera: None, a glTF camera name or index, "
           "or a dict with select/eye/target/up/fov. aovs: None, or a list of --aov-layers "
-          "names ([] = the fixed channels). masks: compute annotation masks (Frame.masks). aa: "
+          "names ([] = the fixed channels). masks: compute annotation masks (Frame.masks). "
+          "beauty=False with masks=True alone: masks without a picture, like batch --no-png "
+          "--masks (no shadow maps, no lighting; Frame.beauty, to_srgb8 and save raise "
+          "ValueError); with anything else the picture is drawn anyway. aa: "
           "beauty samples per pixel (1, 4, 8 or 16; "
           "AOVs, ids, masks and depth stay exact). The GIL is released while it renders.");
   renderer.def(

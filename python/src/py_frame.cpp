@@ -41,15 +41,23 @@ py::object jsonToPython(const nlohmann::ordered_json& value) {
 
 }  // namespace
 
+const FloatImage& PyFrame::picture(const char* what) const {
+  if (frame.beauty.pixels.empty())
+    throw py::value_error(std::string(what) +
+                          ": this frame has no picture; it was rendered with beauty=False "
+                          "(masks alone)");
+  return frame.beauty;
+}
+
 py::array_t<float> PyFrame::beauty() const {
-  return copyChannels<float>(frame.beauty, {0, 1, 2, 3}, false);
+  return copyChannels<float>(picture("Frame.beauty"), {0, 1, 2, 3}, false);
 }
 
 py::array_t<std::uint8_t> PyFrame::toSrgb8(const py::object& exposureStops) const {
   const float stops = exposureStops.is_none() ? exposure : exposureStops.cast<float>();
   if (!std::isfinite(stops))
     throw InputError("exposure " + std::to_string(stops) + ": expected a finite number of stops");
-  const std::vector<std::uint8_t> srgb = omnishadow::toSrgb8(frame.beauty, stops);
+  const std::vector<std::uint8_t> srgb = omnishadow::toSrgb8(picture("Frame.to_srgb8"), stops);
   py::array_t<std::uint8_t> out(
       {py::ssize_t(frame.beauty.height), py::ssize_t(frame.beauty.width), py::ssize_t(3)});
   std::memcpy(out.mutable_data(), srgb.data(), srgb.size());
@@ -185,6 +193,7 @@ void PyFrame::saveMasks(const std::string& stem) const {
 }
 
 void PyFrame::save(const std::string& path) const {
+  picture("Frame.save");
   const std::string ext = std::filesystem::path(path).extension().string();
   OutputTransaction transaction;
   if (ext == ".png" || ext == ".PNG") {

@@ -55,6 +55,8 @@ struct PyFrame {
   void saveAovs(const std::string& path) const;
 
  private:
+  // The beauty; ValueError naming `what` for a frame rendered with beauty=False.
+  const FloatImage& picture(const char* what) const;
   const FloatImage& aovs(const std::string& wanted) const;
   // What masks are made from: Frame::objectIds (masks=True), else the AOVs.
   const FloatImage& objectIds() const;

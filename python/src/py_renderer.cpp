@@ -36,6 +36,7 @@ RenderSettings renderSettings(const PyRenderOptions& o) {
   settings.aovs = !o.aovs.is_none();
   if (settings.aovs) settings.layers = aovLayers(o.aovs);
   if (o.masks) requestObjectIds(settings);
+  settings.beauty = o.beauty;
   if (!std::isfinite(o.exposure))
     throw InputError("exposure " + std::to_string(o.exposure) +
                      ": expected a finite number of stops");

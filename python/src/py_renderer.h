@@ -25,6 +25,7 @@ struct PyRenderOptions {
   bool shadowMaps = false;
   int antialiasing = 1;  // aa=: beauty samples per pixel (1, 4, 8, 16)
   bool masks = false;    // adds the objectId layer the masks are made from
+  bool beauty = true;    // false: no picture (RenderSettings::beauty)
   bool noGltfLights = false;
   double maxMemoryMiB = 4096.0;
   std::string shadowPass = "auto";

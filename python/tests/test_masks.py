@@ -143,6 +143,26 @@ def test_masks_of_blended_surfaces_are_the_objectid_layers(renderer, see_through
             (tmp_path / ("alone" + suffix)).read_bytes(), suffix
 
 
+def test_masks_without_a_picture_are_the_same_and_draw_no_light(renderer, see_through, tmp_path):
+    scene = omnishadow.load_scene(see_through)
+    lamp = [{"name": "lamp", "type": "point", "position": [0, 0, 3], "intensity": 5,
+             "shadow": {"resolution": 64}}]
+    lit = renderer.render(scene, lamp, width=W, height=H, masks=True)
+    alone = renderer.render(scene, lamp, width=W, height=H, masks=True, beauty=False)
+    assert (alone.width, alone.height) == (W, H)
+    np.testing.assert_array_equal(alone.masks["instances"], lit.masks["instances"])
+    assert alone.masks["index"] == lit.masks["index"]
+    assert "shadow maps" in lit.times and "lighting" in lit.times
+    assert "shadow maps" not in alone.times and "lighting" not in alone.times
+    for use in (lambda f: f.beauty, lambda f: f.to_srgb8(), lambda f: f.save(tmp_path / "x.png")):
+        with pytest.raises(ValueError, match="beauty=False"):
+            use(alone)
+    assert not (tmp_path / "x.png").exists()
+    # Asked for with AOVs, the picture is drawn anyway.
+    with_aovs = renderer.render(scene, lamp, width=W, height=H, aovs=[], beauty=False)
+    assert with_aovs.beauty.shape == (H, W, 4)
+
+
 def test_more_instances_than_a_16_bit_mask_holds_are_refused(binary, renderer, tmp_path):
     # One triangle drawn 65536 times (EXT_mesh_gpu_instancing): one instance too many.
     count = 65536
