@@ -744,31 +744,51 @@ FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& c
   parameters.depthPrepass = false;
   const int width = camera.width, height = camera.height;
   const auto count = static_cast<std::size_t>(width) * height;
-  auto draw = [&](FloatImage& image, const std::vector<ChannelCopy>& copies) {
+  // The RG32F target read as it is (ids, coverage): no conversion to RGBA, no band copies.
+  FloatPixels rg(count * 2);
+  auto draw = [&] {
     pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
-    readChannels(targets, copies, camera.glRowOrder, image);
+    // In bands: a call's byte count is a GLsizei, and a 16384-pixel row of RG floats is 128 KiB.
+    constexpr int kRows = 256;
+    for (int y0 = 0; y0 < height; y0 += kRows) {
+      const int rows = std::min(kRows, height - y0);
+      const std::size_t first = static_cast<std::size_t>(y0) * width * 2;
+      glGetTextureSubImage(
+          targets.color(0), 0, 0, y0, 0, width, rows, 1, GL_RG, GL_FLOAT,
+          static_cast<GLsizei>(static_cast<std::size_t>(rows) * width * 2 * sizeof(float)),
+          rg.data() + first);
+    }
   };
-  FloatImage ids{width, height, {"objectId", "coverage"}, {}};
-  ids.pixels.resize(count * 2);
-  draw(ids, {{0, 0, 2, 0}});
-  auto blendedOnly = [&](std::size_t i) {
-    return ids.pixels[2 * i] < 0.0f && ids.pixels[2 * i + 1] > 0.0f;
+  // Row y (first = top) of `rg`, in GL rows there.
+  auto row = [&](const FloatPixels& pixels, int y) {
+    const int glRow = camera.glRowOrder ? y : height - 1 - y;
+    return pixels.data() + static_cast<std::size_t>(glRow) * width * 2;
   };
+  draw();
   FloatImage objectIds{width, height, {"objectId"}, {}};
   objectIds.pixels.resize(count);
-  bool any = false;
-  for (std::size_t i = 0; i < count; ++i) {
-    objectIds.pixels[i] = ids.pixels[2 * i];
-    any = any || blendedOnly(i);
+  // Pixels only blended surfaces cover: no opaque id, coverage above 0.
+  bool anyBlendedOnly = false;
+  for (int y = 0; y < height; ++y) {
+    const float* from = row(rg, y);
+    float* to = objectIds.pixels.data() + static_cast<std::size_t>(y) * width;
+    for (int x = 0; x < width; ++x) {
+      to[x] = from[2 * x];
+      anyBlendedOnly |= from[2 * x] < 0.0f && from[2 * x + 1] > 0.0f;
+    }
   }
-  if (!any) return objectIds;
+  if (!anyBlendedOnly) return objectIds;
+  const FloatPixels opaque = rg;
   parameters.blendedOnly = true;
-  FloatImage blended{width, height, {"objectId"}, {}};
-  blended.pixels.resize(count);
-  draw(blended, {{0, 0, 1, 0}});
-  for (std::size_t i = 0; i < count; ++i)
-    if (blendedOnly(i)) objectIds.pixels[i] = blended.pixels[i];
+  draw();  // the front-most blended surface's id
+  for (int y = 0; y < height; ++y) {
+    const float* before = row(opaque, y);
+    const float* blended = row(rg, y);
+    float* to = objectIds.pixels.data() + static_cast<std::size_t>(y) * width;
+    for (int x = 0; x < width; ++x)
+      if (before[2 * x] < 0.0f && before[2 * x + 1] > 0.0f) to[x] = blended[2 * x];
+  }
   return objectIds;
 }
 
