@@ -1038,18 +1038,30 @@ TEST(Lighting, AShadowedLightDrawsTheSameWhicheverSamplerSlotItsGroupTakes) {
   }
 }
 
-// Batch jobs that render one scene from several cameras keep the point and spot maps of the
-// previous render; directional maps follow the camera and are rendered again. The reused maps
-// give the same images as freshly rendered ones.
-TEST(Shadows, StaticShadowMapsAreReusedForTheSameSceneAndLights) {
+// A white sphere over a white plane, and a spot light shining at it from above one side.
+Scene sphereOverPlane() {
   Scene scene;
   const int white = addMaterial(scene, glm::vec4(0.8f));
   addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
   addObject(scene, builder::makeSphere(0.5f, 24, 12), translate({0, 1, 0}), white);
+  return scene;
+}
+
+Light sideSpot() {
   Light spot = pointLight("spot", {1, 3, 0}, ShadowFilter::Pcf, 256);
   spot.type = LightType::Spot;
   spot.direction = glm::normalize(glm::vec3(-1, -3, 0));
   spot.outerConeAngle = 0.8f;
+  return spot;
+}
+
+// Batch jobs that render one scene from several cameras keep the point and spot maps of the
+// previous render; directional maps follow the camera and are rendered again. The reused maps
+// give the same images as freshly rendered ones.
+TEST(Shadows, StaticShadowMapsAreReusedForTheSameSceneAndLights) {
+  Scene scene = sphereOverPlane();
+  const int white = 0;  // sphereOverPlane()'s material
+  const Light spot = sideSpot();
   Light sun = pointLight("sun", {0, 0, 0}, ShadowFilter::Pcf, 256);
   sun.type = LightType::Directional;
   sun.direction = glm::normalize(glm::vec3(0.3f, -1, 0.2f));
@@ -1083,14 +1095,8 @@ TEST(Shadows, StaticShadowMapsAreReusedForTheSameSceneAndLights) {
 // beauty. Their ids are those of a lit frame, and the next lit frame still finds the maps the
 // last lit one left.
 TEST(Shadows, ObjectIdsWithoutTheBeautyDrawNoShadowMapsAndKeepTheCache) {
-  Scene scene;
-  const int white = addMaterial(scene, glm::vec4(0.8f));
-  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), white);
-  addObject(scene, builder::makeSphere(0.5f, 24, 12), translate({0, 1, 0}), white);
-  Light spot = pointLight("spot", {1, 3, 0}, ShadowFilter::Pcf, 256);
-  spot.type = LightType::Spot;
-  spot.direction = glm::normalize(glm::vec3(-1, -3, 0));
-  spot.outerConeAngle = 0.8f;
+  const Scene scene = sphereOverPlane();
+  const Light spot = sideSpot();
   const std::vector<Light> lights = {pointLight("lamp", {0, 3, 0}, ShadowFilter::Pcf, 128), spot};
   const ViewCamera camera = lookFrom(scene, {0, 6, 4}, {0, 0, 0}, 64, 48);
   Renderer& renderer = sharedRenderer();
