@@ -1,7 +1,8 @@
 // Lighting pass: material, all lights in one loop, shadows, and the AOVs.
 // Variants: SHADING_PHONG (Blinn-Phong instead of metallic-roughness), WRITE_AOVS (position,
 // normal, distance, visibility), WRITE_LAYERS (material layers or one light's diffuse and
-// specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes), WRITE_IDS
+// specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes; with WITH_IDS
+// also what WRITE_IDS writes), WRITE_IDS
 // (the surface's objectId and coverage alone: no material beyond the alpha, no light), DEBUG_VIEWS
 // (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out),
 // FACING_LIGHT_LOOP (the beauty alone: each lane group loops over the lights it may face).
@@ -110,6 +111,11 @@ uniform float uObjectId;
 // 2^exposure times the beauty, encoded as toSrgb8() encodes the float beauty; A unused.
 layout(location = 0) out uvec4 outBeauty;
 uniform float uExposureScale;
+#ifdef WITH_IDS
+// What WRITE_IDS writes, beside the beauty (a frame without blended surfaces).
+layout(location = 1) out vec4 outIds;
+uniform float uObjectId;
+#endif
 #else
 layout(location = 0) out vec4 outBeauty;
 #endif
@@ -142,8 +148,10 @@ void main() {
   if (uBaseColorTexCoord >= 0) baseColor *= texture(uBaseColorTexture, uvFor(uBaseColorTexCoord, uBaseColorUvTransform));
   if (uAlphaMode == 1 && baseColor.a < uAlphaCutoff) discard;
   float alpha = uAlphaMode == 2 ? baseColor.a : 1.0;
-#ifdef WRITE_IDS
+#if defined(WRITE_IDS) || defined(WITH_IDS)
   outIds = vec4(uObjectId, alpha, 0.0, alpha);
+#endif
+#ifdef WRITE_IDS
   return;
 #endif
 

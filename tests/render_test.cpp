@@ -1143,6 +1143,52 @@ TEST(Shadows, ObjectIdsWithoutTheBeautyDrawNoShadowMapsAndKeepTheCache) {
   }
 }
 
+// A frame whose beauty is the 8-bit target and has nothing blended writes the ids beside it,
+// in the same draws: they must be the id pass's, masked cut-outs and overlaps included.
+TEST(Shadows, ObjectIdsBesideThe8BitBeautyAreTheIdPasss) {
+  Scene scene = sphereOverPlane();
+  const int kept = addMaterial(scene, glm::vec4(0.9f, 0.2f, 0.2f, 0.8f));
+  const int cut = addMaterial(scene, glm::vec4(0.2f, 0.9f, 0.2f, 0.3f));
+  for (const int material : {kept, cut}) {
+    scene.materials[static_cast<std::size_t>(material)].alphaMode = AlphaMode::Mask;
+    scene.materials[static_cast<std::size_t>(material)].alphaCutoff = 0.5f;
+  }
+  addObject(scene, builder::makeBox(glm::vec3(0.4f)), translate({0.6f, 0.8f, 0.6f}), kept);
+  addObject(scene, builder::makeBox(glm::vec3(0.5f)), translate({-0.5f, 1.0f, 0.5f}), cut);
+  addObject(scene, builder::makeSphere(0.3f, 16, 8), translate({0.3f, 1.2f, 0.3f}), 0);
+  const std::vector<Light> lights = {pointLight("lamp", {0, 3, 1}, ShadowFilter::Pcf, 128)};
+  const ViewCamera camera = lookFrom(scene, {1, 4, 4}, {0, 0.8f, 0}, 96, 64);
+  Renderer& renderer = sharedRenderer();
+  RenderSettings idPass;
+  requestObjectIds(idPass);
+  RenderSettings beside = idPass;
+  beside.srgb8Exposure = 0.0f;
+  RenderSettings picture;
+  picture.srgb8Exposure = 0.0f;
+  StageTimes idTimes, besideTimes, pictureTimes;
+  const Frame a = renderer.render(scene, lights, glm::vec3(0.03f), camera, idPass, idTimes);
+  const Frame b = renderer.render(scene, lights, glm::vec3(0.03f), camera, beside, besideTimes);
+  const Frame c = renderer.render(scene, lights, glm::vec3(0.03f), camera, picture, pictureTimes);
+  ASSERT_TRUE(a.objectIds && b.objectIds && b.srgb8 && c.srgb8);
+  EXPECT_EQ(b.objectIds->pixels, a.objectIds->pixels);
+  EXPECT_EQ(b.srgb8->rgb, c.srgb8->rgb);  // the ids do not move a byte of the picture
+  auto layers = [](const StageTimes& times) {
+    return std::count_if(times.stages().begin(), times.stages().end(),
+                         [](const auto& stage) { return stage.first == "layers"; });
+  };
+  EXPECT_EQ(layers(idTimes), 1);
+  EXPECT_EQ(layers(besideTimes), 0);  // no pass of their own
+  // The objects are all there: the cut-away box has no pixel, the others do.
+  std::vector<int> pixels(scene.instances.size(), 0);
+  for (const float id : b.objectIds->pixels)
+    if (id >= 0) ++pixels[static_cast<std::size_t>(id)];
+  EXPECT_GT(pixels[0], 0);
+  EXPECT_GT(pixels[1], 0);
+  EXPECT_GT(pixels[2], 0);
+  EXPECT_EQ(pixels[3], 0);
+  EXPECT_GT(pixels[4], 0);
+}
+
 TEST(Shadows, MoreShadowTexturesThanTheShaderSamplesIsAnInputError) {
   Scene scene;
   addObject(scene, builder::makePlane(2.0f), glm::mat4(1.0f), addMaterial(scene, glm::vec4(1.0f)));

@@ -60,11 +60,12 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     defines.push_back("VISIBILITY_OUTPUTS " + std::to_string(features.visibilityOutputs));
   }
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
-  if (outputs == PassOutputs::Srgb8) defines.push_back("WRITE_SRGB8");
+  if (writesSrgb8(outputs)) defines.push_back("WRITE_SRGB8");
+  if (outputs == PassOutputs::Srgb8Ids) defines.push_back("WITH_IDS");
   if (outputs == PassOutputs::Ids) defines.push_back("WRITE_IDS");
   // The AOV and layer passes report every light's terms, also where it faces away.
   if (features.facingLightLoop && !features.debugViews &&
-      (outputs == PassOutputs::Beauty || outputs == PassOutputs::Srgb8))
+      (outputs == PassOutputs::Beauty || writesSrgb8(outputs)))
     defines.push_back("FACING_LIGHT_LOOP");
   return contract::withShaderContract(std::move(defines));
 }
@@ -81,6 +82,8 @@ int attachmentsFor(PassOutputs outputs, int visibilityOutputs) {
     case PassOutputs::Srgb8:
     case PassOutputs::Ids:
       return 1;
+    case PassOutputs::Srgb8Ids:
+      return 2;
     case PassOutputs::Aovs:
       return 3 + visibilityOutputs;
     case PassOutputs::Layers:
@@ -119,14 +122,28 @@ gl::Sampler makeCompareSampler(bool planar) {
   return sampler;
 }
 
-GLenum colorFormat(PassOutputs outputs) {
+GLenum colorFormat(PassOutputs outputs, int attachment) {
   switch (outputs) {
     case PassOutputs::Srgb8:
       return GL_RGBA8UI;
+    case PassOutputs::Srgb8Ids:
+      return attachment == 0 ? GL_RGBA8UI : GL_RG32F;
     case PassOutputs::Ids:
       return GL_RG32F;
     default:
       return GL_RGBA32F;
+  }
+}
+
+// Bytes of a texel of attachment `attachment`.
+double texelBytes(PassOutputs outputs, int attachment) {
+  switch (colorFormat(outputs, attachment)) {
+    case GL_RGBA8UI:
+      return 4.0;
+    case GL_RG32F:
+      return 2.0 * sizeof(float);
+    default:
+      return 4.0 * sizeof(float);
   }
 }
 
@@ -227,7 +244,7 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visib
   const int count = attachmentsFor(outputs, visibilityOutputs);
   std::vector<GLenum> drawBuffers;
   for (int i = 0; i < count; ++i) {
-    colors_.push_back(makeTarget(colorFormat(outputs), width, height));
+    colors_.push_back(makeTarget(colorFormat(outputs, i), width, height));
     glNamedFramebufferTexture(framebuffer_.get(), GL_COLOR_ATTACHMENT0 + i, colors_.back().get(),
                               0);
     drawBuffers.push_back(GL_COLOR_ATTACHMENT0 + i);
@@ -243,11 +260,10 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visib
 
 double FrameTargets::bytes(int width, int height, PassOutputs outputs) {
   const double texels = static_cast<double>(width) * height;
-  const double texel = outputs == PassOutputs::Srgb8 ? 4.0
-                       : outputs == PassOutputs::Ids ? 2.0 * sizeof(float)
-                                                     : 4.0 * sizeof(float);
-  return texels *
-         (attachmentsFor(outputs, contract::kMaxVisibilityOutputs) * texel + sizeof(float));
+  double texel = sizeof(float);  // the depth
+  for (int i = 0; i < attachmentsFor(outputs, contract::kMaxVisibilityOutputs); ++i)
+    texel += texelBytes(outputs, i);
+  return texels * texel;
 }
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView) {
@@ -305,7 +321,7 @@ const ShaderProgram& LightingPass::program(unsigned variant) {
                                       "scene.vert", "lighting.frag",
                                       variantDefines(shading_, outputs_, features_, variant)));
   const ShaderProgram& made = *programs_.back().second;
-  if (outputs_ == PassOutputs::Srgb8) {
+  if (writesSrgb8(outputs_)) {
     const std::array<float, 256>& steps = srgb8Steps();
     made.set("uSrgb8Next", steps.data(), static_cast<int>(steps.size()));
   }
@@ -442,7 +458,7 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
     program.set("uScalarTerms", parameters.scalarTerms);
     program.set("uRgbFirst", parameters.rgbFirst);
   }
-  if (outputs_ == PassOutputs::Srgb8) program.set("uExposureScale", parameters.exposureScale);
+  if (writesSrgb8(outputs_)) program.set("uExposureScale", parameters.exposureScale);
   if (outputs_ == PassOutputs::Layers) {
     program.set("uLayerMode", parameters.layerMode);
     program.set("uLayerLight", parameters.layerLight);
@@ -478,7 +494,7 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     if (drawSet != set) continue;
     // GL does not blend into integer targets: the renderer gives frames with blended surfaces
     // the float target.
-    if (drawSet == DrawSet::Blended && outputs_ == PassOutputs::Srgb8)
+    if (drawSet == DrawSet::Blended && writesSrgb8(outputs_))
       throw std::logic_error("the 8-bit beauty pass cannot draw blended surfaces");
     if (lighting) {
       const unsigned variant = materialVariant(material);
@@ -504,7 +520,8 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
       program.set("uNormalMatrix", draw.normalMatrix);
       bindMaterial(program, material);
       program.set("uHasTangents", range.hasTangents ? 1 : 0);
-      if (outputs_ == PassOutputs::Layers || outputs_ == PassOutputs::Ids) {
+      if (outputs_ == PassOutputs::Layers || outputs_ == PassOutputs::Ids ||
+          outputs_ == PassOutputs::Srgb8Ids) {
         program.set("uObjectId", static_cast<float>(index));
         program.set("uMaterialId", static_cast<float>(draw.material));
       }
@@ -546,12 +563,12 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   const float noIds[4] = {0, -1, -1, 0};
   const float noId[4] = {-1, 0, 0, 0};
   for (int i = 0; i < targets.attachmentCount(); ++i) {
-    const float* value = outputs_ == PassOutputs::Aovs && i >= 3 ? lit
-                         : outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0
-                             ? noIds
-                         : outputs_ == PassOutputs::Ids ? noId
-                                                        : zero;
-    if (outputs_ == PassOutputs::Srgb8) {
+    const float* value =
+        outputs_ == PassOutputs::Aovs && i >= 3                                         ? lit
+        : outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0        ? noIds
+        : outputs_ == PassOutputs::Ids || (outputs_ == PassOutputs::Srgb8Ids && i == 1) ? noId
+                                                                                        : zero;
+    if (writesSrgb8(outputs_) && i == 0) {
       const GLuint black[4] = {0, 0, 0, 0};
       glClearNamedFramebufferuiv(targets.framebuffer(), GL_COLOR, i, black);
     } else {

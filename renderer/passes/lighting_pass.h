@@ -28,6 +28,9 @@ enum class PassOutputs {
   // makes of the float one (shaders/srgb8_encode.glsl). A quarter of the float target's bytes
   // to clear and read back; it cannot blend, so only for frames without blended surfaces.
   Srgb8,
+  // Srgb8, and attachment 1 as Ids writes it (masks of a frame without blended surfaces): the
+  // ids come with the beauty's draws instead of a pass of their own.
+  Srgb8Ids,
   Aovs,    // + position/distance, normal, visibility of up to 20 lights
   Layers,  // + two layer targets: material layers or one light's diffuse and specular
   // Attachment 0 only, RG32F: the surface's objectId (R; -1 = none) and its coverage (G:
@@ -35,6 +38,11 @@ enum class PassOutputs {
   // out). No material or light beyond the base color's alpha.
   Ids,
 };
+
+// The beauty as 8-bit sRGB codes in attachment 0 (Srgb8, Srgb8Ids).
+inline bool writesSrgb8(PassOutputs outputs) {
+  return outputs == PassOutputs::Srgb8 || outputs == PassOutputs::Srgb8Ids;
+}
 
 // Per-pass choices of a lighting pass.
 struct PassParameters {

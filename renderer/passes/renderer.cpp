@@ -179,9 +179,10 @@ class Renderer::Impl {
   FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                         const RenderSettings& settings, const PassParameters& parameters,
                         StageTimes* times);
-  Srgb8Image drawSrgb8(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
-                       const RenderSettings& settings, PassParameters parameters,
-                       StageTimes& times);
+  // frame.srgb8, and frame.objectIds where the beauty's outputs are Srgb8Ids.
+  void drawSrgb8(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+                 const RenderSettings& settings, PassParameters parameters, Frame& frame,
+                 StageTimes& times);
   FloatImage drawAntialiasedBeauty(Prepared& prepared, const ViewCamera& camera,
                                    const glm::vec3& ambient, const RenderSettings& settings,
                                    const PassParameters& parameters, StageTimes& times);
@@ -275,7 +276,7 @@ struct Renderer::Impl::Prepared {
   GpuScene gpu;
   Bounds bounds;  // the scene's, for defaults that follow its scale
   LightingFeatures features;
-  PassOutputs beautyOutputs = PassOutputs::Beauty;  // Srgb8 where encodesSrgb8()
+  PassOutputs beautyOutputs = PassOutputs::Beauty;  // beautyOutputs()
   std::uint64_t fingerprint = 0;  // shadowFingerprint() when the shadow cache is used
   bool everyCaster = false;       // the maps hold every caster (readsShadowMaps)
   ShadowAtlasPlan atlas;
@@ -311,6 +312,14 @@ long long largestFrameTexels(int maxSide) {
 // the AOVs' objectId layer).
 bool drawsObjectIdPass(const RenderSettings& settings) {
   return settings.objectIds && !settings.aovs;
+}
+
+// The beauty pass's targets: the 8-bit one where the lighting pass may encode the PNG's bytes,
+// with the ids beside it where masks need them and no blended surface needs a second look (a
+// pixel covered by blended surfaces alone takes the front-most one's id: the id pass's job).
+PassOutputs beautyOutputs(const Scene& scene, const RenderSettings& settings) {
+  if (!encodesSrgb8(scene, settings)) return PassOutputs::Beauty;
+  return drawsObjectIdPass(settings) ? PassOutputs::Srgb8Ids : PassOutputs::Srgb8;
 }
 
 // The AOV pass holds all its targets at once (with the layer pass's, when layers are asked
@@ -555,6 +564,53 @@ LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
 
 namespace {
 
+// An RG32F id target as read back: objectId and coverage per pixel, rows in GL order.
+struct IdPixels {
+  int width = 0, height = 0;
+  bool glRowOrder = false;
+  FloatPixels rg;
+  // Row y, first = top (unless glRowOrder), as id, coverage pairs.
+  const float* row(int y) const {
+    const int glRow = glRowOrder ? y : height - 1 - y;
+    return rg.data() + static_cast<std::size_t>(glRow) * width * 2;
+  }
+};
+
+// Read as it is, RG floats: no conversion to RGBA, no band copies.
+IdPixels readIdPixels(const FrameTargets& targets, int attachment, bool glRowOrder) {
+  const int width = targets.width(), height = targets.height();
+  IdPixels ids{width, height, glRowOrder,
+               FloatPixels(static_cast<std::size_t>(width) * height * 2)};
+  // In bands: a call's byte count is a GLsizei, and a 16384-pixel row of RG floats is 128 KiB.
+  constexpr int kRows = 256;
+  for (int y0 = 0; y0 < height; y0 += kRows) {
+    const int rows = std::min(kRows, height - y0);
+    glGetTextureSubImage(
+        targets.color(attachment), 0, 0, y0, 0, width, rows, 1, GL_RG, GL_FLOAT,
+        static_cast<GLsizei>(static_cast<std::size_t>(rows) * width * 2 * sizeof(float)),
+        ids.rg.data() + static_cast<std::size_t>(y0) * width * 2);
+  }
+  return ids;
+}
+
+// The ids as Frame::objectIds holds them; `anyBlendedOnly`, where given, tells whether some
+// pixel is covered by blended surfaces alone (no opaque id, coverage above 0).
+FloatImage objectIdsOf(const IdPixels& ids, bool* anyBlendedOnly) {
+  FloatImage image{ids.width, ids.height, {"objectId"}, {}};
+  image.pixels.resize(static_cast<std::size_t>(ids.width) * ids.height);
+  bool any = false;
+  for (int y = 0; y < ids.height; ++y) {
+    const float* from = ids.row(y);
+    float* to = image.pixels.data() + static_cast<std::size_t>(y) * ids.width;
+    for (int x = 0; x < ids.width; ++x) {
+      to[x] = from[2 * x];
+      any |= from[2 * x] < 0.0f && from[2 * x + 1] > 0.0f;
+    }
+  }
+  if (anyBlendedOnly) *anyBlendedOnly = any;
+  return image;
+}
+
 // `kept`, remade first when it is missing or of another size or shape.
 FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, int width, int height,
                           PassOutputs outputs,
@@ -570,7 +626,7 @@ FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, int width, int he
 }  // namespace
 
 FrameTargets& Renderer::Impl::beautyTargets(int width, int height, PassOutputs outputs) {
-  return keptTargets(beautyTargets_[outputs == PassOutputs::Srgb8 ? 1 : 0], width, height, outputs);
+  return keptTargets(beautyTargets_[writesSrgb8(outputs) ? 1 : 0], width, height, outputs);
 }
 
 FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& camera,
@@ -592,20 +648,24 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
   return image;
 }
 
-Srgb8Image Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
-                                     const glm::vec3& ambient, const RenderSettings& settings,
-                                     PassParameters parameters, StageTimes& times) {
-  FrameTargets& targets = beautyTargets(camera.width, camera.height, PassOutputs::Srgb8);
+void Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
+                               const glm::vec3& ambient, const RenderSettings& settings,
+                               PassParameters parameters, Frame& frame, StageTimes& times) {
+  const PassOutputs outputs = prepared.beautyOutputs;
+  FrameTargets& targets = beautyTargets(camera.width, camera.height, outputs);
   parameters.exposureScale = std::exp2(*settings.srgb8Exposure);  // as toSrgb8() scales
   {
     ScopedStage stage(times, "lighting");
-    lightingPass(settings.shading, PassOutputs::Srgb8, prepared.features)
+    lightingPass(settings.shading, outputs, prepared.features)
         .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
     glFinish();
   }
   ScopedStage readback(times, "readback");
-  return readSrgb8(targets, camera.glRowOrder);
+  frame.srgb8 = readSrgb8(targets, camera.glRowOrder);
+  // Without blended surfaces no pixel takes a blended surface's id: the ids are complete.
+  if (outputs == PassOutputs::Srgb8Ids)
+    frame.objectIds = objectIdsOf(readIdPixels(targets, 1, camera.glRowOrder), nullptr);
 }
 
 // The mean of the beauty through each sample offset (one offset, the pixel center, without
@@ -742,51 +802,24 @@ FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& c
   // Its shading is no dearer than the pre-pass's depth: the pre-pass would only draw the
   // triangles twice. Either way the nearest surface is drawn, the last of equally near ones.
   parameters.depthPrepass = false;
-  const int width = camera.width, height = camera.height;
-  const auto count = static_cast<std::size_t>(width) * height;
-  // The RG32F target read as it is (ids, coverage): no conversion to RGBA, no band copies.
-  FloatPixels rg(count * 2);
+  IdPixels ids;
   auto draw = [&] {
     pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
-    // In bands: a call's byte count is a GLsizei, and a 16384-pixel row of RG floats is 128 KiB.
-    constexpr int kRows = 256;
-    for (int y0 = 0; y0 < height; y0 += kRows) {
-      const int rows = std::min(kRows, height - y0);
-      const std::size_t first = static_cast<std::size_t>(y0) * width * 2;
-      glGetTextureSubImage(
-          targets.color(0), 0, 0, y0, 0, width, rows, 1, GL_RG, GL_FLOAT,
-          static_cast<GLsizei>(static_cast<std::size_t>(rows) * width * 2 * sizeof(float)),
-          rg.data() + first);
-    }
-  };
-  // Row y (first = top) of `rg`, in GL rows there.
-  auto row = [&](const FloatPixels& pixels, int y) {
-    const int glRow = camera.glRowOrder ? y : height - 1 - y;
-    return pixels.data() + static_cast<std::size_t>(glRow) * width * 2;
+    ids = readIdPixels(targets, 0, camera.glRowOrder);
   };
   draw();
-  FloatImage objectIds{width, height, {"objectId"}, {}};
-  objectIds.pixels.resize(count);
-  // Pixels only blended surfaces cover: no opaque id, coverage above 0.
   bool anyBlendedOnly = false;
-  for (int y = 0; y < height; ++y) {
-    const float* from = row(rg, y);
-    float* to = objectIds.pixels.data() + static_cast<std::size_t>(y) * width;
-    for (int x = 0; x < width; ++x) {
-      to[x] = from[2 * x];
-      anyBlendedOnly |= from[2 * x] < 0.0f && from[2 * x + 1] > 0.0f;
-    }
-  }
+  FloatImage objectIds = objectIdsOf(ids, &anyBlendedOnly);
   if (!anyBlendedOnly) return objectIds;
-  const FloatPixels opaque = rg;
+  const IdPixels opaque = ids;
   parameters.blendedOnly = true;
   draw();  // the front-most blended surface's id
-  for (int y = 0; y < height; ++y) {
-    const float* before = row(opaque, y);
-    const float* blended = row(rg, y);
-    float* to = objectIds.pixels.data() + static_cast<std::size_t>(y) * width;
-    for (int x = 0; x < width; ++x)
+  for (int y = 0; y < ids.height; ++y) {
+    const float* before = opaque.row(y);
+    const float* blended = ids.row(y);
+    float* to = objectIds.pixels.data() + static_cast<std::size_t>(y) * ids.width;
+    for (int x = 0; x < ids.width; ++x)
       if (before[2 * x] < 0.0f && before[2 * x + 1] > 0.0f) to[x] = blended[2 * x];
   }
   return objectIds;
@@ -874,8 +907,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   features.translucentShadows =
       std::find(translucent.begin(), translucent.end(), true) != translucent.end();
   const bool lit = drawsLitFrame(settings);
-  const PassOutputs beautyOutputs =
-      encodesSrgb8(scene, settings) ? PassOutputs::Srgb8 : PassOutputs::Beauty;
+  const PassOutputs beautyOutputs = omnishadow::beautyOutputs(scene, settings);
   if (lit) lightingPass(settings.shading, beautyOutputs, features);  // made once per feature set
   shaders.stop();
 
@@ -998,13 +1030,14 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     parameters.debugLight = debugLight;
     choosePrepass(prepared.fingerprint, parameters);
     frame.depthPrepass = parameters.depthPrepass;
-    if (prepared.beautyOutputs == PassOutputs::Srgb8)
-      frame.srgb8 = drawSrgb8(prepared, camera, ambient, settings, parameters, times);
+    if (writesSrgb8(prepared.beautyOutputs))
+      drawSrgb8(prepared, camera, ambient, settings, parameters, frame, times);
     else
       frame.beauty = drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times);
     notePrepass(lightingPass(settings.shading, prepared.beautyOutputs, prepared.features)
                     .opaqueFragments());
-    if (objectIdPass) frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times);
+    if (objectIdPass && !frame.objectIds)
+      frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times);
     return;
   }
   // The AOV pass already drew the beauty.
@@ -1092,16 +1125,17 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
   // Where the lighting pass may encode the beauty, the scene decides (blended surfaces need the
   // float one): both are prepared.
   const bool srgb8 = beauty && encodesSrgb8(Scene{}, settings);
+  const PassOutputs srgb8Outputs = beautyOutputs(Scene{}, settings);
   const double bytes = plan.shadows.bytes +
                        (beauty ? FrameTargets::bytes(width, height, PassOutputs::Beauty) : 0.0) +
-                       (srgb8 ? FrameTargets::bytes(width, height, PassOutputs::Srgb8) : 0.0);
+                       (srgb8 ? FrameTargets::bytes(width, height, srgb8Outputs) : 0.0);
   if (bytes > budgetMiB * 1024.0 * 1024.0) return 0.0;
   for (const ShadowGroupPlan& group : plan.shadows.groups) {
     ShadowGroupTextures textures = shadowTextures_.take(group);
     clearShadowTextures(textures);
     shadowTextures_.give(std::move(textures));
   }
-  if (srgb8) beautyTargets(width, height, PassOutputs::Srgb8);
+  if (srgb8) beautyTargets(width, height, srgb8Outputs);
   if (beauty) beautyTargets(width, height, PassOutputs::Beauty);
   glFlush();  // the clears start in the rasterizer threads now
   return bytes;
