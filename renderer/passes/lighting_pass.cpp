@@ -126,8 +126,8 @@ GLenum colorFormat(PassOutputs outputs, int attachment) {
   switch (outputs) {
     case PassOutputs::Srgb8:
       return GL_RGBA8UI;
-    case PassOutputs::Srgb8Ids:
-      return attachment == 0 ? GL_RGBA8UI : GL_RG32F;
+    case PassOutputs::Srgb8Ids:  // no blended surface: no coverage to keep beside the id
+      return attachment == 0 ? GL_RGBA8UI : GL_R32F;
     case PassOutputs::Ids:
       return GL_RG32F;
     default:
@@ -142,6 +142,8 @@ double texelBytes(PassOutputs outputs, int attachment) {
       return 4.0;
     case GL_RG32F:
       return 2.0 * sizeof(float);
+    case GL_R32F:
+      return sizeof(float);
     default:
       return 4.0 * sizeof(float);
   }

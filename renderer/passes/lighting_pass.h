@@ -28,8 +28,8 @@ enum class PassOutputs {
   // makes of the float one (shaders/srgb8_encode.glsl). A quarter of the float target's bytes
   // to clear and read back; it cannot blend, so only for frames without blended surfaces.
   Srgb8,
-  // Srgb8, and attachment 1 as Ids writes it (masks of a frame without blended surfaces): the
-  // ids come with the beauty's draws instead of a pass of their own.
+  // Srgb8, and attachment 1, R32F: the objectId as Ids writes it (masks of a frame without
+  // blended surfaces): the ids come with the beauty's draws instead of a pass of their own.
   Srgb8Ids,
   Aovs,    // + position/distance, normal, visibility of up to 20 lights
   Layers,  // + two layer targets: material layers or one light's diffuse and specular

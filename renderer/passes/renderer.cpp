@@ -593,9 +593,30 @@ IdPixels readIdPixels(const FrameTargets& targets, int attachment, bool glRowOrd
   return ids;
 }
 
-// The ids as Frame::objectIds holds them; `anyBlendedOnly`, where given, tells whether some
-// pixel is covered by blended surfaces alone (no opaque id, coverage above 0).
-FloatImage objectIdsOf(const IdPixels& ids, bool* anyBlendedOnly) {
+// An R32F id target (PassOutputs::Srgb8Ids) as Frame::objectIds holds it, read in bands.
+FloatImage readObjectIds(const FrameTargets& targets, int attachment, bool glRowOrder) {
+  const int width = targets.width(), height = targets.height();
+  FloatImage image{width, height, {"objectId"}, {}};
+  image.pixels.resize(static_cast<std::size_t>(width) * height);
+  constexpr int kRows = 256;  // a call's byte count is a GLsizei
+  FloatPixels band(static_cast<std::size_t>(width) * std::min(kRows, height));
+  for (int y0 = 0; y0 < height; y0 += kRows) {
+    const int rows = std::min(kRows, height - y0);
+    glGetTextureSubImage(
+        targets.color(attachment), 0, 0, y0, 0, width, rows, 1, GL_RED, GL_FLOAT,
+        static_cast<GLsizei>(static_cast<std::size_t>(rows) * width * sizeof(float)), band.data());
+    for (int r = 0; r < rows; ++r) {
+      const int y = glRowOrder ? y0 + r : height - 1 - (y0 + r);
+      std::copy_n(band.data() + static_cast<std::size_t>(r) * width, width,
+                  image.pixels.data() + static_cast<std::size_t>(y) * width);
+    }
+  }
+  return image;
+}
+
+// The ids as Frame::objectIds holds them; `anyBlendedOnly` tells whether some pixel is covered
+// by blended surfaces alone (no opaque id, coverage above 0).
+FloatImage objectIdsOf(const IdPixels& ids, bool& anyBlendedOnly) {
   FloatImage image{ids.width, ids.height, {"objectId"}, {}};
   image.pixels.resize(static_cast<std::size_t>(ids.width) * ids.height);
   bool any = false;
@@ -607,7 +628,7 @@ FloatImage objectIdsOf(const IdPixels& ids, bool* anyBlendedOnly) {
       any |= from[2 * x] < 0.0f && from[2 * x + 1] > 0.0f;
     }
   }
-  if (anyBlendedOnly) *anyBlendedOnly = any;
+  anyBlendedOnly = any;
   return image;
 }
 
@@ -665,7 +686,7 @@ void Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
   frame.srgb8 = readSrgb8(targets, camera.glRowOrder);
   // Without blended surfaces no pixel takes a blended surface's id: the ids are complete.
   if (outputs == PassOutputs::Srgb8Ids)
-    frame.objectIds = objectIdsOf(readIdPixels(targets, 1, camera.glRowOrder), nullptr);
+    frame.objectIds = readObjectIds(targets, 1, camera.glRowOrder);
 }
 
 // The mean of the beauty through each sample offset (one offset, the pixel center, without
@@ -810,7 +831,7 @@ FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& c
   };
   draw();
   bool anyBlendedOnly = false;
-  FloatImage objectIds = objectIdsOf(ids, &anyBlendedOnly);
+  FloatImage objectIds = objectIdsOf(ids, anyBlendedOnly);
   if (!anyBlendedOnly) return objectIds;
   const IdPixels opaque = ids;
   parameters.blendedOnly = true;
