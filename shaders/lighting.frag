@@ -1,8 +1,8 @@
 // Lighting pass: material, all lights in one loop, shadows, and the AOVs.
 // Variants: SHADING_PHONG (Blinn-Phong instead of metallic-roughness), WRITE_AOVS (position,
 // normal, distance, visibility), WRITE_LAYERS (material layers or one light's diffuse and
-// specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes; with WITH_IDS
-// also what WRITE_IDS writes), WRITE_IDS
+// specular, chosen by uLayerMode), WRITE_SRGB8 (the beauty as 8-bit sRGB codes), WITH_IDS (beside
+// the beauty, what WRITE_IDS writes), WRITE_IDS
 // (the surface's objectId and coverage alone: no material beyond the alpha, no light), DEBUG_VIEWS
 // (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out),
 // FACING_LIGHT_LOOP (the beauty alone: each lane group loops over the lights it may face).
@@ -111,13 +111,14 @@ uniform float uObjectId;
 // 2^exposure times the beauty, encoded as toSrgb8() encodes the float beauty; A unused.
 layout(location = 0) out uvec4 outBeauty;
 uniform float uExposureScale;
-#ifdef WITH_IDS
-// What WRITE_IDS writes, beside the beauty (a frame without blended surfaces).
-layout(location = 1) out vec4 outIds;
-uniform float uObjectId;
-#endif
 #else
 layout(location = 0) out vec4 outBeauty;
+#endif
+#ifdef WITH_IDS
+// What WRITE_IDS writes, beside the beauty: the id, and the coverage blended surfaces blend
+// over (the float beauty; the 8-bit one has none to blend and keeps the id alone).
+layout(location = 1) out vec4 outIds;
+uniform float uObjectId;
 #endif
 #ifdef WRITE_AOVS
 layout(location = 1) out vec4 outPositionDistance;  // P.xyz, camera distance

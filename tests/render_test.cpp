@@ -1143,9 +1143,10 @@ TEST(Shadows, ObjectIdsWithoutTheBeautyDrawNoShadowMapsAndKeepTheCache) {
   }
 }
 
-// A frame whose beauty is the 8-bit target and has nothing blended writes the ids beside it,
-// in the same draws: they must be the id pass's, masked cut-outs and overlaps included.
-TEST(Shadows, ObjectIdsBesideThe8BitBeautyAreTheIdPasss) {
+// A frame with masks writes the ids beside its beauty, 8-bit or float, in the same draws: they
+// must be the id pass's (masked cut-outs and overlaps included), and the pictures those of
+// frames without masks.
+TEST(Shadows, ObjectIdsBesideTheBeautyAreTheIdPasss) {
   Scene scene = sphereOverPlane();
   const int kept = addMaterial(scene, glm::vec4(0.9f, 0.2f, 0.2f, 0.8f));
   const int cut = addMaterial(scene, glm::vec4(0.2f, 0.9f, 0.2f, 0.3f));
@@ -1159,28 +1160,38 @@ TEST(Shadows, ObjectIdsBesideThe8BitBeautyAreTheIdPasss) {
   const std::vector<Light> lights = {pointLight("lamp", {0, 3, 1}, ShadowFilter::Pcf, 128)};
   const ViewCamera camera = lookFrom(scene, {1, 4, 4}, {0, 0.8f, 0}, 96, 64);
   Renderer& renderer = sharedRenderer();
-  RenderSettings idPass;
-  requestObjectIds(idPass);
-  RenderSettings beside = idPass;
-  beside.srgb8Exposure = 0.0f;
-  RenderSettings picture;
-  picture.srgb8Exposure = 0.0f;
-  StageTimes idTimes, besideTimes, pictureTimes;
-  const Frame a = renderer.render(scene, lights, glm::vec3(0.03f), camera, idPass, idTimes);
-  const Frame b = renderer.render(scene, lights, glm::vec3(0.03f), camera, beside, besideTimes);
-  const Frame c = renderer.render(scene, lights, glm::vec3(0.03f), camera, picture, pictureTimes);
-  ASSERT_TRUE(a.objectIds && b.objectIds && b.srgb8 && c.srgb8);
-  EXPECT_EQ(b.objectIds->pixels, a.objectIds->pixels);
-  EXPECT_EQ(b.srgb8->rgb, c.srgb8->rgb);  // the ids do not move a byte of the picture
+  auto render = [&](bool masks, bool picture, bool srgb8, StageTimes& times) {
+    RenderSettings settings;
+    if (masks) requestObjectIds(settings);
+    settings.beauty = picture;
+    if (srgb8) settings.srgb8Exposure = 0.0f;
+    return renderer.render(scene, lights, glm::vec3(0.03f), camera, settings, times);
+  };
   auto layers = [](const StageTimes& times) {
     return std::count_if(times.stages().begin(), times.stages().end(),
                          [](const auto& stage) { return stage.first == "layers"; });
   };
+  StageTimes idTimes, times;
+  const Frame idPass = render(true, false, false, idTimes);  // masks alone: the id pass
+  ASSERT_TRUE(idPass.objectIds);
   EXPECT_EQ(layers(idTimes), 1);
-  EXPECT_EQ(layers(besideTimes), 0);  // no pass of their own
+  for (const bool srgb8 : {true, false}) {
+    StageTimes besideTimes;
+    const Frame beside = render(true, true, srgb8, besideTimes);
+    const Frame plain = render(false, true, srgb8, times);
+    ASSERT_TRUE(beside.objectIds) << srgb8;
+    EXPECT_EQ(beside.objectIds->pixels, idPass.objectIds->pixels) << srgb8;
+    EXPECT_EQ(layers(besideTimes), 0) << srgb8;  // no pass of their own
+    ASSERT_EQ(beside.srgb8.has_value(), srgb8);
+    if (srgb8) {
+      EXPECT_EQ(beside.srgb8->rgb, plain.srgb8->rgb);  // the ids do not move a byte
+    } else {
+      EXPECT_EQ(beside.beauty.pixels, plain.beauty.pixels);
+    }
+  }
   // The objects are all there: the cut-away box has no pixel, the others do.
   std::vector<int> pixels(scene.instances.size(), 0);
-  for (const float id : b.objectIds->pixels)
+  for (const float id : idPass.objectIds->pixels)
     if (id >= 0) ++pixels[static_cast<std::size_t>(id)];
   EXPECT_GT(pixels[0], 0);
   EXPECT_GT(pixels[1], 0);

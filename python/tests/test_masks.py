@@ -104,6 +104,8 @@ def see_through(tmp_path_factory):
     scene.add_quad(3, 14, 9, 20, z=2.0, material=glass)        # 6: in front of 5
     scene.add_quad(12, 16, 20, 22, z=-1.0, material=glass)    # 7: behind an opaque one
     scene.add_quad(14, 18, 18, 22, material=opaque)            # 8
+    scene.add_quad(26, 14, 30, 18, material=glass)             # 9
+    scene.add_quad(27, 15, 31, 19, z=1.0, material=clear)      # 10: over 9, adds no coverage
     return scene.write(tmp_path_factory.mktemp("see_through") / "see_through.gltf")
 
 
@@ -117,6 +119,9 @@ def test_masks_of_blended_surfaces_are_the_objectid_layers(renderer, see_through
     expected[14:20, 3:9] = 7
     expected[16:22, 12:20] = 8
     expected[18:22, 14:18] = 9
+    # Where 10 lies over 9 the coverage is 9's, and the front-most blended surface is 10.
+    expected[14:18, 26:30] = 10
+    expected[15:18, 27:30] = 11
     scene = omnishadow.load_scene(see_through)
     alone = renderer.render(scene, width=W, height=H, masks=True)
     assert alone.channels == []  # masks alone make no AOV image

@@ -37,6 +37,8 @@ void ColorWrites::apply() const {
   glColorMask(glBool(rgba[0]), glBool(rgba[1]), glBool(rgba[2]), glBool(rgba[3]));
   for (GLuint i = 0; i < 32; ++i)
     if (offBuffers & (1u << i)) glColorMaski(i, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  for (GLuint i = 0; i < 32; ++i)
+    if (greenOnlyBuffers & (1u << i)) glColorMaski(i, GL_FALSE, GL_TRUE, GL_FALSE, GL_FALSE);
 }
 
 void BlendState::apply() const {

@@ -38,6 +38,7 @@ struct PolygonOffset {
 struct ColorWrites {
   std::array<bool, 4> rgba{true, true, true, true};  // every draw buffer
   std::uint32_t offBuffers = 0;                      // bit i: draw buffer i writes no color at all
+  std::uint32_t greenOnlyBuffers = 0;                // bit i: draw buffer i writes green alone
   void apply() const;
 };
 

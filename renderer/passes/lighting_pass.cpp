@@ -61,11 +61,11 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   }
   if (outputs == PassOutputs::Layers) defines.push_back("WRITE_LAYERS");
   if (writesSrgb8(outputs)) defines.push_back("WRITE_SRGB8");
-  if (outputs == PassOutputs::Srgb8Ids) defines.push_back("WITH_IDS");
+  if (writesIdsBesideBeauty(outputs)) defines.push_back("WITH_IDS");
   if (outputs == PassOutputs::Ids) defines.push_back("WRITE_IDS");
   // The AOV and layer passes report every light's terms, also where it faces away.
   if (features.facingLightLoop && !features.debugViews &&
-      (outputs == PassOutputs::Beauty || writesSrgb8(outputs)))
+      (outputs == PassOutputs::Beauty || outputs == PassOutputs::BeautyIds || writesSrgb8(outputs)))
     defines.push_back("FACING_LIGHT_LOOP");
   return contract::withShaderContract(std::move(defines));
 }
@@ -83,6 +83,7 @@ int attachmentsFor(PassOutputs outputs, int visibilityOutputs) {
     case PassOutputs::Ids:
       return 1;
     case PassOutputs::Srgb8Ids:
+    case PassOutputs::BeautyIds:
       return 2;
     case PassOutputs::Aovs:
       return 3 + visibilityOutputs;
@@ -128,6 +129,8 @@ GLenum colorFormat(PassOutputs outputs, int attachment) {
       return GL_RGBA8UI;
     case PassOutputs::Srgb8Ids:  // no blended surface: no coverage to keep beside the id
       return attachment == 0 ? GL_RGBA8UI : GL_R32F;
+    case PassOutputs::BeautyIds:
+      return attachment == 0 ? GL_RGBA32F : GL_RG32F;
     case PassOutputs::Ids:
       return GL_RG32F;
     default:
@@ -523,7 +526,7 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
       bindMaterial(program, material);
       program.set("uHasTangents", range.hasTangents ? 1 : 0);
       if (outputs_ == PassOutputs::Layers || outputs_ == PassOutputs::Ids ||
-          outputs_ == PassOutputs::Srgb8Ids) {
+          writesIdsBesideBeauty(outputs_)) {
         program.set("uObjectId", static_cast<float>(index));
         program.set("uMaterialId", static_cast<float>(draw.material));
       }
@@ -566,10 +569,10 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   const float noId[4] = {-1, 0, 0, 0};
   for (int i = 0; i < targets.attachmentCount(); ++i) {
     const float* value =
-        outputs_ == PassOutputs::Aovs && i >= 3                                         ? lit
-        : outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0        ? noIds
-        : outputs_ == PassOutputs::Ids || (outputs_ == PassOutputs::Srgb8Ids && i == 1) ? noId
-                                                                                        : zero;
+        outputs_ == PassOutputs::Aovs && i >= 3                                       ? lit
+        : outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0      ? noIds
+        : outputs_ == PassOutputs::Ids || (writesIdsBesideBeauty(outputs_) && i == 1) ? noId
+                                                                                      : zero;
     if (writesSrgb8(outputs_) && i == 0) {
       const GLuint black[4] = {0, 0, 0, 0};
       glClearNamedFramebufferuiv(targets.framebuffer(), GL_COLOR, i, black);
@@ -645,6 +648,11 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.blend.destinationColor = state.blend.destinationAlpha = GL_ONE_MINUS_SRC_ALPHA;
   for (int i = 1; i < targets.attachmentCount(); ++i) state.color.offBuffers |= 1u << i;
   if (outputs_ == PassOutputs::Ids) state.color.rgba = {false, true, false, false};
+  if (outputs_ == PassOutputs::BeautyIds) {  // the coverage of the ids, as the Ids pass blends it
+    state.blend.buffers |= 2u;
+    state.color.offBuffers &= ~2u;
+    state.color.greenOnlyBuffers = 2u;
+  }
   state.apply();
   drawScene(scene, DrawSet::Blended, nullptr, uniforms);
   gl::RasterState::restoreDefaults();

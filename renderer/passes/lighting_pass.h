@@ -31,6 +31,10 @@ enum class PassOutputs {
   // Srgb8, and attachment 1, R32F: the objectId as Ids writes it (masks of a frame without
   // blended surfaces): the ids come with the beauty's draws instead of a pass of their own.
   Srgb8Ids,
+  // Beauty, and attachment 1 as Ids writes it, its coverage blended over as there: the ids of
+  // masks come with the beauty's draws (a pixel only blended surfaces cover still takes the id
+  // of the front-most one from the Ids pass).
+  BeautyIds,
   Aovs,    // + position/distance, normal, visibility of up to 20 lights
   Layers,  // + two layer targets: material layers or one light's diffuse and specular
   // Attachment 0 only, RG32F: the surface's objectId (R; -1 = none) and its coverage (G:
@@ -38,6 +42,11 @@ enum class PassOutputs {
   // out). No material or light beyond the base color's alpha.
   Ids,
 };
+
+// Ids in attachment 1 beside the beauty (Srgb8Ids, BeautyIds).
+inline bool writesIdsBesideBeauty(PassOutputs outputs) {
+  return outputs == PassOutputs::Srgb8Ids || outputs == PassOutputs::BeautyIds;
+}
 
 // The beauty as 8-bit sRGB codes in attachment 0 (Srgb8, Srgb8Ids).
 inline bool writesSrgb8(PassOutputs outputs) {

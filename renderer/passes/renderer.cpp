@@ -147,6 +147,39 @@ std::vector<std::uint8_t> blendedOnlyPixels(const GpuScene& scene, FloatImage& a
 
 }  // namespace
 
+namespace {
+
+// An RG32F id target as read back: objectId and coverage per pixel, rows in GL order.
+struct IdPixels {
+  int width = 0, height = 0;
+  bool glRowOrder = false;
+  FloatPixels rg;
+  // Row y, first = top (unless glRowOrder), as id, coverage pairs.
+  const float* row(int y) const {
+    const int glRow = glRowOrder ? y : height - 1 - y;
+    return rg.data() + static_cast<std::size_t>(glRow) * width * 2;
+  }
+};
+
+// Read as it is, RG floats: no conversion to RGBA, no band copies.
+IdPixels readIdPixels(const FrameTargets& targets, int attachment, bool glRowOrder) {
+  const int width = targets.width(), height = targets.height();
+  IdPixels ids{width, height, glRowOrder,
+               FloatPixels(static_cast<std::size_t>(width) * height * 2)};
+  // In bands: a call's byte count is a GLsizei, and a 16384-pixel row of RG floats is 128 KiB.
+  constexpr int kRows = 256;
+  for (int y0 = 0; y0 < height; y0 += kRows) {
+    const int rows = std::min(kRows, height - y0);
+    glGetTextureSubImage(
+        targets.color(attachment), 0, 0, y0, 0, width, rows, 1, GL_RG, GL_FLOAT,
+        static_cast<GLsizei>(static_cast<std::size_t>(rows) * width * 2 * sizeof(float)),
+        ids.rg.data() + static_cast<std::size_t>(y0) * width * 2);
+  }
+  return ids;
+}
+
+}  // namespace
+
 class Renderer::Impl {
  public:
   explicit Impl(const ContextOptions& options);
@@ -176,16 +209,20 @@ class Renderer::Impl {
   void drawImages(Prepared& prepared, const std::vector<Light>& lights, const ViewCamera& camera,
                   const glm::vec3& ambient, const RenderSettings& settings, int debugLight,
                   Frame& frame, StageTimes& times);
+  // The float beauty into `outputs`' targets (Beauty, or BeautyIds: the ids into `ids`).
   FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                         const RenderSettings& settings, const PassParameters& parameters,
-                        StageTimes* times);
+                        StageTimes* times, PassOutputs outputs = PassOutputs::Beauty,
+                        IdPixels* ids = nullptr);
   // frame.srgb8, and frame.objectIds where the beauty's outputs are Srgb8Ids.
   void drawSrgb8(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                  const RenderSettings& settings, PassParameters parameters, Frame& frame,
                  StageTimes& times);
+  // With one sample, the ids beside it into `ids` where the beauty's outputs are BeautyIds.
   FloatImage drawAntialiasedBeauty(Prepared& prepared, const ViewCamera& camera,
                                    const glm::vec3& ambient, const RenderSettings& settings,
-                                   const PassParameters& parameters, StageTimes& times);
+                                   const PassParameters& parameters, StageTimes& times,
+                                   IdPixels& ids);
   void drawAovs(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                 const RenderSettings& settings, FloatImage& aovs, StageTimes& times);
   // The extra layers (albedo, ids, per-light diffuse and specular) after the fixed channels and
@@ -193,9 +230,11 @@ class Renderer::Impl {
   void drawAovLayers(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
                      const RenderSettings& settings, const std::vector<std::uint8_t>& blendedOnly,
                      FloatImage& aovs, StageTimes& times);
-  // Frame::objectIds without the AOV pass (RenderSettings::objectIds).
+  // Frame::objectIds without the AOV pass (RenderSettings::objectIds). `drawn`: the ids the
+  // beauty's draws wrote beside it (BeautyIds), which the pass then completes where a pixel
+  // takes the front-most blended surface's id; empty: the pass draws them all.
   FloatImage drawObjectIds(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
-                           const RenderSettings& settings, StageTimes& times);
+                           const RenderSettings& settings, StageTimes& times, IdPixels drawn = {});
   std::vector<LightView> drawLightViews(Prepared& prepared, const ViewCamera& camera,
                                         const glm::vec3& ambient, const RenderSettings& settings);
   // The beauty's depth pre-pass (PassParameters::depthPrepass: the same picture either way),
@@ -315,10 +354,15 @@ bool drawsObjectIdPass(const RenderSettings& settings) {
 }
 
 // The beauty pass's targets: the 8-bit one where the lighting pass may encode the PNG's bytes,
-// with the ids beside it where masks need them and no blended surface needs a second look (a
-// pixel covered by blended surfaces alone takes the front-most one's id: the id pass's job).
+// else the float one; with the ids of masks beside them, written by the beauty's draws.
+PassOutputs floatBeautyOutputs(const RenderSettings& settings) {
+  // Anti-aliased samples are drawn off the pixel centers, where no id is taken.
+  const bool ids = drawsObjectIdPass(settings) && settings.antialiasing == 1;
+  return ids ? PassOutputs::BeautyIds : PassOutputs::Beauty;
+}
+
 PassOutputs beautyOutputs(const Scene& scene, const RenderSettings& settings) {
-  if (!encodesSrgb8(scene, settings)) return PassOutputs::Beauty;
+  if (!encodesSrgb8(scene, settings)) return floatBeautyOutputs(settings);
   return drawsObjectIdPass(settings) ? PassOutputs::Srgb8Ids : PassOutputs::Srgb8;
 }
 
@@ -564,35 +608,6 @@ LightingPass& Renderer::Impl::lightingPass(Shading shading, PassOutputs outputs,
 
 namespace {
 
-// An RG32F id target as read back: objectId and coverage per pixel, rows in GL order.
-struct IdPixels {
-  int width = 0, height = 0;
-  bool glRowOrder = false;
-  FloatPixels rg;
-  // Row y, first = top (unless glRowOrder), as id, coverage pairs.
-  const float* row(int y) const {
-    const int glRow = glRowOrder ? y : height - 1 - y;
-    return rg.data() + static_cast<std::size_t>(glRow) * width * 2;
-  }
-};
-
-// Read as it is, RG floats: no conversion to RGBA, no band copies.
-IdPixels readIdPixels(const FrameTargets& targets, int attachment, bool glRowOrder) {
-  const int width = targets.width(), height = targets.height();
-  IdPixels ids{width, height, glRowOrder,
-               FloatPixels(static_cast<std::size_t>(width) * height * 2)};
-  // In bands: a call's byte count is a GLsizei, and a 16384-pixel row of RG floats is 128 KiB.
-  constexpr int kRows = 256;
-  for (int y0 = 0; y0 < height; y0 += kRows) {
-    const int rows = std::min(kRows, height - y0);
-    glGetTextureSubImage(
-        targets.color(attachment), 0, 0, y0, 0, width, rows, 1, GL_RG, GL_FLOAT,
-        static_cast<GLsizei>(static_cast<std::size_t>(rows) * width * 2 * sizeof(float)),
-        ids.rg.data() + static_cast<std::size_t>(y0) * width * 2);
-  }
-  return ids;
-}
-
 // An R32F id target (PassOutputs::Srgb8Ids) as Frame::objectIds holds it, read in bands.
 FloatImage readObjectIds(const FrameTargets& targets, int attachment, bool glRowOrder) {
   const int width = targets.width(), height = targets.height();
@@ -652,13 +667,14 @@ FrameTargets& Renderer::Impl::beautyTargets(int width, int height, PassOutputs o
 
 FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& camera,
                                       const glm::vec3& ambient, const RenderSettings& settings,
-                                      const PassParameters& parameters, StageTimes* times) {
+                                      const PassParameters& parameters, StageTimes* times,
+                                      PassOutputs outputs, IdPixels* ids) {
   StageTimes unused;
   StageTimes& stages = times ? *times : unused;
-  FrameTargets& targets = beautyTargets(camera.width, camera.height, PassOutputs::Beauty);
+  FrameTargets& targets = beautyTargets(camera.width, camera.height, outputs);
   {
     ScopedStage stage(stages, "lighting");
-    lightingPass(settings.shading, PassOutputs::Beauty, prepared.features)
+    lightingPass(settings.shading, outputs, prepared.features)
         .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
     glFinish();
@@ -666,6 +682,7 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
   ScopedStage readback(stages, "readback");
   FloatImage image{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
   image.pixels = readAttachment(targets, 0, camera.glRowOrder, packInvert_);
+  if (outputs == PassOutputs::BeautyIds && ids) *ids = readIdPixels(targets, 1, camera.glRowOrder);
   return image;
 }
 
@@ -695,9 +712,10 @@ FloatImage Renderer::Impl::drawAntialiasedBeauty(Prepared& prepared, const ViewC
                                                  const glm::vec3& ambient,
                                                  const RenderSettings& settings,
                                                  const PassParameters& parameters,
-                                                 StageTimes& times) {
+                                                 StageTimes& times, IdPixels& ids) {
   if (settings.antialiasing == 1)
-    return drawBeauty(prepared, camera, ambient, settings, parameters, &times);
+    return drawBeauty(prepared, camera, ambient, settings, parameters, &times,
+                      prepared.beautyOutputs, &ids);
   const std::vector<glm::vec2> offsets = antialiasingOffsets(settings.antialiasing);
   FloatImage sum;
   for (const glm::vec2& offset : offsets) {
@@ -811,25 +829,26 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
 
 FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& camera,
                                          const glm::vec3& ambient, const RenderSettings& settings,
-                                         StageTimes& times) {
+                                         StageTimes& times, IdPixels drawn) {
   // The id pass draws what the AOV pass draws, with its depth tests: where an opaque or masked
   // surface covers a pixel, its id is the AOVs' objectId. Its coverage finds the pixels that
   // take the front-most blended surface's id as the AOVs find them: covered (A > 0 there) by no
   // opaque surface (id -1; no camera distance in the AOVs).
-  FrameTargets& targets = keptTargets(idTargets_, camera.width, camera.height, PassOutputs::Ids);
-  LightingPass& pass = lightingPass(settings.shading, PassOutputs::Ids, prepared.features);
-  ScopedStage stage(times, "layers");
+  std::optional<ScopedStage> stage;  // where the pass draws
   PassParameters parameters;
   // Its shading is no dearer than the pre-pass's depth: the pre-pass would only draw the
   // triangles twice. Either way the nearest surface is drawn, the last of equally near ones.
   parameters.depthPrepass = false;
-  IdPixels ids;
+  IdPixels ids = std::move(drawn);
   auto draw = [&] {
-    pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
+    if (!stage) stage.emplace(times, "layers");
+    FrameTargets& targets = keptTargets(idTargets_, camera.width, camera.height, PassOutputs::Ids);
+    lightingPass(settings.shading, PassOutputs::Ids, prepared.features)
+        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
     ids = readIdPixels(targets, 0, camera.glRowOrder);
   };
-  draw();
+  if (ids.rg.empty()) draw();
   bool anyBlendedOnly = false;
   FloatImage objectIds = objectIdsOf(ids, anyBlendedOnly);
   if (!anyBlendedOnly) return objectIds;
@@ -1051,14 +1070,16 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     parameters.debugLight = debugLight;
     choosePrepass(prepared.fingerprint, parameters);
     frame.depthPrepass = parameters.depthPrepass;
+    IdPixels ids;  // written beside the float beauty (BeautyIds)
     if (writesSrgb8(prepared.beautyOutputs))
       drawSrgb8(prepared, camera, ambient, settings, parameters, frame, times);
     else
-      frame.beauty = drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times);
+      frame.beauty =
+          drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times, ids);
     notePrepass(lightingPass(settings.shading, prepared.beautyOutputs, prepared.features)
                     .opaqueFragments());
     if (objectIdPass && !frame.objectIds)
-      frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times);
+      frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times, std::move(ids));
     return;
   }
   // The AOV pass already drew the beauty.
@@ -1147,8 +1168,9 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
   // float one): both are prepared.
   const bool srgb8 = beauty && encodesSrgb8(Scene{}, settings);
   const PassOutputs srgb8Outputs = beautyOutputs(Scene{}, settings);
+  const PassOutputs floatOutputs = floatBeautyOutputs(settings);
   const double bytes = plan.shadows.bytes +
-                       (beauty ? FrameTargets::bytes(width, height, PassOutputs::Beauty) : 0.0) +
+                       (beauty ? FrameTargets::bytes(width, height, floatOutputs) : 0.0) +
                        (srgb8 ? FrameTargets::bytes(width, height, srgb8Outputs) : 0.0);
   if (bytes > budgetMiB * 1024.0 * 1024.0) return 0.0;
   for (const ShadowGroupPlan& group : plan.shadows.groups) {
@@ -1157,7 +1179,7 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
     shadowTextures_.give(std::move(textures));
   }
   if (srgb8) beautyTargets(width, height, srgb8Outputs);
-  if (beauty) beautyTargets(width, height, PassOutputs::Beauty);
+  if (beauty) beautyTargets(width, height, floatOutputs);
   glFlush();  // the clears start in the rasterizer threads now
   return bytes;
 }
