@@ -145,10 +145,6 @@ std::vector<std::uint8_t> blendedOnlyPixels(const GpuScene& scene, FloatImage& a
   return mask;
 }
 
-}  // namespace
-
-namespace {
-
 // An RG32F id target as read back: objectId and coverage per pixel, rows in GL order.
 struct IdPixels {
   int width = 0, height = 0;
@@ -354,9 +350,9 @@ bool drawsObjectIdPass(const RenderSettings& settings) {
 }
 
 // The beauty pass's targets: the 8-bit one where the lighting pass may encode the PNG's bytes,
-// else the float one; with the ids of masks beside them, written by the beauty's draws.
+// else the float one; with the ids of masks beside them, written by the beauty's draws (not
+// with anti-aliasing: its samples are off the pixel centers, where the ids are taken).
 PassOutputs floatBeautyOutputs(const RenderSettings& settings) {
-  // Anti-aliased samples are drawn off the pixel centers, where no id is taken.
   const bool ids = drawsObjectIdPass(settings) && settings.antialiasing == 1;
   return ids ? PassOutputs::BeautyIds : PassOutputs::Beauty;
 }
