@@ -1175,18 +1175,24 @@ TEST(Shadows, ObjectIdsBesideTheBeautyAreTheIdPasss) {
   const Frame idPass = render(true, false, false, idTimes);  // masks alone: the id pass
   ASSERT_TRUE(idPass.objectIds);
   EXPECT_EQ(layers(idTimes), 1);
+  // Plain frames before and after: the renderer keeps its targets between frames of one size,
+  // and the frame with masks needs one more attachment than the frame before it.
   for (const bool srgb8 : {true, false}) {
     StageTimes besideTimes;
-    const Frame beside = render(true, true, srgb8, besideTimes);
     const Frame plain = render(false, true, srgb8, times);
+    const Frame beside = render(true, true, srgb8, besideTimes);
+    const Frame plainAgain = render(false, true, srgb8, times);
+    EXPECT_FALSE(plain.objectIds);
     ASSERT_TRUE(beside.objectIds) << srgb8;
     EXPECT_EQ(beside.objectIds->pixels, idPass.objectIds->pixels) << srgb8;
     EXPECT_EQ(layers(besideTimes), 0) << srgb8;  // no pass of their own
     ASSERT_EQ(beside.srgb8.has_value(), srgb8);
     if (srgb8) {
       EXPECT_EQ(beside.srgb8->rgb, plain.srgb8->rgb);  // the ids do not move a byte
+      EXPECT_EQ(plainAgain.srgb8->rgb, plain.srgb8->rgb);
     } else {
       EXPECT_EQ(beside.beauty.pixels, plain.beauty.pixels);
+      EXPECT_EQ(plainAgain.beauty.pixels, plain.beauty.pixels);
     }
   }
   // The objects are all there: the cut-away box has no pixel, the others do.

@@ -643,11 +643,12 @@ FloatImage objectIdsOf(const IdPixels& ids, bool& anyBlendedOnly) {
   return image;
 }
 
-// `kept`, remade first when it is missing or of another size or shape.
+// `kept`, remade first when it is missing or of another size, attachments or shape (one slot
+// holds the beauty's targets with and without the ids).
 FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, int width, int height,
                           PassOutputs outputs,
                           int visibilityOutputs = contract::kMaxVisibilityOutputs) {
-  if (!kept || kept->width() != width || kept->height() != height ||
+  if (!kept || kept->width() != width || kept->height() != height || kept->outputs() != outputs ||
       (outputs == PassOutputs::Aovs && kept->visibilityOutputs() != visibilityOutputs)) {
     kept.reset();  // the old one goes before the new one takes its memory
     kept = std::make_unique<FrameTargets>(width, height, outputs, visibilityOutputs);
