@@ -136,3 +136,28 @@ TEST(ConcurrentRenderers, ARendererThatEndsLeavesTheOthersDisplayInitialized) {
   Renderer later(ContextOptions{});
   EXPECT_FALSE(later.glDescription().empty());
 }
+
+// Renderers on one thread (a Python session that makes a new Renderer before the old one
+// goes): each draws in its own context, whichever was made or ended last. Interleaved frames
+// are those of a renderer alone, and the one left after the other ended still draws them.
+TEST(ConcurrentRenderers, RenderersOnOneThreadDrawInTheirOwnContexts) {
+  const std::vector<std::vector<std::uint8_t>> alone = renderFrames();
+  ASSERT_EQ(alone.size(), 3u);
+  const Scene scene = loadGltf(kDuck);
+  auto first = std::make_unique<Renderer>(ContextOptions{});
+  auto second = std::make_unique<Renderer>(ContextOptions{});  // current now
+  auto bytes = [&](Renderer& renderer, int frame) {
+    const Frame drawn = renderMovedLights(renderer, scene, frame);
+    return drawn.srgb8 ? drawn.srgb8->rgb : std::vector<std::uint8_t>{};
+  };
+  EXPECT_EQ(bytes(*first, 0), alone[0]);
+  EXPECT_EQ(bytes(*second, 0), alone[0]);
+  EXPECT_EQ(bytes(*first, 1), alone[1]);
+  second.reset();  // ends with no context current
+  EXPECT_EQ(bytes(*first, 2), alone[2]);
+  auto third = std::make_unique<Renderer>(ContextOptions{});
+  EXPECT_EQ(bytes(*third, 0), alone[0]);
+  first.reset();  // its objects go in its own context: the third's keep theirs
+  EXPECT_EQ(bytes(*third, 1), alone[1]);
+  EXPECT_EQ(bytes(*third, 2), alone[2]);
+}

@@ -109,6 +109,20 @@ def see_through(tmp_path_factory):
     return scene.write(tmp_path_factory.mktemp("see_through") / "see_through.gltf")
 
 
+def test_masks_after_frames_without_them_are_exact(quads):
+    # One renderer keeps its targets between frames of one size; a frame with masks needs
+    # one more than the plain frame before it.
+    renderer = omnishadow.Renderer()
+    scene = omnishadow.load_scene(quads)
+    instances, _ = expected_masks()
+    plain = renderer.render(scene, width=W, height=H)
+    with_masks = renderer.render(scene, width=W, height=H, masks=True)
+    again = renderer.render(scene, width=W, height=H)
+    np.testing.assert_array_equal(with_masks.masks["instances"], instances)
+    np.testing.assert_array_equal(with_masks.beauty, plain.beauty)
+    np.testing.assert_array_equal(again.beauty, plain.beauty)
+
+
 def test_masks_of_blended_surfaces_are_the_objectid_layers(renderer, see_through, binary,
                                                            tmp_path):
     expected = np.zeros((H, W), np.uint16)

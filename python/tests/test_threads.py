@@ -1,4 +1,5 @@
-"""A Renderer belongs to the thread that made it; other threads get a clean RenderError."""
+"""A Renderer belongs to the thread that made it; other threads get a clean RenderError, and
+several Renderers on one thread each draw in their own context."""
 
 import threading
 
@@ -62,3 +63,16 @@ def test_gil_is_released_while_rendering(renderer, demo_scene):
     stop.set()
     counter.join()
     assert during > 100
+
+
+def test_a_new_renderer_on_the_same_thread_leaves_the_old_one_whole(renderer, demo_scene):
+    # As in a notebook cell run twice: `r = Renderer()` makes the new one before the old goes.
+    expected = renderer.render(demo_scene, width=16, height=16).beauty
+    r = omnishadow.Renderer()
+    r = omnishadow.Renderer()  # the first of the two ends here, after the second was made
+    np.testing.assert_array_equal(r.render(demo_scene, width=16, height=16).beauty, expected)
+    np.testing.assert_array_equal(renderer.render(demo_scene, width=16, height=16).beauty,
+                                  expected)
+    del r
+    np.testing.assert_array_equal(renderer.render(demo_scene, width=16, height=16).beauty,
+                                  expected)

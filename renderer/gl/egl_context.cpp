@@ -243,6 +243,14 @@ EglContext::~EglContext() {
   impl_->release();
 }
 
+void EglContext::makeCurrent() const {
+  if (eglGetCurrentContext() == impl_->context) return;
+  if (!eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context))
+    throw RenderError(std::string("cannot make the GL context current again: eglMakeCurrent "
+                                  "failed: ") +
+                      eglErrorName(eglGetError()));
+}
+
 const std::string& EglContext::platformDescription() const {
   return impl_->description;
 }

@@ -1181,8 +1181,20 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
   return bytes;
 }
 
+// Every entry that makes GL calls makes this renderer's context current first: a thread may
+// hold several renderers (a Python session that makes a new one before the old one goes), and
+// GL calls go to whichever context was made current last, another renderer's or none.
 Renderer::Renderer(const ContextOptions& options) : impl_(std::make_unique<Impl>(options)) {}
-Renderer::~Renderer() = default;
+
+Renderer::~Renderer() {
+  // Its GL objects are deleted in its own context, not in the one current now, whose objects
+  // may have the same names.
+  try {
+    impl_->context().makeCurrent();
+  } catch (const RenderError&) {
+    // Nothing to delete them in: they go with the context.
+  }
+}
 
 const RenderLimits& Renderer::limits() const {
   return impl_->limits();
@@ -1193,23 +1205,27 @@ const std::string& Renderer::platformDescription() const {
 }
 
 std::string Renderer::glDescription() const {
+  impl_->context().makeCurrent();
   return impl_->context().glDescription();
 }
 
 Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
                        const glm::vec3& ambient, const ViewCamera& camera,
                        const RenderSettings& settings, StageTimes& times) {
+  impl_->context().makeCurrent();
   return impl_->render(scene, lights, ambient, camera, settings, times);
 }
 
 std::vector<CubeDistances> Renderer::renderShadowDistances(const Scene& scene,
                                                            const std::vector<Light>& lights,
                                                            ShadowPassStrategy strategy) {
+  impl_->context().makeCurrent();
   return impl_->renderShadowDistances(scene, lights, strategy);
 }
 
 double Renderer::prepare(const std::vector<Light>& lights, int width, int height,
                          const RenderSettings& settings, double budgetMiB) {
+  impl_->context().makeCurrent();
   return impl_->prepare(lights, width, height, settings, budgetMiB);
 }
 
