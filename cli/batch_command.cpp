@@ -55,8 +55,6 @@ BatchDefaults defaultsFromOptions(const BatchOptions& o) {
   job.exposure = o.exposure;
   job.shading = o.shading == "phong" ? Shading::Phong : Shading::Pbr;
   job.antialiasing = o.antialiasing;
-  if (!d.png && !d.exr && !d.aov && !d.masks)
-    throw InputError("--no-png: nothing left to write; add --exr, --aov or --masks");
   return d;
 }
 

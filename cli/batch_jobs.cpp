@@ -40,6 +40,13 @@ fs::path sceneLights(const fs::path& scene) {
   return pathExists(folder) ? folder : fs::path();
 }
 
+// The outputs of folder, glob and scene inputs come from the flags alone; a manifest's jobs
+// name their own, and are checked one by one (addManifest()).
+void requireDefaultOutputs(const BatchDefaults& d) {
+  if (!d.png && !d.exr && !d.aov && !d.masks)
+    throw InputError("--no-png: nothing left to write; add --exr, --aov or --masks");
+}
+
 // A job for `scene` whose outputs are `stem` (no extension) plus the batch's formats.
 RenderJob folderJob(const fs::path& scene, const fs::path& stem, const BatchDefaults& defaults) {
   RenderJob job = defaults.job;
@@ -138,12 +145,13 @@ class ManifestJob {
       fail(field, "expected an array of 3 finite numbers");
     return glm::vec3((*v)[0].get<float>(), (*v)[1].get<float>(), (*v)[2].get<float>());
   }
+  // An empty list is allowed: a job may write masks or AOVs without an image.
   std::optional<std::vector<std::string>> strings(const char* field) const {
     const json* v = find(field);
     if (!v) return std::nullopt;
-    if (!v->is_array() || v->empty() ||
+    if (!v->is_array() ||
         !std::all_of(v->begin(), v->end(), [](const json& x) { return x.is_string(); }))
-      fail(field, "expected a non-empty array of file names");
+      fail(field, "expected an array of file names");
     return v->get<std::vector<std::string>>();
   }
   bool isString(const char* field) const {
@@ -304,6 +312,11 @@ void addManifest(const fs::path& path, std::vector<BatchEntry>& jobs,
     if (!list[i].is_object()) throw InputError(where + ": expected a job object");
     const ManifestJob m(list[i], where);
     RenderJob job = manifestJob(m, path.parent_path(), defaults);
+    if (job.outputFiles().empty())
+      throw InputError(where +
+                       ": nothing to write; name images in \"outputs\", or give \"aov\" "
+                       "or \"masks\"" +
+                       (defaults.png ? "" : " (--no-png leaves out the images)"));
     const std::string name =
         "jobs[" + std::to_string(i) + "] " + list[i]["scene"].get<std::string>();
     if (m.isString("time")) {
@@ -322,14 +335,17 @@ std::vector<BatchEntry> collectJobs(const std::vector<std::string>& inputs,
   for (const std::string& input : inputs) {
     const fs::path path(input);
     if (fs::is_directory(path)) {
+      requireDefaultOutputs(defaults);
       addFolder(path, jobs, defaults);
     } else if (lowerExtension(path) == ".json") {
       addManifest(path, jobs, defaults);
     } else if (hasWildcard(input) && !fs::exists(path)) {
+      requireDefaultOutputs(defaults);
       addGlob(input, jobs, defaults);
     } else if (!fs::exists(path)) {
       throw InputError(input + ": no such file or folder");
     } else if (isScene(path)) {
+      requireDefaultOutputs(defaults);
       addScene(path, path.parent_path(), defaults, jobs);
     } else {
       throw InputError(input +

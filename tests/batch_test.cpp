@@ -304,6 +304,37 @@ TEST_F(BatchTest, ManifestJobsOverrideTheBatchOptions) {
   EXPECT_NE(readFile(output("x/main.png")), readFile(output("x/top.png")));
 }
 
+// Under --no-png a manifest's jobs write what they name: masks or AOVs without an image, and
+// images named in their "outputs". An empty "outputs" asks for no image without --no-png.
+TEST_F(BatchTest, ManifestJobsWithoutAnImageWriteTheirMasksAndAovs) {
+  scene("m/a.glb", {.format = FileFormat::Glb});
+  const fs::path manifest = writeText("m/manifest.json", R"({"jobs": [
+    {"scene": "a.glb", "masks": "ids/a"},
+    {"scene": "a.glb", "aov": "aov/a.aov.exr", "aovLayers": "albedo"},
+    {"scene": "a.glb", "outputs": ["img/a.png"], "masks": "img/a"}
+  ]})");
+  const Run r = batch({manifest.string(), "--out", out_.string(), "--no-png"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(filesIn(out_),
+            (Names{"aov", "aov/a.aov.exr", "ids", "ids/a.instances.png", "ids/a.masks.json",
+                   "ids/a.semantic.png", "img", "img/a.instances.png", "img/a.masks.json",
+                   "img/a.png", "img/a.semantic.png"}));
+  // The masks drawn without a picture are those drawn with one.
+  for (const char* suffix : {".instances.png", ".semantic.png", ".masks.json"})
+    EXPECT_TRUE(
+        sameBytes(output(std::string("ids/a") + suffix), output(std::string("img/a") + suffix)))
+        << suffix;
+  EXPECT_GE(readImage(output("aov/a.aov.exr")).channelIndex("albedo.R"), 0);
+
+  const fs::path empty = writeText("m/empty.json", R"({"jobs": [
+    {"scene": "a.glb", "outputs": [], "masks": "a"}]})");
+  const fs::path again = root_ / "again";
+  const Run e = batch({empty.string(), "--out", again.string()});
+  ASSERT_EQ(e.status, 0) << e.err;
+  EXPECT_EQ(filesIn(again), (Names{"a.instances.png", "a.masks.json", "a.semantic.png"}));
+  EXPECT_TRUE(sameBytes(again / "a.instances.png", output("img/a.instances.png")));
+}
+
 TEST_F(BatchTest, ManifestFieldsUndoBatchFlags) {
   scene("m/a.glb", {.format = FileFormat::Glb});  // its only light is the glTF's lamp
   const fs::path manifest = writeText("m/manifest.json", R"({"jobs": [
@@ -562,6 +593,12 @@ const std::pair<const char*, const char*> kManifests[] = {
      R"({"jobs": [{"scene": "s/a.gltf"}, {"scene": "s/b.glb", "sceneIndex": 1e12}]})"},
     {"bad-aa.json", R"({"jobs": [{"scene": "s/a.gltf", "aa": 3}]})"},
     {"masks-outside.json", R"({"jobs": [{"scene": "s/a.gltf", "masks": "../m"}]})"},
+    {"nothing-to-write.json",
+     R"({"jobs": [{"scene": "s/a.gltf", "masks": "a"}, {"scene": "s/b.glb", "outputs": []}]})"},
+    {"images-left-out.json",
+     R"({"jobs": [{"scene": "s/a.gltf", "masks": "a"}, {"scene": "s/b.glb"}]})"},
+    {"masks-only.json", R"({"jobs": [{"scene": "s/a.gltf", "masks": "a"}]})"},
+    {"outputs-not-names.json", R"({"jobs": [{"scene": "s/a.gltf", "outputs": [1]}]})"},
 };
 
 const UsageCase kUsageCases[] = {
@@ -600,6 +637,24 @@ const UsageCase kUsageCases[] = {
      {"$in/masks-outside.json", "--out", "$out/o"},
      "$in/masks-outside.json: jobs[0].masks: \"../m\": "},
     {"AaNotASampleCount", {"$in/s", "--out", "$out/o", "--aa", "3"}, "", false},
+    {"NoPngAloneOnAFolder",
+     {"$in/s", "--out", "$out/o", "--no-png"},
+     "--no-png: nothing left to write; add --exr, --aov or --masks"},
+    // The manifest's job writes masks; the scene file beside it has nothing left.
+    {"NoPngAloneOnASceneBesideAManifest",
+     {"$in/masks-only.json", "$in/s/b.glb", "--out", "$out/o", "--no-png"},
+     "--no-png: nothing left to write; add --exr, --aov or --masks"},
+    {"ManifestJobWithNothingToWrite",
+     {"$in/nothing-to-write.json", "--out", "$out/o"},
+     "$in/nothing-to-write.json: jobs[1]: nothing to write; name images in \"outputs\", or "
+     "give \"aov\" or \"masks\"\n"},
+    {"ManifestJobWhoseImagesNoPngLeavesOut",
+     {"$in/images-left-out.json", "--out", "$out/o", "--no-png"},
+     "$in/images-left-out.json: jobs[1]: nothing to write; name images in \"outputs\", or "
+     "give \"aov\" or \"masks\" (--no-png leaves out the images)\n"},
+    {"ManifestOutputsNotNames",
+     {"$in/outputs-not-names.json", "--out", "$out/o"},
+     "$in/outputs-not-names.json: jobs[0].outputs: expected an array of file names"},
 };
 
 class BatchUsageTest : public BatchTest, public ::testing::WithParamInterface<UsageCase> {};
