@@ -2,6 +2,7 @@
 // that see the light are lit, cube map faces are where the GL convention puts them.
 // Runs on whatever EGL gives (llvmpipe in CI); sizes are small to keep it quick.
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 #include <cmath>
 #include <cstdio>
@@ -14,8 +15,10 @@
 #include <tuple>
 
 #include "renderer/core/errors.h"
+#include "renderer/gl/software_rasterizer.h"
 #include "renderer/passes/lighting_pass.h"
 #include "renderer/passes/shader_contract.h"
+#include "renderer/passes/shadow_textures.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/srgb_transfer.h"
@@ -464,6 +467,51 @@ TEST(ShadowMap, SkippingTheBackFacesOfClosedCastersChangesNoTexel) {
     for (std::size_t l = 0; l < lights.size(); ++l)
       EXPECT_EQ(differingTexels(skipped[l], drawn[l]), 0)
           << toString(strategy) << ", light " << lights[l].name;
+  }
+}
+
+// On llvmpipe the renderer counts a new depth-only shadow texture as cleared without clearing
+// it (ShadowTexturePool's madeZeroed): the driver fills the storage of every texture it makes
+// with zeros, the cleared depth. Checked on a texture made where one full of depths was just
+// deleted, with malloc set as `render` sets it (cli/memory_warmup.h: no mmap, no trimming), so
+// that the heap hands back those very bytes rather than fresh zero pages of the kernel's; moments
+// (VSM) still clear.
+TEST(ShadowMap, NewShadowTexturesOfLlvmpipeHoldTheClearedDepth) {
+  if (!gl::isLlvmpipe(sharedRenderer().glDescription()))
+    GTEST_SKIP() << "the renderer relies on this on llvmpipe only";
+  ASSERT_EQ(mallopt(M_MMAP_MAX, 0), 1);
+  ASSERT_EQ(mallopt(M_TRIM_THRESHOLD, 1 << 30), 1);
+  struct MallocDefaults {
+    ~MallocDefaults() {
+      mallopt(M_MMAP_MAX, 65536);
+      mallopt(M_TRIM_THRESHOLD, 128 * 1024);
+    }
+  } restore;
+  const int n = 256;
+  const ShadowGroupPlan cube{{ShadowLayout::Cube, n, DepthFormat::Float32, false}, 12};
+  const std::size_t texels = static_cast<std::size_t>(n) * n * 12;
+  for (int round = 0; round < 2; ++round) {
+    {
+      ShadowTexturePool unknown;
+      ShadowGroupTextures full = unknown.take(cube);
+      const float depth = 0.75f;
+      glClearTexImage(full.depth.get(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, &depth);
+      glFinish();
+    }
+    ShadowTexturePool zeroed(true);
+    ShadowGroupTextures fresh = zeroed.take(cube);
+    for (const TexelRect& written : fresh.written) EXPECT_TRUE(written.empty());
+    std::vector<float> depths(texels, -1.0f);
+    glGetTextureImage(fresh.depth.get(), 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                      static_cast<GLsizei>(texels * sizeof(float)), depths.data());
+    ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    EXPECT_EQ(std::count(depths.begin(), depths.end(), kClearedDepth),
+              static_cast<std::ptrdiff_t>(texels));
+    ShadowGroupPlan vsm = cube;
+    vsm.key.moments = true;
+    const ShadowGroupTextures moments = zeroed.take(vsm);
+    for (const TexelRect& written : moments.written)
+      EXPECT_TRUE(written.x0 == 0 && written.y0 == 0 && written.x1 == n && written.y1 == n);
   }
 }
 

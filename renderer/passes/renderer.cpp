@@ -408,6 +408,7 @@ Renderer::Impl::Impl(const ContextOptions& options) : context_(options) {
   glRenderer_ = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   prepassSupported_ = depthPrepassSupported(glRenderer_);
   softwareRasterizer_ = gl::isLlvmpipe(glRenderer_);
+  shadowTextures_ = ShadowTexturePool(softwareRasterizer_);
   debug_ = options.debug;
   packInvert_ = hasExtension("GL_MESA_pack_invert");
   ballot_ = hasExtension("GL_ARB_shader_ballot");

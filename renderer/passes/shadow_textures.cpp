@@ -1,5 +1,6 @@
 #include "renderer/passes/shadow_textures.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "renderer/gl/gl_debug.h"
@@ -32,11 +33,17 @@ ShadowGroupTextures ShadowTexturePool::take(const ShadowGroupPlan& plan) {
     glTextureStorage3D(textures.moments.get(), 1, GL_RG32F, n, n, plan.layers);
   }
   gl::checkErrors("allocating shadow maps");
-  textures.written.assign(static_cast<std::size_t>(plan.layers), TexelRect::whole(n));
+  static_assert(kClearedDepth == 0.0f, "zero bytes must be the cleared depth");
+  const bool cleared = madeZeroed_ && !plan.key.moments;  // moments clear to 1, not 0
+  textures.written.assign(static_cast<std::size_t>(plan.layers),
+                          cleared ? TexelRect{} : TexelRect::whole(n));
   return textures;
 }
 
 void clearShadowTextures(ShadowGroupTextures& textures) {
+  if (std::all_of(textures.written.begin(), textures.written.end(),
+                  [](const TexelRect& texels) { return texels.empty(); }))
+    return;
   // Through a layered framebuffer, so that llvmpipe's rasterizer threads clear while the
   // calling thread goes on. Clears obey the write masks and the scissor, which are at their
   // defaults between passes.

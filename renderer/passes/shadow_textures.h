@@ -24,7 +24,8 @@ struct ShadowGroupTextures {
   gl::Texture moments;  // same target, GL_RG32F, when key.moments
   // Per texture layer: the texels that may hold something other than the cleared values, which
   // the next pass into the layer must clear (ShadowLayerBinding). The whole layer for a new
-  // texture, whose contents GL leaves undefined; none after clearShadowTextures().
+  // texture, whose contents GL leaves undefined (none where the pool knows them to be zeros);
+  // none after clearShadowTextures().
   std::vector<TexelRect> written;
 };
 
@@ -33,18 +34,25 @@ struct ShadowGroupTextures {
 inline constexpr float kClearedDepth = 0.0f;
 inline constexpr float kClearedMoments[4] = {1.0f, 1.0f, 0.0f, 0.0f};
 
-// Clears every layer of the group (llvmpipe does it in its rasterizer threads once the
-// commands are flushed); afterwards no texel is `written`.
+// Clears every layer of the group that may hold a written texel (llvmpipe does it in its
+// rasterizer threads once the commands are flushed); afterwards no texel is `written`.
 void clearShadowTextures(ShadowGroupTextures& textures);
 
 // Keeps group textures between renders (batch mode renders many similar scenes), up to a
 // budget; textures are reused only for an exact match of key and layer count.
 class ShadowTexturePool {
  public:
+  // `madeZeroed`: the driver fills every texture it makes with zero bytes, as llvmpipe does
+  // (its texture layout memsets the storage it allocates, Mesa's lp_texture.c). Zero is the
+  // cleared depth, so a new depth-only texture needs no first clear: on llvmpipe that clear
+  // wrote 24 MiB again for a 1024^2 cube, a third of a small scene's first shadow stage.
+  explicit ShadowTexturePool(bool madeZeroed = false) : madeZeroed_(madeZeroed) {}
+
   ShadowGroupTextures take(const ShadowGroupPlan& plan);
   void give(ShadowGroupTextures&& textures);
 
  private:
+  bool madeZeroed_;
   std::vector<ShadowGroupTextures> free_;
 };
 
