@@ -4,13 +4,13 @@
 #include <EGL/eglext.h>
 #include <GL/glcorearb.h>
 
-#include <cstring>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <vector>
 
 #include "renderer/core/errors.h"
+#include "renderer/gl/egl_extensions.h"
 #include "renderer/gl/enum_names.h"
 
 namespace omnishadow {
@@ -28,22 +28,6 @@ const char* eglErrorName(EGLint error) {
       OMNISHADOW_ENUM_NAME(EGL_CONTEXT_LOST),
   };
   return gl::nameOf(error, kNames, "unknown EGL error");
-}
-
-bool hasExtension(const char* list, const char* name) {
-  if (!list) return false;
-  const std::size_t length = std::strlen(name);
-  for (const char* p = list; (p = std::strstr(p, name)) != nullptr; p += length) {
-    const bool startOk = p == list || p[-1] == ' ';
-    const bool endOk = p[length] == ' ' || p[length] == '\0';
-    if (startOk && endOk) return true;
-  }
-  return false;
-}
-
-template <typename F>
-F loadProc(const char* name) {
-  return reinterpret_cast<F>(eglGetProcAddress(name));
 }
 
 struct Candidate {
@@ -96,7 +80,8 @@ struct EglContext::Impl {
 
   // Returns an empty string on success, else why it failed.
   std::string tryCreate(const Candidate& candidate, bool debug) {
-    auto getPlatformDisplay = loadProc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
+    auto getPlatformDisplay =
+        gl::loadEglProc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
     if (!getPlatformDisplay) return "eglGetPlatformDisplayEXT is missing";
     display = getPlatformDisplay(candidate.platform, candidate.nativeDisplay, nullptr);
     if (display == EGL_NO_DISPLAY)
@@ -109,7 +94,7 @@ struct EglContext::Impl {
     if (!eglBindAPI(EGL_OPENGL_API)) return fail("eglBindAPI(EGL_OPENGL_API)");
 
     const char* extensions = eglQueryString(display, EGL_EXTENSIONS);
-    if (!hasExtension(extensions, "EGL_KHR_no_config_context")) {
+    if (!gl::hasEglExtension(extensions, "EGL_KHR_no_config_context")) {
       const EGLint attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
       EGLint count = 0;
       if (!eglChooseConfig(display, attributes, &config, 1, &count) || count == 0)
@@ -161,12 +146,13 @@ namespace {
 // EGL devices in the order they are tried: hardware first (or the one --gpu names).
 std::vector<Candidate> deviceCandidates(int gpuIndex, std::vector<std::string>& notes) {
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-  if (!hasExtension(clientExtensions, "EGL_EXT_platform_device")) {
+  if (!gl::hasEglExtension(clientExtensions, "EGL_EXT_platform_device")) {
     notes.push_back("EGL device platform: not supported by this EGL (no EGL_EXT_platform_device)");
     return {};
   }
-  auto queryDevices = loadProc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
-  auto queryDeviceString = loadProc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
+  auto queryDevices = gl::loadEglProc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
+  auto queryDeviceString =
+      gl::loadEglProc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
   EGLDeviceEXT devices[32];
   EGLint count = 0;
   if (!queryDevices || !queryDevices(32, devices, &count) || count == 0) {
@@ -180,7 +166,7 @@ std::vector<Candidate> deviceCandidates(int gpuIndex, std::vector<std::string>& 
   for (EGLint i = 0; i < count; ++i) {
     if (gpuIndex >= 0 && i != gpuIndex) continue;
     const char* extensions = queryDeviceString ? queryDeviceString(devices[i], EGL_EXTENSIONS) : "";
-    const bool isSoftware = hasExtension(extensions, "EGL_MESA_device_software");
+    const bool isSoftware = gl::hasEglExtension(extensions, "EGL_MESA_device_software");
     std::string name = "EGL device " + std::to_string(i);
     if (isSoftware) {
       name += " (software)";
@@ -209,7 +195,7 @@ EglContext::EglContext(const ContextOptions& options) : impl_(std::make_unique<I
                      "); leave --gpu out to use the surfaceless platform");
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (options.gpuIndex < 0) {
-    if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless"))
+    if (gl::hasEglExtension(clientExtensions, "EGL_MESA_platform_surfaceless"))
       candidates.push_back(
           {"EGL surfaceless platform", EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY});
     else

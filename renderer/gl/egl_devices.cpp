@@ -4,26 +4,13 @@
 #include <EGL/eglext.h>
 #include <GL/glcorearb.h>
 
-#include <cstring>
 #include <exception>
 
 #include "renderer/gl/egl_context.h"
+#include "renderer/gl/egl_extensions.h"
 
 namespace omnishadow {
 namespace {
-
-bool hasExtension(const char* list, const char* name) {
-  if (!list) return false;
-  const std::size_t length = std::strlen(name);
-  for (const char* p = list; (p = std::strstr(p, name)) != nullptr; p += length)
-    if ((p == list || p[-1] == ' ') && (p[length] == ' ' || p[length] == '\0')) return true;
-  return false;
-}
-
-template <typename F>
-F loadProc(const char* name) {
-  return reinterpret_cast<F>(eglGetProcAddress(name));
-}
 
 // GL's own names for the device, from a context made on it: "vendor | renderer | version".
 void probeWithContext(GpuDevice& device) {
@@ -44,11 +31,12 @@ void probeWithContext(GpuDevice& device) {
 }  // namespace
 
 std::vector<GpuDevice> listEglDevices(bool probe) {
-  if (!hasExtension(eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS), "EGL_EXT_platform_device"))
+  if (!gl::hasEglExtension(eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS),
+                           "EGL_EXT_platform_device"))
     return {};
-  auto queryDevices = loadProc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
-  auto queryString = loadProc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
-  auto queryAttrib = loadProc<PFNEGLQUERYDEVICEATTRIBEXTPROC>("eglQueryDeviceAttribEXT");
+  auto queryDevices = gl::loadEglProc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
+  auto queryString = gl::loadEglProc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
+  auto queryAttrib = gl::loadEglProc<PFNEGLQUERYDEVICEATTRIBEXTPROC>("eglQueryDeviceAttribEXT");
   EGLDeviceEXT handles[32];
   EGLint count = 0;
   if (!queryDevices || !queryString || !queryDevices(32, handles, &count)) return {};
@@ -64,19 +52,19 @@ std::vector<GpuDevice> listEglDevices(bool probe) {
       if (!value) eglGetError();
       return std::string(value ? value : "");
     };
-    device.software = hasExtension(extensions, "EGL_MESA_device_software");
-    if (hasExtension(extensions, "EGL_EXT_device_drm"))
+    device.software = gl::hasEglExtension(extensions, "EGL_MESA_device_software");
+    if (gl::hasEglExtension(extensions, "EGL_EXT_device_drm"))
       device.drmNode = string(EGL_DRM_DEVICE_FILE_EXT);
-    if (hasExtension(extensions, "EGL_EXT_device_drm_render_node"))
+    if (gl::hasEglExtension(extensions, "EGL_EXT_device_drm_render_node"))
       device.renderNode = string(EGL_DRM_RENDER_NODE_FILE_EXT);
-    if (hasExtension(extensions, "EGL_EXT_device_query_name")) {
+    if (gl::hasEglExtension(extensions, "EGL_EXT_device_query_name")) {
       device.vendor = string(EGL_VENDOR);
       device.renderer = string(EGL_RENDERER_EXT);
     }
-    if (hasExtension(extensions, "EGL_EXT_device_persistent_id"))
+    if (gl::hasEglExtension(extensions, "EGL_EXT_device_persistent_id"))
       device.driver = string(EGL_DRIVER_NAME_EXT);
     EGLAttrib cuda = -1;
-    if (hasExtension(extensions, "EGL_NV_device_cuda") && queryAttrib) {
+    if (gl::hasEglExtension(extensions, "EGL_NV_device_cuda") && queryAttrib) {
       if (queryAttrib(handles[i], EGL_CUDA_DEVICE_NV, &cuda) && cuda >= 0)
         device.cuda = static_cast<int>(cuda);
       else
