@@ -186,7 +186,7 @@ void printJson(const Json& doc) {
 // ---------------------------------------------------------------------------------------------
 // Text
 
-void printField(const char* label, const std::string& value) {
+void printDiffLine(const char* label, const std::string& value) {
   if (value.empty())
     std::printf("%s\n", label);
   else
@@ -199,7 +199,7 @@ std::string joined(const std::vector<std::string>& names) {
   return text;
 }
 
-std::string percent(double fraction) {
+std::string readablePercent(double fraction) {
   return readable(fraction * 100.0) + "%";
 }
 
@@ -209,7 +209,7 @@ std::vector<std::string> statsRow(const std::string& label, const DiffStats& s) 
           readable(s.meanAbs),
           readable(s.rmse),
           readable(s.psnr),
-          std::to_string(s.failingPixels) + " (" + percent(s.failingFraction) + ")",
+          std::to_string(s.failingPixels) + " (" + readablePercent(s.failingFraction) + ")",
           s.maxX >= 0 ? std::to_string(s.maxX) + "," + std::to_string(s.maxY) : "-"};
 }
 
@@ -258,18 +258,18 @@ int diffFiles(const DiffCommandOptions& o) {
     doc["pass"] = verdict.pass;
     printJson(doc);
   } else {
-    printField("A", describe(o.a, a));
-    printField("B", describe(o.b, b));
-    printField("compared", joined(result.overall.channels) + "  (threshold " +
-                               readable(o.threshold) + ", PSNR peak " + readable(result.peak) +
-                               ")");
+    printDiffLine("A", describe(o.a, a));
+    printDiffLine("B", describe(o.b, b));
+    printDiffLine("compared", joined(result.overall.channels) + "  (threshold " +
+                                  readable(o.threshold) + ", PSNR peak " + readable(result.peak) +
+                                  ")");
     TextTable rows = {
         {"channels", "max abs", "mean abs", "RMSE", "PSNR dB", "failing pixels", "max at"},
         statsRow("all", result.overall)};
     for (const DiffStats& s : result.perChannel) rows.push_back(statsRow(s.channels[0], s));
     printTable(rows);
-    if (out) printField("heat map", out->string() + "  (scale " + readable(scale) + ")");
-    printField(verdict.pass ? "PASS" : "FAIL", verdict.reason);
+    if (out) printDiffLine("heat map", out->string() + "  (scale " + readable(scale) + ")");
+    printDiffLine(verdict.pass ? "PASS" : "FAIL", verdict.reason);
   }
   return verdict.pass ? 0 : 1;
 }
@@ -398,24 +398,25 @@ int diffFolders(const DiffCommandOptions& o) {
       }
       const DiffStats& s = pair.result->overall;
       rows.push_back({pair.path, readable(s.maxAbs), readable(s.meanAbs),
-                      percent(s.failingFraction), pair.verdict.pass ? "PASS" : "FAIL"});
+                      readablePercent(s.failingFraction), pair.verdict.pass ? "PASS" : "FAIL"});
       for (const DiffStats& c : pair.result->perChannel)
         rows.push_back({"  " + c.channels[0], readable(c.maxAbs), readable(c.meanAbs),
-                        percent(c.failingFraction), ""});
+                        readablePercent(c.failingFraction), ""});
     }
     if (pairs.empty())
       std::printf("no .png or .exr file in both folders\n");
     else
       printTable(rows);
-    for (const std::string& path : onlyA) printField("only in A", path);
-    for (const std::string& path : onlyB) printField("only in B", path);
+    for (const std::string& path : onlyA) printDiffLine("only in A", path);
+    for (const std::string& path : onlyB) printDiffLine("only in B", path);
     if (outDir && errors.empty())
-      printField("heat maps", outDir->string() + "  (" + std::to_string(pairs.size()) + " files)");
+      printDiffLine("heat maps",
+                    outDir->string() + "  (" + std::to_string(pairs.size()) + " files)");
     std::string summary = std::to_string(pairs.size()) + " pairs, " + std::to_string(failed) +
                           " failed, " + std::to_string(errors.size()) + " unreadable; " +
                           std::to_string(onlyA.size()) + " only in A, " +
                           std::to_string(onlyB.size()) + " only in B";
-    printField(pass ? "PASS" : "FAIL", summary);
+    printDiffLine(pass ? "PASS" : "FAIL", summary);
   }
   for (const std::string& error : errors) std::fprintf(stderr, "omnishadow: %s\n", error.c_str());
   if (!errors.empty()) return 2;

@@ -263,7 +263,7 @@ Json toJson(const Info& info) {
 // ---------------------------------------------------------------------------------------------
 // Text
 
-void printField(const char* label, const std::string& value) {
+void printInfoLine(const char* label, const std::string& value) {
   std::printf("%-11s %s\n", label, value.c_str());
 }
 
@@ -274,12 +274,12 @@ std::string plural(std::uint64_t count, const std::string& noun, const std::stri
 void printText(const Info& info) {
   const Scene& scene = info.scene;
   const SourceSummary& source = scene.source;
-  printField("file", info.file);
+  printInfoLine("file", info.file);
   std::string format = source.format + ", glTF " + (source.version.empty() ? "?" : source.version);
   if (!source.generator.empty()) format += ", generator \"" + source.generator + "\"";
-  printField("format", format);
-  printField("extensions", source.extensions.empty() ? std::string("none")
-                                                     : std::to_string(source.extensions.size()));
+  printInfoLine("format", format);
+  printInfoLine("extensions", source.extensions.empty() ? std::string("none")
+                                                        : std::to_string(source.extensions.size()));
   TextTable extensionRows;
   for (const ExtensionUse& e : source.extensions) {
     extensionRows.push_back(
@@ -287,29 +287,30 @@ void printText(const Info& info) {
          e.supported ? "supported" : "not supported: drawn instead: " + e.drawnInstead});
   }
   printTable(extensionRows);
-  printField("scene", (source.sceneIndex >= 0 ? std::to_string(source.sceneIndex) : "none") + " (" +
-                          plural(static_cast<std::uint64_t>(source.sceneCount), "scene", "scenes") +
-                          " in the file)");
-  printField("nodes", std::to_string(source.fileNodes) + " in the file, " +
-                          std::to_string(source.reachedNodes) + " reached from the scene");
-  printField(
+  printInfoLine("scene",
+                (source.sceneIndex >= 0 ? std::to_string(source.sceneIndex) : "none") + " (" +
+                    plural(static_cast<std::uint64_t>(source.sceneCount), "scene", "scenes") +
+                    " in the file)");
+  printInfoLine("nodes", std::to_string(source.fileNodes) + " in the file, " +
+                             std::to_string(source.reachedNodes) + " reached from the scene");
+  printInfoLine(
       "meshes",
       plural(static_cast<std::uint64_t>(source.gltfMeshes), "glTF mesh", "glTF meshes") + ", " +
           plural(static_cast<std::uint64_t>(source.gltfPrimitives), "primitive", "primitives") +
           " (" + std::to_string(scene.meshes.size()) + " drawn)");
-  printField("instances", std::to_string(scene.instances.size()));
-  printField("triangles", std::to_string(info.triangles) + " unique, " +
-                              std::to_string(info.drawnTriangles) + " drawn");
-  printField("vertices", std::to_string(info.vertices));
+  printInfoLine("instances", std::to_string(scene.instances.size()));
+  printInfoLine("triangles", std::to_string(info.triangles) + " unique, " +
+                                 std::to_string(info.drawnTriangles) + " drawn");
+  printInfoLine("vertices", std::to_string(info.vertices));
   if (scene.bounds.empty()) {
-    printField("bounds", "empty");
+    printInfoLine("bounds", "empty");
   } else {
     const Bounds& b = scene.bounds;
-    printField("bounds", "min " + text(b.min) + "  max " + text(b.max));
-    printField("", "center " + text(b.center()) + "  size " + text(b.max - b.min));
+    printInfoLine("bounds", "min " + text(b.min) + "  max " + text(b.max));
+    printInfoLine("", "center " + text(b.center()) + "  size " + text(b.max - b.min));
   }
 
-  printField("materials", std::to_string(scene.materials.size()));
+  printInfoLine("materials", std::to_string(scene.materials.size()));
   TextTable rows;
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
@@ -328,8 +329,8 @@ void printText(const Info& info) {
   }
   printTable(rows);
 
-  printField("textures", std::to_string(scene.textures.size()) + " (" +
-                             plural(scene.images.size(), "image", "images") + ")");
+  printInfoLine("textures", std::to_string(scene.textures.size()) + " (" +
+                                plural(scene.images.size(), "image", "images") + ")");
   rows.clear();
   for (std::size_t i = 0; i < scene.textures.size(); ++i) {
     const int image = scene.textures[i].image;
@@ -343,7 +344,7 @@ void printText(const Info& info) {
   }
   printTable(rows);
 
-  printField("cameras", std::to_string(scene.cameras.size()));
+  printInfoLine("cameras", std::to_string(scene.cameras.size()));
   rows.clear();
   for (const Camera& c : scene.cameras) {
     const std::string lens = c.orthographic
@@ -355,7 +356,7 @@ void printText(const Info& info) {
   }
   printTable(rows);
 
-  printField("lights", std::to_string(info.lights.size()));
+  printInfoLine("lights", std::to_string(info.lights.size()));
   rows.clear();
   for (const Light& l : info.lights) {
     std::string where;
@@ -370,11 +371,11 @@ void printText(const Info& info) {
                     l.range > 0.0f ? "range " + readable(l.range) : "range unlimited", shadow});
   }
   printTable(rows);
-  printField("ambient",
-             info.setup ? text(info.setup->ambient) + " (lights file)" : "none (no lights file)");
+  printInfoLine("ambient", info.setup ? text(info.setup->ambient) + " (lights file)"
+                                      : "none (no lights file)");
 
   printMotion(scene.rig);
-  printField("warnings", std::to_string(info.warnings.size()));
+  printInfoLine("warnings", std::to_string(info.warnings.size()));
   for (const std::string& warning : info.warnings) std::printf("  %s\n", warning.c_str());
 }
 

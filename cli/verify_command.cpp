@@ -71,14 +71,14 @@ std::vector<LightToVerify> selectLights(const VerifyOptions& o, const LoadedJob&
   return selected;
 }
 
-std::string percent(double fraction) {
+std::string fourDecimalPercent(double fraction) {
   char text[32];
   std::snprintf(text, sizeof text, "%.4f%%", 100.0 * fraction);
   return text;
 }
 
 std::string countAndPercent(std::int64_t n, double fraction) {
-  return std::to_string(n) + " (" + percent(fraction) + ")";
+  return std::to_string(n) + " (" + fourDecimalPercent(fraction) + ")";
 }
 
 void printGroup(const char* label, const ClassCounts& c) {
@@ -87,7 +87,7 @@ void printGroup(const char* label, const ClassCounts& c) {
     return;
   }
   std::printf("  %-9s %10lld  %-10s %-22s %s\n", label, static_cast<long long>(c.evaluated),
-              percent(c.agreementRate()).c_str(),
+              fourDecimalPercent(c.agreementRate()).c_str(),
               countAndPercent(c.falseShadow, c.falseShadowRate()).c_str(),
               countAndPercent(c.falseLight, c.falseLightRate()).c_str());
 }
@@ -107,8 +107,8 @@ std::string firstFailure(const ShadowVerification& v, double maxError) {
         {"false light", light.interior.falseLightRate()}};
     for (const auto& [what, rate] : rates)
       if (rate > maxError)
-        return "light \"" + light.name + "\": interior " + what + " " + percent(rate) + " > " +
-               percent(maxError);
+        return "light \"" + light.name + "\": interior " + what + " " + fourDecimalPercent(rate) +
+               " > " + fourDecimalPercent(maxError);
   }
   return {};
 }
@@ -155,7 +155,7 @@ void printText(const RenderJob& job, const LoadedJob& loaded,
     if (result.transmittance.evaluated > 0)
       std::printf("  transmittance  %lld interior points, %s within %g per channel\n",
                   static_cast<long long>(result.transmittance.evaluated),
-                  percent(result.transmittance.agreementRate()).c_str(),
+                  fourDecimalPercent(result.transmittance.agreementRate()).c_str(),
                   static_cast<double>(kTransmittanceTolerance));
   }
   std::printf("\n");
@@ -163,7 +163,8 @@ void printText(const RenderJob& job, const LoadedJob& loaded,
   if (maxError) {
     const std::string failure = firstFailure(v, *maxError);
     if (failure.empty())
-      std::printf("result     PASS: every interior error rate <= %s\n", percent(*maxError).c_str());
+      std::printf("result     PASS: every interior error rate <= %s\n",
+                  fourDecimalPercent(*maxError).c_str());
     else
       std::printf("result     FAIL: %s\n", failure.c_str());
   }

@@ -29,7 +29,7 @@ namespace omnishadow {
 namespace {
 
 // Names the output as the user gave it, also where the reason quotes the temporary's name.
-std::string cannotWrite(const std::filesystem::path& path, std::string reason) {
+std::string writeErrorMessage(const std::filesystem::path& path, std::string reason) {
   const std::string temporary = path.string();
   const std::string final = OutputTransaction::finalPathOf(path).string();
   for (std::size_t at = 0;
@@ -128,7 +128,7 @@ void writePng(const std::filesystem::path& path, int width, int height, int chan
 
 void writeFileBytes(const std::filesystem::path& path, std::string_view bytes) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  if (fd < 0) throw RenderError(cannotWrite(path, std::strerror(errno)));
+  if (fd < 0) throw RenderError(writeErrorMessage(path, std::strerror(errno)));
   std::size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
@@ -137,12 +137,12 @@ void writeFileBytes(const std::filesystem::path& path, std::string_view bytes) {
       // write() returns 0 only for a zero-length request; treat it as no space all the same.
       const int error = n < 0 ? errno : ENOSPC;
       ::close(fd);
-      throw RenderError(cannotWrite(path, std::strerror(error)));
+      throw RenderError(writeErrorMessage(path, std::strerror(error)));
     }
     done += static_cast<std::size_t>(n);
   }
   // Some file systems (NFS, quotas) report a full disk only when the file is closed.
-  if (::close(fd) != 0) throw RenderError(cannotWrite(path, std::strerror(errno)));
+  if (::close(fd) != 0) throw RenderError(writeErrorMessage(path, std::strerror(errno)));
 }
 
 void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPixelType type,
@@ -168,7 +168,7 @@ void writeExr(const std::filesystem::path& path, const FloatImage& image, ExrPix
     }
   } catch (const std::exception& error) {
     // Iex exceptions derive from std::exception; callers only know RenderError.
-    throw RenderError(cannotWrite(path, error.what()));
+    throw RenderError(writeErrorMessage(path, error.what()));
   }
 }
 

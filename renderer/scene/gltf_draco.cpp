@@ -16,7 +16,7 @@ namespace omnishadow::gltf_detail {
 
 namespace {
 
-constexpr const char* kExtension = "KHR_draco_mesh_compression";
+constexpr const char* kDracoExtension = "KHR_draco_mesh_compression";
 
 // Converts every point's value of `attribute` to the accessor's component type T, appended to
 // `out`; false when a value does not fit T.
@@ -76,9 +76,9 @@ int indicesAccessor(const Context& ctx, std::size_t meshIndex, std::size_t primI
 void decodeDraco(Context& ctx, std::size_t meshIndex, std::size_t primIndex) {
   ctx.dracoAccessors.clear();
   const tinygltf::Primitive& primitive = ctx.model.meshes[meshIndex].primitives[primIndex];
-  const auto found = primitive.extensions.find(kExtension);
+  const auto found = primitive.extensions.find(kDracoExtension);
   if (found == primitive.extensions.end()) return;
-  const std::string where = ctx.primitive + ".extensions." + kExtension;
+  const std::string where = ctx.primitive + ".extensions." + kDracoExtension;
   const tinygltf::Value& extension = found->second;
   if (!extension.IsObject() || !extension.Get("bufferView").IsNumber() ||
       !extension.Get("attributes").IsObject()) {

@@ -12,7 +12,7 @@ namespace omnishadow::gltf_detail {
 
 namespace {
 
-constexpr const char* kExtension = "EXT_mesh_gpu_instancing";
+constexpr const char* kInstancingExtension = "EXT_mesh_gpu_instancing";
 
 // The attribute's values, or nullopt when the extension does not give it.
 std::optional<AccessorValues> readInstanceAttribute(Context& ctx, const tinygltf::Value& attributes,
@@ -45,9 +45,9 @@ std::optional<AccessorValues> readInstanceAttribute(Context& ctx, const tinygltf
 
 std::vector<glm::mat4> instanceTransforms(Context& ctx, std::size_t nodeIndex) {
   const tinygltf::Node& node = ctx.model.nodes[nodeIndex];
-  const auto found = node.extensions.find(kExtension);
+  const auto found = node.extensions.find(kInstancingExtension);
   if (found == node.extensions.end()) return {};
-  const std::string where = at("nodes", nodeIndex) + ".extensions." + kExtension;
+  const std::string where = at("nodes", nodeIndex) + ".extensions." + kInstancingExtension;
   if (!found->second.IsObject() || !found->second.Get("attributes").IsObject()) {
     ctx.fail(where, "needs an attributes object");
   }

@@ -168,7 +168,7 @@ Json parseJson(std::string_view text, const std::string& label) {
 // Reading values with their JSON path
 
 // Where messages go: the file label for errors, and the warnings collected so far.
-struct Context {
+struct MessageContext {
   std::string label;
   std::vector<std::string> warnings;
 };
@@ -177,7 +177,7 @@ struct Context {
 // can name the field it is about.
 class Reader {
  public:
-  Reader(const Json& value, std::string path, Context& context)
+  Reader(const Json& value, std::string path, MessageContext& context)
       : value_(value), path_(std::move(path)), context_(context) {}
 
   const Json& value() const { return value_; }
@@ -226,7 +226,7 @@ class Reader {
  private:
   const Json& value_;
   std::string path_;
-  Context& context_;
+  MessageContext& context_;
 };
 
 // A number that stays finite once stored as a float: 1e300 is a finite double but not a float.
@@ -520,7 +520,7 @@ LightSetup loadLightsFile(const std::filesystem::path& path, std::vector<std::st
 
 LightSetup parseLights(std::string_view text, std::string_view fileLabel,
                        std::vector<std::string>& warnings) {
-  Context context{std::string(fileLabel), {}};
+  MessageContext context{std::string(fileLabel), {}};
   const Json document = parseJson(text, context.label);
   LightSetup setup = readSetup(Reader(document, "", context), context.label);
   // Warnings are handed out only once the file has loaded, so a failed load leaves `warnings`

@@ -38,8 +38,8 @@ CenterRange centerRange(const std::array<glm::dvec2, 3>& v, int width, int heigh
   const double minY = std::min({v[0].y, v[1].y, v[2].y});
   const double maxY = std::max({v[0].y, v[1].y, v[2].y});
   // Clamped before the conversion: a vertex far outside the frame is no int.
-  auto toInt = [](double v, int limit) {
-    return static_cast<int>(std::clamp(v, -1.0, static_cast<double>(limit)));
+  auto toInt = [](double value, int limit) {
+    return static_cast<int>(std::clamp(value, -1.0, static_cast<double>(limit)));
   };
   return {std::max(0, toInt(std::floor(minX - 0.5), width)),
           std::min(width - 1, toInt(std::ceil(maxX - 0.5), width)),
