@@ -13,7 +13,9 @@ if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
 endif()
 
 set(omnishadow_fuzz_sanitizers -fsanitize=fuzzer,address,undefined)
-set(omnishadow_fuzz_flags ${omnishadow_fuzz_sanitizers}
+# -O1 and line tables, as OSS-Fuzz builds its targets (scripts/fuzz.sh configures everything
+# else, the uninstrumented libraries, at -O1 without debug information).
+set(omnishadow_fuzz_flags ${omnishadow_fuzz_sanitizers} -O1 -gline-tables-only
   # Undefined behaviour is a finding, not a log line.
   -fno-sanitize-recover=all
   -fno-omit-frame-pointer
