@@ -28,6 +28,9 @@ function(omnishadow_fuzzer name)
   target_compile_options(${name} PRIVATE ${omnishadow_fuzz_flags} ${warnings})
   target_link_options(${name} PRIVATE ${omnishadow_fuzz_sanitizers})
   target_link_libraries(${name} PRIVATE glm::glm nlohmann_json::nlohmann_json)
+  # Combined units, as the libraries these sources come from (OMNISHADOW_UNITY_BUILD).
+  set_target_properties(${name} PROPERTIES UNITY_BUILD ${OMNISHADOW_UNITY_BUILD}
+                                           UNITY_BUILD_BATCH_SIZE 8)
 endfunction()
 
 omnishadow_fuzzer(fuzz_lights
