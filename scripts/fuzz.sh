@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Fuzzes the input parsers with libFuzzer: builds tests/fuzz/ into build-fuzz/ with clang,
 # AddressSanitizer and UndefinedBehaviorSanitizer, then runs each target for SECONDS (default 60;
-# as many targets at once as there are cores) on its corpus in build-fuzz/corpus-<target>/ (seeded by tests/fuzz/make_corpus.sh, kept and
-# grown between runs). Exits 1 when a fuzzer finds a crash, leak, timeout or out-of-memory, after
-# printing the input that triggers it and the command that reproduces it.
+# as many targets at once as there are cores) on its corpus in build-fuzz/corpus-<target>/
+# (seeded by tests/fuzz/make_corpus.sh, kept and grown between runs). Exits 1 when a fuzzer
+# finds a crash, leak, timeout or out-of-memory, after printing the input that triggers it and
+# the command that reproduces it.
 #   scripts/fuzz.sh [SECONDS]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
