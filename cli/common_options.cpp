@@ -31,8 +31,8 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
     app.add_option(
            "--shadow-pass", o.shadowPass,
            "How point-light cube maps are rendered: six, geometry, instanced or auto "
-           "(default; six: the fastest measured on llvmpipe; on an NVIDIA H100 within 8% of "
-           "instanced and 1.6x faster than geometry)")
+           "(default; six: the fastest measured on llvmpipe; on NVIDIA H100 and H200 GPUs "
+           "within 10% of instanced and 1.6-2.5x faster than geometry)")
         ->check(CLI::IsMember({"auto", "six", "geometry", "instanced"}));
   if (renders)
     app.add_option("--max-memory", o.maxMemoryMiB,

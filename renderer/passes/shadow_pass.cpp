@@ -23,7 +23,9 @@ ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
   // all vertex work and setup, while per-face passes keep that thread light and let the
   // rasterizer threads work. On an NVIDIA H100 (scripts/bench-gpu.sh, three runs of 5 rounds,
   // steady pass): six 16.0-17.8 ms, instanced 15.0-16.9, geometry 25.0-27.5; instanced was
-  // ahead of six by 3-8% in 14 rounds of 15. Not yet chosen by driver: one GPU model measured.
+  // ahead of six by 3-8% in 14 rounds of 15. On an NVIDIA H200 at 7249b74 (two runs of 5
+  // rounds): six 7.7-9.1 ms, instanced 7.6-8.7, geometry 17.9-19.2; neither of six and
+  // instanced ahead in every round. Not chosen by driver: no GPU showed a margin worth a rule.
   (void)glRenderer;
   return ShadowPassStrategy::Six;
 }
