@@ -28,6 +28,7 @@
 #include "renderer/view/shadow_plan.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
+#include "tests/support/segment_occlusion.h"
 #include "tests/support/shared_renderer.h"
 
 using namespace omnishadow;
@@ -35,7 +36,9 @@ using namespace omnishadow;
 namespace {
 
 using test_support::lookFrom;
+using test_support::segmentBlocked;
 using test_support::sharedRenderer;
+using test_support::WorldTriangle;
 
 int addMaterial(Scene& scene, glm::vec4 color, bool doubleSided = false) {
   Material m;
@@ -1281,12 +1284,8 @@ TEST(Shadows, MoreShadowTexturesThanTheShaderSamplesIsAnInputError) {
 
 namespace {
 
-struct Triangle {
-  glm::vec3 a, b, c;
-};
-
-std::vector<Triangle> worldTriangles(const Scene& scene) {
-  std::vector<Triangle> triangles;
+std::vector<WorldTriangle> worldTriangles(const Scene& scene) {
+  std::vector<WorldTriangle> triangles;
   for (const MeshInstance& instance : scene.instances) {
     const Mesh& mesh = scene.meshes[instance.mesh];
     auto world = [&](std::uint32_t i) {
@@ -1299,32 +1298,12 @@ std::vector<Triangle> worldTriangles(const Scene& scene) {
   return triangles;
 }
 
-// Möller-Trumbore: does the open segment from `from` to `to` cross a triangle?
-bool segmentBlocked(const std::vector<Triangle>& triangles, glm::vec3 from, glm::vec3 to) {
-  const glm::vec3 d = to - from;
-  for (const Triangle& t : triangles) {
-    const glm::vec3 e1 = t.b - t.a, e2 = t.c - t.a;
-    const glm::vec3 p = glm::cross(d, e2);
-    const float det = glm::dot(e1, p);
-    if (std::abs(det) < 1e-12f) continue;
-    const glm::vec3 s = from - t.a;
-    const float u = glm::dot(s, p) / det;
-    if (u < 0.0f || u > 1.0f) continue;
-    const glm::vec3 q = glm::cross(s, e1);
-    const float v = glm::dot(d, q) / det;
-    if (v < 0.0f || u + v > 1.0f) continue;
-    const float hit = glm::dot(e2, q) / det;
-    if (hit > 1e-4f && hit < 1.0f - 1e-4f) return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 TEST(Shadows, CornellBoxVisibilityAgreesWithRayCasting) {
   const Scene scene = loadGltf(std::string(OMNISHADOW_SOURCE_DIR) +
                                "/scenes/thirdparty/CornellBoxSuzanne/cornell-box.glb");
-  const std::vector<Triangle> triangles = worldTriangles(scene);
+  const std::vector<WorldTriangle> triangles = worldTriangles(scene);
   const glm::vec3 lightPosition(0.15f, 0.55f, 0.35f);
   const int resolution = 1024;
   const Light light = pointLight("lamp", lightPosition, ShadowFilter::Hard, resolution);
