@@ -28,9 +28,11 @@ function(omnishadow_fuzzer name)
   target_compile_options(${name} PRIVATE ${omnishadow_fuzz_flags} ${warnings})
   target_link_options(${name} PRIVATE ${omnishadow_fuzz_sanitizers})
   target_link_libraries(${name} PRIVATE glm::glm nlohmann_json::nlohmann_json)
-  # Combined units, as the libraries these sources come from (OMNISHADOW_UNITY_BUILD).
+  # Combined units, as the libraries these sources come from (OMNISHADOW_UNITY_BUILD), but
+  # larger: the fuzz build compiles these once from nothing and never edits them. fuzz_gltf's
+  # 35 files in 2 units took 101 compiler seconds, in 5 units of 8 128.
   set_target_properties(${name} PROPERTIES UNITY_BUILD ${OMNISHADOW_UNITY_BUILD}
-                                           UNITY_BUILD_BATCH_SIZE 8)
+                                           UNITY_BUILD_BATCH_SIZE 20)
 endfunction()
 
 omnishadow_fuzzer(fuzz_lights
