@@ -38,3 +38,11 @@ if(OMNISHADOW_SANITIZE_THREADS)
   add_link_options(-fsanitize=thread)
   message(STATUS "omnishadow: building with ThreadSanitizer")
 endif()
+
+# Whether this build is instrumented at all: what the root CMakeLists.txt tests to build the
+# CLI at -O0, leave out the generators and the Python module.
+if(OMNISHADOW_SANITIZE OR OMNISHADOW_SANITIZE_THREADS)
+  set(OMNISHADOW_INSTRUMENTED ON)
+else()
+  set(OMNISHADOW_INSTRUMENTED OFF)
+endif()

@@ -45,9 +45,10 @@ void readBytes(png_structp png, png_bytep out, png_size_t count) {
 
 void onWarning(png_structp, png_const_charp) {}
 
-// False with read.error set when libpng gave up. No object with a destructor may live in this
-// frame: longjmp would skip it.
-bool decode(PngRead& read) {
+// False with read.error set when libpng gave up. No object with a destructor may live in the
+// frames that call setjmp (longjmp would skip it), so the size check, which builds a message,
+// runs between the two.
+bool readInfo(PngRead& read) {
   if (setjmp(png_jmpbuf(read.png))) return false;
   png_set_read_fn(read.png, &read, readBytes);
   png_set_sig_bytes(read.png, 8);
@@ -60,8 +61,11 @@ bool decode(PngRead& read) {
   read.height = png_get_image_height(read.png, read.info);
   read.channels = png_get_channels(read.png, read.info);
   read.bitDepth = png_get_bit_depth(read.png, read.info);
-  read.error = imageSizeProblem(read.width, read.height, read.channels);
-  if (!read.error.empty()) return false;
+  return true;
+}
+
+bool readImage(PngRead& read) {
+  if (setjmp(png_jmpbuf(read.png))) return false;
   const std::size_t rowBytes = png_get_rowbytes(read.png, read.info);
   read.data.resize(rowBytes * read.height);
   read.rows.resize(read.height);
@@ -84,7 +88,10 @@ FloatImage decodePng(const std::string& bytes, const std::string& name) {
   if (!read.png) throw fail("out of memory");
   read.info = png_create_info_struct(read.png);
   if (!read.info) throw fail("out of memory");
-  if (!decode(read)) throw fail(read.error);
+  if (!readInfo(read)) throw fail(read.error);
+  const std::string sizeProblem = imageSizeProblem(read.width, read.height, read.channels);
+  if (!sizeProblem.empty()) throw fail(sizeProblem);
+  if (!readImage(read)) throw fail(read.error);
 
   FloatImage image;
   image.width = static_cast<int>(read.width);

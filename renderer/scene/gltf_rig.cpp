@@ -280,7 +280,7 @@ void readInfluences(Context& ctx, const tinygltf::Primitive& primitive, const st
           ctx.fail(object + ".attributes.JOINTS_" + std::to_string(set),
                    "joint " + std::to_string(static_cast<long long>(joint)) +
                        " is out of range (the skin has " + plural(jointCount, "joint") + ")");
-        out.joints[slot] = weight != 0.0 ? static_cast<std::uint16_t>(joint) : 0;
+        out.joints[slot] = weight != 0.0 ? static_cast<std::uint16_t>(joint) : std::uint16_t{0};
         out.weights[slot] = std::isfinite(weight) ? static_cast<float>(weight) : 0.0f;
       }
     }
