@@ -15,6 +15,8 @@ packages=(
   libpng-dev libdeflate-dev
   # JPEG textures
   libturbojpeg0-dev
+  # digests of the textures kept between renders (the header, compiled in)
+  libxxhash-dev
   # compressed glTF geometry (KHR_draco_mesh_compression, EXT/KHR_meshopt_compression)
   libdraco-dev libmeshoptimizer-dev
   # exact shadow rays for `omnishadow verify`

@@ -68,13 +68,28 @@ TEST(TextureCache, MakesATextureOncePerImageAndColorSpace) {
   EXPECT_EQ(made, 6);
   EXPECT_EQ(cache.size(), 6u);
 
-  cache.dropUnused();  // all six were found since it was made: kept
-  EXPECT_EQ(cache.size(), 6u);
+  // Above 4 MiB the digest is taken in two halves on two threads: a byte in either half, away
+  // from the sampled words, still tells two images apart, and the same bytes find the texture
+  // again (its own digest taken once, from its first level read back, then kept).
+  const Image huge = image(1100, 1000, 9);  // 4.4 MB
+  const auto hugeTexture = cache.find(huge, false, maker(huge, false));
+  for (const std::size_t at : {std::size_t{1500}, huge.rgba.size() - 1500}) {
+    Image changedHalf = huge;
+    changedHalf.rgba[at] = 10;
+    EXPECT_NE(cache.find(changedHalf, false, maker(changedHalf, false)), hugeTexture) << at;
+  }
+  EXPECT_EQ(cache.find(huge, false, maker(huge, false)), hugeTexture);
+  EXPECT_EQ(cache.find(huge, false, maker(huge, false)), hugeTexture);
+  EXPECT_EQ(made, 9);
+  EXPECT_EQ(cache.size(), 9u);
+
+  cache.dropUnused();  // all nine were found since they were made: kept
+  EXPECT_EQ(cache.size(), 9u);
   cache.find(a, true, maker(a, true));
   cache.dropUnused();  // only `a` (sRGB) was found since
   EXPECT_EQ(cache.size(), 1u);
   EXPECT_EQ(cache.find(a, true, maker(a, true)), first);
-  EXPECT_EQ(made, 6);
+  EXPECT_EQ(made, 9);
 }
 
 // A textured box rendered again is the same picture; with its texture changed in memory the

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "renderer/gl/gl_resources.h"
@@ -14,9 +15,11 @@ namespace omnishadow {
 // (frame sets, --repeat, batch jobs of one scene, the Python module's renders) takes its
 // textures, mipmaps and all, from here instead of making them again (Sundial's 2048^2 texture
 // was 13 of its 17 ms of upload a frame). A texture is taken for an image of its size and color
-// space whose bytes equal its first level, read back and compared: exact. Only candidates whose
-// sample of 1024 words matches the image's are read back, so that images of one size (a
-// model's textures, a batch of scenes) are not compared with each other whole.
+// space whose bytes have the 128-bit XXH3 digest of the bytes it was made from. Only candidates
+// whose sample of 1024 words matches the image's are compared, so that the first render of an
+// image hashes nothing, and images of one size (a model's textures, a batch of scenes) are not
+// hashed against each other. An entry's own digest is taken once, from its first level read
+// back, when an image first asks for it: a process that renders once never pays for it.
 class TextureCache {
  public:
   // The texture of `image` as `srgb` says, made by `make` when none is here. Needs the GL
@@ -29,17 +32,23 @@ class TextureCache {
   std::size_t size() const { return entries_.size(); }
 
  private:
+  struct Digest {
+    std::uint64_t low = 0, high = 0;
+    bool operator==(const Digest&) const = default;
+  };
   struct Entry {
     int width = 0, height = 0;
     bool srgb = false;
-    std::uint64_t sample = 0;  // sampleOf() the image
+    std::uint64_t sample = 0;     // sampleOf() the image
+    std::optional<Digest> bytes;  // of the first level, taken when first compared
     std::shared_ptr<const gl::Texture> texture;
     bool used = true;
   };
   static std::uint64_t sampleOf(const Image& image);
-  bool holds(const Entry& entry, const Image& image, std::uint64_t sample);
+  static Digest digestOf(const std::uint8_t* bytes, std::size_t size);
+  Digest entryDigest(Entry& entry, std::size_t size);
   std::vector<Entry> entries_;
-  std::vector<std::uint8_t> readback_;  // holds()'s, kept for the next comparison
+  std::vector<std::uint8_t> readback_;  // entryDigest()'s, kept for the next one
 };
 
 }  // namespace omnishadow
