@@ -45,7 +45,9 @@ SceneCasters describeCasters(const GpuScene& scene) {
     out.geometry.push_back({static_cast<std::uint32_t>(range.indexCount),
                             static_cast<std::uint32_t>(range.firstIndex), range.baseVertex,
                             draw.casterFirstIndex});
+    if (isTranslucentCaster(material)) out.translucent.push_back(out.casters.size() - 1);
   }
+  out.reach.emplace(out.casters);
   return out;
 }
 
@@ -93,9 +95,17 @@ std::vector<TexelRect> casterTexels(const std::vector<ShadowCaster>& casters,
                                     const CasterCulling& culling, const LightShadowPlan& plan,
                                     int resolution) {
   std::vector<TexelRect> texels(static_cast<std::size_t>(plan.layerCount));
-  for (std::size_t c = 0; c < casters.size(); ++c)
-    uniteCasterTexels(plan, culling.viewMask[c], casters[c].center, casters[c].radius, resolution,
-                      texels);
+  // Layers already whole cannot grow: their casters need no projection.
+  unsigned open = plan.layerCount >= 32 ? ~0u : (1u << plan.layerCount) - 1u;
+  for (std::size_t c = 0; c < casters.size() && open != 0u; ++c) {
+    const unsigned views = culling.viewMask[c] & open;
+    if (views == 0u) continue;
+    uniteCasterTexels(plan, views, casters[c].center, casters[c].radius, resolution, texels);
+    for (int layer = 0; layer < plan.layerCount; ++layer)
+      if ((views >> layer & 1u) != 0u &&
+          texels[static_cast<std::size_t>(layer)] == TexelRect::whole(resolution))
+        open &= ~(1u << layer);
+  }
   return texels;
 }
 
@@ -132,14 +142,13 @@ int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
   const std::vector<ShadowCaster>& casters = sceneCasters.casters;
   // Variance maps are blurred: a left-out floor would change its neighbours' moments.
   CasterCulling culling = cullCasters(casters, shadowCullingLight(light, plan, cube),
-                                      everyCaster || moments ? Bounds{} : scene.receiverBounds());
+                                      everyCaster || moments ? Bounds{} : scene.receiverBounds(),
+                                      sceneCasters.reach ? &*sceneCasters.reach : nullptr);
 
   // With translucent shadows, translucent casters tint the light in the transmittance pass
   // (transmittance_pass.h) instead of blocking it here.
   if (castsTranslucentShadows(light))
-    for (std::size_t c = 0; c < casters.size(); ++c)
-      if (isTranslucentCaster(scene.materials()[scene.draws()[c].material].desc))
-        culling.viewMask[c] = 0;
+    for (const std::size_t c : sceneCasters.translucent) culling.viewMask[c] = 0;
   const ShadowDrawList draws = buildShadowDraws(casters, sceneCasters.geometry, culling,
                                                 plan.layerCount, layering, !moments);
   commands_.upload(draws.commands);

@@ -2,6 +2,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "renderer/passes/shadow_textures.h"
 #include "renderer/render/render_settings.h"
 #include "renderer/scene/light.h"
+#include "renderer/view/caster_reach_grid.h"
 #include "renderer/view/shadow_draws.h"
 
 namespace omnishadow {
@@ -25,6 +27,11 @@ ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
 struct SceneCasters {
   std::vector<ShadowCaster> casters;
   std::vector<CasterGeometry> geometry;
+  // The casters drawn with a translucent material (isTranslucentCaster), ascending: lights
+  // with translucent shadows leave them to the transmittance pass. Found once per frame, not
+  // per light: a material lookup per caster and light cost 256 lights on 2006 casters 9 ms.
+  std::vector<std::size_t> translucent;
+  std::optional<CasterReachGrid> reach;  // of `casters`
 };
 SceneCasters describeCasters(const GpuScene& scene);
 

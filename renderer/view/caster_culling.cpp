@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "renderer/view/caster_reach_grid.h"
 #include "renderer/view/sphere_projection.h"
 
 namespace omnishadow {
@@ -159,22 +160,39 @@ bool shadowsNoReceiver(const MeshPlane& plane, const ShadowCullingLight& light,
 }
 
 CasterCulling cullCasters(const std::vector<ShadowCaster>& casters, const ShadowCullingLight& light,
-                          const Bounds& receivers) {
+                          const Bounds& receivers, const CasterReachGrid* grid) {
   std::vector<ViewFrustum> views;
   views.reserve(light.viewProjections.size());
   for (const glm::mat4& viewProjection : light.viewProjections) views.emplace_back(viewProjection);
   const bool cube = light.type == LightType::Point && views.size() == 6 &&
                     light.tanHalfFov == 1.0f && light.far > 0.0f;
   CasterCulling culling;
-  culling.viewMask.reserve(casters.size());
-  culling.bucket.reserve(casters.size());
-  for (const ShadowCaster& caster : casters) {
-    const bool flat = caster.plane && shadowsNoReceiver(*caster.plane, light, receivers);
-    culling.flatLeftOut += flat;
-    const bool skipped = flat || (cube && outsideCubeReach(light, caster.center, caster.radius));
-    culling.viewMask.push_back(skipped ? 0u : casterViewMask(views, caster.center, caster.radius));
-    culling.bucket.push_back(cullBucket(caster, light));
+  culling.viewMask.assign(casters.size(), 0u);
+  culling.bucket.assign(casters.size(), CullBucket::None);
+  const auto flat = [&](const ShadowCaster& caster) {
+    return caster.plane && shadowsNoReceiver(*caster.plane, light, receivers);
+  };
+  const auto cull = [&](std::size_t c, bool leftOutFlat) {
+    const ShadowCaster& caster = casters[c];
+    if (leftOutFlat || (cube && outsideCubeReach(light, caster.center, caster.radius))) return;
+    const unsigned mask = casterViewMask(views, caster.center, caster.radius);
+    culling.viewMask[c] = mask;
+    if (mask != 0u) culling.bucket[c] = cullBucket(caster, light);
+  };
+  if (!cube || grid == nullptr) {
+    for (std::size_t c = 0; c < casters.size(); ++c) {
+      const bool leftOut = flat(casters[c]);
+      culling.flatLeftOut += leftOut;
+      cull(c, leftOut);
+    }
+    return culling;
   }
+  // Every flat caster counts, reached or not; the others are tested only where the grid says
+  // the bound may let them through (it rejects the rest).
+  for (const std::uint32_t c : grid->flat()) culling.flatLeftOut += flat(casters[c]);
+  std::vector<std::uint32_t> reached;
+  grid->candidates(light.position, light.far, reached);
+  for (const std::uint32_t c : reached) cull(c, flat(casters[c]));
   return culling;
 }
 

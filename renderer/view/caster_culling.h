@@ -38,6 +38,7 @@ struct TexelRect {
   // empty one stays empty).
   TexelRect grown(int dx, int dy, int resolution) const;
   static TexelRect whole(int resolution) { return {0, 0, resolution, resolution}; }
+  bool operator==(const TexelRect& other) const = default;
 };
 
 // Conservative: the texels of a `resolution`-sided view that a sphere can cover, with a texel
@@ -108,12 +109,16 @@ bool shadowsNoReceiver(const MeshPlane& plane, const ShadowCullingLight& light,
 // Per caster, in caster order.
 struct CasterCulling {
   std::vector<unsigned> viewMask;
-  std::vector<CullBucket> bucket;
-  int flatLeftOut = 0;  // casters whose mask shadowsNoReceiver() emptied
+  std::vector<CullBucket> bucket;  // None where viewMask is 0 (no draw asks)
+  int flatLeftOut = 0;             // casters whose mask shadowsNoReceiver() emptied
 };
+class CasterReachGrid;
+
 // `receivers`: where shadows can land (GpuGeometry::receiverBounds); empty when every caster
 // must be drawn anyway (variance maps blur what the casters wrote into their neighbours).
+// `grid` (of `casters`), when given, lets a point light test only the casters near it; the
+// answer is the same either way.
 CasterCulling cullCasters(const std::vector<ShadowCaster>& casters, const ShadowCullingLight& light,
-                          const Bounds& receivers);
+                          const Bounds& receivers, const CasterReachGrid* grid = nullptr);
 
 }  // namespace omnishadow

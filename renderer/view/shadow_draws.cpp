@@ -1,6 +1,7 @@
 #include "renderer/view/shadow_draws.h"
 
 #include <algorithm>
+#include <array>
 
 namespace omnishadow {
 namespace {
@@ -39,16 +40,21 @@ ShadowDrawList buildShadowDraws(const std::vector<ShadowCaster>& casters,
     std::stable_sort(worldOrder.begin(), worldOrder.end(), [&](std::size_t a, std::size_t b) {
       return geometry[a].casterFirstIndex < geometry[b].casterFirstIndex;
     });
+  // Each (culling state, vertex source) batch's casters, in its order, found once rather than
+  // in every view's pass: a light's 36 passes each walked all its casters.
+  std::array<std::array<std::vector<std::size_t>, 2>, kCullBucketCount> batched;
+  for (const bool world : {true, false})
+    for (const std::size_t c : world ? worldOrder : casterOrder)
+      if ((geometry[c].casterFirstIndex >= 0) == world)
+        batched[static_cast<std::size_t>(culling.bucket[c])][world ? 0 : 1].push_back(c);
   ShadowDrawList list;
   for (int view = firstPassView(layering); view < passViewEnd(layering, views); ++view)
     for (int bucket = 0; bucket < kCullBucketCount; ++bucket)
       for (const bool world : {true, false}) {
         const int first = static_cast<int>(list.objects.size());
-        for (const std::size_t c : world ? worldOrder : casterOrder) {
+        for (const std::size_t c : batched[static_cast<std::size_t>(bucket)][world ? 0 : 1]) {
           const CasterGeometry& g = geometry[c];
-          if (culling.bucket[c] != static_cast<CullBucket>(bucket) ||
-              (g.casterFirstIndex >= 0) != world || !drawnIn(view, culling.viewMask[c]))
-            continue;
+          if (!drawnIn(view, culling.viewMask[c])) continue;
           // Runs of consecutive faces become one command each.
           forEachFaceRun(
               instancesIn(layering, view, culling.viewMask[c]), views,

@@ -4,8 +4,11 @@
 
 namespace omnishadow {
 
-std::optional<NdcBounds> projectedSphereBox(const glm::mat4& viewProjection,
-                                            const glm::vec3& center, float radius) {
+// Flattened: glm's matrix-vector product is otherwise called out of line, eight times per
+// sphere and view, for every caster a light keeps (the same arithmetic either way).
+[[gnu::flatten]] std::optional<NdcBounds> projectedSphereBox(const glm::mat4& viewProjection,
+                                                             const glm::vec3& center,
+                                                             float radius) {
   // The box lies in front of the eye when all its corners do (w is linear in position).
   NdcBounds bounds{glm::vec2(std::numeric_limits<float>::max()),
                    glm::vec2(std::numeric_limits<float>::lowest())};
