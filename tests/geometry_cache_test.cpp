@@ -32,23 +32,24 @@ TEST(GeometryCache, FindsTheLastGeometryForTheSameMeshesOnly) {
   test_support::sharedRenderer();  // its GL context is current here
   GeometryCache cache;
   Scene scene = boxTextured();
-  const std::shared_ptr<const GpuGeometry> first = cache.find(scene);
+  const std::shared_ptr<const GpuGeometry> first = cache.find(scene, meshDigests(scene));
   ASSERT_TRUE(first);
-  EXPECT_EQ(cache.find(scene), first);
+  EXPECT_EQ(cache.find(scene, meshDigests(scene)), first);
   const Scene copy = scene;  // another object with the same contents
-  EXPECT_EQ(cache.find(copy), first);
+  EXPECT_EQ(cache.find(copy, meshDigests(copy)), first);
   EXPECT_EQ(first->draws().size(), scene.instances.size());
 
   Scene materials = scene;  // materials and images are not geometry
   materials.materials[0].baseColorFactor = glm::vec4(0.25f);
   for (std::uint8_t& v : materials.images[0].rgba) v = 0;
-  EXPECT_EQ(cache.find(materials), first);
+  EXPECT_EQ(cache.find(materials, meshDigests(materials)), first);
 
   moveMeshes(scene, {0.5f, 0.0f, 0.0f});  // in place
-  const std::shared_ptr<const GpuGeometry> moved = cache.find(scene);
+  const std::shared_ptr<const GpuGeometry> moved = cache.find(scene, meshDigests(scene));
   EXPECT_NE(moved, first);
-  EXPECT_EQ(cache.find(scene), moved);
-  EXPECT_NE(cache.find(copy), moved);  // only the last is kept: the first is made again
+  EXPECT_EQ(cache.find(scene, meshDigests(scene)), moved);
+  EXPECT_NE(cache.find(copy, meshDigests(copy)),
+            moved);  // only the last is kept: the first is made again
 }
 
 // Rendering one scene object, changing its meshes in place, and rendering it again draws the

@@ -152,5 +152,46 @@ TEST(GeometryFingerprint, EveryMeshArrayCountsButNotMaterialsOrImages) {
   EXPECT_EQ(geometryFingerprint(shading), h);
 }
 
+
+// Above 4 MiB the meshes are hashed on two threads: each mesh's digests are those it has
+// hashed alone, in the scene's order, and a change in either half of the meshes counts.
+TEST(MeshDigests, ALargeSceneHashedOnTwoThreadsGivesEachMeshItsOwnDigests) {
+  Scene large;
+  const builder::MeshData data = builder::makeSphere(1.0f, 160, 80);
+  for (int k = 0; k < 24; ++k) {
+    Mesh mesh;
+    mesh.positions = data.positions;
+    mesh.normals = data.normals;
+    mesh.indices = data.indices;
+    mesh.positions[static_cast<std::size_t>(k)].x += 1.0f;  // no two alike
+    large.meshes.push_back(mesh);
+    MeshInstance instance;
+    instance.mesh = k;
+    large.instances.push_back(instance);
+  }
+  std::size_t bytes = 0;
+  for (const Mesh& m : large.meshes)
+    bytes += m.positions.size() * 24 + m.indices.size() * 4;  // positions and normals
+  ASSERT_GT(bytes, std::size_t{4} << 20);
+
+  const std::vector<MeshDigests> digests = meshDigests(large);
+  ASSERT_EQ(digests.size(), large.meshes.size());
+  for (std::size_t k = 0; k < large.meshes.size(); ++k) {
+    Scene alone;
+    alone.meshes.push_back(large.meshes[k]);
+    const MeshDigests own = meshDigests(alone)[0];
+    EXPECT_EQ(digests[k].positions, own.positions) << k;
+    EXPECT_EQ(digests[k].normals, own.normals) << k;
+    EXPECT_EQ(digests[k].indices, own.indices) << k;
+  }
+  const std::uint64_t shadow = shadowFingerprint(large), geometry = geometryFingerprint(large);
+  for (const std::size_t k : {std::size_t{0}, large.meshes.size() - 1}) {
+    Scene changed = large;
+    flipBit(changed.meshes[k].positions[100].y, 0);
+    EXPECT_NE(shadowFingerprint(changed), shadow) << k;
+    EXPECT_NE(geometryFingerprint(changed), geometry) << k;
+  }
+}
+
 }  // namespace
 }  // namespace omnishadow

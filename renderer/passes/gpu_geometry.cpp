@@ -202,8 +202,9 @@ void GpuGeometry::uploadCasterStream(const Scene& scene) {
                        indices.empty() ? nullptr : indices.data(), 0);
 }
 
-std::shared_ptr<const GpuGeometry> GeometryCache::find(const Scene& scene) {
-  const std::uint64_t fingerprint = geometryFingerprint(scene);
+std::shared_ptr<const GpuGeometry> GeometryCache::find(const Scene& scene,
+                                                       const std::vector<MeshDigests>& meshes) {
+  const std::uint64_t fingerprint = geometryFingerprint(scene, meshes);
   if (geometry_ && fingerprint == fingerprint_) return geometry_;
   geometry_.reset();  // its buffers go before the new ones are made
   geometry_ = std::make_shared<const GpuGeometry>(scene);

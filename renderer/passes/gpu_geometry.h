@@ -10,6 +10,7 @@
 #include "renderer/scene/bounds.h"
 #include "renderer/scene/mesh_topology.h"
 #include "renderer/scene/scene.h"
+#include "renderer/scene/scene_fingerprint.h"
 
 namespace omnishadow {
 
@@ -98,8 +99,9 @@ class GpuGeometry {
 // posed in place or changed in memory between renders hashes differently and is uploaded anew.
 class GeometryCache {
  public:
-  // Needs the GL context the buffers belong to.
-  std::shared_ptr<const GpuGeometry> find(const Scene& scene);
+  // Needs the GL context the buffers belong to. `meshes`: the scene's meshDigests().
+  std::shared_ptr<const GpuGeometry> find(const Scene& scene,
+                                          const std::vector<MeshDigests>& meshes);
 
  private:
   std::uint64_t fingerprint_ = 0;

@@ -85,8 +85,11 @@ struct GpuScene::TextureUploads {
   MipmapQueue chains;
 };
 
-GpuScene::GpuScene(const Scene& scene, TextureCache* textures, GeometryCache* geometry)
-    : geometry_(geometry ? geometry->find(scene) : std::make_shared<const GpuGeometry>(scene)),
+GpuScene::GpuScene(const Scene& scene, TextureCache* textures, GeometryCache* geometry,
+                   const std::vector<MeshDigests>* meshes)
+    : geometry_(!geometry ? std::make_shared<const GpuGeometry>(scene)
+                : meshes  ? geometry->find(scene, *meshes)
+                          : geometry->find(scene, meshDigests(scene))),
       textureCache_(textures) {
   uploadMaterials(scene);
 }

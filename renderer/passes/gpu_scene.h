@@ -27,9 +27,11 @@ struct GpuMaterial {
 class GpuScene {
  public:
   // With `textures`, textures are taken from and added to that cache; with `geometry`, the
-  // geometry is taken from that cache when it holds this scene's.
+  // geometry is taken from that cache when it holds this scene's (`meshes`: the scene's
+  // meshDigests(), found here when not given).
   explicit GpuScene(const Scene& scene, TextureCache* textures = nullptr,
-                    GeometryCache* geometry = nullptr);
+                    GeometryCache* geometry = nullptr,
+                    const std::vector<MeshDigests>* meshes = nullptr);
 
   GLuint vertexArray() const { return geometry_->vertexArray(); }
   // GpuGeometry::vertexArrays() and makeVertexArrays().

@@ -196,9 +196,10 @@ class Renderer::Impl {
   LightingPass& lightingPass(Shading shading, PassOutputs outputs,
                              const LightingFeatures& features);
   FrameTargets& beautyTargets(int width, int height, PassOutputs outputs);
+  // `fingerprint`: the scene's shadowFingerprint() where the shadow cache may be used.
   void renderShadows(Prepared& prepared, ShadowAtlasPlan plan, const Scene& scene,
                      const std::vector<Light>& lights, const RenderSettings& settings,
-                     bool useCache, Frame* frame);
+                     std::optional<std::uint64_t> fingerprint, Frame* frame);
   std::vector<ShadowMapDump> readShadowMaps(const Prepared& prepared, StageTimes& times);
   std::vector<PlanarShadowMapDump> readPlanarShadowMaps(const Prepared& prepared,
                                                         StageTimes& times);
@@ -306,8 +307,9 @@ class Renderer::Impl {
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
 struct Renderer::Impl::Prepared {
-  Prepared(const Scene& s, TextureCache* textures, GeometryCache* geometry)
-      : gpu(s, textures, geometry), bounds(s.bounds) {}
+  Prepared(const Scene& s, TextureCache* textures, GeometryCache* geometry,
+           const std::vector<MeshDigests>* meshes)
+      : gpu(s, textures, geometry, meshes), bounds(s.bounds) {}
   GpuScene gpu;
   Bounds bounds;  // the scene's, for defaults that follow its scale
   LightingFeatures features;
@@ -450,10 +452,10 @@ bool sameShadowMap(const Light& before, const LightShadowPlan& planBefore, const
 
 void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, const Scene& scene,
                                    const std::vector<Light>& lights, const RenderSettings& settings,
-                                   bool useCache, Frame* frame) {
+                                   std::optional<std::uint64_t> fingerprint, Frame* frame) {
   prepared.atlas = std::move(atlas);
-  const std::uint64_t fingerprint = useCache ? shadowFingerprint(scene) : 0;
-  prepared.fingerprint = fingerprint;
+  const bool useCache = fingerprint.has_value();
+  prepared.fingerprint = fingerprint.value_or(0);
   std::optional<ShadowCache> cache = std::move(shadowCache_);
   shadowCache_.reset();
   // Maps that are read back hold every caster; the others leave out flat casters that shadow
@@ -461,7 +463,7 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
   // before it.
   const bool everyCaster = readsShadowMaps(settings);
   prepared.everyCaster = everyCaster;
-  const bool reuse = useCache && cache && cache->scene == fingerprint &&
+  const bool reuse = useCache && cache && cache->scene == *fingerprint &&
                      cache->everyCaster == everyCaster &&
                      sameGroups(cache->plan.groups, prepared.atlas.groups);
   if (reuse) {
@@ -950,7 +952,9 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   shaders.stop();
 
   ScopedStage upload(times, "upload");
-  Prepared prepared(scene, &textureCache_, &geometryCache_);
+  // Hashed once for both caches, the geometry's and the shadow maps'.
+  const std::vector<MeshDigests> meshes = meshDigests(scene);
+  Prepared prepared(scene, &textureCache_, &geometryCache_, &meshes);
   textureCache_.dropUnused();  // an earlier scene's textures this one did not take
   prepared.features = features;
   prepared.beautyOutputs = beautyOutputs;
@@ -975,7 +979,8 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   }
 
   ScopedStage shadowStage(times, "shadow maps");
-  renderShadows(prepared, std::move(plan.shadows), scene, lights, settings, true, &frame);
+  renderShadows(prepared, std::move(plan.shadows), scene, lights, settings,
+                shadowFingerprint(scene, meshes), &frame);
   glFinish();
   shadowStage.stop();
 
@@ -1128,13 +1133,13 @@ std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const 
 std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(const Scene& scene,
                                                                  const std::vector<Light>& lights,
                                                                  ShadowPassStrategy strategy) {
-  Prepared prepared(scene, nullptr, nullptr);
+  Prepared prepared(scene, nullptr, nullptr, nullptr);
   RenderSettings settings;
   settings.shadowPass = strategy;
   settings.readShadowMaps = true;
   ShadowAtlasPlan plan =
       planShadowAtlas(lights, ViewCamera{}, scene.bounds, ShadowLimits{limits_.maxArrayLayers});
-  renderShadows(prepared, std::move(plan), scene, lights, settings, false, nullptr);
+  renderShadows(prepared, std::move(plan), scene, lights, settings, std::nullopt, nullptr);
   std::vector<CubeDistances> out;
   for (const ShadedLight& s : prepared.shaded)
     if (s.shadow && s.light->type == LightType::Point)
