@@ -11,6 +11,7 @@
 #include "renderer/view/cube_faces.h"
 #include "renderer/view/shadow_draws.h"
 #include "renderer/view/shadow_views.h"
+#include "tests/support/cube_culling_light.h"
 
 using namespace omnishadow;
 
@@ -25,18 +26,7 @@ unsigned faceBit(CubeFace face) {
 // A point light at `position` with near 0.1 and far 100, like the shadow plan makes it.
 ShadowCullingLight pointLight(const glm::vec3& position, CullFace cullFace = CullFace::None,
                               float near = 0.1f, float far = 100.0f) {
-  ShadowCullingLight light;
-  light.type = LightType::Point;
-  light.position = position;
-  light.cullFace = cullFace;
-  light.near = near;
-  light.far = far;
-  light.tanHalfFov = 1.0f;
-  const glm::mat4 projection = cubeFaceProjection(light.near, far);
-  for (int face = 0; face < kCubeFaceCount; ++face)
-    light.viewProjections.push_back(projection *
-                                    cubeFaceView(static_cast<CubeFace>(face), position));
-  return light;
+  return test::cubeCullingLight(position, cullFace, near, far);
 }
 
 // A spot light at the origin looking down -z, outer cone 30 degrees, near 0.5, far 20.

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "renderer/view/caster_culling.h"
-#include "renderer/view/cube_faces.h"
+#include "tests/support/cube_culling_light.h"
 
 using namespace omnishadow;
 
@@ -28,18 +28,7 @@ struct Random {
 };
 
 ShadowCullingLight pointLight(const glm::vec3& position, float far, CullFace cullFace) {
-  ShadowCullingLight light;
-  light.type = LightType::Point;
-  light.position = position;
-  light.cullFace = cullFace;
-  light.near = far * 0.01f;
-  light.far = far;
-  light.tanHalfFov = 1.0f;
-  const glm::mat4 projection = cubeFaceProjection(light.near, far);
-  for (int face = 0; face < kCubeFaceCount; ++face)
-    light.viewProjections.push_back(projection *
-                                    cubeFaceView(static_cast<CubeFace>(face), position));
-  return light;
+  return test::cubeCullingLight(position, cullFace, far * 0.01f, far);
 }
 
 // Casters of many sizes spread over a box of `size` around `middle`: spheres from a
