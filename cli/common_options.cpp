@@ -29,10 +29,11 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
           : "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
   if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
     app.add_option("--shadow-pass", o.shadowPass,
-                   "How point-light cube maps are rendered: six, geometry, instanced or auto "
-                   "(default; six: the fastest measured on llvmpipe; on NVIDIA H100 and H200 GPUs "
-                   "within 10% of instanced and 1.6-2.5x faster than geometry)")
-        ->check(CLI::IsMember({"auto", "six", "geometry", "instanced"}));
+                   "How point-light cube maps are rendered: six, geometry, instanced, batched "
+                   "(one pass for the frame's point lights) or auto (default; six: the fastest "
+                   "measured on llvmpipe; on NVIDIA H100 and H200 GPUs within 10% of instanced "
+                   "and 1.6-2.5x faster than geometry)")
+        ->check(CLI::IsMember({"auto", "six", "geometry", "instanced", "batched"}));
   if (renders)
     app.add_option("--max-memory", o.maxMemoryMiB,
                    "Memory the shadow maps of one frame may use, in MiB (default 4096)");

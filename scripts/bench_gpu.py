@@ -16,7 +16,7 @@ Rounds are interleaved (A, B, C, A, B, C, ...) so that drift hits every configur
 import argparse, glob, json, os, re, shutil, statistics, subprocess, sys, tempfile, time
 
 PEERS = ["box", "cornell", "sundial", "whackamole", "test_room"]
-PASSES = ["six", "geometry", "instanced", "auto"]
+PASSES = ["six", "geometry", "instanced", "batched", "auto"]
 
 
 def stages(text):
@@ -195,21 +195,28 @@ class Bench:
         lines = [f"{tris / 1e6:g}M triangles, 256 shadowed point lights (generator's ranges), steady frame of "
                  "`render --repeat %d` (ms, medians of %d rounds; every shadow map redrawn each "
                  "frame)." % (self.a.repeat, self.a.rounds), "",
-                 "| cube map | image | steady frame | shadow maps | lighting | readback | "
-                 "first frame |", "|---|---|---:|---:|---:|---:|---:|"]
+                 "| cube map | image | --shadow-pass | steady frame | shadow maps | lighting | "
+                 "readback | first frame |", "|---|---|---|---:|---:|---:|---:|---:|"]
         for res in map(int, self.a.many_resolutions.split(",")):
             mem = max(4096, 256 * 6 * res * res * 4 * 1.5 / 2**20)
             scene = os.path.join(self.tmp, f"many{res}.gltf")
             subprocess.run([self.a.shadow_gen, scene, "--triangles", str(tris), "--lights", "256",
                             "--resolution", str(res)], check=True, capture_output=True)
             for w, h in ((1280, 720), (1920, 1080)):
-                rows = [self.run(["render", scene, "-o", f"{self.tmp}/many.png", "--stats",
-                                  "--width", str(w), "--height", str(h), "--max-memory", f"{mem:.0f}",
-                                  "--repeat", str(self.a.repeat)]) for _ in range(self.a.rounds)]
-                med = lambda k: statistics.median(x.get(k, float("nan")) for x in rows)
-                lines.append(f"| {res}^2 | {w}x{h} | {med('steady frame'):.2f} | "
-                             f"{med('steady shadow maps'):.2f} | {med('steady lighting'):.2f} | "
-                             f"{med('steady readback'):.2f} | {med('first'):.1f} |")
+                # The default pass and the one pass for all lights, round by round.
+                rows = {p: [] for p in ("auto", "batched")}
+                for _ in range(self.a.rounds):
+                    for p in rows:
+                        rows[p].append(self.run(["render", scene, "-o", f"{self.tmp}/many.png",
+                                                 "--stats", "--width", str(w), "--height", str(h),
+                                                 "--max-memory", f"{mem:.0f}", "--shadow-pass", p,
+                                                 "--repeat", str(self.a.repeat)]))
+                for p, runs in rows.items():
+                    med = lambda k: statistics.median(x.get(k, float("nan")) for x in runs)
+                    lines.append(f"| {res}^2 | {w}x{h} | {p} | {med('steady frame'):.2f} | "
+                                 f"{med('steady shadow maps'):.2f} | "
+                                 f"{med('steady lighting'):.2f} | "
+                                 f"{med('steady readback'):.2f} | {med('first'):.1f} |")
         self.write(f"256 shadowed point lights on {tris / 1e6:g}M triangles", lines)
 
     def verify(self):

@@ -391,26 +391,38 @@ TEST(ShadowMap, AllShadowPassStrategiesWriteIdenticalTexels) {
     scene.instances.push_back({static_cast<int>(scene.meshes.size()) - 1, world, -1, {}, {}});
     scene.bounds.extend(scene.meshes.back().bounds.transformed(world));
   }
+  // Alpha-tested casters: one that casts (alpha above the cutoff), one that casts nothing.
+  for (const float alpha : {0.8f, 0.2f}) {
+    const int cutOut = addMaterial(scene, glm::vec4(0.6f, 0.6f, 0.6f, alpha));
+    scene.materials[static_cast<std::size_t>(cutOut)].alphaMode = AlphaMode::Mask;
+    addObject(scene, builder::makeBox(glm::vec3(0.35f)), translate({u(rng), 0.9f, u(rng)}), cutOut);
+  }
   std::vector<Light> lights = {pointLight("a", {0, 2, 0}, ShadowFilter::Pcf, 128),
                                pointLight("b", {1.5f, 1, -1}, ShadowFilter::Pcf, 128),
                                pointLight("c", {-2, 0.8f, 2}, ShadowFilter::Pcf, 128)};
-  lights[1].shadow.cullFace = CullFace::Front;
-  lights[2].shadow.cullFace = CullFace::Back;
-  const auto six = sharedRenderer().renderShadowDistances(scene, lights, ShadowPassStrategy::Six);
-  for (const ShadowPassStrategy other :
-       {ShadowPassStrategy::Geometry, ShadowPassStrategy::Instanced}) {
-    const auto maps = sharedRenderer().renderShadowDistances(scene, lights, other);
-    ASSERT_EQ(maps.size(), six.size());
-    for (std::size_t l = 0; l < maps.size(); ++l) {
-      for (int face = 0; face < kCubeFaceCount; ++face) {
-        const std::vector<float>& a = six[l].faces[face];
-        const std::vector<float>& b = maps[l].faces[face];
-        ASSERT_EQ(a.size(), b.size());
-        int differing = 0;
-        for (std::size_t i = 0; i < a.size(); ++i)
-          if (std::memcmp(&a[i], &b[i], sizeof(float)) != 0) ++differing;
-        EXPECT_EQ(differing, 0) << toString(other) << ", light " << l << ", face "
-                                << kCubeFaceNames[face];
+  // All three in one batch of `batched` (one clear for the whole texture), then in three
+  // (each light's layers cleared on their own).
+  std::vector<Light> culled = lights;
+  culled[1].shadow.cullFace = CullFace::Front;
+  culled[2].shadow.cullFace = CullFace::Back;
+  for (const std::vector<Light>* set : {&lights, &culled}) {
+    const auto six = sharedRenderer().renderShadowDistances(scene, *set, ShadowPassStrategy::Six);
+    for (const ShadowPassStrategy other :
+         {ShadowPassStrategy::Geometry, ShadowPassStrategy::Instanced,
+          ShadowPassStrategy::Batched}) {
+      const auto maps = sharedRenderer().renderShadowDistances(scene, *set, other);
+      ASSERT_EQ(maps.size(), six.size());
+      for (std::size_t l = 0; l < maps.size(); ++l) {
+        for (int face = 0; face < kCubeFaceCount; ++face) {
+          const std::vector<float>& a = six[l].faces[face];
+          const std::vector<float>& b = maps[l].faces[face];
+          ASSERT_EQ(a.size(), b.size());
+          int differing = 0;
+          for (std::size_t i = 0; i < a.size(); ++i)
+            if (std::memcmp(&a[i], &b[i], sizeof(float)) != 0) ++differing;
+          EXPECT_EQ(differing, 0) << toString(other) << ", light " << l << ", face "
+                                  << kCubeFaceNames[face] << (set == &culled ? ", culled" : "");
+        }
       }
     }
   }
@@ -1142,6 +1154,64 @@ TEST(Shadows, StaticShadowMapsAreReusedForTheSameSceneAndLights) {
   const Frame fresh = renderer.render(scene, lights, glm::vec3(0.03f), second, {}, times);
   EXPECT_EQ(fresh.shadowMapsReused, 0);
   EXPECT_EQ(fresh.beauty.pixels, reused.beauty.pixels);
+}
+
+// The batched pass across frames: maps of lights that did not move are kept in the texture it
+// draws the others into, other textures' lights (vsm, a spot) are drawn one by one, and every
+// frame is the one the default pass draws.
+TEST(ShadowMap, TheBatchedPassDrawsWhatSixDrawsAcrossFramesAndLightKinds) {
+  Scene scene;
+  const int grey = addMaterial(scene, glm::vec4(0.6f));
+  addObject(scene, builder::makePlane(8.0f), glm::mat4(1.0f), grey);
+  for (int i = 0; i < 9; ++i)
+    addObject(scene, i % 2 ? builder::makeSphere(0.3f, 16, 8) : builder::makeBox(glm::vec3(0.3f)),
+              translate({-1.5f + 1.5f * static_cast<float>(i % 3), 0.5f,
+                         -1.5f + 1.5f * static_cast<float>(i / 3)}),
+              grey);
+  std::vector<Light> lights;
+  for (int i = 0; i < 4; ++i)
+    lights.push_back(pointLight("p" + std::to_string(i),
+                                {-2.0f + 1.3f * static_cast<float>(i), 2.0f, 0.7f},
+                                ShadowFilter::Pcf, 128));
+  lights[3].shadow.cullFace = CullFace::Back;  // a batch of its own in the same texture
+  Light vsm = pointLight("vsm", {0.5f, 2.5f, -1.0f}, ShadowFilter::Vsm, 128);
+  lights.push_back(vsm);
+  lights.push_back(sideSpot());
+  for (Light& light : lights) light.intensity = 3.0f;
+  Scene other = scene;
+  addObject(other, builder::makeBox(glm::vec3(0.4f)), translate({0.7f, 0.4f, 1.1f}), grey);
+  std::vector<Light> moved = lights;
+  moved[1].position.x += 0.3f;
+  // Last, the first scene again with the four point lights in one batch: the whole texture is
+  // cleared at once, and the box of the scene before must not stay in it.
+  std::vector<Light> oneBatch = moved;
+  oneBatch[3].shadow.cullFace = CullFace::None;
+  const ViewCamera camera = lookFrom(scene, {0, 6, 5}, {0, 0, 0}, 96, 72);
+
+  const auto sequence = [&](ShadowPassStrategy strategy) {
+    RenderSettings settings;
+    settings.shadowPass = strategy;
+    StageTimes times;
+    Renderer& renderer = sharedRenderer();
+    renderer.render(other, {}, glm::vec3(0.03f), camera, settings, times);  // nothing to reuse
+    std::vector<Frame> frames;
+    for (const auto& [s, l] :
+         {std::pair{&scene, &lights}, std::pair{&scene, &moved}, std::pair{&other, &moved},
+          std::pair{&other, &moved}, std::pair{&scene, &oneBatch}})
+      frames.push_back(renderer.render(*s, *l, glm::vec3(0.03f), camera, settings, times));
+    return frames;
+  };
+  const std::vector<Frame> six = sequence(ShadowPassStrategy::Six);
+  const std::vector<Frame> batched = sequence(ShadowPassStrategy::Batched);
+  // The second frame keeps five maps, the fourth all six; the fifth draws the four point
+  // lights' maps in one batch (and the vsm and spot maps again: the scene changed).
+  EXPECT_EQ(batched[1].shadowMapsReused, 5);
+  EXPECT_EQ(batched[3].shadowMapsReused, 6);
+  for (std::size_t f = 0; f < six.size(); ++f) {
+    EXPECT_EQ(batched[f].shadowMapsRendered, six[f].shadowMapsRendered) << f;
+    EXPECT_EQ(batched[f].flatCastersLeftOut, six[f].flatCastersLeftOut) << f;
+    EXPECT_EQ(batched[f].beauty.pixels, six[f].beauty.pixels) << "frame " << f;
+  }
 }
 
 // Masks without a picture (`batch --no-png --masks`) draw the ids alone: no shadow map, no

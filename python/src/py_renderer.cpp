@@ -46,8 +46,9 @@ RenderSettings renderSettings(const PyRenderOptions& o) {
   settings.maxShadowMemoryMiB = o.maxMemoryMiB;
   settings.maxAovMemoryMiB = o.maxMemoryMiB;
   if (o.shadowPass != "auto" && o.shadowPass != "six" && o.shadowPass != "geometry" &&
-      o.shadowPass != "instanced")
-    throw InputError("shadow_pass " + o.shadowPass + ": expected auto, six, geometry or instanced");
+      o.shadowPass != "instanced" && o.shadowPass != "batched")
+    throw InputError("shadow_pass " + o.shadowPass +
+                     ": expected auto, six, geometry, instanced or batched");
   settings.shadowPass = parseShadowPassStrategy(o.shadowPass);
   settings.antialiasing = o.antialiasing;  // checked by planFrame, with the CLI's message
   return settings;

@@ -85,3 +85,20 @@ def test_the_occluder_is_where_the_geometry_says(renderer, occluder_scene):
         levels = np.unique(np.round(finite, 3))
         assert len(levels) == 2, levels
         assert levels[1] - levels[0] == pytest.approx(2.0, abs=2e-3)
+
+
+@pytest.mark.parametrize("shadow_pass", ["instanced", "geometry", "batched"])
+def test_every_shadow_pass_gives_the_maps_six_gives(renderer, occluder_scene, shadow_pass):
+    path, _ = occluder_scene
+    scene = omnishadow.load_scene(path)
+    lights = {"lights": LIGHTS["lights"] + [
+        {"name": "bulb2", "type": "point", "position": [-3, 2, 5], "intensity": 20,
+         "shadow": {"resolution": 16}}]}
+    six = renderer.render(scene, lights, width=SIZE, height=SIZE, shadow_maps=True,
+                          shadow_pass="six")
+    other = renderer.render(scene, lights, width=SIZE, height=SIZE, shadow_maps=True,
+                            shadow_pass=shadow_pass)
+    for name in ("bulb", "bulb2", "spot"):
+        np.testing.assert_array_equal(other.shadow_maps[name]["distances"],
+                                      six.shadow_maps[name]["distances"])
+    np.testing.assert_array_equal(other.beauty, six.beauty)

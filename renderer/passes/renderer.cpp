@@ -200,6 +200,17 @@ class Renderer::Impl {
   void renderShadows(Prepared& prepared, ShadowAtlasPlan plan, const Scene& scene,
                      const std::vector<Light>& lights, const RenderSettings& settings,
                      std::optional<std::uint64_t> fingerprint, Frame* frame);
+  // The other strategies: `drawn` split between this context and the second one
+  // (ShadowWorker), where it pays; `finishLight` after each map.
+  template <class DrawOne, class Finish>
+  void drawSpread(Prepared& prepared, const SceneCasters* casters, std::vector<ShadowJob>& drawn,
+                  ShadowPassStrategy strategy, bool everyCaster, const RenderSettings& settings,
+                  Frame* frame, const DrawOne& drawHere, const Finish& finishLight);
+  // ShadowPassStrategy::Batched: `drawn`'s point lights without moments in batches
+  // (ShadowPass::renderBatched), the others with `drawOne`.
+  template <class DrawOne>
+  void drawBatched(Prepared& prepared, const SceneCasters& casters, std::vector<ShadowJob>& drawn,
+                   bool everyCaster, const DrawOne& drawOne);
   std::vector<ShadowMapDump> readShadowMaps(const Prepared& prepared, StageTimes& times);
   std::vector<PlanarShadowMapDump> readPlanarShadowMaps(const Prepared& prepared,
                                                         StageTimes& times);
@@ -543,7 +554,28 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
                             *job.plan, *job.target, strategy, everyCaster);
   };
 
-  // Every other map to the worker, from the second on; the renderer draws the rest meanwhile.
+  if (strategy == ShadowPassStrategy::Batched) {
+    // No second context: it would split the batches, which are the point of this strategy.
+    renderedBefore_ = true;
+    if (!drawn.empty()) drawBatched(prepared, *casters, drawn, everyCaster, drawHere);
+    for (const ShadowJob& job : drawn) finishLight(job);
+  } else {
+    drawSpread(prepared, casters ? &*casters : nullptr, drawn, strategy, everyCaster, settings,
+               frame, drawHere, finishLight);
+  }
+  for (std::size_t i : transmittanceOnly) {
+    const LightShadowPlan& plan = *prepared.shaded[i].shadow;
+    transmittancePass_->render(prepared.gpu, lights[i], plan, prepared.groups[plan.group], reach[i],
+                               places[i]);
+  }
+}
+
+// Every other map to the worker, from the second on; the renderer draws the rest meanwhile.
+template <class DrawOne, class Finish>
+void Renderer::Impl::drawSpread(Prepared& prepared, const SceneCasters* casters,
+                                std::vector<ShadowJob>& drawn, ShadowPassStrategy strategy,
+                                bool everyCaster, const RenderSettings& settings, Frame* frame,
+                                const DrawOne& drawHere, const Finish& finishLight) {
   std::vector<ShadowJob> workerJobs;
   ShadowWorker* worker = drawn.size() >= 2 && renderedBefore_ ? shadowWorker(settings) : nullptr;
   renderedBefore_ = true;
@@ -583,10 +615,51 @@ void Renderer::Impl::renderShadows(Prepared& prepared, ShadowAtlasPlan atlas, co
     for (const ShadowJob& job : workerJobs) finishLight(job);
     if (frame) frame->shadowMapsInParallel += static_cast<int>(workerJobs.size());
   }
-  for (std::size_t i : transmittanceOnly) {
-    const LightShadowPlan& plan = *prepared.shaded[i].shadow;
-    transmittancePass_->render(prepared.gpu, lights[i], plan, prepared.groups[plan.group], reach[i],
-                               places[i]);
+}
+
+template <class DrawOne>
+void Renderer::Impl::drawBatched(Prepared& prepared, const SceneCasters& casters,
+                                 std::vector<ShadowJob>& drawn, bool everyCaster,
+                                 const DrawOne& drawOne) {
+  // Point lights without moments go in batches of one texture and one raster setting; the
+  // others are drawn one by one, as Six draws them.
+  struct Batch {
+    ShadowGroupTextures* target;
+    const ShadowSettings* settings;
+    std::vector<std::size_t> jobs;
+  };
+  std::vector<Batch> batches;
+  for (std::size_t k = 0; k < drawn.size(); ++k) {
+    ShadowJob& job = drawn[k];
+    if (job.target->key.layout != ShadowLayout::Cube || job.target->key.moments) {
+      drawOne(job);
+      continue;
+    }
+    const ShadowSettings& s = job.light->shadow;
+    const auto same = [&](const Batch& b) {
+      return b.target == job.target && b.settings->cullFace == s.cullFace &&
+             b.settings->polygonOffsetFactor == s.polygonOffsetFactor &&
+             b.settings->polygonOffsetUnits == s.polygonOffsetUnits;
+    };
+    const auto found = std::find_if(batches.begin(), batches.end(), same);
+    if (found != batches.end())
+      found->jobs.push_back(k);
+    else
+      batches.push_back({job.target, &s, {k}});
+  }
+  for (const Batch& batch : batches) {
+    std::vector<ShadowPass::BatchedLight> lights;
+    for (const std::size_t k : batch.jobs) lights.push_back({drawn[k].light, drawn[k].plan});
+    // Whether the texture holds no other light's map this frame (a reused one, or another
+    // batch's).
+    std::size_t planned = 0;
+    for (const LightShadowPlan& plan : prepared.atlas.lights)
+      planned += &prepared.groups[static_cast<std::size_t>(plan.group)] == batch.target;
+    const std::vector<int> flat =
+        shadowPass_->renderBatched(prepared.gpu, prepared.gpu.vertexArrays(), casters, lights,
+                                   *batch.target, everyCaster, planned == batch.jobs.size());
+    for (std::size_t i = 0; i < batch.jobs.size(); ++i)
+      drawn[batch.jobs[i]].flatCastersLeftOut = flat[i];
   }
 }
 

@@ -74,6 +74,7 @@ enum StorageBinding : int {
 enum UniformBinding : int {
   kLightsUniformBinding = 0,
   kShadowViewProjectionsUniformBinding = 1,
+  kLayerViewProjectionsUniformBinding = 2,  // the batched shadow pass's, per texture layer
 };
 inline constexpr int kMinUniformBlockBytes = 16384;  // GL_MAX_UNIFORM_BLOCK_SIZE's minimum
 inline constexpr int kMaxUniformLights = kMinUniformBlockBytes / (10 * 16);          // GpuLight
@@ -163,6 +164,7 @@ inline std::vector<std::string> shaderContractDefines() {
       define("CLUSTER_LIGHTS_BINDING", kClusterLightsBinding),
       define("LIGHTS_UNIFORM_BINDING", kLightsUniformBinding),
       define("SHADOW_VIEW_PROJECTIONS_UNIFORM_BINDING", kShadowViewProjectionsUniformBinding),
+      define("LAYER_VIEW_PROJECTIONS_UNIFORM_BINDING", kLayerViewProjectionsUniformBinding),
       define("MAX_UNIFORM_LIGHTS", kMaxUniformLights),
       define("MAX_UNIFORM_VIEW_PROJECTIONS", kMaxUniformViewProjections),
       define("LIGHT_POINT", e(LightType::Point)),

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
 
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/passes/shadow_layer_binding.h"
+#include "renderer/passes/texel_scissor.h"
 #include "renderer/passes/vsm_filter.h"
 #include "renderer/scene/translucency.h"
 #include "renderer/view/caster_culling.h"
@@ -65,7 +67,9 @@ const ShaderProgram& ShadowPass::program(ShadowPassStrategy strategy, bool maske
     if (moments) defines.emplace_back("MOMENTS");
     if (worldPositions) defines.emplace_back("WORLD_POSITIONS");
     std::string geometry;
-    if (strategy == ShadowPassStrategy::Instanced) defines.emplace_back("LAYER_FROM_INSTANCE");
+    if (strategy == ShadowPassStrategy::Instanced || strategy == ShadowPassStrategy::Batched)
+      defines.emplace_back("LAYER_FROM_INSTANCE");
+    if (strategy == ShadowPassStrategy::Batched) defines.emplace_back("LAYER_MATRICES");
     if (strategy == ShadowPassStrategy::Geometry) {
       defines.emplace_back("GEOMETRY_LAYERS");
       geometry = "shadow_depth.geom";
@@ -81,6 +85,7 @@ namespace {
 ShadowLayering layeringOf(ShadowPassStrategy strategy) {
   switch (strategy) {
     case ShadowPassStrategy::Instanced:
+    case ShadowPassStrategy::Batched:
       return ShadowLayering::Instanced;
     case ShadowPassStrategy::Geometry:
       return ShadowLayering::Geometry;
@@ -130,15 +135,10 @@ struct ShadowPass::LightPass {
   ShadowLayerBinding& layers;
 };
 
-int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
-                       const SceneCasters& sceneCasters, const Light& light,
-                       const LightShadowPlan& plan, ShadowGroupTextures& target,
-                       ShadowPassStrategy strategy, bool everyCaster) {
-  const bool cube = target.key.layout == ShadowLayout::Cube;
-  if (!cube || strategy == ShadowPassStrategy::Auto) strategy = ShadowPassStrategy::Six;
-  const ShadowLayering layering = layeringOf(strategy);
-  const bool moments = target.key.moments;
-
+ShadowPass::LightDraws ShadowPass::lightDraws(const GpuScene& scene,
+                                              const SceneCasters& sceneCasters, const Light& light,
+                                              const LightShadowPlan& plan, ShadowLayering layering,
+                                              bool cube, bool moments, bool everyCaster) {
   const std::vector<ShadowCaster>& casters = sceneCasters.casters;
   // Variance maps are blurred: a left-out floor would change its neighbours' moments.
   CasterCulling culling = cullCasters(casters, shadowCullingLight(light, plan, cube),
@@ -149,8 +149,25 @@ int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
   // (transmittance_pass.h) instead of blocking it here.
   if (castsTranslucentShadows(light))
     for (const std::size_t c : sceneCasters.translucent) culling.viewMask[c] = 0;
-  const ShadowDrawList draws = buildShadowDraws(casters, sceneCasters.geometry, culling,
-                                                plan.layerCount, layering, !moments);
+  ShadowDrawList draws = buildShadowDraws(casters, sceneCasters.geometry, culling, plan.layerCount,
+                                          layering, !moments);
+  return {std::move(culling), std::move(draws)};
+}
+
+int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
+                       const SceneCasters& sceneCasters, const Light& light,
+                       const LightShadowPlan& plan, ShadowGroupTextures& target,
+                       ShadowPassStrategy strategy, bool everyCaster) {
+  const bool cube = target.key.layout == ShadowLayout::Cube;
+  // A light drawn alone under Batched (renderBatched takes the others) is drawn as by Six.
+  if (!cube || strategy == ShadowPassStrategy::Auto || strategy == ShadowPassStrategy::Batched)
+    strategy = ShadowPassStrategy::Six;
+  const ShadowLayering layering = layeringOf(strategy);
+  const bool moments = target.key.moments;
+
+  const std::vector<ShadowCaster>& casters = sceneCasters.casters;
+  const auto [culling, draws] =
+      lightDraws(scene, sceneCasters, light, plan, layering, cube, moments, everyCaster);
   commands_.upload(draws.commands);
   drawObjects_.upload(draws.objects);
 
@@ -179,6 +196,197 @@ int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the shadow pass of light \"" + light.name + "\"");
   return culling.flatLeftOut;
+}
+
+std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVertexArrays& arrays,
+                                           const SceneCasters& sceneCasters,
+                                           const std::vector<BatchedLight>& lights,
+                                           ShadowGroupTextures& target, bool everyCaster,
+                                           bool wholeTexture) {
+  std::vector<int> flatLeftOut;
+  if (lights.empty()) return flatLeftOut;
+  const int resolution = target.key.resolution;
+  std::vector<LightDraws> perLight;
+  perLight.reserve(lights.size());
+  for (const BatchedLight& l : lights) {
+    perLight.push_back(lightDraws(scene, sceneCasters, *l.light, *l.plan, ShadowLayering::Instanced,
+                                  true, false, everyCaster));
+    flatLeftOut.push_back(perLight.back().culling.flatLeftOut);
+  }
+
+  // The shader reads the layers' view-projections from a uniform block: a window of
+  // kMaxUniformViewProjections layers from a base the block's binding offset must allow.
+  // Lights whose layers fit one window are drawn together.
+  GLint alignment = 256;
+  glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &alignment);
+  const int layerAlignment = std::max(1, static_cast<int>(alignment) / 64);
+  constexpr int kWindow = contract::kMaxUniformViewProjections;
+  struct Window {
+    int base = 0;
+    std::size_t firstLight = 0, endLight = 0;
+    std::size_t firstBatch = 0, endBatch = 0;  // in merged.opaque
+  };
+  std::vector<Window> windows;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const LightShadowPlan& plan = *lights[i].plan;
+    if (!windows.empty() && plan.firstLayer >= windows.back().base &&
+        plan.firstLayer + plan.layerCount <= windows.back().base + kWindow) {
+      windows.back().endLight = i + 1;
+      continue;
+    }
+    const int base = plan.firstLayer / layerAlignment * layerAlignment;
+    windows.push_back({base, i, i + 1, 0, 0});
+  }
+
+  // Per window, one batch per (cull state, vertex source) for all its lights: their commands
+  // one after the other, each instance range moved to the light's layers of the texture. The
+  // layers are the lights' own, so the order between lights changes no texel.
+  ShadowDrawList merged;
+  for (Window& window : windows) {
+    window.firstBatch = merged.opaque.size();
+    for (int bucket = 0; bucket < kCullBucketCount; ++bucket)
+      for (const bool world : {true, false}) {
+        const int first = static_cast<int>(merged.commands.size());
+        for (std::size_t i = window.firstLight; i < window.endLight; ++i) {
+          const ShadowDrawList& draws = perLight[i].draws;
+          for (const OpaqueShadowBatch& batch : draws.opaque) {
+            if (batch.bucket != static_cast<CullBucket>(bucket) || batch.world != world) continue;
+            for (int c = batch.first; c < batch.first + batch.count; ++c) {
+              IndirectDrawCommand command = draws.commands[static_cast<std::size_t>(c)];
+              command.baseInstance += static_cast<std::uint32_t>(lights[i].plan->firstLayer);
+              merged.commands.push_back(command);
+              merged.objects.push_back(draws.objects[static_cast<std::size_t>(c)]);
+            }
+          }
+        }
+        const int count = static_cast<int>(merged.commands.size()) - first;
+        if (count > 0)
+          merged.opaque.push_back({static_cast<CullBucket>(bucket), -1, world, first, count});
+      }
+    window.endBatch = merged.opaque.size();
+  }
+  commands_.upload(merged.commands);
+  drawObjects_.upload(merged.objects);
+  // Every layer's matrix, and a window's worth beyond the last: a bound range is always as
+  // large as the block.
+  std::vector<glm::mat4> layerMatrices(static_cast<std::size_t>(target.layers + kWindow),
+                                       glm::mat4(0.0f));
+  for (const BatchedLight& l : lights)
+    for (int layer = 0; layer < l.plan->layerCount; ++layer)
+      layerMatrices[static_cast<std::size_t>(l.plan->firstLayer + layer)] =
+          l.plan->viewProjection[static_cast<std::size_t>(layer)];
+  layerViewProjections_.upload(layerMatrices);
+
+  const GLuint fb = framebuffer_.get();
+  glBindFramebuffer(GL_FRAMEBUFFER, fb);
+  const ShadowSettings& settings = lights.front().light->shadow;
+  rasterState(settings, false, resolution).apply();  // before the clears, which obey its masks
+  glNamedFramebufferDrawBuffer(fb, GL_NONE);
+  glNamedFramebufferReadBuffer(fb, GL_NONE);
+  glNamedFramebufferTexture(fb, GL_DEPTH_ATTACHMENT, target.depth.get(), 0);  // every layer
+  glNamedFramebufferTexture(fb, GL_COLOR_ATTACHMENT0, 0, 0);
+
+  // The layers are cleared where they may hold something, then marked with what this pass may
+  // draw there (as ShadowLayerBinding::bind(kAllLayers) does). When the pass draws every light
+  // of the texture, one layered clear of the framebuffer does it for all layers (llvmpipe then
+  // clears in its rasterizer threads); else each light's layers are cleared through the
+  // texture, since a layered clear would also clear the maps of other lights.
+  const auto written = [&](int layer) -> TexelRect& {
+    return target.written[static_cast<std::size_t>(layer)];
+  };
+  if (wholeTexture) {
+    TexelRect anyWritten;
+    for (int layer = 0; layer < target.layers; ++layer)
+      anyWritten = anyWritten.united(written(layer));
+    if (!anyWritten.empty()) {
+      scissorTo(anyWritten);
+      glClearNamedFramebufferfv(fb, GL_DEPTH, 0, &kClearedDepth);
+      gl::Scissor{}.apply();
+    }
+    for (int layer = 0; layer < target.layers; ++layer) written(layer) = TexelRect{};
+  }
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const LightShadowPlan& plan = *lights[i].plan;
+    if (!wholeTexture) {
+      TexelRect anyWritten;
+      for (int layer = 0; layer < plan.layerCount; ++layer)
+        anyWritten = anyWritten.united(written(plan.firstLayer + layer));
+      if (!anyWritten.empty())
+        glClearTexSubImage(target.depth.get(), 0, anyWritten.x0, anyWritten.y0, plan.firstLayer,
+                           anyWritten.x1 - anyWritten.x0, anyWritten.y1 - anyWritten.y0,
+                           plan.layerCount, GL_DEPTH_COMPONENT, GL_FLOAT, &kClearedDepth);
+    }
+    const std::vector<TexelRect> drawn =
+        casterTexels(sceneCasters.casters, perLight[i].culling, plan, resolution);
+    for (int layer = 0; layer < plan.layerCount; ++layer)
+      written(plan.firstLayer + layer) = drawn[static_cast<std::size_t>(layer)];
+  }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kModelsBinding, scene.modelBuffer());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kDrawObjectsBinding, drawObjects_.get());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_.get());
+
+  for (const Window& window : windows) {
+    glBindBufferRange(GL_UNIFORM_BUFFER, contract::kLayerViewProjectionsUniformBinding,
+                      layerViewProjections_.get(),
+                      static_cast<GLintptr>(window.base) * GLintptr{64},
+                      GLsizeiptr{kWindow} * GLsizeiptr{64});
+    for (std::size_t b = window.firstBatch; b < window.endBatch; ++b) {
+      const OpaqueShadowBatch& batch = merged.opaque[b];
+      const ShaderProgram& opaque = program(ShadowPassStrategy::Batched, false, false, batch.world);
+      glBindVertexArray(batch.world ? arrays.casters.get() : arrays.scene.get());
+      opaque.use();
+      opaque.set("uLayerBase", window.base);
+      opaque.set("uObject", -1);
+      opaque.set("uDrawBase", batch.first);
+      cullStateOf(batch.bucket, settings.cullFace).apply();
+      glMultiDrawElementsIndirect(
+          GL_TRIANGLES, GL_UNSIGNED_INT,
+          reinterpret_cast<const void*>(static_cast<std::uintptr_t>(batch.first) *
+                                        sizeof(IndirectDrawCommand)),
+          batch.count, 0);
+    }
+
+    // Alpha-tested casters one by one, light by light, each with its own texture.
+    glBindVertexArray(arrays.scene.get());
+    const ShaderProgram& masked = program(ShadowPassStrategy::Batched, true, false, false);
+    masked.use();
+    masked.set("uLayerBase", window.base);
+    for (std::size_t i = window.firstLight; i < window.endLight; ++i) {
+      const LightShadowPlan& plan = *lights[i].plan;
+      for (const MaskedShadowDraw& draw : perLight[i].draws.masked) {
+        const GpuDraw& gpuDraw = scene.draws()[static_cast<std::size_t>(draw.caster)];
+        const GpuMaterial& material = scene.materials()[gpuDraw.material];
+        masked.set("uObject", draw.caster);
+        masked.set("uBaseColorFactor", material.desc.baseColorFactor);
+        masked.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
+        masked.set("uBaseColorTexCoord", material.desc.baseColorTexture.texCoord);
+        masked.set("uBaseColorUvTransform", material.desc.baseColorTexture.uvTransform);
+        masked.set("uAlphaCutoff",
+                   material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
+        glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);
+        glBindSampler(0, material.baseColorSampler);
+        cullStateOf(perLight[i].culling.bucket[static_cast<std::size_t>(draw.caster)],
+                    settings.cullFace)
+            .apply();
+        const GpuMeshRange& range = scene.meshes()[gpuDraw.mesh];
+        const void* offset =
+            reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4);
+        forEachFaceRun(draw.instances, plan.layerCount, [&](int first, int count) {
+          glDrawElementsInstancedBaseVertexBaseInstance(
+              GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT, offset, count, range.baseVertex,
+              static_cast<GLuint>(plan.firstLayer + first));
+        });
+      }
+    }
+  }
+
+  gl::RasterState::restoreDefaults();
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glBindBufferBase(GL_UNIFORM_BUFFER, contract::kLayerViewProjectionsUniformBinding, 0);
+  glNamedFramebufferTexture(fb, GL_DEPTH_ATTACHMENT, 0, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl::checkErrors("the batched shadow pass of " + std::to_string(lights.size()) + " lights");
+  return flatLeftOut;
 }
 
 gl::RasterState ShadowPass::rasterState(const ShadowSettings& settings, bool moments,

@@ -52,8 +52,31 @@ class ShadowPass {
              const Light& light, const LightShadowPlan& plan, ShadowGroupTextures& target,
              ShadowPassStrategy strategy, bool everyCaster);
 
+  // ShadowPassStrategy::Batched: draws the maps of several point lights of one group in one
+  // pass, the group's whole texture attached once, as render() would with Instanced. The
+  // lights must share `target` (cube layout, no moments) and their shadow's polygon offset and
+  // cull face. Layers are cleared where they may hold something (as ShadowLayerBinding does):
+  // with `wholeTexture` (these are all the lights whose maps the texture holds this frame) by
+  // one layered clear, else light by light with glClearTexSubImage, since a layered clear would
+  // clear the other lights' maps too. Returns each light's count of flat casters left out.
+  struct BatchedLight {
+    const Light* light = nullptr;
+    const LightShadowPlan* plan = nullptr;
+  };
+  std::vector<int> renderBatched(const GpuScene& scene, const SceneVertexArrays& arrays,
+                                 const SceneCasters& casters,
+                                 const std::vector<BatchedLight>& lights,
+                                 ShadowGroupTextures& target, bool everyCaster, bool wholeTexture);
+
  private:
   struct LightPass;
+  struct LightDraws {
+    CasterCulling culling;
+    ShadowDrawList draws;
+  };
+  static LightDraws lightDraws(const GpuScene& scene, const SceneCasters& casters,
+                               const Light& light, const LightShadowPlan& plan,
+                               ShadowLayering layering, bool cube, bool moments, bool everyCaster);
   const ShaderProgram& program(ShadowPassStrategy strategy, bool masked, bool moments,
                                bool worldPositions);
   static gl::RasterState rasterState(const ShadowSettings& settings, bool moments, int resolution);
@@ -64,6 +87,7 @@ class ShadowPass {
   std::map<int, std::unique_ptr<ShaderProgram>> programs_;
   gl::Framebuffer framebuffer_;
   gl::StreamBuffer commands_, drawObjects_;
+  gl::StreamBuffer layerViewProjections_;  // renderBatched's, per layer of its texture
 };
 
 }  // namespace omnishadow

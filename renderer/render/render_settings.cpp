@@ -12,13 +12,15 @@ const char* toString(ShadowPassStrategy strategy) {
       return "geometry";
     case ShadowPassStrategy::Instanced:
       return "instanced";
+    case ShadowPassStrategy::Batched:
+      return "batched";
   }
   return "?";
 }
 
 ShadowPassStrategy parseShadowPassStrategy(const std::string& name) {
-  for (const ShadowPassStrategy s :
-       {ShadowPassStrategy::Six, ShadowPassStrategy::Geometry, ShadowPassStrategy::Instanced})
+  for (const ShadowPassStrategy s : {ShadowPassStrategy::Six, ShadowPassStrategy::Geometry,
+                                     ShadowPassStrategy::Instanced, ShadowPassStrategy::Batched})
     if (name == toString(s)) return s;
   return ShadowPassStrategy::Auto;
 }

@@ -19,10 +19,15 @@ enum class ShadowPassStrategy {
   Geometry,   // one pass, a geometry shader copies each triangle to six layers (the classic)
   Instanced,  // one pass, instances pick the face and write gl_Layer from the vertex shader;
               // objects are culled per face too (runs of faces per object)
+  Batched,    // one pass for all the frame's point lights that share a shadow texture and
+              // raster settings: as Instanced, the instance picking a layer of the whole
+              // texture, so that nothing is attached between lights (for GPU drivers, which
+              // pay per light; vsm lights and spot and directional lights as Six)
 };
 
 const char* toString(ShadowPassStrategy strategy);
-// "auto", "six", "geometry" or "instanced"; anything else is Auto (the CLI checks the spelling).
+// "auto", "six", "geometry", "instanced" or "batched"; anything else is Auto (the CLI checks the
+// spelling).
 ShadowPassStrategy parseShadowPassStrategy(const std::string& name);
 
 // Optional AOV layers (--aov-layers), appended to Frame::aovs after the fixed channels.
