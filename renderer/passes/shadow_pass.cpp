@@ -122,6 +122,34 @@ gl::CullState cullStateOf(CullBucket bucket, CullFace cullFace) {
   return cull;
 }
 
+// One alpha-tested caster with its material's texture: an instanced draw per run of its
+// faces, the instances starting at `firstLayer` (0 where a view of the light's own layers is
+// attached).
+void drawMaskedCaster(const GpuScene& scene, const ShaderProgram& masked,
+                      const MaskedShadowDraw& draw, CullBucket bucket, CullFace cullFace,
+                      int layerCount, int firstLayer) {
+  const GpuDraw& gpuDraw = scene.draws()[static_cast<std::size_t>(draw.caster)];
+  const GpuMaterial& material = scene.materials()[gpuDraw.material];
+  masked.set("uObject", draw.caster);
+  masked.set("uBaseColorFactor", material.desc.baseColorFactor);
+  masked.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
+  masked.set("uBaseColorTexCoord", material.desc.baseColorTexture.texCoord);
+  masked.set("uBaseColorUvTransform", material.desc.baseColorTexture.uvTransform);
+  masked.set("uAlphaCutoff",
+             material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
+  glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);
+  glBindSampler(0, material.baseColorSampler);
+  cullStateOf(bucket, cullFace).apply();
+  const GpuMeshRange& range = scene.meshes()[gpuDraw.mesh];
+  const void* offset =
+      reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4);
+  forEachFaceRun(draw.instances, layerCount, [&](int first, int count) {
+    glDrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
+                                                  offset, count, range.baseVertex,
+                                                  static_cast<GLuint>(firstLayer + first));
+  });
+}
+
 }  // namespace
 
 // One light's pass: what its helpers share.
@@ -354,28 +382,9 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
     for (std::size_t i = window.firstLight; i < window.endLight; ++i) {
       const LightShadowPlan& plan = *lights[i].plan;
       for (const MaskedShadowDraw& draw : perLight[i].draws.masked) {
-        const GpuDraw& gpuDraw = scene.draws()[static_cast<std::size_t>(draw.caster)];
-        const GpuMaterial& material = scene.materials()[gpuDraw.material];
-        masked.set("uObject", draw.caster);
-        masked.set("uBaseColorFactor", material.desc.baseColorFactor);
-        masked.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
-        masked.set("uBaseColorTexCoord", material.desc.baseColorTexture.texCoord);
-        masked.set("uBaseColorUvTransform", material.desc.baseColorTexture.uvTransform);
-        masked.set("uAlphaCutoff",
-                   material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
-        glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);
-        glBindSampler(0, material.baseColorSampler);
-        cullStateOf(perLight[i].culling.bucket[static_cast<std::size_t>(draw.caster)],
-                    settings.cullFace)
-            .apply();
-        const GpuMeshRange& range = scene.meshes()[gpuDraw.mesh];
-        const void* offset =
-            reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4);
-        forEachFaceRun(draw.instances, plan.layerCount, [&](int first, int count) {
-          glDrawElementsInstancedBaseVertexBaseInstance(
-              GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT, offset, count, range.baseVertex,
-              static_cast<GLuint>(plan.firstLayer + first));
-        });
+        drawMaskedCaster(scene, masked, draw,
+                         perLight[i].culling.bucket[static_cast<std::size_t>(draw.caster)],
+                         settings.cullFace, plan.layerCount, plan.firstLayer);
       }
     }
   }
@@ -442,27 +451,9 @@ void ShadowPass::drawMasked(const LightPass& pass, const ShadowDrawList& draws,
       prepare(pass, masked, draw.view);
       preparedView = draw.view;
     }
-    const GpuDraw& gpuDraw = pass.scene.draws()[static_cast<std::size_t>(draw.caster)];
-    const GpuMaterial& material = pass.scene.materials()[gpuDraw.material];
-    masked.set("uObject", draw.caster);
-    masked.set("uBaseColorFactor", material.desc.baseColorFactor);
-    masked.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
-    masked.set("uBaseColorTexCoord", material.desc.baseColorTexture.texCoord);
-    masked.set("uBaseColorUvTransform", material.desc.baseColorTexture.uvTransform);
-    masked.set("uAlphaCutoff",
-               material.desc.alphaMode == AlphaMode::Mask ? material.desc.alphaCutoff : 0.5f);
-    glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);
-    glBindSampler(0, material.baseColorSampler);
-    cullStateOf(culling.bucket[static_cast<std::size_t>(draw.caster)], pass.light.shadow.cullFace)
-        .apply();
-    const GpuMeshRange& range = pass.scene.meshes()[gpuDraw.mesh];
-    const void* offset =
-        reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4);
-    forEachFaceRun(draw.instances, pass.plan.layerCount, [&](int first, int count) {
-      glDrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
-                                                    offset, count, range.baseVertex,
-                                                    static_cast<GLuint>(first));
-    });
+    drawMaskedCaster(pass.scene, masked, draw,
+                     culling.bucket[static_cast<std::size_t>(draw.caster)],
+                     pass.light.shadow.cullFace, pass.plan.layerCount, 0);
   }
 }
 
