@@ -1156,6 +1156,32 @@ TEST(Shadows, StaticShadowMapsAreReusedForTheSameSceneAndLights) {
   EXPECT_EQ(fresh.beauty.pixels, reused.beauty.pixels);
 }
 
+// From 16 lights on, the batched pass finds each light's draws on several threads: the maps
+// are still six's, texel for texel.
+TEST(ShadowMap, TheBatchedPassOfManyLightsWritesSixsTexels) {
+  Scene scene;
+  const int grey = addMaterial(scene, glm::vec4(0.6f));
+  addObject(scene, builder::makePlane(12.0f), glm::mat4(1.0f), grey);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-5.0f, 5.0f);
+  for (int i = 0; i < 60; ++i)
+    addObject(scene, i % 2 ? builder::makeSphere(0.25f, 12, 6) : builder::makeBox(glm::vec3(0.25f)),
+              translate({u(rng), 0.4f, u(rng)}), grey);
+  std::vector<Light> lights;
+  for (int i = 0; i < 40; ++i) {
+    Light light =
+        pointLight("l" + std::to_string(i), {u(rng), 1.2f, u(rng)}, ShadowFilter::Pcf, 32);
+    light.range = 3.0f;
+    lights.push_back(light);
+  }
+  const auto six = sharedRenderer().renderShadowDistances(scene, lights, ShadowPassStrategy::Six);
+  const auto batched =
+      sharedRenderer().renderShadowDistances(scene, lights, ShadowPassStrategy::Batched);
+  ASSERT_EQ(batched.size(), six.size());
+  for (std::size_t l = 0; l < six.size(); ++l)
+    EXPECT_EQ(differingTexels(six[l], batched[l]), 0) << "light " << l;
+}
+
 // The batched pass across frames: maps of lights that did not move are kept in the texture it
 // draws the others into, other textures' lights (vsm, a spot) are drawn one by one, and every
 // frame is the one the default pass draws.

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <future>
 #include <string>
+#include <thread>
 
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
@@ -179,7 +181,7 @@ ShadowPass::LightDraws ShadowPass::lightDraws(const GpuScene& scene,
     for (const std::size_t c : sceneCasters.translucent) culling.viewMask[c] = 0;
   ShadowDrawList draws = buildShadowDraws(casters, sceneCasters.geometry, culling, plan.layerCount,
                                           layering, !moments);
-  return {std::move(culling), std::move(draws)};
+  return {std::move(culling), std::move(draws), {}};
 }
 
 int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
@@ -194,8 +196,10 @@ int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
   const bool moments = target.key.moments;
 
   const std::vector<ShadowCaster>& casters = sceneCasters.casters;
-  const auto [culling, draws] =
+  const LightDraws planned =
       lightDraws(scene, sceneCasters, light, plan, layering, cube, moments, everyCaster);
+  const CasterCulling& culling = planned.culling;
+  const ShadowDrawList& draws = planned.draws;
   commands_.upload(draws.commands);
   drawObjects_.upload(draws.objects);
 
@@ -234,13 +238,28 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
   std::vector<int> flatLeftOut;
   if (lights.empty()) return flatLeftOut;
   const int resolution = target.key.resolution;
-  std::vector<LightDraws> perLight;
-  perLight.reserve(lights.size());
-  for (const BatchedLight& l : lights) {
-    perLight.push_back(lightDraws(scene, sceneCasters, *l.light, *l.plan, ShadowLayering::Instanced,
-                                  true, false, everyCaster));
-    flatLeftOut.push_back(perLight.back().culling.flatLeftOut);
-  }
+  // Each light's culling and draws are CPU work of its own, which the driver waits for: from
+  // 16 lights on, spread over the machine's threads (a GPU's host has cores to spare).
+  std::vector<LightDraws> perLight(lights.size());
+  const auto planLights = [&](std::size_t first, std::size_t end) {
+    for (std::size_t i = first; i < end; ++i) {
+      perLight[i] = lightDraws(scene, sceneCasters, *lights[i].light, *lights[i].plan,
+                               ShadowLayering::Instanced, true, false, everyCaster);
+      perLight[i].texels =
+          casterTexels(sceneCasters.casters, perLight[i].culling, *lights[i].plan, resolution);
+    }
+  };
+  const std::size_t threads =
+      lights.size() < 16 ? 1
+                         : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1,
+                                                   std::min<std::size_t>(lights.size() / 8, 16));
+  std::vector<std::future<void>> helpers;
+  for (std::size_t t = 1; t < threads; ++t)
+    helpers.push_back(std::async(std::launch::async, planLights, lights.size() * t / threads,
+                                 lights.size() * (t + 1) / threads));
+  planLights(0, lights.size() / threads);
+  for (std::future<void>& helper : helpers) helper.get();
+  for (const LightDraws& draws : perLight) flatLeftOut.push_back(draws.culling.flatLeftOut);
 
   // The shader reads the layers' view-projections from a uniform block: a window of
   // kMaxUniformViewProjections layers from a base the block's binding offset must allow.
@@ -344,10 +363,8 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
                            anyWritten.x1 - anyWritten.x0, anyWritten.y1 - anyWritten.y0,
                            plan.layerCount, GL_DEPTH_COMPONENT, GL_FLOAT, &kClearedDepth);
     }
-    const std::vector<TexelRect> drawn =
-        casterTexels(sceneCasters.casters, perLight[i].culling, plan, resolution);
     for (int layer = 0; layer < plan.layerCount; ++layer)
-      written(plan.firstLayer + layer) = drawn[static_cast<std::size_t>(layer)];
+      written(plan.firstLayer + layer) = perLight[i].texels[static_cast<std::size_t>(layer)];
   }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kModelsBinding, scene.modelBuffer());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kDrawObjectsBinding, drawObjects_.get());

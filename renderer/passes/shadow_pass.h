@@ -73,6 +73,7 @@ class ShadowPass {
   struct LightDraws {
     CasterCulling culling;
     ShadowDrawList draws;
+    std::vector<TexelRect> texels;  // per layer (casterTexels); renderBatched's only
   };
   static LightDraws lightDraws(const GpuScene& scene, const SceneCasters& casters,
                                const Light& light, const LightShadowPlan& plan,
