@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <future>
+#include <numeric>
 #include <string>
 #include <thread>
 
@@ -266,7 +267,9 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
   // Lights whose layers fit one window are drawn together.
   GLint alignment = 256;
   glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &alignment);
-  const int layerAlignment = std::max(1, static_cast<int>(alignment) / 64);
+  // The fewest layers whose 64 bytes each make a multiple of the alignment.
+  const int layerAlignment = std::max(1, static_cast<int>(alignment)) /
+                             std::gcd(std::max(1, static_cast<int>(alignment)), 64);
   constexpr int kWindow = contract::kMaxUniformViewProjections;
   struct Window {
     int base = 0;

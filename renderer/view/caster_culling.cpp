@@ -179,7 +179,7 @@ CasterCulling cullCasters(const std::vector<ShadowCaster>& casters, const Shadow
     culling.viewMask[c] = mask;
     if (mask != 0u) culling.bucket[c] = cullBucket(caster, light);
   };
-  if (!cube || grid == nullptr) {
+  if (!cube || grid == nullptr || grid->casterCount() != casters.size()) {
     for (std::size_t c = 0; c < casters.size(); ++c) {
       const bool leftOut = flat(casters[c]);
       culling.flatLeftOut += leftOut;
