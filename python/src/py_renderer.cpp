@@ -45,8 +45,7 @@ RenderSettings renderSettings(const PyRenderOptions& o) {
     throw InputError("max_memory " + std::to_string(o.maxMemoryMiB) + ": expected MiB > 0");
   settings.maxShadowMemoryMiB = o.maxMemoryMiB;
   settings.maxAovMemoryMiB = o.maxMemoryMiB;
-  if (o.shadowPass != "auto" && o.shadowPass != "six" && o.shadowPass != "geometry" &&
-      o.shadowPass != "instanced" && o.shadowPass != "batched")
+  if (!isShadowPassStrategyName(o.shadowPass))
     throw InputError("shadow_pass " + o.shadowPass +
                      ": expected auto, six, geometry, instanced or batched");
   settings.shadowPass = parseShadowPassStrategy(o.shadowPass);

@@ -25,6 +25,10 @@ ShadowPassStrategy parseShadowPassStrategy(const std::string& name) {
   return ShadowPassStrategy::Auto;
 }
 
+bool isShadowPassStrategyName(const std::string& name) {
+  return name == "auto" || parseShadowPassStrategy(name) != ShadowPassStrategy::Auto;
+}
+
 void requestObjectIds(RenderSettings& settings) {
   (settings.aovs ? settings.layers.objectId : settings.objectIds) = true;
 }

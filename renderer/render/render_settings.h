@@ -29,6 +29,9 @@ const char* toString(ShadowPassStrategy strategy);
 // "auto", "six", "geometry", "instanced" or "batched"; anything else is Auto (the CLI checks the
 // spelling).
 ShadowPassStrategy parseShadowPassStrategy(const std::string& name);
+// Whether `name` is one of the spellings above (the Python module checks its argument with it;
+// the CLI lists them in its option).
+bool isShadowPassStrategyName(const std::string& name);
 
 // Optional AOV layers (--aov-layers), appended to Frame::aovs after the fixed channels.
 struct AovLayers {
