@@ -34,6 +34,13 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
                    "measured on llvmpipe; on NVIDIA H100 and H200 GPUs within 10% of instanced "
                    "and 1.6-2.5x faster than geometry)")
         ->check(CLI::IsMember({"auto", "six", "geometry", "instanced", "batched"}));
+  if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
+    app.add_option("--depth-prepass", o.depthPrepass,
+                   "Whether the opaque surfaces write their depth before they are shaded, so "
+                   "that each pixel is shaded once: on, off or auto (default; on llvmpipe drawn "
+                   "unless the scene's second frame counts little overdraw, off on GPUs). The "
+                   "picture is the same")
+        ->check(CLI::IsMember({"auto", "on", "off"}));
   if (renders)
     app.add_option("--max-memory", o.maxMemoryMiB,
                    "Memory the shadow maps of one frame may use, in MiB (default 4096)");
@@ -69,6 +76,7 @@ void applySceneSettings(const SceneInputOptions& o, RenderJob& job) {
   job.allowExternalUris = o.allowExternalUris;
   job.maxMemoryMiB = o.maxMemoryMiB;
   job.shadowPass = parseShadowPassStrategy(o.shadowPass);
+  job.depthPrepass = parseDepthPrepass(o.depthPrepass);
   job.sceneIndex = o.sceneIndex;
   job.time = o.time;
   job.animation = o.animation;

@@ -29,6 +29,7 @@ struct SceneInputOptions {
   bool allowExternalUris = false;
   double maxMemoryMiB = 4096.0;
   std::string shadowPass = "auto";
+  std::string depthPrepass = "auto";
   int sceneIndex = -1;
   std::optional<double> time;  // --time SECONDS; nullopt = the rest pose
   std::string animation;       // --animation NAME|INDEX|all; empty = all

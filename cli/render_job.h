@@ -37,6 +37,7 @@ struct RenderJob {
   int lightViewSize = 512;
   double maxMemoryMiB = 4096.0;  // for shadow maps
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
+  DepthPrepass depthPrepass = DepthPrepass::Auto;
   std::optional<double> time;  // pose at this time; nullopt = rest pose
   std::string animation;       // clips that play: name, index or "all"; empty = all
   bool cameraJson = false;     // write the camera sidecar next to the first image

@@ -97,6 +97,7 @@ class Renderer:
         no_gltf_lights: bool = False,
         max_memory: float = 4096.0,
         shadow_pass: str = "auto",
+        depth_prepass: str = "auto",
     ) -> Frame: ...
     def verify(
         self,

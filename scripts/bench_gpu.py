@@ -10,6 +10,9 @@ cannot build (a lent GPU). Sections, each written to OUT/gpu.md as soon as it is
   passes   the 250k-triangle bench room, 4 point lights at 1024^2: each --shadow-pass, every
            round listed, against `geometry`
   lights   256 shadowed point lights on 1M triangles (the many-lights frame)
+  prepass  the beauty's depth pre-pass forced on and off against auto (off on GPUs), on the
+           many-lights frame and three peers' scenes: steady lighting, and whether on and off
+           draw the same picture (an NVIDIA driver once failed the pre-pass's depth test)
   verify   `omnishadow verify` on three scenes: the device's shadows against exact ray casting
   batch    generated small scenes through `omnishadow batch`: scenes per second by workers
 Rounds are interleaved (A, B, C, A, B, C, ...) so that drift hits every configuration alike."""
@@ -198,10 +201,7 @@ class Bench:
                  "| cube map | image | --shadow-pass | steady frame | shadow maps | lighting | "
                  "readback | first frame |", "|---|---|---|---:|---:|---:|---:|---:|"]
         for res in map(int, self.a.many_resolutions.split(",")):
-            mem = max(4096, 256 * 6 * res * res * 4 * 1.5 / 2**20)
-            scene = os.path.join(self.tmp, f"many{res}.gltf")
-            subprocess.run([self.a.shadow_gen, scene, "--triangles", str(tris), "--lights", "256",
-                            "--resolution", str(res)], check=True, capture_output=True)
+            scene, mem = self.many_scene(res)
             for w, h in ((1280, 720), (1920, 1080)):
                 # The default pass and the one pass for all lights, round by round.
                 rows = {p: [] for p in ("auto", "batched")}
@@ -218,6 +218,52 @@ class Bench:
                                  f"{med('steady lighting'):.2f} | "
                                  f"{med('steady readback'):.2f} | {med('first'):.1f} |")
         self.write(f"256 shadowed point lights on {tris / 1e6:g}M triangles", lines)
+
+    def many_scene(self, res):
+        """The 256-light scene at cube maps of res^2, made once, and the --max-memory it needs."""
+        scene = os.path.join(self.tmp, f"many{res}.gltf")
+        if not os.path.exists(scene):
+            subprocess.run([self.a.shadow_gen, scene, "--triangles", str(self.a.many_triangles),
+                            "--lights", "256", "--resolution", str(res)], check=True,
+                           capture_output=True)
+        return scene, max(4096, 256 * 6 * res * res * 4 * 1.5 / 2**20)
+
+    def prepass(self):
+        res = int(self.a.many_resolutions.split(",")[0])
+        many, mem = self.many_scene(res)
+        cases = [(f"256 lights, {res}^2", many, ["--max-memory", f"{mem:.0f}"], w, h)
+                 for w, h in ((1280, 720), (1920, 1080))]
+        for n in ("cornell", "whackamole", "test_room"):
+            scene, lights = self.scene(n)
+            cases.append((n, scene, ["-l", lights, "--no-gltf-lights"], 1280, 720))
+        modes = ("auto", "on", "off")
+        rows = {(c[0], c[3], m): [] for c in cases for m in modes}
+        for _ in range(self.a.rounds):
+            for name, scene, extra, w, h in cases:
+                for m in modes:
+                    out = f"{self.tmp}/prepass-{len(rows)}-{name[:3]}{w}-{m}.png".replace(" ", "")
+                    rows[(name, w, m)].append(self.run(
+                        ["render", scene, *extra, "-o", out, "--stats", "--width", str(w),
+                         "--height", str(h), "--depth-prepass", m, "--repeat", str(self.a.repeat)]))
+                    rows[(name, w, m)][-1]["png"] = out
+        lines = ["Steady `lighting` of `render --repeat %d` in ms (medians of %d rounds), "
+                 "`--depth-prepass` auto, on and off; on / auto round by round; and on against "
+                 "off (`omnishadow diff` of the last round's PNGs)." % (self.a.repeat, self.a.rounds),
+                 "", "| scene | image | auto | on | off | on / auto (every round) | on against off |",
+                 "|---|---|---:|---:|---:|---|---|"]
+        for name, _, _, w, h in cases:
+            lit = {m: [x.get("steady lighting", float("nan")) for x in rows[(name, w, m)]]
+                   for m in modes}
+            on_png, off_png = rows[(name, w, "on")][-1]["png"], rows[(name, w, "off")][-1]["png"]
+            same = open(on_png, "rb").read() == open(off_png, "rb").read()
+            versus = "byte-identical" if same else (
+                "differ (max abs, mean abs, PSNR, pixels): " +
+                diff_row(self.a.bin, "", on_png, off_png).strip("| ").replace(" | ", ", "))
+            lines.append(f"| {name} | {w}x{h} | {statistics.median(lit['auto']):.2f} | "
+                         f"{statistics.median(lit['on']):.2f} | {statistics.median(lit['off']):.2f} | "
+                         f"{fmt_list([o / a for o, a in zip(lit['on'], lit['auto'])], 2)} | "
+                         f"{versus} |")
+        self.write("The depth pre-pass: auto, on and off", lines)
 
     def verify(self):
         """The GPU's shadow maps against exact ray casting: the rates per light."""
@@ -297,7 +343,7 @@ def main():
     ap.add_argument("--batch-scenes", type=int, default=200)
     ap.add_argument("--many-triangles", type=int, default=1000000)
     ap.add_argument("--many-resolutions", default="512,1024", help="cube map sizes of the 256 lights")
-    ap.add_argument("--sections", default="info,peers,passes,verify,lights,batch")
+    ap.add_argument("--sections", default="info,peers,passes,verify,lights,prepass,batch")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     b = Bench(a)

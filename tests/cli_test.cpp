@@ -191,6 +191,12 @@ const ErrorCase kErrorCases[] = {
      2,
      "--eye 1,2: expected 3 comma-separated finite numbers",
      ErrorCase::OneLine},
+    {"UnknownDepthPrepass",
+     kKeyLights,
+     {"render", "$scene", "--depth-prepass", "yes", "-o", "a.png"},
+     2,
+     "--depth-prepass: yes not in {auto,on,off}",
+     ErrorCase::Contains},
     // A usage error: one line naming --gpu and the EGL devices that exist; no output.
     {"NoSuchGpu",
      kKeyLights,
@@ -404,6 +410,22 @@ TEST_F(CliTest, OutputsAreByteIdenticalAcrossRuns) {
             folder + "/a.exr", "--aov", folder + "/aov.exr"});
   for (const std::string file : {"a.png", "a.exr", "aov.exr"})
     EXPECT_TRUE(sameBytes(output("first") / file, output("second") / file));
+}
+
+// The depth pre-pass changes how a picture is drawn, not what it shows: PNG (the 8-bit beauty
+// the lighting pass encodes) and EXR (the float one) alike.
+TEST_F(CliTest, DepthPrepassOnAndOffWriteTheSameFiles) {
+  const fs::path lights = writeText("lights.json", kKeyLights);
+  for (const std::string prepass : {"on", "off", "auto"}) {
+    render({scene().string(), "-l", lights.string(), "--depth-prepass", prepass, "-o",
+            prepass + "/a.png"});
+    render({scene().string(), "-l", lights.string(), "--depth-prepass", prepass, "-o",
+            prepass + "/a.exr"});
+  }
+  for (const std::string file : {"a.png", "a.exr"}) {
+    EXPECT_TRUE(sameBytes(output("on") / file, output("off") / file)) << file;
+    EXPECT_TRUE(sameBytes(output("on") / file, output("auto") / file)) << file;
+  }
 }
 
 TEST_F(CliTest, ExposureScalesLinearValuesAndBrightensThePng) {

@@ -22,10 +22,12 @@ namespace {
 using test_support::lookFrom;
 using test_support::sharedRenderer;
 
-Frame render(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera) {
+Frame render(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
+             DepthPrepass prepass = DepthPrepass::Auto) {
   StageTimes times;
   RenderSettings settings;
   settings.srgb8Exposure = 0.0f;
+  settings.depthPrepass = prepass;
   return sharedRenderer().render(scene, lights, glm::vec3(0.03f), camera, settings, times);
 }
 
@@ -148,6 +150,49 @@ TEST(DepthPrepass, TiesGoToTheLastDrawnSurfaceEitherWay) {
   const std::uint8_t* overlap = first.srgb8->rgb.data() + (22 * 64 + 32) * 3;
   EXPECT_EQ(overlap[0], 0);
   EXPECT_EQ(overlap[2], 255);
+}
+
+// --depth-prepass on and off: every frame as asked, also those that auto would draw otherwise
+// (Box drops it from its third frame, the Cornell box keeps it), and the picture auto draws.
+// Frames asked for on or off in between leave auto's choice for the scene as it was.
+TEST(DepthPrepass, OnAndOffAreDrawnAsAskedWithTheSamePicture) {
+  const Scene box = loadGltf(scenePath("Box/Box.glb"));
+  const Scene cornell = loadGltf(scenePath("CornellBoxSuzanne/cornell-box.glb"));
+  for (const Scene* scene : {&box, &cornell}) {
+    SCOPED_TRACE(scene == &box ? "Box" : "Cornell box");
+    const glm::vec3 center = scene->bounds.center();
+    const float size = 2.0f * scene->bounds.radius();
+    const std::vector<Light> lights = {keyLight(center + glm::vec3(0.3f, 0.4f, 0.2f) * size)};
+    const ViewCamera camera =
+        lookFrom(*scene, center + glm::vec3(0.2f, 0.3f, 1.2f) * size, center, 96, 64);
+    const Frame reference = render(*scene, lights, camera);
+    ASSERT_TRUE(reference.srgb8);
+    for (int frame = 0; frame < 4; ++frame) {
+      SCOPED_TRACE("frame " + std::to_string(frame));
+      const Frame on = render(*scene, lights, camera, DepthPrepass::On);
+      const Frame off = render(*scene, lights, camera, DepthPrepass::Off);
+      EXPECT_TRUE(on.depthPrepass);
+      EXPECT_FALSE(off.depthPrepass);
+      EXPECT_EQ(on.srgb8->rgb, reference.srgb8->rgb);
+      EXPECT_EQ(off.srgb8->rgb, reference.srgb8->rgb);
+    }
+    // Auto's second frame of the scene counts, with the pre-pass: the explicit frames did not
+    // count as the scene's.
+    EXPECT_TRUE(render(*scene, lights, camera).depthPrepass);
+    const Frame third = render(*scene, lights, camera);
+    EXPECT_EQ(third.depthPrepass, scene == &cornell);
+    EXPECT_EQ(third.srgb8->rgb, reference.srgb8->rgb);
+  }
+}
+
+TEST(DepthPrepass, SpelledAutoOnOrOff) {
+  for (const DepthPrepass p : {DepthPrepass::Auto, DepthPrepass::On, DepthPrepass::Off}) {
+    EXPECT_TRUE(isDepthPrepassName(toString(p)));
+    EXPECT_EQ(parseDepthPrepass(toString(p)), p);
+  }
+  EXPECT_FALSE(isDepthPrepassName("yes"));
+  EXPECT_FALSE(isDepthPrepassName("On"));
+  EXPECT_FALSE(isDepthPrepassName(""));
 }
 
 }  // namespace

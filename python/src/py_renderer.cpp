@@ -49,6 +49,9 @@ RenderSettings renderSettings(const PyRenderOptions& o) {
     throw InputError("shadow_pass " + o.shadowPass +
                      ": expected auto, six, geometry, instanced or batched");
   settings.shadowPass = parseShadowPassStrategy(o.shadowPass);
+  if (!isDepthPrepassName(o.depthPrepass))
+    throw InputError("depth_prepass " + o.depthPrepass + ": expected auto, on or off");
+  settings.depthPrepass = parseDepthPrepass(o.depthPrepass);
   settings.antialiasing = o.antialiasing;  // checked by planFrame, with the CLI's message
   return settings;
 }

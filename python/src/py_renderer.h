@@ -29,6 +29,7 @@ struct PyRenderOptions {
   bool noGltfLights = false;
   double maxMemoryMiB = 4096.0;
   std::string shadowPass = "auto";
+  std::string depthPrepass = "auto";
 };
 
 // verify()'s options, the CLI's verify options.

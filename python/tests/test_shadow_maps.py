@@ -102,3 +102,14 @@ def test_every_shadow_pass_gives_the_maps_six_gives(renderer, occluder_scene, sh
         np.testing.assert_array_equal(other.shadow_maps[name]["distances"],
                                       six.shadow_maps[name]["distances"])
     np.testing.assert_array_equal(other.beauty, six.beauty)
+
+
+def test_the_depth_prepass_on_or_off_draws_the_same_picture(renderer, occluder_scene):
+    path, _ = occluder_scene
+    scene = omnishadow.load_scene(path)
+    frames = {prepass: renderer.render(scene, LIGHTS, width=SIZE, height=SIZE,
+                                       depth_prepass=prepass)
+              for prepass in ("on", "off", "auto")}
+    np.testing.assert_array_equal(frames["on"].beauty, frames["off"].beauty)
+    np.testing.assert_array_equal(frames["on"].beauty, frames["auto"].beauty)
+    np.testing.assert_array_equal(frames["on"].to_srgb8(), frames["off"].to_srgb8())

@@ -245,12 +245,13 @@ class Renderer::Impl {
                            const RenderSettings& settings, StageTimes& times, IdPixels drawn = {});
   std::vector<LightView> drawLightViews(Prepared& prepared, const ViewCamera& camera,
                                         const glm::vec3& ambient, const RenderSettings& settings);
-  // The beauty's depth pre-pass (PassParameters::depthPrepass: the same picture either way),
-  // chosen per scene (its shadow fingerprint): the scene's first two frames draw it, and the
+  // The beauty's depth pre-pass (PassParameters::depthPrepass: the same picture either way).
+  // DepthPrepass::On and Off are taken as they are. Auto chooses per scene (its shadow
+  // fingerprint) where the driver allows it: the scene's first two frames draw it, and the
   // second counts fragments; where the pre-pass let through hardly more than were then shaded
   // (few surfaces hide others), the scene's next frames shade without it, and every
   // kPrepassRecount-th frame draws it again to count afresh.
-  void choosePrepass(std::uint64_t scene, PassParameters& parameters);
+  void choosePrepass(std::uint64_t scene, DepthPrepass requested, PassParameters& parameters);
   void notePrepass(const std::optional<OpaqueFragments>& counts);
   static constexpr int kPrepassRecount = 8;
   // Percent more fragments through the pre-pass than shaded after it below which it is dropped.
@@ -1097,7 +1098,13 @@ std::vector<PlanarShadowMapDump> Renderer::Impl::readPlanarShadowMaps(const Prep
   return dumps;
 }
 
-void Renderer::Impl::choosePrepass(std::uint64_t scene, PassParameters& parameters) {
+void Renderer::Impl::choosePrepass(std::uint64_t scene, DepthPrepass requested,
+                                   PassParameters& parameters) {
+  parameters.countFragments = false;
+  if (requested != DepthPrepass::Auto) {  // the auto choice of the scene's frames stays as it was
+    parameters.depthPrepass = requested == DepthPrepass::On;
+    return;
+  }
   if (!prepassSupported_) {
     parameters.depthPrepass = parameters.countFragments = false;
     return;
@@ -1144,7 +1151,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     PassParameters parameters;
     parameters.debugView = settings.debugView;
     parameters.debugLight = debugLight;
-    choosePrepass(prepared.fingerprint, parameters);
+    choosePrepass(prepared.fingerprint, settings.depthPrepass, parameters);
     frame.depthPrepass = parameters.depthPrepass;
     IdPixels ids;  // written beside the float beauty (BeautyIds)
     if (writesSrgb8(prepared.beautyOutputs))

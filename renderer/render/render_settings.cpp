@@ -29,6 +29,28 @@ bool isShadowPassStrategyName(const std::string& name) {
   return name == "auto" || parseShadowPassStrategy(name) != ShadowPassStrategy::Auto;
 }
 
+const char* toString(DepthPrepass prepass) {
+  switch (prepass) {
+    case DepthPrepass::Auto:
+      return "auto";
+    case DepthPrepass::On:
+      return "on";
+    case DepthPrepass::Off:
+      return "off";
+  }
+  return "?";
+}
+
+DepthPrepass parseDepthPrepass(const std::string& name) {
+  for (const DepthPrepass p : {DepthPrepass::On, DepthPrepass::Off})
+    if (name == toString(p)) return p;
+  return DepthPrepass::Auto;
+}
+
+bool isDepthPrepassName(const std::string& name) {
+  return name == "auto" || parseDepthPrepass(name) != DepthPrepass::Auto;
+}
+
 void requestObjectIds(RenderSettings& settings) {
   (settings.aovs ? settings.layers.objectId : settings.objectIds) = true;
 }

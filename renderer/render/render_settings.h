@@ -33,6 +33,22 @@ ShadowPassStrategy parseShadowPassStrategy(const std::string& name);
 // the CLI lists them in its option).
 bool isShadowPassStrategyName(const std::string& name);
 
+// Whether the beauty's opaque surfaces first write their depth alone, so that the light loop
+// runs once a pixel (--depth-prepass). The picture is the same either way; the speed depends on
+// how many surfaces hide others and on the driver (docs/performance.md).
+enum class DepthPrepass {
+  Auto,  // llvmpipe: drawn, and dropped for a scene whose second frame counts little overdraw;
+         // other drivers: not drawn (an NVIDIA driver failed its depth test, see lighting_pass.h)
+  On,    // always drawn
+  Off,   // never drawn
+};
+
+const char* toString(DepthPrepass prepass);
+// "auto", "on" or "off"; anything else is Auto (callers check the spelling with
+// isDepthPrepassName()).
+DepthPrepass parseDepthPrepass(const std::string& name);
+bool isDepthPrepassName(const std::string& name);
+
 // Optional AOV layers (--aov-layers), appended to Frame::aovs after the fixed channels.
 struct AovLayers {
   bool albedo = false;      // albedo.R/G/B
@@ -72,6 +88,7 @@ struct RenderSettings {
   // CLI gives both bounds --max-memory); more is an InputError before any GL allocation.
   double maxAovMemoryMiB = 4096.0;
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
+  DepthPrepass depthPrepass = DepthPrepass::Auto;  // of the beauty
   // Where the GL is a software rasterizer (llvmpipe) and a frame draws two or more lights' maps,
   // half of them are drawn in a second GL context at once (passes/shadow_worker.h). The maps,
   // and so the pictures, are the same either way; false draws every map in the one context.
