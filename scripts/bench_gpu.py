@@ -239,9 +239,9 @@ class Bench:
         modes = ("auto", "on", "off")
         rows = {(c[0], c[3], m): [] for c in cases for m in modes}
         for _ in range(self.a.rounds):
-            for name, scene, extra, w, h in cases:
+            for case, (name, scene, extra, w, h) in enumerate(cases):
                 for m in modes:
-                    out = f"{self.tmp}/prepass-{len(rows)}-{name[:3]}{w}-{m}.png".replace(" ", "")
+                    out = f"{self.tmp}/prepass-{case}-{m}.png"
                     rows[(name, w, m)].append(self.run(
                         ["render", scene, *extra, "-o", out, "--stats", "--width", str(w),
                          "--height", str(h), "--depth-prepass", m, "--repeat", str(self.a.repeat)]))
