@@ -81,28 +81,40 @@ void MemoryWarmup::touch(std::size_t page) {
   const auto begin = reinterpret_cast<std::uintptr_t>(block_);
   const std::uintptr_t end = begin + bytes_;
   HugePageTrial trial(hugeBegin(), hugeEnd());
-  for (std::uintptr_t at = begin; at < end;) {
+  std::uintptr_t at = begin;
+  while (at < end && !stop_.load(std::memory_order_relaxed)) {
     const std::uintptr_t spanBegin = at & ~(kHuge - 1);
     const std::uintptr_t spanEnd = std::min(spanBegin + kHuge, end);
     if (trial.asks(spanBegin, spanEnd)) advise(spanBegin, spanEnd, MADV_HUGEPAGE);
     const double start = threadCpuMilliseconds();
-    for (; at < spanEnd; at += page) {
-      if (stop_.load(std::memory_order_relaxed)) return;
+    for (; at < spanEnd && !stop_.load(std::memory_order_relaxed); at += page)
       block_[at - begin] = 0;
-    }
     trial.touched(spanBegin, spanEnd, threadCpuMilliseconds() - start);
   }
+  handedOver_.store(true);
+  handedOver_.notify_one();
+  freed_.wait(false);
+  // The block is the heap's now, and some of it may be the frame's: each page of the rest that
+  // the frame is expected to need is faulted in without changing a byte.
+  for (; at < neededEnd_ && !quit_.load(std::memory_order_relaxed); at += page)
+    std::atomic_ref<char>(*reinterpret_cast<char*>(at)).fetch_add(0, std::memory_order_relaxed);
 }
 
 MemoryWarmup::~MemoryWarmup() {
   finish();
+  quit_ = true;
+  if (toucher_.joinable()) toucher_.join();
 }
 
-void MemoryWarmup::finish() {
+void MemoryWarmup::finish(std::size_t neededBytes) {
+  if (!block_) return;
   stop_ = true;
-  if (toucher_.joinable()) toucher_.join();
+  if (toucher_.joinable()) handedOver_.wait(false);
+  neededEnd_ = reinterpret_cast<std::uintptr_t>(block_) + std::min(neededBytes, bytes_);
   std::free(block_);
   block_ = nullptr;
+  freed_.store(true);
+  freed_.notify_one();
 }
 
 }  // namespace omnishadow::cli

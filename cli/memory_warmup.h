@@ -12,6 +12,13 @@
 // and to keep what is freed, so that they are: a process that renders once and exits. Where
 // they fault quickly, the block gets transparent huge pages, which the toucher faults in 2 MiB
 // at a time (cli/huge_page_trial.h).
+//
+// Where the scene loads on every core, the toucher gets little of that time (Sundial: 26 of
+// 128 MB), and the frame then faults in what it carves beyond (60 MB in its shadow stage). So
+// once the block is the heap's, the toucher goes on at idle priority, while the renderer
+// compiles shaders and uploads the scene on one core, up to what the frame is expected to carve
+// from the block: it faults each page in with an atomic add of 0 to its first byte, which
+// changes no byte of memory the frame may hold by then.
 
 #include <atomic>
 #include <cstddef>
@@ -30,8 +37,10 @@ class MemoryWarmup {
   MemoryWarmup(const MemoryWarmup&) = delete;
   MemoryWarmup& operator=(const MemoryWarmup&) = delete;
 
-  // Stops touching and gives the block back to the heap, faulted-in pages and the rest.
-  void finish();
+  // Gives the block back to the heap, faulted-in pages and the rest; the toucher goes on over
+  // the block's first `neededBytes` (what the frame is expected to need) until it has covered
+  // them or the warm-up is destroyed.
+  void finish(std::size_t neededBytes = 0);
 
  private:
   void touch(std::size_t page);
@@ -41,7 +50,11 @@ class MemoryWarmup {
 
   char* block_ = nullptr;
   std::size_t bytes_ = 0;
-  std::atomic<bool> stop_{false};
+  std::atomic<bool> stop_{false};        // the block is to be handed over
+  std::atomic<bool> handedOver_{false};  // the toucher has stopped writing to it
+  std::atomic<bool> freed_{false};       // it is the heap's; neededEnd_ is set
+  std::atomic<bool> quit_{false};        // the toucher is to end
+  std::uintptr_t neededEnd_ = 0;         // where the toucher ends once the block is freed
   std::thread toucher_;
 };
 

@@ -93,7 +93,7 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   if (renderer && loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
     prepareJob(*renderer, job);
   auto [loaded, loadMilliseconds] = loading.get();
-  warmup.finish();
+  warmup.finish(renderer ? frameMemoryEstimate(*renderer, job, loaded) : 0);
   if (contextError) std::rethrow_exception(contextError);
   warnings = loaded.warnings;
   times.add("load", loadMilliseconds);

@@ -84,6 +84,12 @@ std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> tim
 // loaded.
 void prepareJob(Renderer& renderer, const RenderJob& job);
 
+// About the bytes a render of the loaded job allocates: Renderer::frameBytes, and the scene's
+// images with their mipmaps and its geometry as the GL copies them. For the memory warm-up
+// (memory_warmup.h).
+std::size_t frameMemoryEstimate(const Renderer& renderer, const RenderJob& job,
+                                const LoadedJob& loaded);
+
 // Renders on the renderer's (GL) thread. Throws InputError for limits of this GL. The frame's
 // warnings are the renderer's; the job's own are in `loaded`.
 Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,

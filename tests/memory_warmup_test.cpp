@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <malloc.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <cinttypes>
@@ -152,6 +153,52 @@ TEST(MemoryWarmup, HugePagesAreAskedForFromTheStartOfTheBlock) {
       EXPECT_TRUE(hasFlag(spans[i], "nh")) << "span " << i << ": " << spans[i];
     }
   }
+}
+
+// Once the block is the heap's, the toucher faults in the pages the frame is expected to need,
+// up to `neededBytes` from the block's start, without changing a byte: what the frame has
+// written there by then stays. The frame's buffer is carved from the freed block's start, which
+// only a fresh heap guarantees: the check runs in a process of its own (a death test, re-run
+// with only this test), and exits 0 when it holds.
+void exitWhetherTheNeededPagesAreFaultedInAndKeepTheirBytes() {
+  constexpr std::size_t kBlock = std::size_t{64} << 20;
+  constexpr std::size_t kNeeded = std::size_t{40} << 20;
+  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  MemoryWarmup warmup(kBlock);
+  warmup.finish(kNeeded);  // at once: the toucher has reached little of the block
+  auto* frame = static_cast<unsigned char*>(std::malloc(kNeeded));
+  if (!frame) std::_Exit(2);
+  // A byte pattern in the upper half, which the toucher, going up from the block's start,
+  // reaches after it has been written.
+  constexpr std::size_t kPatternBegin = kNeeded / 2, kPatternEnd = kNeeded - (std::size_t{1} << 20);
+  for (std::size_t i = kPatternBegin; i < kPatternEnd; ++i)
+    frame[i] = static_cast<unsigned char>(i * 7 + 1);
+  // Whole pages of the buffer well within the needed bytes (it starts past the block's start
+  // by malloc's header).
+  const auto first = (reinterpret_cast<std::uintptr_t>(frame) + page - 1) & ~(page - 1);
+  const std::size_t pages = (kNeeded - (std::size_t{1} << 20)) / page;
+  std::vector<unsigned char> resident(pages);
+  const auto residentPages = [&] {
+    // NOLINTNEXTLINE(performance-no-int-to-ptr): the buffer's own pages
+    if (mincore(reinterpret_cast<void*>(first), pages * page, resident.data()) != 0) return 0uz;
+    std::size_t count = 0;
+    for (const unsigned char r : resident) count += r & 1u;
+    return count;
+  };
+  // The toucher runs only on an idle core.
+  for (int i = 0; i < 6000 && residentPages() < pages; ++i) usleep(10000);
+  std::size_t changed = 0;
+  for (std::size_t i = kPatternBegin; i < kPatternEnd; ++i)
+    changed += frame[i] != static_cast<unsigned char>(i * 7 + 1);
+  std::fprintf(stderr, "%zu of %zu pages resident, %zu bytes changed\n", residentPages(), pages,
+               changed);
+  std::_Exit(residentPages() == pages && changed == 0 ? 0 : 1);
+}
+
+TEST(MemoryWarmupDeathTest, AfterFinishTheNeededPagesAreFaultedInAndKeepTheirBytes) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(exitWhetherTheNeededPagesAreFaultedInAndKeepTheirBytes(),
+              ::testing::ExitedWithCode(0), "");
 }
 #endif
 

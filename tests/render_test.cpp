@@ -2042,3 +2042,27 @@ TEST(Readback, AFrameAfterOneOfAnotherSizeIsTheSameTopRowFirst) {
     EXPECT_EQ(again.at(x, 31, 3), 1.0f) << "floor at the bottom, column " << x;
   }
 }
+
+// Renderer::frameBytes, which the CLI's memory warm-up faults in ahead of a render: the shadow
+// maps, and the beauty's targets with what the beauty is read back into, 8-bit where the scene
+// lets the lighting pass encode it, float where blended surfaces need it; 0 for a frame that
+// render() refuses.
+TEST(Renderer, FrameBytesCountTheShadowMapsAndTheBeautyTheSceneTakes) {
+  const Scene opaque =
+      loadGltf(std::string(OMNISHADOW_SOURCE_DIR) + "/scenes/thirdparty/Box/Box.glb");
+  Scene blended = opaque;
+  for (Material& material : blended.materials) material.alphaMode = AlphaMode::Blend;
+  const std::vector<Light> lights = {pointLight("key", {1.5f, 2.0f, 2.0f}, ShadowFilter::Pcf, 256)};
+  const ViewCamera camera = lookFrom(opaque, {1.2f, 1.0f, 1.6f}, {0, 0, 0}, 320, 240);
+  RenderSettings settings;
+  settings.srgb8Exposure = 0.0f;
+  const double maps = 6.0 * 256 * 256 * 4;  // one cube map of 32-bit depths
+  const double pixels = 320.0 * 240.0;
+  const double bytes8 = sharedRenderer().frameBytes(opaque, lights, camera, settings);
+  EXPECT_GE(bytes8, maps + pixels * (4 + 4 + 3));  // RGBA8UI codes, depth, RGB read back
+  EXPECT_LE(bytes8, maps * 1.5 + pixels * 16);
+  const double bytesFloat = sharedRenderer().frameBytes(blended, lights, camera, settings);
+  EXPECT_GE(bytesFloat - bytes8, pixels * (16 + 16 - 4 - 3));  // RGBA32F, and read back as such
+  settings.antialiasing = 3;                                   // not 1, 4, 8 or 16
+  EXPECT_EQ(sharedRenderer().frameBytes(opaque, lights, camera, settings), 0.0);
+}

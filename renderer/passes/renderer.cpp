@@ -187,6 +187,8 @@ class Renderer::Impl {
                                                    ShadowPassStrategy strategy);
   double prepare(const std::vector<Light>& lights, int width, int height,
                  const RenderSettings& settings, double budgetMiB);
+  double frameBytes(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
+                    const RenderSettings& settings) const;
 
   const RenderLimits& limits() const { return limits_; }
   const EglContext& context() const { return context_; }
@@ -1267,6 +1269,24 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
   return bytes;
 }
 
+double Renderer::Impl::frameBytes(const Scene& scene, const std::vector<Light>& lights,
+                                  const ViewCamera& camera, const RenderSettings& settings) const {
+  FramePlan plan;
+  try {
+    plan = planFrame(scene, lights, camera, settings, limits_);
+  } catch (const InputError&) {
+    return 0.0;  // render() says why
+  }
+  if (!drawsLitFrame(settings)) return 0.0;
+  double bytes = plan.shadows.bytes;
+  if (!settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1) {
+    const PassOutputs outputs = beautyOutputs(scene, settings);
+    bytes += FrameTargets::bytes(camera.width, camera.height, outputs) +
+             static_cast<double>(camera.width) * camera.height * (writesSrgb8(outputs) ? 3 : 16);
+  }
+  return bytes;
+}
+
 // Every entry that makes GL calls makes this renderer's context current first: a thread may
 // hold several renderers (a Python session that makes a new one before the old one goes), and
 // GL calls go to whichever context was made current last, another renderer's or none.
@@ -1313,6 +1333,11 @@ double Renderer::prepare(const std::vector<Light>& lights, int width, int height
                          const RenderSettings& settings, double budgetMiB) {
   impl_->context().makeCurrent();
   return impl_->prepare(lights, width, height, settings, budgetMiB);
+}
+
+double Renderer::frameBytes(const Scene& scene, const std::vector<Light>& lights,
+                            const ViewCamera& camera, const RenderSettings& settings) const {
+  return impl_->frameBytes(scene, lights, camera, settings);
 }
 
 }  // namespace omnishadow

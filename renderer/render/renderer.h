@@ -46,6 +46,11 @@ class Renderer {
   // (render() reports that). Returns the bytes it prepared.
   double prepare(const std::vector<Light>& lights, int width, int height,
                  const RenderSettings& settings, double budgetMiB);
+  // About the bytes render() allocates for the scene's frame: its shadow maps, the beauty's
+  // targets and what the beauty is read back into; 0 where render() would refuse it. Makes no
+  // GL call (the CLI's memory warm-up faults in as much ahead of the frame).
+  double frameBytes(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
+                    const RenderSettings& settings) const;
 
   // Depth cube maps of the shadowed point lights, as distances, with every caster drawn (as the
   // depth dumps hold them), e.g. for tests.
