@@ -95,7 +95,10 @@ void MemoryWarmup::touch(std::size_t page) {
   handedOver_.notify_one();
   freed_.wait(false);
   // The block is the heap's now, and some of it may be the frame's: each page of the rest that
-  // the frame is expected to need is faulted in without changing a byte.
+  // the frame is expected to need is faulted in without changing a byte. A locked add of 0
+  // reads and writes the byte back in one step, so that a store another thread makes to it
+  // meanwhile is not lost (x86-64 and AArch64 alike; C++ calls it a race with that thread's
+  // plain store, which the hardware does not).
   for (; at < neededEnd_ && !quit_.load(std::memory_order_relaxed); at += page)
     std::atomic_ref<char>(*reinterpret_cast<char*>(at)).fetch_add(0, std::memory_order_relaxed);
 }
