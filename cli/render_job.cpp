@@ -330,13 +330,7 @@ std::size_t frameMemoryEstimate(const Renderer& renderer, const RenderJob& job,
       renderer.frameBytes(loaded.scene, loaded.lights, loaded.camera, renderSettings(job));
   for (const Image& image : loaded.scene.images)
     bytes += static_cast<double>(image.rgba.size()) * 4.0 / 3.0;
-  for (const Mesh& mesh : loaded.scene.meshes)
-    bytes += static_cast<double>(
-        mesh.positions.size() * sizeof mesh.positions[0] +
-        mesh.normals.size() * sizeof mesh.normals[0] +
-        mesh.tangents.size() * sizeof mesh.tangents[0] + mesh.uv0.size() * sizeof mesh.uv0[0] +
-        mesh.uv1.size() * sizeof mesh.uv1[0] + mesh.colors.size() * sizeof mesh.colors[0] +
-        mesh.indices.size() * sizeof mesh.indices[0]);
+  for (const Mesh& mesh : loaded.scene.meshes) bytes += static_cast<double>(meshBytes(mesh));
   return static_cast<std::size_t>(bytes);
 }
 

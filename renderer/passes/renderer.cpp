@@ -111,6 +111,12 @@ bool encodesSrgb8(const Scene& scene, const RenderSettings& settings) {
                       [](const Material& m) { return m.alphaMode == AlphaMode::Blend; });
 }
 
+// Whether the frame draws the beauty pass: always without AOVs; with them only for a debug view
+// or anti-aliasing, which the AOV pass does not draw.
+bool drawsBeauty(const RenderSettings& settings) {
+  return !settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1;
+}
+
 bool hasBlendedSurfaces(const GpuScene& scene) {
   for (const GpuDraw& draw : scene.draws())
     if (scene.materials()[draw.material].desc.alphaMode == AlphaMode::Blend) return true;
@@ -1149,7 +1155,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     drawAovs(prepared, camera, ambient, settings, aovs, times);
     frame.aovs = std::move(aovs);
   }
-  if (!settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1) {
+  if (drawsBeauty(settings)) {
     PassParameters parameters;
     parameters.debugView = settings.debugView;
     parameters.debugLight = debugLight;
@@ -1247,8 +1253,7 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
     return 0.0;  // render() says why
   }
   if (!drawsLitFrame(settings)) return 0.0;  // masks alone: no shadow maps, no beauty
-  const bool beauty =
-      !settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1;
+  const bool beauty = drawsBeauty(settings);
   // Where the lighting pass may encode the beauty, the scene decides (blended surfaces need the
   // float one): both are prepared.
   const bool srgb8 = beauty && encodesSrgb8(Scene{}, settings);
@@ -1279,7 +1284,7 @@ double Renderer::Impl::frameBytes(const Scene& scene, const std::vector<Light>& 
   }
   if (!drawsLitFrame(settings)) return 0.0;
   double bytes = plan.shadows.bytes;
-  if (!settings.aovs || settings.debugView != DebugView::None || settings.antialiasing > 1) {
+  if (drawsBeauty(settings)) {
     const PassOutputs outputs = beautyOutputs(scene, settings);
     bytes += FrameTargets::bytes(camera.width, camera.height, outputs) +
              static_cast<double>(camera.width) * camera.height * (writesSrgb8(outputs) ? 3 : 16);

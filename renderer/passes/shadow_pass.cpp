@@ -268,8 +268,8 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
   GLint alignment = 256;
   glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &alignment);
   // The fewest layers whose 64 bytes each make a multiple of the alignment.
-  const int layerAlignment = std::max(1, static_cast<int>(alignment)) /
-                             std::gcd(std::max(1, static_cast<int>(alignment)), 64);
+  const int alignmentBytes = std::max(1, static_cast<int>(alignment));
+  const int layerAlignment = alignmentBytes / std::gcd(alignmentBytes, 64);
   constexpr int kWindow = contract::kMaxUniformViewProjections;
   struct Window {
     int base = 0;

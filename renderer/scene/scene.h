@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <optional>
@@ -96,6 +97,14 @@ struct Mesh {
   int material = -1;  // index into Scene::materials; -1 = the glTF default material
   Bounds bounds;      // local space
 };
+
+// The bytes of a mesh's arrays (what the GPU upload copies, and what hashing it reads).
+inline std::size_t meshBytes(const Mesh& m) {
+  return m.positions.size() * sizeof m.positions[0] + m.normals.size() * sizeof m.normals[0] +
+         m.tangents.size() * sizeof m.tangents[0] + m.uv0.size() * sizeof m.uv0[0] +
+         m.uv1.size() * sizeof m.uv1[0] + m.colors.size() * sizeof m.colors[0] +
+         (m.indices.size() + m.lineIndices.size() + m.pointIndices.size()) * sizeof(std::uint32_t);
+}
 
 // A mesh placed in the world by a node.
 struct MeshInstance {

@@ -117,15 +117,8 @@ std::vector<MeshDigests> meshDigests(const Scene& scene) {
   };
   // Hashing is bound by memory bandwidth, which a second core adds to: from 4 MiB on, a second
   // thread takes the meshes holding the first half of the bytes.
-  const auto bytesOf = [](const Mesh& m) {
-    return m.positions.size() * sizeof m.positions[0] + m.normals.size() * sizeof m.normals[0] +
-           m.tangents.size() * sizeof m.tangents[0] + m.uv0.size() * sizeof m.uv0[0] +
-           m.uv1.size() * sizeof m.uv1[0] + m.colors.size() * sizeof m.colors[0] +
-           (m.indices.size() + m.lineIndices.size() + m.pointIndices.size()) *
-               sizeof(std::uint32_t);
-  };
   std::size_t total = 0;
-  for (const Mesh& mesh : scene.meshes) total += bytesOf(mesh);
+  for (const Mesh& mesh : scene.meshes) total += meshBytes(mesh);
   constexpr std::size_t kTwoThreadBytes = std::size_t{4} << 20;
   if (total < kTwoThreadBytes || std::thread::hardware_concurrency() < 2) {
     work(0, digests.size());
@@ -133,7 +126,7 @@ std::vector<MeshDigests> meshDigests(const Scene& scene) {
   }
   std::size_t middle = 0;
   for (std::size_t half = 0; middle < digests.size() && half < total / 2; ++middle)
-    half += bytesOf(scene.meshes[middle]);
+    half += meshBytes(scene.meshes[middle]);
   std::thread helper(work, std::size_t{0}, middle);
   work(middle, digests.size());
   helper.join();
