@@ -14,11 +14,23 @@
 #include "renderer/gl/software_rasterizer.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/scene/srgb_transfer.h"
+#include "renderer/view/blended_order.h"
 
 namespace omnishadow {
 namespace {
 
 using contract::GpuLight;
+
+// The scene's blended draws, farthest from the camera first (renderer/view/blended_order.h).
+std::vector<std::size_t> blendedDrawOrder(const GpuScene& scene, const glm::mat4& view) {
+  std::vector<BlendedDraw> blended;
+  for (std::size_t i = 0; i < scene.draws().size(); ++i) {
+    const GpuDraw& draw = scene.draws()[i];
+    if (scene.materials()[draw.material].desc.alphaMode == AlphaMode::Blend)
+      blended.push_back({i, draw.boundsCenter});
+  }
+  return farthestFirst(blended, view);
+}
 
 // Texture slots in unit order (kBaseColorUnit + i), as bits of a material variant.
 constexpr const char* kMaterialTextureDefines[contract::kMaterialUnits] = {
@@ -433,9 +445,7 @@ void LightingPass::uploadClusters(const GpuScene& scene, const std::vector<Shade
                                   const ViewCamera& camera, FrameUniforms& uniforms) {
   std::vector<const Light*> list;
   for (const ShadedLight& shaded : lights) list.push_back(shaded.light);
-  // View depth along the camera axis: minus the view-space z.
-  const glm::vec4 depthRow(-camera.view[0][2], -camera.view[1][2], -camera.view[2][2],
-                           -camera.view[3][2]);
+  const glm::vec4 depthRow = viewDepthRow(camera.view);
   float farthest = 0.0f;
   for (const GpuDraw& draw : scene.draws())
     farthest = std::max(farthest,
@@ -489,7 +499,10 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
   const bool lighting = depthOnly == nullptr;
   const ShaderProgram* current = depthOnly;
   if (depthOnly) depthOnly->use();
-  for (std::size_t index = 0; index < scene.draws().size(); ++index) {
+  const bool sorted = set == DrawSet::Blended;
+  const std::size_t count = sorted ? blendedOrder_.size() : scene.draws().size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t index = sorted ? blendedOrder_[k] : k;
     const GpuDraw& draw = scene.draws()[index];
     const GpuMaterial& material = scene.materials()[draw.material];
     const AlphaMode mode = material.desc.alphaMode;
@@ -592,6 +605,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   uniforms.lightCount = uploadLights(lights, shadowGroups, transmittanceAtlas);
   if (features_.clusteredLights) uploadClusters(scene, lights, camera, uniforms);
   framePrograms_.clear();
+  blendedOrder_ = blendedDrawOrder(scene, camera.view);
   glBindVertexArray(scene.vertexArray());
 
   // With the pre-pass (PassParameters::depthPrepass), depth of the opaque surfaces first, so
@@ -634,8 +648,8 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.depth.apply();
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
 
-  // Blended surfaces over the opaque frame, unsorted; the AOVs, layers and ids keep the opaque
-  // surfaces (the ids take the blended ones' coverage alone).
+  // Blended surfaces over the opaque frame, farthest first; the AOVs, layers and ids keep the
+  // opaque surfaces (the ids take the blended ones' coverage alone).
   if (outputs_ == PassOutputs::Layers) {
     gl::RasterState::restoreDefaults();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -236,7 +236,7 @@ class LightingPass {
   const ShaderProgram& program(unsigned variant);
   enum class DrawSet { Opaque, Masked, Blended };
   // depthOnly: that program for every draw; null: each material's lighting variant, whose
-  // frame uniforms `uniforms` sets on first use.
+  // frame uniforms `uniforms` sets on first use. Blended draws go in blendedOrder_.
   void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
                  const FrameUniforms& uniforms);
   void drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program, bool lighting);
@@ -245,7 +245,8 @@ class LightingPass {
   PassOutputs outputs_;
   LightingFeatures features_;
   std::vector<std::pair<unsigned, std::unique_ptr<ShaderProgram>>> programs_;
-  std::vector<unsigned> framePrograms_;  // the variants holding this frame's uniforms
+  std::vector<unsigned> framePrograms_;    // the variants holding this frame's uniforms
+  std::vector<std::size_t> blendedOrder_;  // this frame's blended draws, farthest first
   ShaderProgram depthOnly_;
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;

@@ -119,6 +119,10 @@ glm::mat4 reversedOrthographic(float xmag, float ymag, float znear, float zfar) 
   return p;
 }
 
+glm::vec4 viewDepthRow(const glm::mat4& view) {
+  return {-view[0][2], -view[1][2], -view[2][2], -view[3][2]};
+}
+
 namespace {
 
 // Image size: the camera's aspect ratio fills in the side the user did not give.

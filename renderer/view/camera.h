@@ -50,4 +50,8 @@ ViewCamera resolveCamera(const Scene& scene, const CameraRequest& request);
 glm::mat4 reversedPerspective(float yfov, float aspect, float znear, float zfar);
 glm::mat4 reversedOrthographic(float xmag, float ymag, float znear, float zfar);
 
+// The row that gives a world point's depth along the view axis of `view` (a world-to-view
+// matrix): dot(row, vec4(p, 1)) is minus p's view-space z, larger for farther points.
+glm::vec4 viewDepthRow(const glm::mat4& view);
+
 }  // namespace omnishadow

@@ -1,0 +1,97 @@
+// Blended surfaces compose nearer over farther, whatever order the scene lists them in.
+#include "renderer/view/blended_order.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "renderer/render/renderer.h"
+#include "renderer/view/camera.h"
+#include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
+
+using namespace omnishadow;
+
+namespace {
+
+glm::mat4 lookFrom(const glm::vec3& eye, const glm::vec3& target) {
+  return glm::lookAt(eye, target, glm::vec3(0.0f, 1.0f, 0.0f));
+}
+
+// Two unlit, half-transparent panes facing a camera on +Z: red at z = `redZ`, blue at
+// `blueZ`, listed red first.
+Scene twoPanes(float redZ, float blueZ) {
+  Scene scene;
+  Material red, blue;
+  red.baseColorFactor = {1.0f, 0.0f, 0.0f, 0.5f};
+  blue.baseColorFactor = {0.0f, 0.0f, 1.0f, 0.5f};
+  for (Material* m : {&red, &blue}) {
+    m->alphaMode = AlphaMode::Blend;
+    m->doubleSided = true;
+    m->unlit = true;
+  }
+  scene.materials = {red, blue};
+  const glm::mat4 faceCamera =
+      glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(1.0f, 0.0f, 0.0f));
+  test::placeMesh(scene, builder::makePlane(2.0f),
+                  glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, redZ}) * faceCamera, 0);
+  test::placeMesh(scene, builder::makePlane(2.0f),
+                  glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, blueZ}) * faceCamera, 1);
+  return scene;
+}
+
+// The linear, premultiplied RGBA at the middle of the frame of `scene` seen from z = 4.
+glm::vec4 middlePixel(const Scene& scene) {
+  static Renderer renderer(ContextOptions{});
+  CameraRequest request;
+  request.eye = glm::vec3(0.0f, 0.0f, 4.0f);
+  request.target = glm::vec3(0.0f);
+  request.fovDegrees = 30.0f;
+  request.width = 32;
+  request.height = 24;
+  StageTimes times;
+  const Frame frame = renderer.render(scene, {}, glm::vec3(0.0f), resolveCamera(scene, request),
+                                      RenderSettings{}, times);
+  const FloatImage& beauty = frame.beauty;
+  const int x = beauty.width / 2, y = beauty.height / 2;
+  return {beauty.at(x, y, 0), beauty.at(x, y, 1), beauty.at(x, y, 2), beauty.at(x, y, 3)};
+}
+
+}  // namespace
+
+TEST(BlendedOrder, FarthestFirstAlongTheViewAxis) {
+  const glm::mat4 view = lookFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
+  // Depths 10, 12, 8 and 9.5 (the last one off the axis: depth, not distance, counts).
+  const std::vector<BlendedDraw> draws = {{0, {0.0f, 0.0f, 0.0f}},
+                                          {1, {0.0f, 0.0f, -2.0f}},
+                                          {2, {0.0f, 0.0f, 2.0f}},
+                                          {3, {6.0f, 0.0f, 0.5f}}};
+  EXPECT_EQ(farthestFirst(draws, view), (std::vector<std::size_t>{1, 0, 3, 2}));
+  // Seen from the other side, the other way round.
+  EXPECT_EQ(farthestFirst(draws, lookFrom({0.0f, 0.0f, -10.0f}, glm::vec3(0.0f))),
+            (std::vector<std::size_t>{2, 3, 0, 1}));
+}
+
+TEST(BlendedOrder, EqualDepthsKeepTheSceneOrder) {
+  const glm::mat4 view = lookFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
+  const std::vector<BlendedDraw> draws = {{7, {1.0f, 0.0f, 0.0f}},
+                                          {3, {-1.0f, 0.0f, 0.0f}},
+                                          {5, {0.0f, 2.0f, 0.0f}},
+                                          {9, {0.0f, 0.0f, -1.0f}}};
+  EXPECT_EQ(farthestFirst(draws, view), (std::vector<std::size_t>{9, 7, 3, 5}));
+  EXPECT_TRUE(farthestFirst({}, view).empty());
+}
+
+// Red over blue over the black background where red is nearer, and blue over red where blue
+// is: "over" in the order the panes lie, not the order the scene lists them.
+TEST(BlendedOrder, NearerPaneComposesOverTheFartherOneInEitherSceneOrder) {
+  const glm::vec4 redNearer = middlePixel(twoPanes(1.0f, 0.0f));
+  EXPECT_NEAR(redNearer.r, 0.5f, 1e-5f);
+  EXPECT_NEAR(redNearer.g, 0.0f, 1e-5f);
+  EXPECT_NEAR(redNearer.b, 0.25f, 1e-5f);
+  EXPECT_NEAR(redNearer.a, 0.75f, 1e-5f);
+  const glm::vec4 blueNearer = middlePixel(twoPanes(0.0f, 1.0f));
+  EXPECT_NEAR(blueNearer.r, 0.25f, 1e-5f);
+  EXPECT_NEAR(blueNearer.b, 0.5f, 1e-5f);
+  EXPECT_NEAR(blueNearer.a, 0.75f, 1e-5f);
+}
