@@ -158,7 +158,10 @@ Json toJson(const Info& info) {
   doc["scene"] = {{"index", source.sceneIndex >= 0 ? Json(source.sceneIndex) : Json(nullptr)},
                   {"count", source.sceneCount}};
   doc["counts"] = {
-      {"nodes", {{"file", source.fileNodes}, {"reached", source.reachedNodes}}},
+      {"nodes",
+       {{"file", source.fileNodes},
+        {"reached", source.reachedNodes},
+        {"hidden", source.hiddenNodes}}},
       {"meshes", source.gltfMeshes},
       {"primitives", {{"file", source.gltfPrimitives}, {"drawn", scene.meshes.size()}}},
       {"instances", scene.instances.size()},
@@ -292,7 +295,10 @@ void printText(const Info& info) {
                     plural(static_cast<std::uint64_t>(source.sceneCount), "scene", "scenes") +
                     " in the file)");
   printInfoLine("nodes", std::to_string(source.fileNodes) + " in the file, " +
-                             std::to_string(source.reachedNodes) + " reached from the scene");
+                             std::to_string(source.reachedNodes) + " reached from the scene" +
+                             (source.hiddenNodes > 0 ? ", " + std::to_string(source.hiddenNodes) +
+                                                           " of them hidden (KHR_node_visibility)"
+                                                     : std::string()));
   printInfoLine(
       "meshes",
       plural(static_cast<std::uint64_t>(source.gltfMeshes), "glTF mesh", "glTF meshes") + ", " +

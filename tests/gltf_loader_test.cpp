@@ -21,6 +21,7 @@
 
 #include "renderer/core/errors.h"
 #include "renderer/scene/camera_checks.h"
+#include "renderer/scene/drawable_check.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/input_error.h"
 
@@ -972,6 +973,90 @@ TEST_F(GltfLoaderTest, KhrLightsArePlacedInWorldSpace) {
   for (const Light& light : scene.lights) EXPECT_EQ(light.origin, "glTF");
 }
 
+// KHR_node_visibility: a hidden node places no mesh and no light, and neither does any node
+// below it, even one marked visible; a camera on a hidden node stays; a sibling is drawn.
+TEST_F(GltfLoaderTest, HiddenNodesPlaceNoMeshOrLightDownTheirWholeSubtree) {
+  GltfBuilder builder;
+  tinygltf::Model& model = builder.model();
+  const auto setVisible = [&](int node, tinygltf::Value visible) {
+    model.nodes[static_cast<std::size_t>(node)].extensions["KHR_node_visibility"] =
+        tinygltf::Value(tinygltf::Value::Object{{"visible", std::move(visible)}});
+  };
+  const int mesh = builder.addMesh(triangleMesh());
+  Transform far;
+  far.translation = {100, 0, 0};
+  const int hidden = builder.addNode("hidden", {}, mesh);
+  const int child = builder.addNode("child", far, mesh, hidden);
+  builder.addNode("shown", {}, mesh);
+  builder.addLight("lamp", "point", {0, 1, 0}, {0, -1, 0}, glm::vec3(1.0f), 1.0f);
+  const int lampNode = static_cast<int>(model.nodes.size()) - 1;
+  builder.addLight("sun", "directional", {0, 0, 0}, {0, -1, 0}, glm::vec3(1.0f), 1.0f);
+  builder.addPerspectiveCamera("watcher", {0, 0, 5}, {0, 0, 0}, 0.8f);
+  const int cameraNode = static_cast<int>(model.nodes.size()) - 1;
+  setVisible(hidden, tinygltf::Value(false));
+  setVisible(child, tinygltf::Value(true));
+  setVisible(lampNode, tinygltf::Value(false));
+  setVisible(cameraNode, tinygltf::Value(false));
+  model.extensionsUsed.push_back("KHR_node_visibility");
+
+  const Scene scene = writeAndLoad(builder);
+  ASSERT_EQ(scene.instances.size(), 1u);
+  EXPECT_EQ(scene.instances[0].nodeName, "shown");
+  ASSERT_EQ(scene.lights.size(), 1u);
+  EXPECT_EQ(scene.lights[0].name, "sun");
+  ASSERT_EQ(scene.cameras.size(), 1u);
+  EXPECT_EQ(scene.cameras[0].name, "watcher");
+  EXPECT_EQ(scene.source.reachedNodes, 6);
+  EXPECT_EQ(scene.source.hiddenNodes, 4);
+  // The child 100 units away is not drawn, so the bounds end at the shown triangle.
+  EXPECT_LE(scene.bounds.max.x, 1.0f + kEps);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings[0];
+
+  // Everything hidden: the scene draws nothing, and the message says why.
+  builder.model().scenes[0].nodes = {hidden};
+  const Scene none = writeAndLoad(builder);
+  EXPECT_EQ(none.instances.size(), 0u);
+  EXPECT_EQ(test_support::inputError([&] { requireTriangles(none); }),
+            path("scene.glb").string() +
+                ": the scene draws no triangles (2 nodes reached, 2 of them hidden by "
+                "KHR_node_visibility)");
+}
+
+// A `visible` that is not a boolean: a warning naming the node, and the node drawn.
+TEST_F(GltfLoaderTest, NodeVisibilityThatIsNotABooleanIsWarnedAboutAndDrawn) {
+  GltfBuilder builder;
+  tinygltf::Model& model = builder.model();
+  const int mesh = builder.addMesh(triangleMesh());
+  builder.addNode("quoted", {}, mesh);
+  builder.addNode("counted", {}, mesh);
+  model.nodes[0].extensions["KHR_node_visibility"] =
+      tinygltf::Value(tinygltf::Value::Object{{"visible", tinygltf::Value(std::string("no"))}});
+  model.nodes[1].extensions["KHR_node_visibility"] =
+      tinygltf::Value(tinygltf::Value::Object{{"visible", tinygltf::Value(0)}});
+  model.extensionsUsed.push_back("KHR_node_visibility");
+  const Scene scene = writeAndLoad(builder);
+  EXPECT_EQ(scene.instances.size(), 2u);
+  EXPECT_EQ(scene.source.hiddenNodes, 0);
+  ASSERT_EQ(scene.warnings.size(), 2u);
+  for (int node = 0; node < 2; ++node)
+    EXPECT_TRUE(contains(scene.warnings[static_cast<std::size_t>(node)],
+                         "nodes[" + std::to_string(node) +
+                             "].extensions.KHR_node_visibility.visible is not a boolean; the "
+                             "node is drawn"));
+}
+
+// The Sundial hides its target marker and its eight buttons (two roots, 13 nodes in all).
+TEST_F(GltfLoaderTest, SundialHidesItsTargetAndButtons) {
+  const Scene scene = loadGltf(OMNISHADOW_SOURCE_DIR "/scenes/thirdparty/Sundial/Sundial.glb");
+  EXPECT_EQ(scene.source.hiddenNodes, 13);
+  for (const MeshInstance& instance : scene.instances) {
+    EXPECT_EQ(instance.nodeName.find("Button"), std::string::npos) << instance.nodeName;
+    EXPECT_NE(instance.nodeName, "Target");
+  }
+  for (const std::string& warning : scene.warnings)
+    EXPECT_EQ(warning.find("KHR_node_visibility"), std::string::npos) << warning;
+}
+
 // -----------------------------------------------------------------------------------------------
 // Scene choice
 
@@ -1321,7 +1406,8 @@ TEST(GltfLoaderThirdParty, LoadsTheSampleScenes) {
       {"Duck/Duck.glb", 4212, 1, 0},
       {"BoxTextured/BoxTextured.glb", 12, 0, 0},
       {"Cameras/Cameras.gltf", 2, 2, 0},
-      {"Sundial/Sundial.glb", 15546, 1, 1},
+      // 15,546 less the 6,192 of the nodes KHR_node_visibility hides (counted from the file).
+      {"Sundial/Sundial.glb", 9354, 1, 1},
       {"CornellBoxSuzanne/cornell-box.glb", 1040, 0, 0},
   };
   for (const Expected& sample : samples) {

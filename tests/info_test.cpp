@@ -175,7 +175,7 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(keys(doc["counts"]),
             (Keys{"nodes", "meshes", "primitives", "instances", "triangles", "drawnTriangles",
                   "vertices", "materials", "textures", "images", "cameras", "lights"}));
-  EXPECT_EQ(keys(doc["counts"]["nodes"]), (Keys{"file", "reached"}));
+  EXPECT_EQ(keys(doc["counts"]["nodes"]), (Keys{"file", "reached", "hidden"}));
   EXPECT_EQ(keys(doc["counts"]["primitives"]), (Keys{"file", "drawn"}));
   EXPECT_EQ(keys(doc["bounds"]), (Keys{"min", "max", "center", "size"}));
   ASSERT_FALSE(doc["materials"].empty());
@@ -470,7 +470,11 @@ TEST_F(InfoTest, SundialSample) {
   EXPECT_EQ(doc["format"], "glb");
   EXPECT_EQ(doc["counts"]["cameras"], 1);
   EXPECT_EQ(doc["counts"]["lights"], 1);
-  EXPECT_EQ(doc["counts"]["drawnTriangles"], 15546);
+  // 15,546 in the file, less the 6,192 of the 13 nodes KHR_node_visibility hides.
+  EXPECT_EQ(doc["counts"]["drawnTriangles"], 9354);
+  EXPECT_EQ(doc["counts"]["nodes"]["hidden"], 13);
+  for (const Json& e : doc["extensions"])
+    if (e["name"] == "KHR_node_visibility") EXPECT_TRUE(e["supported"].get<bool>());
   ASSERT_EQ(doc["lights"].size(), 1u);
   EXPECT_EQ(doc["lights"][0]["type"], "directional");
   EXPECT_EQ(doc["lights"][0]["source"], "glTF");

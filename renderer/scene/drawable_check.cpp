@@ -11,7 +11,12 @@ namespace omnishadow {
 void requireTriangles(const Scene& scene) {
   if (scene.instances.empty())
     throw InputError(scene.path + ": the scene draws no triangles (" +
-                     std::to_string(scene.source.reachedNodes) + " nodes reached)");
+                     std::to_string(scene.source.reachedNodes) + " nodes reached" +
+                     (scene.source.hiddenNodes > 0
+                          ? ", " + std::to_string(scene.source.hiddenNodes) +
+                                " of them hidden by KHR_node_visibility"
+                          : std::string()) +
+                     ")");
   // Primitives with fewer than 3 vertices (or only degenerate strips) leave instances that
   // draw nothing: a black picture is no answer.
   if (std::none_of(scene.instances.begin(), scene.instances.end(),

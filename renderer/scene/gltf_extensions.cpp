@@ -43,7 +43,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_materials_variants", NotSupported, "the default materials"},
     // Everything else.
     {"KHR_animation_pointer", NotSupported, "the static pose"},
-    {"KHR_node_visibility", NotSupported, "every node, visible"},
+    {"KHR_node_visibility", Supported, ""},
     {"KHR_interactivity", NotSupported, "the static scene; its behaviour graphs do not run"},
     {"KHR_node_selectability", NotSupported, "every node (selection is for interactive viewers)"},
     {"KHR_xmp_json_ld", NotSupported, "the scene; its metadata is not read"},

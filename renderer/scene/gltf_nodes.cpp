@@ -70,6 +70,24 @@ int lightOf(const Context& ctx, std::size_t nodeIndex) {
   return light;
 }
 
+// KHR_node_visibility: the node's own `visible` (true when absent). Its ancestors' count too
+// (SceneBuilder::traverse). A value that is not a boolean is warned about and taken as true:
+// the extension is never required for a file to load.
+bool ownVisibility(const Context& ctx, std::size_t nodeIndex) {
+  const tinygltf::Node& node = ctx.model.nodes[nodeIndex];
+  const auto found = node.extensions.find("KHR_node_visibility");
+  // tinygltf keeps only extension values that are objects.
+  if (found == node.extensions.end() || !found->second.IsObject() || !found->second.Has("visible"))
+    return true;
+  const tinygltf::Value& visible = found->second.Get("visible");
+  if (!visible.IsBool()) {
+    ctx.warn(at("nodes", nodeIndex) +
+             ".extensions.KHR_node_visibility.visible is not a boolean; the node is drawn");
+    return true;
+  }
+  return visible.Get<bool>();
+}
+
 // As a person would write it: -5, not -5.000000.
 std::string shortNumber(double value) {
   std::ostringstream out;
@@ -207,10 +225,11 @@ class SceneBuilder {
       glm::mat4 world;
       std::size_t nextChild;
       std::string className;  // the node's extras "class", else its nearest ancestor's
+      bool visible;           // KHR_node_visibility: the node's and all its ancestors'
     };
     std::vector<Frame> stack;
     const auto enter = [&](int node, const glm::mat4& parentWorld, const std::string& parentClass,
-                           const std::string& referrer) {
+                           bool parentVisible, const std::string& referrer) {
       ctx_.checkIndex(referrer, "node", node, nodeCount);
       const auto index = static_cast<std::size_t>(node);
       if (onPath[index]) ctx_.fail(at("nodes", index), "the node hierarchy has a cycle");
@@ -229,11 +248,13 @@ class SceneBuilder {
       }
       std::string className = extrasClass(ctx_.model.nodes[index]);
       if (className.empty()) className = parentClass;
-      visit(index, world, className);
-      stack.push_back({index, world, 0, std::move(className)});
+      const bool visible = parentVisible && ownVisibility(ctx_, index);
+      if (!visible) ++ctx_.scene.source.hiddenNodes;
+      visit(index, world, className, visible);
+      stack.push_back({index, world, 0, std::move(className), visible});
     };
     for (int root : roots) {
-      enter(root, glm::mat4(1.0f), std::string(), rootsObject);
+      enter(root, glm::mat4(1.0f), std::string(), true, rootsObject);
       while (!stack.empty()) {
         Frame& top = stack.back();
         const std::vector<int>& children = ctx_.model.nodes[top.node].children;
@@ -245,7 +266,7 @@ class SceneBuilder {
         const int child = children[top.nextChild++];
         const glm::mat4 parentWorld = top.world;  // `top` dies when the stack grows
         const std::string parentClass = top.className;
-        enter(child, parentWorld, parentClass, at("nodes", top.node) + ".children");
+        enter(child, parentWorld, parentClass, top.visible, at("nodes", top.node) + ".children");
       }
     }
     // Cameras keep traversal order within one glTF camera.
@@ -257,9 +278,12 @@ class SceneBuilder {
   static constexpr int kNotConverted = -2;  // -1: converted, but not drawn
 
   // `className`: the node's extras "class", inherited from its nearest ancestor that has one.
-  void visit(std::size_t nodeIndex, const glm::mat4& world, const std::string& className) {
+  // A node that is not `visible` (KHR_node_visibility) places no mesh and no light; its camera
+  // stays, as the extension says.
+  void visit(std::size_t nodeIndex, const glm::mat4& world, const std::string& className,
+             bool visible) {
     const tinygltf::Node& node = ctx_.model.nodes[nodeIndex];
-    if (node.mesh >= 0) {
+    if (node.mesh >= 0 && visible) {
       ctx_.checkIndex(at("nodes", nodeIndex), "mesh", node.mesh, ctx_.model.meshes.size());
       const auto meshIndex = static_cast<std::size_t>(node.mesh);
       // EXT_mesh_gpu_instancing: one Scene instance per glTF instance.
@@ -285,7 +309,7 @@ class SceneBuilder {
       }
     }
     if (node.camera >= 0) addCamera(nodeIndex, world);
-    if (const int light = lightOf(ctx_, nodeIndex); light >= 0) {
+    if (const int light = lightOf(ctx_, nodeIndex); light >= 0 && visible) {
       ctx_.scene.lights.push_back(convertLight(ctx_, light, world, lightNames_));
       ctx_.scene.rig.lightNodes.push_back(static_cast<int>(nodeIndex));
     }

@@ -153,6 +153,7 @@ struct SourceSummary {
   int sceneIndex = -1;     // the scene loaded; -1 when the file has no scenes (all roots drawn)
   int fileNodes = 0;       // nodes in the file
   int reachedNodes = 0;    // nodes reached from the loaded scene's roots
+  int hiddenNodes = 0;     // of those, hidden by KHR_node_visibility (theirs or an ancestor's)
   int gltfMeshes = 0;      // glTF meshes in the file
   int gltfPrimitives = 0;  // primitives of all of them, of any mode
   std::vector<ExtensionUse> extensions;  // in the file's order, extensionsUsed first
