@@ -57,6 +57,30 @@ glm::vec4 middlePixel(const Scene& scene) {
   return {beauty.at(x, y, 0), beauty.at(x, y, 1), beauty.at(x, y, 2), beauty.at(x, y, 3)};
 }
 
+// One double-sided, half-transparent, unlit mesh of two unit squares facing a camera on +Z:
+// a red one at z = 0.5 listed first and a blue one at z = -0.5, each with its normal outward
+// (the front and back of a thin box).
+Scene frontAndBackSquares() {
+  Scene scene;
+  Material glass;
+  glass.baseColorFactor = {1.0f, 1.0f, 1.0f, 0.5f};
+  glass.alphaMode = AlphaMode::Blend;
+  glass.doubleSided = true;
+  glass.unlit = true;
+  scene.materials = {glass};
+  builder::MeshData squares;
+  squares.positions = {{-1, -1, 0.5f},  {1, -1, 0.5f},  {1, 1, 0.5f},  {-1, 1, 0.5f},
+                       {-1, -1, -0.5f}, {-1, 1, -0.5f}, {1, 1, -0.5f}, {1, -1, -0.5f}};
+  squares.normals = {{0, 0, 1},  {0, 0, 1},  {0, 0, 1},  {0, 0, 1},
+                     {0, 0, -1}, {0, 0, -1}, {0, 0, -1}, {0, 0, -1}};
+  squares.uvs.assign(8, glm::vec2(0.0f));
+  squares.indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+  test::placeMesh(scene, squares, glm::mat4(1.0f), 0);
+  const glm::vec4 red(1, 0, 0, 1), blue(0, 0, 1, 1);
+  scene.meshes[0].colors = {red, red, red, red, blue, blue, blue, blue};
+  return scene;
+}
+
 }  // namespace
 
 TEST(BlendedOrder, FarthestFirstAlongTheViewAxis) {
@@ -94,4 +118,14 @@ TEST(BlendedOrder, NearerPaneComposesOverTheFartherOneInEitherSceneOrder) {
   EXPECT_NEAR(blueNearer.r, 0.25f, 1e-5f);
   EXPECT_NEAR(blueNearer.b, 0.5f, 1e-5f);
   EXPECT_NEAR(blueNearer.a, 0.75f, 1e-5f);
+}
+
+// A double-sided blended mesh draws its back faces, then its front faces: the red front square
+// over the blue back one, though the mesh lists the front one first.
+TEST(BlendedOrder, DoubleSidedBlendedMeshComposesItsFrontOverItsBack) {
+  const glm::vec4 pixel = middlePixel(frontAndBackSquares());
+  EXPECT_NEAR(pixel.r, 0.5f, 1e-5f);
+  EXPECT_NEAR(pixel.g, 0.0f, 1e-5f);
+  EXPECT_NEAR(pixel.b, 0.25f, 1e-5f);
+  EXPECT_NEAR(pixel.a, 0.75f, 1e-5f);
 }

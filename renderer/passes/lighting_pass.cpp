@@ -529,9 +529,8 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     }
     const ShaderProgram& program = *current;
     // A mirrored transform turns the winding around, so front faces are the clockwise ones.
-    gl::CullState{!material.desc.doubleSided, GL_BACK,
-                  static_cast<GLenum>(draw.mirrored ? GL_CW : GL_CCW)}
-        .apply();
+    const auto winding = static_cast<GLenum>(draw.mirrored ? GL_CW : GL_CCW);
+    gl::CullState{!material.desc.doubleSided, GL_BACK, winding}.apply();
     program.set("uModel", draw.world);
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
     if (lighting) {
@@ -544,10 +543,20 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
         program.set("uMaterialId", static_cast<float>(draw.material));
       }
     }
-    glDrawElementsBaseVertex(
-        GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
-        reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4),
-        range.baseVertex);
+    const auto drawTriangles = [&] {
+      glDrawElementsBaseVertex(
+          GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,
+          reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4),
+          range.baseVertex);
+    };
+    if (sorted && material.desc.doubleSided) {
+      // Its back faces, then its front faces, so that "over" puts the side facing the camera
+      // over the far side of a closed glass (as three.js and Filament draw them).
+      gl::CullState{true, GL_FRONT, winding}.apply();
+      drawTriangles();
+      gl::CullState{true, GL_BACK, winding}.apply();
+    }
+    drawTriangles();
     if (range.lineIndexCount + range.pointIndexCount > 0)
       drawPointsAndLines(range, program, lighting);
   }

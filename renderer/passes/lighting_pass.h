@@ -236,7 +236,8 @@ class LightingPass {
   const ShaderProgram& program(unsigned variant);
   enum class DrawSet { Opaque, Masked, Blended };
   // depthOnly: that program for every draw; null: each material's lighting variant, whose
-  // frame uniforms `uniforms` sets on first use. Blended draws go in blendedOrder_.
+  // frame uniforms `uniforms` sets on first use. Blended draws go in blendedOrder_, a double-sided
+  // one as two draws: back faces, then front faces.
   void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
                  const FrameUniforms& uniforms);
   void drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program, bool lighting);
