@@ -1012,6 +1012,12 @@ TEST_F(GltfLoaderTest, HiddenNodesPlaceNoMeshOrLightDownTheirWholeSubtree) {
   EXPECT_LE(scene.bounds.max.x, 1.0f + kEps);
   EXPECT_TRUE(scene.warnings.empty()) << scene.warnings[0];
 
+  // A hidden node's mesh index is checked all the same.
+  model.nodes[static_cast<std::size_t>(child)].mesh = 7;
+  EXPECT_TRUE(
+      contains(writeAndLoadError(builder, path("scene.glb"), FileFormat::Glb), "nodes[1]: mesh 7"));
+  model.nodes[static_cast<std::size_t>(child)].mesh = mesh;
+
   // Everything hidden: the scene draws nothing, and the message says why.
   builder.model().scenes[0].nodes = {hidden};
   const Scene none = writeAndLoad(builder);

@@ -283,8 +283,10 @@ class SceneBuilder {
   void visit(std::size_t nodeIndex, const glm::mat4& world, const std::string& className,
              bool visible) {
     const tinygltf::Node& node = ctx_.model.nodes[nodeIndex];
-    if (node.mesh >= 0 && visible) {
+    // A hidden node's mesh index is still checked: the file is broken either way.
+    if (node.mesh >= 0)
       ctx_.checkIndex(at("nodes", nodeIndex), "mesh", node.mesh, ctx_.model.meshes.size());
+    if (node.mesh >= 0 && visible) {
       const auto meshIndex = static_cast<std::size_t>(node.mesh);
       // EXT_mesh_gpu_instancing: one Scene instance per glTF instance.
       std::vector<glm::mat4> inNode = instanceTransforms(ctx_, nodeIndex);
