@@ -168,8 +168,8 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   const Json doc = Json::parse(r.out);
   using Keys = std::vector<std::string>;
   EXPECT_EQ(keys(doc), (Keys{"file", "format", "asset", "extensions", "scene", "counts", "bounds",
-                             "materials", "textures", "cameras", "lights", "ambient",
-                             "animations", "skins", "morphTargets", "warnings"}));
+                             "materials", "textures", "cameras", "lights", "ambient", "animations",
+                             "skins", "morphTargets", "warnings"}));
   EXPECT_EQ(keys(doc["asset"]), (Keys{"version", "minVersion", "generator", "copyright"}));
   EXPECT_EQ(keys(doc["scene"]), (Keys{"index", "count"}));
   EXPECT_EQ(keys(doc["counts"]),
