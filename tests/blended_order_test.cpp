@@ -9,12 +9,13 @@
 #include "renderer/view/camera.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
+#include "tests/support/shared_renderer.h"
 
 using namespace omnishadow;
 
 namespace {
 
-glm::mat4 lookFrom(const glm::vec3& eye, const glm::vec3& target) {
+glm::mat4 viewFrom(const glm::vec3& eye, const glm::vec3& target) {
   return glm::lookAt(eye, target, glm::vec3(0.0f, 1.0f, 0.0f));
 }
 
@@ -42,16 +43,11 @@ Scene twoPanes(float redZ, float blueZ) {
 
 // The linear, premultiplied RGBA at the middle of the frame of `scene` seen from z = 4.
 glm::vec4 middlePixel(const Scene& scene) {
-  static Renderer renderer(ContextOptions{});
-  CameraRequest request;
-  request.eye = glm::vec3(0.0f, 0.0f, 4.0f);
-  request.target = glm::vec3(0.0f);
-  request.fovDegrees = 30.0f;
-  request.width = 32;
-  request.height = 24;
   StageTimes times;
-  const Frame frame = renderer.render(scene, {}, glm::vec3(0.0f), resolveCamera(scene, request),
-                                      RenderSettings{}, times);
+  const Frame frame = test_support::sharedRenderer().render(
+      scene, {}, glm::vec3(0.0f),
+      test_support::lookFrom(scene, {0.0f, 0.0f, 4.0f}, glm::vec3(0.0f), 32, 24, 30.0f),
+      RenderSettings{}, times);
   const FloatImage& beauty = frame.beauty;
   const int x = beauty.width / 2, y = beauty.height / 2;
   return {beauty.at(x, y, 0), beauty.at(x, y, 1), beauty.at(x, y, 2), beauty.at(x, y, 3)};
@@ -84,7 +80,7 @@ Scene frontAndBackSquares() {
 }  // namespace
 
 TEST(BlendedOrder, FarthestFirstAlongTheViewAxis) {
-  const glm::mat4 view = lookFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
+  const glm::mat4 view = viewFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
   // Depths 10, 12, 8 and 9.5 (the last one off the axis: depth, not distance, counts).
   const std::vector<BlendedDraw> draws = {{0, {0.0f, 0.0f, 0.0f}},
                                           {1, {0.0f, 0.0f, -2.0f}},
@@ -92,12 +88,12 @@ TEST(BlendedOrder, FarthestFirstAlongTheViewAxis) {
                                           {3, {6.0f, 0.0f, 0.5f}}};
   EXPECT_EQ(farthestFirst(draws, view), (std::vector<std::size_t>{1, 0, 3, 2}));
   // Seen from the other side, the other way round.
-  EXPECT_EQ(farthestFirst(draws, lookFrom({0.0f, 0.0f, -10.0f}, glm::vec3(0.0f))),
+  EXPECT_EQ(farthestFirst(draws, viewFrom({0.0f, 0.0f, -10.0f}, glm::vec3(0.0f))),
             (std::vector<std::size_t>{2, 3, 0, 1}));
 }
 
 TEST(BlendedOrder, EqualDepthsKeepTheSceneOrder) {
-  const glm::mat4 view = lookFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
+  const glm::mat4 view = viewFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
   const std::vector<BlendedDraw> draws = {{7, {1.0f, 0.0f, 0.0f}},
                                           {3, {-1.0f, 0.0f, 0.0f}},
                                           {5, {0.0f, 2.0f, 0.0f}},

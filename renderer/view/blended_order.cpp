@@ -15,7 +15,7 @@ std::vector<std::size_t> farthestFirst(const std::vector<BlendedDraw>& draws,
   keyed.reserve(draws.size());
   for (const BlendedDraw& d : draws) {
     const float depth = glm::dot(depthRow, glm::vec4(d.center, 1.0f));
-    // A centre that is not finite sorts as the nearest, where the comparison stays an order.
+    // A NaN depth sorts as the nearest, so that the comparison stays a strict weak order.
     keyed.emplace_back(std::isnan(depth) ? -std::numeric_limits<float>::infinity() : depth, d.draw);
   }
   std::stable_sort(keyed.begin(), keyed.end(),
