@@ -117,6 +117,20 @@ std::vector<std::pair<const char*, const TextureSlot*>> textureSlots(const Mater
           {"emissive", &m.emissiveTexture}};
 }
 
+// KHR_materials_sheen as the report gives it: null for a material drawn without a sheen.
+Json sheenJson(const Material& m) {
+  if (!hasSheen(m)) return nullptr;
+  const auto texture = [](const TextureSlot& slot) {
+    return slot.texture >= 0 ? Json(slot.texture) : Json(nullptr);
+  };
+  return {{"colorFactor",
+           Json::array({jsonNumber(m.sheenColorFactor.r), jsonNumber(m.sheenColorFactor.g),
+                        jsonNumber(m.sheenColorFactor.b)})},
+          {"roughnessFactor", jsonNumber(m.sheenRoughnessFactor)},
+          {"colorTexture", texture(m.sheenColorTexture)},
+          {"roughnessTexture", texture(m.sheenRoughnessTexture)}};
+}
+
 glm::vec3 cameraPosition(const Camera& camera) {
   return glm::vec3(camera.world[3]);
 }
@@ -196,7 +210,8 @@ Json toJson(const Info& info) {
                                                                         : Json(nullptr)},
                          {"doubleSided", m.doubleSided},
                          {"model", shadingModel(m)},
-                         {"textures", textures}});
+                         {"textures", textures},
+                         {"sheen", sheenJson(m)}});
   }
   doc["materials"] = materials;
 
@@ -332,6 +347,10 @@ void printText(const Info& info) {
                     textures.empty() ? "no textures" : "textures " + textures});
     // Only materials an extension reshades say so, keeping the common rows short.
     if (m.unlit || m.specularGlossiness) rows.back().push_back(shadingModel(m));
+    if (hasSheen(m))
+      rows.back().push_back("sheen " + readable(m.sheenColorFactor.r) + "," +
+                            readable(m.sheenColorFactor.g) + "," + readable(m.sheenColorFactor.b) +
+                            " roughness " + readable(m.sheenRoughnessFactor));
   }
   printTable(rows);
 

@@ -79,3 +79,73 @@ void shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float rou
   diffuse = baseColor / PI * irradiance;
   specular = vec3(0.04) * lobe * irradiance;
 }
+
+#ifdef SHEEN
+// KHR_materials_sheen, as its specification's implementation notes write it: the "Charlie"
+// distribution and visibility of Conty and Kulla (2017), layered over the base material by
+// albedo scaling. renderer/view/sheen_brdf.h has the same formulas on the CPU.
+float sheenAlphaG(float sheenRoughness) {
+  return max(sheenRoughness * sheenRoughness, MIN_SHEEN_ALPHA);
+}
+
+float charlieDistribution(float NdotH, float alphaG) {
+  float inverse = 1.0 / alphaG;
+  float sin2h = max(1.0 - NdotH * NdotH, 0.0);
+  return (2.0 + inverse) * pow(sin2h, 0.5 * inverse) / (2.0 * PI);
+}
+
+float charlieLambdaFit(float x, float alphaG) {
+  float t = (1.0 - alphaG) * (1.0 - alphaG);
+  float a = mix(21.5473, 25.3245, t);
+  float b = mix(3.82987, 3.32435, t);
+  float c = mix(0.19823, 0.16801, t);
+  float d = mix(-1.97760, -1.27393, t);
+  float e = mix(-4.32054, -4.85967, t);
+  return a / (1.0 + b * pow(x, c)) + d * x + e;
+}
+
+float charlieLambda(float cosTheta, float alphaG) {
+  return abs(cosTheta) < 0.5
+             ? exp(charlieLambdaFit(cosTheta, alphaG))
+             : exp(2.0 * charlieLambdaFit(0.5, alphaG) - charlieLambdaFit(1.0 - cosTheta, alphaG));
+}
+
+// E(mu, sheen roughness), the sheen's directional albedo, from the table the build computed
+// (renderer/view/sheen_albedo_table.h): bilinear, as sheenAlbedo() there.
+uniform vec4 uSheenAlbedo[SHEEN_ALBEDO_COSINES * SHEEN_ALBEDO_ROUGHNESSES / 4];
+
+float sheenAlbedoEntry(int i, int j) {
+  int k = j * SHEEN_ALBEDO_COSINES + i;
+  return uSheenAlbedo[k >> 2][k & 3];
+}
+
+float sheenAlbedo(float mu, float sheenRoughness) {
+  float x = clamp(mu, 0.0, 1.0) * float(SHEEN_ALBEDO_COSINES - 1);
+  float y = clamp(sheenRoughness, 0.0, 1.0) * float(SHEEN_ALBEDO_ROUGHNESSES - 1);
+  int x0 = min(int(x), SHEEN_ALBEDO_COSINES - 2);
+  int y0 = min(int(y), SHEEN_ALBEDO_ROUGHNESSES - 2);
+  float fx = x - float(x0), fy = y - float(y0);
+  float low = mix(sheenAlbedoEntry(x0, y0), sheenAlbedoEntry(x0 + 1, y0), fx);
+  float high = mix(sheenAlbedoEntry(x0, y0 + 1), sheenAlbedoEntry(x0 + 1, y0 + 1), fx);
+  return mix(low, high, fy);
+}
+
+// Adds the sheen to one light's base response (shadeBrdf's diffuse and specular): the base is
+// scaled by min(1 - max(sheenColor) E(NdotV), 1 - max(sheenColor) E(NdotL)), baseScalingV being
+// the first (the same for every light), and the sheen lobe joins the specular part.
+void addSheen(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 sheenColor, float sheenRoughness,
+              float baseScalingV, inout vec3 diffuse, inout vec3 specular) {
+  float NdotL = dot(N, L);
+  if (NdotL <= 0.0) return;
+  float NdotV = max(dot(N, V), 1e-4);
+  float NdotH = max(dot(N, normalize(L + V)), 0.0);
+  float alphaG = sheenAlphaG(sheenRoughness);
+  float visibility = 1.0 / ((1.0 + charlieLambda(NdotV, alphaG) + charlieLambda(NdotL, alphaG)) *
+                            (4.0 * NdotV * NdotL));
+  float strength = max(sheenColor.r, max(sheenColor.g, sheenColor.b));
+  float scaling = min(baseScalingV, 1.0 - strength * sheenAlbedo(NdotL, sheenRoughness));
+  diffuse *= scaling;
+  specular = specular * scaling +
+             sheenColor * charlieDistribution(NdotH, alphaG) * visibility * radiance * NdotL;
+}
+#endif

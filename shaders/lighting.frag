@@ -5,7 +5,8 @@
 // the beauty, what WRITE_IDS writes), WRITE_IDS
 // (the surface's objectId and coverage alone: no material beyond the alpha, no light), DEBUG_VIEWS
 // (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out),
-// FACING_LIGHT_LOOP (the beauty alone: each lane group loops over the lights it may face).
+// FACING_LIGHT_LOOP (the beauty alone: each lane group loops over the lights it may face),
+// SHEEN and SHEEN_TEXTURE (KHR_materials_sheen, with or without its texture).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -61,6 +62,19 @@ uniform int uUnlit;  // KHR_materials_unlit, points and lines: the base color as
 uniform int uSpecularGlossiness;
 uniform vec3 uSpecularFactor;
 uniform float uGlossinessFactor;
+#ifdef SHEEN
+// KHR_materials_sheen: one texture, its RGB the color and its A the roughness, each read at its
+// own slot's coordinates (texCoord -1: that slot has no texture).
+uniform vec3 uSheenColorFactor;
+uniform float uSheenRoughnessFactor;
+#ifdef SHEEN_TEXTURE
+layout(binding = SHEEN_UNIT) uniform sampler2D uSheenTexture;
+uniform int uSheenColorTexCoord;
+uniform int uSheenRoughnessTexCoord;
+uniform mat3 uSheenColorUvTransform;
+uniform mat3 uSheenRoughnessUvTransform;
+#endif
+#endif
 // Material variants (renderer/passes/lighting_pass.cpp): the texture slots and the BRDF a
 // material lacks are constants here, so their reads compile out (llvmpipe would run them).
 #ifndef BASE_COLOR_TEXTURE
@@ -198,8 +212,27 @@ void main() {
   vec3 emissive = uEmissive;
   if (uEmissiveTexCoord >= 0) emissive *= texture(uEmissiveTexture, uvFor(uEmissiveTexCoord, uEmissiveUvTransform)).rgb;
 
+#ifdef SHEEN
+  vec3 sheenColor = uSheenColorFactor;
+  float sheenRoughness = uSheenRoughnessFactor;
+#ifdef SHEEN_TEXTURE
+  if (uSheenColorTexCoord >= 0)
+    sheenColor *= texture(uSheenTexture, uvFor(uSheenColorTexCoord, uSheenColorUvTransform)).rgb;
+  if (uSheenRoughnessTexCoord >= 0)
+    sheenRoughness *= texture(uSheenTexture, uvFor(uSheenRoughnessTexCoord, uSheenRoughnessUvTransform)).a;
+#endif
+  // Towards the camera, the sheen reflects E(NdotV) of light arriving evenly from everywhere
+  // (the ambient), and leaves 1 - max(sheenColor) E(NdotV) of it to the base material.
+  float sheenAlbedoV = sheenAlbedo(max(dot(N, V), 1e-4), sheenRoughness);
+  float sheenScalingV = 1.0 - max(sheenColor.r, max(sheenColor.g, sheenColor.b)) * sheenAlbedoV;
+#endif
+
   float cameraDistance = length(uCameraPosition - vIn.worldPosition);
+#ifdef SHEEN
+  vec3 color = uAmbient * (baseColor.rgb * sheenScalingV + sheenColor * sheenAlbedoV) * occlusion + emissive;
+#else
   vec3 color = uAmbient * baseColor.rgb * occlusion + emissive;
+#endif
 #ifdef WRITE_AOVS
   float visibility[4 * VISIBILITY_OUTPUTS];
   for (int i = 0; i < 4 * VISIBILITY_OUTPUTS; ++i) visibility[i] = 1.0;
@@ -314,6 +347,9 @@ void main() {
                               specular);
     else
       shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, diffuse, specular);
+#ifdef SHEEN
+    addSheen(N, V, L, radiance, sheenColor, sheenRoughness, sheenScalingV, diffuse, specular);
+#endif
 #endif
     color += shadowColor * (diffuse + specular);
 #ifdef DEBUG_VIEWS

@@ -1,5 +1,6 @@
 // The loader's answer to every glTF extension: KHR_texture_transform on each texture slot,
-// KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness, image extensions with and without a
+// KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness, KHR_materials_transmission,
+// KHR_materials_sheen, image extensions with and without a
 // fallback, and the refuse-or-warn policy for the rest, kept in one table that the README
 // mirrors. No GL: these check the Scene the loader fills.
 #include "renderer/scene/gltf_extensions.h"
@@ -327,6 +328,99 @@ TEST_F(GltfExtensionsTest, TransmissionFactorIsReadAndMayBeRequired) {
                 "transmissionFactor must be a number");
 }
 
+TEST_F(GltfExtensionsTest, SheenFactorsAndTexturesAreReadAndMayBeRequired) {
+  Quad q;
+  makeQuad(q);
+  const std::string where = file() + ": materials[0].extensions.KHR_materials_sheen";
+  q.gltfMaterial().extensions["KHR_materials_sheen"] = object(
+      {{"sheenColorFactor", numbers({1.0, 0.5, 0.25})}, {"sheenRoughnessFactor", Value(0.4)}});
+  q.builder.model().extensionsUsed = {"KHR_materials_sheen"};
+  q.builder.model().extensionsRequired = {"KHR_materials_sheen"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  EXPECT_EQ(scene.materials[0].sheenColorFactor, glm::vec3(1.0f, 0.5f, 0.25f));
+  EXPECT_EQ(scene.materials[0].sheenRoughnessFactor, 0.4f);
+  EXPECT_TRUE(hasSheen(scene.materials[0]));
+
+  // The specification's defaults: color 0 (no sheen at all), roughness 0.
+  q.gltfMaterial().extensions["KHR_materials_sheen"] = object({});
+  const Scene plain = load(q.builder);
+  EXPECT_EQ(plain.materials[0].sheenColorFactor, glm::vec3(0.0f));
+  EXPECT_EQ(plain.materials[0].sheenRoughnessFactor, 0.0f);
+  EXPECT_FALSE(hasSheen(plain.materials[0]));
+
+  // Both textures on one image, each with its own texCoord and transform, as any textureInfo.
+  const Value::Object color = {
+      {"index", Value(0)},
+      {"texCoord", Value(1)},
+      {"extensions",
+       object({{"KHR_texture_transform", object({{"offset", numbers({0.5, 0.25})}})}})}};
+  q.gltfMaterial().extensions["KHR_materials_sheen"] =
+      object({{"sheenColorFactor", numbers({1.0, 1.0, 1.0})},
+              {"sheenColorTexture", Value(color)},
+              {"sheenRoughnessTexture", object({{"index", Value(0)}})}});
+  const Scene textured = load(q.builder);
+  EXPECT_TRUE(textured.warnings.empty()) << textured.warnings.front();
+  const Material& m = textured.materials[0];
+  EXPECT_EQ(m.sheenColorTexture.texture, 0);
+  EXPECT_EQ(m.sheenColorTexture.texCoord, 1);
+  EXPECT_EQ(glm::vec2(m.sheenColorTexture.uvTransform * glm::vec3(0, 0, 1)),
+            glm::vec2(0.5f, 0.25f));
+  EXPECT_EQ(m.sheenRoughnessTexture.texture, 0);
+  EXPECT_EQ(m.sheenRoughnessTexture.texCoord, 0);
+  EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_sheen", "sheenRoughnessTexture", 3),
+            where + ".sheenRoughnessTexture: texture 3 is out of range (the file has 1 texture)");
+
+  // A roughness texture on another image than the color's: the one sheen unit cannot hold both,
+  // so it is dropped, saying so; the factor stays.
+  const int other = q.builder.addTexture(1, 1, {9, 9, 9, 9}, "other");
+  q.gltfMaterial().extensions["KHR_materials_sheen"] =
+      object({{"sheenColorFactor", numbers({1.0, 1.0, 1.0})},
+              {"sheenRoughnessFactor", Value(0.5)},
+              {"sheenColorTexture", object({{"index", Value(0)}})},
+              {"sheenRoughnessTexture", object({{"index", Value(other)}})}});
+  const Scene twoImages = load(q.builder);
+  EXPECT_EQ(
+      twoImages.warnings,
+      std::vector<std::string>{where + ": sheenRoughnessTexture is another image than "
+                                       "sheenColorTexture's; it is not read (sheenRoughnessFactor "
+                                       "alone is used)"});
+  EXPECT_EQ(twoImages.materials[0].sheenRoughnessTexture.texture, -1);
+  EXPECT_EQ(twoImages.materials[0].sheenColorTexture.texture, 0);
+  EXPECT_EQ(twoImages.materials[0].sheenRoughnessFactor, 0.5f);
+  // Alone, a roughness texture of any image is read.
+  q.gltfMaterial().extensions["KHR_materials_sheen"] =
+      object({{"sheenColorFactor", numbers({1.0, 1.0, 1.0})},
+              {"sheenRoughnessTexture", object({{"index", Value(other)}})}});
+  EXPECT_EQ(load(q.builder).materials[0].sheenRoughnessTexture.texture, other);
+
+  // The extension excludes unlit and specular-glossiness materials: drawn without the sheen.
+  q.gltfMaterial().extensions["KHR_materials_sheen"] =
+      object({{"sheenColorFactor", numbers({1.0, 1.0, 1.0})}});
+  q.gltfMaterial().extensions["KHR_materials_unlit"] = object({});
+  const Scene unlit = load(q.builder);
+  EXPECT_EQ(warningsAbout(unlit, "KHR_materials_sheen"),
+            std::vector<std::string>{
+                where + ": must not be used with KHR_materials_unlit; the sheen is not drawn"});
+  EXPECT_FALSE(hasSheen(unlit.materials[0]));
+  q.gltfMaterial().extensions.erase("KHR_materials_unlit");
+
+  const std::pair<Value, std::string> bad[] = {
+      {numbers({1.0, 1.0}), "sheenColorFactor must be an array of 3 numbers"},
+      {numbers({1.0, 1.5, 0.0}), "sheenColorFactor must be an array of 3 numbers in [0, 1]"},
+      {numbers({-0.5, 0.0, 0.0}), "sheenColorFactor must be an array of 3 numbers in [0, 1]"}};
+  for (const auto& [value, message] : bad) {
+    q.gltfMaterial().extensions["KHR_materials_sheen"] = object({{"sheenColorFactor", value}});
+    EXPECT_EQ(inputError([&] { load(q.builder); }), where + ": " + message);
+  }
+  for (const Value& roughness : {Value(1.25), Value(-0.1)}) {
+    q.gltfMaterial().extensions["KHR_materials_sheen"] =
+        object({{"sheenRoughnessFactor", roughness}});
+    EXPECT_EQ(inputError([&] { load(q.builder); }),
+              where + ": sheenRoughnessFactor must be a number in [0, 1]");
+  }
+}
+
 // A scene whose texture 0 has a PNG `source` (image 0) and a KTX2 image (image 1, a file with
 // the KTX2 signature and nothing a decoder could use) through KHR_texture_basisu.
 class ImageExtensionsTest : public GltfExtensionsTest {
@@ -449,9 +543,9 @@ TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWh
   }
   // Required but not listed as used (invalid, but seen): still refused.
   model.extensionsUsed.clear();
-  model.extensionsRequired = {"KHR_materials_sheen"};
+  model.extensionsRequired = {"KHR_materials_specular"};
   EXPECT_EQ(inputError([&] { load(builder); }),
-            file() + ": extensionsRequired: KHR_materials_sheen is not supported");
+            file() + ": extensionsRequired: KHR_materials_specular is not supported");
 }
 
 // Compressed geometry leaves accessors without a bufferView. Such an accessor is zeros by the

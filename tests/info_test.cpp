@@ -180,7 +180,7 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(keys(doc["bounds"]), (Keys{"min", "max", "center", "size"}));
   ASSERT_FALSE(doc["materials"].empty());
   EXPECT_EQ(keys(doc["materials"][0]), (Keys{"index", "name", "alphaMode", "alphaCutoff",
-                                             "doubleSided", "model", "textures"}));
+                                             "doubleSided", "model", "textures", "sheen"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
@@ -474,12 +474,43 @@ TEST_F(InfoTest, SundialSample) {
   EXPECT_EQ(doc["counts"]["drawnTriangles"], 9354);
   EXPECT_EQ(doc["counts"]["nodes"]["hidden"], 13);
   for (const Json& e : doc["extensions"])
-    if (e["name"] == "KHR_node_visibility") EXPECT_TRUE(e["supported"].get<bool>());
+    if (e["name"] == "KHR_node_visibility") {
+      EXPECT_TRUE(e["supported"].get<bool>());
+    }
   ASSERT_EQ(doc["lights"].size(), 1u);
   EXPECT_EQ(doc["lights"][0]["type"], "directional");
   EXPECT_EQ(doc["lights"][0]["source"], "glTF");
   ASSERT_EQ(doc["cameras"].size(), 1u);
   EXPECT_EQ(doc["cameras"][0]["type"], "perspective");
+}
+
+// Real data with KHR_materials_sheen: the mole's body and teeth, factors only.
+TEST_F(InfoTest, WhackAMoleSampleReportsItsSheen) {
+  const fs::path path =
+      fs::path(OMNISHADOW_SOURCE_DIR) / "scenes" / "thirdparty" / "WhackAMole" / "WhackAMole.glb";
+  const Json doc = info({path.string()}, {kBrokenEgl});
+  for (const Json& e : doc["extensions"])
+    if (e["name"] == "KHR_materials_sheen") {
+      EXPECT_TRUE(e["supported"].get<bool>());
+    }
+  for (const Json& w : doc["warnings"]) EXPECT_FALSE(contains(w.get<std::string>(), "sheen"));
+  ASSERT_EQ(doc["materials"].size(), 9u);
+  for (const Json& m : doc["materials"]) {
+    const Json& sheen = m["sheen"];
+    if (m["name"] != "Body" && m["name"] != "Teeth") {
+      EXPECT_TRUE(sheen.is_null()) << m["name"];
+      continue;
+    }
+    ASSERT_TRUE(sheen.is_object()) << m["name"];
+    EXPECT_EQ(sheen["colorFactor"], Json::array({1.0, 1.0, 1.0}));
+    EXPECT_NEAR(sheen["roughnessFactor"].get<double>(), m["name"] == "Body" ? 0.4 : 0.7, 1e-6);
+    EXPECT_TRUE(sheen["colorTexture"].is_null());
+    EXPECT_TRUE(sheen["roughnessTexture"].is_null());
+  }
+  const Run r = run({"info", path.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "no textures  sheen 1,1,1 roughness 0.4\n"));
+  EXPECT_TRUE(contains(r.out, "no textures  sheen 1,1,1 roughness 0.7\n"));
 }
 
 }  // namespace

@@ -190,6 +190,9 @@ void ShaderProgram::set(const char* u, const glm::mat4& v) const {
 void ShaderProgram::set(const char* u, const glm::mat4* values, int count) const {
   glProgramUniformMatrix4fv(id(), location(u), count, GL_FALSE, glm::value_ptr(values[0]));
 }
+void ShaderProgram::set(const char* u, const glm::vec4* values, int count) const {
+  glProgramUniform4fv(id(), location(u), count, glm::value_ptr(values[0]));
+}
 void ShaderProgram::set(const char* u, const float* values, int count) const {
   glProgramUniform1fv(id(), location(u), count, values);
 }

@@ -32,6 +32,7 @@ class ShaderProgram {
   void set(const char* uniform, const glm::mat3& value) const;
   void set(const char* uniform, const glm::mat4& value) const;
   void set(const char* uniform, const glm::mat4* values, int count) const;  // uniform arrays
+  void set(const char* uniform, const glm::vec4* values, int count) const;
   void set(const char* uniform, const float* values, int count) const;
 
  private:

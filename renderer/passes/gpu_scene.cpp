@@ -50,9 +50,19 @@ struct TextureUse {
   GLuint GpuMaterial::*sampler;
 };
 
-std::array<TextureUse, 6> textureUses(const Material& desc) {
+// The slot whose image holds a material's sheen: the color texture's, else the roughness
+// texture's (the loader keeps the latter only when it is the same image or alone); none when the
+// material draws no sheen.
+const TextureSlot& sheenSlot(const Material& desc) {
+  static const TextureSlot kNone;
+  if (!hasSheen(desc)) return kNone;
+  return desc.sheenColorTexture.texture >= 0 ? desc.sheenColorTexture : desc.sheenRoughnessTexture;
+}
+
+std::array<TextureUse, 7> textureUses(const Material& desc) {
   // Specular-glossiness materials have no metallic-roughness texture; their specular color
-  // (sRGB) and glossiness (alpha, linear either way) take its unit.
+  // (sRGB) and glossiness (alpha, linear either way) take its unit. So does the sheen: color in
+  // RGB (sRGB), roughness in A.
   const TextureSlot& specularOrMetallic =
       desc.specularGlossiness ? desc.specularGlossinessTexture : desc.metallicRoughnessTexture;
   return {{{&desc.baseColorTexture, true, &GpuMaterial::baseColor, &GpuMaterial::baseColorSampler},
@@ -62,7 +72,8 @@ std::array<TextureUse, 6> textureUses(const Material& desc) {
            {&desc.occlusionTexture, false, &GpuMaterial::occlusion, &GpuMaterial::occlusionSampler},
            {&desc.emissiveTexture, true, &GpuMaterial::emissive, &GpuMaterial::emissiveSampler},
            {&desc.transmissionTexture, false, &GpuMaterial::transmission,
-            &GpuMaterial::transmissionSampler}}};
+            &GpuMaterial::transmissionSampler},
+           {&sheenSlot(desc), true, &GpuMaterial::sheen, &GpuMaterial::sheenSampler}}};
 }
 
 // At most this many textures wait for their mipmap levels: the GL thread goes on making the

@@ -20,6 +20,9 @@ struct GpuMaterial {
   GLuint baseColorSampler = 0, metallicRoughnessSampler = 0, normalSampler = 0,
          occlusionSampler = 0, emissiveSampler = 0;
   GLuint transmission = 0, transmissionSampler = 0;  // KHR_materials_transmission (shadows only)
+  // KHR_materials_sheen: the sheen color texture (sRGB), whose A the roughness texture reads
+  // when it is the same image; else the roughness texture alone. 0 without sheen.
+  GLuint sheen = 0, sheenSampler = 0;
 };
 
 // The static scene on the GPU: its geometry (gpu_geometry.h), textures (sRGB where glTF says

@@ -15,6 +15,7 @@
 #include "renderer/passes/shader_contract.h"
 #include "renderer/scene/srgb_transfer.h"
 #include "renderer/view/blended_order.h"
+#include "renderer/view/sheen_albedo_table.h"
 
 namespace omnishadow {
 namespace {
@@ -37,6 +38,9 @@ constexpr const char* kMaterialTextureDefines[contract::kMaterialUnits] = {
     "BASE_COLOR_TEXTURE", "METALLIC_ROUGHNESS_TEXTURE", "NORMAL_TEXTURE", "OCCLUSION_TEXTURE",
     "EMISSIVE_TEXTURE"};
 constexpr unsigned kSpecularGlossinessBit = 1u << contract::kMaterialUnits;
+// KHR_materials_sheen: the sheen layer, and its texture.
+constexpr unsigned kSheenBit = kSpecularGlossinessBit << 1;
+constexpr unsigned kSheenTextureBit = kSheenBit << 1;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -44,6 +48,11 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   for (int i = 0; i < contract::kMaterialUnits; ++i)
     if (material & (1u << i)) defines.push_back(kMaterialTextureDefines[i]);
   if (material & kSpecularGlossinessBit) defines.push_back("SPECULAR_GLOSSINESS");
+  // Blinn-Phong has no layers: --shading phong draws the base material alone.
+  if ((material & kSheenBit) && shading != Shading::Phong) {
+    defines.push_back("SHEEN");
+    if (material & kSheenTextureBit) defines.push_back("SHEEN_TEXTURE");
+  }
   if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
   if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
   // Both layouts' arrays get the same size: llvmpipe evaluates both sides of a light-type
@@ -229,6 +238,18 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
     glBindTextureUnit(unit, slots[i].texture);
     glBindSampler(unit, slots[i].sampler);
   }
+  if (!hasSheen(d)) return;
+  program.set("uSheenColorFactor", d.sheenColorFactor);
+  program.set("uSheenRoughnessFactor", d.sheenRoughnessFactor);
+  // Each slot reads the one sheen texture at its own coordinates (texCoord -1: not read).
+  const bool colorRead = m.sheen && d.sheenColorTexture.texture >= 0;
+  const bool roughnessRead = m.sheen && d.sheenRoughnessTexture.texture >= 0;
+  program.set("uSheenColorTexCoord", colorRead ? d.sheenColorTexture.texCoord : -1);
+  program.set("uSheenColorUvTransform", d.sheenColorTexture.uvTransform);
+  program.set("uSheenRoughnessTexCoord", roughnessRead ? d.sheenRoughnessTexture.texCoord : -1);
+  program.set("uSheenRoughnessUvTransform", d.sheenRoughnessTexture.uvTransform);
+  glBindTextureUnit(contract::kSheenUnit, m.sheen);
+  glBindSampler(contract::kSheenUnit, m.sheenSampler);
 }
 
 }  // namespace
@@ -328,6 +349,7 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) {
   unsigned variant = material.desc.specularGlossiness ? kSpecularGlossinessBit : 0u;
   for (int i = 0; i < contract::kMaterialUnits; ++i)
     if (textures[i] != 0) variant |= 1u << i;
+  if (hasSheen(material.desc)) variant |= kSheenBit | (material.sheen != 0 ? kSheenTextureBit : 0u);
   return variant;
 }
 
@@ -338,6 +360,16 @@ const ShaderProgram& LightingPass::program(unsigned variant) {
                                       "scene.vert", "lighting.frag",
                                       variantDefines(shading_, outputs_, features_, variant)));
   const ShaderProgram& made = *programs_.back().second;
+  if (variant & kSheenBit) {
+    // As vec4s: a float array may take a vec4's room per element (GL allows either), and
+    // fragment uniforms are 4096 components on some drivers.
+    static_assert(kSheenAlbedoEntries % 4 == 0);
+    const std::array<float, kSheenAlbedoEntries>& table = sheenAlbedoTable();
+    std::array<glm::vec4, kSheenAlbedoEntries / 4> packed;
+    for (std::size_t i = 0; i < packed.size(); ++i)
+      packed[i] = glm::vec4(table[4 * i], table[4 * i + 1], table[4 * i + 2], table[4 * i + 3]);
+    made.set("uSheenAlbedo", packed.data(), static_cast<int>(packed.size()));
+  }
   if (writesSrgb8(outputs_)) {
     const std::array<float, 256>& steps = srgb8Steps();
     made.set("uSrgb8Next", steps.data(), static_cast<int>(steps.size()));

@@ -17,6 +17,7 @@
 #include "renderer/render/render_settings.h"
 #include "renderer/scene/light.h"
 #include "renderer/view/shadow_plan.h"
+#include "renderer/view/sheen_brdf.h"
 
 namespace omnishadow::contract {
 
@@ -50,6 +51,10 @@ inline constexpr int kTransmittanceUnit = kMaterialUnits;
 inline constexpr int kTransmittanceRectsUnit = kTransmittanceUnit + 1;
 static_assert(kTransmittanceRectsUnit < kCubeCompareUnit,
               "the transmittance units are shadow units");
+// KHR_materials_sheen's texture (color in RGB, roughness in A): the last unit before the shadow
+// units, all 32 of a fragment shader being spoken for with it.
+inline constexpr int kSheenUnit = kTransmittanceRectsUnit + 1;
+static_assert(kSheenUnit < kCubeCompareUnit, "the sheen unit is a shadow unit");
 static_assert(kMaterialUnits <= kCubeCompareUnit, "material and shadow units overlap");
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
 static_assert(kPlanarMomentsUnit + kMaxShadowGroups <= 32, "shadow units beyond 32");
@@ -145,6 +150,10 @@ inline std::vector<std::string> shaderContractDefines() {
       define("NORMAL_UNIT", kNormalUnit),
       define("OCCLUSION_UNIT", kOcclusionUnit),
       define("EMISSIVE_UNIT", kEmissiveUnit),
+      define("SHEEN_UNIT", kSheenUnit),
+      define("SHEEN_ALBEDO_COSINES", kSheenAlbedoCosines),
+      define("SHEEN_ALBEDO_ROUGHNESSES", kSheenAlbedoRoughnesses),
+      "MIN_SHEEN_ALPHA " + std::to_string(kMinSheenAlpha),
       define("TRANSMISSION_UNIT", kTransmissionUnit),
       define("VSM_SOURCE_UNIT", kVsmSourceUnit),
       define("MAX_SHADOW_GROUPS", kMaxShadowGroups),

@@ -31,7 +31,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"EXT_mesh_gpu_instancing", Supported, ""},
     // Materials beyond the core model.
     {"KHR_materials_clearcoat", NotSupported, "the base material, without clearcoat"},
-    {"KHR_materials_sheen", NotSupported, "the base material, without sheen"},
+    {"KHR_materials_sheen", Supported, ""},
     {"KHR_materials_transmission", Supported, ""},
     {"KHR_materials_volume", NotSupported, "the base material, without volume attenuation"},
     {"KHR_materials_ior", NotSupported, "the base material, with IOR 1.5"},

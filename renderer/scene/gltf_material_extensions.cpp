@@ -72,6 +72,51 @@ const tinygltf::Value* extensionOf(const tinygltf::Material& material, const cha
   return found == material.extensions.end() ? nullptr : &found->second;
 }
 
+// A number in [0, 1], or `fallback` when the property is absent.
+float unitNumber(const Context& ctx, const std::string& object, const tinygltf::Value& parent,
+                 const char* property, float fallback) {
+  const double value = number(ctx, object, parent, property, fallback);
+  if (!(value >= 0.0 && value <= 1.0))
+    ctx.fail(object, std::string(property) + " must be a number in [0, 1]");
+  return static_cast<float>(value);
+}
+
+// KHR_materials_sheen. The lighting pass reads both sheen textures through one unit (the
+// specification packs color in RGB and roughness in A of one image), so a roughness texture
+// of another image is dropped, with a warning.
+void applySheen(const Context& ctx, std::size_t index, Material& material) {
+  const tinygltf::Value* sheen = extensionOf(ctx.model.materials[index], "KHR_materials_sheen");
+  if (!sheen) return;
+  const std::string where = at("materials", index) + ".extensions.KHR_materials_sheen";
+  if (!sheen->IsObject()) ctx.fail(where, "must be an object");
+  glm::vec3 color = numbers<3>(ctx, where, *sheen, "sheenColorFactor", glm::vec3(0.0f));
+  for (int c = 0; c < 3; ++c)
+    if (!(color[c] >= 0.0f && color[c] <= 1.0f))
+      ctx.fail(where, "sheenColorFactor must be an array of 3 numbers in [0, 1]");
+  material.sheenColorFactor = color;
+  material.sheenRoughnessFactor = unitNumber(ctx, where, *sheen, "sheenRoughnessFactor", 0.0f);
+  material.sheenColorTexture =
+      slotFromValue(ctx, where + ".sheenColorTexture", sheen->Get("sheenColorTexture"));
+  material.sheenRoughnessTexture =
+      slotFromValue(ctx, where + ".sheenRoughnessTexture", sheen->Get("sheenRoughnessTexture"));
+  const auto imageOf = [&](const TextureSlot& slot) {
+    return ctx.scene.textures[static_cast<std::size_t>(slot.texture)].image;
+  };
+  if (material.sheenColorTexture.texture >= 0 && material.sheenRoughnessTexture.texture >= 0 &&
+      imageOf(material.sheenColorTexture) != imageOf(material.sheenRoughnessTexture)) {
+    ctx.warn(where +
+             ": sheenRoughnessTexture is another image than sheenColorTexture's; it is "
+             "not read (sheenRoughnessFactor alone is used)");
+    material.sheenRoughnessTexture = {};
+  }
+  if (material.unlit ||
+      extensionOf(ctx.model.materials[index], "KHR_materials_pbrSpecularGlossiness")) {
+    ctx.warn(where + ": must not be used with " +
+             (material.unlit ? "KHR_materials_unlit" : "KHR_materials_pbrSpecularGlossiness") +
+             "; the sheen is not drawn");
+  }
+}
+
 }  // namespace
 
 const tinygltf::Value* textureTransformOf(const tinygltf::ExtensionMap& extensions) {
@@ -113,13 +158,11 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
   if (const tinygltf::Value* transmission = extensionOf(source, "KHR_materials_transmission")) {
     const std::string where = object + "KHR_materials_transmission";
     if (!transmission->IsObject()) ctx.fail(where, "must be an object");
-    const double factor = number(ctx, where, *transmission, "transmissionFactor", 0.0);
-    if (!(factor >= 0.0 && factor <= 1.0))
-      ctx.fail(where, "transmissionFactor must be a number in [0, 1]");
-    material.transmissionFactor = static_cast<float>(factor);
+    material.transmissionFactor = unitNumber(ctx, where, *transmission, "transmissionFactor", 0.0f);
     material.transmissionTexture = slotFromValue(ctx, where + ".transmissionTexture",
                                                  transmission->Get("transmissionTexture"));
   }
+  applySheen(ctx, index, material);
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;
   const std::string where = object + "KHR_materials_pbrSpecularGlossiness";

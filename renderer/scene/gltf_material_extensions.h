@@ -1,5 +1,6 @@
 // Internal to the scene library: material and texture-slot extensions of glTF materials
-// (KHR_texture_transform, KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness).
+// (KHR_texture_transform, KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness,
+// KHR_materials_transmission, KHR_materials_sheen).
 #pragma once
 
 #include <string>
@@ -19,7 +20,7 @@ TextureSlot makeTextureSlot(const Context& ctx, const std::string& object, int i
 // The KHR_texture_transform object of a textureInfo's extensions, or nullptr.
 const tinygltf::Value* textureTransformOf(const tinygltf::ExtensionMap& extensions);
 
-// KHR_materials_unlit and KHR_materials_pbrSpecularGlossiness of materials[index] into
+// The material extensions above of materials[index] into
 // `material`, whose core fields are already filled.
 void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& material);
 

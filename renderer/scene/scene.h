@@ -77,7 +77,24 @@ struct Material {
   // by its base color; it makes the surface a translucent shadow caster (translucency.h).
   float transmissionFactor = 0.0f;
   TextureSlot transmissionTexture;  // linear; R multiplies transmissionFactor
+  // KHR_materials_sheen: a layer of fibers over the metallic-roughness material, shaded with
+  // the specification's Charlie BRDF (shaders/brdf.glsl). A sheen color of zero, with or
+  // without a texture, is no sheen, as the specification says.
+  glm::vec3 sheenColorFactor{0.0f};
+  TextureSlot sheenColorTexture;  // sRGB; RGB multiplies sheenColorFactor
+  float sheenRoughnessFactor = 0.0f;
+  // Linear; A multiplies sheenRoughnessFactor. Only when the image is sheenColorTexture's or
+  // that slot is empty: the two share one texture unit (the loader warns and drops it otherwise).
+  TextureSlot sheenRoughnessTexture;
 };
+
+// Whether the lighting pass shades `material` with a sheen layer: a nonzero sheen color on a
+// lit metallic-roughness material (the extension excludes unlit and specular-glossiness ones).
+inline bool hasSheen(const Material& material) {
+  return !material.unlit && !material.specularGlossiness &&
+         (material.sheenColorFactor.r > 0.0f || material.sheenColorFactor.g > 0.0f ||
+          material.sheenColorFactor.b > 0.0f);
+}
 
 // One glTF primitive as an indexed triangle list, in the mesh's local space.
 // Every attribute array is either empty or has positions.size() entries.
