@@ -83,11 +83,8 @@ void shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float rou
 #ifdef SHEEN
 // KHR_materials_sheen, as its specification's implementation notes write it: the "Charlie"
 // distribution and visibility of Conty and Kulla (2017), layered over the base material by
-// albedo scaling. renderer/view/sheen_brdf.h has the same formulas on the CPU.
-float sheenAlphaG(float sheenRoughness) {
-  return max(sheenRoughness * sheenRoughness, MIN_SHEEN_ALPHA);
-}
-
+// albedo scaling. renderer/view/sheen_brdf.h has the same formulas on the CPU, as written there;
+// here what depends on the pixel alone is worked out once, before the light loop.
 float charlieDistribution(float NdotH, float alphaG) {
   float inverse = 1.0 / alphaG;
   float sin2h = max(1.0 - NdotH * NdotH, 0.0);
@@ -104,10 +101,12 @@ float charlieLambdaFit(float x, float alphaG) {
   return a / (1.0 + b * pow(x, c)) + d * x + e;
 }
 
-float charlieLambda(float cosTheta, float alphaG) {
-  return abs(cosTheta) < 0.5
-             ? exp(charlieLambdaFit(cosTheta, alphaG))
-             : exp(2.0 * charlieLambdaFit(0.5, alphaG) - charlieLambdaFit(1.0 - cosTheta, alphaG));
+// The specification's lambda_sheen: exp(l(x)) below 0.5, exp(2 l(0.5) - l(1 - x)) above, with
+// l(0.5) given. Both branches evaluate l at min(x, 1 - x): one l, where llvmpipe would run both.
+float charlieLambda(float cosTheta, float alphaG, float lambdaFitHalf) {
+  float x = abs(cosTheta);
+  float fit = charlieLambdaFit(min(x, 1.0 - x), alphaG);
+  return exp(x < 0.5 ? fit : 2.0 * lambdaFitHalf - fit);
 }
 
 // E(mu, sheen roughness), the sheen's directional albedo, from the table the build computed
@@ -130,22 +129,41 @@ float sheenAlbedo(float mu, float sheenRoughness) {
   return mix(low, high, fy);
 }
 
+// A pixel's sheen, with what its lights share: alpha_g = roughness^2 (kept above
+// MIN_SHEEN_ALPHA, as on the CPU), l(0.5), lambda(N.V), max(color), E(N.V), and the base's
+// scaling towards the camera, 1 - max(color) E(N.V).
+struct Sheen {
+  vec3 color;
+  float roughness, alphaG, lambdaFitHalf, lambdaV, strength, albedoV, scalingV;
+};
+
+Sheen sheenAt(vec3 color, float roughness, float NdotV) {
+  Sheen s;
+  s.color = color;
+  s.roughness = roughness;
+  s.alphaG = max(roughness * roughness, MIN_SHEEN_ALPHA);
+  s.lambdaFitHalf = charlieLambdaFit(0.5, s.alphaG);
+  s.lambdaV = charlieLambda(NdotV, s.alphaG, s.lambdaFitHalf);
+  s.strength = max(color.r, max(color.g, color.b));
+  s.albedoV = sheenAlbedo(NdotV, roughness);
+  s.scalingV = 1.0 - s.strength * s.albedoV;
+  return s;
+}
+
 // Adds the sheen to one light's base response (shadeBrdf's diffuse and specular): the base is
-// scaled by min(1 - max(sheenColor) E(NdotV), 1 - max(sheenColor) E(NdotL)), baseScalingV being
-// the first (the same for every light), and the sheen lobe joins the specular part.
-void addSheen(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 sheenColor, float sheenRoughness,
-              float baseScalingV, inout vec3 diffuse, inout vec3 specular) {
+// scaled by min(1 - max(color) E(N.V), 1 - max(color) E(N.L)), and the sheen lobe joins the
+// specular part.
+void addSheen(Sheen s, vec3 N, vec3 V, vec3 L, vec3 radiance, inout vec3 diffuse,
+              inout vec3 specular) {
   float NdotL = dot(N, L);
   if (NdotL <= 0.0) return;
   float NdotV = max(dot(N, V), 1e-4);
   float NdotH = max(dot(N, normalize(L + V)), 0.0);
-  float alphaG = sheenAlphaG(sheenRoughness);
-  float visibility = 1.0 / ((1.0 + charlieLambda(NdotV, alphaG) + charlieLambda(NdotL, alphaG)) *
+  float visibility = 1.0 / ((1.0 + s.lambdaV + charlieLambda(NdotL, s.alphaG, s.lambdaFitHalf)) *
                             (4.0 * NdotV * NdotL));
-  float strength = max(sheenColor.r, max(sheenColor.g, sheenColor.b));
-  float scaling = min(baseScalingV, 1.0 - strength * sheenAlbedo(NdotL, sheenRoughness));
+  float scaling = min(s.scalingV, 1.0 - s.strength * sheenAlbedo(NdotL, s.roughness));
   diffuse *= scaling;
   specular = specular * scaling +
-             sheenColor * charlieDistribution(NdotH, alphaG) * visibility * radiance * NdotL;
+             s.color * charlieDistribution(NdotH, s.alphaG) * visibility * radiance * NdotL;
 }
 #endif

@@ -221,15 +221,14 @@ void main() {
   if (uSheenRoughnessTexCoord >= 0)
     sheenRoughness *= texture(uSheenTexture, uvFor(uSheenRoughnessTexCoord, uSheenRoughnessUvTransform)).a;
 #endif
-  // Towards the camera, the sheen reflects E(NdotV) of light arriving evenly from everywhere
-  // (the ambient), and leaves 1 - max(sheenColor) E(NdotV) of it to the base material.
-  float sheenAlbedoV = sheenAlbedo(max(dot(N, V), 1e-4), sheenRoughness);
-  float sheenScalingV = 1.0 - max(sheenColor.r, max(sheenColor.g, sheenColor.b)) * sheenAlbedoV;
+  Sheen sheen = sheenAt(sheenColor, sheenRoughness, max(dot(N, V), 1e-4));
 #endif
 
   float cameraDistance = length(uCameraPosition - vIn.worldPosition);
 #ifdef SHEEN
-  vec3 color = uAmbient * (baseColor.rgb * sheenScalingV + sheenColor * sheenAlbedoV) * occlusion + emissive;
+  // Towards the camera, the sheen reflects E(N.V) of light arriving evenly from everywhere (the
+  // ambient), and leaves 1 - max(sheenColor) E(N.V) of it to the base material.
+  vec3 color = uAmbient * (baseColor.rgb * sheen.scalingV + sheenColor * sheen.albedoV) * occlusion + emissive;
 #else
   vec3 color = uAmbient * baseColor.rgb * occlusion + emissive;
 #endif
@@ -348,7 +347,7 @@ void main() {
     else
       shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, diffuse, specular);
 #ifdef SHEEN
-    addSheen(N, V, L, radiance, sheenColor, sheenRoughness, sheenScalingV, diffuse, specular);
+    addSheen(sheen, N, V, L, radiance, diffuse, specular);
 #endif
 #endif
     color += shadowColor * (diffuse + specular);
