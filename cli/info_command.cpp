@@ -211,6 +211,7 @@ Json toJson(const Info& info) {
                          {"doubleSided", m.doubleSided},
                          {"model", shadingModel(m)},
                          {"textures", textures},
+                         {"ior", jsonNumber(m.ior)},
                          {"sheen", sheenJson(m)}});
   }
   doc["materials"] = materials;
@@ -347,6 +348,7 @@ void printText(const Info& info) {
                     textures.empty() ? "no textures" : "textures " + textures});
     // Only materials an extension reshades say so, keeping the common rows short.
     if (m.unlit || m.specularGlossiness) rows.back().push_back(shadingModel(m));
+    if (m.ior != 1.5f) rows.back().push_back("ior " + readable(m.ior));
     if (hasSheen(m))
       rows.back().push_back("sheen " + readable(m.sheenColorFactor.r) + "," +
                             readable(m.sheenColorFactor.g) + "," + readable(m.sheenColorFactor.b) +

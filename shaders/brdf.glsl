@@ -47,11 +47,12 @@ void shadeBrdf(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 diffuseColor, float d
              visibilitySmithGgxCorrelated(NdotV, NdotL, alpha) * irradiance;
 }
 
-// Metallic-roughness: metals have no diffuse and tint their reflection; dielectrics reflect 4%.
+// Metallic-roughness: metals have no diffuse and tint their reflection; dielectrics reflect
+// dielectricF0 at normal incidence (4% at glTF's IOR of 1.5; KHR_materials_ior sets others).
 void shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metallic,
-              float roughness, out vec3 diffuse, out vec3 specular) {
-  shadeBrdf(N, V, L, radiance, baseColor, 1.0 - metallic, mix(vec3(0.04), baseColor, metallic),
-            roughness, diffuse, specular);
+              float roughness, float dielectricF0, out vec3 diffuse, out vec3 specular) {
+  shadeBrdf(N, V, L, radiance, baseColor, 1.0 - metallic,
+            mix(vec3(dielectricF0), baseColor, metallic), roughness, diffuse, specular);
 }
 
 // KHR_materials_pbrSpecularGlossiness as its specification defines it: F0 is the specular
@@ -66,7 +67,7 @@ void shadeSpecularGlossiness(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 diffuse
 // Blinn-Phong as in the classic point-shadow tutorial, in the same photometric units:
 // normalized Blinn-Phong lobe with a shininess derived from roughness.
 void shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float roughness,
-                out vec3 diffuse, out vec3 specular) {
+                float dielectricF0, out vec3 diffuse, out vec3 specular) {
   diffuse = vec3(0.0);
   specular = vec3(0.0);
   float NdotL = dot(N, L);
@@ -77,7 +78,7 @@ void shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float rou
   float lobe = (shininess + 8.0) / (8.0 * PI) * pow(max(dot(N, H), 0.0), shininess);
   vec3 irradiance = radiance * NdotL;
   diffuse = baseColor / PI * irradiance;
-  specular = vec3(0.04) * lobe * irradiance;
+  specular = vec3(dielectricF0) * lobe * irradiance;
 }
 
 #ifdef SHEEN

@@ -62,6 +62,7 @@ uniform int uUnlit;  // KHR_materials_unlit, points and lines: the base color as
 uniform int uSpecularGlossiness;
 uniform vec3 uSpecularFactor;
 uniform float uGlossinessFactor;
+uniform float uDielectricF0;  // KHR_materials_ior: ((ior - 1) / (ior + 1))^2, 0.04 by default
 #ifdef SHEEN
 // KHR_materials_sheen: one texture, its RGB the color and its A the roughness, each read at its
 // own slot's coordinates (texCoord -1: that slot has no texture).
@@ -339,13 +340,14 @@ void main() {
     if (max(max(shadowColor.r, shadowColor.g), shadowColor.b) <= 0.0) continue;
     vec3 diffuse, specular;
 #ifdef SHADING_PHONG
-    shadePhong(N, V, L, radiance, baseColor.rgb, roughness, diffuse, specular);
+    shadePhong(N, V, L, radiance, baseColor.rgb, roughness, uDielectricF0, diffuse, specular);
 #else
     if (uSpecularGlossiness != 0)
       shadeSpecularGlossiness(N, V, L, radiance, baseColor.rgb, specularColor, roughness, diffuse,
                               specular);
     else
-      shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, diffuse, specular);
+      shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, uDielectricF0, diffuse,
+               specular);
 #ifdef SHEEN
     addSheen(sheen, N, V, L, radiance, diffuse, specular);
 #endif

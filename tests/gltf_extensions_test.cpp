@@ -328,6 +328,36 @@ TEST_F(GltfExtensionsTest, TransmissionFactorIsReadAndMayBeRequired) {
                 "transmissionFactor must be a number");
 }
 
+TEST_F(GltfExtensionsTest, IorIsReadAndMayBeRequired) {
+  Quad q;
+  makeQuad(q);
+  EXPECT_EQ(load(q.builder).materials[0].ior, 1.5f);  // glTF's own, without the extension
+  EXPECT_EQ(dielectricF0(load(q.builder).materials[0]), 0.04f);
+  q.gltfMaterial().extensions["KHR_materials_ior"] = object({{"ior", Value(1.33)}});
+  q.builder.model().extensionsUsed = {"KHR_materials_ior"};
+  q.builder.model().extensionsRequired = {"KHR_materials_ior"};
+  const Scene water = load(q.builder);
+  EXPECT_TRUE(water.warnings.empty()) << water.warnings.front();
+  EXPECT_EQ(water.materials[0].ior, 1.33f);
+  EXPECT_NEAR(dielectricF0(water.materials[0]), (0.33 / 2.33) * (0.33 / 2.33), 1e-7);
+  q.gltfMaterial().extensions["KHR_materials_ior"] = object({});
+  EXPECT_EQ(load(q.builder).materials[0].ior, 1.5f);  // the extension's default
+  // 0 is in the schema's range (a reflectance of 1); so is anything from 1 up.
+  q.gltfMaterial().extensions["KHR_materials_ior"] = object({{"ior", Value(0.0)}});
+  EXPECT_EQ(dielectricF0(load(q.builder).materials[0]), 1.0f);
+  q.gltfMaterial().extensions["KHR_materials_ior"] = object({{"ior", Value(2.42)}});
+  EXPECT_EQ(load(q.builder).materials[0].ior, 2.42f);
+
+  const std::string where = file() + ": materials[0].extensions.KHR_materials_ior: ";
+  for (const double bad : {0.5, -1.0}) {
+    q.gltfMaterial().extensions["KHR_materials_ior"] = object({{"ior", Value(bad)}});
+    EXPECT_EQ(inputError([&] { load(q.builder); }),
+              where + "ior must be 0 or a number of at least 1");
+  }
+  q.gltfMaterial().extensions["KHR_materials_ior"] = object({{"ior", Value("glass")}});
+  EXPECT_EQ(inputError([&] { load(q.builder); }), where + "ior must be a number");
+}
+
 TEST_F(GltfExtensionsTest, SheenFactorsAndTexturesAreReadAndMayBeRequired) {
   Quad q;
   makeQuad(q);

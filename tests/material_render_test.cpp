@@ -442,6 +442,65 @@ TEST(MaterialVariantRender, EachMaterialOfOneFrameKeepsItsOwnBrdf) {
   }
 }
 
+// KHR_materials_ior: floors of ior 1.5 (no extension), 1.33 and 2.42 under a sun straight
+// above, seen from straight above (N = L = V): each reflects its own F0 = ((ior - 1) / (ior +
+// 1))^2 through the GGX lobe, and the diffuse what Fresnel leaves, as worked out by hand. Also in
+// the Phong shading, whose specular is F0 times its lobe.
+TEST(IorRender, EachFloorReflectsItsOwnFresnel) {
+  test_support::TempFolder folder("omnishadow-ior-render");
+  GltfBuilder builder;
+  MaterialDesc material;
+  material.baseColor = {0.6f, 0.4f, 0.2f, 1.0f};
+  material.roughness = 0.5f;
+  const float iors[3] = {1.5f, 1.33f, 2.42f};
+  const glm::vec3 at[3] = {{-3, 0, 0}, {0, 0, 0}, {3, 0, 0}};
+  PrimitiveOptions options;
+  for (int i = 0; i < 3; ++i) {
+    options.material = builder.addMaterial(material);
+    if (i > 0)
+      builder.model().materials[i].extensions["KHR_materials_ior"] =
+          Value(Value::Object{{"ior", Value(static_cast<double>(iors[i]))}});
+    builder.addNode("plane" + std::to_string(i), {at[i]},
+                    builder.addMesh(builder::makePlane(2.0f), options));
+  }
+  builder.model().extensionsUsed = {"KHR_materials_ior"};
+  const fs::path file = folder / "planes.gltf";
+  builder.write(file, FileFormat::GltfEmbedded);
+  const Scene scene = loadGltf(file);
+  ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+
+  Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
+  sun.shadow.enabled = false;
+  const ViewCamera camera = lookFrom(scene, {0, 200, 0}, {0, 0, 0}, 96, 32,
+                                     2.0f * glm::degrees(std::atan(1.5f / 200.0f)), {0, 0, -1});
+  const glm::vec3 base(0.6f, 0.4f, 0.2f);
+  const float alpha = 0.25f;  // roughness 0.5
+  for (const Shading shading : {Shading::Pbr, Shading::Phong}) {
+    StageTimes times;
+    RenderSettings settings;
+    settings.shading = shading;
+    const Frame frame =
+        sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, settings, times);
+    for (int i = 0; i < 3; ++i) {
+      const float r = (iors[i] - 1.0f) / (iors[i] + 1.0f), f0 = r * r;
+      glm::vec3 expected;
+      if (shading == Shading::Pbr) {
+        // N = L = V: Fresnel is F0, the GGX lobe 1 / (pi alpha^2), the visibility term 1/4.
+        expected =
+            (1.0f - f0) * base / kPi * 3.0f + glm::vec3(f0 / (kPi * alpha * alpha) * 0.25f * 3.0f);
+      } else {
+        // Normalized Blinn-Phong with shininess 2 / alpha^2 - 2 at N.H = 1.
+        const float shininess = 2.0f / (alpha * alpha) - 2.0f;
+        expected = base / kPi * 3.0f + glm::vec3(f0 * (shininess + 8.0f) / (8.0f * kPi) * 3.0f);
+      }
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(frame.beauty.at(16 + 32 * i, 16, c), expected[c], 0.01f * expected[c])
+            << "ior " << iors[i] << " channel " << c
+            << (shading == Shading::Pbr ? " (PBR)" : " (Phong)");
+    }
+  }
+}
+
 // The sheen test's materials: a dielectric base, and its sheen (color zero: none).
 struct SheenInputs {
   glm::vec3 base{0.5f, 0.3f, 0.2f};

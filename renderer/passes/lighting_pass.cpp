@@ -207,6 +207,7 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
   program.set("uSpecularGlossiness", d.specularGlossiness ? 1 : 0);
   program.set("uSpecularFactor", d.specularFactor);
   program.set("uGlossinessFactor", d.glossinessFactor);
+  program.set("uDielectricF0", dielectricF0(d));
   const TextureSlot& specularOrMetallic =
       d.specularGlossiness ? d.specularGlossinessTexture : d.metallicRoughnessTexture;
   const struct {

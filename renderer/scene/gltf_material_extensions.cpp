@@ -162,6 +162,16 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
     material.transmissionTexture = slotFromValue(ctx, where + ".transmissionTexture",
                                                  transmission->Get("transmissionTexture"));
   }
+  if (const tinygltf::Value* ior = extensionOf(source, "KHR_materials_ior")) {
+    const std::string where = object + "KHR_materials_ior";
+    if (!ior->IsObject()) ctx.fail(where, "must be an object");
+    const double value = number(ctx, where, *ior, "ior", 1.5);
+    // The schema's range: 1 and above, or exactly 0 (a reflectance of 1, for materials
+    // converted from specular-glossiness).
+    if (!(value == 0.0 || (value >= 1.0 && std::isfinite(value))))
+      ctx.fail(where, "ior must be 0 or a number of at least 1");
+    material.ior = static_cast<float>(value);
+  }
   applySheen(ctx, index, material);
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;

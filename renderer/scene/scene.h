@@ -77,6 +77,9 @@ struct Material {
   // by its base color; it makes the surface a translucent shadow caster (translucency.h).
   float transmissionFactor = 0.0f;
   TextureSlot transmissionTexture;  // linear; R multiplies transmissionFactor
+  // KHR_materials_ior: the index of refraction of the dielectric part, which sets its Fresnel
+  // reflectance at normal incidence, ((ior - 1) / (ior + 1))^2 (0.04 at glTF's 1.5).
+  float ior = 1.5f;
   // KHR_materials_sheen: a layer of fibers over the metallic-roughness material, shaded with
   // the specification's Charlie BRDF (shaders/brdf.glsl). A sheen color of zero, with or
   // without a texture, is no sheen, as the specification says.
@@ -87,6 +90,13 @@ struct Material {
   // that slot is empty: the two share one texture unit (the loader warns and drops it otherwise).
   TextureSlot sheenRoughnessTexture;
 };
+
+// The dielectric Fresnel reflectance at normal incidence that `material`'s ior gives (outside
+// the surface: air, ior 1), in double so that glTF's 1.5 gives 0.04 exactly as a float.
+inline float dielectricF0(const Material& material) {
+  const double ior = material.ior, r = (ior - 1.0) / (ior + 1.0);
+  return static_cast<float>(r * r);
+}
 
 // Whether the lighting pass shades `material` with a sheen layer: a nonzero sheen color on a
 // lit metallic-roughness material (the extension excludes unlit and specular-glossiness ones).
