@@ -203,16 +203,24 @@ Json toJson(const Info& info) {
     Json textures = Json::object();
     for (const auto& [slot, texture] : textureSlots(m))
       textures[slot] = texture->texture >= 0 ? Json(texture->texture) : Json(nullptr);
-    materials.push_back({{"index", i},
-                         {"name", m.name},
-                         {"alphaMode", toString(m.alphaMode)},
-                         {"alphaCutoff", m.alphaMode == AlphaMode::Mask ? jsonNumber(m.alphaCutoff)
-                                                                        : Json(nullptr)},
-                         {"doubleSided", m.doubleSided},
-                         {"model", shadingModel(m)},
-                         {"textures", textures},
-                         {"ior", jsonNumber(m.ior)},
-                         {"sheen", sheenJson(m)}});
+    materials.push_back(
+        {{"index", i},
+         {"name", m.name},
+         {"alphaMode", toString(m.alphaMode)},
+         {"alphaCutoff",
+          m.alphaMode == AlphaMode::Mask ? jsonNumber(m.alphaCutoff) : Json(nullptr)},
+         {"doubleSided", m.doubleSided},
+         {"model", shadingModel(m)},
+         {"textures", textures},
+         {"ior", jsonNumber(m.ior)},
+         {"specular",
+          hasDielectricSpecular(m)
+              ? Json{{"factor", jsonNumber(m.specularWeight)},
+                     {"colorFactor", Json::array({jsonNumber(m.specularColorFactor.r),
+                                                  jsonNumber(m.specularColorFactor.g),
+                                                  jsonNumber(m.specularColorFactor.b)})}}
+              : Json(nullptr)},
+         {"sheen", sheenJson(m)}});
   }
   doc["materials"] = materials;
 
@@ -349,6 +357,10 @@ void printText(const Info& info) {
     // Only materials an extension reshades say so, keeping the common rows short.
     if (m.unlit || m.specularGlossiness) rows.back().push_back(shadingModel(m));
     if (m.ior != 1.5f) rows.back().push_back("ior " + readable(m.ior));
+    if (hasDielectricSpecular(m))
+      rows.back().push_back(
+          "specular " + readable(m.specularWeight) + " color " + readable(m.specularColorFactor.r) +
+          "," + readable(m.specularColorFactor.g) + "," + readable(m.specularColorFactor.b));
     if (hasSheen(m))
       rows.back().push_back("sheen " + readable(m.sheenColorFactor.r) + "," +
                             readable(m.sheenColorFactor.g) + "," + readable(m.sheenColorFactor.b) +

@@ -55,6 +55,33 @@ void shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metal
             mix(vec3(dielectricF0), baseColor, metallic), roughness, diffuse, specular);
 }
 
+// KHR_materials_specular's factors, as its specification writes the dielectric part: Fresnel
+// from min(dielectricF0 specularColor, 1) specularWeight at normal incidence to specularWeight
+// at grazing, the diffuse weighted by what the brightest channel of it leaves; the metal part as
+// in shadePbr.
+void shadePbrSpecular(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metallic,
+                      float roughness, float dielectricF0, float specularWeight,
+                      vec3 specularColor, out vec3 diffuse, out vec3 specular) {
+  diffuse = vec3(0.0);
+  specular = vec3(0.0);
+  float NdotL = dot(N, L);
+  if (NdotL <= 0.0) return;
+  vec3 H = normalize(L + V);
+  float NdotV = max(dot(N, V), 1e-4);
+  float NdotH = max(dot(N, H), 0.0);
+  float VdotH = max(dot(V, H), 0.0);
+  float alpha = max(roughness * roughness, 1e-3);
+  vec3 f0 = min(dielectricF0 * specularColor, vec3(1.0)) * specularWeight;
+  vec3 dielectricF = f0 + (vec3(specularWeight) - f0) * (fresnelSchlick(vec3(0.0), VdotH).r);
+  vec3 F = mix(dielectricF, fresnelSchlick(baseColor, VdotH), metallic);
+  vec3 irradiance = radiance * NdotL;
+  float diffuseWeight = (1.0 - metallic) *
+                        (1.0 - max(dielectricF.r, max(dielectricF.g, dielectricF.b)));
+  diffuse = diffuseWeight * baseColor / PI * irradiance;
+  specular = F * distributionGgx(NdotH, alpha) *
+             visibilitySmithGgxCorrelated(NdotV, NdotL, alpha) * irradiance;
+}
+
 // KHR_materials_pbrSpecularGlossiness as its specification defines it: F0 is the specular
 // color, the diffuse color is scaled by 1 - max(specular), roughness is 1 - glossiness.
 void shadeSpecularGlossiness(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 diffuseColor,
@@ -67,7 +94,7 @@ void shadeSpecularGlossiness(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 diffuse
 // Blinn-Phong as in the classic point-shadow tutorial, in the same photometric units:
 // normalized Blinn-Phong lobe with a shininess derived from roughness.
 void shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float roughness,
-                float dielectricF0, out vec3 diffuse, out vec3 specular) {
+                vec3 specularF0, out vec3 diffuse, out vec3 specular) {
   diffuse = vec3(0.0);
   specular = vec3(0.0);
   float NdotL = dot(N, L);
@@ -78,7 +105,7 @@ void shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float rou
   float lobe = (shininess + 8.0) / (8.0 * PI) * pow(max(dot(N, H), 0.0), shininess);
   vec3 irradiance = radiance * NdotL;
   diffuse = baseColor / PI * irradiance;
-  specular = vec3(dielectricF0) * lobe * irradiance;
+  specular = specularF0 * lobe * irradiance;
 }
 
 #ifdef SHEEN

@@ -63,6 +63,10 @@ uniform int uSpecularGlossiness;
 uniform vec3 uSpecularFactor;
 uniform float uGlossinessFactor;
 uniform float uDielectricF0;  // KHR_materials_ior: ((ior - 1) / (ior + 1))^2, 0.04 by default
+#ifdef DIELECTRIC_SPECULAR
+uniform float uSpecularWeight;      // KHR_materials_specular: specularFactor
+uniform vec3 uSpecularColorFactor;  // and specularColorFactor
+#endif
 #ifdef SHEEN
 // KHR_materials_sheen: one texture, its RGB the color and its A the roughness, each read at its
 // own slot's coordinates (texCoord -1: that slot has no texture).
@@ -340,14 +344,25 @@ void main() {
     if (max(max(shadowColor.r, shadowColor.g), shadowColor.b) <= 0.0) continue;
     vec3 diffuse, specular;
 #ifdef SHADING_PHONG
-    shadePhong(N, V, L, radiance, baseColor.rgb, roughness, uDielectricF0, diffuse, specular);
+#ifdef DIELECTRIC_SPECULAR
+    shadePhong(N, V, L, radiance, baseColor.rgb, roughness,
+               min(uDielectricF0 * uSpecularColorFactor, vec3(1.0)) * uSpecularWeight, diffuse,
+               specular);
+#else
+    shadePhong(N, V, L, radiance, baseColor.rgb, roughness, vec3(uDielectricF0), diffuse, specular);
+#endif
 #else
     if (uSpecularGlossiness != 0)
       shadeSpecularGlossiness(N, V, L, radiance, baseColor.rgb, specularColor, roughness, diffuse,
                               specular);
     else
+#ifdef DIELECTRIC_SPECULAR
+      shadePbrSpecular(N, V, L, radiance, baseColor.rgb, metallic, roughness, uDielectricF0,
+                       uSpecularWeight, uSpecularColorFactor, diffuse, specular);
+#else
       shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, uDielectricF0, diffuse,
                specular);
+#endif
 #ifdef SHEEN
     addSheen(sheen, N, V, L, radiance, diffuse, specular);
 #endif

@@ -358,6 +358,49 @@ TEST_F(GltfExtensionsTest, IorIsReadAndMayBeRequired) {
   EXPECT_EQ(inputError([&] { load(q.builder); }), where + "ior must be a number");
 }
 
+TEST_F(GltfExtensionsTest, SpecularFactorsAreReadAndItsTexturesNamedAsUnread) {
+  Quad q;
+  makeQuad(q);
+  EXPECT_FALSE(hasDielectricSpecular(load(q.builder).materials[0]));
+  const std::string where = file() + ": materials[0].extensions.KHR_materials_specular";
+  q.gltfMaterial().extensions["KHR_materials_specular"] =
+      object({{"specularFactor", Value(0.5)}, {"specularColorFactor", numbers({2.0, 1.0, 0.25})}});
+  q.builder.model().extensionsUsed = {"KHR_materials_specular"};
+  q.builder.model().extensionsRequired = {"KHR_materials_specular"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  EXPECT_EQ(scene.materials[0].specularWeight, 0.5f);
+  EXPECT_EQ(scene.materials[0].specularColorFactor, glm::vec3(2.0f, 1.0f, 0.25f));
+  EXPECT_TRUE(hasDielectricSpecular(scene.materials[0]));
+  // The defaults (factor 1, color 1) shade as no extension does.
+  q.gltfMaterial().extensions["KHR_materials_specular"] = object({});
+  EXPECT_FALSE(hasDielectricSpecular(load(q.builder).materials[0]));
+
+  // The textures are checked, then named as unread.
+  q.gltfMaterial().extensions["KHR_materials_specular"] =
+      object({{"specularTexture", object({{"index", Value(0)}})},
+              {"specularColorTexture", object({{"index", Value(0)}})}});
+  EXPECT_EQ(warningsAbout(load(q.builder), "KHR_materials_specular"),
+            (std::vector<std::string>{
+                where + ": specularTexture is not read (only the factors are: no texture unit is "
+                        "left for it)",
+                where + ": specularColorTexture is not read (only the factors are: no texture "
+                        "unit is left for it)"}));
+  EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_specular", "specularColorTexture", 4),
+            where + ".specularColorTexture: texture 4 is out of range (the file has 1 texture)");
+
+  for (const double bad : {1.5, -0.5}) {
+    q.gltfMaterial().extensions["KHR_materials_specular"] =
+        object({{"specularFactor", Value(bad)}});
+    EXPECT_EQ(inputError([&] { load(q.builder); }),
+              where + ": specularFactor must be a number in [0, 1]");
+  }
+  q.gltfMaterial().extensions["KHR_materials_specular"] =
+      object({{"specularColorFactor", numbers({1.0, -1.0, 1.0})}});
+  EXPECT_EQ(inputError([&] { load(q.builder); }),
+            where + ": specularColorFactor must be an array of 3 numbers of at least 0");
+}
+
 TEST_F(GltfExtensionsTest, SheenFactorsAndTexturesAreReadAndMayBeRequired) {
   Quad q;
   makeQuad(q);
@@ -573,9 +616,9 @@ TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWh
   }
   // Required but not listed as used (invalid, but seen): still refused.
   model.extensionsUsed.clear();
-  model.extensionsRequired = {"KHR_materials_specular"};
+  model.extensionsRequired = {"KHR_materials_anisotropy"};
   EXPECT_EQ(inputError([&] { load(builder); }),
-            file() + ": extensionsRequired: KHR_materials_specular is not supported");
+            file() + ": extensionsRequired: KHR_materials_anisotropy is not supported");
 }
 
 // Compressed geometry leaves accessors without a bufferView. Such an accessor is zeros by the

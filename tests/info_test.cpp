@@ -179,8 +179,9 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(keys(doc["counts"]["primitives"]), (Keys{"file", "drawn"}));
   EXPECT_EQ(keys(doc["bounds"]), (Keys{"min", "max", "center", "size"}));
   ASSERT_FALSE(doc["materials"].empty());
-  EXPECT_EQ(keys(doc["materials"][0]), (Keys{"index", "name", "alphaMode", "alphaCutoff",
-                                             "doubleSided", "model", "textures", "ior", "sheen"}));
+  EXPECT_EQ(keys(doc["materials"][0]),
+            (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "model", "textures",
+                  "ior", "specular", "sheen"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
@@ -507,7 +508,10 @@ TEST_F(InfoTest, WhackAMoleSampleReportsItsSheen) {
     EXPECT_TRUE(sheen["colorTexture"].is_null());
     EXPECT_TRUE(sheen["roughnessTexture"].is_null());
   }
-  for (const Json& m : doc["materials"]) EXPECT_EQ(m["ior"], 1.5);
+  for (const Json& m : doc["materials"]) {
+    EXPECT_EQ(m["ior"], 1.5);
+    EXPECT_TRUE(m["specular"].is_null());
+  }
   const Run r = run({"info", path.string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "no textures  sheen 1,1,1 roughness 0.4\n"));

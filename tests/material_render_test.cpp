@@ -501,6 +501,76 @@ TEST(IorRender, EachFloorReflectsItsOwnFresnel) {
   }
 }
 
+// KHR_materials_specular's factors (with an ior of 1.33 from KHR_materials_ior) on a dielectric
+// and on a half-metal floor, under a sun straight above, seen from straight above (N = L = V, so
+// the Fresnel terms are their normal-incidence values): the dielectric reflects f0 =
+// min(F0(ior) x color, 1) x factor through the GGX lobe, its diffuse is weighted by 1 - max(f0),
+// the metal reflects its base color; worked out by hand, in the PBR and the Phong shading. A
+// third floor with the factors' defaults draws as the core material does.
+TEST(SpecularRender, FactorsScaleTheDielectricFresnelAsTheSpecificationWrites) {
+  test_support::TempFolder folder("omnishadow-specular-render");
+  GltfBuilder builder;
+  MaterialDesc material;
+  material.baseColor = {0.6f, 0.4f, 0.2f, 1.0f};
+  material.roughness = 0.5f;
+  const float metallic[3] = {0.0f, 0.5f, 0.0f};
+  const glm::vec3 at[3] = {{-3, 0, 0}, {0, 0, 0}, {3, 0, 0}};
+  PrimitiveOptions options;
+  for (int i = 0; i < 3; ++i) {
+    material.metallic = metallic[i];
+    options.material = builder.addMaterial(material);
+    builder.addNode("plane" + std::to_string(i), {at[i]},
+                    builder.addMesh(builder::makePlane(2.0f), options));
+  }
+  auto& materials = builder.model().materials;
+  for (int i = 0; i < 2; ++i) {
+    materials[i].extensions["KHR_materials_specular"] = Value(Value::Object{
+        {"specularFactor", Value(0.5)},
+        {"specularColorFactor", Value(Value::Array{Value(2.0), Value(1.0), Value(0.25)})}});
+    materials[i].extensions["KHR_materials_ior"] = Value(Value::Object{{"ior", Value(1.33)}});
+  }
+  materials[2].extensions["KHR_materials_specular"] = Value(Value::Object{});
+  builder.model().extensionsUsed = {"KHR_materials_specular", "KHR_materials_ior"};
+  const fs::path file = folder / "planes.gltf";
+  builder.write(file, FileFormat::GltfEmbedded);
+  const Scene scene = loadGltf(file);
+  ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+
+  Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
+  sun.shadow.enabled = false;
+  const ViewCamera camera = lookFrom(scene, {0, 200, 0}, {0, 0, 0}, 96, 32,
+                                     2.0f * glm::degrees(std::atan(1.5f / 200.0f)), {0, 0, -1});
+  const glm::vec3 base(0.6f, 0.4f, 0.2f);
+  const float alpha = 0.25f, r = 0.33f / 2.33f;
+  const glm::vec3 f0 = glm::min(r * r * glm::vec3(2.0f, 1.0f, 0.25f), glm::vec3(1.0f)) * 0.5f;
+  const float lobe = 1.0f / (kPi * alpha * alpha) * 0.25f;  // D Vis at N = H
+  const float shininess = 2.0f / (alpha * alpha) - 2.0f;
+  const float phongLobe = (shininess + 8.0f) / (8.0f * kPi);
+  for (const Shading shading : {Shading::Pbr, Shading::Phong}) {
+    StageTimes times;
+    RenderSettings settings;
+    settings.shading = shading;
+    const Frame frame =
+        sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, settings, times);
+    glm::vec3 expected[3];
+    if (shading == Shading::Pbr) {
+      const float diffuseWeight = 1.0f - std::max(f0.r, std::max(f0.g, f0.b));
+      expected[0] = diffuseWeight * base / kPi * 3.0f + f0 * lobe * 3.0f;
+      expected[1] =
+          0.5f * diffuseWeight * base / kPi * 3.0f + glm::mix(f0, base, 0.5f) * lobe * 3.0f;
+      expected[2] = 0.96f * base / kPi * 3.0f + glm::vec3(0.04f * lobe * 3.0f);
+    } else {  // Blinn-Phong: the metallic input is not used, the specular color is f0
+      expected[0] = expected[1] = base / kPi * 3.0f + f0 * phongLobe * 3.0f;
+      expected[2] = base / kPi * 3.0f + glm::vec3(0.04f * phongLobe * 3.0f);
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(frame.beauty.at(16 + 32 * i, 16, c), expected[i][c], 0.01f * expected[i][c])
+            << "floor " << i << " channel " << c
+            << (shading == Shading::Pbr ? " (PBR)" : " (Phong)");
+  }
+}
+
 // The sheen test's materials: a dielectric base, and its sheen (color zero: none).
 struct SheenInputs {
   glm::vec3 base{0.5f, 0.3f, 0.2f};

@@ -41,6 +41,8 @@ constexpr unsigned kSpecularGlossinessBit = 1u << contract::kMaterialUnits;
 // KHR_materials_sheen: the sheen layer, and its texture.
 constexpr unsigned kSheenBit = kSpecularGlossinessBit << 1;
 constexpr unsigned kSheenTextureBit = kSheenBit << 1;
+// KHR_materials_specular's factors.
+constexpr unsigned kDielectricSpecularBit = kSheenTextureBit << 1;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -48,6 +50,7 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   for (int i = 0; i < contract::kMaterialUnits; ++i)
     if (material & (1u << i)) defines.push_back(kMaterialTextureDefines[i]);
   if (material & kSpecularGlossinessBit) defines.push_back("SPECULAR_GLOSSINESS");
+  if (material & kDielectricSpecularBit) defines.push_back("DIELECTRIC_SPECULAR");
   // Blinn-Phong has no layers: --shading phong draws the base material alone.
   if ((material & kSheenBit) && shading != Shading::Phong) {
     defines.push_back("SHEEN");
@@ -208,6 +211,8 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
   program.set("uSpecularFactor", d.specularFactor);
   program.set("uGlossinessFactor", d.glossinessFactor);
   program.set("uDielectricF0", dielectricF0(d));
+  program.set("uSpecularWeight", d.specularWeight);
+  program.set("uSpecularColorFactor", d.specularColorFactor);
   const TextureSlot& specularOrMetallic =
       d.specularGlossiness ? d.specularGlossinessTexture : d.metallicRoughnessTexture;
   const struct {
@@ -350,6 +355,7 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) {
   unsigned variant = material.desc.specularGlossiness ? kSpecularGlossinessBit : 0u;
   for (int i = 0; i < contract::kMaterialUnits; ++i)
     if (textures[i] != 0) variant |= 1u << i;
+  if (hasDielectricSpecular(material.desc)) variant |= kDielectricSpecularBit;
   if (hasSheen(material.desc)) variant |= kSheenBit | (material.sheen != 0 ? kSheenTextureBit : 0u);
   return variant;
 }

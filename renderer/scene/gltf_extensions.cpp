@@ -35,7 +35,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_materials_transmission", Supported, ""},
     {"KHR_materials_volume", NotSupported, "the base material, without volume attenuation"},
     {"KHR_materials_ior", Supported, ""},
-    {"KHR_materials_specular", NotSupported, "the base material, with the default specular"},
+    {"KHR_materials_specular", Supported, ""},
     {"KHR_materials_iridescence", NotSupported, "the base material, without iridescence"},
     {"KHR_materials_anisotropy", NotSupported, "the base material, with isotropic highlights"},
     {"KHR_materials_dispersion", NotSupported, "the base material, without dispersion"},

@@ -81,6 +81,30 @@ float unitNumber(const Context& ctx, const std::string& object, const tinygltf::
   return static_cast<float>(value);
 }
 
+// KHR_materials_specular's factors. Its textures would need two more texture units, and all a
+// fragment shader has are spoken for (renderer/passes/shader_contract.h): they are checked like
+// any textureInfo, then left unread, with a warning.
+void applySpecular(const Context& ctx, std::size_t index, Material& material) {
+  const tinygltf::Value* specular =
+      extensionOf(ctx.model.materials[index], "KHR_materials_specular");
+  if (!specular) return;
+  const std::string where = at("materials", index) + ".extensions.KHR_materials_specular";
+  if (!specular->IsObject()) ctx.fail(where, "must be an object");
+  material.specularWeight = unitNumber(ctx, where, *specular, "specularFactor", 1.0f);
+  const glm::vec3 color = numbers<3>(ctx, where, *specular, "specularColorFactor", glm::vec3(1.0f));
+  for (int c = 0; c < 3; ++c)
+    if (!(color[c] >= 0.0f && std::isfinite(color[c])))
+      ctx.fail(where, "specularColorFactor must be an array of 3 numbers of at least 0");
+  material.specularColorFactor = color;
+  for (const char* slot : {"specularTexture", "specularColorTexture"}) {
+    const TextureSlot texture = slotFromValue(ctx, where + "." + slot, specular->Get(slot));
+    if (texture.texture >= 0)
+      ctx.warn(where + ": " + slot +
+               " is not read (only the factors are: no texture unit is "
+               "left for it)");
+  }
+}
+
 // KHR_materials_sheen. The lighting pass reads both sheen textures through one unit (the
 // specification packs color in RGB and roughness in A of one image), so a roughness texture
 // of another image is dropped, with a warning.
@@ -172,6 +196,7 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
       ctx.fail(where, "ior must be 0 or a number of at least 1");
     material.ior = static_cast<float>(value);
   }
+  applySpecular(ctx, index, material);
   applySheen(ctx, index, material);
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;

@@ -80,6 +80,11 @@ struct Material {
   // KHR_materials_ior: the index of refraction of the dielectric part, which sets its Fresnel
   // reflectance at normal incidence, ((ior - 1) / (ior + 1))^2 (0.04 at glTF's 1.5).
   float ior = 1.5f;
+  // KHR_materials_specular's factors: the dielectric's Fresnel goes from min(F0(ior) x color, 1)
+  // x weight at normal incidence to weight at grazing, and its diffuse takes what the brightest
+  // channel leaves. Its two textures are not read (the loader warns).
+  float specularWeight = 1.0f;          // specularFactor
+  glm::vec3 specularColorFactor{1.0f};  // linear; may exceed 1
   // KHR_materials_sheen: a layer of fibers over the metallic-roughness material, shaded with
   // the specification's Charlie BRDF (shaders/brdf.glsl). A sheen color of zero, with or
   // without a texture, is no sheen, as the specification says.
@@ -96,6 +101,13 @@ struct Material {
 inline float dielectricF0(const Material& material) {
   const double ior = material.ior, r = (ior - 1.0) / (ior + 1.0);
   return static_cast<float>(r * r);
+}
+
+// Whether KHR_materials_specular changes how `material` is shaded: factors other than the
+// defaults on a lit metallic-roughness material.
+inline bool hasDielectricSpecular(const Material& material) {
+  return !material.unlit && !material.specularGlossiness &&
+         (material.specularWeight != 1.0f || material.specularColorFactor != glm::vec3(1.0f));
 }
 
 // Whether the lighting pass shades `material` with a sheen layer: a nonzero sheen color on a
