@@ -58,7 +58,9 @@ void shadePbr(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metal
 // KHR_materials_specular's factors, as its specification writes the dielectric part: Fresnel
 // from min(dielectricF0 specularColor, 1) specularWeight at normal incidence to specularWeight
 // at grazing, the diffuse weighted by what the brightest channel of it leaves; the metal part as
-// in shadePbr.
+// in shadePbr. Its first lines repeat shadeBrdf's on purpose: moving them into a shared helper
+// changed the float pictures of every scene in the last bits (LLVM contracts the products
+// differently), and shadeBrdf's output is kept bit for bit.
 void shadePbrSpecular(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metallic,
                       float roughness, float dielectricF0, float specularWeight,
                       vec3 specularColor, out vec3 diffuse, out vec3 specular) {

@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 #include <numbers>
 #include <string>
@@ -442,57 +444,73 @@ TEST(MaterialVariantRender, EachMaterialOfOneFrameKeepsItsOwnBrdf) {
   }
 }
 
-// KHR_materials_ior: floors of ior 1.5 (no extension), 1.33 and 2.42 under a sun straight
-// above, seen from straight above (N = L = V): each reflects its own F0 = ((ior - 1) / (ior +
-// 1))^2 through the GGX lobe, and the diffuse what Fresnel leaves, as worked out by hand. Also in
-// the Phong shading, whose specular is F0 times its lobe.
-TEST(IorRender, EachFloorReflectsItsOwnFresnel) {
-  test_support::TempFolder folder("omnishadow-ior-render");
+// The floors of the ior and specular tests: three 2 m floors in a row along x (centres -3, 0
+// and 3), each of the base color (0.6, 0.4, 0.2) and roughness 0.5 with `metallic[i]`, their
+// glTF materials given to `extend` (which adds the extensions) before the file is written.
+constexpr glm::vec3 kFloorBase(0.6f, 0.4f, 0.2f);
+constexpr float kFloorAlpha = 0.25f;  // roughness 0.5
+
+Scene floorsInARow(const fs::path& file, const std::array<float, 3>& metallic,
+                   const std::function<void(GltfBuilder&)>& extend) {
   GltfBuilder builder;
   MaterialDesc material;
-  material.baseColor = {0.6f, 0.4f, 0.2f, 1.0f};
+  material.baseColor = glm::vec4(kFloorBase, 1.0f);
   material.roughness = 0.5f;
-  const float iors[3] = {1.5f, 1.33f, 2.42f};
-  const glm::vec3 at[3] = {{-3, 0, 0}, {0, 0, 0}, {3, 0, 0}};
   PrimitiveOptions options;
   for (int i = 0; i < 3; ++i) {
+    material.metallic = metallic[static_cast<std::size_t>(i)];
     options.material = builder.addMaterial(material);
-    if (i > 0)
-      builder.model().materials[i].extensions["KHR_materials_ior"] =
-          Value(Value::Object{{"ior", Value(static_cast<double>(iors[i]))}});
-    builder.addNode("plane" + std::to_string(i), {at[i]},
+    builder.addNode("plane" + std::to_string(i),
+                    {glm::vec3(3.0f * static_cast<float>(i - 1), 0, 0)},
                     builder.addMesh(builder::makePlane(2.0f), options));
   }
-  builder.model().extensionsUsed = {"KHR_materials_ior"};
-  const fs::path file = folder / "planes.gltf";
+  extend(builder);
   builder.write(file, FileFormat::GltfEmbedded);
-  const Scene scene = loadGltf(file);
-  ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  Scene scene = loadGltf(file);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  return scene;
+}
 
+// floorsInARow() under a 3 lux sun straight above, seen from straight above through a narrow
+// lens (N = L = V on every floor to within a degree): the floors' centres at pixels (16, 16),
+// (48, 16) and (80, 16).
+Frame renderFloorsFromAbove(const Scene& scene, Shading shading) {
   Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
   sun.shadow.enabled = false;
   const ViewCamera camera = lookFrom(scene, {0, 200, 0}, {0, 0, 0}, 96, 32,
                                      2.0f * glm::degrees(std::atan(1.5f / 200.0f)), {0, 0, -1});
-  const glm::vec3 base(0.6f, 0.4f, 0.2f);
-  const float alpha = 0.25f;  // roughness 0.5
+  StageTimes times;
+  RenderSettings settings;
+  settings.shading = shading;
+  return sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, settings, times);
+}
+
+// At N = L = V: the GGX lobe times its visibility, 1 / (pi alpha^2) x 1/4, and the normalized
+// Blinn-Phong lobe (shininess 2 / alpha^2 - 2 at N.H = 1).
+constexpr float kFloorGgxLobe = 1.0f / (kPi * kFloorAlpha * kFloorAlpha) * 0.25f;
+constexpr float kFloorPhongShininess = 2.0f / (kFloorAlpha * kFloorAlpha) - 2.0f;
+constexpr float kFloorPhongLobe = (kFloorPhongShininess + 8.0f) / (8.0f * kPi);
+
+// KHR_materials_ior: floors of ior 1.5 (no extension), 1.33 and 2.42: each reflects its own F0
+// = ((ior - 1) / (ior + 1))^2 through the GGX lobe, and the diffuse what Fresnel leaves, as
+// worked out by hand. Also in the Phong shading, whose specular is F0 times its lobe.
+TEST(IorRender, EachFloorReflectsItsOwnFresnel) {
+  test_support::TempFolder folder("omnishadow-ior-render");
+  const float iors[3] = {1.5f, 1.33f, 2.42f};
+  const Scene scene = floorsInARow(folder / "planes.gltf", {0, 0, 0}, [&](GltfBuilder& builder) {
+    for (int i = 1; i < 3; ++i)
+      builder.model().materials[i].extensions["KHR_materials_ior"] =
+          Value(Value::Object{{"ior", Value(static_cast<double>(iors[i]))}});
+    builder.model().extensionsUsed = {"KHR_materials_ior"};
+  });
   for (const Shading shading : {Shading::Pbr, Shading::Phong}) {
-    StageTimes times;
-    RenderSettings settings;
-    settings.shading = shading;
-    const Frame frame =
-        sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, settings, times);
+    const Frame frame = renderFloorsFromAbove(scene, shading);
     for (int i = 0; i < 3; ++i) {
       const float r = (iors[i] - 1.0f) / (iors[i] + 1.0f), f0 = r * r;
-      glm::vec3 expected;
-      if (shading == Shading::Pbr) {
-        // N = L = V: Fresnel is F0, the GGX lobe 1 / (pi alpha^2), the visibility term 1/4.
-        expected =
-            (1.0f - f0) * base / kPi * 3.0f + glm::vec3(f0 / (kPi * alpha * alpha) * 0.25f * 3.0f);
-      } else {
-        // Normalized Blinn-Phong with shininess 2 / alpha^2 - 2 at N.H = 1.
-        const float shininess = 2.0f / (alpha * alpha) - 2.0f;
-        expected = base / kPi * 3.0f + glm::vec3(f0 * (shininess + 8.0f) / (8.0f * kPi) * 3.0f);
-      }
+      const glm::vec3 expected =
+          shading == Shading::Pbr
+              ? (1.0f - f0) * kFloorBase / kPi * 3.0f + glm::vec3(f0 * kFloorGgxLobe * 3.0f)
+              : kFloorBase / kPi * 3.0f + glm::vec3(f0 * kFloorPhongLobe * 3.0f);
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(frame.beauty.at(16 + 32 * i, 16, c), expected[c], 0.01f * expected[c])
             << "ior " << iors[i] << " channel " << c
@@ -502,66 +520,40 @@ TEST(IorRender, EachFloorReflectsItsOwnFresnel) {
 }
 
 // KHR_materials_specular's factors (with an ior of 1.33 from KHR_materials_ior) on a dielectric
-// and on a half-metal floor, under a sun straight above, seen from straight above (N = L = V, so
-// the Fresnel terms are their normal-incidence values): the dielectric reflects f0 =
-// min(F0(ior) x color, 1) x factor through the GGX lobe, its diffuse is weighted by 1 - max(f0),
-// the metal reflects its base color; worked out by hand, in the PBR and the Phong shading. A
-// third floor with the factors' defaults draws as the core material does.
+// and on a half-metal floor (N = L = V, so the Fresnel terms are their normal-incidence values):
+// the dielectric reflects f0 = min(F0(ior) x color, 1) x factor through the GGX lobe, its
+// diffuse is weighted by 1 - max(f0), the metal reflects its base color; worked out by hand, in
+// the PBR and the Phong shading. A third floor with the factors' defaults draws as the core
+// material does.
 TEST(SpecularRender, FactorsScaleTheDielectricFresnelAsTheSpecificationWrites) {
   test_support::TempFolder folder("omnishadow-specular-render");
-  GltfBuilder builder;
-  MaterialDesc material;
-  material.baseColor = {0.6f, 0.4f, 0.2f, 1.0f};
-  material.roughness = 0.5f;
-  const float metallic[3] = {0.0f, 0.5f, 0.0f};
-  const glm::vec3 at[3] = {{-3, 0, 0}, {0, 0, 0}, {3, 0, 0}};
-  PrimitiveOptions options;
-  for (int i = 0; i < 3; ++i) {
-    material.metallic = metallic[i];
-    options.material = builder.addMaterial(material);
-    builder.addNode("plane" + std::to_string(i), {at[i]},
-                    builder.addMesh(builder::makePlane(2.0f), options));
-  }
-  auto& materials = builder.model().materials;
-  for (int i = 0; i < 2; ++i) {
-    materials[i].extensions["KHR_materials_specular"] = Value(Value::Object{
-        {"specularFactor", Value(0.5)},
-        {"specularColorFactor", Value(Value::Array{Value(2.0), Value(1.0), Value(0.25)})}});
-    materials[i].extensions["KHR_materials_ior"] = Value(Value::Object{{"ior", Value(1.33)}});
-  }
-  materials[2].extensions["KHR_materials_specular"] = Value(Value::Object{});
-  builder.model().extensionsUsed = {"KHR_materials_specular", "KHR_materials_ior"};
-  const fs::path file = folder / "planes.gltf";
-  builder.write(file, FileFormat::GltfEmbedded);
-  const Scene scene = loadGltf(file);
-  ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
-
-  Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
-  sun.shadow.enabled = false;
-  const ViewCamera camera = lookFrom(scene, {0, 200, 0}, {0, 0, 0}, 96, 32,
-                                     2.0f * glm::degrees(std::atan(1.5f / 200.0f)), {0, 0, -1});
-  const glm::vec3 base(0.6f, 0.4f, 0.2f);
-  const float alpha = 0.25f, r = 0.33f / 2.33f;
+  const Scene scene =
+      floorsInARow(folder / "planes.gltf", {0.0f, 0.5f, 0.0f}, [](GltfBuilder& builder) {
+        auto& materials = builder.model().materials;
+        for (int i = 0; i < 2; ++i) {
+          materials[i].extensions["KHR_materials_specular"] = Value(Value::Object{
+              {"specularFactor", Value(0.5)},
+              {"specularColorFactor", Value(Value::Array{Value(2.0), Value(1.0), Value(0.25)})}});
+          materials[i].extensions["KHR_materials_ior"] = Value(Value::Object{{"ior", Value(1.33)}});
+        }
+        materials[2].extensions["KHR_materials_specular"] = Value(Value::Object{});
+        builder.model().extensionsUsed = {"KHR_materials_specular", "KHR_materials_ior"};
+      });
+  const float r = 0.33f / 2.33f;
   const glm::vec3 f0 = glm::min(r * r * glm::vec3(2.0f, 1.0f, 0.25f), glm::vec3(1.0f)) * 0.5f;
-  const float lobe = 1.0f / (kPi * alpha * alpha) * 0.25f;  // D Vis at N = H
-  const float shininess = 2.0f / (alpha * alpha) - 2.0f;
-  const float phongLobe = (shininess + 8.0f) / (8.0f * kPi);
+  const glm::vec3 diffuse = kFloorBase / kPi * 3.0f;
   for (const Shading shading : {Shading::Pbr, Shading::Phong}) {
-    StageTimes times;
-    RenderSettings settings;
-    settings.shading = shading;
-    const Frame frame =
-        sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, settings, times);
+    const Frame frame = renderFloorsFromAbove(scene, shading);
     glm::vec3 expected[3];
     if (shading == Shading::Pbr) {
       const float diffuseWeight = 1.0f - std::max(f0.r, std::max(f0.g, f0.b));
-      expected[0] = diffuseWeight * base / kPi * 3.0f + f0 * lobe * 3.0f;
+      expected[0] = diffuseWeight * diffuse + f0 * kFloorGgxLobe * 3.0f;
       expected[1] =
-          0.5f * diffuseWeight * base / kPi * 3.0f + glm::mix(f0, base, 0.5f) * lobe * 3.0f;
-      expected[2] = 0.96f * base / kPi * 3.0f + glm::vec3(0.04f * lobe * 3.0f);
+          0.5f * diffuseWeight * diffuse + glm::mix(f0, kFloorBase, 0.5f) * kFloorGgxLobe * 3.0f;
+      expected[2] = 0.96f * diffuse + glm::vec3(0.04f * kFloorGgxLobe * 3.0f);
     } else {  // Blinn-Phong: the metallic input is not used, the specular color is f0
-      expected[0] = expected[1] = base / kPi * 3.0f + f0 * phongLobe * 3.0f;
-      expected[2] = base / kPi * 3.0f + glm::vec3(0.04f * phongLobe * 3.0f);
+      expected[0] = expected[1] = diffuse + f0 * kFloorPhongLobe * 3.0f;
+      expected[2] = diffuse + glm::vec3(0.04f * kFloorPhongLobe * 3.0f);
     }
     for (int i = 0; i < 3; ++i)
       for (int c = 0; c < 3; ++c)
