@@ -6,7 +6,8 @@
 // (the surface's objectId and coverage alone: no material beyond the alpha, no light), DEBUG_VIEWS
 // (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out),
 // FACING_LIGHT_LOOP (the beauty alone: each lane group loops over the lights it may face),
-// SHEEN and SHEEN_TEXTURE (KHR_materials_sheen, with or without its texture).
+// SHEEN and SHEEN_TEXTURE (KHR_materials_sheen, with or without its texture), DIELECTRIC_SPECULAR
+// (KHR_materials_specular's factors).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
