@@ -131,6 +131,20 @@ Json sheenJson(const Material& m) {
           {"roughnessTexture", texture(m.sheenRoughnessTexture)}};
 }
 
+// KHR_materials_clearcoat as the report gives it: null for a material drawn without the layer.
+Json clearcoatJson(const Material& m) {
+  if (!hasClearcoat(m)) return nullptr;
+  const auto texture = [](const TextureSlot& slot) {
+    return slot.texture >= 0 ? Json(slot.texture) : Json(nullptr);
+  };
+  return {{"factor", jsonNumber(m.clearcoatFactor)},
+          {"roughnessFactor", jsonNumber(m.clearcoatRoughnessFactor)},
+          {"texture", texture(m.clearcoatTexture)},
+          {"roughnessTexture", texture(m.clearcoatRoughnessTexture)},
+          {"normalTexture", texture(m.clearcoatNormalTexture)},
+          {"normalScale", jsonNumber(m.clearcoatNormalScale)}};
+}
+
 glm::vec3 cameraPosition(const Camera& camera) {
   return glm::vec3(camera.world[3]);
 }
@@ -220,7 +234,8 @@ Json toJson(const Info& info) {
                                                   jsonNumber(m.specularColorFactor.g),
                                                   jsonNumber(m.specularColorFactor.b)})}}
               : Json(nullptr)},
-         {"sheen", sheenJson(m)}});
+         {"sheen", sheenJson(m)},
+         {"clearcoat", clearcoatJson(m)}});
   }
   doc["materials"] = materials;
 
@@ -365,6 +380,9 @@ void printText(const Info& info) {
       rows.back().push_back("sheen " + readable(m.sheenColorFactor.r) + "," +
                             readable(m.sheenColorFactor.g) + "," + readable(m.sheenColorFactor.b) +
                             " roughness " + readable(m.sheenRoughnessFactor));
+    if (hasClearcoat(m))
+      rows.back().push_back("clearcoat " + readable(m.clearcoatFactor) + " roughness " +
+                            readable(m.clearcoatRoughnessFactor));
   }
   printTable(rows);
 

@@ -197,3 +197,39 @@ void addSheen(Sheen s, vec3 N, vec3 V, vec3 L, vec3 radiance, inout vec3 diffuse
              s.color * charlieDistribution(NdotH, s.alphaG) * visibility * radiance * NdotL;
 }
 #endif
+
+#ifdef CLEARCOAT
+// KHR_materials_clearcoat, as its specification's implementation notes write it: a GGX lobe of
+// the layer's roughness and normal (Appendix B's D and V), over the material by fresnel_coat:
+// the layer reflects with weight clearcoat x Fresnel(0.04, |Nc.V|), and everything below it
+// (diffuse, specular, sheen, emission, ambient) keeps 1 - weight. A pixel's layer, with what its
+// lights share:
+struct Clearcoat {
+  vec3 N;        // the layer's normal
+  float NdotV;   // floored as shadeBrdf floors its own
+  float alpha;   // clearcoatRoughness^2, floored as shadeBrdf floors its own
+  float weight;  // clearcoat x its Fresnel towards the camera
+};
+
+Clearcoat clearcoatAt(float clearcoat, float roughness, vec3 N, vec3 V) {
+  Clearcoat c;
+  c.N = N;
+  c.NdotV = max(dot(N, V), 1e-4);
+  c.alpha = max(roughness * roughness, 1e-3);
+  c.weight = clearcoat * fresnelSchlick(vec3(0.04), abs(dot(N, V))).r;
+  return c;
+}
+
+// Layers the clearcoat over one light's response (diffuse and specular of everything below it):
+// those keep 1 - weight, and the layer's lobe joins the specular part.
+void addClearcoat(Clearcoat c, vec3 V, vec3 L, vec3 radiance, inout vec3 diffuse,
+                  inout vec3 specular) {
+  diffuse *= 1.0 - c.weight;
+  specular *= 1.0 - c.weight;
+  float NdotL = dot(c.N, L);
+  if (NdotL <= 0.0) return;
+  float NdotH = max(dot(c.N, normalize(L + V)), 0.0);
+  specular += c.weight * distributionGgx(NdotH, c.alpha) *
+              visibilitySmithGgxCorrelated(c.NdotV, NdotL, c.alpha) * NdotL * radiance;
+}
+#endif

@@ -7,7 +7,8 @@
 // (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out),
 // FACING_LIGHT_LOOP (the beauty alone: each lane group loops over the lights it may face),
 // SHEEN and SHEEN_TEXTURE (KHR_materials_sheen, with or without its texture), DIELECTRIC_SPECULAR
-// (KHR_materials_specular's factors).
+// (KHR_materials_specular's factors), CLEARCOAT and CLEARCOAT_<TEXTURE> (KHR_materials_clearcoat
+// and each of its textures).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -79,6 +80,29 @@ uniform int uSheenColorTexCoord;
 uniform int uSheenRoughnessTexCoord;
 uniform mat3 uSheenColorUvTransform;
 uniform mat3 uSheenRoughnessUvTransform;
+#endif
+#endif
+#ifdef CLEARCOAT
+// KHR_materials_clearcoat: its factors, and each texture on a unit of its own (texCoord -1: that
+// slot has no texture).
+uniform float uClearcoatFactor;
+uniform float uClearcoatRoughnessFactor;
+#ifdef CLEARCOAT_TEXTURE
+layout(binding = CLEARCOAT_UNIT) uniform sampler2D uClearcoatTexture;  // R
+uniform int uClearcoatTexCoord;
+uniform mat3 uClearcoatUvTransform;
+#endif
+#ifdef CLEARCOAT_ROUGHNESS_TEXTURE
+layout(binding = CLEARCOAT_ROUGHNESS_UNIT) uniform sampler2D uClearcoatRoughnessTexture;  // G
+uniform int uClearcoatRoughnessTexCoord;
+uniform mat3 uClearcoatRoughnessUvTransform;
+#endif
+#ifdef CLEARCOAT_NORMAL_TEXTURE
+layout(binding = CLEARCOAT_NORMAL_UNIT) uniform sampler2D uClearcoatNormalTexture;
+uniform int uClearcoatNormalTexCoord;
+uniform mat3 uClearcoatNormalUvTransform;
+uniform mat3 uClearcoatNormalTextureAxes;  // as uNormalTextureAxes
+uniform float uClearcoatNormalScale;
 #endif
 #endif
 // Material variants (renderer/passes/lighting_pass.cpp): the texture slots and the BRDF a
@@ -230,6 +254,35 @@ void main() {
   Sheen sheen = sheenAt(sheenColor, sheenRoughness, max(dot(N, V), 1e-4));
 #endif
 
+#ifdef CLEARCOAT
+  float clearcoatFactor = uClearcoatFactor;
+  float clearcoatRoughness = uClearcoatRoughnessFactor;
+#ifdef CLEARCOAT_TEXTURE
+  if (uClearcoatTexCoord >= 0)
+    clearcoatFactor *= texture(uClearcoatTexture, uvFor(uClearcoatTexCoord, uClearcoatUvTransform)).r;
+#endif
+#ifdef CLEARCOAT_ROUGHNESS_TEXTURE
+  if (uClearcoatRoughnessTexCoord >= 0)
+    clearcoatRoughness *= texture(uClearcoatRoughnessTexture,
+                                  uvFor(uClearcoatRoughnessTexCoord, uClearcoatRoughnessUvTransform)).g;
+#endif
+  // Without a normal texture of its own the layer follows the interpolated normal, not the
+  // base's normal map (the specification).
+  vec3 Nc = normalize(vIn.worldNormal);
+  if (!gl_FrontFacing) Nc = -Nc;
+#ifdef CLEARCOAT_NORMAL_TEXTURE
+  if (uClearcoatNormalTexCoord >= 0 && uHasTangents != 0) {
+    vec3 T = normalize(vIn.worldTangent.xyz - Nc * dot(Nc, vIn.worldTangent.xyz));
+    vec3 B = cross(Nc, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
+    vec3 tangentNormal = texture(uClearcoatNormalTexture,
+                                 uvFor(uClearcoatNormalTexCoord, uClearcoatNormalUvTransform)).xyz * 2.0 - 1.0;
+    tangentNormal.xy = mat2(uClearcoatNormalTextureAxes) * tangentNormal.xy * uClearcoatNormalScale;
+    Nc = normalize(mat3(T, B, Nc) * tangentNormal);
+  }
+#endif
+  Clearcoat coat = clearcoatAt(clamp(clearcoatFactor, 0.0, 1.0), clamp(clearcoatRoughness, 0.0, 1.0), Nc, V);
+#endif
+
   float cameraDistance = length(uCameraPosition - vIn.worldPosition);
 #ifdef SHEEN
   // Towards the camera, the sheen reflects E(N.V) of light arriving evenly from everywhere (the
@@ -237,6 +290,11 @@ void main() {
   vec3 color = uAmbient * (baseColor.rgb * sheen.scalingV + sheenColor * sheen.albedoV) * occlusion + emissive;
 #else
   vec3 color = uAmbient * baseColor.rgb * occlusion + emissive;
+#endif
+#ifdef CLEARCOAT
+  // The layer reflects the ambient with its weight (its lobe's albedo taken as 1) and covers
+  // the emission and the ambient the layers below reflect.
+  color = color * (1.0 - coat.weight) + coat.weight * uAmbient * occlusion;
 #endif
 #ifdef WRITE_AOVS
   float visibility[4 * VISIBILITY_OUTPUTS];
@@ -282,13 +340,17 @@ void main() {
   // shadePhong return 0 for N.L <= 0), so the loop visits only the lights some pixel of the
   // group may face. llvmpipe runs both sides of every branch, but a loop only while some lane
   // is in it: with the group's mask the same in all lanes (a ballot), each light the group
-  // skips saves its shadow lookup and BRDF. The test keeps a margin of 1e-4 in N.L, so that
-  // the lights it leaves out are those the BRDF would have found facing away, whatever the
-  // rounding; a NaN normal keeps every light, as before.
+  // skips saves its shadow lookup and BRDF (a clearcoat's lobe follows its own normal, so a
+  // coated pixel keeps the lights either normal faces). The test keeps a margin of 1e-4 in
+  // N.L, so that the lights it leaves out are those the BRDF would have found facing away,
+  // whatever the rounding; a NaN normal keeps every light, as before.
   uint groupLights = 0u;
   for (int i = 0; i < (noLights ? 0 : uLightCount); ++i) {
     vec3 toLight = towardsLight(uLights[i], vIn.worldPosition);
     bool awayFromLight = dot(N, toLight) <= -1e-4 * length(toLight);
+#ifdef CLEARCOAT
+    awayFromLight = awayFromLight && dot(coat.N, toLight) <= -1e-4 * length(toLight);
+#endif
     if (ballotARB(!awayFromLight) != 0ul) groupLights |= 1u << uint(i);
   }
   // do-while: a loop's exit test sits at its end, so a `while` would run its body once more,
@@ -366,6 +428,9 @@ void main() {
 #endif
 #ifdef SHEEN
     addSheen(sheen, N, V, L, radiance, diffuse, specular);
+#endif
+#ifdef CLEARCOAT
+    addClearcoat(coat, V, L, radiance, diffuse, specular);
 #endif
 #endif
     color += shadowColor * (diffuse + specular);

@@ -16,16 +16,48 @@
 // SHADOW_PLANAR, SHADOW_<FILTER>, renderer/passes/lighting_pass.cpp): llvmpipe runs both sides of
 // every branch with lane masks, so code for absent features would cost every pixel.
 //
-// Each sampler array's first unit comes from shader_contract.h; its size, SHADOW_SLOTS (at most
-// MAX_SHADOW_GROUPS), is the frame's number of groups of the layout that has more
-// (renderer/passes/lighting_pass.cpp): llvmpipe compiles an array's texture code once per slot
-// when the index is not a constant, which a cold shader cache pays for.
+// Each sampler array's size, SHADOW_SLOTS (at most MAX_SHADOW_GROUPS), is the frame's number of
+// groups of the layout that has more (renderer/passes/lighting_pass.cpp): llvmpipe compiles an
+// array's texture code once per slot when the index is not a constant, which a cold shader
+// cache pays for. Only the arrays the frame's filters read are declared, each at the unit
+// shadowSamplerUnits() gives it (<FAMILY>_UNIT): hardware comparisons (pcf, pcf-disk, poisson,
+// pcss), raw depth (hard, pcss's blocker search, the depth debug view) and VSM moments.
+#if (defined(SHADOW_PCF) || defined(SHADOW_PCF_DISK) || defined(SHADOW_POISSON) || \
+     defined(SHADOW_PCSS))
+#define SHADOW_COMPARE_READS
+#endif
+#if defined(SHADOW_HARD) || defined(SHADOW_PCSS) || defined(DEBUG_DEPTH)
+#define SHADOW_DEPTH_READS
+#endif
+#if defined(SHADOW_CUBE) && ((defined(SHADOW_COMPARE_READS) && !defined(CUBE_COMPARE_UNIT)) || \
+                             (defined(SHADOW_DEPTH_READS) && !defined(CUBE_DEPTH_UNIT)) ||     \
+                             (defined(SHADOW_VSM) && !defined(CUBE_MOMENTS_UNIT)))
+#error "a cube map sampler array the frame's filters read has no texture unit"
+#endif
+#if defined(SHADOW_PLANAR) &&                                                           \
+    ((defined(SHADOW_COMPARE_READS) && !defined(PLANAR_COMPARE_UNIT)) ||                \
+     (defined(SHADOW_DEPTH_READS) && !defined(PLANAR_DEPTH_UNIT)) ||                    \
+     (defined(SHADOW_VSM) && !defined(PLANAR_MOMENTS_UNIT)))
+#error "a planar sampler array the frame's filters read has no texture unit"
+#endif
+#ifdef CUBE_COMPARE_UNIT
 layout(binding = CUBE_COMPARE_UNIT) uniform samplerCubeArrayShadow uCubeCompare[SHADOW_SLOTS];
+#endif
+#ifdef CUBE_DEPTH_UNIT
 layout(binding = CUBE_DEPTH_UNIT) uniform samplerCubeArray uCubeDepth[SHADOW_SLOTS];
+#endif
+#ifdef PLANAR_COMPARE_UNIT
 layout(binding = PLANAR_COMPARE_UNIT) uniform sampler2DArrayShadow uPlanarCompare[SHADOW_SLOTS];
+#endif
+#ifdef PLANAR_DEPTH_UNIT
 layout(binding = PLANAR_DEPTH_UNIT) uniform sampler2DArray uPlanarDepth[SHADOW_SLOTS];
+#endif
+#ifdef CUBE_MOMENTS_UNIT
 layout(binding = CUBE_MOMENTS_UNIT) uniform samplerCubeArray uCubeMoments[SHADOW_SLOTS];
+#endif
+#ifdef PLANAR_MOMENTS_UNIT
 layout(binding = PLANAR_MOMENTS_UNIT) uniform sampler2DArray uPlanarMoments[SHADOW_SLOTS];
+#endif
 
 uniform mat4 uCameraView;  // directional lights pick their cascade by camera view depth
 
@@ -87,10 +119,10 @@ float storedAxis(Light light, float depth) {
 float compareMap(Light light, MapPoint m) {
   if (!m.inside) return 1.0;
   int g = shadowSlot(light);
-#ifdef SHADOW_CUBE
+#ifdef CUBE_COMPARE_UNIT
   if (lightType(light) == LIGHT_POINT) return texture(uCubeCompare[g], m.coord, m.reference);
 #endif
-#ifdef SHADOW_PLANAR
+#ifdef PLANAR_COMPARE_UNIT
   return texture(uPlanarCompare[g], vec4(m.coord.xyz, m.reference));
 #endif
   return 1.0;
@@ -100,10 +132,10 @@ float compareMap(Light light, MapPoint m) {
 float storedDepth(Light light, MapPoint m) {
   if (!m.inside) return 0.0;
   int g = shadowSlot(light);
-#ifdef SHADOW_CUBE
+#ifdef CUBE_DEPTH_UNIT
   if (lightType(light) == LIGHT_POINT) return texture(uCubeDepth[g], m.coord).r;
 #endif
-#ifdef SHADOW_PLANAR
+#ifdef PLANAR_DEPTH_UNIT
   return texture(uPlanarDepth[g], m.coord.xyz).r;
 #endif
   return 0.0;
@@ -206,13 +238,13 @@ float varianceShadow(Light light, MapPoint m, vec3 Q, float texel) {
   float far = light.shadowDepth.y;
   vec2 moments = vec2(1.0);
   float t = 0.0;
-#ifdef SHADOW_CUBE
+#ifdef CUBE_MOMENTS_UNIT
   if (lightType(light) == LIGHT_POINT) {
     moments = texture(uCubeMoments[g], m.coord).rg;
     t = length(Q - light.positionRange.xyz) / far;
   }
 #endif
-#ifdef SHADOW_PLANAR
+#ifdef PLANAR_MOMENTS_UNIT
   if (lightType(light) != LIGHT_POINT) {
     moments = texture(uPlanarMoments[g], m.coord.xyz).rg;
     t = lightType(light) == LIGHT_SPOT ? length(Q - light.positionRange.xyz) / far

@@ -494,6 +494,79 @@ TEST_F(GltfExtensionsTest, SheenFactorsAndTexturesAreReadAndMayBeRequired) {
   }
 }
 
+TEST_F(GltfExtensionsTest, ClearcoatFactorsTexturesAndNormalScaleAreRead) {
+  Quad q;
+  makeQuad(q);
+  EXPECT_FALSE(hasClearcoat(load(q.builder).materials[0]));
+  const std::string where = file() + ": materials[0].extensions.KHR_materials_clearcoat";
+  q.gltfMaterial().extensions["KHR_materials_clearcoat"] =
+      object({{"clearcoatFactor", Value(0.75)}, {"clearcoatRoughnessFactor", Value(0.25)}});
+  q.builder.model().extensionsUsed = {"KHR_materials_clearcoat"};
+  q.builder.model().extensionsRequired = {"KHR_materials_clearcoat"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  EXPECT_EQ(scene.materials[0].clearcoatFactor, 0.75f);
+  EXPECT_EQ(scene.materials[0].clearcoatRoughnessFactor, 0.25f);
+  EXPECT_EQ(scene.materials[0].clearcoatNormalScale, 1.0f);
+  EXPECT_TRUE(hasClearcoat(scene.materials[0]));
+
+  // The specification's defaults: factor 0 (no layer at all), roughness 0.
+  q.gltfMaterial().extensions["KHR_materials_clearcoat"] = object({});
+  const Scene plain = load(q.builder);
+  EXPECT_EQ(plain.materials[0].clearcoatFactor, 0.0f);
+  EXPECT_EQ(plain.materials[0].clearcoatRoughnessFactor, 0.0f);
+  EXPECT_FALSE(hasClearcoat(plain.materials[0]));
+
+  // Three textures, each with its own texCoord and transform as any textureInfo; the normal
+  // texture's scale.
+  const int other = q.builder.addTexture(1, 1, {9, 9, 9, 9}, "other");
+  const Value::Object intensity = {
+      {"index", Value(0)},
+      {"texCoord", Value(1)},
+      {"extensions",
+       object({{"KHR_texture_transform", object({{"offset", numbers({0.5, 0.25})}})}})}};
+  q.gltfMaterial().extensions["KHR_materials_clearcoat"] =
+      object({{"clearcoatFactor", Value(1.0)},
+              {"clearcoatTexture", Value(intensity)},
+              {"clearcoatRoughnessTexture", object({{"index", Value(other)}})},
+              {"clearcoatNormalTexture", object({{"index", Value(0)}, {"scale", Value(0.5)}})}});
+  const Scene textured = load(q.builder);
+  EXPECT_TRUE(textured.warnings.empty()) << textured.warnings.front();
+  const Material& m = textured.materials[0];
+  EXPECT_EQ(m.clearcoatTexture.texture, 0);
+  EXPECT_EQ(m.clearcoatTexture.texCoord, 1);
+  EXPECT_EQ(glm::vec2(m.clearcoatTexture.uvTransform * glm::vec3(0, 0, 1)), glm::vec2(0.5f, 0.25f));
+  EXPECT_EQ(m.clearcoatRoughnessTexture.texture, other);
+  EXPECT_EQ(m.clearcoatNormalTexture.texture, 0);
+  EXPECT_EQ(m.clearcoatNormalScale, 0.5f);
+  EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_clearcoat", "clearcoatNormalTexture", 5),
+            where + ".clearcoatNormalTexture: texture 5 is out of range (the file has 2 textures)");
+
+  // The extension excludes unlit and specular-glossiness materials: drawn without the layer.
+  q.gltfMaterial().extensions["KHR_materials_clearcoat"] =
+      object({{"clearcoatFactor", Value(1.0)}});
+  q.gltfMaterial().extensions["KHR_materials_unlit"] = object({});
+  const Scene unlit = load(q.builder);
+  EXPECT_EQ(
+      warningsAbout(unlit, "KHR_materials_clearcoat"),
+      std::vector<std::string>{where + ": must not be used with KHR_materials_unlit; the clearcoat "
+                                       "is not drawn"});
+  EXPECT_FALSE(hasClearcoat(unlit.materials[0]));
+  q.gltfMaterial().extensions.erase("KHR_materials_unlit");
+
+  for (const char* factor : {"clearcoatFactor", "clearcoatRoughnessFactor"})
+    for (const Value& bad : {Value(1.5), Value(-0.25), Value("glossy")}) {
+      q.gltfMaterial().extensions["KHR_materials_clearcoat"] = object({{factor, bad}});
+      EXPECT_EQ(inputError([&] { load(q.builder); }),
+                where + ": " + factor +
+                    (bad.IsNumber() ? " must be a number in [0, 1]" : " must be a number"));
+    }
+  q.gltfMaterial().extensions["KHR_materials_clearcoat"] =
+      object({{"clearcoatNormalTexture", object({{"index", Value(0)}, {"scale", Value("flat")}})}});
+  EXPECT_EQ(inputError([&] { load(q.builder); }),
+            where + ".clearcoatNormalTexture: scale must be a number");
+}
+
 // A scene whose texture 0 has a PNG `source` (image 0) and a KTX2 image (image 1, a file with
 // the KTX2 signature and nothing a decoder could use) through KHR_texture_basisu.
 class ImageExtensionsTest : public GltfExtensionsTest {
@@ -594,22 +667,23 @@ TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWh
   GltfBuilder builder;
   builder.addNode("quad", {}, builder.addMesh(quad()));
   tinygltf::Model& model = builder.model();
-  model.extensionsUsed = {"KHR_materials_clearcoat", "VENDOR_made_up", "KHR_texture_transform"};
+  model.extensionsUsed = {"KHR_materials_anisotropy", "VENDOR_made_up", "KHR_texture_transform"};
   const Scene scene = load(builder);
   ASSERT_EQ(scene.warnings.size(), 2u);
   EXPECT_EQ(scene.warnings[0], file() +
-                                   ": extensionsUsed: KHR_materials_clearcoat is not supported; "
-                                   "drawn instead: the base material, without clearcoat");
+                                   ": extensionsUsed: KHR_materials_anisotropy is not supported; "
+                                   "drawn instead: the base material, with isotropic highlights");
   EXPECT_EQ(scene.warnings[1],
             file() + ": extensionsUsed: VENDOR_made_up is not supported; ignored");
   ASSERT_EQ(scene.source.extensions.size(), 3u);
-  EXPECT_EQ(scene.source.extensions[0].drawnInstead, "the base material, without clearcoat");
+  EXPECT_EQ(scene.source.extensions[0].drawnInstead,
+            "the base material, with isotropic highlights");
   EXPECT_FALSE(scene.source.extensions[1].supported);
   EXPECT_TRUE(scene.source.extensions[2].supported);
   EXPECT_EQ(scene.source.extensions[2].drawnInstead, "");
 
   for (const std::string name :
-       {"KHR_materials_clearcoat", "VENDOR_made_up", "KHR_materials_volume"}) {
+       {"KHR_materials_anisotropy", "VENDOR_made_up", "KHR_materials_volume"}) {
     model.extensionsRequired = {name};
     EXPECT_EQ(inputError([&] { load(builder); }),
               file() + ": extensionsRequired: " + name + " is not supported");

@@ -181,7 +181,7 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   ASSERT_FALSE(doc["materials"].empty());
   EXPECT_EQ(keys(doc["materials"][0]),
             (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "model", "textures",
-                  "ior", "specular", "sheen"}));
+                  "ior", "specular", "sheen", "clearcoat"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
@@ -455,6 +455,35 @@ TEST_F(InfoTest, ErrorsAreOneLineWithStatus2AsInRender) {
       EXPECT_EQ(r.err, run(args).err);  // word for word
     }
   }
+}
+
+// KHR_materials_clearcoat: the factors, the textures (indices) and the normal texture's scale
+// for a coated material, null for the others; the text row ends with the factors.
+TEST_F(InfoTest, ReportsEachMaterialsClearcoat) {
+  GltfBuilder b;
+  const int texture = b.addTexture(1, 1, {255, 128, 0, 255}, "coat");
+  const int coated = b.addMaterial({.name = "paint"});
+  b.addMaterial({.name = "bare"});
+  using Value = tinygltf::Value;
+  b.model().materials[coated].extensions["KHR_materials_clearcoat"] = Value(
+      Value::Object{{"clearcoatFactor", Value(0.75)},
+                    {"clearcoatRoughnessFactor", Value(0.125)},
+                    {"clearcoatRoughnessTexture", Value(Value::Object{{"index", Value(texture)}})},
+                    {"clearcoatNormalTexture",
+                     Value(Value::Object{{"index", Value(texture)}, {"scale", Value(0.5)}})}});
+  b.model().extensionsUsed = {"KHR_materials_clearcoat"};
+  b.addNode("box", {}, b.addMesh(builder::makeBox(glm::vec3(1.0f)), {.material = coated}));
+  const fs::path path = input("coated.gltf");
+  b.write(path, FileFormat::GltfEmbedded);
+  const Json doc = info({path.string()});
+  ASSERT_EQ(doc["materials"].size(), 2u);
+  EXPECT_EQ(doc["materials"][0]["clearcoat"],
+            Json::parse(R"({"factor": 0.75, "roughnessFactor": 0.125, "texture": null,
+                            "roughnessTexture": 0, "normalTexture": 0, "normalScale": 0.5})"));
+  EXPECT_TRUE(doc["materials"][1]["clearcoat"].is_null());
+  const Run r = run({"info", path.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "no textures  clearcoat 0.75 roughness 0.125\n")) << r.out;
 }
 
 TEST_F(InfoTest, UsageErrorsNameTheInfoHelp) {

@@ -59,7 +59,13 @@ const TextureSlot& sheenSlot(const Material& desc) {
   return desc.sheenColorTexture.texture >= 0 ? desc.sheenColorTexture : desc.sheenRoughnessTexture;
 }
 
-std::array<TextureUse, 7> textureUses(const Material& desc) {
+// A clearcoat texture slot of a material, or none when the material draws no clearcoat.
+const TextureSlot& clearcoatSlot(const Material& desc, const TextureSlot& slot) {
+  static const TextureSlot kNone;
+  return hasClearcoat(desc) ? slot : kNone;
+}
+
+std::array<TextureUse, 10> textureUses(const Material& desc) {
   // Specular-glossiness materials have no metallic-roughness texture; their specular color
   // (sRGB) and glossiness (alpha, linear either way) take its unit. So does the sheen: color in
   // RGB (sRGB), roughness in A.
@@ -73,7 +79,13 @@ std::array<TextureUse, 7> textureUses(const Material& desc) {
            {&desc.emissiveTexture, true, &GpuMaterial::emissive, &GpuMaterial::emissiveSampler},
            {&desc.transmissionTexture, false, &GpuMaterial::transmission,
             &GpuMaterial::transmissionSampler},
-           {&sheenSlot(desc), true, &GpuMaterial::sheen, &GpuMaterial::sheenSampler}}};
+           {&sheenSlot(desc), true, &GpuMaterial::sheen, &GpuMaterial::sheenSampler},
+           {&clearcoatSlot(desc, desc.clearcoatTexture), false, &GpuMaterial::clearcoat,
+            &GpuMaterial::clearcoatSampler},
+           {&clearcoatSlot(desc, desc.clearcoatRoughnessTexture), false,
+            &GpuMaterial::clearcoatRoughness, &GpuMaterial::clearcoatRoughnessSampler},
+           {&clearcoatSlot(desc, desc.clearcoatNormalTexture), false, &GpuMaterial::clearcoatNormal,
+            &GpuMaterial::clearcoatNormalSampler}}};
 }
 
 // At most this many textures wait for their mipmap levels: the GL thread goes on making the

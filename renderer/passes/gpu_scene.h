@@ -23,6 +23,10 @@ struct GpuMaterial {
   // KHR_materials_sheen: the sheen color texture (sRGB), whose A the roughness texture reads
   // when it is the same image; else the roughness texture alone. 0 without sheen.
   GLuint sheen = 0, sheenSampler = 0;
+  // KHR_materials_clearcoat's textures (linear); 0 without a clearcoat.
+  GLuint clearcoat = 0, clearcoatSampler = 0;
+  GLuint clearcoatRoughness = 0, clearcoatRoughnessSampler = 0;
+  GLuint clearcoatNormal = 0, clearcoatNormalSampler = 0;
 };
 
 // The static scene on the GPU: its geometry (gpu_geometry.h), textures (sRGB where glTF says

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
@@ -43,6 +44,11 @@ constexpr unsigned kSheenBit = kSpecularGlossinessBit << 1;
 constexpr unsigned kSheenTextureBit = kSheenBit << 1;
 // KHR_materials_specular's factors.
 constexpr unsigned kDielectricSpecularBit = kSheenTextureBit << 1;
+// KHR_materials_clearcoat: the layer, and each of its textures.
+constexpr unsigned kClearcoatBit = kDielectricSpecularBit << 1;
+constexpr unsigned kClearcoatTextureBit = kClearcoatBit << 1;
+constexpr unsigned kClearcoatRoughnessTextureBit = kClearcoatTextureBit << 1;
+constexpr unsigned kClearcoatNormalTextureBit = kClearcoatRoughnessTextureBit << 1;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -56,12 +62,28 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     defines.push_back("SHEEN");
     if (material & kSheenTextureBit) defines.push_back("SHEEN_TEXTURE");
   }
+  if ((material & kClearcoatBit) && shading != Shading::Phong) {
+    defines.push_back("CLEARCOAT");
+    if (material & kClearcoatTextureBit) defines.push_back("CLEARCOAT_TEXTURE");
+    if (material & kClearcoatRoughnessTextureBit) defines.push_back("CLEARCOAT_ROUGHNESS_TEXTURE");
+    if (material & kClearcoatNormalTextureBit) defines.push_back("CLEARCOAT_NORMAL_TEXTURE");
+  }
   if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
   if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
   // Both layouts' arrays get the same size: llvmpipe evaluates both sides of a light-type
   // branch, so a cube array is also indexed with planar slots (an index past a one-slot array
-  // crashed LLVM's compile). At least one slot, so that an array nothing samples is declared.
+  // crashed LLVM's compile). At least one slot.
   defines.push_back("SHADOW_SLOTS " + std::to_string(std::max(1, features.shadowSlots)));
+  const ShadowSamplerUnits units = shadowSamplerUnits(features);
+  const struct {
+    int unit;
+    const char* define;
+  } arrays[] = {
+      {units.cubeCompare, "CUBE_COMPARE_UNIT"}, {units.planarCompare, "PLANAR_COMPARE_UNIT"},
+      {units.cubeDepth, "CUBE_DEPTH_UNIT"},     {units.planarDepth, "PLANAR_DEPTH_UNIT"},
+      {units.cubeMoments, "CUBE_MOMENTS_UNIT"}, {units.planarMoments, "PLANAR_MOMENTS_UNIT"}};
+  for (const auto& a : arrays)
+    if (a.unit >= 0) defines.push_back(std::string(a.define) + " " + std::to_string(a.unit));
   const struct {
     ShadowFilter filter;
     const char* define;
@@ -244,6 +266,37 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
     glBindTextureUnit(unit, slots[i].texture);
     glBindSampler(unit, slots[i].sampler);
   }
+  if (hasClearcoat(d)) {
+    program.set("uClearcoatFactor", d.clearcoatFactor);
+    program.set("uClearcoatRoughnessFactor", d.clearcoatRoughnessFactor);
+    program.set("uClearcoatNormalScale", d.clearcoatNormalScale);
+    const struct {
+      const char* texCoord;
+      const char* transform;
+      int unit;
+      GLuint texture, sampler;
+      const TextureSlot& slot;
+    } layers[] = {
+        {"uClearcoatTexCoord", "uClearcoatUvTransform", contract::kClearcoatUnit, m.clearcoat,
+         m.clearcoatSampler, d.clearcoatTexture},
+        {"uClearcoatRoughnessTexCoord", "uClearcoatRoughnessUvTransform",
+         contract::kClearcoatRoughnessUnit, m.clearcoatRoughness, m.clearcoatRoughnessSampler,
+         d.clearcoatRoughnessTexture},
+        {"uClearcoatNormalTexCoord", "uClearcoatNormalUvTransform", contract::kClearcoatNormalUnit,
+         m.clearcoatNormal, m.clearcoatNormalSampler, d.clearcoatNormalTexture},
+    };
+    // A variant without a texture's bit has no such uniform or sampler: set() and a bound unit
+    // it does not declare are ignored (the frame's shadow arrays may use the unit then).
+    program.set("uClearcoatNormalTextureAxes",
+                normalTextureAxes(d.clearcoatNormalTexture.uvTransform));
+    for (const auto& layer : layers) {
+      program.set(layer.texCoord, layer.texture ? layer.slot.texCoord : -1);
+      program.set(layer.transform, layer.slot.uvTransform);
+      if (program.location(layer.texCoord) < 0) continue;
+      glBindTextureUnit(static_cast<GLuint>(layer.unit), layer.texture);
+      glBindSampler(static_cast<GLuint>(layer.unit), layer.sampler);
+    }
+  }
   if (!hasSheen(d)) return;
   program.set("uSheenColorFactor", d.sheenColorFactor);
   program.set("uSheenRoughnessFactor", d.sheenRoughnessFactor);
@@ -331,6 +384,43 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
   return features;
 }
 
+ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features) {
+  const auto reads = [&](std::initializer_list<ShadowFilter> filters) {
+    for (ShadowFilter f : filters)
+      if (features.filters & (1u << static_cast<unsigned>(f))) return true;
+    return false;
+  };
+  // Which filter reads which family: shaders/shadows.glsl refuses to compile where a family it
+  // reads has no unit.
+  const bool compare =
+      reads({ShadowFilter::Pcf, ShadowFilter::PcfDisk, ShadowFilter::Poisson, ShadowFilter::Pcss});
+  const bool depth = reads({ShadowFilter::Hard, ShadowFilter::Pcss}) || features.debugDepth;
+  const bool moments = reads({ShadowFilter::Vsm});
+  const int slots = std::max(1, features.shadowSlots);
+  const auto layout = [&](int first) {
+    ShadowSamplerUnits units;
+    int next = first;
+    const auto take = [&](bool used, int& unit) {
+      if (!used) return;
+      unit = next;
+      next += slots;
+    };
+    take(compare && features.cubeShadows, units.cubeCompare);
+    take(compare && features.planarShadows, units.planarCompare);
+    take(depth && features.cubeShadows, units.cubeDepth);
+    take(depth && features.planarShadows, units.planarDepth);
+    take(moments && features.cubeShadows, units.cubeMoments);
+    take(moments && features.planarShadows, units.planarMoments);
+    units.end = next;
+    return units;
+  };
+  ShadowSamplerUnits units = layout(contract::kFirstShadowUnit);
+  if (units.end <= contract::kTextureUnits) return units;
+  units = layout(contract::kFallbackShadowUnit);
+  units.clearcoatTextures = false;
+  return units;
+}
+
 void setShadowSlots(const ShadowAtlasPlan& atlas, LightingFeatures& features) {
   int cube = 0, planar = 0;
   for (const ShadowGroupPlan& group : atlas.groups)
@@ -342,13 +432,14 @@ LightingPass::LightingPass(Shading shading, PassOutputs outputs, const LightingF
     : shading_(shading),
       outputs_(outputs),
       features_(features),
+      shadowUnits_(shadowSamplerUnits(features)),
       depthOnly_("scene.vert", "depth_only.frag", contract::shaderContractDefines()),
       cubeCompare_(makeCompareSampler(false)),
       planarCompare_(makeCompareSampler(true)),
       rawDepth_(makeRawSampler(GL_NEAREST)),
       moments_(makeRawSampler(GL_LINEAR)) {}
 
-unsigned LightingPass::materialVariant(const GpuMaterial& material) {
+unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
   const GLuint textures[contract::kMaterialUnits] = {material.baseColor, material.metallicRoughness,
                                                      material.normal, material.occlusion,
                                                      material.emissive};
@@ -357,6 +448,15 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) {
     if (textures[i] != 0) variant |= 1u << i;
   if (hasDielectricSpecular(material.desc)) variant |= kDielectricSpecularBit;
   if (hasSheen(material.desc)) variant |= kSheenBit | (material.sheen != 0 ? kSheenTextureBit : 0u);
+  if (hasClearcoat(material.desc)) {
+    variant |= kClearcoatBit;
+    // A frame whose shadow arrays took the clearcoat's units draws the layer from its factors.
+    if (shadowUnits_.clearcoatTextures) {
+      if (material.clearcoat != 0) variant |= kClearcoatTextureBit;
+      if (material.clearcoatRoughness != 0) variant |= kClearcoatRoughnessTextureBit;
+      if (material.clearcoatNormal != 0) variant |= kClearcoatNormalTextureBit;
+    }
+  }
   return variant;
 }
 
@@ -418,20 +518,18 @@ int LightingPass::uploadLights(const std::vector<ShadedLight>& lights,
     const ShadowGroupTextures& group = shadowGroups[g];
     const bool cube = group.key.layout == ShadowLayout::Cube;
     const int s = slot[g] = cube ? cubeSlots++ : planarSlots++;
-    const auto compareUnit =
-        static_cast<GLuint>((cube ? contract::kCubeCompareUnit : contract::kPlanarCompareUnit) + s);
-    const auto depthUnit =
-        static_cast<GLuint>((cube ? contract::kCubeDepthUnit : contract::kPlanarDepthUnit) + s);
-    glBindTextureUnit(compareUnit, group.depth.get());
-    glBindSampler(compareUnit, cube ? cubeCompare_.get() : planarCompare_.get());
-    glBindTextureUnit(depthUnit, group.depth.get());
-    glBindSampler(depthUnit, rawDepth_.get());
-    if (group.moments) {
-      const auto momentsUnit = static_cast<GLuint>(
-          (cube ? contract::kCubeMomentsUnit : contract::kPlanarMomentsUnit) + s);
-      glBindTextureUnit(momentsUnit, group.moments.get());
-      glBindSampler(momentsUnit, moments_.get());
-    }
+    // Only the arrays the frame's filters read are declared, and bound.
+    const auto bind = [&](int firstUnit, GLuint texture, GLuint sampler) {
+      if (firstUnit < 0 || !texture) return;
+      glBindTextureUnit(static_cast<GLuint>(firstUnit + s), texture);
+      glBindSampler(static_cast<GLuint>(firstUnit + s), sampler);
+    };
+    const ShadowSamplerUnits& u = shadowUnits_;
+    bind(cube ? u.cubeCompare : u.planarCompare, group.depth.get(),
+         cube ? cubeCompare_.get() : planarCompare_.get());
+    bind(cube ? u.cubeDepth : u.planarDepth, group.depth.get(), rawDepth_.get());
+    bind(cube ? u.cubeMoments : u.planarMoments, group.moments ? group.moments.get() : 0,
+         moments_.get());
   }
   glBindTextureUnit(contract::kTransmittanceUnit, transmittanceAtlas.layers);
   glBindTextureUnit(contract::kTransmittanceRectsUnit, transmittanceAtlas.rects);

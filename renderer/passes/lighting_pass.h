@@ -188,6 +188,17 @@ inline constexpr std::size_t kMaxFacingLoopLights = 32;
 
 LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView debugView);
 
+// The first texture unit of each shadow sampler array the lighting pass declares for a frame
+// with `features` (-1: not declared, the frame's filters never read it), each array
+// SHADOW_SLOTS units long, and whether the clearcoat's texture units stay free.
+struct ShadowSamplerUnits {
+  int cubeCompare = -1, planarCompare = -1, cubeDepth = -1, planarDepth = -1, cubeMoments = -1,
+      planarMoments = -1;
+  int end = 0;  // one past the last unit taken
+  bool clearcoatTextures = true;
+};
+ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features);
+
 // Sets the shadow slots of `features` from the frame's atlas.
 void setShadowSlots(const ShadowAtlasPlan& atlas, LightingFeatures& features);
 
@@ -232,7 +243,7 @@ class LightingPass {
   // Material variant: a bit per texture slot the material has (in unit order), then one for
   // specular-glossiness. llvmpipe runs both sides of every branch, so the shader leaves out
   // the texture reads and BRDFs the material cannot use.
-  static unsigned materialVariant(const GpuMaterial& material);
+  unsigned materialVariant(const GpuMaterial& material) const;
   const ShaderProgram& program(unsigned variant);
   enum class DrawSet { Opaque, Masked, Blended };
   // depthOnly: that program for every draw; null: each material's lighting variant, whose
@@ -245,6 +256,7 @@ class LightingPass {
   Shading shading_;
   PassOutputs outputs_;
   LightingFeatures features_;
+  ShadowSamplerUnits shadowUnits_;
   std::vector<std::pair<unsigned, std::unique_ptr<ShaderProgram>>> programs_;
   std::vector<unsigned> framePrograms_;    // the variants holding this frame's uniforms
   std::vector<std::size_t> blendedOrder_;  // this frame's blended draws, farthest first

@@ -3,7 +3,7 @@
 // The contract between the passes and their shaders: texture units, buffer bindings, array
 // limits, enum values and the std430 layouts both sides read. C++ is the only place these
 // numbers are written. shaderContractDefines() hands them to every program of the passes as
-// preprocessor macros, so a shader says `layout(binding = CUBE_COMPARE_UNIT)` and can never
+// preprocessor macros, so a shader says `layout(binding = BASE_COLOR_UNIT)` and can never
 // drift from the unit the C++ side binds. GL-free on purpose: tests and planning code may check
 // the limits without a context.
 
@@ -35,29 +35,32 @@ inline constexpr int kTransmissionUnit = kBaseColorUnit + 1;
 // The moments layer the VSM blur reads (its own program, so it may reuse unit 0).
 inline constexpr int kVsmSourceUnit = 0;
 
-// Shadow sampler arrays: each takes kMaxShadowGroups consecutive units, one per group. They
-// start past the material units so the lighting pass never rebinds a material unit.
-inline constexpr int kMaxShadowGroups = omnishadow::kMaxShadowGroups;
-inline constexpr int kCubeCompareUnit = 8;
-inline constexpr int kCubeDepthUnit = kCubeCompareUnit + kMaxShadowGroups;
-inline constexpr int kPlanarCompareUnit = kCubeDepthUnit + kMaxShadowGroups;
-inline constexpr int kPlanarDepthUnit = kPlanarCompareUnit + kMaxShadowGroups;
-inline constexpr int kCubeMomentsUnit = kPlanarDepthUnit + kMaxShadowGroups;
-inline constexpr int kPlanarMomentsUnit = kCubeMomentsUnit + kMaxShadowGroups;
 // The frame's transmittance atlas of translucent shadows (transmittance_pass.h), one 2D array
-// for every light: a unit between the material and the shadow units.
+// for every light, and the rectangle each atlas layer holds (a buffer texture).
 inline constexpr int kTransmittanceUnit = kMaterialUnits;
-// The rectangle each atlas layer holds: a buffer texture, the unit after the atlas's.
 inline constexpr int kTransmittanceRectsUnit = kTransmittanceUnit + 1;
-static_assert(kTransmittanceRectsUnit < kCubeCompareUnit,
-              "the transmittance units are shadow units");
-// KHR_materials_sheen's texture (color in RGB, roughness in A): the last unit before the shadow
-// units, all 32 of a fragment shader being spoken for with it.
+// KHR_materials_sheen's texture (color in RGB, roughness in A).
 inline constexpr int kSheenUnit = kTransmittanceRectsUnit + 1;
-static_assert(kSheenUnit < kCubeCompareUnit, "the sheen unit is a shadow unit");
-static_assert(kMaterialUnits <= kCubeCompareUnit, "material and shadow units overlap");
+// KHR_materials_clearcoat's textures: the layer's intensity (R), roughness (G) and normals.
+inline constexpr int kClearcoatUnit = kSheenUnit + 1;
+inline constexpr int kClearcoatRoughnessUnit = kClearcoatUnit + 1;
+inline constexpr int kClearcoatNormalUnit = kClearcoatRoughnessUnit + 1;
+
+// Shadow sampler arrays follow the material's units. Only the families the frame's filters
+// read are declared (compare, raw depth, moments; cube and planar), each with as many units as
+// the frame has shadow groups of a layout (renderer/passes/lighting_pass.cpp,
+// shadowSamplerUnits), so that a frame of one filter takes one or two units, not 24. A frame
+// whose families would reach past the last unit (several filters and groups in both layouts)
+// starts them at kFallbackShadowUnit instead, over the clearcoat's units, whose textures that
+// frame does not read.
+inline constexpr int kMaxShadowGroups = omnishadow::kMaxShadowGroups;
+inline constexpr int kFirstShadowUnit = kClearcoatNormalUnit + 1;
+inline constexpr int kFallbackShadowUnit = kClearcoatUnit;
+inline constexpr int kShadowSamplerFamilies = 6;
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
-static_assert(kPlanarMomentsUnit + kMaxShadowGroups <= 32, "shadow units beyond 32");
+inline constexpr int kTextureUnits = 32;
+static_assert(kFallbackShadowUnit + kShadowSamplerFamilies * kMaxShadowGroups <= kTextureUnits,
+              "shadow units beyond 32");
 
 // Shader storage buffer bindings. Models and DrawObjects are the shadow pass's
 // (shaders/shadow_depth.vert); the rest are the lighting pass's. Unscoped: they are the ints
@@ -151,18 +154,15 @@ inline std::vector<std::string> shaderContractDefines() {
       define("OCCLUSION_UNIT", kOcclusionUnit),
       define("EMISSIVE_UNIT", kEmissiveUnit),
       define("SHEEN_UNIT", kSheenUnit),
+      define("CLEARCOAT_UNIT", kClearcoatUnit),
+      define("CLEARCOAT_ROUGHNESS_UNIT", kClearcoatRoughnessUnit),
+      define("CLEARCOAT_NORMAL_UNIT", kClearcoatNormalUnit),
       define("SHEEN_ALBEDO_COSINES", kSheenAlbedoCosines),
       define("SHEEN_ALBEDO_ROUGHNESSES", kSheenAlbedoRoughnesses),
       "MIN_SHEEN_ALPHA " + std::to_string(kMinSheenAlpha),
       define("TRANSMISSION_UNIT", kTransmissionUnit),
       define("VSM_SOURCE_UNIT", kVsmSourceUnit),
       define("MAX_SHADOW_GROUPS", kMaxShadowGroups),
-      define("CUBE_COMPARE_UNIT", kCubeCompareUnit),
-      define("CUBE_DEPTH_UNIT", kCubeDepthUnit),
-      define("PLANAR_COMPARE_UNIT", kPlanarCompareUnit),
-      define("PLANAR_DEPTH_UNIT", kPlanarDepthUnit),
-      define("CUBE_MOMENTS_UNIT", kCubeMomentsUnit),
-      define("PLANAR_MOMENTS_UNIT", kPlanarMomentsUnit),
       define("TRANSMITTANCE_UNIT", kTransmittanceUnit),
       define("TRANSMITTANCE_RECTS_UNIT", kTransmittanceRectsUnit),
       define("LIGHTS_BINDING", kLightsBinding),

@@ -30,7 +30,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_mesh_quantization", Supported, ""},
     {"EXT_mesh_gpu_instancing", Supported, ""},
     // Materials beyond the core model.
-    {"KHR_materials_clearcoat", NotSupported, "the base material, without clearcoat"},
+    {"KHR_materials_clearcoat", Supported, ""},
     {"KHR_materials_sheen", Supported, ""},
     {"KHR_materials_transmission", Supported, ""},
     {"KHR_materials_volume", NotSupported, "the base material, without volume attenuation"},

@@ -141,6 +141,33 @@ void applySheen(const Context& ctx, std::size_t index, Material& material) {
   }
 }
 
+// KHR_materials_clearcoat: two factors and three textures, each on a texture unit of its own.
+void applyClearcoat(const Context& ctx, std::size_t index, Material& material) {
+  const tinygltf::Value* clearcoat =
+      extensionOf(ctx.model.materials[index], "KHR_materials_clearcoat");
+  if (!clearcoat) return;
+  const std::string where = at("materials", index) + ".extensions.KHR_materials_clearcoat";
+  if (!clearcoat->IsObject()) ctx.fail(where, "must be an object");
+  material.clearcoatFactor = unitNumber(ctx, where, *clearcoat, "clearcoatFactor", 0.0f);
+  material.clearcoatRoughnessFactor =
+      unitNumber(ctx, where, *clearcoat, "clearcoatRoughnessFactor", 0.0f);
+  material.clearcoatTexture =
+      slotFromValue(ctx, where + ".clearcoatTexture", clearcoat->Get("clearcoatTexture"));
+  material.clearcoatRoughnessTexture = slotFromValue(ctx, where + ".clearcoatRoughnessTexture",
+                                                     clearcoat->Get("clearcoatRoughnessTexture"));
+  const tinygltf::Value& normal = clearcoat->Get("clearcoatNormalTexture");
+  material.clearcoatNormalTexture = slotFromValue(ctx, where + ".clearcoatNormalTexture", normal);
+  if (normal.IsObject())
+    material.clearcoatNormalScale =
+        static_cast<float>(number(ctx, where + ".clearcoatNormalTexture", normal, "scale", 1.0));
+  if (material.unlit ||
+      extensionOf(ctx.model.materials[index], "KHR_materials_pbrSpecularGlossiness")) {
+    ctx.warn(where + ": must not be used with " +
+             (material.unlit ? "KHR_materials_unlit" : "KHR_materials_pbrSpecularGlossiness") +
+             "; the clearcoat is not drawn");
+  }
+}
+
 }  // namespace
 
 const tinygltf::Value* textureTransformOf(const tinygltf::ExtensionMap& extensions) {
@@ -198,6 +225,7 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
   }
   applySpecular(ctx, index, material);
   applySheen(ctx, index, material);
+  applyClearcoat(ctx, index, material);
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;
   const std::string where = object + "KHR_materials_pbrSpecularGlossiness";

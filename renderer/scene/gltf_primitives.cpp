@@ -317,7 +317,8 @@ void replaceUnusableNormals(Context& ctx, const std::string& object, Mesh& mesh)
   generateNormals(mesh);
 }
 
-// Generates what the file left out: flat normals, and tangents where a normal map needs them.
+// Generates what the file left out: flat normals, and tangents where a normal map (the
+// material's or its clearcoat's) needs them.
 void generateMissing(Context& ctx, const std::string& object, Mesh& mesh) {
   if (mesh.normals.empty()) {
     mesh.tangents.clear();  // the spec says to ignore tangents given without normals
@@ -326,7 +327,7 @@ void generateMissing(Context& ctx, const std::string& object, Mesh& mesh) {
   }
   if (mesh.tangents.empty() && mesh.material >= 0) {
     const TextureSlot& normalMap =
-        ctx.scene.materials[static_cast<std::size_t>(mesh.material)].normalTexture;
+        tangentSpaceNormalMap(ctx.scene.materials[static_cast<std::size_t>(mesh.material)]);
     const std::vector<glm::vec2>& uvs = normalMap.texCoord == 0 ? mesh.uv0 : mesh.uv1;
     if (normalMap.texture >= 0 && !uvs.empty()) generateTangents(mesh, uvs);
   }

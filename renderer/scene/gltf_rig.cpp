@@ -339,7 +339,7 @@ void addDeformedInstance(Context& ctx, std::size_t nodeIndex, std::size_t meshIn
     ctx.fail(object, "its vertices cannot be matched for posing");
   if (out.tangents.empty() && !mesh.tangents.empty() && mesh.material >= 0)
     out.generatedTangentUv =
-        scene.materials[static_cast<std::size_t>(mesh.material)].normalTexture.texCoord;
+        tangentSpaceNormalMap(scene.materials[static_cast<std::size_t>(mesh.material)]).texCoord;
 
   if (node.skin >= 0 && attributes.count("JOINTS_0") > 0) {
     ctx.checkIndex(at("nodes", nodeIndex), "skin", node.skin, scene.rig.skins.size());

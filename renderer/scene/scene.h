@@ -94,6 +94,17 @@ struct Material {
   // Linear; A multiplies sheenRoughnessFactor. Only when the image is sheenColorTexture's or
   // that slot is empty: the two share one texture unit (the loader warns and drops it otherwise).
   TextureSlot sheenRoughnessTexture;
+  // KHR_materials_clearcoat: a clear layer over the whole material (emission included) with a
+  // GGX lobe of its own roughness and normal, weighted by clearcoat x its Fresnel at the view
+  // (F0 0.04), which the layers below lose. A factor of zero is no layer.
+  float clearcoatFactor = 0.0f;
+  TextureSlot clearcoatTexture;  // linear; R multiplies clearcoatFactor
+  float clearcoatRoughnessFactor = 0.0f;
+  TextureSlot clearcoatRoughnessTexture;  // linear; G multiplies clearcoatRoughnessFactor
+  // The layer's own normal map; without one the layer follows the surface's interpolated
+  // normal, not the base material's normal map.
+  TextureSlot clearcoatNormalTexture;
+  float clearcoatNormalScale = 1.0f;
 };
 
 // The dielectric Fresnel reflectance at normal incidence that `material`'s ior gives (outside
@@ -116,6 +127,21 @@ inline bool hasSheen(const Material& material) {
   return !material.unlit && !material.specularGlossiness &&
          (material.sheenColorFactor.r > 0.0f || material.sheenColorFactor.g > 0.0f ||
           material.sheenColorFactor.b > 0.0f);
+}
+
+// Whether the lighting pass shades `material` with a clearcoat layer: a nonzero factor on a lit
+// metallic-roughness material (the extension excludes unlit and specular-glossiness ones).
+inline bool hasClearcoat(const Material& material) {
+  return !material.unlit && !material.specularGlossiness && material.clearcoatFactor > 0.0f;
+}
+
+// The normal map whose texture coordinates generated tangents follow: the material's own,
+// else its clearcoat's (KHR_materials_clearcoat asks for a tangent space either way); none
+// when neither has one.
+inline const TextureSlot& tangentSpaceNormalMap(const Material& material) {
+  return material.normalTexture.texture < 0 && hasClearcoat(material)
+             ? material.clearcoatNormalTexture
+             : material.normalTexture;
 }
 
 // One glTF primitive as an indexed triangle list, in the mesh's local space.
