@@ -245,6 +245,7 @@ RenderJob manifestJob(const ManifestJob& m, const fs::path& folder, const BatchD
   if (!m.isString("time"))  // a "START:END" range is expanded by addManifest()
     if (const auto time = m.number("time")) job.time = *time;
   if (const auto animation = m.string("animation")) job.animation = *animation;
+  if (const auto variant = m.string("variant")) job.materialVariant = *variant;
   return job;
 }
 

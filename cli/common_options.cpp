@@ -54,6 +54,11 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
                          : "Index of the glTF scene to describe (default: the file's default "
                            "scene)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option(
+      "--variant", o.materialVariant,
+      std::string(renders ? "Material variant to draw" : "Material variant to describe") +
+          " (KHR_materials_variants): a name or an index (default: the primitives' own "
+          "materials)");
   if (renders) {
     app.add_option("--time", o.time,
                    "Pose the scene at this time in seconds: its animations play (default: the "
@@ -78,6 +83,7 @@ void applySceneSettings(const SceneInputOptions& o, RenderJob& job) {
   job.shadowPass = parseShadowPassStrategy(o.shadowPass);
   job.depthPrepass = parseDepthPrepass(o.depthPrepass);
   job.sceneIndex = o.sceneIndex;
+  job.materialVariant = o.materialVariant;
   job.time = o.time;
   job.animation = o.animation;
 }

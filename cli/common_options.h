@@ -31,8 +31,9 @@ struct SceneInputOptions {
   std::string shadowPass = "auto";
   std::string depthPrepass = "auto";
   int sceneIndex = -1;
-  std::optional<double> time;  // --time SECONDS; nullopt = the rest pose
-  std::string animation;       // --animation NAME|INDEX|all; empty = all
+  std::optional<double> time;   // --time SECONDS; nullopt = the rest pose
+  std::string animation;        // --animation NAME|INDEX|all; empty = all
+  std::string materialVariant;  // --variant NAME|INDEX; empty = the default materials
 };
 
 // Which command registers the scene inputs: each takes a different part of the group.

@@ -45,6 +45,7 @@ Info gather(const InfoOptions& o, std::vector<std::string>& warnings) {
       o.input.lights.empty() ? defaultLightsFile(scenePath) : fs::path(o.input.lights);
   GltfLoadOptions loadOptions;
   loadOptions.sceneIndex = o.input.sceneIndex;
+  loadOptions.materialVariant = o.input.materialVariant;
   loadOptions.allowExternalUris = o.input.allowExternalUris;
   info.scene = loadGltf(scenePath, loadOptions);
   warnings.insert(warnings.end(), info.scene.warnings.begin(), info.scene.warnings.end());
@@ -185,6 +186,9 @@ Json toJson(const Info& info) {
   doc["extensions"] = extensions;
   doc["scene"] = {{"index", source.sceneIndex >= 0 ? Json(source.sceneIndex) : Json(nullptr)},
                   {"count", source.sceneCount}};
+  doc["materialVariants"] = {
+      {"names", source.materialVariants},
+      {"drawn", source.materialVariant >= 0 ? Json(source.materialVariant) : Json(nullptr)}};
   doc["counts"] = {
       {"nodes",
        {{"file", source.fileNodes},
@@ -333,6 +337,17 @@ void printText(const Info& info) {
                 (source.sceneIndex >= 0 ? std::to_string(source.sceneIndex) : "none") + " (" +
                     plural(static_cast<std::uint64_t>(source.sceneCount), "scene", "scenes") +
                     " in the file)");
+  if (!source.materialVariants.empty()) {
+    std::string names;
+    for (const std::string& name : source.materialVariants)
+      names += (names.empty() ? "" : ", ") + quoted(name);
+    printInfoLine(
+        "variants",
+        std::to_string(source.materialVariants.size()) + " (" + names + "); drawn: " +
+            (source.materialVariant >= 0
+                 ? quoted(source.materialVariants[static_cast<std::size_t>(source.materialVariant)])
+                 : std::string("the default materials")));
+  }
   printInfoLine("nodes", std::to_string(source.fileNodes) + " in the file, " +
                              std::to_string(source.reachedNodes) + " reached from the scene" +
                              (source.hiddenNodes > 0 ? ", " + std::to_string(source.hiddenNodes) +

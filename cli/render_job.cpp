@@ -234,6 +234,7 @@ LoadedJob loadJob(const RenderJob& job) {
   LoadedJob loaded;
   GltfLoadOptions loadOptions;
   loadOptions.sceneIndex = job.sceneIndex;
+  loadOptions.materialVariant = job.materialVariant;
   loadOptions.allowExternalUris = job.allowExternalUris;
   loaded.scene = loadGltf(job.scene, loadOptions);
   checkNotAnInput(job, loaded.scene.inputFiles);

@@ -20,6 +20,7 @@ struct RenderJob {
   bool noGltfLights = false;
   bool allowExternalUris = false;
   int sceneIndex = -1;
+  std::string materialVariant;  // KHR_materials_variants: name or index; empty = defaults
   CameraRequest camera;
   std::vector<std::filesystem::path> png, exr;
   std::filesystem::path aov;

@@ -26,6 +26,10 @@ class Scene:
     @property
     def camera_names(self) -> list[str]: ...
     @property
+    def material_variants(self) -> list[str]: ...
+    @property
+    def material_variant(self) -> str | None: ...
+    @property
     def warnings(self) -> list[str]: ...
 
 class Lights:
@@ -124,6 +128,7 @@ def load_scene(
     *,
     time: float | None = None,
     animation: str | int | None = None,
+    variant: str | int | None = None,
     allow_external_uris: bool = False,
 ) -> Scene: ...
 def load_lights(

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -148,6 +149,110 @@ TEST_F(ExtensionsCliTest, UnlitTestShowsExactlyItsBaseColors) {
   }
   EXPECT_GT(orange, 200);
   EXPECT_GT(blue, 200);
+}
+
+// KHR_materials_variants end to end: a quad of three unlit materials (its own white, the
+// variants' red and green), so that each pixel shows exactly which material was drawn.
+class MaterialVariantsCliTest : public ExtensionsCliTest {
+ protected:
+  fs::path writeVariantsScene() {
+    using tinygltf::Value;
+    builder::GltfBuilder b;
+    const auto unlit = [&](const std::string& name, glm::vec4 color) {
+      const int m = b.addMaterial({.name = name, .baseColor = color});
+      b.model().materials[m].extensions["KHR_materials_unlit"] = Value(Value::Object{});
+      return m;
+    };
+    const int own = unlit("own", {1, 1, 1, 1});
+    const int red = unlit("red", {1, 0, 0, 1});
+    const int green = unlit("green", {0, 1, 0, 1});
+    b.addNode("floor", {}, b.addMesh(builder::makePlane(2.0f), {.material = own}));
+    const auto mapping = [](int material, int variant) {
+      return Value(Value::Object{{"material", Value(material)},
+                                 {"variants", Value(Value::Array{Value(variant)})}});
+    };
+    b.model().meshes[0].primitives[0].extensions["KHR_materials_variants"] =
+        Value(Value::Object{{"mappings", Value(Value::Array{mapping(red, 0), mapping(green, 1)})}});
+    b.model().extensions["KHR_materials_variants"] = Value(Value::Object{
+        {"variants",
+         Value(Value::Array{Value(Value::Object{{"name", Value(std::string("Red paint"))}}),
+                            Value(Value::Object{{"name", Value(std::string("Green paint"))}})})}});
+    b.model().extensionsUsed = {"KHR_materials_unlit", "KHR_materials_variants"};
+    const fs::path path = input("variants.gltf");
+    b.write(path, builder::FileFormat::GltfEmbedded);
+    return path;
+  }
+  // The one color every pixel of the floor seen from above has, as 8-bit sRGB.
+  glm::ivec3 floorColor(const std::string& png) {
+    const FloatImage image = readImage(output(png));
+    const glm::ivec3 center(std::lround(image.at(8, 8, 0) * 255.0f),
+                            std::lround(image.at(8, 8, 1) * 255.0f),
+                            std::lround(image.at(8, 8, 2) * 255.0f));
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        for (int c = 0; c < 3; ++c)
+          EXPECT_EQ(std::lround(image.at(x, y, c) * 255.0f), center[c])
+              << png << " pixel " << x << "," << y;
+    return center;
+  }
+};
+
+TEST_F(MaterialVariantsCliTest, RenderDrawsTheChosenVariantAndInfoListsThem) {
+  const fs::path scene = writeVariantsScene();
+  const std::vector<std::string> view = {"--width", "16",     "--height", "16",
+                                         "--eye",   "0,3,0",  "--target", "0,0,0",
+                                         "--up",    "0,0,-1", "--fov",    "20"};
+  const auto render = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), {"render", scene.string()});
+    args.insert(args.end(), view.begin(), view.end());
+    const Run r = run(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_FALSE(contains(r.err, "KHR_materials_variants")) << r.err;
+  };
+  render({"-o", "own.png"});
+  render({"-o", "green.png", "--variant", "Green paint"});
+  render({"-o", "red.png", "--variant", "0"});
+  EXPECT_EQ(floorColor("own.png"), glm::ivec3(255, 255, 255));
+  EXPECT_EQ(floorColor("green.png"), glm::ivec3(0, 255, 0));
+  EXPECT_EQ(floorColor("red.png"), glm::ivec3(255, 0, 0));
+
+  Run r = run({"info", scene.string(), "--variant", "Green paint"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out,
+                       "\nvariants    2 (\"Red paint\", \"Green paint\"); drawn: "
+                       "\"Green paint\"\n"))
+      << r.out;
+  r = run({"info", scene.string(), "--json"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(Json::parse(r.out)["materialVariants"],
+            Json::parse(R"({"names": ["Red paint", "Green paint"], "drawn": null})"));
+
+  // A batch manifest job names its variant.
+  const fs::path manifest = input("variants.json");
+  std::ofstream(manifest) << R"({"jobs": [
+      {"scene": "variants.gltf", "variant": "Red paint", "outputs": ["a.png"],
+       "width": 16, "height": 16, "eye": [0, 3, 0], "target": [0, 0, 0], "up": [0, 0, -1], "fov": 20},
+      {"scene": "variants.gltf", "variant": "1", "outputs": ["b.png"],
+       "width": 16, "height": 16, "eye": [0, 3, 0], "target": [0, 0, 0], "up": [0, 0, -1], "fov": 20}]})";
+  r = run({"batch", manifest.string(), "--out", output("").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(floorColor("a.png"), glm::ivec3(255, 0, 0));
+  EXPECT_EQ(floorColor("b.png"), glm::ivec3(0, 255, 0));
+}
+
+TEST_F(MaterialVariantsCliTest, AnUnknownVariantIsRefusedWithoutOutput) {
+  const fs::path scene = writeVariantsScene();
+  const std::string message = scene.string() +
+                              ": --variant Blue: the file has no such material variant (its "
+                              "variants: \"Red paint\", \"Green paint\")\n";
+  expectRefused(run({"render", scene.string(), "--variant", "Blue", "--width", "16", "--height",
+                     "16", "-o", "blue.png"}),
+                message);
+  EXPECT_FALSE(fs::exists(output("blue.png")));
+  expectRefused(run({"info", scene.string(), "--variant", "Blue"}), message);
+  const fs::path plain = sceneUsing("KHR_texture_transform", false);
+  expectRefused(run({"info", plain.string(), "--variant", "Red"}),
+                plain.string() + ": --variant Red: the file has no material variants\n");
 }
 
 }  // namespace

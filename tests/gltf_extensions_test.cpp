@@ -567,6 +567,104 @@ TEST_F(GltfExtensionsTest, ClearcoatFactorsTexturesAndNormalScaleAreRead) {
             where + ".clearcoatNormalTexture: scale must be a number");
 }
 
+// KHR_materials_variants: a quad whose material 0 is its own, with variants "red" and "green"
+// (materials 1 and 2) mapped on its primitive.
+class MaterialVariantsTest : public GltfExtensionsTest {
+ protected:
+  GltfBuilder builder;
+  void SetUp() override {
+    PrimitiveOptions options;
+    options.material = builder.addMaterial({.name = "own"});
+    builder.addMaterial({.name = "red", .baseColor = {1, 0, 0, 1}});
+    builder.addMaterial({.name = "green", .baseColor = {0, 1, 0, 1}});
+    builder.addNode("quad", {}, builder.addMesh(quad(), options));
+    builder.model().extensionsUsed = {"KHR_materials_variants"};
+    builder.model().extensions["KHR_materials_variants"] = object(
+        {{"variants", Value(Value::Array{object({{"name", Value(std::string("red"))}}),
+                                         object({{"name", Value(std::string("green"))}})})}});
+    mappings() = Value(Value::Array{mapping(1, {0}), mapping(2, {1})});
+  }
+  static Value mapping(int material, const std::vector<int>& variants) {
+    Value::Array indices;
+    for (const int v : variants) indices.emplace_back(v);
+    return object({{"material", Value(material)}, {"variants", Value(indices)}});
+  }
+  Value& mappings() {
+    Value& extension = builder.model().meshes[0].primitives[0].extensions["KHR_materials_variants"];
+    if (!extension.IsObject()) extension = object({{"mappings", Value(Value::Array{})}});
+    return extension.Get<Value::Object>()["mappings"];
+  }
+  Scene loadVariant(const std::string& variant) {
+    const fs::path path = folder / "scene.gltf";
+    builder.write(path, FileFormat::GltfEmbedded);
+    GltfLoadOptions options;
+    options.materialVariant = variant;
+    return loadGltf(path, options);
+  }
+};
+
+TEST_F(MaterialVariantsTest, AVariantByNameOrIndexGivesItsMappedMaterials) {
+  const Scene own = loadVariant("");
+  EXPECT_TRUE(own.warnings.empty()) << own.warnings.front();
+  EXPECT_EQ(own.meshes[0].material, 0);
+  EXPECT_EQ(own.source.materialVariants, (std::vector<std::string>{"red", "green"}));
+  EXPECT_EQ(own.source.materialVariant, -1);
+  EXPECT_EQ(loadVariant("red").meshes[0].material, 1);
+  const Scene green = loadVariant("green");
+  EXPECT_EQ(green.meshes[0].material, 2);
+  EXPECT_EQ(green.source.materialVariant, 1);
+  EXPECT_EQ(loadVariant("1").meshes[0].material, 2);
+  // A variant the primitive does not map keeps its own material.
+  mappings() = Value(Value::Array{mapping(1, {0})});
+  EXPECT_EQ(loadVariant("green").meshes[0].material, 0);
+  // One mapping may serve several variants.
+  mappings() = Value(Value::Array{mapping(2, {0, 1})});
+  EXPECT_EQ(loadVariant("red").meshes[0].material, 2);
+  EXPECT_EQ(loadVariant("green").meshes[0].material, 2);
+}
+
+TEST_F(MaterialVariantsTest, UnknownVariantsAndMalformedMappingsAreInputErrors) {
+  const std::string file = (folder / "scene.gltf").string() + ": ";
+  EXPECT_EQ(inputError([&] { loadVariant("blue"); }),
+            file +
+                "--variant blue: the file has no such material variant (its variants: "
+                "\"red\", \"green\")");
+  EXPECT_EQ(inputError([&] { loadVariant("2"); }),
+            file +
+                "--variant 2: the file has no such material variant (its variants: "
+                "\"red\", \"green\")");
+  const std::string primitive = file + "meshes[0].primitives[0].extensions.KHR_materials_variants.";
+  mappings() = Value(Value::Array{mapping(7, {0})});
+  EXPECT_EQ(inputError([&] { loadVariant(""); }),
+            primitive + "mappings[0]: material 7 is out of range (the file has 3 materials)");
+  mappings() = Value(Value::Array{mapping(1, {2})});
+  EXPECT_EQ(inputError([&] { loadVariant(""); }),
+            primitive +
+                "mappings[0].variants[0]: variant 2 is out of range (the file has 2 "
+                "variants)");
+  mappings() = Value(Value::Array{mapping(1, {0}), mapping(2, {0})});
+  EXPECT_EQ(inputError([&] { loadVariant(""); }),
+            primitive +
+                "mappings[1].variants[0]: variant 0 is mapped more than once in this "
+                "primitive");
+  mappings() = Value(Value::Array{mapping(1, {})});
+  EXPECT_EQ(inputError([&] { loadVariant(""); }),
+            primitive + "mappings[0]: variants must be an array of at least one variant index");
+  mappings() = Value(Value::Array{object({{"variants", Value(Value::Array{Value(0)})}})});
+  EXPECT_EQ(inputError([&] { loadVariant(""); }),
+            primitive + "mappings[0]: material must be an integer");
+  mappings() = Value(Value::Array{mapping(1, {0})});
+  builder.model().extensions["KHR_materials_variants"] =
+      object({{"variants", Value(Value::Array{Value(3.0)})}});
+  EXPECT_EQ(inputError([&] { loadVariant(""); }),
+            file +
+                "extensions.KHR_materials_variants.variants[0]: must be an object with a "
+                "string name");
+  builder.model().extensions.erase("KHR_materials_variants");
+  EXPECT_EQ(inputError([&] { loadVariant("red"); }),
+            file + "--variant red: the file has no material variants");
+}
+
 // A scene whose texture 0 has a PNG `source` (image 0) and a KTX2 image (image 1, a file with
 // the KTX2 signature and nothing a decoder could use) through KHR_texture_basisu.
 class ImageExtensionsTest : public GltfExtensionsTest {

@@ -167,9 +167,10 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(r.out, Json::parse(r.out).dump(2) + "\n");  // two-space indent, one object
   const Json doc = Json::parse(r.out);
   using Keys = std::vector<std::string>;
-  EXPECT_EQ(keys(doc), (Keys{"file", "format", "asset", "extensions", "scene", "counts", "bounds",
-                             "materials", "textures", "cameras", "lights", "ambient", "animations",
-                             "skins", "morphTargets", "warnings"}));
+  EXPECT_EQ(keys(doc), (Keys{"file", "format", "asset", "extensions", "scene", "materialVariants",
+                             "counts", "bounds", "materials", "textures", "cameras", "lights",
+                             "ambient", "animations", "skins", "morphTargets", "warnings"}));
+  EXPECT_EQ(keys(doc["materialVariants"]), (Keys{"names", "drawn"}));
   EXPECT_EQ(keys(doc["asset"]), (Keys{"version", "minVersion", "generator", "copyright"}));
   EXPECT_EQ(keys(doc["scene"]), (Keys{"index", "count"}));
   EXPECT_EQ(keys(doc["counts"]),

@@ -230,6 +230,18 @@ PYBIND11_MODULE(omnishadow, m) {
                                  names.push_back(camera.name);
                                return names;
                              })
+      .def_property_readonly(
+          "material_variants", [](const PyScene& s) { return s.scene->source.materialVariants; },
+          "The file's KHR_materials_variants names (load_scene's variant chooses one).")
+      .def_property_readonly(
+          "material_variant",
+          [](const PyScene& s) -> py::object {
+            const SourceSummary& source = s.scene->source;
+            if (source.materialVariant < 0) return py::none();
+            return py::str(
+                source.materialVariants[static_cast<std::size_t>(source.materialVariant)]);
+          },
+          "The variant drawn, or None for the default materials.")
       .def_property_readonly("warnings", [](const PyScene& s) { return s.scene->warnings; });
 
   py::class_<PyLights>(m, "Lights", "A lights file's content, validated.")
@@ -250,14 +262,16 @@ PYBIND11_MODULE(omnishadow, m) {
   m.def(
       "load_scene",
       [](const py::object& path, const py::object& scene, const py::object& time,
-         const py::object& animation, bool allowExternalUris) {
-        return loadScene(fsPath(path), scene, time, animation, allowExternalUris);
+         const py::object& animation, const py::object& variant, bool allowExternalUris) {
+        return loadScene(fsPath(path), scene, time, animation, variant, allowExternalUris);
       },
       py::arg("path"), py::arg("scene") = py::none(), py::kw_only(), py::arg("time") = py::none(),
-      py::arg("animation") = py::none(), py::arg("allow_external_uris") = false,
+      py::arg("animation") = py::none(), py::arg("variant") = py::none(),
+      py::arg("allow_external_uris") = false,
       "Loads a .gltf or .glb like the CLI (scene: index of the glTF scene, None = the file's "
       "default), posed like the CLI's --time and --animation: time in seconds (None = the rest "
-      "pose), animation = a clip name, index or 'all' (None = all; needs time). "
+      "pose), animation = a clip name, index or 'all' (None = all; needs time); variant = a "
+      "KHR_materials_variants name or index, like --variant (None = the default materials). "
       "Raises InputError with the CLI's message for unreadable or invalid files.");
   m.def("load_lights", &loadLights, py::arg("source"), py::arg("label") = "lights",
         "A lights file path, a dict with the lights file's schema or a list of light dicts, "

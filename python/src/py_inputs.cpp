@@ -66,7 +66,7 @@ std::optional<int> size(const py::object& value, const char* name) {
 }  // namespace
 
 PyScene loadScene(const std::string& path, const py::object& sceneIndex, const py::object& time,
-                  const py::object& animation, bool allowExternalUris) {
+                  const py::object& animation, const py::object& variant, bool allowExternalUris) {
   std::optional<double> seconds;
   if (!time.is_none()) {
     if (py::isinstance<py::bool_>(time) ||
@@ -83,6 +83,13 @@ PyScene loadScene(const std::string& path, const py::object& sceneIndex, const p
     throw py::type_error("animation: expected a name, an index, \"all\" or None");
   GltfLoadOptions options;
   options.allowExternalUris = allowExternalUris;
+  // The CLI's --variant text: a name, or an index.
+  if (py::isinstance<py::str>(variant))
+    options.materialVariant = variant.cast<std::string>();
+  else if (py::isinstance<py::int_>(variant) && !py::isinstance<py::bool_>(variant))
+    options.materialVariant = std::to_string(variant.cast<long long>());
+  else if (!variant.is_none())
+    throw py::type_error("variant: expected a name, an index or None");
   if (!sceneIndex.is_none()) {
     const long long index = sceneIndex.cast<long long>();
     if (index < 0 || index > 1'000'000'000)

@@ -31,10 +31,11 @@ struct PyLights {
 
 // loadGltf() with the CLI's checks (a scene that draws no triangles is refused), posed at `time`
 // (seconds or None) with the clips `animation` names (a name, an index, "all" or None = all) as
-// the CLI's --time and --animation do, with their messages.
+// the CLI's --time and --animation do, with their messages; `variant` (a name, an index or None)
+// chooses a KHR_materials_variants variant as the CLI's --variant does.
 PyScene loadScene(const std::string& path, const pybind11::object& sceneIndex,
                   const pybind11::object& time, const pybind11::object& animation,
-                  bool allowExternalUris);
+                  const pybind11::object& variant, bool allowExternalUris);
 
 // A lights file path (str or os.PathLike), a dict with the lights file's schema, or a list of
 // light dicts (the file's "lights" array). Python data goes through the lights file parser, so

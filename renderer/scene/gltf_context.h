@@ -41,7 +41,8 @@ struct Context {
   // Draco-decoded data of the primitive being converted, by accessor index, laid out tightly
   // as each accessor describes; read instead of the accessor's (absent) bufferView.
   std::map<int, std::vector<unsigned char>> dracoAccessors{};
-  std::string primitive{};  // "meshes[m].primitives[p]" while one is converted, for decoders
+  std::string primitive{};   // "meshes[m].primitives[p]" while one is converted, for decoders
+  int materialVariant = -1;  // KHR_materials_variants: the chosen variant, -1 for none
 
   [[noreturn]] void fail(const std::string& object, const std::string& problem) const {
     throw InputError(file + ": " + object + ": " + problem);

@@ -40,7 +40,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_materials_anisotropy", NotSupported, "the base material, with isotropic highlights"},
     {"KHR_materials_dispersion", NotSupported, "the base material, without dispersion"},
     {"KHR_materials_diffuse_transmission", NotSupported, "the base material, opaque"},
-    {"KHR_materials_variants", NotSupported, "the default materials"},
+    {"KHR_materials_variants", Supported, ""},
     // Everything else.
     {"KHR_animation_pointer", NotSupported, "the static pose"},
     {"KHR_node_visibility", Supported, ""},

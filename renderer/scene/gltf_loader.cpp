@@ -10,6 +10,7 @@
 
 #include "renderer/scene/gltf_context.h"
 #include "renderer/scene/gltf_extension_policy.h"
+#include "renderer/scene/gltf_material_variants.h"
 #include "renderer/scene/gltf_materials.h"
 #include "renderer/scene/gltf_nodes.h"
 #include "renderer/scene/gltf_reader.h"
@@ -86,6 +87,7 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   checkMinVersion(ctx);
   scene.source.extensions = gltf_detail::checkExtensions(ctx);
   const auto [roots, rootsObject] = gltf_detail::sceneRoots(ctx, options);
+  gltf_detail::chooseMaterialVariant(ctx, options.materialVariant);
   gltf_detail::convertImages(ctx);
   gltf_detail::convertTextures(ctx);
   gltf_detail::convertMaterials(ctx);

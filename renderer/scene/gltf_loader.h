@@ -10,6 +10,9 @@ struct GltfLoadOptions {
   int sceneIndex = -1;  // -1 = the file's default scene (or scene 0 when it names none)
   // Buffer and image URIs may name files outside the scene's folder (../, absolute paths).
   bool allowExternalUris = false;
+  // KHR_materials_variants: the variant to draw, by name or index; empty = the primitives' own
+  // materials. A file without that variant is an InputError.
+  std::string materialVariant;
 };
 
 // Loads a .gltf (external or embedded buffers, data URIs) or .glb into CPU-side plain data:

@@ -11,6 +11,7 @@
 
 #include "renderer/scene/gltf_accessors.h"
 #include "renderer/scene/gltf_draco.h"
+#include "renderer/scene/gltf_material_variants.h"
 #include "renderer/scene/tangents.h"
 
 namespace omnishadow::gltf_detail {
@@ -347,10 +348,9 @@ std::optional<Mesh> convertPrimitive(Context& ctx, std::size_t meshIndex, std::s
   Mesh mesh;
   mesh.name = nameOrDefault(source.name, "mesh", static_cast<std::size_t>(meshIndex)) + "/" +
               std::to_string(primIndex);
-  if (primitive.material >= 0) {
+  if (primitive.material >= 0)
     ctx.checkIndex(object, "material", primitive.material, ctx.model.materials.size());
-    mesh.material = primitive.material;
-  }
+  mesh.material = primitiveMaterial(ctx, primitive, object, std::max(primitive.material, -1));
   ctx.primitive = object;
   decodeDraco(ctx, meshIndex, primIndex);
   const bool drawn = readVertices(ctx, primitive, object, mesh);

@@ -214,8 +214,12 @@ struct SourceSummary {
   std::string format;  // "gltf" or "glb" (by content, not by the file name)
   // The glTF `asset` fields as given (empty when absent).
   std::string version, minVersion, generator, copyright;
-  int sceneCount = 0;      // glTF scenes in the file
-  int sceneIndex = -1;     // the scene loaded; -1 when the file has no scenes (all roots drawn)
+  int sceneCount = 0;   // glTF scenes in the file
+  int sceneIndex = -1;  // the scene loaded; -1 when the file has no scenes (all roots drawn)
+  // KHR_materials_variants: the file's variant names, and the one loaded (-1: the primitives'
+  // own materials).
+  std::vector<std::string> materialVariants;
+  int materialVariant = -1;
   int fileNodes = 0;       // nodes in the file
   int reachedNodes = 0;    // nodes reached from the loaded scene's roots
   int hiddenNodes = 0;     // of those, hidden by KHR_node_visibility (theirs or an ancestor's)
