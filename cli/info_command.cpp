@@ -132,6 +132,20 @@ Json sheenJson(const Material& m) {
           {"roughnessTexture", texture(m.sheenRoughnessTexture)}};
 }
 
+// KHR_materials_specular as the report gives it: null for a material shaded without it.
+Json specularJson(const Material& m) {
+  if (!hasDielectricSpecular(m)) return nullptr;
+  const auto texture = [](const TextureSlot& slot) {
+    return slot.texture >= 0 ? Json(slot.texture) : Json(nullptr);
+  };
+  return {{"factor", jsonNumber(m.specularWeight)},
+          {"colorFactor",
+           Json::array({jsonNumber(m.specularColorFactor.r), jsonNumber(m.specularColorFactor.g),
+                        jsonNumber(m.specularColorFactor.b)})},
+          {"texture", texture(m.specularTexture)},
+          {"colorTexture", texture(m.specularColorTexture)}};
+}
+
 // KHR_materials_clearcoat as the report gives it: null for a material drawn without the layer.
 Json clearcoatJson(const Material& m) {
   if (!hasClearcoat(m)) return nullptr;
@@ -221,25 +235,18 @@ Json toJson(const Info& info) {
     Json textures = Json::object();
     for (const auto& [slot, texture] : textureSlots(m))
       textures[slot] = texture->texture >= 0 ? Json(texture->texture) : Json(nullptr);
-    materials.push_back(
-        {{"index", i},
-         {"name", m.name},
-         {"alphaMode", toString(m.alphaMode)},
-         {"alphaCutoff",
-          m.alphaMode == AlphaMode::Mask ? jsonNumber(m.alphaCutoff) : Json(nullptr)},
-         {"doubleSided", m.doubleSided},
-         {"model", shadingModel(m)},
-         {"textures", textures},
-         {"ior", jsonNumber(m.ior)},
-         {"specular",
-          hasDielectricSpecular(m)
-              ? Json{{"factor", jsonNumber(m.specularWeight)},
-                     {"colorFactor", Json::array({jsonNumber(m.specularColorFactor.r),
-                                                  jsonNumber(m.specularColorFactor.g),
-                                                  jsonNumber(m.specularColorFactor.b)})}}
-              : Json(nullptr)},
-         {"sheen", sheenJson(m)},
-         {"clearcoat", clearcoatJson(m)}});
+    materials.push_back({{"index", i},
+                         {"name", m.name},
+                         {"alphaMode", toString(m.alphaMode)},
+                         {"alphaCutoff", m.alphaMode == AlphaMode::Mask ? jsonNumber(m.alphaCutoff)
+                                                                        : Json(nullptr)},
+                         {"doubleSided", m.doubleSided},
+                         {"model", shadingModel(m)},
+                         {"textures", textures},
+                         {"ior", jsonNumber(m.ior)},
+                         {"specular", specularJson(m)},
+                         {"sheen", sheenJson(m)},
+                         {"clearcoat", clearcoatJson(m)}});
   }
   doc["materials"] = materials;
 

@@ -6,9 +6,10 @@
 // (the surface's objectId and coverage alone: no material beyond the alpha, no light), DEBUG_VIEWS
 // (the --debug-view pictures, chosen by uDebugView: frames without one leave their sums out),
 // FACING_LIGHT_LOOP (the beauty alone: each lane group loops over the lights it may face),
-// SHEEN and SHEEN_TEXTURE (KHR_materials_sheen, with or without its texture), DIELECTRIC_SPECULAR
-// (KHR_materials_specular's factors), CLEARCOAT and CLEARCOAT_<TEXTURE> (KHR_materials_clearcoat
-// and each of its textures).
+// SHEEN, SHEEN_TEXTURE and SHEEN_ROUGHNESS_TEXTURE (KHR_materials_sheen, its texture, and a
+// roughness texture of another image), DIELECTRIC_SPECULAR and SPECULAR_<TEXTURE>
+// (KHR_materials_specular and each of its textures), CLEARCOAT and CLEARCOAT_<TEXTURE>
+// (KHR_materials_clearcoat and each of its textures).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -68,6 +69,16 @@ uniform float uDielectricF0;  // KHR_materials_ior: ((ior - 1) / (ior + 1))^2, 0
 #ifdef DIELECTRIC_SPECULAR
 uniform float uSpecularWeight;      // KHR_materials_specular: specularFactor
 uniform vec3 uSpecularColorFactor;  // and specularColorFactor
+#ifdef SPECULAR_TEXTURE
+layout(binding = SPECULAR_UNIT) uniform sampler2D uSpecularTexture;  // A
+uniform int uSpecularTexCoord;
+uniform mat3 uSpecularUvTransform;
+#endif
+#ifdef SPECULAR_COLOR_TEXTURE
+layout(binding = SPECULAR_COLOR_UNIT) uniform sampler2D uSpecularColorTexture;  // RGB, sRGB
+uniform int uSpecularColorTexCoord;
+uniform mat3 uSpecularColorUvTransform;
+#endif
 #endif
 #ifdef SHEEN
 // KHR_materials_sheen: one texture, its RGB the color and its A the roughness, each read at its
@@ -76,6 +87,12 @@ uniform vec3 uSheenColorFactor;
 uniform float uSheenRoughnessFactor;
 #ifdef SHEEN_TEXTURE
 layout(binding = SHEEN_UNIT) uniform sampler2D uSheenTexture;
+#ifdef SHEEN_ROUGHNESS_TEXTURE
+// A roughness texture of another image than the color's, on a unit of its own.
+layout(binding = SHEEN_ROUGHNESS_UNIT) uniform sampler2D uSheenRoughnessTexture;
+#else
+#define uSheenRoughnessTexture uSheenTexture
+#endif
 uniform int uSheenColorTexCoord;
 uniform int uSheenRoughnessTexCoord;
 uniform mat3 uSheenColorUvTransform;
@@ -249,11 +266,23 @@ void main() {
   if (uSheenColorTexCoord >= 0)
     sheenColor *= texture(uSheenTexture, uvFor(uSheenColorTexCoord, uSheenColorUvTransform)).rgb;
   if (uSheenRoughnessTexCoord >= 0)
-    sheenRoughness *= texture(uSheenTexture, uvFor(uSheenRoughnessTexCoord, uSheenRoughnessUvTransform)).a;
+    sheenRoughness *= texture(uSheenRoughnessTexture, uvFor(uSheenRoughnessTexCoord, uSheenRoughnessUvTransform)).a;
 #endif
   Sheen sheen = sheenAt(sheenColor, sheenRoughness, max(dot(N, V), 1e-4));
 #endif
 
+#ifdef DIELECTRIC_SPECULAR
+  float specularWeight = uSpecularWeight;
+  vec3 specularColorFactor = uSpecularColorFactor;
+#ifdef SPECULAR_TEXTURE
+  if (uSpecularTexCoord >= 0)
+    specularWeight *= texture(uSpecularTexture, uvFor(uSpecularTexCoord, uSpecularUvTransform)).a;
+#endif
+#ifdef SPECULAR_COLOR_TEXTURE
+  if (uSpecularColorTexCoord >= 0)
+    specularColorFactor *= texture(uSpecularColorTexture, uvFor(uSpecularColorTexCoord, uSpecularColorUvTransform)).rgb;
+#endif
+#endif
 #ifdef CLEARCOAT
   float clearcoatFactor = uClearcoatFactor;
   float clearcoatRoughness = uClearcoatRoughnessFactor;
@@ -409,7 +438,7 @@ void main() {
 #ifdef SHADING_PHONG
 #ifdef DIELECTRIC_SPECULAR
     shadePhong(N, V, L, radiance, baseColor.rgb, roughness,
-               min(uDielectricF0 * uSpecularColorFactor, vec3(1.0)) * uSpecularWeight, diffuse,
+               min(uDielectricF0 * specularColorFactor, vec3(1.0)) * specularWeight, diffuse,
                specular);
 #else
     shadePhong(N, V, L, radiance, baseColor.rgb, roughness, vec3(uDielectricF0), diffuse, specular);
@@ -421,7 +450,7 @@ void main() {
     else
 #ifdef DIELECTRIC_SPECULAR
       shadePbrSpecular(N, V, L, radiance, baseColor.rgb, metallic, roughness, uDielectricF0,
-                       uSpecularWeight, uSpecularColorFactor, diffuse, specular);
+                       specularWeight, specularColorFactor, diffuse, specular);
 #else
       shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, uDielectricF0, diffuse,
                specular);

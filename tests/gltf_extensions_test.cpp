@@ -358,7 +358,7 @@ TEST_F(GltfExtensionsTest, IorIsReadAndMayBeRequired) {
   EXPECT_EQ(inputError([&] { load(q.builder); }), where + "ior must be a number");
 }
 
-TEST_F(GltfExtensionsTest, SpecularFactorsAreReadAndItsTexturesNamedAsUnread) {
+TEST_F(GltfExtensionsTest, SpecularFactorsAndTexturesAreRead) {
   Quad q;
   makeQuad(q);
   EXPECT_FALSE(hasDielectricSpecular(load(q.builder).materials[0]));
@@ -376,16 +376,17 @@ TEST_F(GltfExtensionsTest, SpecularFactorsAreReadAndItsTexturesNamedAsUnread) {
   q.gltfMaterial().extensions["KHR_materials_specular"] = object({});
   EXPECT_FALSE(hasDielectricSpecular(load(q.builder).materials[0]));
 
-  // The textures are checked, then named as unread.
+  // The textures, each with its own texCoord as any textureInfo; a texture alone (default
+  // factors) shades with the extension too.
   q.gltfMaterial().extensions["KHR_materials_specular"] =
-      object({{"specularTexture", object({{"index", Value(0)}})},
+      object({{"specularTexture", object({{"index", Value(0)}, {"texCoord", Value(1)}})},
               {"specularColorTexture", object({{"index", Value(0)}})}});
-  EXPECT_EQ(warningsAbout(load(q.builder), "KHR_materials_specular"),
-            (std::vector<std::string>{
-                where + ": specularTexture is not read (only the factors are: no texture unit is "
-                        "left for it)",
-                where + ": specularColorTexture is not read (only the factors are: no texture "
-                        "unit is left for it)"}));
+  const Scene textured = load(q.builder);
+  EXPECT_TRUE(textured.warnings.empty()) << textured.warnings.front();
+  EXPECT_EQ(textured.materials[0].specularTexture.texture, 0);
+  EXPECT_EQ(textured.materials[0].specularTexture.texCoord, 1);
+  EXPECT_EQ(textured.materials[0].specularColorTexture.texture, 0);
+  EXPECT_TRUE(hasDielectricSpecular(textured.materials[0]));
   EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_specular", "specularColorTexture", 4),
             where + ".specularColorTexture: texture 4 is out of range (the file has 1 texture)");
 
@@ -444,8 +445,8 @@ TEST_F(GltfExtensionsTest, SheenFactorsAndTexturesAreReadAndMayBeRequired) {
   EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_sheen", "sheenRoughnessTexture", 3),
             where + ".sheenRoughnessTexture: texture 3 is out of range (the file has 1 texture)");
 
-  // A roughness texture on another image than the color's: the one sheen unit cannot hold both,
-  // so it is dropped, saying so; the factor stays.
+  // A roughness texture on another image than the color's is read too (through a unit of its
+  // own).
   const int other = q.builder.addTexture(1, 1, {9, 9, 9, 9}, "other");
   q.gltfMaterial().extensions["KHR_materials_sheen"] =
       object({{"sheenColorFactor", numbers({1.0, 1.0, 1.0})},
@@ -453,12 +454,8 @@ TEST_F(GltfExtensionsTest, SheenFactorsAndTexturesAreReadAndMayBeRequired) {
               {"sheenColorTexture", object({{"index", Value(0)}})},
               {"sheenRoughnessTexture", object({{"index", Value(other)}})}});
   const Scene twoImages = load(q.builder);
-  EXPECT_EQ(
-      twoImages.warnings,
-      std::vector<std::string>{where + ": sheenRoughnessTexture is another image than "
-                                       "sheenColorTexture's; it is not read (sheenRoughnessFactor "
-                                       "alone is used)"});
-  EXPECT_EQ(twoImages.materials[0].sheenRoughnessTexture.texture, -1);
+  EXPECT_TRUE(twoImages.warnings.empty()) << twoImages.warnings.front();
+  EXPECT_EQ(twoImages.materials[0].sheenRoughnessTexture.texture, other);
   EXPECT_EQ(twoImages.materials[0].sheenColorTexture.texture, 0);
   EXPECT_EQ(twoImages.materials[0].sheenRoughnessFactor, 0.5f);
   // Alone, a roughness texture of any image is read.

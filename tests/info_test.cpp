@@ -459,8 +459,9 @@ TEST_F(InfoTest, ErrorsAreOneLineWithStatus2AsInRender) {
 }
 
 // KHR_materials_clearcoat: the factors, the textures (indices) and the normal texture's scale
-// for a coated material, null for the others; the text row ends with the factors.
-TEST_F(InfoTest, ReportsEachMaterialsClearcoat) {
+// for a coated material, null for the others; the text row ends with the factors. And
+// KHR_materials_specular's factors and textures.
+TEST_F(InfoTest, ReportsEachMaterialsClearcoatAndSpecular) {
   GltfBuilder b;
   const int texture = b.addTexture(1, 1, {255, 128, 0, 255}, "coat");
   const int coated = b.addMaterial({.name = "paint"});
@@ -472,7 +473,9 @@ TEST_F(InfoTest, ReportsEachMaterialsClearcoat) {
                     {"clearcoatRoughnessTexture", Value(Value::Object{{"index", Value(texture)}})},
                     {"clearcoatNormalTexture",
                      Value(Value::Object{{"index", Value(texture)}, {"scale", Value(0.5)}})}});
-  b.model().extensionsUsed = {"KHR_materials_clearcoat"};
+  b.model().materials[coated].extensions["KHR_materials_specular"] = Value(
+      Value::Object{{"specularColorTexture", Value(Value::Object{{"index", Value(texture)}})}});
+  b.model().extensionsUsed = {"KHR_materials_clearcoat", "KHR_materials_specular"};
   b.addNode("box", {}, b.addMesh(builder::makeBox(glm::vec3(1.0f)), {.material = coated}));
   const fs::path path = input("coated.gltf");
   b.write(path, FileFormat::GltfEmbedded);
@@ -482,9 +485,15 @@ TEST_F(InfoTest, ReportsEachMaterialsClearcoat) {
             Json::parse(R"({"factor": 0.75, "roughnessFactor": 0.125, "texture": null,
                             "roughnessTexture": 0, "normalTexture": 0, "normalScale": 0.5})"));
   EXPECT_TRUE(doc["materials"][1]["clearcoat"].is_null());
+  EXPECT_EQ(doc["materials"][0]["specular"],
+            Json::parse(R"({"factor": 1.0, "colorFactor": [1.0, 1.0, 1.0], "texture": null,
+                            "colorTexture": 0})"));
+  EXPECT_TRUE(doc["materials"][1]["specular"].is_null());
   const Run r = run({"info", path.string()});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_TRUE(contains(r.out, "no textures  clearcoat 0.75 roughness 0.125\n")) << r.out;
+  EXPECT_TRUE(
+      contains(r.out, "no textures  specular 1 color 1,1,1  clearcoat 0.75 roughness 0.125\n"))
+      << r.out;
 }
 
 TEST_F(InfoTest, UsageErrorsNameTheInfoHelp) {

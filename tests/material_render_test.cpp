@@ -1032,9 +1032,9 @@ TEST(ClearcoatRender, TexturesMultiplyTheFactorsAndTheNormalTextureTiltsTheLayer
 
 // A frame whose shadow filters take every texture unit (hard, pcf and vsm point lights in four
 // groups, and a spot light: six sampler families of four units) starts its shadow arrays over
-// the clearcoat's units and draws the layer from its factors. Its shadows are the same there
-// with a clearcoated, textured floor as with a plain one: the material's textures are not bound
-// over the shadow maps.
+// the material extensions' units and draws those layers from their factors. Its shadows are the
+// same there with a floor that has every extension texture (clearcoat, specular, a sheen
+// roughness of its own) as with a plain one: no material texture is bound over a shadow map.
 TEST(ClearcoatRender, AFrameWhoseShadowsTakeEveryUnitKeepsItsShadows) {
   test_support::TempFolder folder("omnishadow-clearcoat-units");
   const ClearcoatInputs in;
@@ -1070,20 +1070,32 @@ TEST(ClearcoatRender, AFrameWhoseShadowsTakeEveryUnitKeepsItsShadows) {
   lights.push_back(spot);
   LightingFeatures features = lightingFeatures(lights, DebugView::None);
   features.shadowSlots = 4;
-  ASSERT_FALSE(shadowSamplerUnits(features).clearcoatTextures);
+  ASSERT_FALSE(shadowSamplerUnits(features).extensionTextures);
 
   std::vector<Frame> frames;
   for (const Value* extension :
        {static_cast<const Value*>(&textured), static_cast<const Value*>(nullptr)}) {
     GltfBuilder builder;
     builder.addTexture(1, 1, {200, 100, 250, 255}, "clearcoat");
+    const int other = builder.addTexture(1, 1, {50, 150, 100, 60}, "other");
     MaterialDesc material;
     material.baseColor = glm::vec4(in.base, 1.0f);
     PrimitiveOptions options;
     options.material = builder.addMaterial(material);
     if (extension) {
-      builder.model().materials[0].extensions["KHR_materials_clearcoat"] = *extension;
-      builder.model().extensionsUsed = {"KHR_materials_clearcoat"};
+      // Every extension texture: the clearcoat's three, the specular's two and a sheen
+      // roughness of another image than its color's.
+      auto& extensions = builder.model().materials[0].extensions;
+      extensions["KHR_materials_clearcoat"] = *extension;
+      const auto info = [](int index) { return Value(Value::Object{{"index", Value(index)}}); };
+      extensions["KHR_materials_specular"] =
+          Value(Value::Object{{"specularTexture", info(other)}, {"specularColorTexture", info(0)}});
+      Value sheen = sheenExtension({0.5f, 0.5f, 0.5f}, 0.5f);
+      sheen.Get<Value::Object>()["sheenColorTexture"] = info(0);
+      sheen.Get<Value::Object>()["sheenRoughnessTexture"] = info(other);
+      extensions["KHR_materials_sheen"] = sheen;
+      builder.model().extensionsUsed = {"KHR_materials_clearcoat", "KHR_materials_specular",
+                                        "KHR_materials_sheen"};
     }
     builder.addNode("floor", {}, builder.addMesh(builder::makePlane(4.0f), options));
     builder.addNode("box", {glm::vec3(0.0f, 0.3f, 0.0f)},
@@ -1108,6 +1120,97 @@ TEST(ClearcoatRender, AFrameWhoseShadowsTakeEveryUnitKeepsItsShadows) {
       }
   }
   EXPECT_GT(shadowed, 20);  // the box shadows the floor: the check could fail
+}
+
+// KHR_materials_specular's textures: A of specularTexture and RGB (sRGB) of
+// specularColorTexture multiply the factors, so a floor so textured draws as the floor whose
+// factors are the products (N = L = V, in the PBR and the Phong shading); both differ from the
+// floor without the extension by more than the tolerance, so the check can fail.
+TEST(SpecularRender, TexturesMultiplyTheFactors) {
+  test_support::TempFolder folder("omnishadow-specular-textures");
+  const std::vector<std::uint8_t> texel = {255, 128, 64, 128};
+  const Scene scene = floorsInARow(folder / "planes.gltf", {0, 0, 0}, [&](GltfBuilder& builder) {
+    const int texture = builder.addTexture(1, 1, texel, "specular");
+    const auto info = [&] { return Value(Value::Object{{"index", Value(texture)}}); };
+    auto& materials = builder.model().materials;
+    materials[0].extensions["KHR_materials_specular"] = Value(Value::Object{
+        {"specularFactor", Value(0.8)},
+        {"specularColorFactor", Value(Value::Array{Value(4.0), Value(2.0), Value(1.0)})},
+        {"specularTexture", info()},
+        {"specularColorTexture", info()}});
+    const double weight = 0.8 * 128.0 / 255.0;
+    materials[1].extensions["KHR_materials_specular"] = Value(Value::Object{
+        {"specularFactor", Value(weight)},
+        {"specularColorFactor",
+         Value(Value::Array{Value(4.0 * srgbToLinear(255)), Value(2.0 * srgbToLinear(128)),
+                            Value(1.0 * srgbToLinear(64))})}});
+    builder.model().extensionsUsed = {"KHR_materials_specular"};
+  });
+  for (const Shading shading : {Shading::Pbr, Shading::Phong}) {
+    const Frame frame = renderFloorsFromAbove(scene, shading);
+    for (int c = 0; c < 3; ++c) {
+      const float fromFactors = frame.beauty.at(48, 16, c), plain = frame.beauty.at(80, 16, c);
+      EXPECT_NEAR(frame.beauty.at(16, 16, c), fromFactors, 0.01f * fromFactors)
+          << "channel " << c << (shading == Shading::Pbr ? " (PBR)" : " (Phong)");
+      EXPECT_GT(std::abs(fromFactors - plain), 0.03f * plain)
+          << "channel " << c << (shading == Shading::Pbr ? " (PBR)" : " (Phong)");
+    }
+  }
+}
+
+// A sheen roughness texture of another image than the sheen color's is read through a unit of
+// its own: a floor so textured draws as the floor whose factors are the products.
+TEST(SheenRender, ARoughnessTextureOfAnotherImageMultipliesItsFactor) {
+  test_support::TempFolder folder("omnishadow-sheen-two-images");
+  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.2f, 0.3f, 1.0f));
+  Light sun = sunAlong(-towardsSun, 3.0f);
+  sun.shadow.enabled = false;
+  std::vector<Frame> frames;
+  // Textured; the products as factors; the roughness texture left out (what not reading it draws).
+  for (const int kind : {0, 1, 2}) {
+    const bool textured = kind != 1;
+    GltfBuilder builder;
+    const int color = builder.addTexture(1, 1, {255, 255, 255, 255}, "color");
+    const int roughness = builder.addTexture(1, 1, {0, 0, 0, 51}, "roughness");  // x 0.2
+    MaterialDesc material;
+    material.baseColor = {0.5f, 0.3f, 0.2f, 1.0f};
+    material.roughness = 0.6f;
+    PrimitiveOptions options;
+    options.material = builder.addMaterial(material);
+    Value sheen = sheenExtension({0.9f, 0.6f, 0.3f}, textured ? 1.0f : 0.2f);
+    if (textured) {
+      sheen.Get<Value::Object>()["sheenColorTexture"] =
+          Value(Value::Object{{"index", Value(color)}});
+      if (kind == 0)
+        sheen.Get<Value::Object>()["sheenRoughnessTexture"] =
+            Value(Value::Object{{"index", Value(roughness)}});
+    }
+    builder.model().materials[0].extensions["KHR_materials_sheen"] = sheen;
+    builder.model().extensionsUsed = {"KHR_materials_sheen"};
+    builder.addNode("floor", {}, builder.addMesh(builder::makePlane(4.0f), options));
+    const fs::path file = folder / ("floor" + std::to_string(kind) + ".gltf");
+    builder.write(file, FileFormat::GltfEmbedded);
+    const Scene scene = loadGltf(file);
+    ASSERT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+    frames.push_back(
+        render(scene, {sun}, lookFrom(scene, {0, 1.5f, 4.5f}, {0, 0, 0}, 32, 32, 30.0f)));
+  }
+  int floorPixels = 0, readShows = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) {
+      if (frames[1].beauty.at(x, y, 3) < 1.0f) continue;
+      ++floorPixels;
+      for (int c = 0; c < 3; ++c) {
+        const float expected = frames[1].beauty.at(x, y, c);
+        EXPECT_NEAR(frames[0].beauty.at(x, y, c), expected, 0.01f * expected + 1e-5f)
+            << "pixel " << x << "," << y << " channel " << c;
+      }
+      if (std::abs(frames[2].beauty.at(x, y, 0) - frames[1].beauty.at(x, y, 0)) >
+          0.03f * frames[1].beauty.at(x, y, 0))
+        ++readShows;
+    }
+  EXPECT_GT(floorPixels, 100);
+  EXPECT_GT(readShows, floorPixels / 4);  // where not reading the texture would show
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ TEST(ShadowSamplerUnits, OnePcfLayoutTakesOneUnitAfterTheMaterials) {
   EXPECT_EQ(u.planarCompare, -1);
   EXPECT_EQ(u.cubeMoments, -1);
   EXPECT_EQ(u.end, contract::kFirstShadowUnit + 1);
-  EXPECT_TRUE(u.clearcoatTextures);
+  EXPECT_TRUE(u.extensionTextures);
   // No shadowed light: nothing declared.
   EXPECT_EQ(shadowSamplerUnits(LightingFeatures{}).end, contract::kFirstShadowUnit);
 }
@@ -87,14 +87,14 @@ TEST(ShadowSamplerUnits, EveryFrameFitsAndOnlyTheFullestTakesTheClearcoatsUnits)
         const std::set<int> taken = unitsTaken(u, slots);
         EXPECT_LE(u.end, contract::kTextureUnits);
         const int first =
-            u.clearcoatTextures ? contract::kFirstShadowUnit : contract::kFallbackShadowUnit;
+            u.extensionTextures ? contract::kFirstShadowUnit : contract::kFallbackShadowUnit;
         if (!taken.empty()) {
           EXPECT_EQ(*taken.begin(), first);
           EXPECT_EQ(*taken.rbegin(), u.end - 1);
         }
         // Only a frame that would reach past the last unit gives the clearcoat's units up.
         EXPECT_EQ(
-            u.clearcoatTextures,
+            u.extensionTextures,
             contract::kFirstShadowUnit + static_cast<int>(taken.size()) <= contract::kTextureUnits);
       }
 }

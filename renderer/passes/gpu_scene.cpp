@@ -51,12 +51,31 @@ struct TextureUse {
 };
 
 // The slot whose image holds a material's sheen: the color texture's, else the roughness
-// texture's (the loader keeps the latter only when it is the same image or alone); none when the
-// material draws no sheen.
+// texture's (whose A it then also holds when it is the same image); none when the material
+// draws no sheen.
 const TextureSlot& sheenSlot(const Material& desc) {
   static const TextureSlot kNone;
   if (!hasSheen(desc)) return kNone;
   return desc.sheenColorTexture.texture >= 0 ? desc.sheenColorTexture : desc.sheenRoughnessTexture;
+}
+
+// The sheen roughness texture's slot when it needs a unit of its own: both sheen textures given,
+// on different images; none otherwise (sheenSlot() then holds it, or there is none).
+const TextureSlot& ownSheenRoughnessSlot(const Scene& scene, const Material& desc) {
+  static const TextureSlot kNone;
+  const TextureSlot &color = desc.sheenColorTexture, &roughness = desc.sheenRoughnessTexture;
+  if (!hasSheen(desc) || color.texture < 0 || roughness.texture < 0) return kNone;
+  const auto image = [&](const TextureSlot& slot) {
+    return scene.textures[static_cast<std::size_t>(slot.texture)].image;
+  };
+  return image(color) == image(roughness) ? kNone : roughness;
+}
+
+// A KHR_materials_specular texture slot of a material, or none when the material is not shaded
+// with the extension.
+const TextureSlot& specularSlot(const Material& desc, const TextureSlot& slot) {
+  static const TextureSlot kNone;
+  return hasDielectricSpecular(desc) ? slot : kNone;
 }
 
 // A clearcoat texture slot of a material, or none when the material draws no clearcoat.
@@ -65,10 +84,10 @@ const TextureSlot& clearcoatSlot(const Material& desc, const TextureSlot& slot) 
   return hasClearcoat(desc) ? slot : kNone;
 }
 
-std::array<TextureUse, 10> textureUses(const Material& desc) {
+std::array<TextureUse, 13> textureUses(const Scene& scene, const Material& desc) {
   // Specular-glossiness materials have no metallic-roughness texture; their specular color
-  // (sRGB) and glossiness (alpha, linear either way) take its unit. So does the sheen: color in
-  // RGB (sRGB), roughness in A.
+  // (sRGB) and glossiness (alpha, linear either way) take its unit. The sheen's texture holds
+  // its color in RGB (sRGB) and its roughness in A, unless the roughness is another image.
   const TextureSlot& specularOrMetallic =
       desc.specularGlossiness ? desc.specularGlossinessTexture : desc.metallicRoughnessTexture;
   return {{{&desc.baseColorTexture, true, &GpuMaterial::baseColor, &GpuMaterial::baseColorSampler},
@@ -85,7 +104,15 @@ std::array<TextureUse, 10> textureUses(const Material& desc) {
            {&clearcoatSlot(desc, desc.clearcoatRoughnessTexture), false,
             &GpuMaterial::clearcoatRoughness, &GpuMaterial::clearcoatRoughnessSampler},
            {&clearcoatSlot(desc, desc.clearcoatNormalTexture), false, &GpuMaterial::clearcoatNormal,
-            &GpuMaterial::clearcoatNormalSampler}}};
+            &GpuMaterial::clearcoatNormalSampler},
+           {&specularSlot(desc, desc.specularTexture), false, &GpuMaterial::specular,
+            &GpuMaterial::specularSampler},
+           {&specularSlot(desc, desc.specularColorTexture), true, &GpuMaterial::specularColor,
+            &GpuMaterial::specularColorSampler},
+           // Its A is linear either way; as sRGB it shares the texture with a sheen color of
+           // another material that uses the image.
+           {&ownSheenRoughnessSlot(scene, desc), true, &GpuMaterial::sheenRoughness,
+            &GpuMaterial::sheenRoughnessSampler}}};
 }
 
 // At most this many textures wait for their mipmap levels: the GL thread goes on making the
@@ -201,7 +228,7 @@ void GpuScene::uploadMaterials(const Scene& scene) {
   descs.back().name = "(default)";
   std::set<std::pair<int, bool>> toMake;  // (image, sRGB) of every texture the materials use
   for (const Material& desc : descs)
-    for (const TextureUse& use : textureUses(desc)) {
+    for (const TextureUse& use : textureUses(scene, desc)) {
       const int texture = use.slot->texture;
       if (texture >= 0 && scene.textures[texture].image >= 0)
         toMake.emplace(scene.textures[texture].image, use.srgb);
@@ -210,7 +237,7 @@ void GpuScene::uploadMaterials(const Scene& scene) {
   for (const Material& desc : descs) {
     GpuMaterial m;
     m.desc = desc;
-    for (const TextureUse& use : textureUses(desc)) {
+    for (const TextureUse& use : textureUses(scene, desc)) {
       m.*use.texture = textureFor(scene, *use.slot, use.srgb, uploads);
       m.*use.sampler = samplerFor(scene, *use.slot);
     }

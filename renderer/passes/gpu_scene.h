@@ -23,6 +23,11 @@ struct GpuMaterial {
   // KHR_materials_sheen: the sheen color texture (sRGB), whose A the roughness texture reads
   // when it is the same image; else the roughness texture alone. 0 without sheen.
   GLuint sheen = 0, sheenSampler = 0;
+  // The sheen roughness texture when both sheen textures are given, on different images.
+  GLuint sheenRoughness = 0, sheenRoughnessSampler = 0;
+  // KHR_materials_specular's textures: the factor (linear, A) and the color (sRGB).
+  GLuint specular = 0, specularSampler = 0;
+  GLuint specularColor = 0, specularColorSampler = 0;
   // KHR_materials_clearcoat's textures (linear); 0 without a clearcoat.
   GLuint clearcoat = 0, clearcoatSampler = 0;
   GLuint clearcoatRoughness = 0, clearcoatRoughnessSampler = 0;

@@ -49,6 +49,14 @@ constexpr unsigned kClearcoatBit = kDielectricSpecularBit << 1;
 constexpr unsigned kClearcoatTextureBit = kClearcoatBit << 1;
 constexpr unsigned kClearcoatRoughnessTextureBit = kClearcoatTextureBit << 1;
 constexpr unsigned kClearcoatNormalTextureBit = kClearcoatRoughnessTextureBit << 1;
+// KHR_materials_specular's textures, and a sheen roughness texture on a unit of its own.
+constexpr unsigned kSpecularTextureBit = kClearcoatNormalTextureBit << 1;
+constexpr unsigned kSpecularColorTextureBit = kSpecularTextureBit << 1;
+constexpr unsigned kSheenRoughnessTextureBit = kSpecularColorTextureBit << 1;
+// The material extensions' texture units, which a frame whose shadow arrays need them takes.
+constexpr unsigned kExtensionTextureBits = kClearcoatTextureBit | kClearcoatRoughnessTextureBit |
+                                           kClearcoatNormalTextureBit | kSpecularTextureBit |
+                                           kSpecularColorTextureBit | kSheenRoughnessTextureBit;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -56,11 +64,16 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   for (int i = 0; i < contract::kMaterialUnits; ++i)
     if (material & (1u << i)) defines.push_back(kMaterialTextureDefines[i]);
   if (material & kSpecularGlossinessBit) defines.push_back("SPECULAR_GLOSSINESS");
-  if (material & kDielectricSpecularBit) defines.push_back("DIELECTRIC_SPECULAR");
+  if (material & kDielectricSpecularBit) {
+    defines.push_back("DIELECTRIC_SPECULAR");
+    if (material & kSpecularTextureBit) defines.push_back("SPECULAR_TEXTURE");
+    if (material & kSpecularColorTextureBit) defines.push_back("SPECULAR_COLOR_TEXTURE");
+  }
   // Blinn-Phong has no layers: --shading phong draws the base material alone.
   if ((material & kSheenBit) && shading != Shading::Phong) {
     defines.push_back("SHEEN");
     if (material & kSheenTextureBit) defines.push_back("SHEEN_TEXTURE");
+    if (material & kSheenRoughnessTextureBit) defines.push_back("SHEEN_ROUGHNESS_TEXTURE");
   }
   if ((material & kClearcoatBit) && shading != Shading::Phong) {
     defines.push_back("CLEARCOAT");
@@ -217,7 +230,32 @@ glm::mat3 normalTextureAxes(const glm::mat3& uvTransform) {
                    glm::vec3(0.0f, 0.0f, 1.0f));
 }
 
-void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
+// A material extension's texture as the lighting shader reads it: its texCoord (-1: not read)
+// and transform uniforms, and the unit it is bound to.
+struct ExtensionTexture {
+  const char* texCoord;
+  const char* transform;
+  int unit;
+  GLuint texture, sampler;
+  const TextureSlot& slot;
+  unsigned bit;  // the variant bit that declares it
+};
+
+// Binds what `variant` declares of `textures`; the others' units may hold the frame's shadow
+// arrays, and are left alone.
+void bindExtensionTextures(const ShaderProgram& program, unsigned variant,
+                           std::initializer_list<ExtensionTexture> textures) {
+  for (const ExtensionTexture& t : textures) {
+    if (!(variant & t.bit)) continue;
+    program.set(t.texCoord, t.texture ? t.slot.texCoord : -1);
+    program.set(t.transform, t.slot.uvTransform);
+    glBindTextureUnit(static_cast<GLuint>(t.unit), t.texture);
+    glBindSampler(static_cast<GLuint>(t.unit), t.sampler);
+  }
+}
+
+// Sets the material's uniforms and binds its textures for a program of `variant`.
+void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned variant) {
   const Material& d = m.desc;
   program.set("uBaseColorFactor", d.baseColorFactor);
   program.set("uMetallicFactor", d.metallicFactor);
@@ -266,49 +304,49 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m) {
     glBindTextureUnit(unit, slots[i].texture);
     glBindSampler(unit, slots[i].sampler);
   }
+  bindExtensionTextures(program, variant,
+                        {{"uSpecularTexCoord", "uSpecularUvTransform", contract::kSpecularUnit,
+                          m.specular, m.specularSampler, d.specularTexture, kSpecularTextureBit},
+                         {"uSpecularColorTexCoord", "uSpecularColorUvTransform",
+                          contract::kSpecularColorUnit, m.specularColor, m.specularColorSampler,
+                          d.specularColorTexture, kSpecularColorTextureBit}});
   if (hasClearcoat(d)) {
     program.set("uClearcoatFactor", d.clearcoatFactor);
     program.set("uClearcoatRoughnessFactor", d.clearcoatRoughnessFactor);
     program.set("uClearcoatNormalScale", d.clearcoatNormalScale);
-    const struct {
-      const char* texCoord;
-      const char* transform;
-      int unit;
-      GLuint texture, sampler;
-      const TextureSlot& slot;
-    } layers[] = {
-        {"uClearcoatTexCoord", "uClearcoatUvTransform", contract::kClearcoatUnit, m.clearcoat,
-         m.clearcoatSampler, d.clearcoatTexture},
-        {"uClearcoatRoughnessTexCoord", "uClearcoatRoughnessUvTransform",
-         contract::kClearcoatRoughnessUnit, m.clearcoatRoughness, m.clearcoatRoughnessSampler,
-         d.clearcoatRoughnessTexture},
-        {"uClearcoatNormalTexCoord", "uClearcoatNormalUvTransform", contract::kClearcoatNormalUnit,
-         m.clearcoatNormal, m.clearcoatNormalSampler, d.clearcoatNormalTexture},
-    };
-    // A variant without a texture's bit has no such uniform or sampler: set() and a bound unit
-    // it does not declare are ignored (the frame's shadow arrays may use the unit then).
     program.set("uClearcoatNormalTextureAxes",
                 normalTextureAxes(d.clearcoatNormalTexture.uvTransform));
-    for (const auto& layer : layers) {
-      program.set(layer.texCoord, layer.texture ? layer.slot.texCoord : -1);
-      program.set(layer.transform, layer.slot.uvTransform);
-      if (program.location(layer.texCoord) < 0) continue;
-      glBindTextureUnit(static_cast<GLuint>(layer.unit), layer.texture);
-      glBindSampler(static_cast<GLuint>(layer.unit), layer.sampler);
-    }
+    bindExtensionTextures(
+        program, variant,
+        {{"uClearcoatTexCoord", "uClearcoatUvTransform", contract::kClearcoatUnit, m.clearcoat,
+          m.clearcoatSampler, d.clearcoatTexture, kClearcoatTextureBit},
+         {"uClearcoatRoughnessTexCoord", "uClearcoatRoughnessUvTransform",
+          contract::kClearcoatRoughnessUnit, m.clearcoatRoughness, m.clearcoatRoughnessSampler,
+          d.clearcoatRoughnessTexture, kClearcoatRoughnessTextureBit},
+         {"uClearcoatNormalTexCoord", "uClearcoatNormalUvTransform", contract::kClearcoatNormalUnit,
+          m.clearcoatNormal, m.clearcoatNormalSampler, d.clearcoatNormalTexture,
+          kClearcoatNormalTextureBit}});
   }
   if (!hasSheen(d)) return;
   program.set("uSheenColorFactor", d.sheenColorFactor);
   program.set("uSheenRoughnessFactor", d.sheenRoughnessFactor);
-  // Each slot reads the one sheen texture at its own coordinates (texCoord -1: not read).
+  // The sheen texture holds the color and, when it is the same image (or the color has none),
+  // the roughness; a roughness texture of another image has a unit of its own, read only where
+  // the variant declares it (texCoord -1: not read).
   const bool colorRead = m.sheen && d.sheenColorTexture.texture >= 0;
-  const bool roughnessRead = m.sheen && d.sheenRoughnessTexture.texture >= 0;
+  const bool roughnessRead =
+      d.sheenRoughnessTexture.texture >= 0 &&
+      (m.sheenRoughness ? (variant & kSheenRoughnessTextureBit) != 0 : m.sheen != 0);
   program.set("uSheenColorTexCoord", colorRead ? d.sheenColorTexture.texCoord : -1);
   program.set("uSheenColorUvTransform", d.sheenColorTexture.uvTransform);
   program.set("uSheenRoughnessTexCoord", roughnessRead ? d.sheenRoughnessTexture.texCoord : -1);
   program.set("uSheenRoughnessUvTransform", d.sheenRoughnessTexture.uvTransform);
   glBindTextureUnit(contract::kSheenUnit, m.sheen);
   glBindSampler(contract::kSheenUnit, m.sheenSampler);
+  if (variant & kSheenRoughnessTextureBit) {
+    glBindTextureUnit(contract::kSheenRoughnessUnit, m.sheenRoughness);
+    glBindSampler(contract::kSheenRoughnessUnit, m.sheenRoughnessSampler);
+  }
 }
 
 }  // namespace
@@ -417,7 +455,7 @@ ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features) {
   ShadowSamplerUnits units = layout(contract::kFirstShadowUnit);
   if (units.end <= contract::kTextureUnits) return units;
   units = layout(contract::kFallbackShadowUnit);
-  units.clearcoatTextures = false;
+  units.extensionTextures = false;
   return units;
 }
 
@@ -446,17 +484,24 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
   unsigned variant = material.desc.specularGlossiness ? kSpecularGlossinessBit : 0u;
   for (int i = 0; i < contract::kMaterialUnits; ++i)
     if (textures[i] != 0) variant |= 1u << i;
-  if (hasDielectricSpecular(material.desc)) variant |= kDielectricSpecularBit;
-  if (hasSheen(material.desc)) variant |= kSheenBit | (material.sheen != 0 ? kSheenTextureBit : 0u);
+  if (hasDielectricSpecular(material.desc)) {
+    variant |= kDielectricSpecularBit;
+    if (material.specular != 0) variant |= kSpecularTextureBit;
+    if (material.specularColor != 0) variant |= kSpecularColorTextureBit;
+  }
+  if (hasSheen(material.desc)) {
+    variant |= kSheenBit | (material.sheen != 0 ? kSheenTextureBit : 0u);
+    if (material.sheenRoughness != 0) variant |= kSheenRoughnessTextureBit;
+  }
   if (hasClearcoat(material.desc)) {
     variant |= kClearcoatBit;
-    // A frame whose shadow arrays took the clearcoat's units draws the layer from its factors.
-    if (shadowUnits_.clearcoatTextures) {
-      if (material.clearcoat != 0) variant |= kClearcoatTextureBit;
-      if (material.clearcoatRoughness != 0) variant |= kClearcoatRoughnessTextureBit;
-      if (material.clearcoatNormal != 0) variant |= kClearcoatNormalTextureBit;
-    }
+    if (material.clearcoat != 0) variant |= kClearcoatTextureBit;
+    if (material.clearcoatRoughness != 0) variant |= kClearcoatRoughnessTextureBit;
+    if (material.clearcoatNormal != 0) variant |= kClearcoatNormalTextureBit;
   }
+  // A frame whose shadow arrays took the extensions' units draws those layers from their
+  // factors.
+  if (!shadowUnits_.extensionTextures) variant &= ~kExtensionTextureBits;
   return variant;
 }
 
@@ -651,8 +696,8 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     // the float target.
     if (drawSet == DrawSet::Blended && writesSrgb8(outputs_))
       throw std::logic_error("the 8-bit beauty pass cannot draw blended surfaces");
+    const unsigned variant = lighting ? materialVariant(material) : 0u;
     if (lighting) {
-      const unsigned variant = materialVariant(material);
       const ShaderProgram& wanted = program(variant);
       if (&wanted != current) {
         current = &wanted;
@@ -672,7 +717,7 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
     if (lighting) {
       program.set("uNormalMatrix", draw.normalMatrix);
-      bindMaterial(program, material);
+      bindMaterial(program, material, variant);
       program.set("uHasTangents", range.hasTangents ? 1 : 0);
       if (outputs_ == PassOutputs::Layers || outputs_ == PassOutputs::Ids ||
           writesIdsBesideBeauty(outputs_)) {

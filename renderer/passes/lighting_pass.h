@@ -190,12 +190,12 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
 
 // The first texture unit of each shadow sampler array the lighting pass declares for a frame
 // with `features` (-1: not declared, the frame's filters never read it), each array
-// SHADOW_SLOTS units long, and whether the clearcoat's texture units stay free.
+// SHADOW_SLOTS units long, and whether the material extensions' texture units stay free.
 struct ShadowSamplerUnits {
   int cubeCompare = -1, planarCompare = -1, cubeDepth = -1, planarDepth = -1, cubeMoments = -1,
       planarMoments = -1;
   int end = 0;  // one past the last unit taken
-  bool clearcoatTextures = true;
+  bool extensionTextures = true;
 };
 ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features);
 

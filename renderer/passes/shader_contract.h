@@ -45,16 +45,23 @@ inline constexpr int kSheenUnit = kTransmittanceRectsUnit + 1;
 inline constexpr int kClearcoatUnit = kSheenUnit + 1;
 inline constexpr int kClearcoatRoughnessUnit = kClearcoatUnit + 1;
 inline constexpr int kClearcoatNormalUnit = kClearcoatRoughnessUnit + 1;
+// KHR_materials_specular's textures: the factor (A) and the color (RGB, sRGB).
+inline constexpr int kSpecularUnit = kClearcoatNormalUnit + 1;
+inline constexpr int kSpecularColorUnit = kSpecularUnit + 1;
+// KHR_materials_sheen's roughness texture when it is another image than the color texture's
+// (the same image is read through kSheenUnit).
+inline constexpr int kSheenRoughnessUnit = kSpecularColorUnit + 1;
 
 // Shadow sampler arrays follow the material's units. Only the families the frame's filters
 // read are declared (compare, raw depth, moments; cube and planar), each with as many units as
 // the frame has shadow groups of a layout (renderer/passes/lighting_pass.cpp,
 // shadowSamplerUnits), so that a frame of one filter takes one or two units, not 24. A frame
 // whose families would reach past the last unit (several filters and groups in both layouts)
-// starts them at kFallbackShadowUnit instead, over the clearcoat's units, whose textures that
-// frame does not read.
+// starts them at kFallbackShadowUnit instead, over the units above (clearcoat, specular, a sheen
+// roughness of its own), whose textures that frame does not read: it draws those layers from
+// their factors.
 inline constexpr int kMaxShadowGroups = omnishadow::kMaxShadowGroups;
-inline constexpr int kFirstShadowUnit = kClearcoatNormalUnit + 1;
+inline constexpr int kFirstShadowUnit = kSheenRoughnessUnit + 1;
 inline constexpr int kFallbackShadowUnit = kClearcoatUnit;
 inline constexpr int kShadowSamplerFamilies = 6;
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
@@ -157,6 +164,9 @@ inline std::vector<std::string> shaderContractDefines() {
       define("CLEARCOAT_UNIT", kClearcoatUnit),
       define("CLEARCOAT_ROUGHNESS_UNIT", kClearcoatRoughnessUnit),
       define("CLEARCOAT_NORMAL_UNIT", kClearcoatNormalUnit),
+      define("SPECULAR_UNIT", kSpecularUnit),
+      define("SPECULAR_COLOR_UNIT", kSpecularColorUnit),
+      define("SHEEN_ROUGHNESS_UNIT", kSheenRoughnessUnit),
       define("SHEEN_ALBEDO_COSINES", kSheenAlbedoCosines),
       define("SHEEN_ALBEDO_ROUGHNESSES", kSheenAlbedoRoughnesses),
       "MIN_SHEEN_ALPHA " + std::to_string(kMinSheenAlpha),

@@ -81,9 +81,7 @@ float unitNumber(const Context& ctx, const std::string& object, const tinygltf::
   return static_cast<float>(value);
 }
 
-// KHR_materials_specular's factors. Its textures would need two more texture units, and all a
-// fragment shader has are spoken for (renderer/passes/shader_contract.h): they are checked like
-// any textureInfo, then left unread, with a warning.
+// KHR_materials_specular: two factors and their textures.
 void applySpecular(const Context& ctx, std::size_t index, Material& material) {
   const tinygltf::Value* specular =
       extensionOf(ctx.model.materials[index], "KHR_materials_specular");
@@ -96,18 +94,13 @@ void applySpecular(const Context& ctx, std::size_t index, Material& material) {
     if (!(color[c] >= 0.0f && std::isfinite(color[c])))
       ctx.fail(where, "specularColorFactor must be an array of 3 numbers of at least 0");
   material.specularColorFactor = color;
-  for (const char* slot : {"specularTexture", "specularColorTexture"}) {
-    const TextureSlot texture = slotFromValue(ctx, where + "." + slot, specular->Get(slot));
-    if (texture.texture >= 0)
-      ctx.warn(where + ": " + slot +
-               " is not read (only the factors are: no texture unit is "
-               "left for it)");
-  }
+  material.specularTexture =
+      slotFromValue(ctx, where + ".specularTexture", specular->Get("specularTexture"));
+  material.specularColorTexture =
+      slotFromValue(ctx, where + ".specularColorTexture", specular->Get("specularColorTexture"));
 }
 
-// KHR_materials_sheen. The lighting pass reads both sheen textures through one unit (the
-// specification packs color in RGB and roughness in A of one image), so a roughness texture
-// of another image is dropped, with a warning.
+// KHR_materials_sheen: a color and a roughness, each a factor and a texture.
 void applySheen(const Context& ctx, std::size_t index, Material& material) {
   const tinygltf::Value* sheen = extensionOf(ctx.model.materials[index], "KHR_materials_sheen");
   if (!sheen) return;
@@ -123,16 +116,6 @@ void applySheen(const Context& ctx, std::size_t index, Material& material) {
       slotFromValue(ctx, where + ".sheenColorTexture", sheen->Get("sheenColorTexture"));
   material.sheenRoughnessTexture =
       slotFromValue(ctx, where + ".sheenRoughnessTexture", sheen->Get("sheenRoughnessTexture"));
-  const auto imageOf = [&](const TextureSlot& slot) {
-    return ctx.scene.textures[static_cast<std::size_t>(slot.texture)].image;
-  };
-  if (material.sheenColorTexture.texture >= 0 && material.sheenRoughnessTexture.texture >= 0 &&
-      imageOf(material.sheenColorTexture) != imageOf(material.sheenRoughnessTexture)) {
-    ctx.warn(where +
-             ": sheenRoughnessTexture is another image than sheenColorTexture's; it is "
-             "not read (sheenRoughnessFactor alone is used)");
-    material.sheenRoughnessTexture = {};
-  }
   if (material.unlit ||
       extensionOf(ctx.model.materials[index], "KHR_materials_pbrSpecularGlossiness")) {
     ctx.warn(where + ": must not be used with " +

@@ -80,19 +80,22 @@ struct Material {
   // KHR_materials_ior: the index of refraction of the dielectric part, which sets its Fresnel
   // reflectance at normal incidence, ((ior - 1) / (ior + 1))^2 (0.04 at glTF's 1.5).
   float ior = 1.5f;
-  // KHR_materials_specular's factors: the dielectric's Fresnel goes from min(F0(ior) x color, 1)
-  // x weight at normal incidence to weight at grazing, and its diffuse takes what the brightest
-  // channel leaves. Its two textures are not read (the loader warns).
+  // KHR_materials_specular: the dielectric's Fresnel goes from min(F0(ior) x color, 1) x weight
+  // at normal incidence to weight at grazing, and its diffuse takes what the brightest channel
+  // leaves.
   float specularWeight = 1.0f;          // specularFactor
+  TextureSlot specularTexture;          // linear; A multiplies specularFactor
   glm::vec3 specularColorFactor{1.0f};  // linear; may exceed 1
+  TextureSlot specularColorTexture;     // sRGB; RGB multiplies specularColorFactor
   // KHR_materials_sheen: a layer of fibers over the metallic-roughness material, shaded with
   // the specification's Charlie BRDF (shaders/brdf.glsl). A sheen color of zero, with or
   // without a texture, is no sheen, as the specification says.
   glm::vec3 sheenColorFactor{0.0f};
   TextureSlot sheenColorTexture;  // sRGB; RGB multiplies sheenColorFactor
   float sheenRoughnessFactor = 0.0f;
-  // Linear; A multiplies sheenRoughnessFactor. Only when the image is sheenColorTexture's or
-  // that slot is empty: the two share one texture unit (the loader warns and drops it otherwise).
+  // Linear; A multiplies sheenRoughnessFactor. The same image as sheenColorTexture's (the
+  // packing the specification designs for) is read through one texture unit, another image
+  // through a unit of its own.
   TextureSlot sheenRoughnessTexture;
   // KHR_materials_clearcoat: a clear layer over the whole material (emission included) with a
   // GGX lobe of its own roughness and normal, weighted by clearcoat x its Fresnel at the view
@@ -115,10 +118,11 @@ inline float dielectricF0(const Material& material) {
 }
 
 // Whether KHR_materials_specular changes how `material` is shaded: factors other than the
-// defaults on a lit metallic-roughness material.
+// defaults, or a texture, on a lit metallic-roughness material.
 inline bool hasDielectricSpecular(const Material& material) {
   return !material.unlit && !material.specularGlossiness &&
-         (material.specularWeight != 1.0f || material.specularColorFactor != glm::vec3(1.0f));
+         (material.specularWeight != 1.0f || material.specularColorFactor != glm::vec3(1.0f) ||
+          material.specularTexture.texture >= 0 || material.specularColorTexture.texture >= 0);
 }
 
 // Whether the lighting pass shades `material` with a sheen layer: a nonzero sheen color on a
