@@ -564,6 +564,52 @@ TEST(SpecularRender, FactorsScaleTheDielectricFresnelAsTheSpecificationWrites) {
   }
 }
 
+// Every wholly covered floor pixel of `frame` (its AOVs give each pixel's point) against
+// `expected(V)`, within 1%; returns how many were checked and, through `changed`, how many
+// differ from `other(V)` by more than 10% in some channel.
+int expectFloorPixels(const Frame& frame, const FloatImage& aovs, glm::vec3 eye,
+                      const std::function<glm::vec3(glm::vec3)>& expected,
+                      const std::function<glm::vec3(glm::vec3)>& other, int& changed,
+                      const std::string& what) {
+  int checked = 0;
+  changed = 0;
+  for (int y = 1; y + 1 < frame.beauty.height; ++y)
+    for (int x = 1; x + 1 < frame.beauty.width; ++x) {
+      bool floor = true;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          floor = floor && frame.beauty.at(x + dx, y + dy, 3) == 1.0f &&
+                  std::abs(worldAt(aovs, x + dx, y + dy).y) < 1e-3f;
+      if (!floor) continue;
+      const glm::vec3 V = glm::normalize(eye - worldAt(aovs, x, y));
+      const glm::vec3 e = expected(V), o = other(V);
+      bool differs = false;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(frame.beauty.at(x, y, c), e[c], 0.01f * e[c] + 1e-4f)
+            << what << ": pixel " << x << "," << y << " channel " << c;
+        differs = differs || std::abs(e[c] - o[c]) > 0.1f * o[c];
+      }
+      changed += differs ? 1 : 0;
+      ++checked;
+    }
+  return checked;
+}
+
+// A floor frame as the floor tests check it: rendered with AOVs (`aovs`), or as the beauty pass
+// draws it; either way with the AOV frame whose points expectFloorPixels() reads.
+std::pair<Frame, Frame> renderFloorFrame(const Scene& scene, const Light& sun, float ambient,
+                                         const ViewCamera& camera, bool aovs) {
+  RenderSettings settings;
+  settings.aovs = true;
+  StageTimes times;
+  Frame withAovs =
+      sharedRenderer().render(scene, {sun}, glm::vec3(ambient), camera, settings, times);
+  if (aovs) return {withAovs, withAovs};
+  settings.aovs = false;
+  Frame beauty = sharedRenderer().render(scene, {sun}, glm::vec3(ambient), camera, settings, times);
+  return {std::move(beauty), std::move(withAovs)};
+}
+
 // The sheen test's materials: a dielectric base, and its sheen (color zero: none).
 struct SheenInputs {
   glm::vec3 base{0.5f, 0.3f, 0.2f};
@@ -638,36 +684,15 @@ TEST(SheenRender, MatchesTheExtensionsBrdfAtEveryPixel) {
   const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 48, 32, 30.0f);
   SheenInputs none = in;
   none.sheenColor = glm::vec3(0.0f);
+  const glm::vec3 N(0, 1, 0);
   for (const bool aovs : {true, false}) {
-    RenderSettings settings;
-    settings.aovs = true;
-    StageTimes times;
-    const Frame withAovs =
-        sharedRenderer().render(scene, {sun}, glm::vec3(ambient), camera, settings, times);
-    settings.aovs = aovs;
-    const Frame frame =
-        aovs ? withAovs
-             : sharedRenderer().render(scene, {sun}, glm::vec3(ambient), camera, settings, times);
-    int checked = 0, sheenShows = 0;
-    for (int y = 1; y + 1 < frame.beauty.height; ++y)
-      for (int x = 1; x + 1 < frame.beauty.width; ++x) {
-        // Pixels whose neighbours are floor too: wholly covered, one surface.
-        bool floor = true;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx)
-            floor = floor && frame.beauty.at(x + dx, y + dy, 3) == 1.0f &&
-                    std::abs(worldAt(*withAovs.aovs, x + dx, y + dy).y) < 1e-3f;
-        if (!floor) continue;
-        const glm::vec3 P = worldAt(*withAovs.aovs, x, y);
-        const glm::vec3 V = glm::normalize(eye - P), N(0, 1, 0);
-        const glm::vec3 expected = sheenRadiance(in, N, V, towardsSun, 3.0f, ambient);
-        const glm::vec3 base = sheenRadiance(none, N, V, towardsSun, 3.0f, ambient);
-        for (int c = 0; c < 3; ++c)
-          EXPECT_NEAR(frame.beauty.at(x, y, c), expected[c], 0.01f * expected[c] + 1e-4f)
-              << "pixel " << x << "," << y << " channel " << c << (aovs ? " (AOV pass)" : "");
-        if (expected.r > 1.1f * base.r) ++sheenShows;
-        ++checked;
-      }
+    const auto [frame, withAovs] = renderFloorFrame(scene, sun, ambient, camera, aovs);
+    int sheenShows = 0;
+    const int checked = expectFloorPixels(
+        frame, *withAovs.aovs, eye,
+        [&](glm::vec3 V) { return sheenRadiance(in, N, V, towardsSun, 3.0f, ambient); },
+        [&](glm::vec3 V) { return sheenRadiance(none, N, V, towardsSun, 3.0f, ambient); },
+        sheenShows, aovs ? "AOV pass" : "beauty pass");
     EXPECT_GT(checked, 300);
     EXPECT_GT(sheenShows, checked / 2);
   }
@@ -892,37 +917,6 @@ Value clearcoatExtension(float factor, float roughness) {
                              {"clearcoatRoughnessFactor", Value(roughness)}});
 }
 
-// Every wholly covered floor pixel of `frame` (its AOVs give each pixel's point) against
-// `expected(V)`, within 1%; returns how many were checked and, through `changed`, how many
-// differ from `other(V)` by more than 10% in some channel.
-int expectFloorPixels(const Frame& frame, const FloatImage& aovs, glm::vec3 eye,
-                      const std::function<glm::vec3(glm::vec3)>& expected,
-                      const std::function<glm::vec3(glm::vec3)>& other, int& changed,
-                      const std::string& what) {
-  int checked = 0;
-  changed = 0;
-  for (int y = 1; y + 1 < frame.beauty.height; ++y)
-    for (int x = 1; x + 1 < frame.beauty.width; ++x) {
-      bool floor = true;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-          floor = floor && frame.beauty.at(x + dx, y + dy, 3) == 1.0f &&
-                  std::abs(worldAt(aovs, x + dx, y + dy).y) < 1e-3f;
-      if (!floor) continue;
-      const glm::vec3 V = glm::normalize(eye - worldAt(aovs, x, y));
-      const glm::vec3 e = expected(V), o = other(V);
-      bool differs = false;
-      for (int c = 0; c < 3; ++c) {
-        EXPECT_NEAR(frame.beauty.at(x, y, c), e[c], 0.01f * e[c] + 1e-4f)
-            << what << ": pixel " << x << "," << y << " channel " << c;
-        differs = differs || std::abs(e[c] - o[c]) > 0.1f * o[c];
-      }
-      changed += differs ? 1 : 0;
-      ++checked;
-    }
-  return checked;
-}
-
 // A clearcoated floor seen at grazing angles with the sun behind it (where the layer's Fresnel
 // and its mirror-like lobe show), with an ambient and an emission: every pixel is the radiance
 // the formulas above give for its own view direction, within 1%, in the beauty and the AOV pass;
@@ -942,15 +936,7 @@ TEST(ClearcoatRender, MatchesTheExtensionsLayeringAtEveryPixel) {
   ClearcoatInputs none = in;
   none.clearcoat = 0.0f;
   for (const bool aovs : {true, false}) {
-    RenderSettings settings;
-    settings.aovs = true;
-    StageTimes times;
-    const Frame withAovs =
-        sharedRenderer().render(scene, {sun}, glm::vec3(ambient), camera, settings, times);
-    settings.aovs = aovs;
-    const Frame frame =
-        aovs ? withAovs
-             : sharedRenderer().render(scene, {sun}, glm::vec3(ambient), camera, settings, times);
+    const auto [frame, withAovs] = renderFloorFrame(scene, sun, ambient, camera, aovs);
     int changed = 0;
     const int checked = expectFloorPixels(
         frame, *withAovs.aovs, eye,
