@@ -4,8 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <functional>
 #include <glm/gtc/quaternion.hpp>
+#include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -13,6 +19,7 @@
 #include "renderer/scene/animation_sampler.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/scene_pose.h"
+#include "tests/support/temp_folder.h"
 
 namespace omnishadow {
 namespace {
@@ -302,6 +309,164 @@ TEST(ClipConflicts, LowestIndexWinsAndOneWarningNamesTheOthers) {
   EXPECT_NEAR(scene.lights[0].position.x, 1.5f, kEps);
   EXPECT_TRUE(poseScene(scene, {0.5, "Run"}).empty());
   EXPECT_NEAR(scene.cameras[0].world[3].x, 3.0f, kEps);  // Run alone; Wave does not play
+}
+
+// --- KHR_animation_pointer ----------------------------------------------------------------------
+
+using Json = nlohmann::json;
+
+// `source` (a .glb) written to `target` with its JSON chunk changed by `edit`.
+void rewriteGlb(const fs::path& source, const fs::path& target,
+                const std::function<void(Json&)>& edit) {
+  std::ifstream in(source, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto le32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);
+    return v;
+  };
+  const std::uint32_t jsonLength = le32(12);
+  Json gltf = Json::parse(bytes.substr(20, jsonLength));
+  edit(gltf);
+  std::string json = gltf.dump();
+  while (json.size() % 4) json += ' ';
+  const std::string rest = bytes.substr(20 + jsonLength);  // the BIN chunk, as it was
+  std::string out = bytes.substr(0, 12);
+  const auto put32 = [&](std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+  put32(static_cast<std::uint32_t>(json.size()));
+  put32(0x4E4F534Au);  // "JSON"
+  out += json + rest;
+  const std::uint32_t total = static_cast<std::uint32_t>(out.size());
+  std::memcpy(out.data() + 8, &total, 4);
+  std::ofstream(target, std::ios::binary) << out;
+}
+
+// Every core channel written as the KHR_animation_pointer channel that names the same property.
+void coreToPointers(Json& gltf) {
+  for (Json& animation : gltf["animations"])
+    for (Json& channel : animation["channels"]) {
+      Json& target = channel["target"];
+      const std::string pointer = "/nodes/" + std::to_string(target["node"].get<int>()) + "/" +
+                                  target["path"].get<std::string>();
+      target = {{"path", "pointer"},
+                {"extensions", {{"KHR_animation_pointer", {{"pointer", pointer}}}}}};
+    }
+  gltf["extensionsUsed"].push_back("KHR_animation_pointer");
+}
+
+// Every KHR_animation_pointer channel (all of a node's TRS) written as the core channel.
+void pointersToCore(Json& gltf) {
+  for (Json& animation : gltf["animations"])
+    for (Json& channel : animation["channels"]) {
+      Json& target = channel["target"];
+      const std::string pointer = target["extensions"]["KHR_animation_pointer"]["pointer"];
+      const std::size_t slash = pointer.find('/', 7);  // after "/nodes/"
+      target = {{"node", std::stoi(pointer.substr(7, slash - 7))},
+                {"path", pointer.substr(slash + 1)}};
+    }
+}
+
+// The posed instances' world matrices and vertex positions of `scene` at `time` (all clips).
+struct Pose {
+  std::vector<glm::mat4> worlds;
+  std::vector<glm::vec3> positions;
+};
+Pose poseAt(Scene scene, std::optional<double> time, const std::string& clips = "") {
+  poseScene(scene, {time, clips});
+  Pose pose;
+  for (const MeshInstance& instance : scene.instances) pose.worlds.push_back(instance.world);
+  for (const Mesh& mesh : scene.meshes)
+    pose.positions.insert(pose.positions.end(), mesh.positions.begin(), mesh.positions.end());
+  return pose;
+}
+
+// A pointer to a node's translation, rotation, scale or morph weights plays exactly as the core
+// channel it spells: InterpolationTest (every interpolation of every TRS property) and
+// AnimatedMorphCube (weights), rewritten with pointers, pose to the same bits at every time.
+TEST(AnimationPointer, NodeChannelsPoseAsTheCoreChannelsTheySpell) {
+  test_support::TempFolder folder("omnishadow-animation-pointer");
+  for (const char* name :
+       {"InterpolationTest/InterpolationTest.glb", "AnimatedMorphCube/AnimatedMorphCube.glb"}) {
+    const fs::path pointers = folder / "pointers.glb";
+    rewriteGlb(khronos(name), pointers, coreToPointers);
+    const Scene core = loadGltf(khronos(name));
+    const Scene rewritten = loadGltf(pointers);
+    EXPECT_TRUE(rewritten.warnings.empty()) << rewritten.warnings.front();
+    ASSERT_EQ(rewritten.rig.animations.size(), core.rig.animations.size());
+    for (std::size_t a = 0; a < core.rig.animations.size(); ++a)
+      EXPECT_EQ(rewritten.rig.animations[a].channels.size(),
+                core.rig.animations[a].channels.size());
+    for (const double time : {0.0, 0.3, 0.9, 1.7, 3.5}) {
+      const Pose expected = poseAt(core, time), got = poseAt(rewritten, time);
+      EXPECT_EQ(got.worlds, expected.worlds) << name << " at " << time;
+      EXPECT_EQ(got.positions, expected.positions) << name << " at " << time;
+    }
+  }
+}
+
+// Real data: WhackAMole's 21 clips are all KHR_animation_pointer channels of its nodes' TRS.
+// They play, as the same file with core channels does, and move the moles.
+TEST(AnimationPointer, WhackAMoleClipsPlayAsTheirCoreTwin) {
+  test_support::TempFolder folder("omnishadow-animation-pointer-whackamole");
+  const fs::path file =
+      fs::path(OMNISHADOW_SOURCE_DIR) / "scenes/thirdparty/WhackAMole/WhackAMole.glb";
+  const fs::path core = folder / "core.glb";
+  rewriteGlb(file, core, pointersToCore);
+  const Scene pointers = loadGltf(file), twin = loadGltf(core);
+  ASSERT_EQ(pointers.rig.animations.size(), 21u);
+  std::size_t channels = 0;
+  for (const Animation& a : pointers.rig.animations) channels += a.channels.size();
+  EXPECT_EQ(channels, 91u);
+  const Pose rest = poseAt(pointers, std::nullopt);
+  for (const char* clip : {"0", "1", "2", "20"})
+    for (const double time : {0.25, 0.8}) {
+      const Pose got = poseAt(pointers, time, clip);
+      EXPECT_EQ(got.worlds, poseAt(twin, time, clip).worlds) << clip << " at " << time;
+      EXPECT_NE(got.worlds, rest.worlds) << clip << " at " << time;
+    }
+}
+
+// Pointers to other properties (a material's color, a light's intensity) are named in one
+// warning per animation and do not play; a malformed pointer is an input error naming it.
+TEST(AnimationPointer, OtherPropertiesWarnAndMalformedPointersAreInputErrors) {
+  test_support::TempFolder folder("omnishadow-animation-pointer-errors");
+  const fs::path file = folder / "pointers.glb";
+  const fs::path source = khronos("InterpolationTest/InterpolationTest.glb");
+  const auto pointerOf = [](Json& gltf, int animation, int channel) -> Json& {
+    return gltf["animations"][animation]["channels"][channel]["target"]["extensions"]
+               ["KHR_animation_pointer"]["pointer"];
+  };
+  rewriteGlb(source, file, [&](Json& gltf) {
+    coreToPointers(gltf);
+    pointerOf(gltf, 0, 0) = "/materials/0/pbrMetallicRoughness/baseColorFactor";
+  });
+  const Scene scene = loadGltf(file);
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_EQ(scene.warnings[0],
+            file.string() +
+                ": animations[0]: KHR_animation_pointer channels of other properties than a "
+                "node's translation, rotation, scale or weights are not played: 1 (the first: "
+                "\"/materials/0/pbrMetallicRoughness/baseColorFactor\")");
+  EXPECT_TRUE(scene.rig.animations[0].channels.empty());
+
+  const std::pair<Json, std::string> bad[] = {
+      {Json(3),
+       "animations[0].channels[0].target.extensions.KHR_animation_pointer: pointer must "
+       "be a string"},
+      {Json("/nodes/99/rotation"),
+       "animations[0].channels[0].target: node 99 is out of range (the file has 12 nodes)"}};
+  for (const auto& [pointer, message] : bad) {
+    rewriteGlb(source, file, [&](Json& gltf) {
+      coreToPointers(gltf);
+      pointerOf(gltf, 0, 0) = pointer;
+    });
+    try {
+      loadGltf(file);
+      ADD_FAILURE() << "no InputError for " << pointer;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), file.string() + ": " + message);
+    }
+  }
 }
 
 }  // namespace

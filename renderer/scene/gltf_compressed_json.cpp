@@ -72,12 +72,34 @@ bool fillPlaceholderBuffers(Json& gltf, bool binary, CompressionFixups& fixups) 
   return changed;
 }
 
+// KHR_animation_pointer channels have a target without a node, which tinygltf 2.7 refuses (it
+// then drops the channel): they get node -1, which the loader reads as "no node".
+bool markPointerTargets(Json& gltf) {
+  bool changed = false;
+  const auto animations = gltf.find("animations");
+  if (animations == gltf.end() || !animations->is_array()) return false;
+  for (Json& animation : *animations) {
+    if (!animation.is_object()) continue;
+    const auto channels = animation.find("channels");
+    if (channels == animation.end() || !channels->is_array()) continue;
+    for (Json& channel : *channels) {
+      if (!channel.is_object()) continue;
+      const auto target = channel.find("target");
+      if (target == channel.end() || !target->is_object() || target->contains("node")) continue;
+      (*target)["node"] = -1;
+      changed = true;
+    }
+  }
+  return changed;
+}
+
 }  // namespace
 
 std::optional<std::string> rewriteCompressedJson(const std::string& json, bool binary,
                                                  CompressionFixups& fixups) {
   if (json.find("KHR_draco_mesh_compression") == std::string::npos &&
-      json.find("_meshopt_compression") == std::string::npos) {
+      json.find("_meshopt_compression") == std::string::npos &&
+      json.find("KHR_animation_pointer") == std::string::npos) {
     return std::nullopt;
   }
   Json gltf = Json::parse(json, nullptr, /*allow_exceptions=*/false);
@@ -85,7 +107,8 @@ std::optional<std::string> rewriteCompressedJson(const std::string& json, bool b
   CompressionFixups found;
   const bool draco = moveDracoIndices(gltf, found);
   const bool meshopt = fillPlaceholderBuffers(gltf, binary, found);
-  if (!draco && !meshopt) return std::nullopt;
+  const bool pointers = markPointerTargets(gltf);
+  if (!draco && !meshopt && !pointers) return std::nullopt;
   fixups = std::move(found);
   return gltf.dump();
 }

@@ -42,7 +42,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_materials_diffuse_transmission", NotSupported, "the base material, opaque"},
     {"KHR_materials_variants", Supported, ""},
     // Everything else.
-    {"KHR_animation_pointer", NotSupported, "the static pose"},
+    {"KHR_animation_pointer", Supported, ""},
     {"KHR_node_visibility", Supported, ""},
     {"KHR_interactivity", NotSupported, "the static scene; its behaviour graphs do not run"},
     {"KHR_node_selectability", NotSupported, "every node (selection is for interactive viewers)"},

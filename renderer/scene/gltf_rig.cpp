@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "renderer/scene/gltf_accessors.h"
@@ -158,6 +159,42 @@ AnimationSampler readSampler(Context& ctx, std::size_t a, std::size_t s) {
   return sampler;
 }
 
+// A KHR_animation_pointer target that a core channel could name: a node's translation,
+// rotation, scale or weights.
+struct NodeTarget {
+  int node = -1;
+  std::string path;
+};
+
+// The node property a "pointer" channel animates, or nullopt (with `pointer` set to the JSON
+// pointer) when it animates something else. Fails when the extension's object is malformed.
+std::optional<NodeTarget> pointerTarget(const Context& ctx,
+                                        const tinygltf::AnimationChannel& channel,
+                                        const std::string& channelObject, std::string& pointer) {
+  const std::string where = channelObject + ".target.extensions.KHR_animation_pointer";
+  const auto found = channel.target_extensions.find("KHR_animation_pointer");
+  if (found == channel.target_extensions.end())
+    ctx.fail(channelObject + ".target", "path \"pointer\" needs a KHR_animation_pointer object");
+  const tinygltf::Value& extension = found->second;
+  if (!extension.IsObject() || !extension.Get("pointer").IsString())
+    ctx.fail(where, "pointer must be a string");
+  pointer = extension.Get("pointer").Get<std::string>();
+  // "/nodes/<index>/<property>": an index of decimal digits without a sign or leading zeros.
+  const std::string prefix = "/nodes/";
+  if (pointer.rfind(prefix, 0) != 0) return std::nullopt;
+  const std::size_t slash = pointer.find('/', prefix.size());
+  if (slash == std::string::npos) return std::nullopt;
+  const std::string index = pointer.substr(prefix.size(), slash - prefix.size());
+  const std::string property = pointer.substr(slash + 1);
+  if (index.empty() || index.size() > 9 || (index.size() > 1 && index[0] == '0') ||
+      index.find_first_not_of("0123456789") != std::string::npos)
+    return std::nullopt;
+  if (property != "translation" && property != "rotation" && property != "scale" &&
+      property != "weights")
+    return std::nullopt;
+  return NodeTarget{std::stoi(index), property};
+}
+
 void readAnimations(Context& ctx) {
   const tinygltf::Model& model = ctx.model;
   for (std::size_t a = 0; a < model.animations.size(); ++a) {
@@ -168,32 +205,47 @@ void readAnimations(Context& ctx) {
     for (std::size_t s = 0; s < source.samplers.size(); ++s)
       animation.samplers.push_back(readSampler(ctx, a, s));
     bool any = false;
+    std::size_t otherPointers = 0;  // KHR_animation_pointer channels of other properties
+    std::string firstOtherPointer;
     for (std::size_t c = 0; c < source.channels.size(); ++c) {
       const tinygltf::AnimationChannel& channel = source.channels[c];
       const std::string channelObject = object + "." + at("channels", c);
-      if (channel.target_node < 0) continue;  // targets an extension's object
-      ctx.checkIndex(channelObject + ".target", "node", channel.target_node, model.nodes.size());
+      int node = channel.target_node;
+      std::string path = channel.target_path;
+      // KHR_animation_pointer: a node's TRS or weights play as the core channel would.
+      if (path == "pointer") {
+        std::string pointer;
+        const std::optional<NodeTarget> target =
+            pointerTarget(ctx, channel, channelObject, pointer);
+        if (!target) {
+          if (otherPointers++ == 0) firstOtherPointer = pointer;
+          continue;
+        }
+        node = target->node;
+        path = target->path;
+      }
+      if (node < 0) continue;  // targets an extension's object
+      ctx.checkIndex(channelObject + ".target", "node", node, model.nodes.size());
       ctx.checkIndex(channelObject, "sampler", channel.sampler, source.samplers.size());
       AnimationChannel out;
-      out.node = channel.target_node;
+      out.node = node;
       out.sampler = channel.sampler;
       int components = 0;
-      if (channel.target_path == "translation") {
+      if (path == "translation") {
         out.property = AnimatedProperty::Translation;
         components = 3;
-      } else if (channel.target_path == "rotation") {
+      } else if (path == "rotation") {
         out.property = AnimatedProperty::Rotation;
         components = 4;
-      } else if (channel.target_path == "scale") {
+      } else if (path == "scale") {
         out.property = AnimatedProperty::Scale;
         components = 3;
-      } else if (channel.target_path == "weights") {
+      } else if (path == "weights") {
         out.property = AnimatedProperty::Weights;
         components = static_cast<int>(
             ctx.scene.rig.nodes[static_cast<std::size_t>(out.node)].weights.size());
       } else {
-        ctx.warn(channelObject + ": target path \"" + channel.target_path +
-                 "\" is not supported; not played");
+        ctx.warn(channelObject + ": target path \"" + path + "\" is not supported; not played");
         continue;
       }
       const AnimationSampler& sampler =
@@ -206,7 +258,7 @@ void readAnimations(Context& ctx) {
       }
       if (sampler.components != components) {
         ctx.warn(channelObject + ": its sampler has " + std::to_string(sampler.components) +
-                 " values per keyframe, the " + channel.target_path + " of " +
+                 " values per keyframe, the " + path + " of " +
                  at("nodes", static_cast<std::size_t>(out.node)) + " needs " +
                  std::to_string(components) + "; not played");
         continue;
@@ -223,6 +275,11 @@ void readAnimations(Context& ctx) {
       any = true;
       animation.channels.push_back(out);
     }
+    if (otherPointers > 0)
+      ctx.warn(object +
+               ": KHR_animation_pointer channels of other properties than a node's translation, "
+               "rotation, scale or weights are not played: " +
+               std::to_string(otherPointers) + " (the first: \"" + firstOtherPointer + "\")");
     ctx.scene.rig.animations.push_back(std::move(animation));
   }
 }
