@@ -118,45 +118,41 @@ std::vector<std::pair<const char*, const TextureSlot*>> textureSlots(const Mater
           {"emissive", &m.emissiveTexture}};
 }
 
+// A texture slot as the report gives it: the texture index, or null for none.
+Json textureIndex(const TextureSlot& slot) {
+  return slot.texture >= 0 ? Json(slot.texture) : Json(nullptr);
+}
+
 // KHR_materials_sheen as the report gives it: null for a material drawn without a sheen.
 Json sheenJson(const Material& m) {
   if (!hasSheen(m)) return nullptr;
-  const auto texture = [](const TextureSlot& slot) {
-    return slot.texture >= 0 ? Json(slot.texture) : Json(nullptr);
-  };
   return {{"colorFactor",
            Json::array({jsonNumber(m.sheenColorFactor.r), jsonNumber(m.sheenColorFactor.g),
                         jsonNumber(m.sheenColorFactor.b)})},
           {"roughnessFactor", jsonNumber(m.sheenRoughnessFactor)},
-          {"colorTexture", texture(m.sheenColorTexture)},
-          {"roughnessTexture", texture(m.sheenRoughnessTexture)}};
+          {"colorTexture", textureIndex(m.sheenColorTexture)},
+          {"roughnessTexture", textureIndex(m.sheenRoughnessTexture)}};
 }
 
 // KHR_materials_specular as the report gives it: null for a material shaded without it.
 Json specularJson(const Material& m) {
   if (!hasDielectricSpecular(m)) return nullptr;
-  const auto texture = [](const TextureSlot& slot) {
-    return slot.texture >= 0 ? Json(slot.texture) : Json(nullptr);
-  };
   return {{"factor", jsonNumber(m.specularWeight)},
           {"colorFactor",
            Json::array({jsonNumber(m.specularColorFactor.r), jsonNumber(m.specularColorFactor.g),
                         jsonNumber(m.specularColorFactor.b)})},
-          {"texture", texture(m.specularTexture)},
-          {"colorTexture", texture(m.specularColorTexture)}};
+          {"texture", textureIndex(m.specularTexture)},
+          {"colorTexture", textureIndex(m.specularColorTexture)}};
 }
 
 // KHR_materials_clearcoat as the report gives it: null for a material drawn without the layer.
 Json clearcoatJson(const Material& m) {
   if (!hasClearcoat(m)) return nullptr;
-  const auto texture = [](const TextureSlot& slot) {
-    return slot.texture >= 0 ? Json(slot.texture) : Json(nullptr);
-  };
   return {{"factor", jsonNumber(m.clearcoatFactor)},
           {"roughnessFactor", jsonNumber(m.clearcoatRoughnessFactor)},
-          {"texture", texture(m.clearcoatTexture)},
-          {"roughnessTexture", texture(m.clearcoatRoughnessTexture)},
-          {"normalTexture", texture(m.clearcoatNormalTexture)},
+          {"texture", textureIndex(m.clearcoatTexture)},
+          {"roughnessTexture", textureIndex(m.clearcoatRoughnessTexture)},
+          {"normalTexture", textureIndex(m.clearcoatNormalTexture)},
           {"normalScale", jsonNumber(m.clearcoatNormalScale)}};
 }
 
@@ -233,8 +229,7 @@ Json toJson(const Info& info) {
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
     const Material& m = scene.materials[i];
     Json textures = Json::object();
-    for (const auto& [slot, texture] : textureSlots(m))
-      textures[slot] = texture->texture >= 0 ? Json(texture->texture) : Json(nullptr);
+    for (const auto& [slot, texture] : textureSlots(m)) textures[slot] = textureIndex(*texture);
     materials.push_back({{"index", i},
                          {"name", m.name},
                          {"alphaMode", toString(m.alphaMode)},

@@ -205,6 +205,17 @@ vec2 uvFor(int texCoord, mat3 transform) {
   return (transform * vec3(texCoord == 0 ? vIn.uv0 : vIn.uv1, 1.0)).xy;
 }
 
+// The normal a tangent-space normal map's `texel` gives at a point of interpolated normal N
+// (facing the camera's side of the surface), in the mesh's tangent frame; `axes` and `scale` as
+// uNormalTextureAxes and uNormalScale. The base material's and the clearcoat's maps alike.
+vec3 mappedNormal(vec3 N, vec3 texel, mat3 axes, float scale) {
+  vec3 T = normalize(vIn.worldTangent.xyz - N * dot(N, vIn.worldTangent.xyz));
+  vec3 B = cross(N, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
+  vec3 tangentNormal = texel * 2.0 - 1.0;
+  tangentNormal.xy = mat2(axes) * tangentNormal.xy * scale;
+  return normalize(mat3(T, B, N) * tangentNormal);
+}
+
 void main() {
   vec4 baseColor = uBaseColorFactor * vIn.color;
   if (uBaseColorTexCoord >= 0) baseColor *= texture(uBaseColorTexture, uvFor(uBaseColorTexCoord, uBaseColorUvTransform));
@@ -244,11 +255,8 @@ void main() {
   vec3 N = normalize(vIn.worldNormal);
   if (!gl_FrontFacing) N = -N;  // back faces are only drawn for double-sided materials
   if (uNormalTexCoord >= 0 && uHasTangents != 0) {
-    vec3 T = normalize(vIn.worldTangent.xyz - N * dot(N, vIn.worldTangent.xyz));
-    vec3 B = cross(N, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
-    vec3 tangentNormal = texture(uNormalTexture, uvFor(uNormalTexCoord, uNormalUvTransform)).xyz * 2.0 - 1.0;
-    tangentNormal.xy = mat2(uNormalTextureAxes) * tangentNormal.xy * uNormalScale;
-    N = normalize(mat3(T, B, N) * tangentNormal);
+    N = mappedNormal(N, texture(uNormalTexture, uvFor(uNormalTexCoord, uNormalUvTransform)).xyz,
+                     uNormalTextureAxes, uNormalScale);
   }
   vec3 facingNormal = dot(N, V) < 0.0 ? -N : N;
 
@@ -301,12 +309,10 @@ void main() {
   if (!gl_FrontFacing) Nc = -Nc;
 #ifdef CLEARCOAT_NORMAL_TEXTURE
   if (uClearcoatNormalTexCoord >= 0 && uHasTangents != 0) {
-    vec3 T = normalize(vIn.worldTangent.xyz - Nc * dot(Nc, vIn.worldTangent.xyz));
-    vec3 B = cross(Nc, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
-    vec3 tangentNormal = texture(uClearcoatNormalTexture,
-                                 uvFor(uClearcoatNormalTexCoord, uClearcoatNormalUvTransform)).xyz * 2.0 - 1.0;
-    tangentNormal.xy = mat2(uClearcoatNormalTextureAxes) * tangentNormal.xy * uClearcoatNormalScale;
-    Nc = normalize(mat3(T, B, Nc) * tangentNormal);
+    Nc = mappedNormal(Nc,
+                      texture(uClearcoatNormalTexture,
+                              uvFor(uClearcoatNormalTexCoord, uClearcoatNormalUvTransform)).xyz,
+                      uClearcoatNormalTextureAxes, uClearcoatNormalScale);
   }
 #endif
   Clearcoat coat = clearcoatAt(clamp(clearcoatFactor, 0.0, 1.0), clamp(clearcoatRoughness, 0.0, 1.0), Nc, V);

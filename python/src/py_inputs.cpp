@@ -63,6 +63,16 @@ std::optional<int> size(const py::object& value, const char* name) {
   return static_cast<int>(n);
 }
 
+// A selection the CLI takes as text, a name or an index: a str as it is, an int (not a bool)
+// in decimal, None as empty; anything else raises TypeError with `message`.
+std::string nameOrIndex(const py::object& value, const char* message) {
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::int_>(value) && !py::isinstance<py::bool_>(value))
+    return std::to_string(value.cast<long long>());
+  if (!value.is_none()) throw py::type_error(message);
+  return {};
+}
+
 }  // namespace
 
 PyScene loadScene(const std::string& path, const py::object& sceneIndex, const py::object& time,
@@ -74,22 +84,12 @@ PyScene loadScene(const std::string& path, const py::object& sceneIndex, const p
       throw py::type_error("time: expected a number of seconds or None");
     seconds = time.cast<double>();
   }
-  std::string clips;  // the CLI's --animation text: a name, an index or "all"
-  if (py::isinstance<py::str>(animation))
-    clips = animation.cast<std::string>();
-  else if (py::isinstance<py::int_>(animation) && !py::isinstance<py::bool_>(animation))
-    clips = std::to_string(animation.cast<long long>());
-  else if (!animation.is_none())
-    throw py::type_error("animation: expected a name, an index, \"all\" or None");
+  // The CLI's --animation text (a name, an index or "all") and --variant text.
+  const std::string clips =
+      nameOrIndex(animation, "animation: expected a name, an index, \"all\" or None");
   GltfLoadOptions options;
   options.allowExternalUris = allowExternalUris;
-  // The CLI's --variant text: a name, or an index.
-  if (py::isinstance<py::str>(variant))
-    options.materialVariant = variant.cast<std::string>();
-  else if (py::isinstance<py::int_>(variant) && !py::isinstance<py::bool_>(variant))
-    options.materialVariant = std::to_string(variant.cast<long long>());
-  else if (!variant.is_none())
-    throw py::type_error("variant: expected a name, an index or None");
+  options.materialVariant = nameOrIndex(variant, "variant: expected a name, an index or None");
   if (!sceneIndex.is_none()) {
     const long long index = sceneIndex.cast<long long>();
     if (index < 0 || index > 1'000'000'000)

@@ -71,17 +71,11 @@ const TextureSlot& ownSheenRoughnessSlot(const Scene& scene, const Material& des
   return image(color) == image(roughness) ? kNone : roughness;
 }
 
-// A KHR_materials_specular texture slot of a material, or none when the material is not shaded
-// with the extension.
-const TextureSlot& specularSlot(const Material& desc, const TextureSlot& slot) {
+// An extension's texture slot, or none when the material is not drawn with that extension
+// (hasClearcoat(), hasDielectricSpecular()).
+const TextureSlot& slotIf(bool drawn, const TextureSlot& slot) {
   static const TextureSlot kNone;
-  return hasDielectricSpecular(desc) ? slot : kNone;
-}
-
-// A clearcoat texture slot of a material, or none when the material draws no clearcoat.
-const TextureSlot& clearcoatSlot(const Material& desc, const TextureSlot& slot) {
-  static const TextureSlot kNone;
-  return hasClearcoat(desc) ? slot : kNone;
+  return drawn ? slot : kNone;
 }
 
 std::array<TextureUse, 13> textureUses(const Scene& scene, const Material& desc) {
@@ -90,6 +84,7 @@ std::array<TextureUse, 13> textureUses(const Scene& scene, const Material& desc)
   // its color in RGB (sRGB) and its roughness in A, unless the roughness is another image.
   const TextureSlot& specularOrMetallic =
       desc.specularGlossiness ? desc.specularGlossinessTexture : desc.metallicRoughnessTexture;
+  const bool clearcoat = hasClearcoat(desc), specular = hasDielectricSpecular(desc);
   return {{{&desc.baseColorTexture, true, &GpuMaterial::baseColor, &GpuMaterial::baseColorSampler},
            {&specularOrMetallic, desc.specularGlossiness, &GpuMaterial::metallicRoughness,
             &GpuMaterial::metallicRoughnessSampler},
@@ -99,15 +94,15 @@ std::array<TextureUse, 13> textureUses(const Scene& scene, const Material& desc)
            {&desc.transmissionTexture, false, &GpuMaterial::transmission,
             &GpuMaterial::transmissionSampler},
            {&sheenSlot(desc), true, &GpuMaterial::sheen, &GpuMaterial::sheenSampler},
-           {&clearcoatSlot(desc, desc.clearcoatTexture), false, &GpuMaterial::clearcoat,
+           {&slotIf(clearcoat, desc.clearcoatTexture), false, &GpuMaterial::clearcoat,
             &GpuMaterial::clearcoatSampler},
-           {&clearcoatSlot(desc, desc.clearcoatRoughnessTexture), false,
+           {&slotIf(clearcoat, desc.clearcoatRoughnessTexture), false,
             &GpuMaterial::clearcoatRoughness, &GpuMaterial::clearcoatRoughnessSampler},
-           {&clearcoatSlot(desc, desc.clearcoatNormalTexture), false, &GpuMaterial::clearcoatNormal,
+           {&slotIf(clearcoat, desc.clearcoatNormalTexture), false, &GpuMaterial::clearcoatNormal,
             &GpuMaterial::clearcoatNormalSampler},
-           {&specularSlot(desc, desc.specularTexture), false, &GpuMaterial::specular,
+           {&slotIf(specular, desc.specularTexture), false, &GpuMaterial::specular,
             &GpuMaterial::specularSampler},
-           {&specularSlot(desc, desc.specularColorTexture), true, &GpuMaterial::specularColor,
+           {&slotIf(specular, desc.specularColorTexture), true, &GpuMaterial::specularColor,
             &GpuMaterial::specularColorSampler},
            // Its A is linear either way; as sRGB it shares the texture with a sheen color of
            // another material that uses the image.

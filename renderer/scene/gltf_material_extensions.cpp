@@ -81,6 +81,18 @@ float unitNumber(const Context& ctx, const std::string& object, const tinygltf::
   return static_cast<float>(value);
 }
 
+// The layers (sheen, clearcoat) whose specifications exclude unlit and specular-glossiness
+// materials: such a material is drawn without `layer`, saying so. `where` names the extension.
+void warnIfExcluded(const Context& ctx, std::size_t index, const Material& material,
+                    const std::string& where, const char* layer) {
+  if (!material.unlit &&
+      !extensionOf(ctx.model.materials[index], "KHR_materials_pbrSpecularGlossiness"))
+    return;
+  ctx.warn(where + ": must not be used with " +
+           (material.unlit ? "KHR_materials_unlit" : "KHR_materials_pbrSpecularGlossiness") + "; " +
+           layer + " is not drawn");
+}
+
 // KHR_materials_specular: two factors and their textures.
 void applySpecular(const Context& ctx, std::size_t index, Material& material) {
   const tinygltf::Value* specular =
@@ -116,12 +128,7 @@ void applySheen(const Context& ctx, std::size_t index, Material& material) {
       slotFromValue(ctx, where + ".sheenColorTexture", sheen->Get("sheenColorTexture"));
   material.sheenRoughnessTexture =
       slotFromValue(ctx, where + ".sheenRoughnessTexture", sheen->Get("sheenRoughnessTexture"));
-  if (material.unlit ||
-      extensionOf(ctx.model.materials[index], "KHR_materials_pbrSpecularGlossiness")) {
-    ctx.warn(where + ": must not be used with " +
-             (material.unlit ? "KHR_materials_unlit" : "KHR_materials_pbrSpecularGlossiness") +
-             "; the sheen is not drawn");
-  }
+  warnIfExcluded(ctx, index, material, where, "the sheen");
 }
 
 // KHR_materials_clearcoat: two factors and three textures, each on a texture unit of its own.
@@ -143,12 +150,7 @@ void applyClearcoat(const Context& ctx, std::size_t index, Material& material) {
   if (normal.IsObject())
     material.clearcoatNormalScale =
         static_cast<float>(number(ctx, where + ".clearcoatNormalTexture", normal, "scale", 1.0));
-  if (material.unlit ||
-      extensionOf(ctx.model.materials[index], "KHR_materials_pbrSpecularGlossiness")) {
-    ctx.warn(where + ": must not be used with " +
-             (material.unlit ? "KHR_materials_unlit" : "KHR_materials_pbrSpecularGlossiness") +
-             "; the clearcoat is not drawn");
-  }
+  warnIfExcluded(ctx, index, material, where, "the clearcoat");
 }
 
 }  // namespace
