@@ -156,6 +156,15 @@ Json clearcoatJson(const Material& m) {
           {"normalScale", jsonNumber(m.clearcoatNormalScale)}};
 }
 
+// KHR_materials_transmission as the report gives it: null without a transmission factor; the
+// surface is drawn see-through where hasTransmission() says so, and tints shadows either way.
+Json transmissionJson(const Material& m) {
+  if (!(m.transmissionFactor > 0.0f)) return nullptr;
+  return {{"factor", jsonNumber(m.transmissionFactor)},
+          {"texture", textureIndex(m.transmissionTexture)},
+          {"seeThrough", hasTransmission(m)}};
+}
+
 glm::vec3 cameraPosition(const Camera& camera) {
   return glm::vec3(camera.world[3]);
 }
@@ -241,7 +250,8 @@ Json toJson(const Info& info) {
                          {"ior", jsonNumber(m.ior)},
                          {"specular", specularJson(m)},
                          {"sheen", sheenJson(m)},
-                         {"clearcoat", clearcoatJson(m)}});
+                         {"clearcoat", clearcoatJson(m)},
+                         {"transmission", transmissionJson(m)}});
   }
   doc["materials"] = materials;
 
@@ -400,6 +410,9 @@ void printText(const Info& info) {
     if (hasClearcoat(m))
       rows.back().push_back("clearcoat " + readable(m.clearcoatFactor) + " roughness " +
                             readable(m.clearcoatRoughnessFactor));
+    if (m.transmissionFactor > 0.0f)
+      rows.back().push_back("transmission " + readable(m.transmissionFactor) +
+                            (hasTransmission(m) ? "" : " (shadows only)"));
   }
   printTable(rows);
 

@@ -233,3 +233,20 @@ void addClearcoat(Clearcoat c, vec3 V, vec3 L, vec3 radiance, inout vec3 diffuse
               visibilitySmithGgxCorrelated(c.NdotV, NdotL, c.alpha) * NdotL * radiance;
 }
 #endif
+
+#ifdef TRANSMISSION
+// KHR_materials_transmission's specular BTDF for a thin wall, as the Khronos sample viewer
+// writes it: light from L on the far side of the surface leaves towards V through a GGX lobe of
+// `alpha` around the straight line through the wall (no refraction: the wall is thin; there,
+// V = -L, the half vector of V and L mirrored to the camera's side is N). Zero for a light on the
+// camera's side. The caller weights it by transmission x base color.
+vec3 transmittedRadiance(vec3 N, vec3 V, vec3 L, vec3 radiance, float alpha) {
+  float NdotL = dot(N, L);
+  if (NdotL >= 0.0) return vec3(0.0);
+  vec3 mirrored = L - 2.0 * NdotL * N;
+  float NdotH = max(dot(N, normalize(mirrored + V)), 0.0);
+  float NdotV = max(dot(N, V), 1e-4);
+  return distributionGgx(NdotH, alpha) * visibilitySmithGgxCorrelated(NdotV, -NdotL, alpha) *
+         -NdotL * radiance;
+}
+#endif

@@ -9,7 +9,8 @@
 // SHEEN, SHEEN_TEXTURE and SHEEN_ROUGHNESS_TEXTURE (KHR_materials_sheen, its texture, and a
 // roughness texture of another image), DIELECTRIC_SPECULAR and SPECULAR_<TEXTURE>
 // (KHR_materials_specular and each of its textures), CLEARCOAT and CLEARCOAT_<TEXTURE>
-// (KHR_materials_clearcoat and each of its textures).
+// (KHR_materials_clearcoat and each of its textures), TRANSMISSION and TRANSMISSION_TEXTURE
+// (KHR_materials_transmission, thin-walled, and its texture).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -120,6 +121,23 @@ uniform int uClearcoatNormalTexCoord;
 uniform mat3 uClearcoatNormalUvTransform;
 uniform mat3 uClearcoatNormalTextureAxes;  // as uNormalTextureAxes
 uniform float uClearcoatNormalScale;
+#endif
+#endif
+#ifdef TRANSMISSION
+// KHR_materials_transmission, thin-walled: the surface lets through transmission x base color
+// of what lies behind it, as the frame's opaque surfaces drew it (uSceneBehind, premultiplied,
+// at this pixel: no refraction offset; a rough surface reads a coarser level, as the Khronos
+// sample viewer does), and of the lights behind it (a GGX lobe around the view direction).
+uniform float uTransmissionFactor;
+uniform float uIor;
+layout(binding = SCENE_BEHIND_UNIT) uniform sampler2D uSceneBehind;
+#ifdef TRANSMISSION_TEXTURE
+layout(binding = SURFACE_TRANSMISSION_UNIT) uniform sampler2D uTransmissionTexture;  // R
+uniform int uTransmissionTexCoord;
+uniform mat3 uTransmissionUvTransform;
+#endif
+#if defined(WRITE_SRGB8)
+#error "see-through surfaces read the float beauty: the 8-bit one cannot draw them"
 #endif
 #endif
 // Material variants (renderer/passes/lighting_pass.cpp): the texture slots and the BRDF a
@@ -318,18 +336,59 @@ void main() {
   Clearcoat coat = clearcoatAt(clamp(clearcoatFactor, 0.0, 1.0), clamp(clearcoatRoughness, 0.0, 1.0), Nc, V);
 #endif
 
+#ifdef TRANSMISSION
+  float transmission = uTransmissionFactor;
+#ifdef TRANSMISSION_TEXTURE
+  if (uTransmissionTexCoord >= 0)
+    transmission *= texture(uTransmissionTexture, uvFor(uTransmissionTexCoord, uTransmissionUvTransform)).r;
+#endif
+  transmission = uUnlit != 0 ? 0.0 : clamp(transmission, 0.0, 1.0);
+  // The dielectric part alone lets light through, and only what its Fresnel towards the camera
+  // does not reflect: each light's diffuse keeps 1 - transmission, and `through` x base color
+  // of the light from behind comes in its place.
+#ifdef DIELECTRIC_SPECULAR
+  vec3 throughF0 = min(uDielectricF0 * specularColorFactor, vec3(1.0)) * specularWeight;
+  vec3 throughF = throughF0 + (vec3(specularWeight) - throughF0) *
+                                  fresnelSchlick(vec3(0.0), max(dot(N, V), 0.0)).r;
+  float transmitted = 1.0 - max(throughF.r, max(throughF.g, throughF.b));
+#else
+  float transmitted = 1.0 - fresnelSchlick(vec3(uDielectricF0), max(dot(N, V), 0.0)).r;
+#endif
+  float through = transmission * (1.0 - metallic) * transmitted;
+  // The specification's roughness of the transmission lobe: none at an ior of 1.
+  float throughRoughness = roughness * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
+  float throughAlpha = max(throughRoughness * throughRoughness, 1e-3);
+  vec3 ambientBase = baseColor.rgb * (1.0 - transmission * (1.0 - metallic));
+#else
+  vec3 ambientBase = baseColor.rgb;
+#endif
   float cameraDistance = length(uCameraPosition - vIn.worldPosition);
 #ifdef SHEEN
   // Towards the camera, the sheen reflects E(N.V) of light arriving evenly from everywhere (the
   // ambient), and leaves 1 - max(sheenColor) E(N.V) of it to the base material.
-  vec3 color = uAmbient * (baseColor.rgb * sheen.scalingV + sheenColor * sheen.albedoV) * occlusion + emissive;
+  vec3 color = uAmbient * (ambientBase * sheen.scalingV + sheenColor * sheen.albedoV) * occlusion + emissive;
 #else
-  vec3 color = uAmbient * baseColor.rgb * occlusion + emissive;
+  vec3 color = uAmbient * ambientBase * occlusion + emissive;
 #endif
 #ifdef CLEARCOAT
   // The layer reflects the ambient with its weight (its lobe's albedo taken as 1) and covers
   // the emission and the ambient the layers below reflect.
   color = color * (1.0 - coat.weight) + coat.weight * uAmbient * occlusion;
+#endif
+#ifdef TRANSMISSION
+  // What comes through from behind, under the sheen and the clearcoat; the fraction of the
+  // background it lets through also sets the pixel's coverage (below).
+  vec3 throughFactor = through * baseColor.rgb;
+#ifdef SHEEN
+  throughFactor *= sheen.scalingV;
+#endif
+#ifdef CLEARCOAT
+  throughFactor *= 1.0 - coat.weight;
+#endif
+  vec2 behindSize = vec2(textureSize(uSceneBehind, 0));
+  vec4 behind = textureLod(uSceneBehind, gl_FragCoord.xy / behindSize,
+                           log2(max(behindSize.x, behindSize.y)) * throughRoughness);
+  color += throughFactor * behind.rgb;
 #endif
 #ifdef WRITE_AOVS
   float visibility[4 * VISIBILITY_OUTPUTS];
@@ -385,6 +444,9 @@ void main() {
     bool awayFromLight = dot(N, toLight) <= -1e-4 * length(toLight);
 #ifdef CLEARCOAT
     awayFromLight = awayFromLight && dot(coat.N, toLight) <= -1e-4 * length(toLight);
+#endif
+#ifdef TRANSMISSION
+    awayFromLight = false;  // a light behind the surface shines through it
 #endif
     if (ballotARB(!awayFromLight) != 0ul) groupLights |= 1u << uint(i);
   }
@@ -461,6 +523,10 @@ void main() {
       shadePbr(N, V, L, radiance, baseColor.rgb, metallic, roughness, uDielectricF0, diffuse,
                specular);
 #endif
+#ifdef TRANSMISSION
+    diffuse = diffuse * (1.0 - transmission) +
+              through * baseColor.rgb * transmittedRadiance(N, V, L, radiance, throughAlpha);
+#endif
 #ifdef SHEEN
     addSheen(sheen, N, V, L, radiance, diffuse, specular);
 #endif
@@ -497,7 +563,13 @@ void main() {
   // The float the RGBA32F target would hold, scaled as the CPU scales it: the same products.
   outBeauty = srgb8((color * alpha) * uExposureScale);
 #elif !defined(WRITE_IDS)
+#if defined(TRANSMISSION) && !defined(DEBUG_VIEWS)
+  // Premultiplied already (what shows from behind came with its coverage): the surface covers
+  // all but what it lets through of the background where nothing lies behind it.
+  outBeauty = vec4(color, 1.0 - (1.0 - behind.a) * (throughFactor.r + throughFactor.g + throughFactor.b) / 3.0);
+#else
   outBeauty = vec4(color * alpha, alpha);  // premultiplied, A = coverage
+#endif
 #endif
 #ifdef WRITE_AOVS
   outPositionDistance = vec4(vIn.worldPosition, cameraDistance);

@@ -182,7 +182,7 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   ASSERT_FALSE(doc["materials"].empty());
   EXPECT_EQ(keys(doc["materials"][0]),
             (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "model", "textures",
-                  "ior", "specular", "sheen", "clearcoat"}));
+                  "ior", "specular", "sheen", "clearcoat", "transmission"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
@@ -494,6 +494,40 @@ TEST_F(InfoTest, ReportsEachMaterialsClearcoatAndSpecular) {
   EXPECT_TRUE(
       contains(r.out, "no textures  specular 1 color 1,1,1  clearcoat 0.75 roughness 0.125\n"))
       << r.out;
+}
+
+// KHR_materials_transmission: the factor and texture, and whether the surface is drawn
+// see-through (not when BLEND: its alpha blends it, and the transmission tints shadows alone);
+// null without a factor. The text rows end with the factor.
+TEST_F(InfoTest, ReportsEachMaterialsTransmission) {
+  GltfBuilder b;
+  const int texture = b.addTexture(1, 1, {255, 128, 0, 255}, "glass");
+  const int glass = b.addMaterial({.name = "glass"});
+  builder::MaterialDesc blendDesc{.name = "film"};
+  blendDesc.alphaMode = "BLEND";
+  const int film = b.addMaterial(blendDesc);
+  b.addMaterial({.name = "bare"});
+  using Value = tinygltf::Value;
+  b.model().materials[glass].extensions["KHR_materials_transmission"] = Value(
+      Value::Object{{"transmissionFactor", Value(0.75)},
+                    {"transmissionTexture", Value(Value::Object{{"index", Value(texture)}})}});
+  b.model().materials[film].extensions["KHR_materials_transmission"] =
+      Value(Value::Object{{"transmissionFactor", Value(0.5)}});
+  b.model().extensionsUsed = {"KHR_materials_transmission"};
+  b.addNode("box", {}, b.addMesh(builder::makeBox(glm::vec3(1.0f)), {.material = glass}));
+  const fs::path path = input("glass.gltf");
+  b.write(path, FileFormat::GltfEmbedded);
+  const Json doc = info({path.string()});
+  ASSERT_EQ(doc["materials"].size(), 3u);
+  EXPECT_EQ(doc["materials"][0]["transmission"],
+            Json::parse(R"({"factor": 0.75, "texture": 0, "seeThrough": true})"));
+  EXPECT_EQ(doc["materials"][1]["transmission"],
+            Json::parse(R"({"factor": 0.5, "texture": null, "seeThrough": false})"));
+  EXPECT_TRUE(doc["materials"][2]["transmission"].is_null());
+  const Run r = run({"info", path.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "no textures  transmission 0.75\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, "transmission 0.5 (shadows only)\n")) << r.out;
 }
 
 TEST_F(InfoTest, UsageErrorsNameTheInfoHelp) {

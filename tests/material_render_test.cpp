@@ -1,8 +1,9 @@
 // Material extensions as rendered: KHR_texture_transform in the lighting pass (the Khronos
 // TextureTransformTest, texel by texel) and in the shadow pass's alpha test,
 // KHR_materials_pbrSpecularGlossiness against its BRDF worked out by hand, and
-// KHR_materials_sheen and KHR_materials_clearcoat against their specifications' formulas
-// evaluated here. Small frames on whatever EGL gives (llvmpipe in CI).
+// KHR_materials_sheen, KHR_materials_clearcoat and KHR_materials_transmission (see-through,
+// thin-walled) against their specifications' formulas evaluated here. Small frames on whatever
+// EGL gives (llvmpipe in CI).
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
@@ -1197,6 +1198,229 @@ TEST(SheenRender, ARoughnessTextureOfAnotherImageMultipliesItsFactor) {
     }
   EXPECT_GT(floorPixels, 100);
   EXPECT_GT(readShows, floorPixels / 4);  // where not reading the texture would show
+}
+
+// KHR_materials_transmission, drawn see-through (thin-walled). The tests' glass: a 4 m pane at
+// y = 0 of `in`, over a 12 m floor at y = -1 of `floorColor` (none when its alpha is 0), both
+// single-sided and facing up; `extend` changes the file before it is written.
+struct GlassInputs {
+  glm::vec3 base{0.9f, 0.7f, 0.5f};
+  float roughness = 0.5f;
+  float transmission = 1.0f;
+  float ior = 1.5f;
+};
+
+Scene glassOverFloor(const fs::path& file, const GlassInputs& in, glm::vec4 floorColor,
+                     const std::function<void(GltfBuilder&)>& extend = {}) {
+  GltfBuilder builder;
+  MaterialDesc glass;
+  glass.baseColor = glm::vec4(in.base, 1.0f);
+  glass.roughness = in.roughness;
+  PrimitiveOptions options;
+  options.material = builder.addMaterial(glass);
+  Value::Object transmission{{"transmissionFactor", Value(in.transmission)}};
+  builder.model().materials[0].extensions["KHR_materials_transmission"] =
+      Value(std::move(transmission));
+  builder.model().extensionsUsed = {"KHR_materials_transmission"};
+  if (in.ior != 1.5f) {
+    builder.model().materials[0].extensions["KHR_materials_ior"] =
+        Value(Value::Object{{"ior", Value(in.ior)}});
+    builder.model().extensionsUsed.push_back("KHR_materials_ior");
+  }
+  builder.addNode("glass", {}, builder.addMesh(builder::makePlane(4.0f), options));
+  if (floorColor.a > 0.0f) {
+    MaterialDesc floor;
+    floor.baseColor = floorColor;
+    floor.roughness = 1.0f;
+    options.material = builder.addMaterial(floor);
+    builder.addNode("floor", {glm::vec3(0.0f, -1.0f, 0.0f)},
+                    builder.addMesh(builder::makePlane(12.0f), options));
+  }
+  if (extend) extend(builder);
+  builder.write(file, FileFormat::GltfEmbedded);
+  Scene scene = loadGltf(file);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  return scene;
+}
+
+// Schlick's Fresnel of F0 0.04 (ior 1.5) at cos `c`.
+float fresnel004(float c) {
+  return 0.04f + 0.96f * std::pow(1.0f - std::clamp(c, 0.0f, 1.0f), 5.0f);
+}
+
+// A sun below a clear-ish glass pane seen from above, across it (nothing but a black floor
+// behind): every pixel is the light the specification's thin-walled BTDF lets through towards
+// the camera (a GGX lobe of (roughness x clamp(2 ior - 2, 0, 1))^2 around the straight line
+// through the pane), times transmission x base color x what Fresnel towards the camera leaves,
+// within 1%, in the beauty and the AOV pass; with a transmission of 0 the pane is black there.
+TEST(TransmissionRender, ALightBehindThePaneShinesThroughItAsTheBtdfSays) {
+  test_support::TempFolder folder("omnishadow-transmission-btdf");
+  const GlassInputs in;
+  const Scene scene = glassOverFloor(folder / "glass.gltf", in, glm::vec4(0, 0, 0, 1));
+  ASSERT_TRUE(hasTransmission(scene.materials[0]));
+  const glm::vec3 towardsSun = glm::normalize(glm::vec3(-0.1f, -0.35f, -1.0f));
+  Light sun = sunAlong(-towardsSun, 3.0f);
+  sun.shadow.enabled = false;
+  const glm::vec3 eye(0.0f, 1.5f, 4.5f), N(0, 1, 0);
+  const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 48, 32, 30.0f);
+  const auto through = [&](glm::vec3 V, float transmission) {
+    const float NdotL = glm::dot(N, towardsSun);
+    const glm::vec3 mirrored = towardsSun - 2.0f * NdotL * N;
+    const float alpha = in.roughness * in.roughness;
+    const float lobe = ggxLobe(std::max(glm::dot(N, glm::normalize(mirrored + V)), 0.0f),
+                               std::max(glm::dot(N, V), 1e-4f), -NdotL, alpha);
+    return transmission * (1.0f - fresnel004(glm::dot(N, V))) * in.base * lobe * -NdotL * 3.0f;
+  };
+  for (const bool aovs : {true, false}) {
+    const auto [frame, withAovs] = renderFloorFrame(scene, sun, 0.0f, camera, aovs);
+    int changed = 0;
+    const int checked = expectFloorPixels(
+        frame, *withAovs.aovs, eye, [&](glm::vec3 V) { return through(V, 1.0f); },
+        [&](glm::vec3 V) { return through(V, 0.0f); }, changed, aovs ? "AOV pass" : "beauty pass");
+    EXPECT_GT(checked, 300);
+    EXPECT_GT(changed, checked / 2);
+  }
+}
+
+// The floor behind a pane, seen straight down through it (the sun to one side, no shadows, so
+// that the pane's own highlight misses the camera): a clear pane shows the floor's pixel times
+// transmission x base color x (1 - Fresnel); half the transmission shows half of that over half
+// the pane's own diffuse; an opaque pane's pixel is its diffuse alone. Where nothing lies behind
+// the pane, its coverage is 1 minus the fraction of the background it lets through.
+TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsThrough) {
+  test_support::TempFolder folder("omnishadow-transmission-floor");
+  const glm::vec3 floorColor(0.2f, 0.5f, 0.3f);
+  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
+  Light sun = sunAlong(-towardsSun, 3.0f);
+  sun.shadow.enabled = false;
+  const float ambient = 0.1f;
+  const auto frameOf = [&](const Scene& scene, glm::vec3 eye, RenderSettings settings = {}) {
+    const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 16, 16,
+                                       2.0f * glm::degrees(std::atan(0.2f / eye.y)), {0, 0, -1});
+    StageTimes times;
+    return sharedRenderer().render(scene, {sun}, glm::vec3(ambient), camera, settings, times);
+  };
+  const glm::vec3 eye(0.0f, 100.0f, 0.0f);
+  // The floor alone: the pane's extension makes it see-through, and a transmission of 1 and a
+  // white base over the floor leave (1 - F0) of the floor's radiance.
+  GlassInputs clear;
+  clear.roughness = 0.0f;
+  const Frame bare = frameOf(glassOverFloor(folder / "bare.gltf", clear, glm::vec4(floorColor, 1),
+                                            [](GltfBuilder& b) { b.model().nodes[0].mesh = -1; }),
+                             eye);
+  const glm::vec3 floorPixel(bare.beauty.at(8, 8, 0), bare.beauty.at(8, 8, 1),
+                             bare.beauty.at(8, 8, 2));
+  ASSERT_GT(floorPixel.g, 0.1f);
+  const float NdotL = towardsSun.y;
+  const float VdotH = glm::dot(glm::vec3(0, 1, 0), glm::normalize(towardsSun + glm::vec3(0, 1, 0)));
+  for (const float transmission : {1.0f, 0.5f, 0.0f}) {
+    GlassInputs in;
+    in.roughness = 0.0f;
+    in.transmission = transmission;
+    const Frame frame =
+        frameOf(glassOverFloor(folder / ("t" + std::to_string(transmission) + ".gltf"), in,
+                               glm::vec4(floorColor, 1)),
+                eye);
+    const glm::vec3 diffuse =
+        (1.0f - fresnel004(VdotH)) * in.base / kPi * 3.0f * NdotL + ambient * in.base;
+    const glm::vec3 expected = (1.0f - transmission) * diffuse +
+                               transmission * (1.0f - fresnel004(1.0f)) * in.base * floorPixel;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(frame.beauty.at(8, 8, c), expected[c], 0.01f * expected[c])
+          << "transmission " << transmission << " channel " << c;
+    EXPECT_EQ(frame.beauty.at(8, 8, 3), 1.0f);
+  }
+  // Nothing behind: the pane covers 1 - transmission x (1 - F0) x mean(base color) of the pixel,
+  // and its color holds no background.
+  const Frame alone = frameOf(glassOverFloor(folder / "alone.gltf", clear, glm::vec4(0.0f)), eye);
+  const float letThrough =
+      (1.0f - fresnel004(1.0f)) * (clear.base.r + clear.base.g + clear.base.b) / 3.0f;
+  EXPECT_NEAR(alone.beauty.at(8, 8, 3), 1.0f - letThrough, 1e-3f);
+  // The 8-bit beauty is not drawn for such a frame: the float one is, and encoded after.
+  RenderSettings srgb8;
+  srgb8.srgb8Exposure = 0.0f;
+  const Frame encoded =
+      frameOf(glassOverFloor(folder / "encoded.gltf", clear, glm::vec4(floorColor, 1)), eye, srgb8);
+  EXPECT_FALSE(encoded.srgb8.has_value());
+  ASSERT_FALSE(encoded.beauty.pixels.empty());
+}
+
+// Roughness blurs what shows through: across the seam of a red and a green floor, a rough pane's
+// pixels near the seam mix both colors where a clear pane's stay one; with an ior of 1 the
+// specification takes the roughness away, and the pane shows the seam sharp again.
+TEST(TransmissionRender, RoughnessBlursWhatShowsThroughUnlessTheIorIsOne) {
+  test_support::TempFolder folder("omnishadow-transmission-blur");
+  // Tilted 35 degrees along the picture's short side, so that a clear pane's mirror image of
+  // the sun lies outside the picture.
+  Light sun = sunAlong(glm::normalize(glm::vec3(0.0f, -1.0f, 0.7f)), 3.0f);
+  sun.shadow.enabled = false;
+  const auto seamPixels = [&](const GlassInputs& in, const std::string& name) {
+    const Scene scene =
+        glassOverFloor(folder / (name + ".gltf"), in, glm::vec4(0.8f, 0, 0, 1), [](GltfBuilder& b) {
+          MaterialDesc green;
+          green.baseColor = glm::vec4(0, 0.8f, 0, 1);
+          green.roughness = 1.0f;
+          PrimitiveOptions options;
+          options.material = b.addMaterial(green);
+          b.addNode("green", {glm::vec3(3.0f, -0.999f, 0.0f)},
+                    b.addMesh(builder::makePlane(6.0f), options));
+        });
+    const ViewCamera camera = lookFrom(scene, {0, 10, 0}, {0, 0, 0}, 64, 16, 20.0f, {0, 0, -1});
+    StageTimes times;
+    const Frame frame =
+        sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, RenderSettings{}, times);
+    int mixed = 0;  // pixels where both red and green show
+    for (int x = 0; x < 64; ++x)
+      if (frame.beauty.at(x, 8, 0) > 0.02f && frame.beauty.at(x, 8, 1) > 0.02f) ++mixed;
+    return mixed;
+  };
+  GlassInputs rough;
+  rough.roughness = 1.0f;
+  GlassInputs clear = rough;
+  clear.roughness = 0.0f;
+  GlassInputs airy = rough;
+  airy.ior = 1.0f;
+  EXPECT_LE(seamPixels(clear, "clear"), 1);
+  EXPECT_GE(seamPixels(rough, "rough"), 6);
+  EXPECT_LE(seamPixels(airy, "airy"), 1);
+}
+
+// The pane is a surface for everything but its color: the AOVs give its point and normal, the
+// ids its object; the Phong shading draws it as its base material (opaque); and a frame is the
+// same bits every time it is drawn.
+TEST(TransmissionRender, AovsAndIdsSeeThePaneAndPhongDrawsItOpaque) {
+  test_support::TempFolder folder("omnishadow-transmission-aovs");
+  GlassInputs in;
+  const Scene scene = glassOverFloor(folder / "glass.gltf", in, glm::vec4(0.2f, 0.5f, 0.3f, 1));
+  Light sun = sunAlong(glm::normalize(glm::vec3(-0.5f, -1.0f, 0.0f)), 3.0f);
+  const ViewCamera camera = lookFrom(scene, {0, 5, 0}, {0, 0, 0}, 16, 16, 20.0f, {0, 0, -1});
+  RenderSettings settings;
+  settings.objectIds = true;
+  const Frame frame = render(scene, {sun}, camera);
+  ASSERT_TRUE(frame.aovs.has_value());
+  EXPECT_NEAR(worldAt(*frame.aovs, 8, 8).y, 0.0f, 1e-4f);
+  const Frame again = render(scene, {sun}, camera);
+  EXPECT_EQ(frame.beauty.pixels, again.beauty.pixels);
+  EXPECT_EQ(frame.aovs->pixels, again.aovs->pixels);
+  StageTimes times;
+  const Frame ids = sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, settings, times);
+  ASSERT_TRUE(ids.objectIds.has_value());
+  EXPECT_EQ(ids.objectIds->at(8, 8, 0), 0.0f);  // the pane, draw 0
+  // Phong: the pane as if it had no extension (unshadowed: the two panes cast different
+  // shadows, translucent and opaque).
+  sun.shadow.enabled = false;
+  settings = {};
+  settings.shading = Shading::Phong;
+  const Frame phong =
+      sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, settings, times);
+  const Scene plain =
+      glassOverFloor(folder / "plain.gltf", in, glm::vec4(0.2f, 0.5f, 0.3f, 1), [](GltfBuilder& b) {
+        b.model().materials[0].extensions.clear();
+        b.model().extensionsUsed.clear();
+      });
+  const Frame plainPhong =
+      sharedRenderer().render(plain, {sun}, glm::vec3(0.0f), camera, settings, times);
+  EXPECT_EQ(phong.beauty.pixels, plainPhong.beauty.pixels);
 }
 
 }  // namespace

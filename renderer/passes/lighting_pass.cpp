@@ -53,10 +53,15 @@ constexpr unsigned kClearcoatNormalTextureBit = kClearcoatRoughnessTextureBit <<
 constexpr unsigned kSpecularTextureBit = kClearcoatNormalTextureBit << 1;
 constexpr unsigned kSpecularColorTextureBit = kSpecularTextureBit << 1;
 constexpr unsigned kSheenRoughnessTextureBit = kSpecularColorTextureBit << 1;
+// KHR_materials_transmission drawn see-through (it reads the scene behind on a unit of its
+// own), and its texture.
+constexpr unsigned kTransmissionBit = kSheenRoughnessTextureBit << 1;
+constexpr unsigned kTransmissionTextureBit = kTransmissionBit << 1;
 // The material extensions' texture units, which a frame whose shadow arrays need them takes.
 constexpr unsigned kExtensionTextureBits = kClearcoatTextureBit | kClearcoatRoughnessTextureBit |
                                            kClearcoatNormalTextureBit | kSpecularTextureBit |
-                                           kSpecularColorTextureBit | kSheenRoughnessTextureBit;
+                                           kSpecularColorTextureBit | kSheenRoughnessTextureBit |
+                                           kTransmissionBit | kTransmissionTextureBit;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -80,6 +85,11 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     if (material & kClearcoatTextureBit) defines.push_back("CLEARCOAT_TEXTURE");
     if (material & kClearcoatRoughnessTextureBit) defines.push_back("CLEARCOAT_ROUGHNESS_TEXTURE");
     if (material & kClearcoatNormalTextureBit) defines.push_back("CLEARCOAT_NORMAL_TEXTURE");
+  }
+  // LightingPass::drawnThrough() leaves the bit out of Phong frames.
+  if (material & kTransmissionBit) {
+    defines.push_back("TRANSMISSION");
+    if (material & kTransmissionTextureBit) defines.push_back("TRANSMISSION_TEXTURE");
   }
   if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
   if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
@@ -327,6 +337,14 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
           m.clearcoatNormal, m.clearcoatNormalSampler, d.clearcoatNormalTexture,
           kClearcoatNormalTextureBit}});
   }
+  if (variant & kTransmissionBit) {
+    program.set("uTransmissionFactor", d.transmissionFactor);
+    program.set("uIor", d.ior);
+    bindExtensionTextures(
+        program, variant,
+        {{"uTransmissionTexCoord", "uTransmissionUvTransform", contract::kSurfaceTransmissionUnit,
+          m.transmission, m.transmissionSampler, d.transmissionTexture, kTransmissionTextureBit}});
+  }
   if (!hasSheen(d)) return;
   program.set("uSheenColorFactor", d.sheenColorFactor);
   program.set("uSheenRoughnessFactor", d.sheenRoughnessFactor);
@@ -493,6 +511,10 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
     variant |= kSheenBit | (material.sheen != 0 ? kSheenTextureBit : 0u);
     if (material.sheenRoughness != 0) variant |= kSheenRoughnessTextureBit;
   }
+  if (drawnThrough(material)) {
+    variant |= kTransmissionBit;
+    if (material.transmission != 0) variant |= kTransmissionTextureBit;
+  }
   if (hasClearcoat(material.desc)) {
     variant |= kClearcoatBit;
     if (material.clearcoat != 0) variant |= kClearcoatTextureBit;
@@ -503,6 +525,51 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
   // factors.
   if (!shadowUnits_.extensionTextures) variant &= ~kExtensionTextureBits;
   return variant;
+}
+
+bool LightingPass::drawnThrough(const GpuMaterial& material) const {
+  return hasTransmission(material.desc) && shading_ != Shading::Phong &&
+         shadowUnits_.extensionTextures;
+}
+
+LightingPass::DrawSet LightingPass::drawSet(const GpuMaterial& material) const {
+  if (drawnThrough(material)) return DrawSet::SeeThrough;
+  const AlphaMode mode = material.desc.alphaMode;
+  return mode == AlphaMode::Opaque ? DrawSet::Opaque
+         : mode == AlphaMode::Mask ? DrawSet::Masked
+                                   : DrawSet::Blended;
+}
+
+bool LightingPass::drawsSeeThrough(const GpuScene& scene) const {
+  for (const GpuDraw& draw : scene.draws())
+    if (drawnThrough(scene.materials()[draw.material])) return true;
+  return false;
+}
+
+void LightingPass::copySceneBehind(const FrameTargets& targets) {
+  const int w = targets.width(), h = targets.height();
+  if (!sceneBehind_ || behindWidth_ != w || behindHeight_ != h) {
+    // Half floats: what shows through is tinted and, on rough surfaces, blurred; the levels
+    // down to 1x1 let the roughest read an average of the whole frame.
+    const int levels = 1 + static_cast<int>(std::floor(std::log2(std::max(w, h))));
+    sceneBehind_ = gl::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(sceneBehind_.get(), levels, GL_RGBA16F, w, h);
+    glTextureParameteri(sceneBehind_.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(sceneBehind_.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(sceneBehind_.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(sceneBehind_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    behindFramebuffer_ = gl::createFramebuffer();
+    glNamedFramebufferTexture(behindFramebuffer_.get(), GL_COLOR_ATTACHMENT0, sceneBehind_.get(),
+                              0);
+    behindWidth_ = w;
+    behindHeight_ = h;
+  }
+  glNamedFramebufferReadBuffer(targets.framebuffer(), GL_COLOR_ATTACHMENT0);
+  glBlitNamedFramebuffer(targets.framebuffer(), behindFramebuffer_.get(), 0, 0, w, h, 0, 0, w, h,
+                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glGenerateTextureMipmap(sceneBehind_.get());
+  glBindTextureUnit(contract::kSceneBehindUnit, sceneBehind_.get());
+  glBindSampler(contract::kSceneBehindUnit, 0);
 }
 
 const ShaderProgram& LightingPass::program(unsigned variant) {
@@ -687,10 +754,7 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     const std::size_t index = sorted ? blendedOrder_[k] : k;
     const GpuDraw& draw = scene.draws()[index];
     const GpuMaterial& material = scene.materials()[draw.material];
-    const AlphaMode mode = material.desc.alphaMode;
-    const DrawSet drawSet = mode == AlphaMode::Opaque ? DrawSet::Opaque
-                            : mode == AlphaMode::Mask ? DrawSet::Masked
-                                                      : DrawSet::Blended;
+    const DrawSet drawSet = this->drawSet(material);
     if (drawSet != set) continue;
     // GL does not blend into integer targets: the renderer gives frames with blended surfaces
     // the float target.
@@ -838,6 +902,14 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.depth = gl::DepthState{};
   state.depth.apply();
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
+  // See-through surfaces over what the opaque and masked ones drew, which they read (the ids
+  // pass has no beauty to read: they are opaque there).
+  if (drawsSeeThrough(scene)) {
+    if (writesSrgb8(outputs_))
+      throw std::logic_error("the 8-bit beauty pass cannot draw see-through surfaces");
+    if (outputs_ != PassOutputs::Ids) copySceneBehind(targets);
+    drawScene(scene, DrawSet::SeeThrough, nullptr, uniforms);
+  }
 
   // Blended surfaces over the opaque frame, farthest first; the AOVs, layers and ids keep the
   // opaque surfaces (the ids take the blended ones' coverage alone).

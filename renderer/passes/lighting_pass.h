@@ -210,7 +210,8 @@ class LightingPass {
   // when it first draws with it).
   void compileMaterialVariants(const GpuScene& scene);
 
-  // Draws opaque and masked surfaces, then blended ones (unsorted, depth writes off, AOV
+  // Draws opaque and masked surfaces, then see-through ones (KHR_materials_transmission, over a
+  // copy of what the others drew), then blended ones (farthest first, depth writes off, AOV
   // targets untouched); layer passes draw no blended surfaces.
   void render(const GpuScene& scene, const ViewCamera& camera,
               const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
@@ -245,7 +246,16 @@ class LightingPass {
   // the texture reads and BRDFs the material cannot use.
   unsigned materialVariant(const GpuMaterial& material) const;
   const ShaderProgram& program(unsigned variant);
-  enum class DrawSet { Opaque, Masked, Blended };
+  // Opaque and masked draws, those drawn see-through (drawnThrough) after them, and blended ones.
+  enum class DrawSet { Opaque, Masked, SeeThrough, Blended };
+  DrawSet drawSet(const GpuMaterial& material) const;
+  // Whether `material` is drawn see-through (hasTransmission): not in Phong frames, which draw
+  // the base material alone, nor in frames whose shadow arrays took the extensions' units.
+  bool drawnThrough(const GpuMaterial& material) const;
+  bool drawsSeeThrough(const GpuScene& scene) const;
+  // Copies the beauty drawn so far (the opaque and masked surfaces) into sceneBehind_ with its
+  // mipmaps, and binds it where see-through surfaces read it.
+  void copySceneBehind(const FrameTargets& targets);
   // depthOnly: that program for every draw; null: each material's lighting variant, whose
   // frame uniforms `uniforms` sets on first use. Blended draws go in blendedOrder_, a double-sided
   // one as two draws: back faces, then front faces.
@@ -264,6 +274,9 @@ class LightingPass {
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;
   ClusterBoxCache clusterBoxes_;
+  gl::Texture sceneBehind_;  // copySceneBehind(), RGBA16F with mipmaps, kept while the size is
+  gl::Framebuffer behindFramebuffer_;
+  int behindWidth_ = 0, behindHeight_ = 0;
   gl::Query prepassFragments_, shadedFragments_;  // GL_SAMPLES_PASSED, made on first use
   bool counted_ = false;                          // the last render() counted them
 };

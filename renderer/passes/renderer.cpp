@@ -103,12 +103,13 @@ Srgb8Image readSrgb8(const FrameTargets& targets, bool glRowOrder) {
 }
 
 // Whether the lighting pass can encode the frame's beauty into 8-bit sRGB itself
-// (RenderSettings::srgb8Exposure): a single sample, no AOVs, and nothing to blend, which an
-// integer target cannot.
+// (RenderSettings::srgb8Exposure): a single sample, no AOVs, nothing to blend, which an
+// integer target cannot, and nothing see-through, which reads the float beauty behind it.
 bool encodesSrgb8(const Scene& scene, const RenderSettings& settings) {
   if (!settings.srgb8Exposure || settings.aovs || settings.antialiasing != 1) return false;
-  return std::none_of(scene.materials.begin(), scene.materials.end(),
-                      [](const Material& m) { return m.alphaMode == AlphaMode::Blend; });
+  return std::none_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
+    return m.alphaMode == AlphaMode::Blend || hasTransmission(m);
+  });
 }
 
 // Whether the frame draws the beauty pass: always without AOVs; with them only for a debug view

@@ -51,6 +51,11 @@ inline constexpr int kSpecularColorUnit = kSpecularUnit + 1;
 // KHR_materials_sheen's roughness texture when it is another image than the color texture's
 // (the same image is read through kSheenUnit).
 inline constexpr int kSheenRoughnessUnit = kSpecularColorUnit + 1;
+// KHR_materials_transmission in the lighting pass: the transmission texture (R), and what the
+// frame drew behind the see-through surfaces (its opaque surfaces' beauty, with mipmaps for
+// rough ones: LightingPass).
+inline constexpr int kSurfaceTransmissionUnit = kSheenRoughnessUnit + 1;
+inline constexpr int kSceneBehindUnit = kSurfaceTransmissionUnit + 1;
 
 // Shadow sampler arrays follow the material's units. Only the families the frame's filters
 // read are declared (compare, raw depth, moments; cube and planar), each with as many units as
@@ -58,10 +63,10 @@ inline constexpr int kSheenRoughnessUnit = kSpecularColorUnit + 1;
 // shadowSamplerUnits), so that a frame of one filter takes one or two units, not 24. A frame
 // whose families would reach past the last unit (several filters and groups in both layouts)
 // starts them at kFallbackShadowUnit instead, over the units above (clearcoat, specular, a sheen
-// roughness of its own), whose textures that frame does not read: it draws those layers from
-// their factors.
+// roughness of its own, transmission), whose textures that frame does not read: it draws those
+// layers from their factors, and see-through surfaces as their base material.
 inline constexpr int kMaxShadowGroups = omnishadow::kMaxShadowGroups;
-inline constexpr int kFirstShadowUnit = kSheenRoughnessUnit + 1;
+inline constexpr int kFirstShadowUnit = kSceneBehindUnit + 1;
 inline constexpr int kFallbackShadowUnit = kClearcoatUnit;
 inline constexpr int kShadowSamplerFamilies = 6;
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
@@ -167,6 +172,8 @@ inline std::vector<std::string> shaderContractDefines() {
       define("SPECULAR_UNIT", kSpecularUnit),
       define("SPECULAR_COLOR_UNIT", kSpecularColorUnit),
       define("SHEEN_ROUGHNESS_UNIT", kSheenRoughnessUnit),
+      define("SURFACE_TRANSMISSION_UNIT", kSurfaceTransmissionUnit),
+      define("SCENE_BEHIND_UNIT", kSceneBehindUnit),
       define("SHEEN_ALBEDO_COSINES", kSheenAlbedoCosines),
       define("SHEEN_ALBEDO_ROUGHNESSES", kSheenAlbedoRoughnesses),
       "MIN_SHEEN_ALPHA " + std::to_string(kMinSheenAlpha),

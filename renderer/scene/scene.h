@@ -139,6 +139,16 @@ inline bool hasClearcoat(const Material& material) {
   return !material.unlit && !material.specularGlossiness && material.clearcoatFactor > 0.0f;
 }
 
+// Whether the lighting pass draws `material` see-through (KHR_materials_transmission): a nonzero
+// transmission factor on a lit metallic-roughness material that is not BLEND. Such a surface is
+// drawn after the opaque ones and shows, through its transmission, what they drew behind it
+// (thin-walled: no refraction offset). A BLEND material with a transmission factor is blended
+// as its alpha says; its transmission only tints shadows (translucency.h).
+inline bool hasTransmission(const Material& material) {
+  return !material.unlit && !material.specularGlossiness && material.transmissionFactor > 0.0f &&
+         material.alphaMode != AlphaMode::Blend;
+}
+
 // The normal map whose texture coordinates generated tangents follow: the material's own,
 // else its clearcoat's (KHR_materials_clearcoat asks for a tangent space either way); none
 // when neither has one.
