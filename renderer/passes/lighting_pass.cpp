@@ -540,13 +540,21 @@ LightingPass::DrawSet LightingPass::drawSet(const GpuMaterial& material) const {
                                    : DrawSet::Blended;
 }
 
-bool LightingPass::drawsSeeThrough(const GpuScene& scene) const {
-  for (const GpuDraw& draw : scene.draws())
-    if (drawnThrough(scene.materials()[draw.material])) return true;
-  return false;
+LightingPass::SeeThrough LightingPass::seeThrough(const GpuScene& scene) const {
+  SeeThrough found;
+  for (const GpuDraw& draw : scene.draws()) {
+    const GpuMaterial& material = scene.materials()[draw.material];
+    if (!drawnThrough(material)) continue;
+    found.any = true;
+    // lighting.frag reads level log2(size) x roughness x clamp(2 ior - 2, 0, 1), and a
+    // roughness texture only multiplies the factor.
+    const Material& d = material.desc;
+    if (d.roughnessFactor > 0.0f && d.ior > 1.0f) found.blurred = true;
+  }
+  return found;
 }
 
-void LightingPass::copySceneBehind(const FrameTargets& targets) {
+void LightingPass::copySceneBehind(const FrameTargets& targets, bool mipmaps) {
   const int w = targets.width(), h = targets.height();
   if (!sceneBehind_ || behindWidth_ != w || behindHeight_ != h) {
     // Half floats: what shows through is tinted and, on rough surfaces, blurred; the levels
@@ -567,7 +575,10 @@ void LightingPass::copySceneBehind(const FrameTargets& targets) {
   glNamedFramebufferReadBuffer(targets.framebuffer(), GL_COLOR_ATTACHMENT0);
   glBlitNamedFramebuffer(targets.framebuffer(), behindFramebuffer_.get(), 0, 0, w, h, 0, 0, w, h,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  glGenerateTextureMipmap(sceneBehind_.get());
+  // Surfaces that read level 0 alone spare the frame the levels (and read no stale ones).
+  glTextureParameteri(sceneBehind_.get(), GL_TEXTURE_MAX_LEVEL,
+                      mipmaps ? 1000 : 0);  // GL's default: every level
+  if (mipmaps) glGenerateTextureMipmap(sceneBehind_.get());
   glBindTextureUnit(contract::kSceneBehindUnit, sceneBehind_.get());
   glBindSampler(contract::kSceneBehindUnit, 0);
 }
@@ -904,10 +915,10 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
   // See-through surfaces over what the opaque and masked ones drew, which they read (the ids
   // pass has no beauty to read: they are opaque there).
-  if (drawsSeeThrough(scene)) {
+  if (const SeeThrough seen = seeThrough(scene); seen.any) {
     if (writesSrgb8(outputs_))
       throw std::logic_error("the 8-bit beauty pass cannot draw see-through surfaces");
-    if (outputs_ != PassOutputs::Ids) copySceneBehind(targets);
+    if (outputs_ != PassOutputs::Ids) copySceneBehind(targets, seen.blurred);
     drawScene(scene, DrawSet::SeeThrough, nullptr, uniforms);
   }
 

@@ -252,10 +252,14 @@ class LightingPass {
   // Whether `material` is drawn see-through (hasTransmission): not in Phong frames, which draw
   // the base material alone, nor in frames whose shadow arrays took the extensions' units.
   bool drawnThrough(const GpuMaterial& material) const;
-  bool drawsSeeThrough(const GpuScene& scene) const;
-  // Copies the beauty drawn so far (the opaque and masked surfaces) into sceneBehind_ with its
-  // mipmaps, and binds it where see-through surfaces read it.
-  void copySceneBehind(const FrameTargets& targets);
+  struct SeeThrough {
+    bool any = false;      // some draw is drawn see-through
+    bool blurred = false;  // and some of those may read a coarser level (rough, ior above 1)
+  };
+  SeeThrough seeThrough(const GpuScene& scene) const;
+  // Copies the beauty drawn so far (the opaque and masked surfaces) into sceneBehind_, with its
+  // mipmaps when `mipmaps`, and binds it where see-through surfaces read it.
+  void copySceneBehind(const FrameTargets& targets, bool mipmaps);
   // depthOnly: that program for every draw; null: each material's lighting variant, whose
   // frame uniforms `uniforms` sets on first use. Blended draws go in blendedOrder_, a double-sided
   // one as two draws: back faces, then front faces.
