@@ -165,6 +165,21 @@ Json transmissionJson(const Material& m) {
           {"seeThrough", hasTransmission(m)}};
 }
 
+// KHR_materials_volume as the report gives it: null without a thickness (a thin wall); an
+// infinite attenuation distance (the default) is null.
+Json volumeJson(const Material& m) {
+  if (!(m.thicknessFactor > 0.0f)) return nullptr;
+  return {
+      {"thicknessFactor", jsonNumber(m.thicknessFactor)},
+      {"thicknessTexture", textureIndex(m.thicknessTexture)},
+      {"attenuationDistance",
+       std::isfinite(m.attenuationDistance) ? jsonNumber(m.attenuationDistance) : Json(nullptr)},
+      {"attenuationColor",
+       Json::array({jsonNumber(m.attenuationColor.r), jsonNumber(m.attenuationColor.g),
+                    jsonNumber(m.attenuationColor.b)})},
+      {"drawn", hasVolume(m)}};
+}
+
 glm::vec3 cameraPosition(const Camera& camera) {
   return glm::vec3(camera.world[3]);
 }
@@ -251,7 +266,8 @@ Json toJson(const Info& info) {
                          {"specular", specularJson(m)},
                          {"sheen", sheenJson(m)},
                          {"clearcoat", clearcoatJson(m)},
-                         {"transmission", transmissionJson(m)}});
+                         {"transmission", transmissionJson(m)},
+                         {"volume", volumeJson(m)}});
   }
   doc["materials"] = materials;
 
@@ -413,6 +429,9 @@ void printText(const Info& info) {
     if (m.transmissionFactor > 0.0f)
       rows.back().push_back("transmission " + readable(m.transmissionFactor) +
                             (hasTransmission(m) ? "" : " (shadows only)"));
+    if (m.thicknessFactor > 0.0f)
+      rows.back().push_back("volume thickness " + readable(m.thicknessFactor) +
+                            (hasVolume(m) ? "" : " (not drawn)"));
   }
   printTable(rows);
 

@@ -10,7 +10,8 @@
 // roughness texture of another image), DIELECTRIC_SPECULAR and SPECULAR_<TEXTURE>
 // (KHR_materials_specular and each of its textures), CLEARCOAT and CLEARCOAT_<TEXTURE>
 // (KHR_materials_clearcoat and each of its textures), TRANSMISSION and TRANSMISSION_TEXTURE
-// (KHR_materials_transmission, thin-walled, and its texture).
+// (KHR_materials_transmission, and its texture), VOLUME and THICKNESS_TEXTURE (with it,
+// KHR_materials_volume, and its texture).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -124,10 +125,10 @@ uniform float uClearcoatNormalScale;
 #endif
 #endif
 #ifdef TRANSMISSION
-// KHR_materials_transmission, thin-walled: the surface lets through transmission x base color
-// of what lies behind it, as the frame's opaque surfaces drew it (uSceneBehind, premultiplied,
-// at this pixel: no refraction offset; a rough surface reads a coarser level, as the Khronos
-// sample viewer does), and of the lights behind it (a GGX lobe around the view direction).
+// KHR_materials_transmission: the surface lets through transmission x base color of what lies
+// behind it, as the frame's opaque surfaces drew it (uSceneBehind, premultiplied, at this pixel
+// for a thin wall, else where VOLUME's ray leaves; a rough surface reads a coarser level, as the
+// Khronos sample viewer does), and of the lights behind it (a GGX lobe around the view ray).
 uniform float uTransmissionFactor;
 uniform float uIor;
 layout(binding = SCENE_BEHIND_UNIT) uniform sampler2D uSceneBehind;
@@ -138,6 +139,21 @@ uniform mat3 uTransmissionUvTransform;
 #endif
 #if defined(WRITE_SRGB8)
 #error "see-through surfaces read the float beauty: the 8-bit one cannot draw them"
+#endif
+#ifdef VOLUME
+// KHR_materials_volume, as the Khronos sample viewer approximates it: the view ray refracts
+// into the volume and leaves it `thickness` (in the mesh's units) further on, where the scene
+// behind is read (projected to the screen); light loses exp(-uAttenuationCoefficient x the
+// distance) on the way, and a light behind the surface is seen from the exit point.
+uniform float uThicknessFactor;
+uniform vec3 uAttenuationCoefficient;  // -ln(attenuationColor) / attenuationDistance
+uniform mat4 uModel;
+uniform mat4 uViewProjection;
+#ifdef THICKNESS_TEXTURE
+layout(binding = THICKNESS_UNIT) uniform sampler2D uThicknessTexture;  // G
+uniform int uThicknessTexCoord;
+uniform mat3 uThicknessUvTransform;
+#endif
 #endif
 #endif
 // Material variants (renderer/passes/lighting_pass.cpp): the texture slots and the BRDF a
@@ -359,6 +375,18 @@ void main() {
   float throughRoughness = roughness * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
   float throughAlpha = max(throughRoughness * throughRoughness, 1e-3);
   vec3 ambientBase = baseColor.rgb * (1.0 - transmission * (1.0 - metallic));
+#ifdef VOLUME
+  float thickness = uThicknessFactor;
+#ifdef THICKNESS_TEXTURE
+  if (uThicknessTexCoord >= 0)
+    thickness *= texture(uThicknessTexture, uvFor(uThicknessTexCoord, uThicknessUvTransform)).g;
+#endif
+  // The mesh's units along each of its axes, whatever its rotation.
+  vec3 modelScale = vec3(length(uModel[0].xyz), length(uModel[1].xyz), length(uModel[2].xyz));
+  vec3 refracted = refract(-V, N, uIor >= 1.0 ? 1.0 / uIor : 1.0);
+  vec3 volumeRay = (dot(refracted, refracted) > 0.0 ? normalize(refracted) : -N) * thickness * modelScale;
+  vec3 volumeTransmittance = exp(-uAttenuationCoefficient * length(volumeRay));
+#endif
 #else
   vec3 ambientBase = baseColor.rgb;
 #endif
@@ -379,6 +407,11 @@ void main() {
   // What comes through from behind, under the sheen and the clearcoat; the fraction of the
   // background it lets through also sets the pixel's coverage (below).
   vec3 throughFactor = through * baseColor.rgb;
+#ifdef VOLUME
+  throughFactor *= volumeTransmittance;
+  vec4 exitClip = uViewProjection * vec4(vIn.worldPosition + volumeRay, 1.0);
+  vec2 behindCoord = exitClip.xy / exitClip.w * 0.5 + 0.5;
+#endif
 #ifdef SHEEN
   throughFactor *= sheen.scalingV;
 #endif
@@ -386,7 +419,10 @@ void main() {
   throughFactor *= 1.0 - coat.weight;
 #endif
   vec2 behindSize = vec2(textureSize(uSceneBehind, 0));
-  vec4 behind = textureLod(uSceneBehind, gl_FragCoord.xy / behindSize,
+#ifndef VOLUME
+  vec2 behindCoord = gl_FragCoord.xy / behindSize;
+#endif
+  vec4 behind = textureLod(uSceneBehind, behindCoord,
                            log2(max(behindSize.x, behindSize.y)) * throughRoughness);
   color += throughFactor * behind.rgb;
 #endif
@@ -524,8 +560,16 @@ void main() {
                specular);
 #endif
 #ifdef TRANSMISSION
+#ifdef VOLUME
+    // Seen from where the view ray leaves the volume, and attenuated on the way.
+    vec3 throughL = normalize(L * distance - volumeRay);
+    diffuse = diffuse * (1.0 - transmission) +
+              through * baseColor.rgb * volumeTransmittance *
+                  transmittedRadiance(N, V, throughL, radiance, throughAlpha);
+#else
     diffuse = diffuse * (1.0 - transmission) +
               through * baseColor.rgb * transmittedRadiance(N, V, L, radiance, throughAlpha);
+#endif
 #endif
 #ifdef SHEEN
     addSheen(sheen, N, V, L, radiance, diffuse, specular);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -491,6 +492,65 @@ TEST_F(GltfExtensionsTest, SheenFactorsAndTexturesAreReadAndMayBeRequired) {
   }
 }
 
+// KHR_materials_volume: the thickness (factor, texture), the attenuation, the specification's
+// defaults (a thin wall, no attenuation), a volume drawn only with a transmission, the ranges.
+TEST_F(GltfExtensionsTest, VolumeThicknessAndAttenuationAreRead) {
+  Quad q;
+  makeQuad(q);
+  const std::string where = file() + ": materials[0].extensions.KHR_materials_volume";
+  q.gltfMaterial().extensions["KHR_materials_volume"] =
+      object({{"thicknessFactor", Value(0.25)},
+              {"thicknessTexture", object({{"index", Value(0)}})},
+              {"attenuationDistance", Value(2.0)},
+              {"attenuationColor", numbers({0.5, 0.75, 1.0})}});
+  q.builder.model().extensionsUsed = {"KHR_materials_volume"};
+  q.builder.model().extensionsRequired = {"KHR_materials_volume"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  const Material& m = scene.materials[0];
+  EXPECT_EQ(m.thicknessFactor, 0.25f);
+  EXPECT_EQ(m.thicknessTexture.texture, 0);
+  EXPECT_EQ(m.attenuationDistance, 2.0f);
+  EXPECT_EQ(m.attenuationColor, glm::vec3(0.5f, 0.75f, 1.0f));
+  EXPECT_FALSE(hasVolume(m));  // no transmission: the volume has no effect
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionFactor", Value(1.0)}});
+  EXPECT_TRUE(hasVolume(load(q.builder).materials[0]));
+
+  q.gltfMaterial().extensions["KHR_materials_volume"] = object({});
+  const Scene plain = load(q.builder);
+  EXPECT_EQ(plain.materials[0].thicknessFactor, 0.0f);
+  EXPECT_EQ(plain.materials[0].attenuationDistance, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(plain.materials[0].attenuationColor, glm::vec3(1.0f));
+  EXPECT_FALSE(hasVolume(plain.materials[0]));  // a thin wall
+
+  EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_volume", "thicknessTexture", 5),
+            where + ".thicknessTexture: texture 5 is out of range (the file has 1 texture)");
+  const std::pair<Value::Object, std::string> bad[] = {
+      {{{"thicknessFactor", Value(-0.5)}}, "thicknessFactor must be a number of at least 0"},
+      {{{"thicknessFactor", Value("thick")}}, "thicknessFactor must be a number"},
+      {{{"attenuationDistance", Value(0.0)}}, "attenuationDistance must be a number above 0"},
+      {{{"attenuationDistance", Value(-1.0)}}, "attenuationDistance must be a number above 0"},
+      {{{"attenuationColor", numbers({1.5, 0.0, 0.0})}},
+       "attenuationColor must be an array of 3 numbers in [0, 1]"},
+      {{{"attenuationColor", numbers({1.0, 1.0})}},
+       "attenuationColor must be an array of 3 numbers"}};
+  for (const auto& [properties, message] : bad) {
+    q.gltfMaterial().extensions["KHR_materials_volume"] = Value(properties);
+    EXPECT_EQ(inputError([&] { load(q.builder); }), where + ": " + message);
+  }
+
+  // The extension excludes unlit materials: drawn without the volume, saying so.
+  q.gltfMaterial().extensions["KHR_materials_volume"] = object({{"thicknessFactor", Value(1.0)}});
+  q.gltfMaterial().extensions["KHR_materials_unlit"] = object({});
+  const Scene unlit = load(q.builder);
+  EXPECT_EQ(
+      warningsAbout(unlit, "KHR_materials_volume"),
+      std::vector<std::string>{where + ": must not be used with KHR_materials_unlit; the volume is "
+                                       "not drawn"});
+  EXPECT_FALSE(hasVolume(unlit.materials[0]));
+}
+
 TEST_F(GltfExtensionsTest, ClearcoatFactorsTexturesAndNormalScaleAreRead) {
   Quad q;
   makeQuad(q);
@@ -778,7 +838,7 @@ TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWh
   EXPECT_EQ(scene.source.extensions[2].drawnInstead, "");
 
   for (const std::string name :
-       {"KHR_materials_anisotropy", "VENDOR_made_up", "KHR_materials_volume"}) {
+       {"KHR_materials_anisotropy", "VENDOR_made_up", "KHR_materials_dispersion"}) {
     model.extensionsRequired = {name};
     EXPECT_EQ(inputError([&] { load(builder); }),
               file() + ": extensionsRequired: " + name + " is not supported");

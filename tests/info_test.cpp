@@ -182,7 +182,7 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   ASSERT_FALSE(doc["materials"].empty());
   EXPECT_EQ(keys(doc["materials"][0]),
             (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "model", "textures",
-                  "ior", "specular", "sheen", "clearcoat", "transmission"}));
+                  "ior", "specular", "sheen", "clearcoat", "transmission", "volume"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
@@ -498,7 +498,8 @@ TEST_F(InfoTest, ReportsEachMaterialsClearcoatAndSpecular) {
 
 // KHR_materials_transmission: the factor and texture, and whether the surface is drawn
 // see-through (not when BLEND: its alpha blends it, and the transmission tints shadows alone);
-// null without a factor. The text rows end with the factor.
+// null without a factor. KHR_materials_volume's thickness and attenuation, null without a
+// thickness. The text rows end with the factor and the thickness.
 TEST_F(InfoTest, ReportsEachMaterialsTransmission) {
   GltfBuilder b;
   const int texture = b.addTexture(1, 1, {255, 128, 0, 255}, "glass");
@@ -513,7 +514,12 @@ TEST_F(InfoTest, ReportsEachMaterialsTransmission) {
                     {"transmissionTexture", Value(Value::Object{{"index", Value(texture)}})}});
   b.model().materials[film].extensions["KHR_materials_transmission"] =
       Value(Value::Object{{"transmissionFactor", Value(0.5)}});
-  b.model().extensionsUsed = {"KHR_materials_transmission"};
+  b.model().materials[glass].extensions["KHR_materials_volume"] = Value(
+      Value::Object{{"thicknessFactor", Value(0.25)},
+                    {"attenuationColor", Value(Value::Array{Value(0.5), Value(1.0), Value(1.0)})}});
+  b.model().materials[film].extensions["KHR_materials_volume"] =
+      Value(Value::Object{{"thicknessFactor", Value(2.0)}, {"attenuationDistance", Value(4.0)}});
+  b.model().extensionsUsed = {"KHR_materials_transmission", "KHR_materials_volume"};
   b.addNode("box", {}, b.addMesh(builder::makeBox(glm::vec3(1.0f)), {.material = glass}));
   const fs::path path = input("glass.gltf");
   b.write(path, FileFormat::GltfEmbedded);
@@ -524,10 +530,22 @@ TEST_F(InfoTest, ReportsEachMaterialsTransmission) {
   EXPECT_EQ(doc["materials"][1]["transmission"],
             Json::parse(R"({"factor": 0.5, "texture": null, "seeThrough": false})"));
   EXPECT_TRUE(doc["materials"][2]["transmission"].is_null());
+  // KHR_materials_volume beside it: drawn on the see-through one, not on the blended one.
+  EXPECT_EQ(doc["materials"][0]["volume"],
+            Json::parse(R"({"thicknessFactor": 0.25, "thicknessTexture": null,
+                            "attenuationDistance": null, "attenuationColor": [0.5, 1.0, 1.0],
+                            "drawn": true})"));
+  EXPECT_EQ(doc["materials"][1]["volume"]["attenuationDistance"], 4.0);
+  EXPECT_EQ(doc["materials"][1]["volume"]["drawn"], false);
+  EXPECT_TRUE(doc["materials"][2]["volume"].is_null());
   const Run r = run({"info", path.string()});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_TRUE(contains(r.out, "no textures  transmission 0.75\n")) << r.out;
-  EXPECT_TRUE(contains(r.out, "transmission 0.5 (shadows only)\n")) << r.out;
+  // The columns are aligned: the glass's transmission is padded to the film's width.
+  EXPECT_TRUE(
+      contains(r.out, "no textures  transmission 0.75                volume thickness 0.25\n"))
+      << r.out;
+  EXPECT_TRUE(contains(r.out, "transmission 0.5 (shadows only)  volume thickness 2 (not drawn)\n"))
+      << r.out;
 }
 
 TEST_F(InfoTest, UsageErrorsNameTheInfoHelp) {

@@ -32,6 +32,8 @@ struct GpuMaterial {
   GLuint clearcoat = 0, clearcoatSampler = 0;
   GLuint clearcoatRoughness = 0, clearcoatRoughnessSampler = 0;
   GLuint clearcoatNormal = 0, clearcoatNormalSampler = 0;
+  // KHR_materials_volume's thickness texture (linear, G); 0 unless drawn as a volume.
+  GLuint thickness = 0, thicknessSampler = 0;
 };
 
 // The static scene on the GPU: its geometry (gpu_geometry.h), textures (sRGB where glTF says

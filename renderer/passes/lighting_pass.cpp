@@ -57,11 +57,14 @@ constexpr unsigned kSheenRoughnessTextureBit = kSpecularColorTextureBit << 1;
 // own), and its texture.
 constexpr unsigned kTransmissionBit = kSheenRoughnessTextureBit << 1;
 constexpr unsigned kTransmissionTextureBit = kTransmissionBit << 1;
+// KHR_materials_volume on a see-through material, and its thickness texture.
+constexpr unsigned kVolumeBit = kTransmissionTextureBit << 1;
+constexpr unsigned kThicknessTextureBit = kVolumeBit << 1;
 // The material extensions' texture units, which a frame whose shadow arrays need them takes.
-constexpr unsigned kExtensionTextureBits = kClearcoatTextureBit | kClearcoatRoughnessTextureBit |
-                                           kClearcoatNormalTextureBit | kSpecularTextureBit |
-                                           kSpecularColorTextureBit | kSheenRoughnessTextureBit |
-                                           kTransmissionBit | kTransmissionTextureBit;
+constexpr unsigned kExtensionTextureBits =
+    kClearcoatTextureBit | kClearcoatRoughnessTextureBit | kClearcoatNormalTextureBit |
+    kSpecularTextureBit | kSpecularColorTextureBit | kSheenRoughnessTextureBit | kTransmissionBit |
+    kTransmissionTextureBit | kVolumeBit | kThicknessTextureBit;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -90,6 +93,8 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if (material & kTransmissionBit) {
     defines.push_back("TRANSMISSION");
     if (material & kTransmissionTextureBit) defines.push_back("TRANSMISSION_TEXTURE");
+    if (material & kVolumeBit) defines.push_back("VOLUME");
+    if (material & kThicknessTextureBit) defines.push_back("THICKNESS_TEXTURE");
   }
   if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
   if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
@@ -264,6 +269,17 @@ void bindExtensionTextures(const ShaderProgram& program, unsigned variant,
   }
 }
 
+// KHR_materials_volume's Beer's law as exp(-coefficient x distance): -ln(attenuationColor) /
+// attenuationDistance per channel, 0 at an infinite distance. A color of 0 counts as 1e-30, so
+// that the uniform stays finite: a tenth of the distance then lets through a thousandth.
+glm::vec3 attenuationCoefficient(const Material& d) {
+  if (!std::isfinite(d.attenuationDistance)) return glm::vec3(0.0f);
+  glm::vec3 coefficient;
+  for (int c = 0; c < 3; ++c)
+    coefficient[c] = -std::log(std::max(d.attenuationColor[c], 1e-30f)) / d.attenuationDistance;
+  return coefficient;
+}
+
 // Sets the material's uniforms and binds its textures for a program of `variant`.
 void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned variant) {
   const Material& d = m.desc;
@@ -344,6 +360,14 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
         program, variant,
         {{"uTransmissionTexCoord", "uTransmissionUvTransform", contract::kSurfaceTransmissionUnit,
           m.transmission, m.transmissionSampler, d.transmissionTexture, kTransmissionTextureBit}});
+  }
+  if (variant & kVolumeBit) {
+    program.set("uThicknessFactor", d.thicknessFactor);
+    program.set("uAttenuationCoefficient", attenuationCoefficient(d));
+    bindExtensionTextures(
+        program, variant,
+        {{"uThicknessTexCoord", "uThicknessUvTransform", contract::kThicknessUnit, m.thickness,
+          m.thicknessSampler, d.thicknessTexture, kThicknessTextureBit}});
   }
   if (!hasSheen(d)) return;
   program.set("uSheenColorFactor", d.sheenColorFactor);
@@ -514,6 +538,8 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
   if (drawnThrough(material)) {
     variant |= kTransmissionBit;
     if (material.transmission != 0) variant |= kTransmissionTextureBit;
+    if (hasVolume(material.desc))
+      variant |= kVolumeBit | (material.thickness != 0 ? kThicknessTextureBit : 0u);
   }
   if (hasClearcoat(material.desc)) {
     variant |= kClearcoatBit;

@@ -33,7 +33,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_materials_clearcoat", Supported, ""},
     {"KHR_materials_sheen", Supported, ""},
     {"KHR_materials_transmission", Supported, ""},
-    {"KHR_materials_volume", NotSupported, "the base material, without volume attenuation"},
+    {"KHR_materials_volume", Supported, ""},
     {"KHR_materials_ior", Supported, ""},
     {"KHR_materials_specular", Supported, ""},
     {"KHR_materials_iridescence", NotSupported, "the base material, without iridescence"},

@@ -153,6 +153,32 @@ void applyClearcoat(const Context& ctx, std::size_t index, Material& material) {
   warnIfExcluded(ctx, index, material, where, "the clearcoat");
 }
 
+// KHR_materials_volume: a thickness (factor and texture) and the medium's attenuation.
+void applyVolume(const Context& ctx, std::size_t index, Material& material) {
+  const tinygltf::Value* volume = extensionOf(ctx.model.materials[index], "KHR_materials_volume");
+  if (!volume) return;
+  const std::string where = at("materials", index) + ".extensions.KHR_materials_volume";
+  if (!volume->IsObject()) ctx.fail(where, "must be an object");
+  const double thickness = number(ctx, where, *volume, "thicknessFactor", 0.0);
+  if (!(thickness >= 0.0 && std::isfinite(thickness)))
+    ctx.fail(where, "thicknessFactor must be a number of at least 0");
+  material.thicknessFactor = static_cast<float>(thickness);
+  material.thicknessTexture =
+      slotFromValue(ctx, where + ".thicknessTexture", volume->Get("thicknessTexture"));
+  if (volume->Has("attenuationDistance")) {
+    const double distance = number(ctx, where, *volume, "attenuationDistance", 0.0);
+    if (!(distance > 0.0 && std::isfinite(distance)))
+      ctx.fail(where, "attenuationDistance must be a number above 0");
+    material.attenuationDistance = static_cast<float>(distance);
+  }
+  const glm::vec3 color = numbers<3>(ctx, where, *volume, "attenuationColor", glm::vec3(1.0f));
+  for (int c = 0; c < 3; ++c)
+    if (!(color[c] >= 0.0f && color[c] <= 1.0f))
+      ctx.fail(where, "attenuationColor must be an array of 3 numbers in [0, 1]");
+  material.attenuationColor = color;
+  warnIfExcluded(ctx, index, material, where, "the volume");
+}
+
 }  // namespace
 
 const tinygltf::Value* textureTransformOf(const tinygltf::ExtensionMap& extensions) {
@@ -211,6 +237,7 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
   applySpecular(ctx, index, material);
   applySheen(ctx, index, material);
   applyClearcoat(ctx, index, material);
+  applyVolume(ctx, index, material);
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;
   const std::string where = object + "KHR_materials_pbrSpecularGlossiness";

@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -108,6 +109,13 @@ struct Material {
   // normal, not the base material's normal map.
   TextureSlot clearcoatNormalTexture;
   float clearcoatNormalScale = 1.0f;
+  // KHR_materials_volume: with a transmission, a thickness above 0 makes the surface the
+  // boundary of a volume that light crosses refracted (by `ior`) and attenuated (Beer's law:
+  // attenuationColor^(distance / attenuationDistance)); 0 is a thin wall.
+  float thicknessFactor = 0.0f;  // in the mesh's coordinates
+  TextureSlot thicknessTexture;  // linear; G multiplies thicknessFactor
+  float attenuationDistance = std::numeric_limits<float>::infinity();  // world units
+  glm::vec3 attenuationColor{1.0f};
 };
 
 // The dielectric Fresnel reflectance at normal incidence that `material`'s ior gives (outside
@@ -147,6 +155,12 @@ inline bool hasClearcoat(const Material& material) {
 inline bool hasTransmission(const Material& material) {
   return !material.unlit && !material.specularGlossiness && material.transmissionFactor > 0.0f &&
          material.alphaMode != AlphaMode::Blend;
+}
+
+// Whether a see-through `material` (hasTransmission) is drawn as a volume's boundary
+// (KHR_materials_volume with a thickness above 0) rather than as a thin wall.
+inline bool hasVolume(const Material& material) {
+  return hasTransmission(material) && material.thicknessFactor > 0.0f;
 }
 
 // The normal map whose texture coordinates generated tangents follow: the material's own,
