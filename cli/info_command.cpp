@@ -177,6 +177,7 @@ Json volumeJson(const Material& m) {
       {"attenuationColor",
        Json::array({jsonNumber(m.attenuationColor.r), jsonNumber(m.attenuationColor.g),
                     jsonNumber(m.attenuationColor.b)})},
+      {"dispersion", jsonNumber(m.dispersion)},
       {"drawn", hasVolume(m)}};
 }
 

@@ -11,7 +11,7 @@
 // (KHR_materials_specular and each of its textures), CLEARCOAT and CLEARCOAT_<TEXTURE>
 // (KHR_materials_clearcoat and each of its textures), TRANSMISSION and TRANSMISSION_TEXTURE
 // (KHR_materials_transmission, and its texture), VOLUME and THICKNESS_TEXTURE (with it,
-// KHR_materials_volume, and its texture).
+// KHR_materials_volume, and its texture), DISPERSION (with VOLUME, KHR_materials_dispersion).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -154,6 +154,25 @@ layout(binding = THICKNESS_UNIT) uniform sampler2D uThicknessTexture;  // G
 uniform int uThicknessTexCoord;
 uniform mat3 uThicknessUvTransform;
 #endif
+#ifdef DISPERSION
+// KHR_materials_dispersion (20 / the Abbe number): red and blue refract with iors half the
+// spread (ior - 1) / Abbe number below and above the ior, green with the ior (the
+// specification's implementation notes), each read where its own ray leaves.
+uniform float uDispersion;
+#endif
+
+// The ray through the volume from a point of normal N seen from V, for one ior: refracted, as
+// long as the thickness, stretched by the mesh's scale along each axis.
+vec3 volumeRayFor(float ior, vec3 N, vec3 V, float thickness, vec3 modelScale) {
+  vec3 refracted = refract(-V, N, ior >= 1.0 ? 1.0 / ior : 1.0);
+  return (dot(refracted, refracted) > 0.0 ? normalize(refracted) : -N) * thickness * modelScale;
+}
+
+// Where the scene behind is read for a point: its projection, in [0, 1] texture coordinates.
+vec2 behindCoordOf(vec3 P) {
+  vec4 clip = uViewProjection * vec4(P, 1.0);
+  return clip.xy / clip.w * 0.5 + 0.5;
+}
 #endif
 #endif
 // Material variants (renderer/passes/lighting_pass.cpp): the texture slots and the BRDF a
@@ -383,9 +402,16 @@ void main() {
 #endif
   // The mesh's units along each of its axes, whatever its rotation.
   vec3 modelScale = vec3(length(uModel[0].xyz), length(uModel[1].xyz), length(uModel[2].xyz));
-  vec3 refracted = refract(-V, N, uIor >= 1.0 ? 1.0 / uIor : 1.0);
-  vec3 volumeRay = (dot(refracted, refracted) > 0.0 ? normalize(refracted) : -N) * thickness * modelScale;
+  vec3 volumeRay = volumeRayFor(uIor, N, V, thickness, modelScale);
+#ifdef DISPERSION
+  float halfSpread = (uIor - 1.0) * 0.025 * uDispersion;
+  vec3 redRay = volumeRayFor(max(uIor - halfSpread, 1.0), N, V, thickness, modelScale);
+  vec3 blueRay = volumeRayFor(uIor + halfSpread, N, V, thickness, modelScale);
+  vec3 volumeTransmittance = exp(-uAttenuationCoefficient *
+                                 vec3(length(redRay), length(volumeRay), length(blueRay)));
+#else
   vec3 volumeTransmittance = exp(-uAttenuationCoefficient * length(volumeRay));
+#endif
 #endif
 #else
   vec3 ambientBase = baseColor.rgb;
@@ -409,8 +435,7 @@ void main() {
   vec3 throughFactor = through * baseColor.rgb;
 #ifdef VOLUME
   throughFactor *= volumeTransmittance;
-  vec4 exitClip = uViewProjection * vec4(vIn.worldPosition + volumeRay, 1.0);
-  vec2 behindCoord = exitClip.xy / exitClip.w * 0.5 + 0.5;
+  vec2 behindCoord = behindCoordOf(vIn.worldPosition + volumeRay);
 #endif
 #ifdef SHEEN
   throughFactor *= sheen.scalingV;
@@ -422,8 +447,12 @@ void main() {
 #ifndef VOLUME
   vec2 behindCoord = gl_FragCoord.xy / behindSize;
 #endif
-  vec4 behind = textureLod(uSceneBehind, behindCoord,
-                           log2(max(behindSize.x, behindSize.y)) * throughRoughness);
+  float behindLevel = log2(max(behindSize.x, behindSize.y)) * throughRoughness;
+  vec4 behind = textureLod(uSceneBehind, behindCoord, behindLevel);
+#ifdef DISPERSION
+  behind.r = textureLod(uSceneBehind, behindCoordOf(vIn.worldPosition + redRay), behindLevel).r;
+  behind.b = textureLod(uSceneBehind, behindCoordOf(vIn.worldPosition + blueRay), behindLevel).b;
+#endif
   color += throughFactor * behind.rgb;
 #endif
 #ifdef WRITE_AOVS

@@ -62,36 +62,36 @@ TEST_F(ExtensionsCliTest, InfoListsTheExtensionsAFileUsesAndWhetherEachIsSupport
             Json::parse(R"([{"name": "KHR_texture_transform", "required": false,
                              "supported": true, "drawnInstead": null}])"));
 
-  const fs::path scene = sceneUsing("KHR_materials_dispersion", false);
+  const fs::path scene = sceneUsing("KHR_xmp_json_ld", false);
   r = run({"info", scene.string()});
   ASSERT_EQ(r.status, 0) << r.err;
   // The box scene has a KHR_lights_punctual light.
   EXPECT_TRUE(contains(r.out,
-                       "\nextensions  2\n  KHR_lights_punctual       used  supported\n"
-                       "  KHR_materials_dispersion  used  not supported: drawn instead: "
-                       "the base material, without dispersion\n"));
+                       "\nextensions  2\n  KHR_lights_punctual  used  supported\n"
+                       "  KHR_xmp_json_ld      used  not supported: drawn instead: "
+                       "the scene; its metadata is not read\n"));
   EXPECT_TRUE(contains(r.out, scene.string() +
-                                  ": extensionsUsed: KHR_materials_dispersion is not supported; "
-                                  "drawn instead: the base material, without dispersion\n"));
+                                  ": extensionsUsed: KHR_xmp_json_ld is not supported; "
+                                  "drawn instead: the scene; its metadata is not read\n"));
   r = run({"info", scene.string(), "--json"});
   ASSERT_EQ(r.status, 0) << r.err;
   const Json doc = Json::parse(r.out);
-  EXPECT_EQ(doc["extensions"][1]["name"], "KHR_materials_dispersion");
+  EXPECT_EQ(doc["extensions"][1]["name"], "KHR_xmp_json_ld");
   EXPECT_EQ(doc["extensions"][1]["supported"], false);
-  EXPECT_EQ(doc["extensions"][1]["drawnInstead"], "the base material, without dispersion");
+  EXPECT_EQ(doc["extensions"][1]["drawnInstead"], "the scene; its metadata is not read");
   // The render warns once, naming it and what it draws instead.
   r = run({"render", scene.string(), "--width", "32", "--height", "32", "-o", "a.png"});
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::string warning = "extensionsUsed: KHR_materials_dispersion is not supported";
+  const std::string warning = "extensionsUsed: KHR_xmp_json_ld is not supported";
   const std::size_t first = r.err.find(warning);
   EXPECT_NE(first, std::string::npos) << r.err;
   EXPECT_EQ(r.err.find(warning, first + 1), std::string::npos) << r.err;
 }
 
 TEST_F(ExtensionsCliTest, RequiredExtensionsThatCannotBeDrawnAreRefusedWithoutOutput) {
-  const fs::path scene = sceneUsing("KHR_materials_dispersion", true);
+  const fs::path scene = sceneUsing("KHR_xmp_json_ld", true);
   const std::string message =
-      scene.string() + ": extensionsRequired: KHR_materials_dispersion is not supported\n";
+      scene.string() + ": extensionsRequired: KHR_xmp_json_ld is not supported\n";
   Run r = run({"render", scene.string(), "--width", "32", "--height", "32", "-o", "a.png"});
   expectRefused(r, message);
   EXPECT_FALSE(fs::exists(output("a.png")));

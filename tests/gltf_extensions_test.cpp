@@ -551,6 +551,33 @@ TEST_F(GltfExtensionsTest, VolumeThicknessAndAttenuationAreRead) {
   EXPECT_FALSE(hasVolume(unlit.materials[0]));
 }
 
+// KHR_materials_dispersion: one number of at least 0 (values above 1 exaggerate, and are
+// valid), drawn on a volume alone.
+TEST_F(GltfExtensionsTest, DispersionIsReadAndDrawnOnVolumesAlone) {
+  Quad q;
+  makeQuad(q);
+  const std::string where = file() + ": materials[0].extensions.KHR_materials_dispersion";
+  q.gltfMaterial().extensions["KHR_materials_dispersion"] = object({{"dispersion", Value(2.5)}});
+  q.builder.model().extensionsUsed = {"KHR_materials_dispersion"};
+  q.builder.model().extensionsRequired = {"KHR_materials_dispersion"};
+  Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  EXPECT_EQ(scene.materials[0].dispersion, 2.5f);
+  EXPECT_FALSE(hasDispersion(scene.materials[0]));  // no volume
+  q.gltfMaterial().extensions["KHR_materials_transmission"] =
+      object({{"transmissionFactor", Value(1.0)}});
+  q.gltfMaterial().extensions["KHR_materials_volume"] = object({{"thicknessFactor", Value(0.5)}});
+  EXPECT_TRUE(hasDispersion(load(q.builder).materials[0]));
+  q.gltfMaterial().extensions["KHR_materials_dispersion"] = object({});
+  EXPECT_FALSE(hasDispersion(load(q.builder).materials[0]));  // the default, 0: none
+  for (const Value& bad : {Value(-0.5), Value("strong")}) {
+    q.gltfMaterial().extensions["KHR_materials_dispersion"] = object({{"dispersion", bad}});
+    EXPECT_EQ(inputError([&] { load(q.builder); }),
+              where + (bad.IsNumber() ? ": dispersion must be a number of at least 0"
+                                      : ": dispersion must be a number"));
+  }
+}
+
 TEST_F(GltfExtensionsTest, ClearcoatFactorsTexturesAndNormalScaleAreRead) {
   Quad q;
   makeQuad(q);
@@ -837,8 +864,7 @@ TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWh
   EXPECT_TRUE(scene.source.extensions[2].supported);
   EXPECT_EQ(scene.source.extensions[2].drawnInstead, "");
 
-  for (const std::string name :
-       {"KHR_materials_anisotropy", "VENDOR_made_up", "KHR_materials_dispersion"}) {
+  for (const std::string name : {"KHR_materials_anisotropy", "VENDOR_made_up", "KHR_xmp_json_ld"}) {
     model.extensionsRequired = {name};
     EXPECT_EQ(inputError([&] { load(builder); }),
               file() + ": extensionsRequired: " + name + " is not supported");

@@ -1157,14 +1157,14 @@ TEST_F(GltfLoaderTest, UnsupportedExtensionsFailWhenRequiredAndWarnWhenUsed) {
   builder.addNode("node", {}, builder.addMesh(triangleMesh()));
   builder.addLight("lamp", "point", {0, 1, 0}, {0, -1, 0}, glm::vec3(1.0f), 1.0f);
   tinygltf::Model& model = builder.model();
-  model.extensionsUsed.push_back("KHR_materials_dispersion");
+  model.extensionsUsed.push_back("KHR_xmp_json_ld");
   model.extensionsRequired = {"KHR_lights_punctual"};
   const fs::path file = path("scene.gltf");
   builder.write(file, FileFormat::GltfEmbedded);
   const Scene scene = loadGltf(file);
   EXPECT_EQ(scene.lights.size(), 1u);
   ASSERT_EQ(scene.warnings.size(), 1u);
-  EXPECT_TRUE(contains(scene.warnings[0], "KHR_materials_dispersion"));
+  EXPECT_TRUE(contains(scene.warnings[0], "KHR_xmp_json_ld"));
 
   model.extensionsUsed.push_back("EXT_lights_image_based");
   model.extensionsRequired.push_back("EXT_lights_image_based");

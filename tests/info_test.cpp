@@ -534,7 +534,7 @@ TEST_F(InfoTest, ReportsEachMaterialsTransmission) {
   EXPECT_EQ(doc["materials"][0]["volume"],
             Json::parse(R"({"thicknessFactor": 0.25, "thicknessTexture": null,
                             "attenuationDistance": null, "attenuationColor": [0.5, 1.0, 1.0],
-                            "drawn": true})"));
+                            "dispersion": 0.0, "drawn": true})"));
   EXPECT_EQ(doc["materials"][1]["volume"]["attenuationDistance"], 4.0);
   EXPECT_EQ(doc["materials"][1]["volume"]["drawn"], false);
   EXPECT_TRUE(doc["materials"][2]["volume"].is_null());

@@ -1529,5 +1529,70 @@ TEST(VolumeRender, TheSeamBehindAThickPaneShiftsAsTheRefractedRaySays) {
   EXPECT_GE(thinDiffers, 3);
 }
 
+// KHR_materials_dispersion through a 2 m slab like the seam test's, over a black and a white
+// floor:
+// red, green and blue each show the seam on the rows their own exit points predict (iors 1.25,
+// 1.5 and 1.75 at a dispersion of 20: half the spread, 0.5 x 0.025 x 20, below and above), so
+// that the channels part near the seam; at most one row differs per channel.
+TEST(VolumeRender, DispersionPartsTheChannelsWhereTheirRaysLeave) {
+  test_support::TempFolder folder("omnishadow-volume-dispersion");
+  GlassInputs in;
+  in.roughness = 0.0f;
+  in.base = glm::vec3(1.0f);
+  const Scene scene =
+      glassOverFloor(folder / "prism.gltf", in, glm::vec4(0, 0, 0, 1), [](GltfBuilder& b) {
+        addVolume(b, 2.0f, 1000.0f, glm::vec3(1.0f));
+        b.model().materials[0].extensions["KHR_materials_dispersion"] =
+            Value(Value::Object{{"dispersion", Value(20.0)}});
+        b.model().extensionsUsed.push_back("KHR_materials_dispersion");
+        MaterialDesc white;
+        white.baseColor = glm::vec4(0.8f, 0.8f, 0.8f, 1);
+        white.roughness = 1.0f;
+        PrimitiveOptions options;
+        options.material = b.addMaterial(white);
+        b.addNode("white", {glm::vec3(0.0f, -0.999f, 3.0f)},
+                  b.addMesh(builder::makePlane(6.0f), options));
+      });
+  ASSERT_TRUE(hasDispersion(scene.materials[0]));
+  Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
+  sun.shadow.enabled = false;
+  const glm::vec3 eye(0.0f, 3.0f, 3.0f);
+  const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 16, 64, 50.0f);
+  StageTimes times;
+  const Frame frame =
+      sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, RenderSettings{}, times);
+  const glm::mat4 toWorld = glm::inverse(camera.projection * camera.view);
+  const glm::mat4 toClip = camera.projection * camera.view;
+  const auto whiteBehind = [&](glm::vec3 through) {
+    const glm::vec3 d = through - eye;
+    return (eye + d * ((-1.0f - eye.y) / d.y)).z > 0.0f;
+  };
+  const float iors[3] = {1.25f, 1.5f, 1.75f};
+  int mismatches[3] = {0, 0, 0}, checked = 0, parted = 0;
+  for (int y = 0; y < 64; ++y) {
+    const glm::vec2 ndc(1.0f / 16.0f, 1.0f - (static_cast<float>(y) + 0.5f) / 32.0f);
+    const glm::vec4 far = toWorld * glm::vec4(ndc, 0.5f, 1.0f);
+    const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - eye);
+    const glm::vec3 P = eye + dir * (-eye.y / dir.y);
+    if (dir.y >= 0.0f || std::abs(P.x) > 1.9f || std::abs(P.z) > 1.9f) continue;
+    bool predicted[3];
+    bool inside = true;
+    for (int c = 0; c < 3; ++c) {
+      const glm::vec3 exit = P + 2.0f * glm::refract(dir, glm::vec3(0, 1, 0), 1.0f / iors[c]);
+      const glm::vec4 clip = toClip * glm::vec4(exit, 1.0f);
+      inside = inside && std::abs(clip.y / clip.w) < 0.95f;
+      predicted[c] = whiteBehind(exit);
+    }
+    if (!inside) continue;
+    for (int c = 0; c < 3; ++c)
+      mismatches[c] += (frame.beauty.at(8, y, c) > 0.1f) != predicted[c] ? 1 : 0;
+    parted += predicted[0] != predicted[2] ? 1 : 0;
+    ++checked;
+  }
+  EXPECT_GT(checked, 20);
+  for (int c = 0; c < 3; ++c) EXPECT_LE(mismatches[c], 1) << "channel " << c;
+  EXPECT_GE(parted, 4);
+}
+
 }  // namespace
 }  // namespace omnishadow

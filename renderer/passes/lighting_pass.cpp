@@ -60,11 +60,13 @@ constexpr unsigned kTransmissionTextureBit = kTransmissionBit << 1;
 // KHR_materials_volume on a see-through material, and its thickness texture.
 constexpr unsigned kVolumeBit = kTransmissionTextureBit << 1;
 constexpr unsigned kThicknessTextureBit = kVolumeBit << 1;
+// KHR_materials_dispersion on a volume.
+constexpr unsigned kDispersionBit = kThicknessTextureBit << 1;
 // The material extensions' texture units, which a frame whose shadow arrays need them takes.
 constexpr unsigned kExtensionTextureBits =
     kClearcoatTextureBit | kClearcoatRoughnessTextureBit | kClearcoatNormalTextureBit |
     kSpecularTextureBit | kSpecularColorTextureBit | kSheenRoughnessTextureBit | kTransmissionBit |
-    kTransmissionTextureBit | kVolumeBit | kThicknessTextureBit;
+    kTransmissionTextureBit | kVolumeBit | kThicknessTextureBit | kDispersionBit;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -95,6 +97,7 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     if (material & kTransmissionTextureBit) defines.push_back("TRANSMISSION_TEXTURE");
     if (material & kVolumeBit) defines.push_back("VOLUME");
     if (material & kThicknessTextureBit) defines.push_back("THICKNESS_TEXTURE");
+    if (material & kDispersionBit) defines.push_back("DISPERSION");
   }
   if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
   if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
@@ -364,6 +367,7 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
   if (variant & kVolumeBit) {
     program.set("uThicknessFactor", d.thicknessFactor);
     program.set("uAttenuationCoefficient", attenuationCoefficient(d));
+    program.set("uDispersion", d.dispersion);
     bindExtensionTextures(
         program, variant,
         {{"uThicknessTexCoord", "uThicknessUvTransform", contract::kThicknessUnit, m.thickness,
@@ -539,7 +543,8 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
     variant |= kTransmissionBit;
     if (material.transmission != 0) variant |= kTransmissionTextureBit;
     if (hasVolume(material.desc))
-      variant |= kVolumeBit | (material.thickness != 0 ? kThicknessTextureBit : 0u);
+      variant |= kVolumeBit | (material.thickness != 0 ? kThicknessTextureBit : 0u) |
+                 (hasDispersion(material.desc) ? kDispersionBit : 0u);
   }
   if (hasClearcoat(material.desc)) {
     variant |= kClearcoatBit;

@@ -179,6 +179,20 @@ void applyVolume(const Context& ctx, std::size_t index, Material& material) {
   warnIfExcluded(ctx, index, material, where, "the volume");
 }
 
+// KHR_materials_dispersion: one number, 20 / the Abbe number.
+void applyDispersion(const Context& ctx, std::size_t index, Material& material) {
+  const tinygltf::Value* dispersion =
+      extensionOf(ctx.model.materials[index], "KHR_materials_dispersion");
+  if (!dispersion) return;
+  const std::string where = at("materials", index) + ".extensions.KHR_materials_dispersion";
+  if (!dispersion->IsObject()) ctx.fail(where, "must be an object");
+  const double value = number(ctx, where, *dispersion, "dispersion", 0.0);
+  if (!(value >= 0.0 && std::isfinite(value)))
+    ctx.fail(where, "dispersion must be a number of at least 0");
+  material.dispersion = static_cast<float>(value);
+  warnIfExcluded(ctx, index, material, where, "the dispersion");
+}
+
 }  // namespace
 
 const tinygltf::Value* textureTransformOf(const tinygltf::ExtensionMap& extensions) {
@@ -238,6 +252,7 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
   applySheen(ctx, index, material);
   applyClearcoat(ctx, index, material);
   applyVolume(ctx, index, material);
+  applyDispersion(ctx, index, material);
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;
   const std::string where = object + "KHR_materials_pbrSpecularGlossiness";

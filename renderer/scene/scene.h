@@ -116,6 +116,9 @@ struct Material {
   TextureSlot thicknessTexture;  // linear; G multiplies thicknessFactor
   float attenuationDistance = std::numeric_limits<float>::infinity();  // world units
   glm::vec3 attenuationColor{1.0f};
+  // KHR_materials_dispersion, 20 / the Abbe number: a volume's red, green and blue refract with
+  // iors spread around `ior` (0: one ior for all).
+  float dispersion = 0.0f;
 };
 
 // The dielectric Fresnel reflectance at normal incidence that `material`'s ior gives (outside
@@ -161,6 +164,11 @@ inline bool hasTransmission(const Material& material) {
 // (KHR_materials_volume with a thickness above 0) rather than as a thin wall.
 inline bool hasVolume(const Material& material) {
   return hasTransmission(material) && material.thicknessFactor > 0.0f;
+}
+
+// Whether a volume (hasVolume) splits the colors it lets through (KHR_materials_dispersion).
+inline bool hasDispersion(const Material& material) {
+  return hasVolume(material) && material.dispersion > 0.0f;
 }
 
 // The normal map whose texture coordinates generated tangents follow: the material's own,
