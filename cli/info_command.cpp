@@ -181,6 +181,14 @@ Json volumeJson(const Material& m) {
       {"drawn", hasVolume(m)}};
 }
 
+// KHR_materials_anisotropy as the report gives it: null for a material drawn without it.
+Json anisotropyJson(const Material& m) {
+  if (!hasAnisotropy(m)) return nullptr;
+  return {{"strength", jsonNumber(m.anisotropyStrength)},
+          {"rotation", jsonNumber(m.anisotropyRotation)},
+          {"texture", textureIndex(m.anisotropyTexture)}};
+}
+
 glm::vec3 cameraPosition(const Camera& camera) {
   return glm::vec3(camera.world[3]);
 }
@@ -268,7 +276,8 @@ Json toJson(const Info& info) {
                          {"sheen", sheenJson(m)},
                          {"clearcoat", clearcoatJson(m)},
                          {"transmission", transmissionJson(m)},
-                         {"volume", volumeJson(m)}});
+                         {"volume", volumeJson(m)},
+                         {"anisotropy", anisotropyJson(m)}});
   }
   doc["materials"] = materials;
 
@@ -433,6 +442,9 @@ void printText(const Info& info) {
     if (m.thicknessFactor > 0.0f)
       rows.back().push_back("volume thickness " + readable(m.thicknessFactor) +
                             (hasVolume(m) ? "" : " (not drawn)"));
+    if (hasAnisotropy(m))
+      rows.back().push_back("anisotropy " + readable(m.anisotropyStrength) + " rotation " +
+                            readable(m.anisotropyRotation));
   }
   printTable(rows);
 

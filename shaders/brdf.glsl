@@ -17,6 +17,41 @@ float visibilitySmithGgxCorrelated(float NdotV, float NdotL, float alpha) {
   return sum > 0.0 ? 0.5 / sum : 0.0;
 }
 
+#ifdef ANISOTROPY
+// KHR_materials_anisotropy: the pixel's tangent-space direction of stretched highlights (T, and B
+// across it, both in the surface) and strength^2; lighting.frag sets it before its light loop.
+// The lobe's alpha along T grows to mix(alpha, 1, strength^2), across it stays alpha: Burley's
+// distribution and its height-correlated visibility, as the specification's implementation notes
+// write them. With T and B of a tangent frame they give the isotropic lobe when the strength is
+// 0.
+struct Anisotropy {
+  vec3 T, B;
+  float stretch;
+};
+Anisotropy pixelAnisotropy;
+
+float anisotropicLobe(vec3 N, vec3 V, vec3 L, vec3 H, float NdotV, float NdotL, float NdotH,
+                      float alpha) {
+  vec3 T = pixelAnisotropy.T, B = pixelAnisotropy.B;
+  float at = mix(alpha, 1.0, pixelAnisotropy.stretch), ab = alpha;
+  float a2 = at * ab;
+  vec3 f = vec3(ab * dot(T, H), at * dot(B, H), a2 * NdotH);
+  float w2 = a2 / dot(f, f);
+  float distribution = a2 * w2 * w2 / PI;
+  float ggxV = NdotL * length(vec3(at * dot(T, V), ab * dot(B, V), NdotV));
+  float ggxL = NdotV * length(vec3(at * dot(T, L), ab * dot(B, L), NdotL));
+  float sum = ggxV + ggxL;
+  return distribution * (sum > 0.0 ? 0.5 / sum : 0.0);
+}
+// The specular lobe (D x V) of the BRDFs below: without ANISOTROPY exactly the products they
+// always computed, in the same order.
+#define SPECULAR_LOBE(N, V, L, H, NdotV, NdotL, NdotH, alpha) \
+  anisotropicLobe(N, V, L, H, NdotV, NdotL, NdotH, alpha)
+#else
+#define SPECULAR_LOBE(N, V, L, H, NdotV, NdotL, NdotH, alpha) \
+  distributionGgx(NdotH, alpha) * visibilitySmithGgxCorrelated(NdotV, NdotL, alpha)
+#endif
+
 vec3 fresnelSchlick(vec3 f0, float VdotH) {
   // VdotH may exceed 1 by rounding (camera at the light), hence the clamp. The fifth power by
   // multiplication: llvmpipe computes pow() as exp2(y log2(x)), two polynomials per fragment
@@ -43,8 +78,7 @@ void shadeBrdf(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 diffuseColor, float d
   vec3 F = fresnelSchlick(f0, VdotH);
   vec3 irradiance = radiance * NdotL;
   diffuse = (1.0 - F) * diffuseWeight * diffuseColor / PI * irradiance;
-  specular = F * distributionGgx(NdotH, alpha) *
-             visibilitySmithGgxCorrelated(NdotV, NdotL, alpha) * irradiance;
+  specular = F * SPECULAR_LOBE(N, V, L, H, NdotV, NdotL, NdotH, alpha) * irradiance;
 }
 
 // Metallic-roughness: metals have no diffuse and tint their reflection; dielectrics reflect
@@ -80,8 +114,7 @@ void shadePbrSpecular(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, flo
   float diffuseWeight = (1.0 - metallic) *
                         (1.0 - max(dielectricF.r, max(dielectricF.g, dielectricF.b)));
   diffuse = diffuseWeight * baseColor / PI * irradiance;
-  specular = F * distributionGgx(NdotH, alpha) *
-             visibilitySmithGgxCorrelated(NdotV, NdotL, alpha) * irradiance;
+  specular = F * SPECULAR_LOBE(N, V, L, H, NdotV, NdotL, NdotH, alpha) * irradiance;
 }
 
 // KHR_materials_pbrSpecularGlossiness as its specification defines it: F0 is the specular

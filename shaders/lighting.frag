@@ -11,7 +11,8 @@
 // (KHR_materials_specular and each of its textures), CLEARCOAT and CLEARCOAT_<TEXTURE>
 // (KHR_materials_clearcoat and each of its textures), TRANSMISSION and TRANSMISSION_TEXTURE
 // (KHR_materials_transmission, and its texture), VOLUME and THICKNESS_TEXTURE (with it,
-// KHR_materials_volume, and its texture), DISPERSION (with VOLUME, KHR_materials_dispersion).
+// KHR_materials_volume, and its texture), DISPERSION (with VOLUME, KHR_materials_dispersion),
+// ANISOTROPY and ANISOTROPY_TEXTURE (KHR_materials_anisotropy, and its texture).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -175,6 +176,17 @@ vec2 behindCoordOf(vec3 P) {
 }
 #endif
 #endif
+#ifdef ANISOTROPY
+// KHR_materials_anisotropy: the strength, and the rotation as (cos, sin); the texture's RG is a
+// direction in [-1, 1] turned by the rotation, its B multiplies the strength.
+uniform float uAnisotropyStrength;
+uniform vec2 uAnisotropyRotation;
+#ifdef ANISOTROPY_TEXTURE
+layout(binding = ANISOTROPY_UNIT) uniform sampler2D uAnisotropyTexture;
+uniform int uAnisotropyTexCoord;
+uniform mat3 uAnisotropyUvTransform;
+#endif
+#endif
 // Material variants (renderer/passes/lighting_pass.cpp): the texture slots and the BRDF a
 // material lacks are constants here, so their reads compile out (llvmpipe would run them).
 #ifndef BASE_COLOR_TEXTURE
@@ -312,6 +324,36 @@ void main() {
                      uNormalTextureAxes, uNormalScale);
   }
   vec3 facingNormal = dot(N, V) < 0.0 ? -N : N;
+#ifdef ANISOTROPY
+  {
+    float strength = uAnisotropyStrength;
+    vec2 direction = uAnisotropyRotation;
+#ifdef ANISOTROPY_TEXTURE
+    if (uAnisotropyTexCoord >= 0) {
+      vec3 texel = texture(uAnisotropyTexture, uvFor(uAnisotropyTexCoord, uAnisotropyUvTransform)).rgb;
+      vec2 stored = texel.rg * 2.0 - 1.0;
+      // A texel of no direction keeps the tangent's, turned.
+      if (dot(stored, stored) > 0.0)
+        direction = mat2(uAnisotropyRotation.x, uAnisotropyRotation.y, -uAnisotropyRotation.y,
+                         uAnisotropyRotation.x) * normalize(stored);
+      strength *= texel.b;
+    }
+#endif
+    // The tangent frame of the shading normal, as mappedNormal() builds it; without tangents
+    // the highlights stay round.
+    vec3 T = normalize(vIn.worldTangent.xyz - N * dot(N, vIn.worldTangent.xyz));
+    vec3 B = cross(N, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
+    pixelAnisotropy.T = normalize(T * direction.x + B * direction.y);
+    pixelAnisotropy.B = normalize(cross(N, pixelAnisotropy.T));
+    pixelAnisotropy.stretch = uHasTangents != 0 ? strength * strength : 0.0;
+    if (uHasTangents == 0) {
+      // Any frame of the surface: with no stretch the lobe is round whatever its axes.
+      vec3 helper = abs(N.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
+      pixelAnisotropy.T = normalize(cross(helper, N));
+      pixelAnisotropy.B = cross(N, pixelAnisotropy.T);
+    }
+  }
+#endif
 
   float occlusion = 1.0;
   if (uOcclusionTexCoord >= 0)

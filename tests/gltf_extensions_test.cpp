@@ -578,6 +578,58 @@ TEST_F(GltfExtensionsTest, DispersionIsReadAndDrawnOnVolumesAlone) {
   }
 }
 
+// KHR_materials_anisotropy: strength, rotation and texture, the defaults (no anisotropy), the
+// ranges, the exclusions; a mesh without tangents gets them for an anisotropic material, from
+// its first texture coordinates when there is no texture to follow.
+TEST_F(GltfExtensionsTest, AnisotropyIsReadAndItsMeshesGetTangents) {
+  Quad q;
+  makeQuad(q);
+  const std::string where = file() + ": materials[0].extensions.KHR_materials_anisotropy";
+  q.gltfMaterial().normalTexture.index = -1;  // no normal map asking for tangents
+  EXPECT_TRUE(load(q.builder).meshes[0].tangents.empty());
+  q.gltfMaterial().extensions["KHR_materials_anisotropy"] =
+      object({{"anisotropyStrength", Value(0.6)}, {"anisotropyRotation", Value(1.5)}});
+  q.builder.model().extensionsUsed = {"KHR_materials_anisotropy"};
+  q.builder.model().extensionsRequired = {"KHR_materials_anisotropy"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  EXPECT_EQ(scene.materials[0].anisotropyStrength, 0.6f);
+  EXPECT_EQ(scene.materials[0].anisotropyRotation, 1.5f);
+  EXPECT_TRUE(hasAnisotropy(scene.materials[0]));
+  ASSERT_EQ(scene.meshes[0].tangents.size(), scene.meshes[0].positions.size());
+
+  q.gltfMaterial().extensions["KHR_materials_anisotropy"] =
+      object({{"anisotropyTexture", object({{"index", Value(0)}, {"texCoord", Value(1)}})}});
+  const Scene plain = load(q.builder);
+  EXPECT_EQ(plain.materials[0].anisotropyStrength, 0.0f);  // the default: none
+  EXPECT_EQ(plain.materials[0].anisotropyRotation, 0.0f);
+  EXPECT_EQ(plain.materials[0].anisotropyTexture.texture, 0);
+  EXPECT_EQ(plain.materials[0].anisotropyTexture.texCoord, 1);
+  EXPECT_FALSE(hasAnisotropy(plain.materials[0]));
+  EXPECT_TRUE(plain.meshes[0].tangents.empty());
+
+  EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_anisotropy", "anisotropyTexture", 5),
+            where + ".anisotropyTexture: texture 5 is out of range (the file has 1 texture)");
+  for (const Value& bad : {Value(1.5), Value(-0.25), Value("strong")}) {
+    q.gltfMaterial().extensions["KHR_materials_anisotropy"] = object({{"anisotropyStrength", bad}});
+    EXPECT_EQ(inputError([&] { load(q.builder); }),
+              where + (bad.IsNumber() ? ": anisotropyStrength must be a number in [0, 1]"
+                                      : ": anisotropyStrength must be a number"));
+  }
+  q.gltfMaterial().extensions["KHR_materials_anisotropy"] =
+      object({{"anisotropyRotation", Value("left")}});
+  EXPECT_EQ(inputError([&] { load(q.builder); }), where + ": anisotropyRotation must be a number");
+
+  q.gltfMaterial().extensions["KHR_materials_anisotropy"] =
+      object({{"anisotropyStrength", Value(1.0)}});
+  q.gltfMaterial().extensions["KHR_materials_unlit"] = object({});
+  const Scene unlit = load(q.builder);
+  EXPECT_EQ(warningsAbout(unlit, "KHR_materials_anisotropy"),
+            std::vector<std::string>{where + ": must not be used with KHR_materials_unlit; the "
+                                             "anisotropy is not drawn"});
+  EXPECT_FALSE(hasAnisotropy(unlit.materials[0]));
+}
+
 TEST_F(GltfExtensionsTest, ClearcoatFactorsTexturesAndNormalScaleAreRead) {
   Quad q;
   makeQuad(q);
@@ -849,31 +901,30 @@ TEST_F(GltfExtensionsTest, UnsupportedExtensionsAreRefusedWhenRequiredAndNamedWh
   GltfBuilder builder;
   builder.addNode("quad", {}, builder.addMesh(quad()));
   tinygltf::Model& model = builder.model();
-  model.extensionsUsed = {"KHR_materials_anisotropy", "VENDOR_made_up", "KHR_texture_transform"};
+  model.extensionsUsed = {"MSFT_lod", "VENDOR_made_up", "KHR_texture_transform"};
   const Scene scene = load(builder);
   ASSERT_EQ(scene.warnings.size(), 2u);
   EXPECT_EQ(scene.warnings[0], file() +
-                                   ": extensionsUsed: KHR_materials_anisotropy is not supported; "
-                                   "drawn instead: the base material, with isotropic highlights");
+                                   ": extensionsUsed: MSFT_lod is not supported; "
+                                   "drawn instead: the full-detail meshes");
   EXPECT_EQ(scene.warnings[1],
             file() + ": extensionsUsed: VENDOR_made_up is not supported; ignored");
   ASSERT_EQ(scene.source.extensions.size(), 3u);
-  EXPECT_EQ(scene.source.extensions[0].drawnInstead,
-            "the base material, with isotropic highlights");
+  EXPECT_EQ(scene.source.extensions[0].drawnInstead, "the full-detail meshes");
   EXPECT_FALSE(scene.source.extensions[1].supported);
   EXPECT_TRUE(scene.source.extensions[2].supported);
   EXPECT_EQ(scene.source.extensions[2].drawnInstead, "");
 
-  for (const std::string name : {"KHR_materials_anisotropy", "VENDOR_made_up", "KHR_xmp_json_ld"}) {
+  for (const std::string name : {"MSFT_lod", "VENDOR_made_up", "KHR_xmp_json_ld"}) {
     model.extensionsRequired = {name};
     EXPECT_EQ(inputError([&] { load(builder); }),
               file() + ": extensionsRequired: " + name + " is not supported");
   }
   // Required but not listed as used (invalid, but seen): still refused.
   model.extensionsUsed.clear();
-  model.extensionsRequired = {"KHR_materials_anisotropy"};
+  model.extensionsRequired = {"MSFT_lod"};
   EXPECT_EQ(inputError([&] { load(builder); }),
-            file() + ": extensionsRequired: KHR_materials_anisotropy is not supported");
+            file() + ": extensionsRequired: MSFT_lod is not supported");
 }
 
 // Compressed geometry leaves accessors without a bufferView. Such an accessor is zeros by the

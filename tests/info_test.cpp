@@ -180,9 +180,10 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(keys(doc["counts"]["primitives"]), (Keys{"file", "drawn"}));
   EXPECT_EQ(keys(doc["bounds"]), (Keys{"min", "max", "center", "size"}));
   ASSERT_FALSE(doc["materials"].empty());
-  EXPECT_EQ(keys(doc["materials"][0]),
-            (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "model", "textures",
-                  "ior", "specular", "sheen", "clearcoat", "transmission", "volume"}));
+  EXPECT_EQ(
+      keys(doc["materials"][0]),
+      (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "model", "textures", "ior",
+            "specular", "sheen", "clearcoat", "transmission", "volume", "anisotropy"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
@@ -546,6 +547,34 @@ TEST_F(InfoTest, ReportsEachMaterialsTransmission) {
       << r.out;
   EXPECT_TRUE(contains(r.out, "transmission 0.5 (shadows only)  volume thickness 2 (not drawn)\n"))
       << r.out;
+}
+
+// KHR_materials_anisotropy: strength, rotation and texture for a material drawn with it, null
+// for one without (a strength of 0 is none); the text row ends with the factors.
+TEST_F(InfoTest, ReportsEachMaterialsAnisotropy) {
+  GltfBuilder b;
+  const int texture = b.addTexture(1, 1, {255, 128, 255, 255}, "brushed");
+  const int brushed = b.addMaterial({.name = "brushed"});
+  const int flat = b.addMaterial({.name = "flat"});
+  using Value = tinygltf::Value;
+  b.model().materials[brushed].extensions["KHR_materials_anisotropy"] =
+      Value(Value::Object{{"anisotropyStrength", Value(0.5)},
+                          {"anisotropyRotation", Value(0.25)},
+                          {"anisotropyTexture", Value(Value::Object{{"index", Value(texture)}})}});
+  b.model().materials[flat].extensions["KHR_materials_anisotropy"] =
+      Value(Value::Object{{"anisotropyRotation", Value(1.0)}});
+  b.model().extensionsUsed = {"KHR_materials_anisotropy"};
+  b.addNode("box", {}, b.addMesh(builder::makeBox(glm::vec3(1.0f)), {.material = brushed}));
+  const fs::path path = input("brushed.gltf");
+  b.write(path, FileFormat::GltfEmbedded);
+  const Json doc = info({path.string()});
+  ASSERT_EQ(doc["materials"].size(), 2u);
+  EXPECT_EQ(doc["materials"][0]["anisotropy"],
+            Json::parse(R"({"strength": 0.5, "rotation": 0.25, "texture": 0})"));
+  EXPECT_TRUE(doc["materials"][1]["anisotropy"].is_null());
+  const Run r = run({"info", path.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "no textures  anisotropy 0.5 rotation 0.25\n")) << r.out;
 }
 
 TEST_F(InfoTest, UsageErrorsNameTheInfoHelp) {

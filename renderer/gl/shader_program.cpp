@@ -175,6 +175,9 @@ void ShaderProgram::set(const char* u, int v) const {
 void ShaderProgram::set(const char* u, float v) const {
   glProgramUniform1f(id(), location(u), v);
 }
+void ShaderProgram::set(const char* u, const glm::vec2& v) const {
+  glProgramUniform2fv(id(), location(u), 1, glm::value_ptr(v));
+}
 void ShaderProgram::set(const char* u, const glm::vec3& v) const {
   glProgramUniform3fv(id(), location(u), 1, glm::value_ptr(v));
 }

@@ -34,6 +34,8 @@ struct GpuMaterial {
   GLuint clearcoatNormal = 0, clearcoatNormalSampler = 0;
   // KHR_materials_volume's thickness texture (linear, G); 0 unless drawn as a volume.
   GLuint thickness = 0, thicknessSampler = 0;
+  // KHR_materials_anisotropy's texture (linear); 0 unless the material is anisotropic.
+  GLuint anisotropy = 0, anisotropySampler = 0;
 };
 
 // The static scene on the GPU: its geometry (gpu_geometry.h), textures (sRGB where glTF says

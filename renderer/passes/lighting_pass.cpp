@@ -62,11 +62,15 @@ constexpr unsigned kVolumeBit = kTransmissionTextureBit << 1;
 constexpr unsigned kThicknessTextureBit = kVolumeBit << 1;
 // KHR_materials_dispersion on a volume.
 constexpr unsigned kDispersionBit = kThicknessTextureBit << 1;
+// KHR_materials_anisotropy, and its texture.
+constexpr unsigned kAnisotropyBit = kDispersionBit << 1;
+constexpr unsigned kAnisotropyTextureBit = kAnisotropyBit << 1;
 // The material extensions' texture units, which a frame whose shadow arrays need them takes.
 constexpr unsigned kExtensionTextureBits =
     kClearcoatTextureBit | kClearcoatRoughnessTextureBit | kClearcoatNormalTextureBit |
     kSpecularTextureBit | kSpecularColorTextureBit | kSheenRoughnessTextureBit | kTransmissionBit |
-    kTransmissionTextureBit | kVolumeBit | kThicknessTextureBit | kDispersionBit;
+    kTransmissionTextureBit | kVolumeBit | kThicknessTextureBit | kDispersionBit |
+    kAnisotropyTextureBit;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -98,6 +102,10 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     if (material & kVolumeBit) defines.push_back("VOLUME");
     if (material & kThicknessTextureBit) defines.push_back("THICKNESS_TEXTURE");
     if (material & kDispersionBit) defines.push_back("DISPERSION");
+  }
+  if ((material & kAnisotropyBit) && shading != Shading::Phong) {
+    defines.push_back("ANISOTROPY");
+    if (material & kAnisotropyTextureBit) defines.push_back("ANISOTROPY_TEXTURE");
   }
   if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
   if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
@@ -373,6 +381,15 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
         {{"uThicknessTexCoord", "uThicknessUvTransform", contract::kThicknessUnit, m.thickness,
           m.thicknessSampler, d.thicknessTexture, kThicknessTextureBit}});
   }
+  if (variant & kAnisotropyBit) {
+    program.set("uAnisotropyStrength", d.anisotropyStrength);
+    program.set("uAnisotropyRotation",
+                glm::vec2(std::cos(d.anisotropyRotation), std::sin(d.anisotropyRotation)));
+    bindExtensionTextures(
+        program, variant,
+        {{"uAnisotropyTexCoord", "uAnisotropyUvTransform", contract::kAnisotropyUnit, m.anisotropy,
+          m.anisotropySampler, d.anisotropyTexture, kAnisotropyTextureBit}});
+  }
   if (!hasSheen(d)) return;
   program.set("uSheenColorFactor", d.sheenColorFactor);
   program.set("uSheenRoughnessFactor", d.sheenRoughnessFactor);
@@ -546,6 +563,8 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
       variant |= kVolumeBit | (material.thickness != 0 ? kThicknessTextureBit : 0u) |
                  (hasDispersion(material.desc) ? kDispersionBit : 0u);
   }
+  if (hasAnisotropy(material.desc))
+    variant |= kAnisotropyBit | (material.anisotropy != 0 ? kAnisotropyTextureBit : 0u);
   if (hasClearcoat(material.desc)) {
     variant |= kClearcoatBit;
     if (material.clearcoat != 0) variant |= kClearcoatTextureBit;

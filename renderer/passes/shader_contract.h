@@ -58,6 +58,8 @@ inline constexpr int kSurfaceTransmissionUnit = kSheenRoughnessUnit + 1;
 inline constexpr int kSceneBehindUnit = kSurfaceTransmissionUnit + 1;
 // KHR_materials_volume's thickness texture (G).
 inline constexpr int kThicknessUnit = kSceneBehindUnit + 1;
+// KHR_materials_anisotropy's texture (RG direction, B strength).
+inline constexpr int kAnisotropyUnit = kThicknessUnit + 1;
 
 // Shadow sampler arrays follow the material's units. Only the families the frame's filters
 // read are declared (compare, raw depth, moments; cube and planar), each with as many units as
@@ -65,10 +67,10 @@ inline constexpr int kThicknessUnit = kSceneBehindUnit + 1;
 // shadowSamplerUnits), so that a frame of one filter takes one or two units, not 24. A frame
 // whose families would reach past the last unit (several filters and groups in both layouts)
 // starts them at kFallbackShadowUnit instead, over the units above (clearcoat, specular, a sheen
-// roughness of its own, transmission and volume), whose textures that frame does not read: it draws
-// those layers from their factors, and see-through surfaces as their base material.
+// roughness of its own, transmission, volume, anisotropy), whose textures that frame does not read:
+// it draws those layers from their factors, and see-through surfaces as their base material.
 inline constexpr int kMaxShadowGroups = omnishadow::kMaxShadowGroups;
-inline constexpr int kFirstShadowUnit = kThicknessUnit + 1;
+inline constexpr int kFirstShadowUnit = kAnisotropyUnit + 1;
 inline constexpr int kFallbackShadowUnit = kClearcoatUnit;
 inline constexpr int kShadowSamplerFamilies = 6;
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
@@ -177,6 +179,7 @@ inline std::vector<std::string> shaderContractDefines() {
       define("SURFACE_TRANSMISSION_UNIT", kSurfaceTransmissionUnit),
       define("SCENE_BEHIND_UNIT", kSceneBehindUnit),
       define("THICKNESS_UNIT", kThicknessUnit),
+      define("ANISOTROPY_UNIT", kAnisotropyUnit),
       define("SHEEN_ALBEDO_COSINES", kSheenAlbedoCosines),
       define("SHEEN_ALBEDO_ROUGHNESSES", kSheenAlbedoRoughnesses),
       "MIN_SHEEN_ALPHA " + std::to_string(kMinSheenAlpha),

@@ -37,7 +37,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_materials_ior", Supported, ""},
     {"KHR_materials_specular", Supported, ""},
     {"KHR_materials_iridescence", NotSupported, "the base material, without iridescence"},
-    {"KHR_materials_anisotropy", NotSupported, "the base material, with isotropic highlights"},
+    {"KHR_materials_anisotropy", Supported, ""},
     {"KHR_materials_dispersion", Supported, ""},
     {"KHR_materials_diffuse_transmission", NotSupported, "the base material, opaque"},
     {"KHR_materials_variants", Supported, ""},

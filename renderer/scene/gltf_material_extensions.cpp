@@ -179,6 +179,22 @@ void applyVolume(const Context& ctx, std::size_t index, Material& material) {
   warnIfExcluded(ctx, index, material, where, "the volume");
 }
 
+// KHR_materials_anisotropy: a strength, a rotation and a texture.
+void applyAnisotropy(const Context& ctx, std::size_t index, Material& material) {
+  const tinygltf::Value* anisotropy =
+      extensionOf(ctx.model.materials[index], "KHR_materials_anisotropy");
+  if (!anisotropy) return;
+  const std::string where = at("materials", index) + ".extensions.KHR_materials_anisotropy";
+  if (!anisotropy->IsObject()) ctx.fail(where, "must be an object");
+  material.anisotropyStrength = unitNumber(ctx, where, *anisotropy, "anisotropyStrength", 0.0f);
+  const double rotation = number(ctx, where, *anisotropy, "anisotropyRotation", 0.0);
+  if (!std::isfinite(rotation)) ctx.fail(where, "anisotropyRotation must be a finite number");
+  material.anisotropyRotation = static_cast<float>(rotation);
+  material.anisotropyTexture =
+      slotFromValue(ctx, where + ".anisotropyTexture", anisotropy->Get("anisotropyTexture"));
+  warnIfExcluded(ctx, index, material, where, "the anisotropy");
+}
+
 // KHR_materials_dispersion: one number, 20 / the Abbe number.
 void applyDispersion(const Context& ctx, std::size_t index, Material& material) {
   const tinygltf::Value* dispersion =
@@ -253,6 +269,7 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
   applyClearcoat(ctx, index, material);
   applyVolume(ctx, index, material);
   applyDispersion(ctx, index, material);
+  applyAnisotropy(ctx, index, material);
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;
   const std::string where = object + "KHR_materials_pbrSpecularGlossiness";

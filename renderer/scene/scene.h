@@ -119,6 +119,12 @@ struct Material {
   // KHR_materials_dispersion, 20 / the Abbe number: a volume's red, green and blue refract with
   // iors spread around `ior` (0: one ior for all).
   float dispersion = 0.0f;
+  // KHR_materials_anisotropy: the specular lobe's alpha along a direction of the tangent space
+  // (the tangent turned by anisotropyRotation, counter-clockwise towards the bitangent, or the
+  // texture's RG direction turned by it) grows to mix(roughness^2, 1, strength^2).
+  float anisotropyStrength = 0.0f;
+  float anisotropyRotation = 0.0f;  // radians
+  TextureSlot anisotropyTexture;    // linear; RG direction in [-1, 1], B multiplies the strength
 };
 
 // The dielectric Fresnel reflectance at normal incidence that `material`'s ior gives (outside
@@ -171,13 +177,25 @@ inline bool hasDispersion(const Material& material) {
   return hasVolume(material) && material.dispersion > 0.0f;
 }
 
-// The normal map whose texture coordinates generated tangents follow: the material's own,
-// else its clearcoat's (KHR_materials_clearcoat asks for a tangent space either way); none
-// when neither has one.
+// Whether the lighting pass stretches `material`'s highlights (KHR_materials_anisotropy): a
+// nonzero strength on a lit metallic-roughness material (the extension excludes the others).
+inline bool hasAnisotropy(const Material& material) {
+  return !material.unlit && !material.specularGlossiness && material.anisotropyStrength > 0.0f;
+}
+
+// The texture slot whose texture coordinates generated tangents follow (texture < 0: none is
+// needed): the material's normal map, else its clearcoat's (KHR_materials_clearcoat asks for a
+// tangent space either way), else its anisotropy texture, else for an anisotropic material
+// without one TEXCOORD_0 (KHR_materials_anisotropy needs a tangent space).
 inline const TextureSlot& tangentSpaceNormalMap(const Material& material) {
-  return material.normalTexture.texture < 0 && hasClearcoat(material)
-             ? material.clearcoatNormalTexture
-             : material.normalTexture;
+  // The texture index only says that tangents are needed; generation reads the texCoord.
+  static const TextureSlot kFirstUvSet{0, 0, glm::mat3(1.0f)};
+  if (material.normalTexture.texture >= 0) return material.normalTexture;
+  if (hasClearcoat(material) && material.clearcoatNormalTexture.texture >= 0)
+    return material.clearcoatNormalTexture;
+  if (hasAnisotropy(material))
+    return material.anisotropyTexture.texture >= 0 ? material.anisotropyTexture : kFirstUvSet;
+  return material.normalTexture;
 }
 
 // One glTF primitive as an indexed triangle list, in the mesh's local space.
