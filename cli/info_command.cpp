@@ -189,6 +189,17 @@ Json anisotropyJson(const Material& m) {
           {"texture", textureIndex(m.anisotropyTexture)}};
 }
 
+// KHR_materials_iridescence as the report gives it: null for a material drawn without a film.
+Json iridescenceJson(const Material& m) {
+  if (!hasIridescence(m)) return nullptr;
+  return {{"factor", jsonNumber(m.iridescenceFactor)},
+          {"texture", textureIndex(m.iridescenceTexture)},
+          {"ior", jsonNumber(m.iridescenceIor)},
+          {"thicknessMinimum", jsonNumber(m.iridescenceThicknessMinimum)},
+          {"thicknessMaximum", jsonNumber(m.iridescenceThicknessMaximum)},
+          {"thicknessTexture", textureIndex(m.iridescenceThicknessTexture)}};
+}
+
 glm::vec3 cameraPosition(const Camera& camera) {
   return glm::vec3(camera.world[3]);
 }
@@ -277,7 +288,8 @@ Json toJson(const Info& info) {
                          {"clearcoat", clearcoatJson(m)},
                          {"transmission", transmissionJson(m)},
                          {"volume", volumeJson(m)},
-                         {"anisotropy", anisotropyJson(m)}});
+                         {"anisotropy", anisotropyJson(m)},
+                         {"iridescence", iridescenceJson(m)}});
   }
   doc["materials"] = materials;
 
@@ -445,6 +457,11 @@ void printText(const Info& info) {
     if (hasAnisotropy(m))
       rows.back().push_back("anisotropy " + readable(m.anisotropyStrength) + " rotation " +
                             readable(m.anisotropyRotation));
+    if (hasIridescence(m))
+      rows.back().push_back("iridescence " + readable(m.iridescenceFactor) + " ior " +
+                            readable(m.iridescenceIor) + " thickness " +
+                            readable(m.iridescenceThicknessMinimum) + "-" +
+                            readable(m.iridescenceThicknessMaximum));
   }
   printTable(rows);
 

@@ -143,6 +143,133 @@ void shadePhong(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float rou
   specular = specularF0 * lobe * irradiance;
 }
 
+#ifdef IRIDESCENCE
+// KHR_materials_iridescence: a thin film over the material, as its specification's
+// implementation notes write it (Belcour and Barla 2017, with Schlick's Fresnel at both
+// interfaces and the spectral integral in Fourier space). The film's Fresnel depends on the
+// view alone: lighting.frag works it out once per pixel for the dielectric and the metal base.
+const mat3 XYZ_TO_REC709 = mat3(3.2404542, -0.9692660, 0.0556434, -1.5371385, 1.8760108,
+                                -0.2040259, -0.4985314, 0.0415560, 1.0572252);
+
+vec3 iridescenceSensitivity(float opd, vec3 shift) {
+  float phase = 2.0 * PI * opd * 1.0e-9;
+  vec3 val = vec3(5.4856e-13, 4.4201e-13, 5.2481e-13);
+  vec3 pos = vec3(1.6810e+06, 1.7953e+06, 2.2084e+06);
+  vec3 var = vec3(4.3278e+09, 9.3046e+09, 6.6121e+09);
+  vec3 xyz = val * sqrt(2.0 * PI * var) * cos(pos * phase + shift) * exp(-phase * phase * var);
+  xyz.x += 9.7470e-14 * sqrt(2.0 * PI * 4.5282e+09) * cos(2.2399e+06 * phase + shift[0]) *
+           exp(-4.5282e+09 * phase * phase);
+  xyz /= 1.0685e-7;
+  return XYZ_TO_REC709 * xyz;
+}
+
+float schlickScalar(float f0, float c) {
+  float x = clamp(1.0 - c, 0.0, 1.0);
+  float x2 = x * x;
+  return f0 + (1.0 - f0) * (x2 * x2 * x);
+}
+
+// The film's Fresnel at cos(theta1) = N.V for a base of reflectance baseF0, the film of index
+// filmIor and thickness nanometres, in air. A film of no thickness is no film (the Khronos
+// sample viewer's limit, which the specification's formulas approach).
+vec3 iridescentFresnel(float filmIor, vec3 baseF0, float thickness, float cosTheta1) {
+  float ior = mix(1.0, filmIor, smoothstep(0.0, 0.03, thickness));
+  float sinTheta2Sq = (1.0 / (ior * ior)) * (1.0 - cosTheta1 * cosTheta1);
+  float cosTheta2Sq = 1.0 - sinTheta2Sq;
+  if (cosTheta2Sq < 0.0) return vec3(1.0);  // total internal reflection
+  float cosTheta2 = sqrt(cosTheta2Sq);
+  float r0 = (ior - 1.0) / (ior + 1.0);
+  float R12 = schlickScalar(r0 * r0, cosTheta1);
+  float T121 = 1.0 - R12;
+  float phi12 = ior < 1.0 ? PI : 0.0;
+  float phi21 = PI - phi12;
+  vec3 sqrtF0 = sqrt(clamp(baseF0, 0.0, 0.9999));
+  vec3 baseIor = (1.0 + sqrtF0) / (1.0 - sqrtF0);
+  vec3 r1 = (baseIor - ior) / (baseIor + ior);
+  vec3 R1 = r1 * r1;
+  vec3 x = vec3(clamp(1.0 - cosTheta2, 0.0, 1.0));
+  vec3 R23 = R1 + (1.0 - R1) * (x * x * x * x * x);
+  vec3 phi23 = vec3(baseIor.r < ior ? PI : 0.0, baseIor.g < ior ? PI : 0.0,
+                    baseIor.b < ior ? PI : 0.0);
+  float opd = 2.0 * ior * thickness * cosTheta2;
+  vec3 phi = vec3(phi21) + phi23;
+  vec3 R123 = clamp(R12 * R23, 1e-5, 0.9999);
+  vec3 r123 = sqrt(R123);
+  vec3 Rs = T121 * T121 * R23 / (1.0 - R123);
+  vec3 I = R12 + Rs;
+  vec3 Cm = Rs - T121;
+  for (int m = 1; m <= 2; ++m) {
+    Cm *= r123;
+    I += Cm * 2.0 * iridescenceSensitivity(float(m) * opd, float(m) * phi);
+  }
+  return max(I, vec3(0.0));
+}
+
+// A pixel's film: its strength (factor x texture), and its Fresnel over the dielectric and
+// over the metal base.
+struct Iridescence {
+  float strength;
+  vec3 dielectric, metal;
+};
+
+// shadePbr with the film: the dielectric keeps mix(its Fresnel mix of diffuse and specular,
+// rgb_mix(diffuse, specular, film), strength), rgb_mix weighting the diffuse by 1 - the film's
+// brightest channel; the metal's Fresnel mixes towards the film's by the strength.
+void shadePbrIridescent(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, float metallic,
+                        float roughness, float dielectricF0, Iridescence film, out vec3 diffuse,
+                        out vec3 specular) {
+  diffuse = vec3(0.0);
+  specular = vec3(0.0);
+  float NdotL = dot(N, L);
+  if (NdotL <= 0.0) return;
+  vec3 H = normalize(L + V);
+  float NdotV = max(dot(N, V), 1e-4);
+  float NdotH = max(dot(N, H), 0.0);
+  float VdotH = max(dot(V, H), 0.0);
+  float alpha = max(roughness * roughness, 1e-3);
+  float dielectricF = schlickScalar(dielectricF0, VdotH);
+  vec3 dielectric = mix(vec3(dielectricF), film.dielectric, film.strength);
+  vec3 metal = mix(fresnelSchlick(baseColor, VdotH), film.metal, film.strength);
+  float filmMax = max(film.dielectric.r, max(film.dielectric.g, film.dielectric.b));
+  float diffuseWeight =
+      (1.0 - metallic) * mix(1.0 - dielectricF, 1.0 - filmMax, film.strength);
+  vec3 irradiance = radiance * NdotL;
+  diffuse = diffuseWeight * baseColor / PI * irradiance;
+  specular = mix(dielectric, metal, metallic) * SPECULAR_LOBE(N, V, L, H, NdotV, NdotL, NdotH, alpha) *
+             irradiance;
+}
+
+#ifdef DIELECTRIC_SPECULAR
+// shadePbrSpecular with the film, as the specification writes the two together: the
+// dielectric's Fresnel is mix(specularWeight x its Fresnel, the film's (over specularWeight x
+// its F0), strength), and the diffuse keeps 1 - its brightest channel.
+void shadePbrSpecularIridescent(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor,
+                                float metallic, float roughness, float dielectricF0,
+                                float specularWeight, vec3 specularColor, Iridescence film,
+                                out vec3 diffuse, out vec3 specular) {
+  diffuse = vec3(0.0);
+  specular = vec3(0.0);
+  float NdotL = dot(N, L);
+  if (NdotL <= 0.0) return;
+  vec3 H = normalize(L + V);
+  float NdotV = max(dot(N, V), 1e-4);
+  float NdotH = max(dot(N, H), 0.0);
+  float VdotH = max(dot(V, H), 0.0);
+  float alpha = max(roughness * roughness, 1e-3);
+  vec3 f0 = min(dielectricF0 * specularColor, vec3(1.0)) * specularWeight;
+  vec3 dielectricF = f0 + (vec3(specularWeight) - f0) * (fresnelSchlick(vec3(0.0), VdotH).r);
+  vec3 dielectric = mix(dielectricF, film.dielectric, film.strength);
+  vec3 metal = mix(fresnelSchlick(baseColor, VdotH), film.metal, film.strength);
+  vec3 irradiance = radiance * NdotL;
+  float diffuseWeight =
+      (1.0 - metallic) * (1.0 - max(dielectric.r, max(dielectric.g, dielectric.b)));
+  diffuse = diffuseWeight * baseColor / PI * irradiance;
+  specular = mix(dielectric, metal, metallic) * SPECULAR_LOBE(N, V, L, H, NdotV, NdotL, NdotH, alpha) *
+             irradiance;
+}
+#endif
+#endif
+
 #ifdef SHEEN
 // KHR_materials_sheen, as its specification's implementation notes write it: the "Charlie"
 // distribution and visibility of Conty and Kulla (2017), layered over the base material by

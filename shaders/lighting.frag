@@ -12,7 +12,9 @@
 // (KHR_materials_clearcoat and each of its textures), TRANSMISSION and TRANSMISSION_TEXTURE
 // (KHR_materials_transmission, and its texture), VOLUME and THICKNESS_TEXTURE (with it,
 // KHR_materials_volume, and its texture), DISPERSION (with VOLUME, KHR_materials_dispersion),
-// ANISOTROPY and ANISOTROPY_TEXTURE (KHR_materials_anisotropy, and its texture).
+// ANISOTROPY and ANISOTROPY_TEXTURE (KHR_materials_anisotropy, and its texture), IRIDESCENCE,
+// IRIDESCENCE_TEXTURE and IRIDESCENCE_THICKNESS_TEXTURE (KHR_materials_iridescence, and each of
+// its textures).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -185,6 +187,24 @@ uniform vec2 uAnisotropyRotation;
 layout(binding = ANISOTROPY_UNIT) uniform sampler2D uAnisotropyTexture;
 uniform int uAnisotropyTexCoord;
 uniform mat3 uAnisotropyUvTransform;
+#endif
+#endif
+#ifdef IRIDESCENCE
+// KHR_materials_iridescence: the film's strength (factor x texture's R), index and thickness in
+// nanometres (mix(minimum, maximum, thickness texture's G), the maximum without a texture).
+uniform float uIridescenceFactor;
+uniform float uIridescenceIor;
+uniform float uIridescenceThicknessMinimum;
+uniform float uIridescenceThicknessMaximum;
+#ifdef IRIDESCENCE_TEXTURE
+layout(binding = IRIDESCENCE_UNIT) uniform sampler2D uIridescenceTexture;
+uniform int uIridescenceTexCoord;
+uniform mat3 uIridescenceUvTransform;
+#endif
+#ifdef IRIDESCENCE_THICKNESS_TEXTURE
+layout(binding = IRIDESCENCE_THICKNESS_UNIT) uniform sampler2D uIridescenceThicknessTexture;
+uniform int uIridescenceThicknessTexCoord;
+uniform mat3 uIridescenceThicknessUvTransform;
 #endif
 #endif
 // Material variants (renderer/passes/lighting_pass.cpp): the texture slots and the BRDF a
@@ -458,6 +478,32 @@ void main() {
 #else
   vec3 ambientBase = baseColor.rgb;
 #endif
+#ifdef IRIDESCENCE
+  Iridescence film;
+  {
+    float strength = uIridescenceFactor;
+#ifdef IRIDESCENCE_TEXTURE
+    if (uIridescenceTexCoord >= 0)
+      strength *= texture(uIridescenceTexture, uvFor(uIridescenceTexCoord, uIridescenceUvTransform)).r;
+#endif
+    float thickness = uIridescenceThicknessMaximum;
+#ifdef IRIDESCENCE_THICKNESS_TEXTURE
+    if (uIridescenceThicknessTexCoord >= 0)
+      thickness = mix(uIridescenceThicknessMinimum, uIridescenceThicknessMaximum,
+                      texture(uIridescenceThicknessTexture,
+                              uvFor(uIridescenceThicknessTexCoord, uIridescenceThicknessUvTransform)).g);
+#endif
+#ifdef DIELECTRIC_SPECULAR
+    vec3 filmBaseF0 = min(uDielectricF0 * specularColorFactor, vec3(1.0)) * specularWeight;
+#else
+    vec3 filmBaseF0 = vec3(uDielectricF0);
+#endif
+    float cosView = clamp(dot(N, V), 0.0, 1.0);
+    film.strength = thickness > 0.0 ? clamp(strength, 0.0, 1.0) : 0.0;
+    film.dielectric = iridescentFresnel(uIridescenceIor, filmBaseF0, thickness, cosView);
+    film.metal = iridescentFresnel(uIridescenceIor, baseColor.rgb, thickness, cosView);
+  }
+#endif
   float cameraDistance = length(uCameraPosition - vIn.worldPosition);
 #ifdef SHEEN
   // Towards the camera, the sheen reflects E(N.V) of light arriving evenly from everywhere (the
@@ -623,7 +669,14 @@ void main() {
       shadeSpecularGlossiness(N, V, L, radiance, baseColor.rgb, specularColor, roughness, diffuse,
                               specular);
     else
-#ifdef DIELECTRIC_SPECULAR
+#if defined(IRIDESCENCE) && defined(DIELECTRIC_SPECULAR)
+      shadePbrSpecularIridescent(N, V, L, radiance, baseColor.rgb, metallic, roughness,
+                                 uDielectricF0, specularWeight, specularColorFactor, film,
+                                 diffuse, specular);
+#elif defined(IRIDESCENCE)
+      shadePbrIridescent(N, V, L, radiance, baseColor.rgb, metallic, roughness, uDielectricF0,
+                         film, diffuse, specular);
+#elif defined(DIELECTRIC_SPECULAR)
       shadePbrSpecular(N, V, L, radiance, baseColor.rgb, metallic, roughness, uDielectricF0,
                        specularWeight, specularColorFactor, diffuse, specular);
 #else

@@ -630,6 +630,65 @@ TEST_F(GltfExtensionsTest, AnisotropyIsReadAndItsMeshesGetTangents) {
   EXPECT_FALSE(hasAnisotropy(unlit.materials[0]));
 }
 
+// KHR_materials_iridescence: factor, index, thickness range and textures, the defaults (no
+// film; index 1.3, 100 to 400 nm), the ranges (a minimum above the maximum is allowed), the
+// exclusions.
+TEST_F(GltfExtensionsTest, IridescenceIsRead) {
+  Quad q;
+  makeQuad(q);
+  const std::string where = file() + ": materials[0].extensions.KHR_materials_iridescence";
+  q.gltfMaterial().extensions["KHR_materials_iridescence"] = object(
+      {{"iridescenceFactor", Value(0.5)},
+       {"iridescenceIor", Value(1.8)},
+       {"iridescenceThicknessMinimum", Value(500.0)},
+       {"iridescenceThicknessMaximum", Value(250.0)},
+       {"iridescenceTexture", object({{"index", Value(0)}})},
+       {"iridescenceThicknessTexture", object({{"index", Value(0)}, {"texCoord", Value(1)}})}});
+  q.builder.model().extensionsUsed = {"KHR_materials_iridescence"};
+  q.builder.model().extensionsRequired = {"KHR_materials_iridescence"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  const Material& m = scene.materials[0];
+  EXPECT_EQ(m.iridescenceFactor, 0.5f);
+  EXPECT_EQ(m.iridescenceIor, 1.8f);
+  EXPECT_EQ(m.iridescenceThicknessMinimum, 500.0f);
+  EXPECT_EQ(m.iridescenceThicknessMaximum, 250.0f);
+  EXPECT_EQ(m.iridescenceTexture.texture, 0);
+  EXPECT_EQ(m.iridescenceThicknessTexture.texCoord, 1);
+  EXPECT_TRUE(hasIridescence(m));
+
+  q.gltfMaterial().extensions["KHR_materials_iridescence"] = object({});
+  const Material plain = load(q.builder).materials[0];
+  EXPECT_EQ(plain.iridescenceFactor, 0.0f);
+  EXPECT_EQ(plain.iridescenceIor, 1.3f);
+  EXPECT_EQ(plain.iridescenceThicknessMinimum, 100.0f);
+  EXPECT_EQ(plain.iridescenceThicknessMaximum, 400.0f);
+  EXPECT_FALSE(hasIridescence(plain));
+
+  EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_iridescence", "iridescenceTexture", 5),
+            where + ".iridescenceTexture: texture 5 is out of range (the file has 1 texture)");
+  const std::pair<Value::Object, std::string> bad[] = {
+      {{{"iridescenceFactor", Value(1.5)}}, "iridescenceFactor must be a number in [0, 1]"},
+      {{{"iridescenceIor", Value(0.5)}}, "iridescenceIor must be a number of at least 1"},
+      {{{"iridescenceThicknessMinimum", Value(-1.0)}},
+       "iridescenceThicknessMinimum must be a number of at least 0"},
+      {{{"iridescenceThicknessMaximum", Value("thick")}},
+       "iridescenceThicknessMaximum must be a number"}};
+  for (const auto& [properties, message] : bad) {
+    q.gltfMaterial().extensions["KHR_materials_iridescence"] = Value(properties);
+    EXPECT_EQ(inputError([&] { load(q.builder); }), where + ": " + message);
+  }
+
+  q.gltfMaterial().extensions["KHR_materials_iridescence"] =
+      object({{"iridescenceFactor", Value(1.0)}});
+  q.gltfMaterial().extensions["KHR_materials_unlit"] = object({});
+  const Scene unlit = load(q.builder);
+  EXPECT_EQ(warningsAbout(unlit, "KHR_materials_iridescence"),
+            std::vector<std::string>{where + ": must not be used with KHR_materials_unlit; the "
+                                             "iridescence is not drawn"});
+  EXPECT_FALSE(hasIridescence(unlit.materials[0]));
+}
+
 TEST_F(GltfExtensionsTest, ClearcoatFactorsTexturesAndNormalScaleAreRead) {
   Quad q;
   makeQuad(q);

@@ -180,10 +180,10 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(keys(doc["counts"]["primitives"]), (Keys{"file", "drawn"}));
   EXPECT_EQ(keys(doc["bounds"]), (Keys{"min", "max", "center", "size"}));
   ASSERT_FALSE(doc["materials"].empty());
-  EXPECT_EQ(
-      keys(doc["materials"][0]),
-      (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "model", "textures", "ior",
-            "specular", "sheen", "clearcoat", "transmission", "volume", "anisotropy"}));
+  EXPECT_EQ(keys(doc["materials"][0]),
+            (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "model", "textures",
+                  "ior", "specular", "sheen", "clearcoat", "transmission", "volume", "anisotropy",
+                  "iridescence"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
@@ -575,6 +575,35 @@ TEST_F(InfoTest, ReportsEachMaterialsAnisotropy) {
   const Run r = run({"info", path.string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "no textures  anisotropy 0.5 rotation 0.25\n")) << r.out;
+}
+
+// KHR_materials_iridescence: factor, texture, the film's index and thickness range for a
+// material drawn with the film, null for one without; the text row ends with them.
+TEST_F(InfoTest, ReportsEachMaterialsIridescence) {
+  GltfBuilder b;
+  const int texture = b.addTexture(1, 1, {255, 128, 255, 255}, "film");
+  const int soap = b.addMaterial({.name = "soap"});
+  b.addMaterial({.name = "plain"});
+  using Value = tinygltf::Value;
+  b.model().materials[soap].extensions["KHR_materials_iridescence"] = Value(Value::Object{
+      {"iridescenceFactor", Value(0.75)},
+      {"iridescenceIor", Value(1.5)},
+      {"iridescenceThicknessMinimum", Value(200.0)},
+      {"iridescenceThicknessTexture", Value(Value::Object{{"index", Value(texture)}})}});
+  b.model().extensionsUsed = {"KHR_materials_iridescence"};
+  b.addNode("box", {}, b.addMesh(builder::makeBox(glm::vec3(1.0f)), {.material = soap}));
+  const fs::path path = input("soap.gltf");
+  b.write(path, FileFormat::GltfEmbedded);
+  const Json doc = info({path.string()});
+  ASSERT_EQ(doc["materials"].size(), 2u);
+  EXPECT_EQ(doc["materials"][0]["iridescence"],
+            Json::parse(R"({"factor": 0.75, "texture": null, "ior": 1.5, "thicknessMinimum": 200.0,
+                            "thicknessMaximum": 400.0, "thicknessTexture": 0})"));
+  EXPECT_TRUE(doc["materials"][1]["iridescence"].is_null());
+  const Run r = run({"info", path.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "no textures  iridescence 0.75 ior 1.5 thickness 200-400\n"))
+      << r.out;
 }
 
 TEST_F(InfoTest, UsageErrorsNameTheInfoHelp) {

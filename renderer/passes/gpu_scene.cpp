@@ -78,7 +78,7 @@ const TextureSlot& slotIf(bool drawn, const TextureSlot& slot) {
   return drawn ? slot : kNone;
 }
 
-std::array<TextureUse, 15> textureUses(const Scene& scene, const Material& desc) {
+std::array<TextureUse, 17> textureUses(const Scene& scene, const Material& desc) {
   // Specular-glossiness materials have no metallic-roughness texture; their specular color
   // (sRGB) and glossiness (alpha, linear either way) take its unit. The sheen's texture holds
   // its color in RGB (sRGB) and its roughness in A, unless the roughness is another image.
@@ -111,7 +111,11 @@ std::array<TextureUse, 15> textureUses(const Scene& scene, const Material& desc)
            {&slotIf(hasVolume(desc), desc.thicknessTexture), false, &GpuMaterial::thickness,
             &GpuMaterial::thicknessSampler},
            {&slotIf(hasAnisotropy(desc), desc.anisotropyTexture), false, &GpuMaterial::anisotropy,
-            &GpuMaterial::anisotropySampler}}};
+            &GpuMaterial::anisotropySampler},
+           {&slotIf(hasIridescence(desc), desc.iridescenceTexture), false,
+            &GpuMaterial::iridescence, &GpuMaterial::iridescenceSampler},
+           {&slotIf(hasIridescence(desc), desc.iridescenceThicknessTexture), false,
+            &GpuMaterial::iridescenceThickness, &GpuMaterial::iridescenceThicknessSampler}}};
 }
 
 // At most this many textures wait for their mipmap levels: the GL thread goes on making the

@@ -36,6 +36,9 @@ struct GpuMaterial {
   GLuint thickness = 0, thicknessSampler = 0;
   // KHR_materials_anisotropy's texture (linear); 0 unless the material is anisotropic.
   GLuint anisotropy = 0, anisotropySampler = 0;
+  // KHR_materials_iridescence's textures (linear); 0 unless the material has a film.
+  GLuint iridescence = 0, iridescenceSampler = 0;
+  GLuint iridescenceThickness = 0, iridescenceThicknessSampler = 0;
 };
 
 // The static scene on the GPU: its geometry (gpu_geometry.h), textures (sRGB where glTF says

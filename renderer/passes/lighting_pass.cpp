@@ -65,12 +65,16 @@ constexpr unsigned kDispersionBit = kThicknessTextureBit << 1;
 // KHR_materials_anisotropy, and its texture.
 constexpr unsigned kAnisotropyBit = kDispersionBit << 1;
 constexpr unsigned kAnisotropyTextureBit = kAnisotropyBit << 1;
+// KHR_materials_iridescence, and each of its textures.
+constexpr unsigned kIridescenceBit = kAnisotropyTextureBit << 1;
+constexpr unsigned kIridescenceTextureBit = kIridescenceBit << 1;
+constexpr unsigned kIridescenceThicknessTextureBit = kIridescenceTextureBit << 1;
 // The material extensions' texture units, which a frame whose shadow arrays need them takes.
 constexpr unsigned kExtensionTextureBits =
     kClearcoatTextureBit | kClearcoatRoughnessTextureBit | kClearcoatNormalTextureBit |
     kSpecularTextureBit | kSpecularColorTextureBit | kSheenRoughnessTextureBit | kTransmissionBit |
     kTransmissionTextureBit | kVolumeBit | kThicknessTextureBit | kDispersionBit |
-    kAnisotropyTextureBit;
+    kAnisotropyTextureBit | kIridescenceTextureBit | kIridescenceThicknessTextureBit;
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -106,6 +110,12 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if ((material & kAnisotropyBit) && shading != Shading::Phong) {
     defines.push_back("ANISOTROPY");
     if (material & kAnisotropyTextureBit) defines.push_back("ANISOTROPY_TEXTURE");
+  }
+  if ((material & kIridescenceBit) && shading != Shading::Phong) {
+    defines.push_back("IRIDESCENCE");
+    if (material & kIridescenceTextureBit) defines.push_back("IRIDESCENCE_TEXTURE");
+    if (material & kIridescenceThicknessTextureBit)
+      defines.push_back("IRIDESCENCE_THICKNESS_TEXTURE");
   }
   if (features.cubeShadows) defines.push_back("SHADOW_CUBE");
   if (features.planarShadows) defines.push_back("SHADOW_PLANAR");
@@ -390,6 +400,20 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
         {{"uAnisotropyTexCoord", "uAnisotropyUvTransform", contract::kAnisotropyUnit, m.anisotropy,
           m.anisotropySampler, d.anisotropyTexture, kAnisotropyTextureBit}});
   }
+  if (variant & kIridescenceBit) {
+    program.set("uIridescenceFactor", d.iridescenceFactor);
+    program.set("uIridescenceIor", d.iridescenceIor);
+    program.set("uIridescenceThicknessMinimum", d.iridescenceThicknessMinimum);
+    program.set("uIridescenceThicknessMaximum", d.iridescenceThicknessMaximum);
+    bindExtensionTextures(
+        program, variant,
+        {{"uIridescenceTexCoord", "uIridescenceUvTransform", contract::kIridescenceUnit,
+          m.iridescence, m.iridescenceSampler, d.iridescenceTexture, kIridescenceTextureBit},
+         {"uIridescenceThicknessTexCoord", "uIridescenceThicknessUvTransform",
+          contract::kIridescenceThicknessUnit, m.iridescenceThickness,
+          m.iridescenceThicknessSampler, d.iridescenceThicknessTexture,
+          kIridescenceThicknessTextureBit}});
+  }
   if (!hasSheen(d)) return;
   program.set("uSheenColorFactor", d.sheenColorFactor);
   program.set("uSheenRoughnessFactor", d.sheenRoughnessFactor);
@@ -565,6 +589,10 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
   }
   if (hasAnisotropy(material.desc))
     variant |= kAnisotropyBit | (material.anisotropy != 0 ? kAnisotropyTextureBit : 0u);
+  if (hasIridescence(material.desc)) {
+    variant |= kIridescenceBit | (material.iridescence != 0 ? kIridescenceTextureBit : 0u) |
+               (material.iridescenceThickness != 0 ? kIridescenceThicknessTextureBit : 0u);
+  }
   if (hasClearcoat(material.desc)) {
     variant |= kClearcoatBit;
     if (material.clearcoat != 0) variant |= kClearcoatTextureBit;

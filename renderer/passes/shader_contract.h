@@ -60,6 +60,9 @@ inline constexpr int kSceneBehindUnit = kSurfaceTransmissionUnit + 1;
 inline constexpr int kThicknessUnit = kSceneBehindUnit + 1;
 // KHR_materials_anisotropy's texture (RG direction, B strength).
 inline constexpr int kAnisotropyUnit = kThicknessUnit + 1;
+// KHR_materials_iridescence's textures: the strength (R) and the film's thickness (G).
+inline constexpr int kIridescenceUnit = kAnisotropyUnit + 1;
+inline constexpr int kIridescenceThicknessUnit = kIridescenceUnit + 1;
 
 // Shadow sampler arrays follow the material's units. Only the families the frame's filters
 // read are declared (compare, raw depth, moments; cube and planar), each with as many units as
@@ -67,10 +70,11 @@ inline constexpr int kAnisotropyUnit = kThicknessUnit + 1;
 // shadowSamplerUnits), so that a frame of one filter takes one or two units, not 24. A frame
 // whose families would reach past the last unit (several filters and groups in both layouts)
 // starts them at kFallbackShadowUnit instead, over the units above (clearcoat, specular, a sheen
-// roughness of its own, transmission, volume, anisotropy), whose textures that frame does not read:
-// it draws those layers from their factors, and see-through surfaces as their base material.
+// roughness of its own, transmission, volume, anisotropy, iridescence), whose textures that frame
+// does not read: it draws those layers from their factors, and see-through surfaces as their base
+// material.
 inline constexpr int kMaxShadowGroups = omnishadow::kMaxShadowGroups;
-inline constexpr int kFirstShadowUnit = kAnisotropyUnit + 1;
+inline constexpr int kFirstShadowUnit = kIridescenceThicknessUnit + 1;
 inline constexpr int kFallbackShadowUnit = kClearcoatUnit;
 inline constexpr int kShadowSamplerFamilies = 6;
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
@@ -180,6 +184,8 @@ inline std::vector<std::string> shaderContractDefines() {
       define("SCENE_BEHIND_UNIT", kSceneBehindUnit),
       define("THICKNESS_UNIT", kThicknessUnit),
       define("ANISOTROPY_UNIT", kAnisotropyUnit),
+      define("IRIDESCENCE_UNIT", kIridescenceUnit),
+      define("IRIDESCENCE_THICKNESS_UNIT", kIridescenceThicknessUnit),
       define("SHEEN_ALBEDO_COSINES", kSheenAlbedoCosines),
       define("SHEEN_ALBEDO_ROUGHNESSES", kSheenAlbedoRoughnesses),
       "MIN_SHEEN_ALPHA " + std::to_string(kMinSheenAlpha),

@@ -36,7 +36,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_materials_volume", Supported, ""},
     {"KHR_materials_ior", Supported, ""},
     {"KHR_materials_specular", Supported, ""},
-    {"KHR_materials_iridescence", NotSupported, "the base material, without iridescence"},
+    {"KHR_materials_iridescence", Supported, ""},
     {"KHR_materials_anisotropy", Supported, ""},
     {"KHR_materials_dispersion", Supported, ""},
     {"KHR_materials_diffuse_transmission", NotSupported, "the base material, opaque"},

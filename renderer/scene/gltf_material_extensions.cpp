@@ -195,6 +195,34 @@ void applyAnisotropy(const Context& ctx, std::size_t index, Material& material) 
   warnIfExcluded(ctx, index, material, where, "the anisotropy");
 }
 
+// KHR_materials_iridescence: a factor, the film's index, a thickness range, two textures.
+void applyIridescence(const Context& ctx, std::size_t index, Material& material) {
+  const tinygltf::Value* film =
+      extensionOf(ctx.model.materials[index], "KHR_materials_iridescence");
+  if (!film) return;
+  const std::string where = at("materials", index) + ".extensions.KHR_materials_iridescence";
+  if (!film->IsObject()) ctx.fail(where, "must be an object");
+  material.iridescenceFactor = unitNumber(ctx, where, *film, "iridescenceFactor", 0.0f);
+  material.iridescenceTexture =
+      slotFromValue(ctx, where + ".iridescenceTexture", film->Get("iridescenceTexture"));
+  const double ior = number(ctx, where, *film, "iridescenceIor", 1.3);
+  if (!(ior >= 1.0 && std::isfinite(ior)))
+    ctx.fail(where, "iridescenceIor must be a number of at least 1");
+  material.iridescenceIor = static_cast<float>(ior);
+  const auto thickness = [&](const char* property, double fallback) {
+    const double value = number(ctx, where, *film, property, fallback);
+    if (!(value >= 0.0 && std::isfinite(value)))
+      ctx.fail(where, std::string(property) + " must be a number of at least 0");
+    return static_cast<float>(value);
+  };
+  // The minimum may exceed the maximum (the specification allows it).
+  material.iridescenceThicknessMinimum = thickness("iridescenceThicknessMinimum", 100.0);
+  material.iridescenceThicknessMaximum = thickness("iridescenceThicknessMaximum", 400.0);
+  material.iridescenceThicknessTexture = slotFromValue(ctx, where + ".iridescenceThicknessTexture",
+                                                       film->Get("iridescenceThicknessTexture"));
+  warnIfExcluded(ctx, index, material, where, "the iridescence");
+}
+
 // KHR_materials_dispersion: one number, 20 / the Abbe number.
 void applyDispersion(const Context& ctx, std::size_t index, Material& material) {
   const tinygltf::Value* dispersion =
@@ -270,6 +298,7 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
   applyVolume(ctx, index, material);
   applyDispersion(ctx, index, material);
   applyAnisotropy(ctx, index, material);
+  applyIridescence(ctx, index, material);
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;
   const std::string where = object + "KHR_materials_pbrSpecularGlossiness";

@@ -125,6 +125,15 @@ struct Material {
   float anisotropyStrength = 0.0f;
   float anisotropyRotation = 0.0f;  // radians
   TextureSlot anisotropyTexture;    // linear; RG direction in [-1, 1], B multiplies the strength
+  // KHR_materials_iridescence: a thin film of index iridescenceIor and a thickness in
+  // nanometres (mix(minimum, maximum, the thickness texture's G); the maximum without one) whose
+  // interference colors the Fresnel, as strong as factor x texture's R.
+  float iridescenceFactor = 0.0f;
+  TextureSlot iridescenceTexture;  // linear; R multiplies iridescenceFactor
+  float iridescenceIor = 1.3f;
+  float iridescenceThicknessMinimum = 100.0f;
+  float iridescenceThicknessMaximum = 400.0f;
+  TextureSlot iridescenceThicknessTexture;  // linear; G
 };
 
 // The dielectric Fresnel reflectance at normal incidence that `material`'s ior gives (outside
@@ -181,6 +190,12 @@ inline bool hasDispersion(const Material& material) {
 // nonzero strength on a lit metallic-roughness material (the extension excludes the others).
 inline bool hasAnisotropy(const Material& material) {
   return !material.unlit && !material.specularGlossiness && material.anisotropyStrength > 0.0f;
+}
+
+// Whether the lighting pass shades `material` with a thin film (KHR_materials_iridescence): a
+// nonzero factor on a lit metallic-roughness material (the extension excludes the others).
+inline bool hasIridescence(const Material& material) {
+  return !material.unlit && !material.specularGlossiness && material.iridescenceFactor > 0.0f;
 }
 
 // The texture slot whose texture coordinates generated tangents follow (texture < 0: none is
