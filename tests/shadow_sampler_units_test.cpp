@@ -1,6 +1,7 @@
 // The texture units of the lighting pass's shadow sampler arrays (shadowSamplerUnits): only the
 // families a frame's filters read, SHADOW_SLOTS units each, after the material's units, never
-// overlapping each other or the material's, and within the 32 units a fragment shader has.
+// overlapping each other or the material's, and within the 32 units a fragment shader has
+// (the material extensions' textures take the units after them, per material variant).
 #include <gtest/gtest.h>
 
 #include <set>
@@ -38,7 +39,6 @@ TEST(ShadowSamplerUnits, OnePcfLayoutTakesOneUnitAfterTheMaterials) {
   EXPECT_EQ(u.planarCompare, -1);
   EXPECT_EQ(u.cubeMoments, -1);
   EXPECT_EQ(u.end, contract::kFirstShadowUnit + 1);
-  EXPECT_TRUE(u.extensionTextures);
   // No shadowed light: nothing declared.
   EXPECT_EQ(shadowSamplerUnits(LightingFeatures{}).end, contract::kFirstShadowUnit);
 }
@@ -72,7 +72,7 @@ TEST(ShadowSamplerUnits, EachFilterDeclaresTheFamiliesItReads) {
   EXPECT_GE(shadowSamplerUnits(debug).cubeDepth, 0);
 }
 
-TEST(ShadowSamplerUnits, EveryFrameFitsAndOnlyTheFullestTakesTheClearcoatsUnits) {
+TEST(ShadowSamplerUnits, EveryFrameFitsAfterTheMaterialsUnits) {
   const unsigned all = bit(ShadowFilter::Hard) | bit(ShadowFilter::Pcf) | bit(ShadowFilter::Vsm);
   for (int slots = 1; slots <= contract::kMaxShadowGroups; ++slots)
     for (unsigned filters = 0; filters <= all; ++filters)
@@ -86,16 +86,12 @@ TEST(ShadowSamplerUnits, EveryFrameFitsAndOnlyTheFullestTakesTheClearcoatsUnits)
         const ShadowSamplerUnits u = shadowSamplerUnits(f);
         const std::set<int> taken = unitsTaken(u, slots);
         EXPECT_LE(u.end, contract::kTextureUnits);
-        const int first =
-            u.extensionTextures ? contract::kFirstShadowUnit : contract::kFallbackShadowUnit;
         if (!taken.empty()) {
-          EXPECT_EQ(*taken.begin(), first);
+          EXPECT_EQ(*taken.begin(), contract::kFirstShadowUnit);
           EXPECT_EQ(*taken.rbegin(), u.end - 1);
+        } else {
+          EXPECT_EQ(u.end, contract::kFirstShadowUnit);
         }
-        // Only a frame that would reach past the last unit gives the clearcoat's units up.
-        EXPECT_EQ(
-            u.extensionTextures,
-            contract::kFirstShadowUnit + static_cast<int>(taken.size()) <= contract::kTextureUnits);
       }
 }
 

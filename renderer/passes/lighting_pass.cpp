@@ -69,12 +69,55 @@ constexpr unsigned kAnisotropyTextureBit = kAnisotropyBit << 1;
 constexpr unsigned kIridescenceBit = kAnisotropyTextureBit << 1;
 constexpr unsigned kIridescenceTextureBit = kIridescenceBit << 1;
 constexpr unsigned kIridescenceThicknessTextureBit = kIridescenceTextureBit << 1;
-// The material extensions' texture units, which a frame whose shadow arrays need them takes.
+// The variant bit that makes a variant read each extension texture, in
+// contract::ExtensionTexture order (the scene behind: every see-through variant).
+constexpr unsigned kExtensionTextureBit[contract::kExtensionTextures] = {
+    kSheenTextureBit,
+    kSheenRoughnessTextureBit,
+    kClearcoatTextureBit,
+    kClearcoatRoughnessTextureBit,
+    kClearcoatNormalTextureBit,
+    kSpecularTextureBit,
+    kSpecularColorTextureBit,
+    kTransmissionTextureBit,
+    kTransmissionBit,
+    kThicknessTextureBit,
+    kAnisotropyTextureBit,
+    kIridescenceTextureBit,
+    kIridescenceThicknessTextureBit};
+// A see-through surface, its volume and its dispersion: drawn as the base material together
+// when the scene behind has no unit.
+constexpr unsigned kSeeThroughBits =
+    kTransmissionBit | kTransmissionTextureBit | kVolumeBit | kThicknessTextureBit | kDispersionBit;
+// What a variant whose extension textures do not fit leaves out.
 constexpr unsigned kExtensionTextureBits =
+    kSheenTextureBit | kSheenRoughnessTextureBit | kClearcoatTextureBit |
+    kClearcoatRoughnessTextureBit | kClearcoatNormalTextureBit | kSpecularTextureBit |
+    kSpecularColorTextureBit | kSeeThroughBits | kAnisotropyTextureBit | kIridescenceTextureBit |
+    kIridescenceThicknessTextureBit;
+// What Blinn-Phong leaves out: it has no layers (--shading phong draws the base material
+// alone), but reads KHR_materials_specular's color for its own specular.
+constexpr unsigned kPbrOnlyBits =
+    kSheenBit | kSheenTextureBit | kSheenRoughnessTextureBit | kClearcoatBit |
     kClearcoatTextureBit | kClearcoatRoughnessTextureBit | kClearcoatNormalTextureBit |
-    kSpecularTextureBit | kSpecularColorTextureBit | kSheenRoughnessTextureBit | kTransmissionBit |
-    kTransmissionTextureBit | kVolumeBit | kThicknessTextureBit | kDispersionBit |
-    kAnisotropyTextureBit | kIridescenceTextureBit | kIridescenceThicknessTextureBit;
+    kSeeThroughBits | kAnisotropyBit | kAnisotropyTextureBit | kIridescenceBit |
+    kIridescenceTextureBit | kIridescenceThicknessTextureBit;
+
+using ExtensionUnits = std::array<int, contract::kExtensionTextures>;
+
+// The units of the extension textures `variant` reads, one each from `firstFree` on, in
+// contract::ExtensionTexture order; -1 for those it does not read.
+ExtensionUnits extensionTextureUnits(unsigned variant, int firstFree) {
+  ExtensionUnits units;
+  int next = firstFree;
+  for (int i = 0; i < contract::kExtensionTextures; ++i)
+    units[static_cast<std::size_t>(i)] = (variant & kExtensionTextureBit[i]) ? next++ : -1;
+  return units;
+}
+
+int unitOf(const ExtensionUnits& units, contract::ExtensionTexture texture) {
+  return units[static_cast<std::size_t>(texture)];
+}
 
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
@@ -87,19 +130,18 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     if (material & kSpecularTextureBit) defines.push_back("SPECULAR_TEXTURE");
     if (material & kSpecularColorTextureBit) defines.push_back("SPECULAR_COLOR_TEXTURE");
   }
-  // Blinn-Phong has no layers: --shading phong draws the base material alone.
-  if ((material & kSheenBit) && shading != Shading::Phong) {
+  // LightingPass::materialVariant() leaves the layers out of Phong variants.
+  if (material & kSheenBit) {
     defines.push_back("SHEEN");
     if (material & kSheenTextureBit) defines.push_back("SHEEN_TEXTURE");
     if (material & kSheenRoughnessTextureBit) defines.push_back("SHEEN_ROUGHNESS_TEXTURE");
   }
-  if ((material & kClearcoatBit) && shading != Shading::Phong) {
+  if (material & kClearcoatBit) {
     defines.push_back("CLEARCOAT");
     if (material & kClearcoatTextureBit) defines.push_back("CLEARCOAT_TEXTURE");
     if (material & kClearcoatRoughnessTextureBit) defines.push_back("CLEARCOAT_ROUGHNESS_TEXTURE");
     if (material & kClearcoatNormalTextureBit) defines.push_back("CLEARCOAT_NORMAL_TEXTURE");
   }
-  // LightingPass::drawnThrough() leaves the bit out of Phong frames.
   if (material & kTransmissionBit) {
     defines.push_back("TRANSMISSION");
     if (material & kTransmissionTextureBit) defines.push_back("TRANSMISSION_TEXTURE");
@@ -107,11 +149,11 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     if (material & kThicknessTextureBit) defines.push_back("THICKNESS_TEXTURE");
     if (material & kDispersionBit) defines.push_back("DISPERSION");
   }
-  if ((material & kAnisotropyBit) && shading != Shading::Phong) {
+  if (material & kAnisotropyBit) {
     defines.push_back("ANISOTROPY");
     if (material & kAnisotropyTextureBit) defines.push_back("ANISOTROPY_TEXTURE");
   }
-  if ((material & kIridescenceBit) && shading != Shading::Phong) {
+  if (material & kIridescenceBit) {
     defines.push_back("IRIDESCENCE");
     if (material & kIridescenceTextureBit) defines.push_back("IRIDESCENCE_TEXTURE");
     if (material & kIridescenceThicknessTextureBit)
@@ -133,6 +175,11 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
       {units.cubeMoments, "CUBE_MOMENTS_UNIT"}, {units.planarMoments, "PLANAR_MOMENTS_UNIT"}};
   for (const auto& a : arrays)
     if (a.unit >= 0) defines.push_back(std::string(a.define) + " " + std::to_string(a.unit));
+  const ExtensionUnits extensionUnits = extensionTextureUnits(material, units.end);
+  for (int i = 0; i < contract::kExtensionTextures; ++i)
+    if (const int unit = extensionUnits[static_cast<std::size_t>(i)]; unit >= 0)
+      defines.push_back(std::string(contract::kExtensionTextureUnitDefines[i]) + " " +
+                        std::to_string(unit));
   const struct {
     ShadowFilter filter;
     const char* define;
@@ -268,7 +315,7 @@ glm::mat3 normalTextureAxes(const glm::mat3& uvTransform) {
 
 // A material extension's texture as the lighting shader reads it: its texCoord (-1: not read)
 // and transform uniforms, and the unit it is bound to.
-struct ExtensionTexture {
+struct ExtensionTextureBinding {
   const char* texCoord;
   const char* transform;
   int unit;
@@ -280,8 +327,8 @@ struct ExtensionTexture {
 // Binds what `variant` declares of `textures`; the others' units may hold the frame's shadow
 // arrays, and are left alone.
 void bindExtensionTextures(const ShaderProgram& program, unsigned variant,
-                           std::initializer_list<ExtensionTexture> textures) {
-  for (const ExtensionTexture& t : textures) {
+                           std::initializer_list<ExtensionTextureBinding> textures) {
+  for (const ExtensionTextureBinding& t : textures) {
     if (!(variant & t.bit)) continue;
     program.set(t.texCoord, t.texture ? t.slot.texCoord : -1);
     program.set(t.transform, t.slot.uvTransform);
@@ -301,8 +348,12 @@ glm::vec3 attenuationCoefficient(const Material& d) {
   return coefficient;
 }
 
-// Sets the material's uniforms and binds its textures for a program of `variant`.
-void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned variant) {
+// Sets the material's uniforms and binds its textures for a program of `variant`, whose
+// extension textures take `units` (extensionTextureUnits), the scene behind see-through
+// surfaces among them.
+void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned variant,
+                  const ExtensionUnits& units, GLuint sceneBehind) {
+  using contract::ExtensionTexture;
   const Material& d = m.desc;
   program.set("uBaseColorFactor", d.baseColorFactor);
   program.set("uMetallicFactor", d.metallicFactor);
@@ -351,12 +402,13 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
     glBindTextureUnit(unit, slots[i].texture);
     glBindSampler(unit, slots[i].sampler);
   }
-  bindExtensionTextures(program, variant,
-                        {{"uSpecularTexCoord", "uSpecularUvTransform", contract::kSpecularUnit,
-                          m.specular, m.specularSampler, d.specularTexture, kSpecularTextureBit},
-                         {"uSpecularColorTexCoord", "uSpecularColorUvTransform",
-                          contract::kSpecularColorUnit, m.specularColor, m.specularColorSampler,
-                          d.specularColorTexture, kSpecularColorTextureBit}});
+  bindExtensionTextures(
+      program, variant,
+      {{"uSpecularTexCoord", "uSpecularUvTransform", unitOf(units, ExtensionTexture::Specular),
+        m.specular, m.specularSampler, d.specularTexture, kSpecularTextureBit},
+       {"uSpecularColorTexCoord", "uSpecularColorUvTransform",
+        unitOf(units, ExtensionTexture::SpecularColor), m.specularColor, m.specularColorSampler,
+        d.specularColorTexture, kSpecularColorTextureBit}});
   if (hasClearcoat(d)) {
     program.set("uClearcoatFactor", d.clearcoatFactor);
     program.set("uClearcoatRoughnessFactor", d.clearcoatRoughnessFactor);
@@ -365,22 +417,26 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
                 normalTextureAxes(d.clearcoatNormalTexture.uvTransform));
     bindExtensionTextures(
         program, variant,
-        {{"uClearcoatTexCoord", "uClearcoatUvTransform", contract::kClearcoatUnit, m.clearcoat,
-          m.clearcoatSampler, d.clearcoatTexture, kClearcoatTextureBit},
+        {{"uClearcoatTexCoord", "uClearcoatUvTransform", unitOf(units, ExtensionTexture::Clearcoat),
+          m.clearcoat, m.clearcoatSampler, d.clearcoatTexture, kClearcoatTextureBit},
          {"uClearcoatRoughnessTexCoord", "uClearcoatRoughnessUvTransform",
-          contract::kClearcoatRoughnessUnit, m.clearcoatRoughness, m.clearcoatRoughnessSampler,
-          d.clearcoatRoughnessTexture, kClearcoatRoughnessTextureBit},
-         {"uClearcoatNormalTexCoord", "uClearcoatNormalUvTransform", contract::kClearcoatNormalUnit,
-          m.clearcoatNormal, m.clearcoatNormalSampler, d.clearcoatNormalTexture,
-          kClearcoatNormalTextureBit}});
+          unitOf(units, ExtensionTexture::ClearcoatRoughness), m.clearcoatRoughness,
+          m.clearcoatRoughnessSampler, d.clearcoatRoughnessTexture, kClearcoatRoughnessTextureBit},
+         {"uClearcoatNormalTexCoord", "uClearcoatNormalUvTransform",
+          unitOf(units, ExtensionTexture::ClearcoatNormal), m.clearcoatNormal,
+          m.clearcoatNormalSampler, d.clearcoatNormalTexture, kClearcoatNormalTextureBit}});
   }
   if (variant & kTransmissionBit) {
     program.set("uTransmissionFactor", d.transmissionFactor);
     program.set("uIor", d.ior);
+    const auto unit = static_cast<GLuint>(unitOf(units, ExtensionTexture::SceneBehind));
+    glBindTextureUnit(unit, sceneBehind);
+    glBindSampler(unit, 0);
     bindExtensionTextures(
         program, variant,
-        {{"uTransmissionTexCoord", "uTransmissionUvTransform", contract::kSurfaceTransmissionUnit,
-          m.transmission, m.transmissionSampler, d.transmissionTexture, kTransmissionTextureBit}});
+        {{"uTransmissionTexCoord", "uTransmissionUvTransform",
+          unitOf(units, ExtensionTexture::Transmission), m.transmission, m.transmissionSampler,
+          d.transmissionTexture, kTransmissionTextureBit}});
   }
   if (variant & kVolumeBit) {
     program.set("uThicknessFactor", d.thicknessFactor);
@@ -388,31 +444,31 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
     program.set("uDispersion", d.dispersion);
     bindExtensionTextures(
         program, variant,
-        {{"uThicknessTexCoord", "uThicknessUvTransform", contract::kThicknessUnit, m.thickness,
-          m.thicknessSampler, d.thicknessTexture, kThicknessTextureBit}});
+        {{"uThicknessTexCoord", "uThicknessUvTransform", unitOf(units, ExtensionTexture::Thickness),
+          m.thickness, m.thicknessSampler, d.thicknessTexture, kThicknessTextureBit}});
   }
   if (variant & kAnisotropyBit) {
     program.set("uAnisotropyStrength", d.anisotropyStrength);
     program.set("uAnisotropyRotation",
                 glm::vec2(std::cos(d.anisotropyRotation), std::sin(d.anisotropyRotation)));
-    bindExtensionTextures(
-        program, variant,
-        {{"uAnisotropyTexCoord", "uAnisotropyUvTransform", contract::kAnisotropyUnit, m.anisotropy,
-          m.anisotropySampler, d.anisotropyTexture, kAnisotropyTextureBit}});
+    bindExtensionTextures(program, variant,
+                          {{"uAnisotropyTexCoord", "uAnisotropyUvTransform",
+                            unitOf(units, ExtensionTexture::Anisotropy), m.anisotropy,
+                            m.anisotropySampler, d.anisotropyTexture, kAnisotropyTextureBit}});
   }
   if (variant & kIridescenceBit) {
     program.set("uIridescenceFactor", d.iridescenceFactor);
     program.set("uIridescenceIor", d.iridescenceIor);
     program.set("uIridescenceThicknessMinimum", d.iridescenceThicknessMinimum);
     program.set("uIridescenceThicknessMaximum", d.iridescenceThicknessMaximum);
-    bindExtensionTextures(
-        program, variant,
-        {{"uIridescenceTexCoord", "uIridescenceUvTransform", contract::kIridescenceUnit,
-          m.iridescence, m.iridescenceSampler, d.iridescenceTexture, kIridescenceTextureBit},
-         {"uIridescenceThicknessTexCoord", "uIridescenceThicknessUvTransform",
-          contract::kIridescenceThicknessUnit, m.iridescenceThickness,
-          m.iridescenceThicknessSampler, d.iridescenceThicknessTexture,
-          kIridescenceThicknessTextureBit}});
+    bindExtensionTextures(program, variant,
+                          {{"uIridescenceTexCoord", "uIridescenceUvTransform",
+                            unitOf(units, ExtensionTexture::Iridescence), m.iridescence,
+                            m.iridescenceSampler, d.iridescenceTexture, kIridescenceTextureBit},
+                           {"uIridescenceThicknessTexCoord", "uIridescenceThicknessUvTransform",
+                            unitOf(units, ExtensionTexture::IridescenceThickness),
+                            m.iridescenceThickness, m.iridescenceThicknessSampler,
+                            d.iridescenceThicknessTexture, kIridescenceThicknessTextureBit}});
   }
   if (!hasSheen(d)) return;
   program.set("uSheenColorFactor", d.sheenColorFactor);
@@ -420,19 +476,25 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
   // The sheen texture holds the color and, when it is the same image (or the color has none),
   // the roughness; a roughness texture of another image has a unit of its own, read only where
   // the variant declares it (texCoord -1: not read).
-  const bool colorRead = m.sheen && d.sheenColorTexture.texture >= 0;
+  // A variant whose extension textures do not fit reads none (materialVariant()).
+  const bool sheenRead = (variant & kSheenTextureBit) != 0;
+  const bool colorRead = sheenRead && d.sheenColorTexture.texture >= 0;
   const bool roughnessRead =
       d.sheenRoughnessTexture.texture >= 0 &&
-      (m.sheenRoughness ? (variant & kSheenRoughnessTextureBit) != 0 : m.sheen != 0);
+      (m.sheenRoughness ? (variant & kSheenRoughnessTextureBit) != 0 : sheenRead);
   program.set("uSheenColorTexCoord", colorRead ? d.sheenColorTexture.texCoord : -1);
   program.set("uSheenColorUvTransform", d.sheenColorTexture.uvTransform);
   program.set("uSheenRoughnessTexCoord", roughnessRead ? d.sheenRoughnessTexture.texCoord : -1);
   program.set("uSheenRoughnessUvTransform", d.sheenRoughnessTexture.uvTransform);
-  glBindTextureUnit(contract::kSheenUnit, m.sheen);
-  glBindSampler(contract::kSheenUnit, m.sheenSampler);
+  if (sheenRead) {
+    const auto unit = static_cast<GLuint>(unitOf(units, ExtensionTexture::Sheen));
+    glBindTextureUnit(unit, m.sheen);
+    glBindSampler(unit, m.sheenSampler);
+  }
   if (variant & kSheenRoughnessTextureBit) {
-    glBindTextureUnit(contract::kSheenRoughnessUnit, m.sheenRoughness);
-    glBindSampler(contract::kSheenRoughnessUnit, m.sheenRoughnessSampler);
+    const auto unit = static_cast<GLuint>(unitOf(units, ExtensionTexture::SheenRoughness));
+    glBindTextureUnit(unit, m.sheenRoughness);
+    glBindSampler(unit, m.sheenRoughnessSampler);
   }
 }
 
@@ -539,11 +601,7 @@ ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features) {
     units.end = next;
     return units;
   };
-  ShadowSamplerUnits units = layout(contract::kFirstShadowUnit);
-  if (units.end <= contract::kTextureUnits) return units;
-  units = layout(contract::kFallbackShadowUnit);
-  units.extensionTextures = false;
-  return units;
+  return layout(contract::kFirstShadowUnit);
 }
 
 void setShadowSlots(const ShadowAtlasPlan& atlas, LightingFeatures& features) {
@@ -580,7 +638,7 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
     variant |= kSheenBit | (material.sheen != 0 ? kSheenTextureBit : 0u);
     if (material.sheenRoughness != 0) variant |= kSheenRoughnessTextureBit;
   }
-  if (drawnThrough(material)) {
+  if (hasTransmission(material.desc)) {
     variant |= kTransmissionBit;
     if (material.transmission != 0) variant |= kTransmissionTextureBit;
     if (hasVolume(material.desc))
@@ -599,15 +657,17 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
     if (material.clearcoatRoughness != 0) variant |= kClearcoatRoughnessTextureBit;
     if (material.clearcoatNormal != 0) variant |= kClearcoatNormalTextureBit;
   }
-  // A frame whose shadow arrays took the extensions' units draws those layers from their
-  // factors.
-  if (!shadowUnits_.extensionTextures) variant &= ~kExtensionTextureBits;
+  if (shading_ == Shading::Phong) variant &= ~kPbrOnlyBits;
+  // The extension textures take the units after the frame's shadow arrays; a variant whose
+  // textures would reach past the last unit draws those extensions from their factors.
+  const ExtensionUnits units = extensionTextureUnits(variant, shadowUnits_.end);
+  if (*std::max_element(units.begin(), units.end()) >= contract::kTextureUnits)
+    variant &= ~kExtensionTextureBits;
   return variant;
 }
 
 bool LightingPass::drawnThrough(const GpuMaterial& material) const {
-  return hasTransmission(material.desc) && shading_ != Shading::Phong &&
-         shadowUnits_.extensionTextures;
+  return (materialVariant(material) & kTransmissionBit) != 0;
 }
 
 LightingPass::DrawSet LightingPass::drawSet(const GpuMaterial& material) const {
@@ -657,8 +717,6 @@ void LightingPass::copySceneBehind(const FrameTargets& targets, bool mipmaps) {
   glTextureParameteri(sceneBehind_.get(), GL_TEXTURE_MAX_LEVEL,
                       mipmaps ? 1000 : 0);  // GL's default: every level
   if (mipmaps) glGenerateTextureMipmap(sceneBehind_.get());
-  glBindTextureUnit(contract::kSceneBehindUnit, sceneBehind_.get());
-  glBindSampler(contract::kSceneBehindUnit, 0);
 }
 
 const ShaderProgram& LightingPass::program(unsigned variant) {
@@ -870,7 +928,8 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
     if (lighting) {
       program.set("uNormalMatrix", draw.normalMatrix);
-      bindMaterial(program, material, variant);
+      bindMaterial(program, material, variant, extensionTextureUnits(variant, shadowUnits_.end),
+                   sceneBehind_.get());
       program.set("uHasTangents", range.hasTangents ? 1 : 0);
       if (outputs_ == PassOutputs::Layers || outputs_ == PassOutputs::Ids ||
           writesIdsBesideBeauty(outputs_)) {

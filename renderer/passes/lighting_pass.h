@@ -190,12 +190,11 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
 
 // The first texture unit of each shadow sampler array the lighting pass declares for a frame
 // with `features` (-1: not declared, the frame's filters never read it), each array
-// SHADOW_SLOTS units long, and whether the material extensions' texture units stay free.
+// SHADOW_SLOTS units long. The material extensions' textures take the units from `end` on.
 struct ShadowSamplerUnits {
   int cubeCompare = -1, planarCompare = -1, cubeDepth = -1, planarDepth = -1, cubeMoments = -1,
       planarMoments = -1;
   int end = 0;  // one past the last unit taken
-  bool extensionTextures = true;
 };
 ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features);
 
@@ -250,7 +249,8 @@ class LightingPass {
   enum class DrawSet { Opaque, Masked, SeeThrough, Blended };
   DrawSet drawSet(const GpuMaterial& material) const;
   // Whether `material` is drawn see-through (hasTransmission): not in Phong frames, which draw
-  // the base material alone, nor in frames whose shadow arrays took the extensions' units.
+  // the base material alone, nor where the scene behind would have no texture unit (its
+  // variant's extension textures do not fit after the frame's shadow arrays).
   bool drawnThrough(const GpuMaterial& material) const;
   struct SeeThrough {
     bool any = false;      // some draw is drawn see-through

@@ -39,48 +39,53 @@ inline constexpr int kVsmSourceUnit = 0;
 // for every light, and the rectangle each atlas layer holds (a buffer texture).
 inline constexpr int kTransmittanceUnit = kMaterialUnits;
 inline constexpr int kTransmittanceRectsUnit = kTransmittanceUnit + 1;
-// KHR_materials_sheen's texture (color in RGB, roughness in A).
-inline constexpr int kSheenUnit = kTransmittanceRectsUnit + 1;
-// KHR_materials_clearcoat's textures: the layer's intensity (R), roughness (G) and normals.
-inline constexpr int kClearcoatUnit = kSheenUnit + 1;
-inline constexpr int kClearcoatRoughnessUnit = kClearcoatUnit + 1;
-inline constexpr int kClearcoatNormalUnit = kClearcoatRoughnessUnit + 1;
-// KHR_materials_specular's textures: the factor (A) and the color (RGB, sRGB).
-inline constexpr int kSpecularUnit = kClearcoatNormalUnit + 1;
-inline constexpr int kSpecularColorUnit = kSpecularUnit + 1;
-// KHR_materials_sheen's roughness texture when it is another image than the color texture's
-// (the same image is read through kSheenUnit).
-inline constexpr int kSheenRoughnessUnit = kSpecularColorUnit + 1;
-// KHR_materials_transmission in the lighting pass: the transmission texture (R), and what the
-// frame drew behind the see-through surfaces (its opaque surfaces' beauty, with mipmaps for
-// rough ones: LightingPass).
-inline constexpr int kSurfaceTransmissionUnit = kSheenRoughnessUnit + 1;
-inline constexpr int kSceneBehindUnit = kSurfaceTransmissionUnit + 1;
-// KHR_materials_volume's thickness texture (G).
-inline constexpr int kThicknessUnit = kSceneBehindUnit + 1;
-// KHR_materials_anisotropy's texture (RG direction, B strength).
-inline constexpr int kAnisotropyUnit = kThicknessUnit + 1;
-// KHR_materials_iridescence's textures: the strength (R) and the film's thickness (G).
-inline constexpr int kIridescenceUnit = kAnisotropyUnit + 1;
-inline constexpr int kIridescenceThicknessUnit = kIridescenceUnit + 1;
-
-// Shadow sampler arrays follow the material's units. Only the families the frame's filters
-// read are declared (compare, raw depth, moments; cube and planar), each with as many units as
-// the frame has shadow groups of a layout (renderer/passes/lighting_pass.cpp,
-// shadowSamplerUnits), so that a frame of one filter takes one or two units, not 24. A frame
-// whose families would reach past the last unit (several filters and groups in both layouts)
-// starts them at kFallbackShadowUnit instead, over the units above (clearcoat, specular, a sheen
-// roughness of its own, transmission, volume, anisotropy, iridescence), whose textures that frame
-// does not read: it draws those layers from their factors, and see-through surfaces as their base
-// material.
+// Shadow sampler arrays follow. Only the families the frame's filters read are declared
+// (compare, raw depth, moments; cube and planar), each with as many units as the frame has
+// shadow groups of a layout (renderer/passes/lighting_pass.cpp, shadowSamplerUnits), so that a
+// frame of one filter takes one or two units, not 24.
 inline constexpr int kMaxShadowGroups = omnishadow::kMaxShadowGroups;
-inline constexpr int kFirstShadowUnit = kIridescenceThicknessUnit + 1;
-inline constexpr int kFallbackShadowUnit = kClearcoatUnit;
+inline constexpr int kFirstShadowUnit = kTransmittanceRectsUnit + 1;
 inline constexpr int kShadowSamplerFamilies = 6;
 // llvmpipe (and most desktop drivers) offer 32 fragment units; more would fail only at link.
 inline constexpr int kTextureUnits = 32;
-static_assert(kFallbackShadowUnit + kShadowSamplerFamilies * kMaxShadowGroups <= kTextureUnits,
+static_assert(kFirstShadowUnit + kShadowSamplerFamilies * kMaxShadowGroups <= kTextureUnits,
               "shadow units beyond 32");
+
+// The material extensions' textures. A variant of the lighting shader gives those it reads the
+// units after the frame's shadow arrays, one each in this order (lighting_pass.cpp,
+// extensionTextureUnits), and declares them with these defines; a variant whose textures would
+// reach past the last unit draws those extensions from their factors (see-through surfaces as
+// their base material).
+enum class ExtensionTexture : int {
+  Sheen,                // KHR_materials_sheen: the color (RGB, sRGB) and, of the same image, A
+  SheenRoughness,       // its roughness texture when another image (A)
+  Clearcoat,            // KHR_materials_clearcoat: the layer's intensity (R)
+  ClearcoatRoughness,   // its roughness (G)
+  ClearcoatNormal,      // its normals
+  Specular,             // KHR_materials_specular: the factor (A)
+  SpecularColor,        // and the color (RGB, sRGB)
+  Transmission,         // KHR_materials_transmission (R)
+  SceneBehind,          // what a frame drew behind its see-through surfaces (LightingPass)
+  Thickness,            // KHR_materials_volume (G)
+  Anisotropy,           // KHR_materials_anisotropy (RG direction, B strength)
+  Iridescence,          // KHR_materials_iridescence: the strength (R)
+  IridescenceThickness  // and the film's thickness (G)
+};
+inline constexpr int kExtensionTextures = 13;
+inline constexpr const char* kExtensionTextureUnitDefines[kExtensionTextures] = {
+    "SHEEN_UNIT",
+    "SHEEN_ROUGHNESS_UNIT",
+    "CLEARCOAT_UNIT",
+    "CLEARCOAT_ROUGHNESS_UNIT",
+    "CLEARCOAT_NORMAL_UNIT",
+    "SPECULAR_UNIT",
+    "SPECULAR_COLOR_UNIT",
+    "SURFACE_TRANSMISSION_UNIT",
+    "SCENE_BEHIND_UNIT",
+    "THICKNESS_UNIT",
+    "ANISOTROPY_UNIT",
+    "IRIDESCENCE_UNIT",
+    "IRIDESCENCE_THICKNESS_UNIT"};
 
 // Shader storage buffer bindings. Models and DrawObjects are the shadow pass's
 // (shaders/shadow_depth.vert); the rest are the lighting pass's. Unscoped: they are the ints
@@ -173,19 +178,6 @@ inline std::vector<std::string> shaderContractDefines() {
       define("NORMAL_UNIT", kNormalUnit),
       define("OCCLUSION_UNIT", kOcclusionUnit),
       define("EMISSIVE_UNIT", kEmissiveUnit),
-      define("SHEEN_UNIT", kSheenUnit),
-      define("CLEARCOAT_UNIT", kClearcoatUnit),
-      define("CLEARCOAT_ROUGHNESS_UNIT", kClearcoatRoughnessUnit),
-      define("CLEARCOAT_NORMAL_UNIT", kClearcoatNormalUnit),
-      define("SPECULAR_UNIT", kSpecularUnit),
-      define("SPECULAR_COLOR_UNIT", kSpecularColorUnit),
-      define("SHEEN_ROUGHNESS_UNIT", kSheenRoughnessUnit),
-      define("SURFACE_TRANSMISSION_UNIT", kSurfaceTransmissionUnit),
-      define("SCENE_BEHIND_UNIT", kSceneBehindUnit),
-      define("THICKNESS_UNIT", kThicknessUnit),
-      define("ANISOTROPY_UNIT", kAnisotropyUnit),
-      define("IRIDESCENCE_UNIT", kIridescenceUnit),
-      define("IRIDESCENCE_THICKNESS_UNIT", kIridescenceThicknessUnit),
       define("SHEEN_ALBEDO_COSINES", kSheenAlbedoCosines),
       define("SHEEN_ALBEDO_ROUGHNESSES", kSheenAlbedoRoughnesses),
       "MIN_SHEEN_ALPHA " + std::to_string(kMinSheenAlpha),
