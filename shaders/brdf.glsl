@@ -212,6 +212,23 @@ struct Iridescence {
   vec3 dielectric, metal;
 };
 
+// What a light's specular lobe and Fresnel take, as shadeBrdf works them out; false for a light
+// behind the surface.
+struct LightGeometry {
+  vec3 H;
+  float NdotL, NdotV, NdotH, VdotH, alpha;
+};
+
+bool lightGeometry(vec3 N, vec3 V, vec3 L, float roughness, out LightGeometry g) {
+  g.NdotL = dot(N, L);
+  g.H = normalize(L + V);
+  g.NdotV = max(dot(N, V), 1e-4);
+  g.NdotH = max(dot(N, g.H), 0.0);
+  g.VdotH = max(dot(V, g.H), 0.0);
+  g.alpha = max(roughness * roughness, 1e-3);
+  return g.NdotL > 0.0;
+}
+
 // shadePbr with the film: the dielectric keeps mix(its Fresnel mix of diffuse and specular,
 // rgb_mix(diffuse, specular, film), strength), rgb_mix weighting the diffuse by 1 - the film's
 // brightest channel; the metal's Fresnel mixes towards the film's by the strength.
@@ -220,23 +237,18 @@ void shadePbrIridescent(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 baseColor, f
                         out vec3 specular) {
   diffuse = vec3(0.0);
   specular = vec3(0.0);
-  float NdotL = dot(N, L);
-  if (NdotL <= 0.0) return;
-  vec3 H = normalize(L + V);
-  float NdotV = max(dot(N, V), 1e-4);
-  float NdotH = max(dot(N, H), 0.0);
-  float VdotH = max(dot(V, H), 0.0);
-  float alpha = max(roughness * roughness, 1e-3);
-  float dielectricF = schlickScalar(dielectricF0, VdotH);
+  LightGeometry g;
+  if (!lightGeometry(N, V, L, roughness, g)) return;
+  float dielectricF = schlickScalar(dielectricF0, g.VdotH);
   vec3 dielectric = mix(vec3(dielectricF), film.dielectric, film.strength);
-  vec3 metal = mix(fresnelSchlick(baseColor, VdotH), film.metal, film.strength);
+  vec3 metal = mix(fresnelSchlick(baseColor, g.VdotH), film.metal, film.strength);
   float filmMax = max(film.dielectric.r, max(film.dielectric.g, film.dielectric.b));
   float diffuseWeight =
       (1.0 - metallic) * mix(1.0 - dielectricF, 1.0 - filmMax, film.strength);
-  vec3 irradiance = radiance * NdotL;
+  vec3 irradiance = radiance * g.NdotL;
   diffuse = diffuseWeight * baseColor / PI * irradiance;
-  specular = mix(dielectric, metal, metallic) * SPECULAR_LOBE(N, V, L, H, NdotV, NdotL, NdotH, alpha) *
-             irradiance;
+  specular = mix(dielectric, metal, metallic) *
+             SPECULAR_LOBE(N, V, L, g.H, g.NdotV, g.NdotL, g.NdotH, g.alpha) * irradiance;
 }
 
 #ifdef DIELECTRIC_SPECULAR
@@ -249,23 +261,18 @@ void shadePbrSpecularIridescent(vec3 N, vec3 V, vec3 L, vec3 radiance, vec3 base
                                 out vec3 diffuse, out vec3 specular) {
   diffuse = vec3(0.0);
   specular = vec3(0.0);
-  float NdotL = dot(N, L);
-  if (NdotL <= 0.0) return;
-  vec3 H = normalize(L + V);
-  float NdotV = max(dot(N, V), 1e-4);
-  float NdotH = max(dot(N, H), 0.0);
-  float VdotH = max(dot(V, H), 0.0);
-  float alpha = max(roughness * roughness, 1e-3);
+  LightGeometry g;
+  if (!lightGeometry(N, V, L, roughness, g)) return;
   vec3 f0 = min(dielectricF0 * specularColor, vec3(1.0)) * specularWeight;
-  vec3 dielectricF = f0 + (vec3(specularWeight) - f0) * (fresnelSchlick(vec3(0.0), VdotH).r);
+  vec3 dielectricF = f0 + (vec3(specularWeight) - f0) * schlickScalar(0.0, g.VdotH);
   vec3 dielectric = mix(dielectricF, film.dielectric, film.strength);
-  vec3 metal = mix(fresnelSchlick(baseColor, VdotH), film.metal, film.strength);
-  vec3 irradiance = radiance * NdotL;
+  vec3 metal = mix(fresnelSchlick(baseColor, g.VdotH), film.metal, film.strength);
+  vec3 irradiance = radiance * g.NdotL;
   float diffuseWeight =
       (1.0 - metallic) * (1.0 - max(dielectric.r, max(dielectric.g, dielectric.b)));
   diffuse = diffuseWeight * baseColor / PI * irradiance;
-  specular = mix(dielectric, metal, metallic) * SPECULAR_LOBE(N, V, L, H, NdotV, NdotL, NdotH, alpha) *
-             irradiance;
+  specular = mix(dielectric, metal, metallic) *
+             SPECULAR_LOBE(N, V, L, g.H, g.NdotV, g.NdotL, g.NdotH, g.alpha) * irradiance;
 }
 #endif
 #endif

@@ -890,28 +890,35 @@ glm::vec3 clearcoatRadiance(const ClearcoatInputs& in, glm::vec3 N, glm::vec3 Nc
   return out;
 }
 
-// A 4 m floor of the clearcoat tests' base material with `clearcoat` as its
-// KHR_materials_clearcoat (none when null), and a texture of `texel` (RGBA, linear) that the
-// extension's texture slots may name as texture 0.
-Scene clearcoatFloor(const fs::path& file, const ClearcoatInputs& in, const Value* clearcoat,
-                     const std::vector<std::uint8_t>& texel = {255, 255, 255, 255}) {
+// A 4 m floor of `material` with `extension` as its `name` extension (none when null), and a
+// 1x1 texture of `texel` (RGBA, linear) the extension may name as texture 0.
+Scene floorWith(const fs::path& file, const MaterialDesc& material, const char* name,
+                const Value* extension, const std::vector<std::uint8_t>& texel) {
   GltfBuilder builder;
-  builder.addTexture(1, 1, texel, "clearcoat");
-  MaterialDesc material;
-  material.baseColor = glm::vec4(in.base, 1.0f);
-  material.roughness = in.roughness;
-  material.emissive = in.emissive;
+  builder.addTexture(1, 1, texel, "extension");
   PrimitiveOptions options;
   options.material = builder.addMaterial(material);
-  if (clearcoat) {
-    builder.model().materials[0].extensions["KHR_materials_clearcoat"] = *clearcoat;
-    builder.model().extensionsUsed = {"KHR_materials_clearcoat"};
+  if (extension) {
+    builder.model().materials[0].extensions[name] = *extension;
+    builder.model().extensionsUsed = {name};
   }
   builder.addNode("floor", {}, builder.addMesh(builder::makePlane(4.0f), options));
   builder.write(file, FileFormat::GltfEmbedded);
   Scene scene = loadGltf(file);
   EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
   return scene;
+}
+
+// A 4 m floor of the clearcoat tests' base material with `clearcoat` as its
+// KHR_materials_clearcoat (none when null), and a texture of `texel` (RGBA, linear) that the
+// extension's texture slots may name as texture 0.
+Scene clearcoatFloor(const fs::path& file, const ClearcoatInputs& in, const Value* clearcoat,
+                     const std::vector<std::uint8_t>& texel = {255, 255, 255, 255}) {
+  MaterialDesc material;
+  material.baseColor = glm::vec4(in.base, 1.0f);
+  material.roughness = in.roughness;
+  material.emissive = in.emissive;
+  return floorWith(file, material, "KHR_materials_clearcoat", clearcoat, texel);
 }
 
 Value clearcoatExtension(float factor, float roughness) {
@@ -1474,124 +1481,123 @@ TEST(VolumeRender, WhatShowsThroughIsAttenuatedByBeersLawOverTheScaledThickness)
   EXPECT_EQ(zero.beauty.pixels, thin.beauty.pixels);
 }
 
+// The seam tests' slab: the glass pane of glassOverFloor() (clear, white) with a volume of
+// `thickness`, over a floor of `near` for z < 0 and a 6 m plane of `far` for z > 0 just above it;
+// `extend` adds to the file. Seen from kSeamEye in a 16x64 frame (seamCamera()).
+constexpr glm::vec3 kSeamEye(0.0f, 3.0f, 3.0f);
+
+Scene seamSlab(const fs::path& file, float thickness, glm::vec3 near, glm::vec3 far,
+               const std::function<void(GltfBuilder&)>& extend = {}) {
+  GlassInputs in;
+  in.roughness = 0.0f;
+  in.base = glm::vec3(1.0f);
+  return glassOverFloor(file, in, glm::vec4(near, 1.0f), [&](GltfBuilder& b) {
+    addVolume(b, thickness, 1000.0f, glm::vec3(1.0f));
+    MaterialDesc material;
+    material.baseColor = glm::vec4(far, 1.0f);
+    material.roughness = 1.0f;
+    PrimitiveOptions options;
+    options.material = b.addMaterial(material);
+    b.addNode("far", {glm::vec3(0.0f, -0.999f, 3.0f)},
+              b.addMesh(builder::makePlane(6.0f), options));
+    if (extend) extend(b);
+  });
+}
+
+ViewCamera seamCamera(const Scene& scene) {
+  return lookFrom(scene, kSeamEye, {0, 0, 0}, 16, 64, 50.0f);
+}
+
+// Whether the floor seen from kSeamEye through `through` (down to y = -1) lies past the seam.
+bool pastTheSeam(glm::vec3 through) {
+  const glm::vec3 d = through - kSeamEye;
+  return (kSeamEye + d * ((-1.0f - kSeamEye.y) / d.y)).z > 0.0f;
+}
+
+// For each row of the frame's middle column whose view ray meets the pane away from its edges,
+// `visit(row, ray direction, point on the pane)`.
+void forEachPaneRow(const ViewCamera& camera,
+                    const std::function<void(int, glm::vec3, glm::vec3)>& visit) {
+  const glm::mat4 toWorld = glm::inverse(camera.projection * camera.view);
+  for (int y = 0; y < camera.height; ++y) {
+    const glm::vec2 ndc(1.0f / 16.0f, 1.0f - (static_cast<float>(y) + 0.5f) / 32.0f);
+    const glm::vec4 far = toWorld * glm::vec4(ndc, 0.5f, 1.0f);
+    const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - kSeamEye);
+    const glm::vec3 P = kSeamEye + dir * (-kSeamEye.y / dir.y);  // on the pane, y = 0
+    if (dir.y >= 0.0f || std::abs(P.x) > 1.9f || std::abs(P.z) > 1.9f) continue;
+    visit(y, dir, P);
+  }
+}
+
+// Whether `exit` projects inside the frame, away from its edge (reads there are clamped).
+bool readsInside(const ViewCamera& camera, glm::vec3 exit) {
+  const glm::vec4 clip = camera.projection * camera.view * glm::vec4(exit, 1.0f);
+  return std::abs(clip.y / clip.w) < 0.95f;
+}
+
+Frame renderSeam(const Scene& scene) {
+  Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
+  sun.shadow.enabled = false;
+  StageTimes times;
+  return sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), seamCamera(scene), RenderSettings{},
+                                 times);
+}
+
 // Seen at an angle, a volume shows the floor where the refracted view ray leaves it: across a
 // red and a green floor, the seam seen through a 1 m thick pane (ior 1.5) lies on the rows the
 // exit points predict (each row's pixel takes the floor the camera sees through the exit
 // point's projection), not where a thin wall shows it; at most one row differs, at the seam.
 TEST(VolumeRender, TheSeamBehindAThickPaneShiftsAsTheRefractedRaySays) {
   test_support::TempFolder folder("omnishadow-volume-refraction");
-  GlassInputs in;
-  in.roughness = 0.0f;
-  in.base = glm::vec3(1.0f);
   const Scene scene =
-      glassOverFloor(folder / "slab.gltf", in, glm::vec4(0.8f, 0, 0, 1), [](GltfBuilder& b) {
-        addVolume(b, 1.0f, 1000.0f, glm::vec3(1.0f));
-        MaterialDesc green;
-        green.baseColor = glm::vec4(0, 0.8f, 0, 1);
-        green.roughness = 1.0f;
-        PrimitiveOptions options;
-        options.material = b.addMaterial(green);
-        b.addNode("green", {glm::vec3(0.0f, -0.999f, 3.0f)},
-                  b.addMesh(builder::makePlane(6.0f), options));
-      });
+      seamSlab(folder / "slab.gltf", 1.0f, glm::vec3(0.8f, 0, 0), glm::vec3(0, 0.8f, 0));
   ASSERT_TRUE(hasVolume(scene.materials[0]));
-  Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
-  sun.shadow.enabled = false;
-  const glm::vec3 eye(0.0f, 3.0f, 3.0f);
-  const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 16, 64, 50.0f);
-  StageTimes times;
-  const Frame frame =
-      sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, RenderSettings{}, times);
-  const glm::mat4 toWorld = glm::inverse(camera.projection * camera.view);
-  const glm::mat4 toClip = camera.projection * camera.view;
-  // The floor seen through a point: the camera's ray through it, down to y = -1.
-  const auto greenBehind = [&](glm::vec3 through) {
-    const glm::vec3 d = through - eye;
-    return (eye + d * ((-1.0f - eye.y) / d.y)).z > 0.0f;
-  };
+  const Frame frame = renderSeam(scene);
+  const ViewCamera camera = seamCamera(scene);
   int mismatches = 0, checked = 0, thinDiffers = 0;
-  for (int y = 0; y < 64; ++y) {
-    const glm::vec2 ndc(0.0f + 1.0f / 16.0f, 1.0f - (static_cast<float>(y) + 0.5f) / 32.0f);
-    const glm::vec4 far = toWorld * glm::vec4(ndc, 0.5f, 1.0f);
-    const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - eye);
-    const glm::vec3 P = eye + dir * (-eye.y / dir.y);  // on the pane, y = 0
-    if (dir.y >= 0.0f || std::abs(P.x) > 1.9f || std::abs(P.z) > 1.9f) continue;
+  forEachPaneRow(camera, [&](int y, glm::vec3 dir, glm::vec3 P) {
     const glm::vec3 exit = P + glm::refract(dir, glm::vec3(0, 1, 0), 1.0f / 1.5f);
-    const glm::vec4 clip = toClip * glm::vec4(exit, 1.0f);
-    if (std::abs(clip.y / clip.w) > 0.95f) continue;  // read at the frame's edge
-    // What the copy holds at the exit's projection: the floor the camera sees through the
-    // exit (seen past it in the pane's plane, the same pixel's floor point).
-    const bool predicted = greenBehind(exit);
+    if (!readsInside(camera, exit)) return;
+    const bool predicted = pastTheSeam(exit);
     const bool green = frame.beauty.at(8, y, 1) > frame.beauty.at(8, y, 0);
     mismatches += green != predicted ? 1 : 0;
-    thinDiffers += greenBehind(P) != predicted ? 1 : 0;
+    thinDiffers += pastTheSeam(P) != predicted ? 1 : 0;
     ++checked;
-  }
+  });
   EXPECT_GT(checked, 20);
   EXPECT_LE(mismatches, 1);
   EXPECT_GE(thinDiffers, 3);
 }
 
-// KHR_materials_dispersion through a 2 m slab like the seam test's, over a black and a white
-// floor:
-// red, green and blue each show the seam on the rows their own exit points predict (iors 1.25,
-// 1.5 and 1.75 at a dispersion of 20: half the spread, 0.5 x 0.025 x 20, below and above), so
-// that the channels part near the seam; at most one row differs per channel.
+// KHR_materials_dispersion through a 2 m slab over a black and a white floor: red, green and
+// blue each show the seam on the rows their own exit points predict (iors 1.25, 1.5 and 1.75 at
+// a dispersion of 20: half the spread, 0.5 x 0.025 x 20, below and above), so that the channels
+// part near the seam; at most one row differs per channel.
 TEST(VolumeRender, DispersionPartsTheChannelsWhereTheirRaysLeave) {
   test_support::TempFolder folder("omnishadow-volume-dispersion");
-  GlassInputs in;
-  in.roughness = 0.0f;
-  in.base = glm::vec3(1.0f);
   const Scene scene =
-      glassOverFloor(folder / "prism.gltf", in, glm::vec4(0, 0, 0, 1), [](GltfBuilder& b) {
-        addVolume(b, 2.0f, 1000.0f, glm::vec3(1.0f));
+      seamSlab(folder / "prism.gltf", 2.0f, glm::vec3(0.0f), glm::vec3(0.8f), [](GltfBuilder& b) {
         b.model().materials[0].extensions["KHR_materials_dispersion"] =
             Value(Value::Object{{"dispersion", Value(20.0)}});
         b.model().extensionsUsed.push_back("KHR_materials_dispersion");
-        MaterialDesc white;
-        white.baseColor = glm::vec4(0.8f, 0.8f, 0.8f, 1);
-        white.roughness = 1.0f;
-        PrimitiveOptions options;
-        options.material = b.addMaterial(white);
-        b.addNode("white", {glm::vec3(0.0f, -0.999f, 3.0f)},
-                  b.addMesh(builder::makePlane(6.0f), options));
       });
   ASSERT_TRUE(hasDispersion(scene.materials[0]));
-  Light sun = sunAlong(glm::vec3(0, -1, 0), 3.0f);
-  sun.shadow.enabled = false;
-  const glm::vec3 eye(0.0f, 3.0f, 3.0f);
-  const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 16, 64, 50.0f);
-  StageTimes times;
-  const Frame frame =
-      sharedRenderer().render(scene, {sun}, glm::vec3(0.0f), camera, RenderSettings{}, times);
-  const glm::mat4 toWorld = glm::inverse(camera.projection * camera.view);
-  const glm::mat4 toClip = camera.projection * camera.view;
-  const auto whiteBehind = [&](glm::vec3 through) {
-    const glm::vec3 d = through - eye;
-    return (eye + d * ((-1.0f - eye.y) / d.y)).z > 0.0f;
-  };
+  const Frame frame = renderSeam(scene);
+  const ViewCamera camera = seamCamera(scene);
   const float iors[3] = {1.25f, 1.5f, 1.75f};
   int mismatches[3] = {0, 0, 0}, checked = 0, parted = 0;
-  for (int y = 0; y < 64; ++y) {
-    const glm::vec2 ndc(1.0f / 16.0f, 1.0f - (static_cast<float>(y) + 0.5f) / 32.0f);
-    const glm::vec4 far = toWorld * glm::vec4(ndc, 0.5f, 1.0f);
-    const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - eye);
-    const glm::vec3 P = eye + dir * (-eye.y / dir.y);
-    if (dir.y >= 0.0f || std::abs(P.x) > 1.9f || std::abs(P.z) > 1.9f) continue;
+  forEachPaneRow(camera, [&](int y, glm::vec3 dir, glm::vec3 P) {
     bool predicted[3];
-    bool inside = true;
     for (int c = 0; c < 3; ++c) {
       const glm::vec3 exit = P + 2.0f * glm::refract(dir, glm::vec3(0, 1, 0), 1.0f / iors[c]);
-      const glm::vec4 clip = toClip * glm::vec4(exit, 1.0f);
-      inside = inside && std::abs(clip.y / clip.w) < 0.95f;
-      predicted[c] = whiteBehind(exit);
+      if (!readsInside(camera, exit)) return;
+      predicted[c] = pastTheSeam(exit);
     }
-    if (!inside) continue;
     for (int c = 0; c < 3; ++c)
       mismatches[c] += (frame.beauty.at(8, y, c) > 0.1f) != predicted[c] ? 1 : 0;
     parted += predicted[0] != predicted[2] ? 1 : 0;
     ++checked;
-  }
+  });
   EXPECT_GT(checked, 20);
   for (int c = 0; c < 3; ++c) EXPECT_LE(mismatches[c], 1) << "channel " << c;
   EXPECT_GE(parted, 4);
@@ -1635,24 +1641,14 @@ glm::vec3 anisotropicRadiance(const AnisotropyInputs& in, glm::vec3 T, glm::vec3
 }
 
 // The anisotropy tests' floor with `anisotropy` as its KHR_materials_anisotropy, and a 1x1
-// linear texture of `texel` the extension may name as texture 0.
+// linear texture of `texel` the extension may name as texture 0 (floorWith()).
 Scene anisotropicFloor(const fs::path& file, const AnisotropyInputs& in, const Value& anisotropy,
-                       const std::vector<std::uint8_t>& texel = {255, 128, 255, 255}) {
-  GltfBuilder builder;
-  builder.addTexture(1, 1, texel, "anisotropy");
+                       const std::vector<std::uint8_t>& texel) {
   MaterialDesc material;
   material.baseColor = glm::vec4(in.base, 1.0f);
   material.roughness = in.roughness;
   material.metallic = in.metallic;
-  PrimitiveOptions options;
-  options.material = builder.addMaterial(material);
-  builder.model().materials[0].extensions["KHR_materials_anisotropy"] = anisotropy;
-  builder.model().extensionsUsed = {"KHR_materials_anisotropy"};
-  builder.addNode("floor", {}, builder.addMesh(builder::makePlane(4.0f), options));
-  builder.write(file, FileFormat::GltfEmbedded);
-  Scene scene = loadGltf(file);
-  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
-  return scene;
+  return floorWith(file, material, "KHR_materials_anisotropy", &anisotropy, texel);
 }
 
 // Every floor pixel against anisotropicRadiance() for its own view direction, within 1%, in
@@ -1835,21 +1831,15 @@ TEST(IridescenceRender, MatchesTheSpecificationsThinFilmAtEveryPixel) {
     in.metallic = metallic;
     FilmInputs none = in;
     none.strength = 0.0f;
-    GltfBuilder builder;
     MaterialDesc material;
     material.baseColor = glm::vec4(in.base, 1.0f);
     material.roughness = in.roughness;
     material.metallic = in.metallic;
-    PrimitiveOptions options;
-    options.material = builder.addMaterial(material);
-    builder.model().materials[0].extensions["KHR_materials_iridescence"] =
-        Value(Value::Object{{"iridescenceFactor", Value(in.strength)},
-                            {"iridescenceThicknessMaximum", Value(in.thickness)}});
-    builder.model().extensionsUsed = {"KHR_materials_iridescence"};
-    builder.addNode("floor", {}, builder.addMesh(builder::makePlane(4.0f), options));
-    const fs::path file = folder / ("film" + std::to_string(static_cast<int>(metallic)) + ".gltf");
-    builder.write(file, FileFormat::GltfEmbedded);
-    const Scene scene = loadGltf(file);
+    const Value film(Value::Object{{"iridescenceFactor", Value(in.strength)},
+                                   {"iridescenceThicknessMaximum", Value(in.thickness)}});
+    const Scene scene =
+        floorWith(folder / ("film" + std::to_string(static_cast<int>(metallic)) + ".gltf"),
+                  material, "KHR_materials_iridescence", &film, {255, 255, 255, 255});
     ASSERT_TRUE(hasIridescence(scene.materials[0]));
     const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 48, 32, 30.0f);
     for (const bool aovs : {true, false}) {
