@@ -200,6 +200,17 @@ Json iridescenceJson(const Material& m) {
           {"thicknessTexture", textureIndex(m.iridescenceThicknessTexture)}};
 }
 
+// KHR_materials_diffuse_transmission as the report gives it: null for a material drawn
+// without it.
+Json diffuseTransmissionJson(const Material& m) {
+  if (!hasDiffuseTransmission(m)) return nullptr;
+  const glm::vec3& c = m.diffuseTransmissionColorFactor;
+  return {{"factor", jsonNumber(m.diffuseTransmissionFactor)},
+          {"texture", textureIndex(m.diffuseTransmissionTexture)},
+          {"colorFactor", Json::array({jsonNumber(c.r), jsonNumber(c.g), jsonNumber(c.b)})},
+          {"colorTexture", textureIndex(m.diffuseTransmissionColorTexture)}};
+}
+
 glm::vec3 cameraPosition(const Camera& camera) {
   return glm::vec3(camera.world[3]);
 }
@@ -289,7 +300,8 @@ Json toJson(const Info& info) {
                          {"transmission", transmissionJson(m)},
                          {"volume", volumeJson(m)},
                          {"anisotropy", anisotropyJson(m)},
-                         {"iridescence", iridescenceJson(m)}});
+                         {"iridescence", iridescenceJson(m)},
+                         {"diffuseTransmission", diffuseTransmissionJson(m)}});
   }
   doc["materials"] = materials;
 
@@ -462,6 +474,8 @@ void printText(const Info& info) {
                             readable(m.iridescenceIor) + " thickness " +
                             readable(m.iridescenceThicknessMinimum) + "-" +
                             readable(m.iridescenceThicknessMaximum));
+    if (hasDiffuseTransmission(m))
+      rows.back().push_back("diffuse transmission " + readable(m.diffuseTransmissionFactor));
   }
   printTable(rows);
 

@@ -14,7 +14,8 @@
 // KHR_materials_volume, and its texture), DISPERSION (with VOLUME, KHR_materials_dispersion),
 // ANISOTROPY and ANISOTROPY_TEXTURE (KHR_materials_anisotropy, and its texture), IRIDESCENCE,
 // IRIDESCENCE_TEXTURE and IRIDESCENCE_THICKNESS_TEXTURE (KHR_materials_iridescence, and each of
-// its textures).
+// its textures), DIFFUSE_TRANSMISSION, DIFFUSE_TRANSMISSION_TEXTURE and
+// DIFFUSE_TRANSMISSION_COLOR_TEXTURE (KHR_materials_diffuse_transmission, and each texture).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -187,6 +188,23 @@ uniform vec2 uAnisotropyRotation;
 layout(binding = ANISOTROPY_UNIT) uniform sampler2D uAnisotropyTexture;
 uniform int uAnisotropyTexCoord;
 uniform mat3 uAnisotropyUvTransform;
+#endif
+#endif
+#ifdef DIFFUSE_TRANSMISSION
+// KHR_materials_diffuse_transmission: the fraction of the light that enters the surface and
+// leaves it on the other side (factor x texture's A), as Lambert of the color (factor x
+// texture's RGB, sRGB); lights behind the surface shine through it.
+uniform float uDiffuseTransmissionFactor;
+uniform vec3 uDiffuseTransmissionColorFactor;
+#ifdef DIFFUSE_TRANSMISSION_TEXTURE
+layout(binding = DIFFUSE_TRANSMISSION_UNIT) uniform sampler2D uDiffuseTransmissionTexture;
+uniform int uDiffuseTransmissionTexCoord;
+uniform mat3 uDiffuseTransmissionUvTransform;
+#endif
+#ifdef DIFFUSE_TRANSMISSION_COLOR_TEXTURE
+layout(binding = DIFFUSE_TRANSMISSION_COLOR_UNIT) uniform sampler2D uDiffuseTransmissionColorTexture;
+uniform int uDiffuseTransmissionColorTexCoord;
+uniform mat3 uDiffuseTransmissionColorUvTransform;
 #endif
 #endif
 #ifdef IRIDESCENCE
@@ -433,6 +451,17 @@ void main() {
   Clearcoat coat = clearcoatAt(clamp(clearcoatFactor, 0.0, 1.0), clamp(clearcoatRoughness, 0.0, 1.0), Nc, V);
 #endif
 
+#if defined(TRANSMISSION) || defined(DIFFUSE_TRANSMISSION)
+  // What the dielectric's Fresnel towards the camera leaves of light that passes through.
+#ifdef DIELECTRIC_SPECULAR
+  vec3 throughF0 = min(uDielectricF0 * specularColorFactor, vec3(1.0)) * specularWeight;
+  vec3 throughF = throughF0 + (vec3(specularWeight) - throughF0) *
+                                  fresnelSchlick(vec3(0.0), max(dot(N, V), 0.0)).r;
+  float transmitted = 1.0 - max(throughF.r, max(throughF.g, throughF.b));
+#else
+  float transmitted = 1.0 - fresnelSchlick(vec3(uDielectricF0), max(dot(N, V), 0.0)).r;
+#endif
+#endif
 #ifdef TRANSMISSION
   float transmission = uTransmissionFactor;
 #ifdef TRANSMISSION_TEXTURE
@@ -443,14 +472,6 @@ void main() {
   // The dielectric part alone lets light through, and only what its Fresnel towards the camera
   // does not reflect: each light's diffuse keeps 1 - transmission, and `through` x base color
   // of the light from behind comes in its place.
-#ifdef DIELECTRIC_SPECULAR
-  vec3 throughF0 = min(uDielectricF0 * specularColorFactor, vec3(1.0)) * specularWeight;
-  vec3 throughF = throughF0 + (vec3(specularWeight) - throughF0) *
-                                  fresnelSchlick(vec3(0.0), max(dot(N, V), 0.0)).r;
-  float transmitted = 1.0 - max(throughF.r, max(throughF.g, throughF.b));
-#else
-  float transmitted = 1.0 - fresnelSchlick(vec3(uDielectricF0), max(dot(N, V), 0.0)).r;
-#endif
   float through = transmission * (1.0 - metallic) * transmitted;
   // The specification's roughness of the transmission lobe: none at an ior of 1.
   float throughRoughness = roughness * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
@@ -477,6 +498,25 @@ void main() {
 #endif
 #else
   vec3 ambientBase = baseColor.rgb;
+#endif
+#ifdef DIFFUSE_TRANSMISSION
+  float diffuseTransmission = uDiffuseTransmissionFactor;
+#ifdef DIFFUSE_TRANSMISSION_TEXTURE
+  if (uDiffuseTransmissionTexCoord >= 0)
+    diffuseTransmission *= texture(uDiffuseTransmissionTexture,
+                                   uvFor(uDiffuseTransmissionTexCoord, uDiffuseTransmissionUvTransform)).a;
+#endif
+  vec3 diffuseTransmissionColor = uDiffuseTransmissionColorFactor;
+#ifdef DIFFUSE_TRANSMISSION_COLOR_TEXTURE
+  if (uDiffuseTransmissionColorTexCoord >= 0)
+    diffuseTransmissionColor *= texture(uDiffuseTransmissionColorTexture,
+                                        uvFor(uDiffuseTransmissionColorTexCoord,
+                                              uDiffuseTransmissionColorUvTransform)).rgb;
+#endif
+  diffuseTransmission = uUnlit != 0 ? 0.0 : clamp(diffuseTransmission, 0.0, 1.0);
+  // The ambient arrives from both sides: the diffuse reflection keeps 1 - the fraction, and the
+  // light through the surface brings the fraction of the color.
+  ambientBase = mix(ambientBase, diffuseTransmissionColor, diffuseTransmission);
 #endif
 #ifdef IRIDESCENCE
   Iridescence film;
@@ -598,7 +638,7 @@ void main() {
 #ifdef CLEARCOAT
     awayFromLight = awayFromLight && dot(coat.N, toLight) <= -1e-4 * length(toLight);
 #endif
-#ifdef TRANSMISSION
+#if defined(TRANSMISSION) || defined(DIFFUSE_TRANSMISSION)
     awayFromLight = false;  // a light behind the surface shines through it
 #endif
     if (ballotARB(!awayFromLight) != 0ul) groupLights |= 1u << uint(i);
@@ -694,6 +734,13 @@ void main() {
     diffuse = diffuse * (1.0 - transmission) +
               through * baseColor.rgb * transmittedRadiance(N, V, L, radiance, throughAlpha);
 #endif
+#endif
+#ifdef DIFFUSE_TRANSMISSION
+    // The specification's mix of the diffuse BRDF and BTDF: Lambert of the color for a light
+    // behind, under what the dielectric's Fresnel towards the camera leaves.
+    diffuse = diffuse * (1.0 - diffuseTransmission) +
+              diffuseTransmission * (1.0 - metallic) * transmitted * diffuseTransmissionColor /
+                  PI * radiance * max(-dot(N, L), 0.0);
 #endif
 #ifdef SHEEN
     addSheen(sheen, N, V, L, radiance, diffuse, specular);

@@ -689,6 +689,60 @@ TEST_F(GltfExtensionsTest, IridescenceIsRead) {
   EXPECT_FALSE(hasIridescence(unlit.materials[0]));
 }
 
+// KHR_materials_diffuse_transmission: factor, color and their textures, the defaults (none;
+// white), the ranges, the exclusions.
+TEST_F(GltfExtensionsTest, DiffuseTransmissionIsRead) {
+  Quad q;
+  makeQuad(q);
+  const std::string where = file() + ": materials[0].extensions.KHR_materials_diffuse_transmission";
+  q.gltfMaterial().extensions["KHR_materials_diffuse_transmission"] =
+      object({{"diffuseTransmissionFactor", Value(0.5)},
+              {"diffuseTransmissionColorFactor", numbers({1.0, 0.5, 0.25})},
+              {"diffuseTransmissionTexture", object({{"index", Value(0)}})},
+              {"diffuseTransmissionColorTexture", object({{"index", Value(0)}})}});
+  q.builder.model().extensionsUsed = {"KHR_materials_diffuse_transmission"};
+  q.builder.model().extensionsRequired = {"KHR_materials_diffuse_transmission"};
+  const Scene scene = load(q.builder);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  const Material& m = scene.materials[0];
+  EXPECT_EQ(m.diffuseTransmissionFactor, 0.5f);
+  EXPECT_EQ(m.diffuseTransmissionColorFactor, glm::vec3(1.0f, 0.5f, 0.25f));
+  EXPECT_EQ(m.diffuseTransmissionTexture.texture, 0);
+  EXPECT_EQ(m.diffuseTransmissionColorTexture.texture, 0);
+  EXPECT_TRUE(hasDiffuseTransmission(m));
+
+  q.gltfMaterial().extensions["KHR_materials_diffuse_transmission"] = object({});
+  const Material plain = load(q.builder).materials[0];
+  EXPECT_EQ(plain.diffuseTransmissionFactor, 0.0f);
+  EXPECT_EQ(plain.diffuseTransmissionColorFactor, glm::vec3(1.0f));
+  EXPECT_FALSE(hasDiffuseTransmission(plain));
+
+  EXPECT_EQ(errorForTextureIndex(q, "KHR_materials_diffuse_transmission",
+                                 "diffuseTransmissionColorTexture", 5),
+            where +
+                ".diffuseTransmissionColorTexture: texture 5 is out of range (the file has 1 "
+                "texture)");
+  const std::pair<Value::Object, std::string> bad[] = {
+      {{{"diffuseTransmissionFactor", Value(1.5)}},
+       "diffuseTransmissionFactor must be a number in [0, 1]"},
+      {{{"diffuseTransmissionColorFactor", numbers({1.0, 2.0, 0.0})}},
+       "diffuseTransmissionColorFactor must be an array of 3 numbers in [0, 1]"}};
+  for (const auto& [properties, message] : bad) {
+    q.gltfMaterial().extensions["KHR_materials_diffuse_transmission"] = Value(properties);
+    EXPECT_EQ(inputError([&] { load(q.builder); }), where + ": " + message);
+  }
+
+  q.gltfMaterial().extensions["KHR_materials_diffuse_transmission"] =
+      object({{"diffuseTransmissionFactor", Value(1.0)}});
+  q.gltfMaterial().extensions["KHR_materials_unlit"] = object({});
+  const Scene unlit = load(q.builder);
+  EXPECT_EQ(
+      warningsAbout(unlit, "KHR_materials_diffuse_transmission"),
+      std::vector<std::string>{where + ": must not be used with KHR_materials_unlit; the diffuse "
+                                       "transmission is not drawn"});
+  EXPECT_FALSE(hasDiffuseTransmission(unlit.materials[0]));
+}
+
 TEST_F(GltfExtensionsTest, ClearcoatFactorsTexturesAndNormalScaleAreRead) {
   Quad q;
   makeQuad(q);

@@ -183,7 +183,7 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(keys(doc["materials"][0]),
             (Keys{"index", "name", "alphaMode", "alphaCutoff", "doubleSided", "model", "textures",
                   "ior", "specular", "sheen", "clearcoat", "transmission", "volume", "anisotropy",
-                  "iridescence"}));
+                  "iridescence", "diffuseTransmission"}));
   EXPECT_EQ(keys(doc["materials"][0]["textures"]),
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
@@ -604,6 +604,33 @@ TEST_F(InfoTest, ReportsEachMaterialsIridescence) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "no textures  iridescence 0.75 ior 1.5 thickness 200-400\n"))
       << r.out;
+}
+
+// KHR_materials_diffuse_transmission: factor, color and textures for a material drawn with it,
+// null for one without; the text row ends with the factor.
+TEST_F(InfoTest, ReportsEachMaterialsDiffuseTransmission) {
+  GltfBuilder b;
+  const int texture = b.addTexture(1, 1, {255, 128, 255, 255}, "leaf");
+  const int leaf = b.addMaterial({.name = "leaf"});
+  b.addMaterial({.name = "plain"});
+  using Value = tinygltf::Value;
+  b.model().materials[leaf].extensions["KHR_materials_diffuse_transmission"] = Value(Value::Object{
+      {"diffuseTransmissionFactor", Value(0.25)},
+      {"diffuseTransmissionColorFactor", Value(Value::Array{Value(1.0), Value(0.5), Value(0.0)})},
+      {"diffuseTransmissionColorTexture", Value(Value::Object{{"index", Value(texture)}})}});
+  b.model().extensionsUsed = {"KHR_materials_diffuse_transmission"};
+  b.addNode("box", {}, b.addMesh(builder::makeBox(glm::vec3(1.0f)), {.material = leaf}));
+  const fs::path path = input("leaf.gltf");
+  b.write(path, FileFormat::GltfEmbedded);
+  const Json doc = info({path.string()});
+  ASSERT_EQ(doc["materials"].size(), 2u);
+  EXPECT_EQ(doc["materials"][0]["diffuseTransmission"],
+            Json::parse(R"({"factor": 0.25, "texture": null, "colorFactor": [1.0, 0.5, 0.0],
+                            "colorTexture": 0})"));
+  EXPECT_TRUE(doc["materials"][1]["diffuseTransmission"].is_null());
+  const Run r = run({"info", path.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "no textures  diffuse transmission 0.25\n")) << r.out;
 }
 
 TEST_F(InfoTest, UsageErrorsNameTheInfoHelp) {

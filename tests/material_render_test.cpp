@@ -1857,5 +1857,73 @@ TEST(IridescenceRender, MatchesTheSpecificationsThinFilmAtEveryPixel) {
   }
 }
 
+// KHR_materials_diffuse_transmission on a dielectric floor lit by a sun above or below it,
+// with an ambient: the light behind shines through as Lambert of the color, weighted by the
+// fraction and what Fresnel towards the camera leaves; the light in front keeps 1 - the
+// fraction of its diffuse; the ambient mixes the base color towards the color by the fraction.
+struct LeafInputs {
+  glm::vec3 base{0.3f, 0.6f, 0.2f};
+  float roughness = 0.7f;
+  float fraction = 0.6f;
+  glm::vec3 color{0.9f, 0.8f, 0.1f};
+};
+
+glm::vec3 leafRadiance(const LeafInputs& in, glm::vec3 V, glm::vec3 L, float radiance,
+                       float ambient) {
+  const glm::vec3 N(0, 1, 0);
+  glm::vec3 out = ambient * glm::mix(in.base, in.color, in.fraction);
+  const float NdotL = glm::dot(N, L), NdotV = std::max(glm::dot(N, V), 1e-4f);
+  if (NdotL < 0.0f)
+    return out +
+           in.fraction * (1.0f - fresnel004(glm::dot(N, V))) * in.color / kPi * radiance * -NdotL;
+  const glm::vec3 H = glm::normalize(L + V);
+  const float f = fresnel004(std::max(glm::dot(V, H), 0.0f));
+  const float lobe =
+      ggxLobe(std::max(glm::dot(N, H), 0.0f), NdotV, NdotL, in.roughness * in.roughness);
+  return out + ((1.0f - in.fraction) * (1.0f - f) * in.base / kPi + glm::vec3(f * lobe)) *
+                   radiance * NdotL;
+}
+
+// Every floor pixel against leafRadiance() for its own view direction, within 1%, in the
+// beauty and the AOV pass, with the sun below the floor and above it; most pixels differ from
+// the floor without the extension by more than 10%, so the checks can fail.
+TEST(DiffuseTransmissionRender, LightsBehindShineThroughAsTheSpecificationMixesIt) {
+  test_support::TempFolder folder("omnishadow-diffuse-transmission");
+  const LeafInputs in;
+  LeafInputs none = in;
+  none.fraction = 0.0f;
+  MaterialDesc material;
+  material.baseColor = glm::vec4(in.base, 1.0f);
+  material.roughness = in.roughness;
+  const Value extension(Value::Object{
+      {"diffuseTransmissionFactor", Value(in.fraction)},
+      {"diffuseTransmissionColorFactor",
+       Value(Value::Array{Value(in.color.r), Value(in.color.g), Value(in.color.b)})}});
+  const Scene scene =
+      floorWith(folder / "leaf.gltf", material, "KHR_materials_diffuse_transmission", &extension,
+                {255, 255, 255, 255});
+  ASSERT_TRUE(hasDiffuseTransmission(scene.materials[0]));
+  const float ambient = 0.1f;
+  const glm::vec3 eye(0.0f, 1.5f, 4.5f);
+  const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 48, 32, 30.0f);
+  for (const glm::vec3 towardsSun : {glm::normalize(glm::vec3(0.2f, -0.8f, -0.5f)),
+                                     glm::normalize(glm::vec3(0.2f, 0.8f, -0.5f))}) {
+    Light sun = sunAlong(-towardsSun, 3.0f);
+    sun.shadow.enabled = false;
+    for (const bool aovs : {true, false}) {
+      const auto [frame, withAovs] = renderFloorFrame(scene, sun, ambient, camera, aovs);
+      int changed = 0;
+      const int checked = expectFloorPixels(
+          frame, *withAovs.aovs, eye,
+          [&](glm::vec3 V) { return leafRadiance(in, V, towardsSun, 3.0f, ambient); },
+          [&](glm::vec3 V) { return leafRadiance(none, V, towardsSun, 3.0f, ambient); }, changed,
+          std::string(towardsSun.y < 0.0f ? "sun below" : "sun above") +
+              (aovs ? " (AOV pass)" : " (beauty pass)"));
+      EXPECT_GT(checked, 300);
+      EXPECT_GT(changed, checked / 2);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace omnishadow

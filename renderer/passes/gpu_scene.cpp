@@ -78,44 +78,49 @@ const TextureSlot& slotIf(bool drawn, const TextureSlot& slot) {
   return drawn ? slot : kNone;
 }
 
-std::array<TextureUse, 17> textureUses(const Scene& scene, const Material& desc) {
+std::array<TextureUse, 19> textureUses(const Scene& scene, const Material& desc) {
   // Specular-glossiness materials have no metallic-roughness texture; their specular color
   // (sRGB) and glossiness (alpha, linear either way) take its unit. The sheen's texture holds
   // its color in RGB (sRGB) and its roughness in A, unless the roughness is another image.
   const TextureSlot& specularOrMetallic =
       desc.specularGlossiness ? desc.specularGlossinessTexture : desc.metallicRoughnessTexture;
   const bool clearcoat = hasClearcoat(desc), specular = hasDielectricSpecular(desc);
-  return {{{&desc.baseColorTexture, true, &GpuMaterial::baseColor, &GpuMaterial::baseColorSampler},
-           {&specularOrMetallic, desc.specularGlossiness, &GpuMaterial::metallicRoughness,
-            &GpuMaterial::metallicRoughnessSampler},
-           {&desc.normalTexture, false, &GpuMaterial::normal, &GpuMaterial::normalSampler},
-           {&desc.occlusionTexture, false, &GpuMaterial::occlusion, &GpuMaterial::occlusionSampler},
-           {&desc.emissiveTexture, true, &GpuMaterial::emissive, &GpuMaterial::emissiveSampler},
-           {&desc.transmissionTexture, false, &GpuMaterial::transmission,
-            &GpuMaterial::transmissionSampler},
-           {&sheenSlot(desc), true, &GpuMaterial::sheen, &GpuMaterial::sheenSampler},
-           {&slotIf(clearcoat, desc.clearcoatTexture), false, &GpuMaterial::clearcoat,
-            &GpuMaterial::clearcoatSampler},
-           {&slotIf(clearcoat, desc.clearcoatRoughnessTexture), false,
-            &GpuMaterial::clearcoatRoughness, &GpuMaterial::clearcoatRoughnessSampler},
-           {&slotIf(clearcoat, desc.clearcoatNormalTexture), false, &GpuMaterial::clearcoatNormal,
-            &GpuMaterial::clearcoatNormalSampler},
-           {&slotIf(specular, desc.specularTexture), false, &GpuMaterial::specular,
-            &GpuMaterial::specularSampler},
-           {&slotIf(specular, desc.specularColorTexture), true, &GpuMaterial::specularColor,
-            &GpuMaterial::specularColorSampler},
-           // Its A is linear either way; as sRGB it shares the texture with a sheen color of
-           // another material that uses the image.
-           {&ownSheenRoughnessSlot(scene, desc), true, &GpuMaterial::sheenRoughness,
-            &GpuMaterial::sheenRoughnessSampler},
-           {&slotIf(hasVolume(desc), desc.thicknessTexture), false, &GpuMaterial::thickness,
-            &GpuMaterial::thicknessSampler},
-           {&slotIf(hasAnisotropy(desc), desc.anisotropyTexture), false, &GpuMaterial::anisotropy,
-            &GpuMaterial::anisotropySampler},
-           {&slotIf(hasIridescence(desc), desc.iridescenceTexture), false,
-            &GpuMaterial::iridescence, &GpuMaterial::iridescenceSampler},
-           {&slotIf(hasIridescence(desc), desc.iridescenceThicknessTexture), false,
-            &GpuMaterial::iridescenceThickness, &GpuMaterial::iridescenceThicknessSampler}}};
+  return {
+      {{&desc.baseColorTexture, true, &GpuMaterial::baseColor, &GpuMaterial::baseColorSampler},
+       {&specularOrMetallic, desc.specularGlossiness, &GpuMaterial::metallicRoughness,
+        &GpuMaterial::metallicRoughnessSampler},
+       {&desc.normalTexture, false, &GpuMaterial::normal, &GpuMaterial::normalSampler},
+       {&desc.occlusionTexture, false, &GpuMaterial::occlusion, &GpuMaterial::occlusionSampler},
+       {&desc.emissiveTexture, true, &GpuMaterial::emissive, &GpuMaterial::emissiveSampler},
+       {&desc.transmissionTexture, false, &GpuMaterial::transmission,
+        &GpuMaterial::transmissionSampler},
+       {&sheenSlot(desc), true, &GpuMaterial::sheen, &GpuMaterial::sheenSampler},
+       {&slotIf(clearcoat, desc.clearcoatTexture), false, &GpuMaterial::clearcoat,
+        &GpuMaterial::clearcoatSampler},
+       {&slotIf(clearcoat, desc.clearcoatRoughnessTexture), false, &GpuMaterial::clearcoatRoughness,
+        &GpuMaterial::clearcoatRoughnessSampler},
+       {&slotIf(clearcoat, desc.clearcoatNormalTexture), false, &GpuMaterial::clearcoatNormal,
+        &GpuMaterial::clearcoatNormalSampler},
+       {&slotIf(specular, desc.specularTexture), false, &GpuMaterial::specular,
+        &GpuMaterial::specularSampler},
+       {&slotIf(specular, desc.specularColorTexture), true, &GpuMaterial::specularColor,
+        &GpuMaterial::specularColorSampler},
+       // Its A is linear either way; as sRGB it shares the texture with a sheen color of
+       // another material that uses the image.
+       {&ownSheenRoughnessSlot(scene, desc), true, &GpuMaterial::sheenRoughness,
+        &GpuMaterial::sheenRoughnessSampler},
+       {&slotIf(hasVolume(desc), desc.thicknessTexture), false, &GpuMaterial::thickness,
+        &GpuMaterial::thicknessSampler},
+       {&slotIf(hasAnisotropy(desc), desc.anisotropyTexture), false, &GpuMaterial::anisotropy,
+        &GpuMaterial::anisotropySampler},
+       {&slotIf(hasIridescence(desc), desc.iridescenceTexture), false, &GpuMaterial::iridescence,
+        &GpuMaterial::iridescenceSampler},
+       {&slotIf(hasIridescence(desc), desc.iridescenceThicknessTexture), false,
+        &GpuMaterial::iridescenceThickness, &GpuMaterial::iridescenceThicknessSampler},
+       {&slotIf(hasDiffuseTransmission(desc), desc.diffuseTransmissionTexture), false,
+        &GpuMaterial::diffuseTransmission, &GpuMaterial::diffuseTransmissionSampler},
+       {&slotIf(hasDiffuseTransmission(desc), desc.diffuseTransmissionColorTexture), true,
+        &GpuMaterial::diffuseTransmissionColor, &GpuMaterial::diffuseTransmissionColorSampler}}};
 }
 
 // At most this many textures wait for their mipmap levels: the GL thread goes on making the

@@ -39,6 +39,10 @@ struct GpuMaterial {
   // KHR_materials_iridescence's textures (linear); 0 unless the material has a film.
   GLuint iridescence = 0, iridescenceSampler = 0;
   GLuint iridescenceThickness = 0, iridescenceThicknessSampler = 0;
+  // KHR_materials_diffuse_transmission's textures: the fraction (linear, A) and the color
+  // (sRGB); 0 unless the material lets light through diffusely.
+  GLuint diffuseTransmission = 0, diffuseTransmissionSampler = 0;
+  GLuint diffuseTransmissionColor = 0, diffuseTransmissionColorSampler = 0;
 };
 
 // The static scene on the GPU: its geometry (gpu_geometry.h), textures (sRGB where glTF says

@@ -69,6 +69,10 @@ constexpr unsigned kAnisotropyTextureBit = kAnisotropyBit << 1;
 constexpr unsigned kIridescenceBit = kAnisotropyTextureBit << 1;
 constexpr unsigned kIridescenceTextureBit = kIridescenceBit << 1;
 constexpr unsigned kIridescenceThicknessTextureBit = kIridescenceTextureBit << 1;
+// KHR_materials_diffuse_transmission, and each of its textures.
+constexpr unsigned kDiffuseTransmissionBit = kIridescenceThicknessTextureBit << 1;
+constexpr unsigned kDiffuseTransmissionTextureBit = kDiffuseTransmissionBit << 1;
+constexpr unsigned kDiffuseTransmissionColorTextureBit = kDiffuseTransmissionTextureBit << 1;
 // The variant bit that makes a variant read each extension texture, in
 // contract::ExtensionTexture order (the scene behind: every see-through variant).
 constexpr unsigned kExtensionTextureBit[contract::kExtensionTextures] = {
@@ -84,7 +88,9 @@ constexpr unsigned kExtensionTextureBit[contract::kExtensionTextures] = {
     kThicknessTextureBit,
     kAnisotropyTextureBit,
     kIridescenceTextureBit,
-    kIridescenceThicknessTextureBit};
+    kIridescenceThicknessTextureBit,
+    kDiffuseTransmissionTextureBit,
+    kDiffuseTransmissionColorTextureBit};
 // A see-through surface, its volume and its dispersion: drawn as the base material together
 // when the scene behind has no unit.
 constexpr unsigned kSeeThroughBits =
@@ -94,14 +100,16 @@ constexpr unsigned kExtensionTextureBits =
     kSheenTextureBit | kSheenRoughnessTextureBit | kClearcoatTextureBit |
     kClearcoatRoughnessTextureBit | kClearcoatNormalTextureBit | kSpecularTextureBit |
     kSpecularColorTextureBit | kSeeThroughBits | kAnisotropyTextureBit | kIridescenceTextureBit |
-    kIridescenceThicknessTextureBit;
+    kIridescenceThicknessTextureBit | kDiffuseTransmissionTextureBit |
+    kDiffuseTransmissionColorTextureBit;
 // What Blinn-Phong leaves out: it has no layers (--shading phong draws the base material
 // alone), but reads KHR_materials_specular's color for its own specular.
 constexpr unsigned kPbrOnlyBits =
     kSheenBit | kSheenTextureBit | kSheenRoughnessTextureBit | kClearcoatBit |
     kClearcoatTextureBit | kClearcoatRoughnessTextureBit | kClearcoatNormalTextureBit |
     kSeeThroughBits | kAnisotropyBit | kAnisotropyTextureBit | kIridescenceBit |
-    kIridescenceTextureBit | kIridescenceThicknessTextureBit;
+    kIridescenceTextureBit | kIridescenceThicknessTextureBit | kDiffuseTransmissionBit |
+    kDiffuseTransmissionTextureBit | kDiffuseTransmissionColorTextureBit;
 
 using ExtensionUnits = std::array<int, contract::kExtensionTextures>;
 
@@ -152,6 +160,13 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
   if (material & kAnisotropyBit) {
     defines.push_back("ANISOTROPY");
     if (material & kAnisotropyTextureBit) defines.push_back("ANISOTROPY_TEXTURE");
+  }
+  if (material & kDiffuseTransmissionBit) {
+    defines.push_back("DIFFUSE_TRANSMISSION");
+    if (material & kDiffuseTransmissionTextureBit)
+      defines.push_back("DIFFUSE_TRANSMISSION_TEXTURE");
+    if (material & kDiffuseTransmissionColorTextureBit)
+      defines.push_back("DIFFUSE_TRANSMISSION_COLOR_TEXTURE");
   }
   if (material & kIridescenceBit) {
     defines.push_back("IRIDESCENCE");
@@ -456,6 +471,20 @@ void bindMaterial(const ShaderProgram& program, const GpuMaterial& m, unsigned v
                             unitOf(units, ExtensionTexture::Anisotropy), m.anisotropy,
                             m.anisotropySampler, d.anisotropyTexture, kAnisotropyTextureBit}});
   }
+  if (variant & kDiffuseTransmissionBit) {
+    program.set("uDiffuseTransmissionFactor", d.diffuseTransmissionFactor);
+    program.set("uDiffuseTransmissionColorFactor", d.diffuseTransmissionColorFactor);
+    bindExtensionTextures(
+        program, variant,
+        {{"uDiffuseTransmissionTexCoord", "uDiffuseTransmissionUvTransform",
+          unitOf(units, ExtensionTexture::DiffuseTransmission), m.diffuseTransmission,
+          m.diffuseTransmissionSampler, d.diffuseTransmissionTexture,
+          kDiffuseTransmissionTextureBit},
+         {"uDiffuseTransmissionColorTexCoord", "uDiffuseTransmissionColorUvTransform",
+          unitOf(units, ExtensionTexture::DiffuseTransmissionColor), m.diffuseTransmissionColor,
+          m.diffuseTransmissionColorSampler, d.diffuseTransmissionColorTexture,
+          kDiffuseTransmissionColorTextureBit}});
+  }
   if (variant & kIridescenceBit) {
     program.set("uIridescenceFactor", d.iridescenceFactor);
     program.set("uIridescenceIor", d.iridescenceIor);
@@ -647,6 +676,11 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
   }
   if (hasAnisotropy(material.desc))
     variant |= kAnisotropyBit | (material.anisotropy != 0 ? kAnisotropyTextureBit : 0u);
+  if (hasDiffuseTransmission(material.desc)) {
+    variant |= kDiffuseTransmissionBit |
+               (material.diffuseTransmission != 0 ? kDiffuseTransmissionTextureBit : 0u) |
+               (material.diffuseTransmissionColor != 0 ? kDiffuseTransmissionColorTextureBit : 0u);
+  }
   if (hasIridescence(material.desc)) {
     variant |= kIridescenceBit | (material.iridescence != 0 ? kIridescenceTextureBit : 0u) |
                (material.iridescenceThickness != 0 ? kIridescenceThicknessTextureBit : 0u);

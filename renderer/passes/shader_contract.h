@@ -57,21 +57,23 @@ static_assert(kFirstShadowUnit + kShadowSamplerFamilies * kMaxShadowGroups <= kT
 // reach past the last unit draws those extensions from their factors (see-through surfaces as
 // their base material).
 enum class ExtensionTexture : int {
-  Sheen,                // KHR_materials_sheen: the color (RGB, sRGB) and, of the same image, A
-  SheenRoughness,       // its roughness texture when another image (A)
-  Clearcoat,            // KHR_materials_clearcoat: the layer's intensity (R)
-  ClearcoatRoughness,   // its roughness (G)
-  ClearcoatNormal,      // its normals
-  Specular,             // KHR_materials_specular: the factor (A)
-  SpecularColor,        // and the color (RGB, sRGB)
-  Transmission,         // KHR_materials_transmission (R)
-  SceneBehind,          // what a frame drew behind its see-through surfaces (LightingPass)
-  Thickness,            // KHR_materials_volume (G)
-  Anisotropy,           // KHR_materials_anisotropy (RG direction, B strength)
-  Iridescence,          // KHR_materials_iridescence: the strength (R)
-  IridescenceThickness  // and the film's thickness (G)
+  Sheen,                     // KHR_materials_sheen: the color (RGB, sRGB) and, of the same image, A
+  SheenRoughness,            // its roughness texture when another image (A)
+  Clearcoat,                 // KHR_materials_clearcoat: the layer's intensity (R)
+  ClearcoatRoughness,        // its roughness (G)
+  ClearcoatNormal,           // its normals
+  Specular,                  // KHR_materials_specular: the factor (A)
+  SpecularColor,             // and the color (RGB, sRGB)
+  Transmission,              // KHR_materials_transmission (R)
+  SceneBehind,               // what a frame drew behind its see-through surfaces (LightingPass)
+  Thickness,                 // KHR_materials_volume (G)
+  Anisotropy,                // KHR_materials_anisotropy (RG direction, B strength)
+  Iridescence,               // KHR_materials_iridescence: the strength (R)
+  IridescenceThickness,      // and the film's thickness (G)
+  DiffuseTransmission,       // KHR_materials_diffuse_transmission: the fraction (A)
+  DiffuseTransmissionColor,  // and the color (RGB, sRGB)
 };
-inline constexpr int kExtensionTextures = 13;
+inline constexpr int kExtensionTextures = 15;
 inline constexpr const char* kExtensionTextureUnitDefines[kExtensionTextures] = {
     "SHEEN_UNIT",
     "SHEEN_ROUGHNESS_UNIT",
@@ -85,7 +87,9 @@ inline constexpr const char* kExtensionTextureUnitDefines[kExtensionTextures] = 
     "THICKNESS_UNIT",
     "ANISOTROPY_UNIT",
     "IRIDESCENCE_UNIT",
-    "IRIDESCENCE_THICKNESS_UNIT"};
+    "IRIDESCENCE_THICKNESS_UNIT",
+    "DIFFUSE_TRANSMISSION_UNIT",
+    "DIFFUSE_TRANSMISSION_COLOR_UNIT"};
 
 // Shader storage buffer bindings. Models and DrawObjects are the shadow pass's
 // (shaders/shadow_depth.vert); the rest are the lighting pass's. Unscoped: they are the ints

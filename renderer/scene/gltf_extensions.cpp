@@ -39,7 +39,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_materials_iridescence", Supported, ""},
     {"KHR_materials_anisotropy", Supported, ""},
     {"KHR_materials_dispersion", Supported, ""},
-    {"KHR_materials_diffuse_transmission", NotSupported, "the base material, opaque"},
+    {"KHR_materials_diffuse_transmission", Supported, ""},
     {"KHR_materials_variants", Supported, ""},
     // Everything else.
     {"KHR_animation_pointer", Supported, ""},

@@ -223,6 +223,30 @@ void applyIridescence(const Context& ctx, std::size_t index, Material& material)
   warnIfExcluded(ctx, index, material, where, "the iridescence");
 }
 
+// KHR_materials_diffuse_transmission: a factor and a color, each with a texture.
+void applyDiffuseTransmission(const Context& ctx, std::size_t index, Material& material) {
+  const tinygltf::Value* diffuse =
+      extensionOf(ctx.model.materials[index], "KHR_materials_diffuse_transmission");
+  if (!diffuse) return;
+  const std::string where =
+      at("materials", index) + ".extensions.KHR_materials_diffuse_transmission";
+  if (!diffuse->IsObject()) ctx.fail(where, "must be an object");
+  material.diffuseTransmissionFactor =
+      unitNumber(ctx, where, *diffuse, "diffuseTransmissionFactor", 0.0f);
+  material.diffuseTransmissionTexture = slotFromValue(ctx, where + ".diffuseTransmissionTexture",
+                                                      diffuse->Get("diffuseTransmissionTexture"));
+  const glm::vec3 color =
+      numbers<3>(ctx, where, *diffuse, "diffuseTransmissionColorFactor", glm::vec3(1.0f));
+  for (int c = 0; c < 3; ++c)
+    if (!(color[c] >= 0.0f && color[c] <= 1.0f))
+      ctx.fail(where, "diffuseTransmissionColorFactor must be an array of 3 numbers in [0, 1]");
+  material.diffuseTransmissionColorFactor = color;
+  material.diffuseTransmissionColorTexture =
+      slotFromValue(ctx, where + ".diffuseTransmissionColorTexture",
+                    diffuse->Get("diffuseTransmissionColorTexture"));
+  warnIfExcluded(ctx, index, material, where, "the diffuse transmission");
+}
+
 // KHR_materials_dispersion: one number, 20 / the Abbe number.
 void applyDispersion(const Context& ctx, std::size_t index, Material& material) {
   const tinygltf::Value* dispersion =
@@ -299,6 +323,7 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
   applyDispersion(ctx, index, material);
   applyAnisotropy(ctx, index, material);
   applyIridescence(ctx, index, material);
+  applyDiffuseTransmission(ctx, index, material);
   const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;
   const std::string where = object + "KHR_materials_pbrSpecularGlossiness";

@@ -134,6 +134,12 @@ struct Material {
   float iridescenceThicknessMinimum = 100.0f;
   float iridescenceThicknessMaximum = 400.0f;
   TextureSlot iridescenceThicknessTexture;  // linear; G
+  // KHR_materials_diffuse_transmission: the fraction of the light entering the surface that
+  // leaves it on the other side (factor x texture's A), as Lambert of the color.
+  float diffuseTransmissionFactor = 0.0f;
+  TextureSlot diffuseTransmissionTexture;  // linear; A multiplies the factor
+  glm::vec3 diffuseTransmissionColorFactor{1.0f};
+  TextureSlot diffuseTransmissionColorTexture;  // sRGB; RGB multiplies the color factor
 };
 
 // The dielectric Fresnel reflectance at normal incidence that `material`'s ior gives (outside
@@ -196,6 +202,13 @@ inline bool hasAnisotropy(const Material& material) {
 // nonzero factor on a lit metallic-roughness material (the extension excludes the others).
 inline bool hasIridescence(const Material& material) {
   return !material.unlit && !material.specularGlossiness && material.iridescenceFactor > 0.0f;
+}
+
+// Whether the lighting pass lets lights through `material` diffusely
+// (KHR_materials_diffuse_transmission): a nonzero factor on a lit metallic-roughness material.
+inline bool hasDiffuseTransmission(const Material& material) {
+  return !material.unlit && !material.specularGlossiness &&
+         material.diffuseTransmissionFactor > 0.0f;
 }
 
 // The texture slot whose texture coordinates generated tangents follow (texture < 0: none is
