@@ -700,13 +700,11 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
   return variant;
 }
 
-bool LightingPass::drawnThrough(const GpuMaterial& material) const {
-  return (materialVariant(material) & kTransmissionBit) != 0;
-}
-
-LightingPass::DrawSet LightingPass::drawSet(const GpuMaterial& material) const {
-  if (drawnThrough(material)) return DrawSet::SeeThrough;
-  const AlphaMode mode = material.desc.alphaMode;
+LightingPass::DrawSet LightingPass::drawSet(std::size_t material, const GpuScene& scene) const {
+  // See-through: hasTransmission, but not in Phong frames, which draw the base material alone,
+  // nor where the scene behind would have no texture unit (materialVariant()).
+  if (frameVariants_[material] & kTransmissionBit) return DrawSet::SeeThrough;
+  const AlphaMode mode = scene.materials()[material].desc.alphaMode;
   return mode == AlphaMode::Opaque ? DrawSet::Opaque
          : mode == AlphaMode::Mask ? DrawSet::Masked
                                    : DrawSet::Blended;
@@ -715,8 +713,8 @@ LightingPass::DrawSet LightingPass::drawSet(const GpuMaterial& material) const {
 LightingPass::SeeThrough LightingPass::seeThrough(const GpuScene& scene) const {
   SeeThrough found;
   for (const GpuDraw& draw : scene.draws()) {
+    if (drawSet(draw.material, scene) != DrawSet::SeeThrough) continue;
     const GpuMaterial& material = scene.materials()[draw.material];
-    if (!drawnThrough(material)) continue;
     found.any = true;
     // lighting.frag reads level log2(size) x roughness x clamp(2 ior - 2, 0, 1), and a
     // roughness texture only multiplies the factor.
@@ -935,13 +933,13 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     const std::size_t index = sorted ? blendedOrder_[k] : k;
     const GpuDraw& draw = scene.draws()[index];
     const GpuMaterial& material = scene.materials()[draw.material];
-    const DrawSet drawSet = this->drawSet(material);
+    const DrawSet drawSet = this->drawSet(draw.material, scene);
     if (drawSet != set) continue;
     // GL does not blend into integer targets: the renderer gives frames with blended surfaces
     // the float target.
     if (drawSet == DrawSet::Blended && writesSrgb8(outputs_))
       throw std::logic_error("the 8-bit beauty pass cannot draw blended surfaces");
-    const unsigned variant = lighting ? materialVariant(material) : 0u;
+    const unsigned variant = lighting ? frameVariants_[draw.material] : 0u;
     if (lighting) {
       const ShaderProgram& wanted = program(variant);
       if (&wanted != current) {
@@ -1043,6 +1041,9 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   if (features_.clusteredLights) uploadClusters(scene, lights, camera, uniforms);
   framePrograms_.clear();
   blendedOrder_ = blendedDrawOrder(scene, camera.view);
+  frameVariants_.clear();
+  for (const GpuMaterial& material : scene.materials())
+    frameVariants_.push_back(materialVariant(material));
   glBindVertexArray(scene.vertexArray());
 
   // With the pre-pass (PassParameters::depthPrepass), depth of the opaque surfaces first, so

@@ -245,13 +245,10 @@ class LightingPass {
   // the texture reads and BRDFs the material cannot use.
   unsigned materialVariant(const GpuMaterial& material) const;
   const ShaderProgram& program(unsigned variant);
-  // Opaque and masked draws, those drawn see-through (drawnThrough) after them, and blended ones.
+  // Opaque and masked draws, those drawn see-through after them, and blended ones.
   enum class DrawSet { Opaque, Masked, SeeThrough, Blended };
-  DrawSet drawSet(const GpuMaterial& material) const;
-  // Whether `material` is drawn see-through (hasTransmission): not in Phong frames, which draw
-  // the base material alone, nor where the scene behind would have no texture unit (its
-  // variant's extension textures do not fit after the frame's shadow arrays).
-  bool drawnThrough(const GpuMaterial& material) const;
+  // The set of the draws of scene material `material`, from this frame's variants.
+  DrawSet drawSet(std::size_t material, const GpuScene& scene) const;
   struct SeeThrough {
     bool any = false;      // some draw is drawn see-through
     bool blurred = false;  // and some of those may read a coarser level (rough, ior above 1)
@@ -272,7 +269,10 @@ class LightingPass {
   LightingFeatures features_;
   ShadowSamplerUnits shadowUnits_;
   std::vector<std::pair<unsigned, std::unique_ptr<ShaderProgram>>> programs_;
-  std::vector<unsigned> framePrograms_;    // the variants holding this frame's uniforms
+  std::vector<unsigned> framePrograms_;  // the variants holding this frame's uniforms
+  // materialVariant() of each scene material, worked out once per render() (every draw of
+  // every draw set reads it).
+  std::vector<unsigned> frameVariants_;
   std::vector<std::size_t> blendedOrder_;  // this frame's blended draws, farthest first
   ShaderProgram depthOnly_;
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
