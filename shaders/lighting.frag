@@ -308,12 +308,19 @@ vec2 uvFor(int texCoord, mat3 transform) {
   return (transform * vec3(texCoord == 0 ? vIn.uv0 : vIn.uv1, 1.0)).xy;
 }
 
-// The normal a tangent-space normal map's `texel` gives at a point of interpolated normal N
-// (facing the camera's side of the surface), in the mesh's tangent frame; `axes` and `scale` as
-// uNormalTextureAxes and uNormalScale. The base material's and the clearcoat's maps alike.
+// The mesh's tangent frame at a point of normal N (facing the camera's side of the surface):
+// the tangent made orthogonal to N, and the bitangent its handedness and the face give.
+void meshTangentFrame(vec3 N, out vec3 T, out vec3 B) {
+  T = normalize(vIn.worldTangent.xyz - N * dot(N, vIn.worldTangent.xyz));
+  B = cross(N, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
+}
+
+// The normal a tangent-space normal map's `texel` gives at a point of interpolated normal N,
+// in the mesh's tangent frame; `axes` and `scale` as uNormalTextureAxes and uNormalScale. The
+// base material's and the clearcoat's maps alike.
 vec3 mappedNormal(vec3 N, vec3 texel, mat3 axes, float scale) {
-  vec3 T = normalize(vIn.worldTangent.xyz - N * dot(N, vIn.worldTangent.xyz));
-  vec3 B = cross(N, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
+  vec3 T, B;
+  meshTangentFrame(N, T, B);
   vec3 tangentNormal = texel * 2.0 - 1.0;
   tangentNormal.xy = mat2(axes) * tangentNormal.xy * scale;
   return normalize(mat3(T, B, N) * tangentNormal);
@@ -377,19 +384,15 @@ void main() {
       strength *= texel.b;
     }
 #endif
-    // The tangent frame of the shading normal, as mappedNormal() builds it; without tangents
-    // the highlights stay round.
-    vec3 T = normalize(vIn.worldTangent.xyz - N * dot(N, vIn.worldTangent.xyz));
-    vec3 B = cross(N, T) * vIn.worldTangent.w * (gl_FrontFacing ? 1.0 : -1.0);
+    // In the tangent frame of the shading normal; without tangents the highlights stay round.
+    vec3 T, B;
+    meshTangentFrame(N, T, B);
     pixelAnisotropy.T = normalize(T * direction.x + B * direction.y);
     pixelAnisotropy.B = normalize(cross(N, pixelAnisotropy.T));
     pixelAnisotropy.stretch = uHasTangents != 0 ? strength * strength : 0.0;
-    if (uHasTangents == 0) {
-      // Any frame of the surface: with no stretch the lobe is round whatever its axes.
-      vec3 helper = abs(N.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
-      pixelAnisotropy.T = normalize(cross(helper, N));
-      pixelAnisotropy.B = cross(N, pixelAnisotropy.T);
-    }
+    // Without tangents any frame of the surface (shadows.glsl's): with no stretch the lobe is
+    // round whatever its axes.
+    if (uHasTangents == 0) tangentFrame(N, pixelAnisotropy.T, pixelAnisotropy.B);
   }
 #endif
 
@@ -423,6 +426,8 @@ void main() {
   if (uSpecularColorTexCoord >= 0)
     specularColorFactor *= texture(uSpecularColorTexture, uvFor(uSpecularColorTexCoord, uSpecularColorUvTransform)).rgb;
 #endif
+  // The dielectric's reflectance at normal incidence, as KHR_materials_specular writes it.
+  vec3 specularF0 = min(uDielectricF0 * specularColorFactor, vec3(1.0)) * specularWeight;
 #endif
 #ifdef CLEARCOAT
   float clearcoatFactor = uClearcoatFactor;
@@ -454,8 +459,7 @@ void main() {
 #if defined(TRANSMISSION) || defined(DIFFUSE_TRANSMISSION)
   // What the dielectric's Fresnel towards the camera leaves of light that passes through.
 #ifdef DIELECTRIC_SPECULAR
-  vec3 throughF0 = min(uDielectricF0 * specularColorFactor, vec3(1.0)) * specularWeight;
-  vec3 throughF = throughF0 + (vec3(specularWeight) - throughF0) *
+  vec3 throughF = specularF0 + (vec3(specularWeight) - specularF0) *
                                   fresnelSchlick(vec3(0.0), max(dot(N, V), 0.0)).r;
   float transmitted = 1.0 - max(throughF.r, max(throughF.g, throughF.b));
 #else
@@ -534,7 +538,7 @@ void main() {
                               uvFor(uIridescenceThicknessTexCoord, uIridescenceThicknessUvTransform)).g);
 #endif
 #ifdef DIELECTRIC_SPECULAR
-    vec3 filmBaseF0 = min(uDielectricF0 * specularColorFactor, vec3(1.0)) * specularWeight;
+    vec3 filmBaseF0 = specularF0;
 #else
     vec3 filmBaseF0 = vec3(uDielectricF0);
 #endif
@@ -698,9 +702,7 @@ void main() {
     vec3 diffuse, specular;
 #ifdef SHADING_PHONG
 #ifdef DIELECTRIC_SPECULAR
-    shadePhong(N, V, L, radiance, baseColor.rgb, roughness,
-               min(uDielectricF0 * specularColorFactor, vec3(1.0)) * specularWeight, diffuse,
-               specular);
+    shadePhong(N, V, L, radiance, baseColor.rgb, roughness, specularF0, diffuse, specular);
 #else
     shadePhong(N, V, L, radiance, baseColor.rgb, roughness, vec3(uDielectricF0), diffuse, specular);
 #endif
