@@ -81,6 +81,40 @@ float unitNumber(const Context& ctx, const std::string& object, const tinygltf::
   return static_cast<float>(value);
 }
 
+// A number of at least 0 (finite), or `fallback` when the property is absent.
+float nonNegativeNumber(const Context& ctx, const std::string& object,
+                        const tinygltf::Value& parent, const char* property, float fallback) {
+  const double value = number(ctx, object, parent, property, fallback);
+  if (!(value >= 0.0 && std::isfinite(value)))
+    ctx.fail(object, std::string(property) + " must be a number of at least 0");
+  return static_cast<float>(value);
+}
+
+// A color of 3 numbers in [0, 1], or `fallback` when the property is absent.
+glm::vec3 unitColor(const Context& ctx, const std::string& object, const tinygltf::Value& parent,
+                    const char* property, glm::vec3 fallback) {
+  const glm::vec3 color = numbers<3>(ctx, object, parent, property, fallback);
+  for (int c = 0; c < 3; ++c)
+    if (!(color[c] >= 0.0f && color[c] <= 1.0f))
+      ctx.fail(object, std::string(property) + " must be an array of 3 numbers in [0, 1]");
+  return color;
+}
+
+// Material `index`'s extension `name`, which must be an object, and the object that names it in
+// messages; a null value without one.
+struct MaterialExtension {
+  const tinygltf::Value* value = nullptr;
+  std::string where;
+};
+MaterialExtension materialExtension(const Context& ctx, std::size_t index, const char* name) {
+  MaterialExtension extension;
+  extension.value = extensionOf(ctx.model.materials[index], name);
+  if (!extension.value) return extension;
+  extension.where = at("materials", index) + ".extensions." + name;
+  if (!extension.value->IsObject()) ctx.fail(extension.where, "must be an object");
+  return extension;
+}
+
 // The layers (sheen, clearcoat) whose specifications exclude unlit and specular-glossiness
 // materials: such a material is drawn without `layer`, saying so. `where` names the extension.
 void warnIfExcluded(const Context& ctx, std::size_t index, const Material& material,
@@ -95,11 +129,8 @@ void warnIfExcluded(const Context& ctx, std::size_t index, const Material& mater
 
 // KHR_materials_specular: two factors and their textures.
 void applySpecular(const Context& ctx, std::size_t index, Material& material) {
-  const tinygltf::Value* specular =
-      extensionOf(ctx.model.materials[index], "KHR_materials_specular");
+  const auto [specular, where] = materialExtension(ctx, index, "KHR_materials_specular");
   if (!specular) return;
-  const std::string where = at("materials", index) + ".extensions.KHR_materials_specular";
-  if (!specular->IsObject()) ctx.fail(where, "must be an object");
   material.specularWeight = unitNumber(ctx, where, *specular, "specularFactor", 1.0f);
   const glm::vec3 color = numbers<3>(ctx, where, *specular, "specularColorFactor", glm::vec3(1.0f));
   for (int c = 0; c < 3; ++c)
@@ -114,15 +145,9 @@ void applySpecular(const Context& ctx, std::size_t index, Material& material) {
 
 // KHR_materials_sheen: a color and a roughness, each a factor and a texture.
 void applySheen(const Context& ctx, std::size_t index, Material& material) {
-  const tinygltf::Value* sheen = extensionOf(ctx.model.materials[index], "KHR_materials_sheen");
+  const auto [sheen, where] = materialExtension(ctx, index, "KHR_materials_sheen");
   if (!sheen) return;
-  const std::string where = at("materials", index) + ".extensions.KHR_materials_sheen";
-  if (!sheen->IsObject()) ctx.fail(where, "must be an object");
-  glm::vec3 color = numbers<3>(ctx, where, *sheen, "sheenColorFactor", glm::vec3(0.0f));
-  for (int c = 0; c < 3; ++c)
-    if (!(color[c] >= 0.0f && color[c] <= 1.0f))
-      ctx.fail(where, "sheenColorFactor must be an array of 3 numbers in [0, 1]");
-  material.sheenColorFactor = color;
+  material.sheenColorFactor = unitColor(ctx, where, *sheen, "sheenColorFactor", glm::vec3(0.0f));
   material.sheenRoughnessFactor = unitNumber(ctx, where, *sheen, "sheenRoughnessFactor", 0.0f);
   material.sheenColorTexture =
       slotFromValue(ctx, where + ".sheenColorTexture", sheen->Get("sheenColorTexture"));
@@ -133,11 +158,8 @@ void applySheen(const Context& ctx, std::size_t index, Material& material) {
 
 // KHR_materials_clearcoat: two factors and three textures, each on a texture unit of its own.
 void applyClearcoat(const Context& ctx, std::size_t index, Material& material) {
-  const tinygltf::Value* clearcoat =
-      extensionOf(ctx.model.materials[index], "KHR_materials_clearcoat");
+  const auto [clearcoat, where] = materialExtension(ctx, index, "KHR_materials_clearcoat");
   if (!clearcoat) return;
-  const std::string where = at("materials", index) + ".extensions.KHR_materials_clearcoat";
-  if (!clearcoat->IsObject()) ctx.fail(where, "must be an object");
   material.clearcoatFactor = unitNumber(ctx, where, *clearcoat, "clearcoatFactor", 0.0f);
   material.clearcoatRoughnessFactor =
       unitNumber(ctx, where, *clearcoat, "clearcoatRoughnessFactor", 0.0f);
@@ -155,14 +177,9 @@ void applyClearcoat(const Context& ctx, std::size_t index, Material& material) {
 
 // KHR_materials_volume: a thickness (factor and texture) and the medium's attenuation.
 void applyVolume(const Context& ctx, std::size_t index, Material& material) {
-  const tinygltf::Value* volume = extensionOf(ctx.model.materials[index], "KHR_materials_volume");
+  const auto [volume, where] = materialExtension(ctx, index, "KHR_materials_volume");
   if (!volume) return;
-  const std::string where = at("materials", index) + ".extensions.KHR_materials_volume";
-  if (!volume->IsObject()) ctx.fail(where, "must be an object");
-  const double thickness = number(ctx, where, *volume, "thicknessFactor", 0.0);
-  if (!(thickness >= 0.0 && std::isfinite(thickness)))
-    ctx.fail(where, "thicknessFactor must be a number of at least 0");
-  material.thicknessFactor = static_cast<float>(thickness);
+  material.thicknessFactor = nonNegativeNumber(ctx, where, *volume, "thicknessFactor", 0.0f);
   material.thicknessTexture =
       slotFromValue(ctx, where + ".thicknessTexture", volume->Get("thicknessTexture"));
   if (volume->Has("attenuationDistance")) {
@@ -171,21 +188,14 @@ void applyVolume(const Context& ctx, std::size_t index, Material& material) {
       ctx.fail(where, "attenuationDistance must be a number above 0");
     material.attenuationDistance = static_cast<float>(distance);
   }
-  const glm::vec3 color = numbers<3>(ctx, where, *volume, "attenuationColor", glm::vec3(1.0f));
-  for (int c = 0; c < 3; ++c)
-    if (!(color[c] >= 0.0f && color[c] <= 1.0f))
-      ctx.fail(where, "attenuationColor must be an array of 3 numbers in [0, 1]");
-  material.attenuationColor = color;
+  material.attenuationColor = unitColor(ctx, where, *volume, "attenuationColor", glm::vec3(1.0f));
   warnIfExcluded(ctx, index, material, where, "the volume");
 }
 
 // KHR_materials_anisotropy: a strength, a rotation and a texture.
 void applyAnisotropy(const Context& ctx, std::size_t index, Material& material) {
-  const tinygltf::Value* anisotropy =
-      extensionOf(ctx.model.materials[index], "KHR_materials_anisotropy");
+  const auto [anisotropy, where] = materialExtension(ctx, index, "KHR_materials_anisotropy");
   if (!anisotropy) return;
-  const std::string where = at("materials", index) + ".extensions.KHR_materials_anisotropy";
-  if (!anisotropy->IsObject()) ctx.fail(where, "must be an object");
   material.anisotropyStrength = unitNumber(ctx, where, *anisotropy, "anisotropyStrength", 0.0f);
   const double rotation = number(ctx, where, *anisotropy, "anisotropyRotation", 0.0);
   if (!std::isfinite(rotation)) ctx.fail(where, "anisotropyRotation must be a finite number");
@@ -197,11 +207,8 @@ void applyAnisotropy(const Context& ctx, std::size_t index, Material& material) 
 
 // KHR_materials_iridescence: a factor, the film's index, a thickness range, two textures.
 void applyIridescence(const Context& ctx, std::size_t index, Material& material) {
-  const tinygltf::Value* film =
-      extensionOf(ctx.model.materials[index], "KHR_materials_iridescence");
+  const auto [film, where] = materialExtension(ctx, index, "KHR_materials_iridescence");
   if (!film) return;
-  const std::string where = at("materials", index) + ".extensions.KHR_materials_iridescence";
-  if (!film->IsObject()) ctx.fail(where, "must be an object");
   material.iridescenceFactor = unitNumber(ctx, where, *film, "iridescenceFactor", 0.0f);
   material.iridescenceTexture =
       slotFromValue(ctx, where + ".iridescenceTexture", film->Get("iridescenceTexture"));
@@ -209,15 +216,11 @@ void applyIridescence(const Context& ctx, std::size_t index, Material& material)
   if (!(ior >= 1.0 && std::isfinite(ior)))
     ctx.fail(where, "iridescenceIor must be a number of at least 1");
   material.iridescenceIor = static_cast<float>(ior);
-  const auto thickness = [&](const char* property, double fallback) {
-    const double value = number(ctx, where, *film, property, fallback);
-    if (!(value >= 0.0 && std::isfinite(value)))
-      ctx.fail(where, std::string(property) + " must be a number of at least 0");
-    return static_cast<float>(value);
-  };
   // The minimum may exceed the maximum (the specification allows it).
-  material.iridescenceThicknessMinimum = thickness("iridescenceThicknessMinimum", 100.0);
-  material.iridescenceThicknessMaximum = thickness("iridescenceThicknessMaximum", 400.0);
+  material.iridescenceThicknessMinimum =
+      nonNegativeNumber(ctx, where, *film, "iridescenceThicknessMinimum", 100.0f);
+  material.iridescenceThicknessMaximum =
+      nonNegativeNumber(ctx, where, *film, "iridescenceThicknessMaximum", 400.0f);
   material.iridescenceThicknessTexture = slotFromValue(ctx, where + ".iridescenceThicknessTexture",
                                                        film->Get("iridescenceThicknessTexture"));
   warnIfExcluded(ctx, index, material, where, "the iridescence");
@@ -225,22 +228,14 @@ void applyIridescence(const Context& ctx, std::size_t index, Material& material)
 
 // KHR_materials_diffuse_transmission: a factor and a color, each with a texture.
 void applyDiffuseTransmission(const Context& ctx, std::size_t index, Material& material) {
-  const tinygltf::Value* diffuse =
-      extensionOf(ctx.model.materials[index], "KHR_materials_diffuse_transmission");
+  const auto [diffuse, where] = materialExtension(ctx, index, "KHR_materials_diffuse_transmission");
   if (!diffuse) return;
-  const std::string where =
-      at("materials", index) + ".extensions.KHR_materials_diffuse_transmission";
-  if (!diffuse->IsObject()) ctx.fail(where, "must be an object");
   material.diffuseTransmissionFactor =
       unitNumber(ctx, where, *diffuse, "diffuseTransmissionFactor", 0.0f);
   material.diffuseTransmissionTexture = slotFromValue(ctx, where + ".diffuseTransmissionTexture",
                                                       diffuse->Get("diffuseTransmissionTexture"));
-  const glm::vec3 color =
-      numbers<3>(ctx, where, *diffuse, "diffuseTransmissionColorFactor", glm::vec3(1.0f));
-  for (int c = 0; c < 3; ++c)
-    if (!(color[c] >= 0.0f && color[c] <= 1.0f))
-      ctx.fail(where, "diffuseTransmissionColorFactor must be an array of 3 numbers in [0, 1]");
-  material.diffuseTransmissionColorFactor = color;
+  material.diffuseTransmissionColorFactor =
+      unitColor(ctx, where, *diffuse, "diffuseTransmissionColorFactor", glm::vec3(1.0f));
   material.diffuseTransmissionColorTexture =
       slotFromValue(ctx, where + ".diffuseTransmissionColorTexture",
                     diffuse->Get("diffuseTransmissionColorTexture"));
@@ -249,15 +244,9 @@ void applyDiffuseTransmission(const Context& ctx, std::size_t index, Material& m
 
 // KHR_materials_dispersion: one number, 20 / the Abbe number.
 void applyDispersion(const Context& ctx, std::size_t index, Material& material) {
-  const tinygltf::Value* dispersion =
-      extensionOf(ctx.model.materials[index], "KHR_materials_dispersion");
+  const auto [dispersion, where] = materialExtension(ctx, index, "KHR_materials_dispersion");
   if (!dispersion) return;
-  const std::string where = at("materials", index) + ".extensions.KHR_materials_dispersion";
-  if (!dispersion->IsObject()) ctx.fail(where, "must be an object");
-  const double value = number(ctx, where, *dispersion, "dispersion", 0.0);
-  if (!(value >= 0.0 && std::isfinite(value)))
-    ctx.fail(where, "dispersion must be a number of at least 0");
-  material.dispersion = static_cast<float>(value);
+  material.dispersion = nonNegativeNumber(ctx, where, *dispersion, "dispersion", 0.0f);
   warnIfExcluded(ctx, index, material, where, "the dispersion");
 }
 
@@ -297,18 +286,15 @@ TextureSlot makeTextureSlot(const Context& ctx, const std::string& object, int i
 
 void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& material) {
   const tinygltf::Material& source = ctx.model.materials[index];
-  const std::string object = at("materials", index) + ".extensions.";
   if (extensionOf(source, "KHR_materials_unlit")) material.unlit = true;
-  if (const tinygltf::Value* transmission = extensionOf(source, "KHR_materials_transmission")) {
-    const std::string where = object + "KHR_materials_transmission";
-    if (!transmission->IsObject()) ctx.fail(where, "must be an object");
+  if (const auto [transmission, where] =
+          materialExtension(ctx, index, "KHR_materials_transmission");
+      transmission) {
     material.transmissionFactor = unitNumber(ctx, where, *transmission, "transmissionFactor", 0.0f);
     material.transmissionTexture = slotFromValue(ctx, where + ".transmissionTexture",
                                                  transmission->Get("transmissionTexture"));
   }
-  if (const tinygltf::Value* ior = extensionOf(source, "KHR_materials_ior")) {
-    const std::string where = object + "KHR_materials_ior";
-    if (!ior->IsObject()) ctx.fail(where, "must be an object");
+  if (const auto [ior, where] = materialExtension(ctx, index, "KHR_materials_ior"); ior) {
     const double value = number(ctx, where, *ior, "ior", 1.5);
     // The schema's range: 1 and above, or exactly 0 (a reflectance of 1, for materials
     // converted from specular-glossiness).
@@ -324,10 +310,9 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
   applyAnisotropy(ctx, index, material);
   applyIridescence(ctx, index, material);
   applyDiffuseTransmission(ctx, index, material);
-  const tinygltf::Value* specGloss = extensionOf(source, "KHR_materials_pbrSpecularGlossiness");
+  const auto [specGloss, where] =
+      materialExtension(ctx, index, "KHR_materials_pbrSpecularGlossiness");
   if (!specGloss) return;
-  const std::string where = object + "KHR_materials_pbrSpecularGlossiness";
-  if (!specGloss->IsObject()) ctx.fail(where, "must be an object");
   material.specularGlossiness = true;
   // The diffuse color takes the base color's place: the same sRGB texture and alpha roles.
   material.baseColorFactor = numbers<4>(ctx, where, *specGloss, "diffuseFactor", glm::vec4(1.0f));
