@@ -44,10 +44,11 @@ omnishadow_fuzzer(fuzz_lights
 # and a file added there must not leave the fuzzer unlinkable.
 file(GLOB omnishadow_fuzz_scene_sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/renderer/scene/*.cpp)
 omnishadow_fuzzer(fuzz_gltf tests/fuzz/fuzz_gltf.cpp ${omnishadow_fuzz_scene_sources})
-# libdraco, libmeshoptimizer, libturbojpeg and libdeflate stay uninstrumented too (Debian's
-# builds); what they are given and what they return is checked by the instrumented loader.
+# libdraco, libmeshoptimizer, libturbojpeg, libdeflate and libwebp stay uninstrumented too
+# (Debian's builds); what they are given and what they return is checked by the instrumented
+# loader.
 target_link_libraries(fuzz_gltf PRIVATE TinyGLTF::TinyGLTF meshoptimizer::meshoptimizer
-  PkgConfig::turbojpeg PkgConfig::libdeflate)
+  PkgConfig::turbojpeg PkgConfig::libdeflate PkgConfig::libwebp)
 
 # The manifest reader and the job checks are instrumented; what they call of the renderer's
 # libraries (nothing renders) is linked uninstrumented.

@@ -1515,7 +1515,9 @@ TEST_F(GltfLoaderTest, ImagesClaimingMoreThanTheirDataAreRefusedBeforeDecoding) 
   // A TGA header: no signature, 16384 x 16384 at 32 bits.
   std::vector<unsigned char> tga = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x40, 0, 0x40, 32, 0};
   tga.resize(400, 0);
-  EXPECT_EQ(loadWith(tga), object + "unknown image format: glTF images are PNG or JPEG");
+  EXPECT_EQ(loadWith(tga), object +
+                               "unknown image format: glTF images are PNG or JPEG (or WebP through "
+                               "EXT_texture_webp)");
 
   // The same checks for images read from files (and data: URIs).
   GltfBuilder external;
@@ -1526,7 +1528,9 @@ TEST_F(GltfLoaderTest, ImagesClaimingMoreThanTheirDataAreRefusedBeforeDecoding) 
   ASSERT_NO_THROW(loadGltf(scene));
   std::ofstream(path("scene_image0.png"), std::ios::binary) << "P6\n8000 8000\n255\n";
   EXPECT_EQ(inputError([&] { loadGltf(scene); }),
-            scene.string() + ": Unknown image format for image[0]: glTF images are PNG or JPEG");
+            scene.string() +
+                ": Unknown image format for image[0]: glTF images are PNG or JPEG (or WebP "
+                "through EXT_texture_webp)");
   const std::vector<unsigned char> png = pngClaiming(16384, 16384, 8);
   std::ofstream(path("scene_image0.png"), std::ios::binary)
       .write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));

@@ -625,28 +625,36 @@ TEST_F(HostileInputTest, ZeroOrNanNormalsAreReplacedWithAWarning) {
       << r.err;
 }
 
-TEST_F(HostileInputTest, AWebpImageWithAPngFallbackIsSetAsideWithAWarning) {
-  const std::string png =
-      "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVQYV2P4z/"
-      "AfAAQAAf+I0P3MAAAAAElFTkSuQmCC";
-  const auto withWebp = [&](bool fallback) {
+// A 1x1 lossless WebP (the glTF-Validator's), in a data: URI, which tinygltf would take for a
+// file name.
+constexpr const char* kWebpDataUri =
+    "data:image/webp;base64,UklGRhwAAABXRUJQVlA4TA8AAAAv/8AfAAcQ/Y/+ByKi/wEA";
+
+// What the specification forbids but can be drawn is drawn, with a warning: a WebP image that
+// a core source names, and one without the extension in extensionsUsed.
+TEST_F(HostileInputTest, AWebpImageThatACoreSourceNamesIsDrawnWithAWarning) {
+  const auto withWebp = [&](bool declared) {
     return [=](json& doc) {
-      doc["extensionsUsed"] = {"EXT_texture_webp"};
-      doc["images"] = {{{"uri", png}}, {{"uri", "data:image/webp;base64,UklGRhwAAABXRUJQ"}}};
-      doc["textures"] = {
-          {{"source", fallback ? 0 : 1}, {"extensions", {{"EXT_texture_webp", {{"source", 1}}}}}}};
+      if (declared) doc["extensionsUsed"] = {"EXT_texture_webp"};
+      doc["images"] = {{{"uri", kWebpDataUri}}};
+      doc["textures"] = {{{"source", 0}}};
       doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
       doc["meshes"][0]["primitives"][0]["material"] = 0;
     };
   };
-  const RunResult r = runBounded({"info", writeTriangle(input("webp.gltf"), withWebp(true))});
+  const RunResult r = render(writeTriangle(input("webp.gltf"), withWebp(true)));
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_TRUE(contains(r.out + r.err,
-                       "images[1]: WebP (EXT_texture_webp) is not supported; "
-                       "textures use their PNG or JPEG source"))
-      << r.out << r.err;
-  EXPECT_TRUE(refused(runBounded({"info", writeTriangle(input("webp.gltf"), withWebp(false))}),
-                      "textures[0].source: images[1] is WebP, which is not supported"));
+  EXPECT_TRUE(contains(r.err,
+                       "webp.gltf: textures[0].source: images[0] is WebP, which only "
+                       "EXT_texture_webp may name; drawn as it is"))
+      << r.err;
+  fs::remove(output("a.png"));
+  const RunResult undeclared = render(writeTriangle(input("webp.gltf"), withWebp(false)));
+  EXPECT_EQ(undeclared.status, 0) << undeclared.err;
+  EXPECT_TRUE(contains(undeclared.err,
+                       "webp.gltf: images[0]: WebP, but EXT_texture_webp is not in "
+                       "extensionsUsed; decoded as WebP"))
+      << undeclared.err;
 }
 
 TEST_F(HostileInputTest, APlaceholderBufferThatNothingUsesIsIgnored) {
@@ -704,15 +712,28 @@ TEST_F(HostileInputTest, TheJsonReviewSeesPastLongStrings) {
   EXPECT_EQ(placeholder.status, 0) << placeholder.err;
   EXPECT_TRUE(contains(placeholder.err, "buffers[1]: no uri and no bufferView uses it; ignored"));
   fs::remove(output("a.png"));
-  // A long WebP data URI is still recognized by its start.
-  const std::string webp = "data:image/webp;base64,UklGRhwAAABXRUJQ" + std::string(400, 'A');
+  // A long WebP data URI is still recognized by its start, and retyped whole (libwebp reads
+  // the RIFF chunk and leaves the zeros after it).
+  const std::string webp = kWebpDataUri + std::string(400, 'A');
   const RunResult r = runBounded({"info", writeTriangle(input("webp.gltf"), [&](json& doc) {
                                             longBuffer(doc);
                                             doc["extensionsUsed"] = {"EXT_texture_webp"};
                                             doc["images"] = {{{"uri", webp}}};
                                             doc["textures"] = {{{"source", 0}}};
                                           }).string()});
-  EXPECT_TRUE(refused(r, "webp.gltf: textures[0].source: images[0] is WebP")) << r.err;
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out + r.err, "webp.gltf: textures[0].source: images[0] is WebP"))
+      << r.out << r.err;
+  // A WebP data: URI that is not base64 is refused by name.
+  EXPECT_TRUE(refused(
+      runBounded({"info", writeTriangle(input("webp.gltf"),
+                                        [&](json& doc) {
+                                          longBuffer(doc);
+                                          doc["images"] = {{{"uri", "data:image/webp,RIFF"}}};
+                                        })
+                              .string()}),
+      "webp.gltf: images[0].uri: \"data:image/webp\": only base64 data: URIs "
+      "are supported"));
   // Quotes, backslashes and non-ASCII bytes around the cut points do not hide a forbidden value.
   std::string note;
   for (int i = 0; i < 40; ++i) note += "\"q\" \\ \u00e9 \xc3\xa9 ";

@@ -14,14 +14,13 @@ struct ImageExtension {
   const char* name;
   const char* format;
 };
-constexpr ImageExtension kImageExtensions[] = {{"KHR_texture_basisu", "KTX2"},
-                                               {"EXT_texture_webp", "WebP"},
-                                               {"EXT_texture_avif", "AVIF"},
-                                               {"MSFT_texture_dds", "DDS"}};
+constexpr ImageExtension kImageExtensions[] = {
+    {"KHR_texture_basisu", "KTX2"}, {"EXT_texture_avif", "AVIF"}, {"MSFT_texture_dds", "DDS"}};
+constexpr const char* kWebp = "EXT_texture_webp";
 
-// The image an image extension of `texture` names, or -1.
-int extensionSource(const tinygltf::Texture& texture, const ImageExtension& extension) {
-  const auto found = texture.extensions.find(extension.name);
+// The image a texture extension names (its `source`), or -1.
+int extensionSource(const tinygltf::Texture& texture, const char* extension) {
+  const auto found = texture.extensions.find(extension);
   if (found == texture.extensions.end() || !found->second.IsObject()) return -1;
   const tinygltf::Value& source = found->second.Get("source");
   return source.IsInt() ? source.GetNumberAsInt() : -1;
@@ -69,28 +68,45 @@ std::string firstUnsupportedRequired(const std::vector<std::string>& required) {
   return {};
 }
 
-std::vector<bool> imagesOnlyInExtensions(const Context& ctx) {
-  std::vector<bool> viaExtension(ctx.model.images.size(), false);
-  std::vector<bool> viaSource(ctx.model.images.size(), false);
+int drawnImage(const Context& ctx, std::size_t index) {
+  const tinygltf::Texture& texture = ctx.model.textures[index];
+  const auto webp = texture.extensions.find(kWebp);
+  if (webp == texture.extensions.end()) return texture.source;
+  const std::string object = at("textures", index) + ".extensions." + kWebp;
+  if (!webp->second.IsObject()) ctx.fail(object, "expected an object");
+  const tinygltf::Value& source = webp->second.Get("source");
+  if (!source.IsInt()) {
+    // The validator's "empty object". Without a core source either, convertTextures says so.
+    if (texture.source >= 0) ctx.warn(object + ": no source; the core source is drawn");
+    return texture.source;
+  }
+  ctx.checkIndex(object + ".source", "image", source.GetNumberAsInt(), ctx.model.images.size());
+  return source.GetNumberAsInt();
+}
+
+std::vector<bool> imagesNotDecoded(const Context& ctx) {
+  std::vector<bool> setAside(ctx.model.images.size(), false);
+  std::vector<bool> drawn(ctx.model.images.size(), false);
   const auto mark = [](std::vector<bool>& marks, int image) {
     if (image >= 0 && static_cast<std::size_t>(image) < marks.size())
       marks[static_cast<std::size_t>(image)] = true;
   };
   for (const tinygltf::Texture& texture : ctx.model.textures) {
-    mark(viaSource, texture.source);
+    const int webp = extensionSource(texture, kWebp);
+    mark(webp >= 0 ? setAside : drawn, texture.source);
+    mark(drawn, webp);
     for (const ImageExtension& extension : kImageExtensions)
-      mark(viaExtension, extensionSource(texture, extension));
+      mark(setAside, extensionSource(texture, extension.name));
   }
-  for (std::size_t i = 0; i < viaExtension.size(); ++i)
-    viaExtension[i] = viaExtension[i] && !viaSource[i];
-  return viaExtension;
+  for (std::size_t i = 0; i < setAside.size(); ++i) setAside[i] = setAside[i] && !drawn[i];
+  return setAside;
 }
 
 void requireFallbackSource(const Context& ctx, std::size_t index) {
   const tinygltf::Texture& texture = ctx.model.textures[index];
-  if (texture.source >= 0) return;
+  if (texture.source >= 0 || extensionSource(texture, kWebp) >= 0) return;
   for (const ImageExtension& extension : kImageExtensions) {
-    if (extensionSource(texture, extension) < 0) continue;
+    if (extensionSource(texture, extension.name) < 0) continue;
     ctx.fail(at("textures", index), std::string("its image is ") + extension.format + " (" +
                                         extension.name +
                                         "), which cannot be decoded, and it has no PNG or JPEG "

@@ -14,6 +14,7 @@
 #include "renderer/scene/jpeg_decoder.h"
 #include "renderer/scene/png_chunks.h"
 #include "renderer/scene/png_texture_decoder.h"
+#include "renderer/scene/webp_decoder.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -23,6 +24,10 @@ namespace {
 // file but 16 GiB once decoded, so the header is checked before anything is allocated.
 constexpr std::uint32_t kMaxImageSide = 32768;
 constexpr std::uint64_t kMaxImageTexels = std::uint64_t{1} << 28;  // 1 GiB of RGBA8
+// libwebp's lossless decoder keeps the picture twice (its ARGB rows beside the RGBA output),
+// and neither can be bounded by the data (see imageTooLarge): half the texels, so that a file
+// of a few bytes makes it reserve at most 1 GiB in all.
+constexpr std::uint64_t kMaxWebpTexels = kMaxImageTexels / 2;
 // Nor may a header claim more than its data can hold: stb_image allocates for the header before
 // it finds the data missing (a 400-byte JPEG can claim 16384 x 16384: 1 GiB, then decoded).
 // A PNG's unfiltered rows fit in kMaxDeflateExpansion bytes per byte of file; a JPEG codes
@@ -35,10 +40,10 @@ bool isJpeg(const unsigned char* b, std::size_t size) {
 
 }  // namespace
 
-// glTF images are PNG or JPEG, and only those reach stb_image: its other decoders would take
-// almost any bytes for a TGA (a format without a signature) of any size.
-bool isPngOrJpeg(const unsigned char* b, std::size_t size) {
-  return isPng(b, size) || isJpeg(b, size);
+// glTF images are PNG or JPEG (WebP through EXT_texture_webp), and only those reach a decoder:
+// stb_image's others would take almost any bytes for a TGA (a format without a signature).
+bool isDecodableImage(const unsigned char* b, std::size_t size) {
+  return isPng(b, size) || isJpeg(b, size) || isWebp(b, size);
 }
 
 namespace {
@@ -76,12 +81,13 @@ std::optional<std::pair<std::uint32_t, std::uint32_t>> jpegFrameSize(const unsig
 
 }  // namespace
 
-// Empty string when a PNG or JPEG may be decoded, else why not.
+// Empty string when a PNG, JPEG or WebP may be decoded, else why not.
 std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   std::uint32_t width = 0, height = 0;
   std::uint64_t rawBytes = 0;     // PNG: the unfiltered rows
   std::uint64_t neededBytes = 0;  // the least data that can hold the image
   std::string format;
+  std::uint64_t maxTexels = kMaxImageTexels;
   if (isPng(bytes, size)) {
     // IHDR, which stb requires first: width, height, bit depth, color type. Shorter files and
     // other color types fail in stb before it allocates.
@@ -105,14 +111,24 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
     neededBytes =
         (std::uint64_t{width} * height + kMaxJpegTexelsPerByte - 1) / kMaxJpegTexelsPerByte;
     format = "JPEG";
+  } else if (isWebp(bytes, size)) {
+    // No bound from the data: a lossless WebP of one color codes any number of texels in a few
+    // bytes. libwebp decodes into untouched memory of its own (webp_decoder.h).
+    const WebpHeader header = readWebpHeader(bytes, size);
+    if (!header.ok) return "no WebP header that can be decoded: " + header.error;
+    if (header.animated) return "an animated WebP (EXT_texture_webp takes still images)";
+    width = header.width;
+    height = header.height;
+    format = "WebP";
+    maxTexels = kMaxWebpTexels;
   } else {
     return {};
   }
   const std::string texels = std::to_string(width) + "x" + std::to_string(height) + " texels";
   if (width > kMaxImageSide || height > kMaxImageSide ||
-      std::uint64_t{width} * height > kMaxImageTexels) {
+      std::uint64_t{width} * height > maxTexels) {
     return texels + " is too large (at most " + std::to_string(kMaxImageSide) + " per side and " +
-           std::to_string(kMaxImageTexels) + " in all)";
+           std::to_string(maxTexels) + " in all" + (format == "WebP" ? " for WebP)" : ")");
   }
   // stb sizes its buffer for a PNG's rows with an int (16-bit RGBA at the limit overflows it).
   if (rawBytes > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
@@ -166,6 +182,15 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
       return false;
     }
   }
+  if (isWebp(bytes, length)) {
+    DecodedWebp webp = decodeWebp(bytes, length, kMaxImageSide, kMaxWebpTexels);
+    if (!webp.ok) {
+      if (error) *error += "cannot decode the WebP: " + webp.error + "\n";
+      return false;
+    }
+    setRgba8(*image, webp.width, webp.height, std::move(webp.rgba));
+    return true;
+  }
   // stb_image for every PNG the common-case decoder leaves: palettes, grey, 16 bits,
   // transparency chunks, interlacing, damaged data.
   DecodedPng png = decodePngTexture(bytes, length, kMaxImageSide, kMaxImageTexels);
@@ -183,8 +208,6 @@ bool isExtensionImageFormat(const unsigned char* b, std::size_t size) {
     return size >= at + length && std::memcmp(b + at, magic, length) == 0;
   };
   return startsWith(kKtx2, sizeof kKtx2, 0) ||
-         (startsWith(reinterpret_cast<const unsigned char*>("RIFF"), 4, 0) &&
-          startsWith(reinterpret_cast<const unsigned char*>("WEBP"), 4, 8)) ||
          startsWith(reinterpret_cast<const unsigned char*>("DDS "), 4, 0) ||
          startsWith(reinterpret_cast<const unsigned char*>("ftypavif"), 8, 4);
 }
@@ -200,11 +223,11 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
   // Left undecoded for the loader, which draws the texture's fallback source instead or names
   // the extension that brought the image (gltf_extension_policy).
   if (isExtensionImageFormat(bytes, length)) return true;
-  if (!isPngOrJpeg(bytes, length)) {
+  if (!isDecodableImage(bytes, length)) {
     // Worded like tinygltf's message for data stb cannot decode.
     if (error) {
       *error += "Unknown image format for image[" + std::to_string(index) +
-                "]: glTF images are PNG or JPEG\n";
+                "]: glTF images are PNG or JPEG (or WebP through EXT_texture_webp)\n";
     }
     return false;
   }
@@ -259,9 +282,10 @@ bool permitted(UriPolicy& policy, const std::string& filepath) {
     // tinygltf decodes the data: URIs it can (base64 of known types) before any lookup.
     const bool data = uri.starts_with("data:");
     if (policy.violation.empty()) {
-      policy.violation = "\"" + (uri.size() > 60 ? uri.substr(0, 60) + "..." : uri) + "\": " +
-                         (data ? "only base64 data: URIs of buffers, PNG and JPEG are supported"
-                               : "only data: URIs and relative file paths are supported");
+      policy.violation =
+          "\"" + (uri.size() > 60 ? uri.substr(0, 60) + "..." : uri) + "\": " +
+          (data ? "only base64 data: URIs of buffers, PNG, JPEG and WebP are supported"
+                : "only data: URIs and relative file paths are supported");
     }
     return false;
   }

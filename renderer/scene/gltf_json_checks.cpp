@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
+#include <initializer_list>
 #include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -195,30 +196,59 @@ class Reviewer {
     }
   }
 
-  // WebP (EXT_texture_webp) is not decoded. An image only the extension reaches is set aside
-  // (the texture's `source` is its PNG/JPEG fallback); one a `source` names is an error.
+  // WebP images (EXT_texture_webp). tinygltf takes a data: URI of image/webp for a file name,
+  // so the URI is retyped as octet-stream; its bytes are sniffed, not labelled. What the
+  // specification forbids but can still be drawn is drawn with a warning: a WebP image a
+  // core `source` names, WebP without the extension in extensionsUsed, and an extension
+  // `source` that names a PNG or JPEG.
   void webpImages(Json& root, JsonReview& review) {
     const auto images = root.find("images");
     if (images == root.end() || !images->is_array()) return;
+    const auto used = root.find("extensionsUsed");
+    const bool declared = used != root.end() && used->is_array() &&
+                          std::find(used->begin(), used->end(), kWebp) != used->end();
+    const auto imageNamed = [&](const Json& parent, std::size_t texture, const std::string& field) {
+      const auto source = parent.find("source");
+      if (source == parent.end() || !source->is_number_integer()) return;
+      const auto i = source->get<std::int64_t>();
+      if (i < 0 || std::uint64_t(i) >= images->size()) return;
+      const Json& image = (*images)[std::size_t(i)];
+      const std::string format = image.is_object() ? imageFormat(image) : "";
+      const bool viaExtension = field != ".source";
+      if (viaExtension == (format == "WebP") || format.empty()) return;
+      review.warnings.push_back(
+          at("textures", texture) + field + ": " + at("images", std::size_t(i)) + " is " + format +
+          (viaExtension ? ", not WebP; drawn as it is"
+                        : ", which only EXT_texture_webp may name; drawn as it is"));
+    };
+    eachObject(root, "textures", [&](std::size_t t, const Json& texture) {
+      imageNamed(texture, t, ".source");
+      const auto extensions = texture.find("extensions");
+      if (extensions == texture.end() || !extensions->is_object()) return;
+      const auto webp = extensions->find(kWebp);
+      if (webp != extensions->end() && webp->is_object())
+        imageNamed(*webp, t, std::string(".extensions.") + kWebp + ".source");
+    });
     for (std::size_t i = 0; i < images->size(); ++i) {
       Json& image = (*images)[i];
-      if (!image.is_object() || !isWebp(image)) continue;
-      eachObject(root, "textures", [&](std::size_t t, const Json& texture) {
-        const auto source = texture.find("source");
-        if (source != texture.end() && source->is_number_integer() &&
-            source->get<std::int64_t>() == std::int64_t(i)) {
-          fail(at("textures", t) + ".source",
-               at("images", i) +
-                   " is WebP, which is not supported (only through EXT_texture_webp "
-                   "with a PNG or JPEG source)");
-        }
-      });
-      Json placeholder{{"uri", kOnePixelPng}};
-      if (image.contains("name")) placeholder["name"] = image["name"];
-      image = std::move(placeholder);
-      review.warnings.push_back(at("images", i) +
-                                ": WebP (EXT_texture_webp) is not supported; textures use their "
-                                "PNG or JPEG source");
+      if (!image.is_object() || imageFormat(image) != "WebP") continue;
+      if (!declared) {
+        review.warnings.push_back(at("images", i) + ": WebP, but " + kWebp +
+                                  " is not in extensionsUsed; decoded as WebP");
+      }
+      const auto uri = image.find("uri");
+      if (uri == image.end() || !uri->is_string()) continue;
+      std::string text = uri->get<std::string>();
+      const std::size_t comma = text.find(',');
+      if (comma == std::string::npos ||
+          !lowercase(text.substr(0, comma)).starts_with("data:image/webp"))
+        continue;  // a file name, or a data: URI of another type that tinygltf decodes
+      if (lowercase(text.substr(0, comma)) != "data:image/webp;base64") {
+        fail(at("images", i) + ".uri", "\"" + text.substr(0, std::min<std::size_t>(comma, 60)) +
+                                           "\": only base64 data: URIs are supported");
+      }
+      text.replace(0, comma, "data:application/octet-stream;base64");
+      *uri = std::move(text);
       changed_ = true;
     }
   }
@@ -241,20 +271,34 @@ class Reviewer {
   }
 
  private:
-  static constexpr const char* kOnePixelPng =
-      "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVQYV2P4z/"
-      "AfAAQAAf+I0P3MAAAAAElFTkSuQmCC";
+  static constexpr const char* kWebp = "EXT_texture_webp";
 
-  static bool isWebp(const Json& image) {
+  static std::string lowercase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return text;
+  }
+
+  // "PNG", "JPEG" or "WebP" as the image's mimeType, data: URI or file name says, else "".
+  static std::string imageFormat(const Json& image) {
     const auto text = [&](const char* key) {
       const auto it = image.find(key);
-      return it != image.end() && it->is_string() ? it->get<std::string>() : std::string();
+      return it != image.end() && it->is_string() ? lowercase(it->get<std::string>())
+                                                  : std::string();
     };
-    std::string uri = text("uri");
-    std::transform(uri.begin(), uri.end(), uri.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return text("mimeType") == "image/webp" || uri.starts_with("data:image/webp") ||
-           (uri.size() > 5 && uri.ends_with(".webp"));
+    const std::string mime = text("mimeType"), uri = text("uri");
+    const auto is = [&](const char* type, std::initializer_list<const char*> suffixes) {
+      if (mime == std::string("image/") + type ||
+          uri.starts_with(std::string("data:image/") + type))
+        return true;
+      if (uri.starts_with("data:")) return false;
+      return std::any_of(suffixes.begin(), suffixes.end(),
+                         [&](const char* suffix) { return uri.ends_with(suffix); });
+    };
+    return is("webp", {".webp"})           ? "WebP"
+           : is("png", {".png"})           ? "PNG"
+           : is("jpeg", {".jpg", ".jpeg"}) ? "JPEG"
+                                           : "";
   }
 
   const std::string& file_;

@@ -25,7 +25,8 @@ struct JsonReview {
   // The JSON to hand to tinygltf: empty when the original can be used as it is.
   std::string rewritten;
   std::vector<HiddenIndices> hiddenIndices;
-  // What was set aside (a placeholder buffer, a WebP image with a fallback), without the file.
+  // What was set aside or drawn against the specification (a placeholder buffer, a WebP image
+  // a core source names), without the file.
   std::vector<std::string> warnings;
 };
 

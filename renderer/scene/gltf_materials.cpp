@@ -42,8 +42,10 @@ std::pair<const unsigned char*, std::size_t> bufferViewImageBytes(const Context&
 tinygltf::Image decodeImageBytes(const Context& ctx, std::size_t index, const std::string& object,
                                  const unsigned char* bytes, std::size_t length,
                                  std::vector<std::string>& warnings) {
-  if (!isPngOrJpeg(bytes, length)) {
-    ctx.fail(object, "unknown image format: glTF images are PNG or JPEG");
+  if (!isDecodableImage(bytes, length)) {
+    ctx.fail(object,
+             "unknown image format: glTF images are PNG or JPEG (or WebP through "
+             "EXT_texture_webp)");
   }
   if (const std::string why = imageTooLarge(bytes, length); !why.empty()) ctx.fail(object, why);
   tinygltf::Image decoded;
@@ -160,7 +162,7 @@ std::vector<std::uint8_t> toRgba8(const Context& ctx, const tinygltf::Image& dec
 }  // namespace
 
 void convertImages(Context& ctx) {
-  const std::vector<bool> undecoded = imagesOnlyInExtensions(ctx);
+  const std::vector<bool> undecoded = imagesNotDecoded(ctx);
   std::vector<std::string> names, objects;
   for (std::size_t i = 0; i < ctx.model.images.size(); ++i) {
     const tinygltf::Image& source = ctx.model.images[i];
@@ -177,7 +179,8 @@ void convertImages(Context& ctx) {
     Image image;
     image.name = names[i];
     if (undecoded[i]) {
-      // KTX2 and the like: textures draw their fallback source; an empty image keeps indices.
+      // KTX2 and the like (textures draw their fallback source), or the fallback of a WebP:
+      // an empty image keeps the indices.
       ctx.scene.images.push_back(std::move(image));
       continue;
     }
@@ -211,9 +214,9 @@ void convertTextures(Context& ctx) {
     const std::string object = at("textures", i);
     Texture texture;
     requireFallbackSource(ctx, i);
-    if (source.source >= 0) {
-      ctx.checkIndex(object, "image", source.source, ctx.model.images.size());
-      texture.image = source.source;
+    if (const int image = drawnImage(ctx, i); image >= 0) {
+      ctx.checkIndex(object, "image", image, ctx.model.images.size());
+      texture.image = image;
     } else {
       // No core image, and no image extension we know of (those fail above).
       ctx.warn(object + ": no image in a supported format; the texture is ignored");

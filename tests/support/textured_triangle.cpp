@@ -2,11 +2,32 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "scenes/builder/gltf_builder.h"
 
 namespace omnishadow::test_support {
+
+namespace {
+
+std::string base64(const std::vector<unsigned char>& bytes) {
+  static constexpr char kDigits[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t left = std::min<std::size_t>(3, bytes.size() - i);
+    std::uint32_t group = std::uint32_t{bytes[i]} << 16;
+    if (left > 1) group |= std::uint32_t{bytes[i + 1]} << 8;
+    if (left > 2) group |= bytes[i + 2];
+    for (std::size_t k = 0; k < 4; ++k)
+      out += k <= left ? kDigits[(group >> (18 - 6 * k)) & 63] : '=';
+  }
+  return out;
+}
+
+}  // namespace
 
 std::filesystem::path writeTexturedTriangle(const std::filesystem::path& folder,
                                             const std::vector<SceneImage>& images,
@@ -31,14 +52,32 @@ std::filesystem::path writeTexturedTriangle(const std::filesystem::path& folder,
           .write(reinterpret_cast<const char*>(image.bytes.data()),
                  static_cast<std::streamsize>(image.bytes.size()));
     }
+    const int index = static_cast<int>(model.images.size());
     tinygltf::Texture texture;
-    texture.source = static_cast<int>(model.images.size());
+    if (image.viaExtension.empty()) {
+      texture.source = index;
+    } else {
+      tinygltf::Value::Object extension{{"source", tinygltf::Value(index)}};
+      texture.extensions[image.viaExtension] = tinygltf::Value(std::move(extension));
+      for (auto* list : {&model.extensionsUsed, &model.extensionsRequired})
+        if (std::find(list->begin(), list->end(), image.viaExtension) == list->end())
+          list->push_back(image.viaExtension);
+    }
     model.images.push_back(source);
     model.textures.push_back(texture);
   }
   const bool glb = storage == ImageStorage::BufferView;
   const std::filesystem::path path = folder / (stem + (glb ? ".glb" : ".gltf"));
   builder.write(path, glb ? builder::FileFormat::Glb : builder::FileFormat::GltfExternal);
+  if (storage == ImageStorage::DataUri) {
+    // The files written above become data: URIs (tinygltf writes only PNG and JPEG ones).
+    nlohmann::json doc = nlohmann::json::parse(std::ifstream(path));
+    for (std::size_t i = 0; i < images.size(); ++i) {
+      doc["images"][i]["uri"] = "data:" + images[i].mimeType + ";base64," + base64(images[i].bytes);
+      std::filesystem::remove(folder / images[i].fileName);
+    }
+    std::ofstream(path) << doc.dump();
+  }
   return path;
 }
 
