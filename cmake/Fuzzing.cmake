@@ -49,6 +49,7 @@ omnishadow_fuzzer(fuzz_gltf tests/fuzz/fuzz_gltf.cpp ${omnishadow_fuzz_scene_sou
 # loader.
 target_link_libraries(fuzz_gltf PRIVATE TinyGLTF::TinyGLTF meshoptimizer::meshoptimizer
   PkgConfig::turbojpeg PkgConfig::libdeflate PkgConfig::libwebp)
+target_compile_definitions(fuzz_gltf PRIVATE OMNISHADOW_LIBAVIF_SONAME="${OMNISHADOW_LIBAVIF_SONAME}")
 
 # The manifest reader and the job checks are instrumented; what they call of the renderer's
 # libraries (nothing renders) is linked uninstrumented.

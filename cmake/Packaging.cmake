@@ -37,6 +37,8 @@ set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # glvnd's libEGL, which the binary links, needs a vendor library to find a device; Mesa's
 # provides the software device, so that the package renders on any machine.
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "libegl-mesa0 | libegl-vendor, libgl1-mesa-dri")
+# libavif is loaded when a scene has AVIF textures (dlopen, which dpkg-shlibdeps cannot see).
+set(CPACK_DEBIAN_PACKAGE_DEPENDS
+    "libegl-mesa0 | libegl-vendor, libgl1-mesa-dri, ${OMNISHADOW_LIBAVIF_PACKAGE}")
 set(CPACK_STRIP_FILES ON)
 include(CPack)

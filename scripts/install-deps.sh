@@ -13,8 +13,8 @@ packages=(
   libgtest-dev
   # PNG and EXR without OpenImageIO on the start-up path (OpenImageIO is a plugin for the rest)
   libpng-dev libdeflate-dev
-  # JPEG and WebP textures
-  libturbojpeg0-dev libwebp-dev
+  # JPEG, WebP and AVIF textures
+  libturbojpeg0-dev libwebp-dev libavif-dev
   # digests of the textures kept between renders (the header, compiled in)
   libxxhash-dev
   # compressed glTF geometry (KHR_draco_mesh_compression, EXT/KHR_meshopt_compression)

@@ -1516,8 +1516,8 @@ TEST_F(GltfLoaderTest, ImagesClaimingMoreThanTheirDataAreRefusedBeforeDecoding) 
   std::vector<unsigned char> tga = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x40, 0, 0x40, 32, 0};
   tga.resize(400, 0);
   EXPECT_EQ(loadWith(tga), object +
-                               "unknown image format: glTF images are PNG or JPEG (or WebP through "
-                               "EXT_texture_webp)");
+                               "unknown image format: glTF images are PNG or JPEG (or WebP and "
+                               "AVIF through their extensions)");
 
   // The same checks for images read from files (and data: URIs).
   GltfBuilder external;
@@ -1530,7 +1530,7 @@ TEST_F(GltfLoaderTest, ImagesClaimingMoreThanTheirDataAreRefusedBeforeDecoding) 
   EXPECT_EQ(inputError([&] { loadGltf(scene); }),
             scene.string() +
                 ": Unknown image format for image[0]: glTF images are PNG or JPEG (or WebP "
-                "through EXT_texture_webp)");
+                "and AVIF through their extensions)");
   const std::vector<unsigned char> png = pngClaiming(16384, 16384, 8);
   std::ofstream(path("scene_image0.png"), std::ios::binary)
       .write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));

@@ -11,14 +11,13 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "renderer/scene/gltf_loader.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/cli_fixture.h"
+#include "tests/support/extension_textures.h"
 #include "tests/support/input_error.h"
 #include "tests/support/temp_folder.h"
 #include "tests/support/textured_triangle.h"
@@ -30,23 +29,8 @@ using test_support::ImageStorage;
 using test_support::inputError;
 using test_support::TempFolder;
 namespace fs = std::filesystem;
-using json = nlohmann::json;
 
 constexpr const char* kWebp = "EXT_texture_webp";
-
-// A smooth picture with a distinct color in each corner and an alpha ramp, so that a flip, a
-// swapped channel or premultiplied output shows.
-std::vector<std::uint8_t> cornersPicture(int width, int height) {
-  std::vector<std::uint8_t> rgba;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      rgba.push_back(static_cast<std::uint8_t>(20 + 200 * x / (width - 1)));
-      rgba.push_back(static_cast<std::uint8_t>(30 + 190 * y / (height - 1)));
-      rgba.push_back(static_cast<std::uint8_t>(40 + 100 * (x + y) / (width + height - 2)));
-      rgba.push_back(static_cast<std::uint8_t>(255 - 200 * y / (height - 1)));
-    }
-  return rgba;
-}
 
 enum class Coding { Lossless, Lossy };
 
@@ -76,19 +60,9 @@ test_support::SceneImage webpImage(std::vector<unsigned char> bytes) {
   return {std::move(bytes), "leaf", "image/webp", "leaf.webp", kWebp};
 }
 
-int largestDifference(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b,
-                      int firstChannel, int channels) {
-  EXPECT_EQ(a.size(), b.size());
-  int largest = 0;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); i += 4)
-    for (int c = firstChannel; c < firstChannel + channels; ++c)
-      largest = std::max(largest, std::abs(int(a[i + c]) - int(b[i + c])));
-  return largest;
-}
-
 TEST(WebpTexture, LosslessWebpDecodesToTheSourceTexelsFromABufferViewAFileOrADataUri) {
   constexpr int kWidth = 37, kHeight = 23;
-  const std::vector<std::uint8_t> source = cornersPicture(kWidth, kHeight);
+  const std::vector<std::uint8_t> source = test_support::cornersPictureRgba(kWidth, kHeight);
   const std::vector<unsigned char> webp = encodeWebp(kWidth, kHeight, source, Coding::Lossless);
   for (ImageStorage storage :
        {ImageStorage::BufferView, ImageStorage::File, ImageStorage::DataUri}) {
@@ -109,14 +83,14 @@ TEST(WebpTexture, LosslessWebpDecodesToTheSourceTexelsFromABufferViewAFileOrADat
 // Lossy WebP codes color in 4:2:0 YUV, but its alpha losslessly (libwebp's default).
 TEST(WebpTexture, LossyWebpIsWithinAFewStepsOfTheSourceAndKeepsItsAlphaExactly) {
   constexpr int kWidth = 64, kHeight = 48;
-  const std::vector<std::uint8_t> source = cornersPicture(kWidth, kHeight);
+  const std::vector<std::uint8_t> source = test_support::cornersPictureRgba(kWidth, kHeight);
   TempFolder folder("webp");
   const Scene scene = loadGltf(test_support::writeTexturedTriangle(
       folder.path(), {webpImage(encodeWebp(kWidth, kHeight, source, Coding::Lossy))},
       ImageStorage::BufferView));
   const Image& image = scene.images.at(0);
-  EXPECT_LE(largestDifference(image.rgba, source, 0, 3), 6);
-  EXPECT_EQ(largestDifference(image.rgba, source, 3, 1), 0);
+  EXPECT_LE(test_support::largestChannelDifference(image.rgba, source, 0, 3), 6);
+  EXPECT_EQ(test_support::largestChannelDifference(image.rgba, source, 3, 1), 0);
   EXPECT_NE(image.rgba, source) << "lossless bytes from a lossy file: was it decoded?";
 }
 
@@ -148,7 +122,8 @@ TEST(WebpTexture, TheWebpIsDrawnAndItsPngFallbackIsNotDecoded) {
 }
 
 TEST(WebpTexture, ADamagedWebpIsAnInputErrorNamingTheImage) {
-  std::vector<unsigned char> webp = encodeWebp(64, 64, cornersPicture(64, 64), Coding::Lossy);
+  std::vector<unsigned char> webp =
+      encodeWebp(64, 64, test_support::cornersPictureRgba(64, 64), Coding::Lossy);
   webp.resize(webp.size() * 2 / 3);
   for (ImageStorage storage : {ImageStorage::BufferView, ImageStorage::File}) {
     TempFolder folder("webp");
@@ -242,32 +217,15 @@ class WebpSceneTest : public test_support::CliFixture {
 TEST_F(WebpSceneTest, ABoxSceneWithWebpTexturesRendersThePictureOfItsPngTwin) {
   const fs::path png = input("png/scene.gltf");
   test_support::writeBoxScene(png, {.format = builder::FileFormat::GltfEmbedded});
-  const Scene scene = loadGltf(png);
-  ASSERT_FALSE(scene.images.empty());
-  json doc = json::parse(std::ifstream(png));
-  for (std::size_t i = 0; i < scene.images.size(); ++i) {
-    const Image& image = scene.images[i];
-    const std::string name = "texture" + std::to_string(i) + ".webp";
-    const std::vector<unsigned char> webp =
-        encodeWebp(image.width, image.height, image.rgba, Coding::Lossless);
-    fs::create_directories(input("webp"));
-    std::ofstream(input("webp/" + name), std::ios::binary)
-        .write(reinterpret_cast<const char*>(webp.data()), std::streamsize(webp.size()));
-    doc["images"][i] = {{"uri", name}};
-  }
-  for (json& texture : doc["textures"]) {
-    texture["extensions"][kWebp]["source"] = texture["source"];
-    texture.erase("source");
-  }
-  doc["extensionsUsed"].push_back(kWebp);
-  doc["extensionsRequired"].push_back(kWebp);
-  std::ofstream(input("webp/scene.gltf")) << doc.dump();
-
+  const fs::path webp =
+      test_support::withTexturesThrough(png, input("webp"), kWebp, "webp", [](const Image& image) {
+        return encodeWebp(image.width, image.height, image.rgba, Coding::Lossless);
+      });
   const Run fromPng =
-      run({"render", in("png/scene.gltf"), "-o", "png.png", "--width", "96", "--height", "64"});
+      run({"render", png.string(), "-o", "png.png", "--width", "96", "--height", "64"});
   ASSERT_EQ(fromPng.status, 0) << fromPng.err;
   const Run fromWebp =
-      run({"render", in("webp/scene.gltf"), "-o", "webp.png", "--width", "96", "--height", "64"});
+      run({"render", webp.string(), "-o", "webp.png", "--width", "96", "--height", "64"});
   ASSERT_EQ(fromWebp.status, 0) << fromWebp.err;
   EXPECT_EQ(fromWebp.err, "") << "no warning for a valid file";
   EXPECT_TRUE(test_support::sameBytes(output("png.png"), output("webp.png")));

@@ -14,9 +14,11 @@ struct ImageExtension {
   const char* name;
   const char* format;
 };
-constexpr ImageExtension kImageExtensions[] = {
-    {"KHR_texture_basisu", "KTX2"}, {"EXT_texture_avif", "AVIF"}, {"MSFT_texture_dds", "DDS"}};
-constexpr const char* kWebp = "EXT_texture_webp";
+constexpr ImageExtension kImageExtensions[] = {{"KHR_texture_basisu", "KTX2"},
+                                               {"MSFT_texture_dds", "DDS"}};
+// Texture extensions whose images are decoded (avif_decoder, webp_decoder): a texture draws the
+// first of them it has, before its core source.
+constexpr const char* kDrawnImageExtensions[] = {"EXT_texture_avif", "EXT_texture_webp"};
 
 // The image a texture extension names (its `source`), or -1.
 int extensionSource(const tinygltf::Texture& texture, const char* extension) {
@@ -70,18 +72,21 @@ std::string firstUnsupportedRequired(const std::vector<std::string>& required) {
 
 int drawnImage(const Context& ctx, std::size_t index) {
   const tinygltf::Texture& texture = ctx.model.textures[index];
-  const auto webp = texture.extensions.find(kWebp);
-  if (webp == texture.extensions.end()) return texture.source;
-  const std::string object = at("textures", index) + ".extensions." + kWebp;
-  if (!webp->second.IsObject()) ctx.fail(object, "expected an object");
-  const tinygltf::Value& source = webp->second.Get("source");
-  if (!source.IsInt()) {
-    // The validator's "empty object". Without a core source either, convertTextures says so.
-    if (texture.source >= 0) ctx.warn(object + ": no source; the core source is drawn");
-    return texture.source;
+  for (const char* name : kDrawnImageExtensions) {
+    const auto extension = texture.extensions.find(name);
+    if (extension == texture.extensions.end()) continue;
+    const std::string object = at("textures", index) + ".extensions." + name;
+    if (!extension->second.IsObject()) ctx.fail(object, "expected an object");
+    const tinygltf::Value& source = extension->second.Get("source");
+    if (!source.IsInt()) {
+      // The validator's "empty object". Without a core source either, convertTextures says so.
+      if (texture.source >= 0) ctx.warn(object + ": no source; the core source is drawn");
+      continue;
+    }
+    ctx.checkIndex(object + ".source", "image", source.GetNumberAsInt(), ctx.model.images.size());
+    return source.GetNumberAsInt();
   }
-  ctx.checkIndex(object + ".source", "image", source.GetNumberAsInt(), ctx.model.images.size());
-  return source.GetNumberAsInt();
+  return texture.source;
 }
 
 std::vector<bool> imagesNotDecoded(const Context& ctx) {
@@ -92,9 +97,17 @@ std::vector<bool> imagesNotDecoded(const Context& ctx) {
       marks[static_cast<std::size_t>(image)] = true;
   };
   for (const tinygltf::Texture& texture : ctx.model.textures) {
-    const int webp = extensionSource(texture, kWebp);
-    mark(webp >= 0 ? setAside : drawn, texture.source);
-    mark(drawn, webp);
+    // As drawnImage chooses, without its checks (made when the textures are converted).
+    int chosen = -1;
+    for (const char* name : kDrawnImageExtensions) {
+      const int image = extensionSource(texture, name);
+      if (chosen < 0)
+        chosen = image;
+      else
+        mark(setAside, image);
+    }
+    if (chosen >= 0) mark(setAside, texture.source);
+    mark(drawn, chosen >= 0 ? chosen : texture.source);
     for (const ImageExtension& extension : kImageExtensions)
       mark(setAside, extensionSource(texture, extension.name));
   }
@@ -104,7 +117,9 @@ std::vector<bool> imagesNotDecoded(const Context& ctx) {
 
 void requireFallbackSource(const Context& ctx, std::size_t index) {
   const tinygltf::Texture& texture = ctx.model.textures[index];
-  if (texture.source >= 0 || extensionSource(texture, kWebp) >= 0) return;
+  if (texture.source >= 0) return;
+  for (const char* name : kDrawnImageExtensions)
+    if (extensionSource(texture, name) >= 0) return;
   for (const ImageExtension& extension : kImageExtensions) {
     if (extensionSource(texture, extension.name) < 0) continue;
     ctx.fail(at("textures", index), std::string("its image is ") + extension.format + " (" +

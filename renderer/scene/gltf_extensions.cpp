@@ -20,7 +20,7 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_materials_pbrSpecularGlossiness", Supported, ""},
     {"KHR_texture_basisu", FallbackOnly, "the textures' PNG/JPEG fallback images"},
     {"EXT_texture_webp", Supported, ""},  // decoded with libwebp (webp_decoder)
-    {"EXT_texture_avif", FallbackOnly, "the textures' PNG/JPEG fallback images"},
+    {"EXT_texture_avif", Supported, ""},  // decoded with libavif, loaded on first use
     {"MSFT_texture_dds", FallbackOnly, "the textures' PNG/JPEG fallback images"},
     // Geometry: decoded by gltf_draco and gltf_meshopt, dequantized by the accessor reader,
     // instances expanded by gltf_instancing.

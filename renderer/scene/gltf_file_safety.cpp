@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "renderer/core/input_file.h"
+#include "renderer/scene/avif_decoder.h"
 #include "renderer/scene/gltf_context.h"
 #include "renderer/scene/jpeg_decoder.h"
 #include "renderer/scene/png_chunks.h"
@@ -40,10 +41,11 @@ bool isJpeg(const unsigned char* b, std::size_t size) {
 
 }  // namespace
 
-// glTF images are PNG or JPEG (WebP through EXT_texture_webp), and only those reach a decoder:
-// stb_image's others would take almost any bytes for a TGA (a format without a signature).
+// glTF images are PNG or JPEG (WebP and AVIF through their extensions), and only those reach a
+// decoder: stb_image's others would take almost any bytes for a TGA (a format without a
+// signature).
 bool isDecodableImage(const unsigned char* b, std::size_t size) {
-  return isPng(b, size) || isJpeg(b, size) || isWebp(b, size);
+  return isPng(b, size) || isJpeg(b, size) || isWebp(b, size) || isAvif(b, size);
 }
 
 namespace {
@@ -81,7 +83,7 @@ std::optional<std::pair<std::uint32_t, std::uint32_t>> jpegFrameSize(const unsig
 
 }  // namespace
 
-// Empty string when a PNG, JPEG or WebP may be decoded, else why not.
+// Empty string when a PNG, JPEG, WebP or AVIF may be decoded, else why not.
 std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   std::uint32_t width = 0, height = 0;
   std::uint64_t rawBytes = 0;     // PNG: the unfiltered rows
@@ -121,6 +123,15 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
     height = header.height;
     format = "WebP";
     maxTexels = kMaxWebpTexels;
+  } else if (isAvif(bytes, size)) {
+    // Nor for AVIF; libavif reads the container's size (ispe) without decoding, and is given
+    // the limits again to pass on to the AV1 decoder.
+    const AvifHeader header = readAvifHeader(bytes, size);
+    if (!header.ok) return "cannot read the AVIF: " + header.error;
+    if (header.animated) return "an AVIF image sequence (EXT_texture_avif takes still images)";
+    width = header.width;
+    height = header.height;
+    format = "AVIF";
   } else {
     return {};
   }
@@ -182,6 +193,15 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
       return false;
     }
   }
+  if (isAvif(bytes, length)) {
+    DecodedAvif avif = decodeAvif(bytes, length, kMaxImageSide, kMaxImageTexels);
+    if (!avif.ok) {
+      if (error) *error += "cannot decode the AVIF: " + avif.error + "\n";
+      return false;
+    }
+    setRgba8(*image, avif.width, avif.height, std::move(avif.rgba));
+    return true;
+  }
   if (isWebp(bytes, length)) {
     DecodedWebp webp = decodeWebp(bytes, length, kMaxImageSide, kMaxWebpTexels);
     if (!webp.ok) {
@@ -208,8 +228,7 @@ bool isExtensionImageFormat(const unsigned char* b, std::size_t size) {
     return size >= at + length && std::memcmp(b + at, magic, length) == 0;
   };
   return startsWith(kKtx2, sizeof kKtx2, 0) ||
-         startsWith(reinterpret_cast<const unsigned char*>("DDS "), 4, 0) ||
-         startsWith(reinterpret_cast<const unsigned char*>("ftypavif"), 8, 4);
+         startsWith(reinterpret_cast<const unsigned char*>("DDS "), 4, 0);
 }
 
 // tinygltf 2.7 hands an image stored in a bufferView to the decoder without checking that the
@@ -227,7 +246,7 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
     // Worded like tinygltf's message for data stb cannot decode.
     if (error) {
       *error += "Unknown image format for image[" + std::to_string(index) +
-                "]: glTF images are PNG or JPEG (or WebP through EXT_texture_webp)\n";
+                "]: glTF images are PNG or JPEG (or WebP and AVIF through their extensions)\n";
     }
     return false;
   }
@@ -284,7 +303,7 @@ bool permitted(UriPolicy& policy, const std::string& filepath) {
     if (policy.violation.empty()) {
       policy.violation =
           "\"" + (uri.size() > 60 ? uri.substr(0, 60) + "..." : uri) + "\": " +
-          (data ? "only base64 data: URIs of buffers, PNG, JPEG and WebP are supported"
+          (data ? "only base64 data: URIs of buffers, PNG, JPEG, WebP and AVIF are supported"
                 : "only data: URIs and relative file paths are supported");
     }
     return false;

@@ -10,23 +10,24 @@
 
 namespace omnishadow::gltf_detail {
 
-// glTF images are PNG or JPEG (WebP through EXT_texture_webp), and only those reach a decoder:
-// stb_image's others would take almost any bytes for a TGA (a format without a signature).
+// glTF images are PNG or JPEG (WebP and AVIF through their extensions), and only those reach a
+// decoder: stb_image's others would take almost any bytes for a TGA (a format without a
+// signature).
 bool isDecodableImage(const unsigned char* b, std::size_t size);
 
-// KTX2, DDS or AVIF: formats that only texture extensions (KHR_texture_basisu,
-// MSFT_texture_dds, EXT_texture_avif) bring, which the loader never decodes.
+// KTX2 or DDS: formats that only texture extensions (KHR_texture_basisu, MSFT_texture_dds)
+// bring, which the loader never decodes.
 bool isExtensionImageFormat(const unsigned char* b, std::size_t size);
 
-// Empty string when a PNG, JPEG or WebP may be decoded, else why not.
+// Empty string when a PNG, JPEG, WebP or AVIF may be decoded, else why not.
 std::string imageTooLarge(const unsigned char* bytes, std::size_t size);
 
-// Decodes a PNG, JPEG or WebP that passed the checks above into `image`, as
+// Decodes a PNG, JPEG, WebP or AVIF that passed the checks above into `image`, as
 // tinygltf::LoadImageData would (width, height, component, bits, pixel_type, image): JPEG with
 // libjpeg-turbo, and with stb_image (tinygltf's decoder) the CMYK JPEGs libjpeg-turbo does not
-// turn into RGB; PNG with libdeflate or stb_image; WebP with libwebp. Damaged JPEG data that still
-// gives a picture adds a line to `warning`; a JPEG libjpeg-turbo refuses is an error, not tried
-// again with stb_image.
+// turn into RGB; PNG with libdeflate or stb_image; WebP with libwebp; AVIF with libavif. Damaged
+// JPEG data that still gives a picture adds a line to `warning`; a JPEG libjpeg-turbo refuses is an
+// error, not tried again with stb_image.
 bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
                  const unsigned char* bytes, int size);
 

@@ -196,54 +196,66 @@ class Reviewer {
     }
   }
 
-  // WebP images (EXT_texture_webp). tinygltf takes a data: URI of image/webp for a file name,
-  // so the URI is retyped as octet-stream; its bytes are sniffed, not labelled. What the
-  // specification forbids but can still be drawn is drawn with a warning: a WebP image a
-  // core `source` names, WebP without the extension in extensionsUsed, and an extension
-  // `source` that names a PNG or JPEG.
-  void webpImages(Json& root, JsonReview& review) {
+  // WebP and AVIF images (EXT_texture_webp, EXT_texture_avif). tinygltf takes a data: URI of
+  // either for a file name, so the URI is retyped as octet-stream; its bytes are sniffed, not
+  // labelled. What the specifications forbid but can still be drawn is drawn with a warning: such
+  // an image that a core `source` names, one without its extension in extensionsUsed, and an
+  // extension `source` that names an image of another format.
+  void extensionImages(Json& root, JsonReview& review) {
     const auto images = root.find("images");
     if (images == root.end() || !images->is_array()) return;
     const auto used = root.find("extensionsUsed");
-    const bool declared = used != root.end() && used->is_array() &&
-                          std::find(used->begin(), used->end(), kWebp) != used->end();
-    const auto imageNamed = [&](const Json& parent, std::size_t texture, const std::string& field) {
+    const auto declared = [&](const char* extension) {
+      return used != root.end() && used->is_array() &&
+             std::find(used->begin(), used->end(), extension) != used->end();
+    };
+    // `expected`: the format the naming field may name ("" for a core source: PNG or JPEG).
+    const auto imageNamed = [&](const Json& parent, std::size_t texture, const std::string& field,
+                                const std::string& expected) {
       const auto source = parent.find("source");
       if (source == parent.end() || !source->is_number_integer()) return;
       const auto i = source->get<std::int64_t>();
       if (i < 0 || std::uint64_t(i) >= images->size()) return;
       const Json& image = (*images)[std::size_t(i)];
       const std::string format = image.is_object() ? imageFormat(image) : "";
-      const bool viaExtension = field != ".source";
-      if (viaExtension == (format == "WebP") || format.empty()) return;
+      if (format.empty() || format == expected) return;
+      const char* extension = extensionOf(format);
+      if (expected.empty() && !extension) return;  // PNG or JPEG from a core source
       review.warnings.push_back(
           at("textures", texture) + field + ": " + at("images", std::size_t(i)) + " is " + format +
-          (viaExtension ? ", not WebP; drawn as it is"
-                        : ", which only EXT_texture_webp may name; drawn as it is"));
+          (expected.empty() ? std::string(", which only ") + extension + " may name"
+                            : ", not " + expected) +
+          "; drawn as it is");
     };
     eachObject(root, "textures", [&](std::size_t t, const Json& texture) {
-      imageNamed(texture, t, ".source");
+      imageNamed(texture, t, ".source", "");
       const auto extensions = texture.find("extensions");
       if (extensions == texture.end() || !extensions->is_object()) return;
-      const auto webp = extensions->find(kWebp);
-      if (webp != extensions->end() && webp->is_object())
-        imageNamed(*webp, t, std::string(".extensions.") + kWebp + ".source");
+      for (const char* format : {"WebP", "AVIF"}) {
+        const auto named = extensions->find(extensionOf(format));
+        if (named != extensions->end() && named->is_object())
+          imageNamed(*named, t, std::string(".extensions.") + extensionOf(format) + ".source",
+                     format);
+      }
     });
     for (std::size_t i = 0; i < images->size(); ++i) {
       Json& image = (*images)[i];
-      if (!image.is_object() || imageFormat(image) != "WebP") continue;
-      if (!declared) {
-        review.warnings.push_back(at("images", i) + ": WebP, but " + kWebp +
-                                  " is not in extensionsUsed; decoded as WebP");
+      if (!image.is_object()) continue;
+      const std::string format = imageFormat(image);
+      const char* extension = extensionOf(format);
+      if (!extension) continue;
+      if (!declared(extension)) {
+        review.warnings.push_back(at("images", i) + ": " + format + ", but " + extension +
+                                  " is not in extensionsUsed; decoded as " + format);
       }
       const auto uri = image.find("uri");
       if (uri == image.end() || !uri->is_string()) continue;
       std::string text = uri->get<std::string>();
       const std::size_t comma = text.find(',');
-      if (comma == std::string::npos ||
-          !lowercase(text.substr(0, comma)).starts_with("data:image/webp"))
+      const std::string type = "data:image/" + lowercase(format);
+      if (comma == std::string::npos || !lowercase(text.substr(0, comma)).starts_with(type))
         continue;  // a file name, or a data: URI of another type that tinygltf decodes
-      if (lowercase(text.substr(0, comma)) != "data:image/webp;base64") {
+      if (lowercase(text.substr(0, comma)) != type + ";base64") {
         fail(at("images", i) + ".uri", "\"" + text.substr(0, std::min<std::size_t>(comma, 60)) +
                                            "\": only base64 data: URIs are supported");
       }
@@ -271,7 +283,11 @@ class Reviewer {
   }
 
  private:
-  static constexpr const char* kWebp = "EXT_texture_webp";
+  // The extension through which images of `format` (as imageFormat names it) reach textures;
+  // nullptr for the core formats.
+  static const char* extensionOf(const std::string& format) {
+    return format == "WebP" ? "EXT_texture_webp" : format == "AVIF" ? "EXT_texture_avif" : nullptr;
+  }
 
   static std::string lowercase(std::string text) {
     std::transform(text.begin(), text.end(), text.begin(),
@@ -279,7 +295,8 @@ class Reviewer {
     return text;
   }
 
-  // "PNG", "JPEG" or "WebP" as the image's mimeType, data: URI or file name says, else "".
+  // "PNG", "JPEG", "WebP" or "AVIF" as the image's mimeType, data: URI or file name says, else
+  // "".
   static std::string imageFormat(const Json& image) {
     const auto text = [&](const char* key) {
       const auto it = image.find(key);
@@ -296,6 +313,7 @@ class Reviewer {
                          [&](const char* suffix) { return uri.ends_with(suffix); });
     };
     return is("webp", {".webp"})           ? "WebP"
+           : is("avif", {".avif"})         ? "AVIF"
            : is("png", {".png"})           ? "PNG"
            : is("jpeg", {".jpg", ".jpeg"}) ? "JPEG"
                                            : "";
@@ -362,7 +380,7 @@ bool review(std::string_view json, const std::string& file, bool binary, bool re
   reviewer.lights(root);
   reviewer.meshes(root, review);
   reviewer.placeholderBuffers(root, binary, review);
-  reviewer.webpImages(root, review);
+  reviewer.extensionImages(root, review);
   const bool changed = !review.hiddenIndices.empty() || reviewer.changed();
   if (changed && rewrite) review.rewritten = root.dump();
   return changed;

@@ -3,7 +3,7 @@
 // light range from 0, reports a bad required field without naming its object ("'count'
 // property is not a positive integer."), and refuses what glTF allows: an index accessor
 // without a bufferView (all zeros), a buffer without a uri that nothing uses (a placeholder),
-// a WebP image that textures only reach through EXT_texture_webp (they have a PNG/JPEG source).
+// a WebP or AVIF image in a data: URI (which tinygltf takes for a file name).
 #pragma once
 
 #include <tiny_gltf.h>

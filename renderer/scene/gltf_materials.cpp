@@ -44,8 +44,8 @@ tinygltf::Image decodeImageBytes(const Context& ctx, std::size_t index, const st
                                  std::vector<std::string>& warnings) {
   if (!isDecodableImage(bytes, length)) {
     ctx.fail(object,
-             "unknown image format: glTF images are PNG or JPEG (or WebP through "
-             "EXT_texture_webp)");
+             "unknown image format: glTF images are PNG or JPEG (or WebP and AVIF through "
+             "their extensions)");
   }
   if (const std::string why = imageTooLarge(bytes, length); !why.empty()) ctx.fail(object, why);
   tinygltf::Image decoded;
