@@ -262,8 +262,15 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
     image->as_is = true;
     return true;
   }
-  std::string damaged;
-  if (!decodeImage(image, index, error, &damaged, bytes, size)) return false;
+  std::string damaged, failure;
+  if (!decodeImage(image, index, &failure, &damaged, bytes, size)) {
+    // Named like the checks' messages above (the decoders' own lines name no image).
+    if (error) {
+      for (const std::string& line : nonEmptyLines(failure))
+        *error += "images[" + std::to_string(index) + "]: " + line + "\n";
+    }
+    return false;
+  }
   if (warning) {
     for (const std::string& line : nonEmptyLines(damaged))
       *warning += "images[" + std::to_string(index) + "]: " + line + "\n";
