@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "renderer/scene/gltf_loader.h"
+#include "tests/support/extension_textures.h"
 #include "tests/support/input_error.h"
 #include "tests/support/temp_folder.h"
 #include "tests/support/textured_triangle.h"
@@ -42,16 +43,11 @@ std::vector<unsigned char> encodeJpeg(int width, int height,
   return bytes;
 }
 
-// A smooth picture with a distinct color in each corner, so that a flip or a swapped channel
-// shows: red grows to the right, green downwards, blue along the diagonal.
+// The shared corners picture (tests/support/extension_textures.h) without its alpha.
 std::vector<std::uint8_t> cornersPicture(int width, int height) {
+  const std::vector<std::uint8_t> rgba = test_support::cornersPictureRgba(width, height);
   std::vector<std::uint8_t> rgb;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      rgb.push_back(static_cast<std::uint8_t>(20 + 200 * x / (width - 1)));
-      rgb.push_back(static_cast<std::uint8_t>(30 + 190 * y / (height - 1)));
-      rgb.push_back(static_cast<std::uint8_t>(40 + 100 * (x + y) / (width + height - 2)));
-    }
+  for (std::size_t i = 0; i < rgba.size(); i += 4) rgb.insert(rgb.end(), &rgba[i], &rgba[i + 3]);
   return rgb;
 }
 

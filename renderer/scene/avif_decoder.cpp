@@ -124,8 +124,8 @@ bool isAvif(const unsigned char* bytes, std::size_t size) {
   return false;
 }
 
-AvifHeader readAvifHeader(const unsigned char* bytes, std::size_t size) {
-  AvifHeader header;
+ImageHeader readAvifHeader(const unsigned char* bytes, std::size_t size) {
+  ImageHeader header;
   const Parsed parsed = parse(bytes, size, 0, 0);
   if (!parsed.decoder) {
     header.error = parsed.error;
@@ -138,9 +138,9 @@ AvifHeader readAvifHeader(const unsigned char* bytes, std::size_t size) {
   return header;
 }
 
-DecodedAvif decodeAvif(const unsigned char* bytes, std::size_t size, std::uint32_t maxSide,
-                       std::uint64_t maxTexels) {
-  DecodedAvif out;
+DecodedImage decodeAvif(const unsigned char* bytes, std::size_t size, std::uint32_t maxSide,
+                        std::uint64_t maxTexels) {
+  DecodedImage out;
   const Parsed parsed = parse(bytes, size, maxSide, maxTexels);
   if (!parsed.decoder) {
     out.error = parsed.error;

@@ -3,8 +3,8 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <string>
-#include <vector>
+
+#include "renderer/scene/decoded_image.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -14,20 +14,7 @@ bool isAvif(const unsigned char* bytes, std::size_t size);
 
 // What an AVIF's container says, read without decoding the AV1 data (any size: the caller
 // checks it).
-struct AvifHeader {
-  bool ok = false;  // false: `error` says why (damaged, or libavif missing)
-  std::uint32_t width = 0, height = 0;
-  bool animated = false;  // an image sequence of more than one frame
-  std::string error;
-};
-AvifHeader readAvifHeader(const unsigned char* bytes, std::size_t size);
-
-struct DecodedAvif {
-  bool ok = false;
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgba;  // width * height RGBA8, not premultiplied, first row = top
-  std::string error;                // why not, when !ok
-};
+ImageHeader readAvifHeader(const unsigned char* bytes, std::size_t size);
 
 // Decodes a still AVIF (any bit depth, chroma subsampling and matrix; alpha 255 without) into
 // RGBA8. Refuses sequences and frames larger than maxSide per side or maxTexels in all, from the
@@ -37,7 +24,7 @@ struct DecodedAvif {
 // every omnishadow process a few milliseconds of start-up, as much again as `--version` takes.
 // So the library is loaded (dlopen, by its soname) the first time an AVIF is read; without it
 // installed, AVIF images are refused with a message that names the package.
-DecodedAvif decodeAvif(const unsigned char* bytes, std::size_t size, std::uint32_t maxSide,
-                       std::uint64_t maxTexels);
+DecodedImage decodeAvif(const unsigned char* bytes, std::size_t size, std::uint32_t maxSide,
+                        std::uint64_t maxTexels);
 
 }  // namespace omnishadow::gltf_detail

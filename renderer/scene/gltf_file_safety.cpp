@@ -116,7 +116,7 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   } else if (isWebp(bytes, size)) {
     // No bound from the data: a lossless WebP of one color codes any number of texels in a few
     // bytes. libwebp decodes into untouched memory of its own (webp_decoder.h).
-    const WebpHeader header = readWebpHeader(bytes, size);
+    const ImageHeader header = readWebpHeader(bytes, size);
     if (!header.ok) return "no WebP header that can be decoded: " + header.error;
     if (header.animated) return "an animated WebP (EXT_texture_webp takes still images)";
     width = header.width;
@@ -126,7 +126,7 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   } else if (isAvif(bytes, size)) {
     // Nor for AVIF; libavif reads the container's size (ispe) without decoding, and is given
     // the limits again to pass on to the AV1 decoder.
-    const AvifHeader header = readAvifHeader(bytes, size);
+    const ImageHeader header = readAvifHeader(bytes, size);
     if (!header.ok) return "cannot read the AVIF: " + header.error;
     if (header.animated) return "an AVIF image sequence (EXT_texture_avif takes still images)";
     width = header.width;
@@ -194,7 +194,7 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
     }
   }
   if (isAvif(bytes, length)) {
-    DecodedAvif avif = decodeAvif(bytes, length, kMaxImageSide, kMaxImageTexels);
+    DecodedImage avif = decodeAvif(bytes, length, kMaxImageSide, kMaxImageTexels);
     if (!avif.ok) {
       if (error) *error += "cannot decode the AVIF: " + avif.error + "\n";
       return false;
@@ -203,7 +203,7 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
     return true;
   }
   if (isWebp(bytes, length)) {
-    DecodedWebp webp = decodeWebp(bytes, length, kMaxImageSide, kMaxWebpTexels);
+    DecodedImage webp = decodeWebp(bytes, length, kMaxImageSide, kMaxWebpTexels);
     if (!webp.ok) {
       if (error) *error += "cannot decode the WebP: " + webp.error + "\n";
       return false;

@@ -40,8 +40,8 @@ bool isWebp(const unsigned char* bytes, std::size_t size) {
   return size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 && std::memcmp(bytes + 8, "WEBP", 4) == 0;
 }
 
-WebpHeader readWebpHeader(const unsigned char* bytes, std::size_t size) {
-  WebpHeader header;
+ImageHeader readWebpHeader(const unsigned char* bytes, std::size_t size) {
+  ImageHeader header;
   WebPBitstreamFeatures features;
   const VP8StatusCode status = WebPGetFeatures(bytes, size, &features);
   if (status != VP8_STATUS_OK) {
@@ -55,10 +55,10 @@ WebpHeader readWebpHeader(const unsigned char* bytes, std::size_t size) {
   return header;
 }
 
-DecodedWebp decodeWebp(const unsigned char* bytes, std::size_t size, std::uint32_t maxSide,
-                       std::uint64_t maxTexels) {
-  DecodedWebp out;
-  const WebpHeader header = readWebpHeader(bytes, size);
+DecodedImage decodeWebp(const unsigned char* bytes, std::size_t size, std::uint32_t maxSide,
+                        std::uint64_t maxTexels) {
+  DecodedImage out;
+  const ImageHeader header = readWebpHeader(bytes, size);
   if (!header.ok) {
     out.error = header.error;
     return out;

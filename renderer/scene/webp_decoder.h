@@ -3,8 +3,8 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <string>
-#include <vector>
+
+#include "renderer/scene/decoded_image.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -12,27 +12,14 @@ namespace omnishadow::gltf_detail {
 bool isWebp(const unsigned char* bytes, std::size_t size);
 
 // What a WebP's headers say, read without decoding (libwebp's WebPGetFeatures).
-struct WebpHeader {
-  bool ok = false;  // false: no headers libwebp can read (`error` says why)
-  std::uint32_t width = 0, height = 0;
-  bool animated = false;  // an ANIM chunk: EXT_texture_webp asks for still images
-  std::string error;
-};
-WebpHeader readWebpHeader(const unsigned char* bytes, std::size_t size);
-
-struct DecodedWebp {
-  bool ok = false;
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgba;  // width * height RGBA8, not premultiplied, first row = top
-  std::string error;                // why not, when !ok
-};
+ImageHeader readWebpHeader(const unsigned char* bytes, std::size_t size);
 
 // Decodes a still WebP (lossy, lossless, with or without alpha; alpha 255 without) into RGBA8.
 // Refuses, before anything is allocated, animations and frames larger than maxSide per side or
 // maxTexels in all. libwebp decodes into memory of its own, which stays untouched past where
 // damaged or missing data stops it, and the picture is copied out only once it is whole: a
 // header that claims half a gigabyte of texels over a few bytes of data costs none of it.
-DecodedWebp decodeWebp(const unsigned char* bytes, std::size_t size, std::uint32_t maxSide,
-                       std::uint64_t maxTexels);
+DecodedImage decodeWebp(const unsigned char* bytes, std::size_t size, std::uint32_t maxSide,
+                        std::uint64_t maxTexels);
 
 }  // namespace omnishadow::gltf_detail
