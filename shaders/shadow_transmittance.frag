@@ -1,9 +1,11 @@
 // Transmittance pass (renderer/passes/transmittance_pass.h): each translucent caster in front
 // of the opaque shadow map multiplies the layer's RGB by what it lets through, and the layer's
-// A keeps the nearest one's reversed depth (GL_MAX blending). BLEND lets through 1 - alpha,
-// KHR_materials_transmission transmission (factor x texture R) x base color, both (1 - alpha) + alpha x
-// transmission x base color (renderer/scene/translucency.h); MASK texels below the cutoff are
-// holes.
+// A keeps the nearest one's reversed depth (GL_MAX blending), as renderer/scene/translucency.h
+// writes it (surfaceTransmittance): BLEND lets through 1 - alpha; KHR_materials_transmission
+// transmission (factor x texture R) x base color, on a volume times Beer's law over half the
+// thickness (factor x texture G); KHR_materials_diffuse_transmission also (1 - transmission) x
+// its fraction (factor x texture A) x its color (factor x texture RGB); (1 - alpha) + alpha x
+// those. MASK texels below the cutoff are holes.
 layout(binding = BASE_COLOR_UNIT) uniform sampler2D uBaseColorTexture;
 uniform vec4 uBaseColorFactor;
 uniform int uHasBaseColorTexture;
@@ -16,6 +18,23 @@ layout(binding = TRANSMISSION_UNIT) uniform sampler2D uTransmissionTexture;  // 
 uniform int uHasTransmissionTexture;
 uniform int uTransmissionTexCoord;
 uniform mat3 uTransmissionUvTransform;
+// ln(attenuationColor) x thicknessFactor x scale / (2 x attenuationDistance): 0 without a volume.
+uniform vec3 uVolumeAttenuationExponent;
+layout(binding = SHADOW_THICKNESS_UNIT) uniform sampler2D uThicknessTexture;  // G, linear
+uniform int uHasThicknessTexture;
+uniform int uThicknessTexCoord;
+uniform mat3 uThicknessUvTransform;
+uniform float uDiffuseTransmission;  // 0: none
+uniform vec3 uDiffuseTransmissionColor;
+layout(binding = SHADOW_DIFFUSE_TRANSMISSION_UNIT) uniform sampler2D uDiffuseTransmissionTexture;  // A
+uniform int uHasDiffuseTransmissionTexture;
+uniform int uDiffuseTransmissionTexCoord;
+uniform mat3 uDiffuseTransmissionUvTransform;
+layout(binding = SHADOW_DIFFUSE_TRANSMISSION_COLOR_UNIT) uniform sampler2D
+    uDiffuseTransmissionColorTexture;  // RGB, sRGB (decoded by the sampler)
+uniform int uHasDiffuseTransmissionColorTexture;
+uniform int uDiffuseTransmissionColorTexCoord;
+uniform mat3 uDiffuseTransmissionColorUvTransform;
 
 in ShadowVertex {
   vec3 world;
@@ -27,19 +46,41 @@ in ShadowVertex {
 
 layout(location = 0) out vec4 outTransmittance;
 
+vec2 textureUv(mat3 uvTransform, int texCoord) {
+  return (uvTransform * vec3(texCoord == 0 ? fIn.uv0 : fIn.uv1, 1.0)).xy;
+}
+
 void main() {
   vec4 base = uBaseColorFactor * vec4(fIn.color, fIn.alpha);
   if (uHasBaseColorTexture != 0)
-    base *= texture(uBaseColorTexture,
-                    (uBaseColorUvTransform * vec3(uBaseColorTexCoord == 0 ? fIn.uv0 : fIn.uv1,
-                                                  1.0)).xy);
+    base *= texture(uBaseColorTexture, textureUv(uBaseColorUvTransform, uBaseColorTexCoord));
   if (uAlphaMode == 1 && base.a < uAlphaCutoff) discard;
   float alpha = uAlphaMode == 2 ? clamp(base.a, 0.0, 1.0) : 1.0;
   float transmission = uTransmission;
   if (uHasTransmissionTexture != 0)
-    transmission *= texture(uTransmissionTexture,
-                            (uTransmissionUvTransform *
-                             vec3(uTransmissionTexCoord == 0 ? fIn.uv0 : fIn.uv1, 1.0)).xy).r;
-  vec3 t = vec3(1.0 - alpha) + alpha * transmission * clamp(base.rgb, 0.0, 1.0);
+    transmission *=
+        texture(uTransmissionTexture, textureUv(uTransmissionUvTransform, uTransmissionTexCoord)).r;
+  vec3 through = transmission * clamp(base.rgb, 0.0, 1.0);
+  if (uVolumeAttenuationExponent != vec3(0.0)) {
+    float thickness = 1.0;
+    if (uHasThicknessTexture != 0)
+      thickness = clamp(texture(uThicknessTexture, textureUv(uThicknessUvTransform,
+                                                             uThicknessTexCoord)).g, 0.0, 1.0);
+    through *= exp(uVolumeAttenuationExponent * thickness);
+  }
+  if (uDiffuseTransmission > 0.0) {
+    float fraction = uDiffuseTransmission;
+    if (uHasDiffuseTransmissionTexture != 0)
+      fraction *= clamp(texture(uDiffuseTransmissionTexture,
+                                textureUv(uDiffuseTransmissionUvTransform,
+                                          uDiffuseTransmissionTexCoord)).a, 0.0, 1.0);
+    vec3 color = uDiffuseTransmissionColor;
+    if (uHasDiffuseTransmissionColorTexture != 0)
+      color *= clamp(texture(uDiffuseTransmissionColorTexture,
+                             textureUv(uDiffuseTransmissionColorUvTransform,
+                                       uDiffuseTransmissionColorTexCoord)).rgb, 0.0, 1.0);
+    through += (1.0 - transmission) * fraction * color;
+  }
+  vec3 t = vec3(1.0 - alpha) + alpha * through;
   outTransmittance = vec4(t, gl_FragCoord.z);
 }

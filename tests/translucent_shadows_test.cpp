@@ -44,6 +44,7 @@ struct Pane {
   Material material;
   glm::vec3 center;
   float size = 2.0f;
+  float scale = 1.0f;  // of the pane's node (a volume's thickness grows with it)
 };
 
 struct Staged {
@@ -103,7 +104,7 @@ Staged paneScene(const std::vector<Pane>& panes,
   for (const Pane& pane : panes) {
     s.scene.materials.push_back(pane.material);
     test::placeMesh(s.scene, builder::makePlane(pane.size),
-                    glm::translate(glm::mat4(1.0f), pane.center),
+                    glm::scale(glm::translate(glm::mat4(1.0f), pane.center), glm::vec3(pane.scale)),
                     static_cast<int>(s.scene.materials.size()) - 1);
   }
   s.lights = overheadLights();
@@ -176,25 +177,112 @@ HandCheck checkFloor(const Staged& s, const FloatImage& aovs, const Light& light
 
 }  // namespace
 
+SurfaceTexels texels(const glm::vec4& baseColor) {
+  SurfaceTexels t;
+  t.baseColor = baseColor;
+  return t;
+}
+
 TEST(Translucency, SurfaceTransmittanceFollowsTheIssuesFormula) {
   // BLEND: 1 - alpha, whatever the color.
-  EXPECT_EQ(
-      surfaceTransmittance(glass({1, 0, 0, 1}, AlphaMode::Blend, 0), {0.2f, 0.4f, 0.6f, 0.25f}),
-      glm::vec3(0.75f));
+  EXPECT_EQ(surfaceTransmittance(glass({1, 0, 0, 1}, AlphaMode::Blend, 0),
+                                 texels({0.2f, 0.4f, 0.6f, 0.25f})),
+            glm::vec3(0.75f));
   // Transmission: transmission x base color.
-  EXPECT_EQ(
-      surfaceTransmittance(glass({1, 1, 1, 1}, AlphaMode::Opaque, 0.5f), {1.0f, 0.5f, 0.25f, 0.1f}),
-      glm::vec3(0.5f, 0.25f, 0.125f));
+  EXPECT_EQ(surfaceTransmittance(glass({1, 1, 1, 1}, AlphaMode::Opaque, 0.5f),
+                                 texels({1.0f, 0.5f, 0.25f, 0.1f})),
+            glm::vec3(0.5f, 0.25f, 0.125f));
   // Both: (1 - alpha) + alpha x transmission x base color.
-  EXPECT_EQ(
-      surfaceTransmittance(glass({1, 1, 1, 1}, AlphaMode::Blend, 0.5f), {1.0f, 0.5f, 0.25f, 0.5f}),
-      glm::vec3(0.75f, 0.625f, 0.5625f));
+  EXPECT_EQ(surfaceTransmittance(glass({1, 1, 1, 1}, AlphaMode::Blend, 0.5f),
+                                 texels({1.0f, 0.5f, 0.25f, 0.5f})),
+            glm::vec3(0.75f, 0.625f, 0.5625f));
   // MASK texels below the cutoff are holes.
-  EXPECT_EQ(
-      surfaceTransmittance(glass({1, 1, 1, 1}, AlphaMode::Mask, 0.5f), {1.0f, 0.0f, 0.0f, 0.4f}),
-      glm::vec3(1.0f));
+  EXPECT_EQ(surfaceTransmittance(glass({1, 1, 1, 1}, AlphaMode::Mask, 0.5f),
+                                 texels({1.0f, 0.0f, 0.0f, 0.4f})),
+            glm::vec3(1.0f));
   EXPECT_TRUE(isTranslucentCaster(glass({1, 1, 1, 1}, AlphaMode::Opaque, 0.1f)));
   EXPECT_FALSE(isTranslucentCaster(glass({1, 1, 1, 0.1f}, AlphaMode::Mask, 0.0f)));
+}
+
+// A volume (KHR_materials_volume) that light crosses twice: Beer's law over half its
+// thickness at each crossing, a thickness that grows with the node's scale; diffuse
+// transmission adds (1 - transmission) x its fraction x its color. By hand.
+Material volumeGlass() {
+  Material m = glass({1, 1, 1, 1}, AlphaMode::Opaque, 1.0f);
+  m.thicknessFactor = 0.4f;
+  m.attenuationDistance = 0.5f;
+  m.attenuationColor = {0.25f, 0.5f, 1.0f};
+  return m;
+}
+
+Material diffuseLeaf() {
+  Material m = glass({1, 0, 0, 1}, AlphaMode::Blend, 0.25f);
+  m.diffuseTransmissionFactor = 0.8f;
+  m.diffuseTransmissionColorFactor = {0.0f, 1.0f, 0.5f};
+  return m;
+}
+
+TEST(Translucency, VolumesAttenuateAndDiffuseTransmissionAddsItsColor) {
+  const SurfaceTexels white = texels({1, 1, 1, 1});
+  // 0.25^(0.4 / (2 x 0.5)) = 0.25^0.4, 0.5^0.4; twice the scale, twice the exponent.
+  const glm::vec3 once = surfaceTransmittance(volumeGlass(), white);
+  EXPECT_NEAR(once.r, 0.574349f, 1e-5f);
+  EXPECT_NEAR(once.g, 0.757858f, 1e-5f);
+  EXPECT_EQ(once.b, 1.0f);
+  const glm::vec3 scaled = surfaceTransmittance(volumeGlass(), white, 2.0f);
+  EXPECT_NEAR(scaled.r, 0.329877f, 1e-5f);
+  EXPECT_NEAR(scaled.g, 0.574349f, 1e-5f);
+  // The thickness texture's G scales the thickness.
+  SurfaceTexels thin = white;
+  thin.thickness = 0.5f;
+  EXPECT_NEAR(surfaceTransmittance(volumeGlass(), thin).r, 0.757858f, 1e-5f);
+  // Not drawn as a volume (BLEND), not attenuated: as the lighting pass draws it.
+  Material blended = volumeGlass();
+  blended.alphaMode = AlphaMode::Blend;
+  EXPECT_EQ(surfaceTransmittance(blended, white), glm::vec3(1.0f));
+  // 0.25 x (1, 0, 0) + 0.75 x 0.8 x (0, 1, 0.5); its texture's A and color texture scale it.
+  const SurfaceTexels red = texels({1, 0, 0, 1});
+  EXPECT_EQ(surfaceTransmittance(diffuseLeaf(), red), glm::vec3(0.25f, 0.6f, 0.3f));
+  SurfaceTexels textured = red;
+  textured.diffuseTransmission = 0.5f;
+  textured.diffuseTransmissionColor = {1.0f, 0.5f, 1.0f};
+  EXPECT_EQ(surfaceTransmittance(diffuseLeaf(), textured), glm::vec3(0.25f, 0.15f, 0.15f));
+  Material leafOnly;
+  leafOnly.diffuseTransmissionFactor = 0.5f;
+  EXPECT_TRUE(isTranslucentCaster(leafOnly));
+  EXPECT_FLOAT_EQ(volumeScale(glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 2.0f, 4.0f))), 2.0f);
+}
+
+// The transmittance pass draws both as the rays find them. The volume pane is an opaque
+// surface to the camera: it hangs high, near the lights, so that the floor it shades reaches
+// past what it hides; the leaf is BLEND with alpha 1 (only what it lets through passes).
+TEST(TranslucentShadows, VolumesAndDiffuseTransmissionTintAsTheRaysAndTheHandValueSay) {
+  struct Case {
+    const char* name;
+    Pane pane;
+    glm::vec3 hand;
+  };
+  const Case cases[] = {
+      {"volume", {volumeGlass(), {0.0f, 3.5f, 0.0f}, 1.0f}, {0.574349f, 0.757858f, 1.0f}},
+      {"scaled volume",
+       {volumeGlass(), {0.0f, 3.5f, 0.0f}, 0.5f, 2.0f},
+       {0.329877f, 0.574349f, 1.0f}},
+      {"diffuse transmission", {diffuseLeaf(), {0.0f, 1.0f, 0.0f}}, {0.25f, 0.6f, 0.3f}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const Staged s = paneScene({c.pane});
+    const Frame frame = renderAovs(s);
+    int points = 0;
+    for (const Light& light : s.lights) {
+      SCOPED_TRACE(light.name);
+      const HandCheck check = checkFloor(s, *frame.aovs, light, c.hand);
+      EXPECT_EQ(check.matching, check.points);
+      points += check.points;
+    }
+    EXPECT_GT(points, 300);
+    expectAgreementWithTheRays(verifyAgainstRays(s, frame), 200);
+  }
 }
 
 // A colored pane (BLEND with transmission) 1 unit over the floor: the floor under it receives

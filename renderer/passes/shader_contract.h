@@ -29,8 +29,12 @@ inline constexpr int kOcclusionUnit = 3;
 inline constexpr int kEmissiveUnit = 4;
 inline constexpr int kMaterialUnits = 5;
 
-// The transmission texture of shadow_transmittance.frag (its own program: any free unit).
+// The textures of shadow_transmittance.frag besides the base color (its own program: any free
+// units).
 inline constexpr int kTransmissionUnit = kBaseColorUnit + 1;
+inline constexpr int kShadowThicknessUnit = kBaseColorUnit + 2;
+inline constexpr int kShadowDiffuseTransmissionUnit = kBaseColorUnit + 3;
+inline constexpr int kShadowDiffuseTransmissionColorUnit = kBaseColorUnit + 4;
 
 // The moments layer the VSM blur reads (its own program, so it may reuse unit 0).
 inline constexpr int kVsmSourceUnit = 0;
@@ -186,6 +190,9 @@ inline std::vector<std::string> shaderContractDefines() {
       define("SHEEN_ALBEDO_ROUGHNESSES", kSheenAlbedoRoughnesses),
       "MIN_SHEEN_ALPHA " + std::to_string(kMinSheenAlpha),
       define("TRANSMISSION_UNIT", kTransmissionUnit),
+      define("SHADOW_THICKNESS_UNIT", kShadowThicknessUnit),
+      define("SHADOW_DIFFUSE_TRANSMISSION_UNIT", kShadowDiffuseTransmissionUnit),
+      define("SHADOW_DIFFUSE_TRANSMISSION_COLOR_UNIT", kShadowDiffuseTransmissionColorUnit),
       define("VSM_SOURCE_UNIT", kVsmSourceUnit),
       define("MAX_SHADOW_GROUPS", kMaxShadowGroups),
       define("TRANSMITTANCE_UNIT", kTransmittanceUnit),

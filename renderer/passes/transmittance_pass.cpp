@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstdint>
 #include <string>
+#include <tuple>
 
 #include "renderer/core/errors.h"
 #include "renderer/gl/gl_debug.h"
@@ -155,6 +156,35 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
       program_.set("uTransmissionUvTransform", m.transmissionTexture.uvTransform);
       glBindTextureUnit(contract::kTransmissionUnit, material.transmission);
       glBindSampler(contract::kTransmissionUnit, material.transmissionSampler);
+      // Volumes and diffuse transmission (translucency.h); the textures are 0 unless the
+      // lighting pass draws them, which is when these apply.
+      program_.set("uVolumeAttenuationExponent",
+                   volumeAttenuationExponent(m, volumeScale(draw.world)));
+      program_.set("uHasThicknessTexture", material.thickness != 0 ? 1 : 0);
+      program_.set("uThicknessTexCoord", m.thicknessTexture.texCoord);
+      program_.set("uThicknessUvTransform", m.thicknessTexture.uvTransform);
+      program_.set("uDiffuseTransmission",
+                   hasDiffuseTransmission(m) ? m.diffuseTransmissionFactor : 0.0f);
+      program_.set("uDiffuseTransmissionColor", m.diffuseTransmissionColorFactor);
+      program_.set("uHasDiffuseTransmissionTexture", material.diffuseTransmission != 0 ? 1 : 0);
+      program_.set("uDiffuseTransmissionTexCoord", m.diffuseTransmissionTexture.texCoord);
+      program_.set("uDiffuseTransmissionUvTransform", m.diffuseTransmissionTexture.uvTransform);
+      program_.set("uHasDiffuseTransmissionColorTexture",
+                   material.diffuseTransmissionColor != 0 ? 1 : 0);
+      program_.set("uDiffuseTransmissionColorTexCoord", m.diffuseTransmissionColorTexture.texCoord);
+      program_.set("uDiffuseTransmissionColorUvTransform",
+                   m.diffuseTransmissionColorTexture.uvTransform);
+      for (const auto& [unit, texture, sampler] :
+           {std::tuple{contract::kShadowThicknessUnit, material.thickness,
+                       material.thicknessSampler},
+            std::tuple{contract::kShadowDiffuseTransmissionUnit, material.diffuseTransmission,
+                       material.diffuseTransmissionSampler},
+            std::tuple{contract::kShadowDiffuseTransmissionColorUnit,
+                       material.diffuseTransmissionColor,
+                       material.diffuseTransmissionColorSampler}}) {
+        glBindTextureUnit(unit, texture);
+        glBindSampler(unit, sampler);
+      }
       glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);
       glBindSampler(contract::kBaseColorUnit, material.baseColorSampler);
       const GpuMeshRange& range = scene.meshes()[draw.mesh];

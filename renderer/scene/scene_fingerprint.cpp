@@ -164,7 +164,21 @@ std::uint64_t shadowFingerprint(const Scene& scene, const std::vector<MeshDigest
     // Translucent casters tint the transmittance layers with their color.
     h.value(m.transmissionFactor);
     hashTextureSlot(h, scene, m.transmissionTexture, true);
-    if (isTranslucentCaster(m)) h.value(glm::vec3(m.baseColorFactor));
+    if (isTranslucentCaster(m)) {
+      h.value(glm::vec3(m.baseColorFactor));
+      // Volumes attenuate and diffuse transmission tints what they let through.
+      h.value(m.thicknessFactor);
+      h.value(m.attenuationDistance);
+      h.value(m.attenuationColor);
+      h.value(m.diffuseTransmissionFactor);
+      h.value(m.diffuseTransmissionColorFactor);
+    }
+    const bool translucent = isTranslucentCaster(m);
+    hashTextureSlot(h, scene, m.thicknessTexture, translucent && hasVolume(m));
+    hashTextureSlot(h, scene, m.diffuseTransmissionTexture,
+                    translucent && hasDiffuseTransmission(m));
+    hashTextureSlot(h, scene, m.diffuseTransmissionColorTexture,
+                    translucent && hasDiffuseTransmission(m));
     hashTextureSlot(h, scene, m.baseColorTexture,
                     m.alphaMode != AlphaMode::Opaque || isTranslucentCaster(m));
   }

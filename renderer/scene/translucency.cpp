@@ -1,20 +1,44 @@
 #include "renderer/scene/translucency.h"
 
+#include <cmath>
+
 namespace omnishadow {
 
 bool isTranslucentCaster(const Material& material) {
-  return material.alphaMode == AlphaMode::Blend || material.transmissionFactor > 0.0f;
+  return material.alphaMode == AlphaMode::Blend || material.transmissionFactor > 0.0f ||
+         hasDiffuseTransmission(material);
 }
 
-glm::vec3 surfaceTransmittance(const Material& material, const glm::vec4& baseColor,
-                               float transmissionTexel) {
+glm::vec3 volumeAttenuationExponent(const Material& material, float scale) {
+  if (!hasVolume(material) || !std::isfinite(material.attenuationDistance)) return glm::vec3(0.0f);
+  // As the lighting pass's Beer's law: a color of 0 absorbs all but 1e-30.
+  return glm::log(glm::max(material.attenuationColor, glm::vec3(1e-30f))) *
+         (material.thicknessFactor * scale / (2.0f * material.attenuationDistance));
+}
+
+float volumeScale(const glm::mat4& world) {
+  return std::cbrt(std::abs(glm::determinant(glm::mat3(world))));
+}
+
+glm::vec3 surfaceTransmittance(const Material& material, const SurfaceTexels& texels,
+                               float volumeScale) {
+  const glm::vec4& base = texels.baseColor;
   float alpha = 1.0f;
-  if (material.alphaMode == AlphaMode::Blend) alpha = glm::clamp(baseColor.a, 0.0f, 1.0f);
-  if (material.alphaMode == AlphaMode::Mask && baseColor.a < material.alphaCutoff) return {1, 1, 1};
-  const glm::vec3 color = glm::clamp(glm::vec3(baseColor), 0.0f, 1.0f);
+  if (material.alphaMode == AlphaMode::Blend) alpha = glm::clamp(base.a, 0.0f, 1.0f);
+  if (material.alphaMode == AlphaMode::Mask && base.a < material.alphaCutoff) return {1, 1, 1};
+  const glm::vec3 color = glm::clamp(glm::vec3(base), 0.0f, 1.0f);
   const float transmission =
-      material.transmissionFactor * glm::clamp(transmissionTexel, 0.0f, 1.0f);
-  return glm::vec3(1.0f - alpha) + alpha * transmission * color;
+      material.transmissionFactor * glm::clamp(texels.transmission, 0.0f, 1.0f);
+  const glm::vec3 volume = glm::exp(volumeAttenuationExponent(material, volumeScale) *
+                                    glm::clamp(texels.thickness, 0.0f, 1.0f));
+  glm::vec3 through = transmission * color * volume;
+  if (hasDiffuseTransmission(material)) {
+    through += (1.0f - transmission) * material.diffuseTransmissionFactor *
+               glm::clamp(texels.diffuseTransmission, 0.0f, 1.0f) *
+               material.diffuseTransmissionColorFactor *
+               glm::clamp(texels.diffuseTransmissionColor, 0.0f, 1.0f);
+  }
+  return glm::vec3(1.0f - alpha) + alpha * through;
 }
 
 bool hasTranslucentCasters(const Scene& scene) {

@@ -24,6 +24,15 @@ constexpr int kGlMirroredRepeat = 0x8370;
 
 // What the alpha filter needs of one cut-out instance, copied so that the reference does not
 // depend on the Scene's lifetime.
+// One channel (or RGB) of a texture at the nearest texel, with KHR_texture_transform applied to
+// the per-vertex UVs (which an affine map allows); width 0 = no texture.
+struct TexelMap {
+  std::vector<glm::vec2> uv;
+  int width = 0, height = 0, channels = 1;
+  std::vector<float> values;  // `channels` per texel, row 0 = top
+  int wrapS = 0, wrapT = 0;
+};
+
 struct Cutout {
   std::vector<std::uint32_t> indices;  // 3 per triangle, in Embree's primitive order
   std::vector<float> vertexAlpha;      // baseColorFactor.a * COLOR_0.a
@@ -37,12 +46,9 @@ struct Cutout {
   Material material;
   std::vector<glm::vec3> vertexColor;  // baseColorFactor.rgb * COLOR_0.rgb
   std::vector<glm::vec3> texelColor;   // linear RGB of the base color texture, as texelAlpha
-  // The transmission texture's R at the nearest texel (KHR_texture_transform applied to the
-  // per-vertex UVs, which an affine map allows); width 0 = none.
-  std::vector<glm::vec2> transmissionUv;
-  int transmissionWidth = 0, transmissionHeight = 0;
-  std::vector<float> transmissionTexel;  // row 0 = top
-  int transmissionWrapS = 0, transmissionWrapT = 0;
+  // The textures surfaceTransmittance() reads besides the base color.
+  TexelMap transmission, thickness, diffuseTransmission, diffuseTransmissionColor;
+  float volumeScale = 1.0f;  // the instance's (translucency.h)
 };
 
 float srgbToLinear(std::uint8_t value) {
@@ -86,37 +92,47 @@ glm::vec4 baseColorAt(const Cutout& c, unsigned primitive, float u, float v) {
   return color;
 }
 
-// The transmission texture's R at barycentrics (u, v) of triangle `primitive` (1 without one).
-float transmissionTexelAt(const Cutout& c, unsigned primitive, float u, float v) {
-  if (c.transmissionWidth <= 0) return 1.0f;
+// A texel map's value at barycentrics (u, v) of triangle `primitive` (`fallback` without a
+// texture): channel 0, or the RGB of a three-channel map.
+glm::vec3 texelAt(const TexelMap& map, const Cutout& c, unsigned primitive, float u, float v,
+                  glm::vec3 fallback) {
+  if (map.width <= 0) return fallback;
   const std::uint32_t i0 = c.indices[3 * primitive], i1 = c.indices[3 * primitive + 1],
                       i2 = c.indices[3 * primitive + 2];
-  const glm::vec2 uv =
-      (1.0f - u - v) * c.transmissionUv[i0] + u * c.transmissionUv[i1] + v * c.transmissionUv[i2];
-  const int x = wrapTexel(uv.x, c.transmissionWidth, c.transmissionWrapS);
-  const int y = wrapTexel(uv.y, c.transmissionHeight, c.transmissionWrapT);
-  return c.transmissionTexel[static_cast<std::size_t>(y) * c.transmissionWidth + x];
+  const glm::vec2 uv = (1.0f - u - v) * map.uv[i0] + u * map.uv[i1] + v * map.uv[i2];
+  const int x = wrapTexel(uv.x, map.width, map.wrapS);
+  const int y = wrapTexel(uv.y, map.height, map.wrapT);
+  const float* at = &map.values[(static_cast<std::size_t>(y) * map.width + x) * map.channels];
+  return map.channels == 3 ? glm::vec3(at[0], at[1], at[2]) : glm::vec3(at[0]);
 }
 
-void addTransmissionTexture(const Scene& scene, const Mesh& mesh, const TextureSlot& slot,
-                            Cutout& c) {
+// Reads channel `channel` of `slot`'s texture (all of RGB, decoded from sRGB, with `srgbRgb`)
+// into `map`; leaves it empty without a texture.
+void addTexelMap(const Scene& scene, const Mesh& mesh, const TextureSlot& slot, int channel,
+                 bool srgbRgb, TexelMap& map) {
   if (slot.texture < 0 || slot.texture >= static_cast<int>(scene.textures.size())) return;
   const Texture& texture = scene.textures[slot.texture];
   if (texture.image < 0 || texture.image >= static_cast<int>(scene.images.size())) return;
   const Image& image = scene.images[texture.image];
   const std::size_t texels = static_cast<std::size_t>(image.width) * image.height;
   if (image.width <= 0 || image.height <= 0 || image.rgba.size() < texels * 4) return;
-  c.transmissionWidth = image.width;
-  c.transmissionHeight = image.height;
-  c.transmissionTexel.resize(texels);
-  for (std::size_t i = 0; i < texels; ++i)
-    c.transmissionTexel[i] = static_cast<float>(image.rgba[i * 4]) / 255.0f;
-  c.transmissionWrapS = texture.sampler.wrapS;
-  c.transmissionWrapT = texture.sampler.wrapT;
+  map.width = image.width;
+  map.height = image.height;
+  map.channels = srgbRgb ? 3 : 1;
+  map.values.resize(texels * map.channels);
+  for (std::size_t i = 0; i < texels; ++i) {
+    if (srgbRgb) {
+      for (int k = 0; k < 3; ++k) map.values[i * 3 + k] = srgbToLinear(image.rgba[i * 4 + k]);
+    } else {
+      map.values[i] = static_cast<float>(image.rgba[i * 4 + channel]) / 255.0f;
+    }
+  }
+  map.wrapS = texture.sampler.wrapS;
+  map.wrapT = texture.sampler.wrapT;
   const std::vector<glm::vec2>& uv = slot.texCoord == 1 ? mesh.uv1 : mesh.uv0;
-  c.transmissionUv.assign(mesh.positions.size(), glm::vec2(0.0f));
-  for (std::size_t i = 0; i < c.transmissionUv.size() && i < uv.size(); ++i)
-    c.transmissionUv[i] = glm::vec2(slot.uvTransform * glm::vec3(uv[i], 1.0f));
+  map.uv.assign(mesh.positions.size(), glm::vec2(0.0f));
+  for (std::size_t i = 0; i < map.uv.size() && i < uv.size(); ++i)
+    map.uv[i] = glm::vec2(slot.uvTransform * glm::vec3(uv[i], 1.0f));
 }
 
 // Whether the hit at barycentrics (u, v) of triangle `primitive` is opaque enough to cast.
@@ -135,7 +151,7 @@ void alphaFilter(const RTCFilterFunctionNArguments* args) {
 }
 
 Cutout makeCutout(const Scene& scene, const Mesh& mesh, const Material& material,
-                  std::vector<std::uint32_t> indices) {
+                  std::vector<std::uint32_t> indices, float volumeScale) {
   Cutout c;
   c.indices = std::move(indices);
   c.cutoff = material.alphaMode == AlphaMode::Mask ? material.alphaCutoff : 0.5f;
@@ -148,7 +164,17 @@ Cutout makeCutout(const Scene& scene, const Mesh& mesh, const Material& material
     c.vertexColor.assign(mesh.positions.size(), glm::vec3(material.baseColorFactor));
     for (std::size_t i = 0; i < mesh.colors.size() && i < c.vertexColor.size(); ++i)
       c.vertexColor[i] *= glm::vec3(mesh.colors[i]);
-    addTransmissionTexture(scene, mesh, material.transmissionTexture, c);
+    addTexelMap(scene, mesh, material.transmissionTexture, 0, false, c.transmission);
+    // As the lighting pass uploads them: only for what it draws (translucency.h).
+    if (hasVolume(material))
+      addTexelMap(scene, mesh, material.thicknessTexture, 1, false, c.thickness);
+    if (hasDiffuseTransmission(material)) {
+      addTexelMap(scene, mesh, material.diffuseTransmissionTexture, 3, false,
+                  c.diffuseTransmission);
+      addTexelMap(scene, mesh, material.diffuseTransmissionColorTexture, 0, true,
+                  c.diffuseTransmissionColor);
+    }
+    c.volumeScale = volumeScale;
   }
   const TextureSlot& slot = material.baseColorTexture;
   if (slot.texture < 0 || slot.texture >= static_cast<int>(scene.textures.size())) return c;
@@ -311,8 +337,9 @@ ShadowReference::ShadowReference(const Scene& scene) : impl_(std::make_unique<Im
     const bool translucent = hasMaterial && isTranslucentCaster(scene.materials[mesh.material]);
     impl.translucent = impl.translucent || translucent;
     if (mode != AlphaMode::Opaque || translucent) {
-      impl.cutouts.push_back(std::make_unique<Cutout>(
-          makeCutout(scene, mesh, scene.materials[mesh.material], std::move(indices))));
+      impl.cutouts.push_back(
+          std::make_unique<Cutout>(makeCutout(scene, mesh, scene.materials[mesh.material],
+                                              std::move(indices), volumeScale(instance.world))));
       rtcSetGeometryUserData(geometry, impl.cutouts.back().get());
       // Shadow rays of cut-out shadows (rtcOccluded1) see BLEND surfaces where alpha >= 0.5;
       // translucent shadow rays (rtcIntersect1) stop at every BLEND surface, whatever its alpha,
@@ -371,9 +398,16 @@ glm::vec3 ShadowReference::rayTransmittance(const glm::vec3& origin, const glm::
     const auto* cutout = static_cast<const Cutout*>(rtcGetGeometryUserData(geometry));
     if (!cutout || !cutout->translucent) return glm::vec3(0.0f);
     const unsigned primitive = hit->hit.primID;
-    transmittance *= surfaceTransmittance(
-        cutout->material, baseColorAt(*cutout, primitive, hit->hit.u, hit->hit.v),
-        transmissionTexelAt(*cutout, primitive, hit->hit.u, hit->hit.v));
+    const float u = hit->hit.u, v = hit->hit.v;
+    SurfaceTexels texels;
+    texels.baseColor = baseColorAt(*cutout, primitive, u, v);
+    texels.transmission = texelAt(cutout->transmission, *cutout, primitive, u, v, glm::vec3(1)).x;
+    texels.thickness = texelAt(cutout->thickness, *cutout, primitive, u, v, glm::vec3(1)).x;
+    texels.diffuseTransmission =
+        texelAt(cutout->diffuseTransmission, *cutout, primitive, u, v, glm::vec3(1)).x;
+    texels.diffuseTransmissionColor =
+        texelAt(cutout->diffuseTransmissionColor, *cutout, primitive, u, v, glm::vec3(1));
+    transmittance *= surfaceTransmittance(cutout->material, texels, cutout->volumeScale);
     if (!(std::max({transmittance.r, transmittance.g, transmittance.b}) > 0.0f))
       return glm::vec3(0.0f);
     tnear = hit->ray.tfar + step;
