@@ -5,7 +5,9 @@
 // transmission (factor x texture R) x base color, on a volume times Beer's law over half the
 // thickness (factor x texture G); KHR_materials_diffuse_transmission also (1 - transmission) x
 // its fraction (factor x texture A) x its color (factor x texture RGB); (1 - alpha) + alpha x
-// those. MASK texels below the cutoff are holes.
+// those. MASK texels below the cutoff are holes. The volume and diffuse transmission terms are
+// compiled in (VOLUME, DIFFUSE_TRANSMISSION) only for scenes whose casters need them: llvmpipe
+// reads the textures of a skipped branch anyway.
 layout(binding = BASE_COLOR_UNIT) uniform sampler2D uBaseColorTexture;
 uniform vec4 uBaseColorFactor;
 uniform int uHasBaseColorTexture;
@@ -18,12 +20,15 @@ layout(binding = TRANSMISSION_UNIT) uniform sampler2D uTransmissionTexture;  // 
 uniform int uHasTransmissionTexture;
 uniform int uTransmissionTexCoord;
 uniform mat3 uTransmissionUvTransform;
+#ifdef VOLUME
 // ln(attenuationColor) x thicknessFactor x scale / (2 x attenuationDistance): 0 without a volume.
 uniform vec3 uVolumeAttenuationExponent;
 layout(binding = SHADOW_THICKNESS_UNIT) uniform sampler2D uThicknessTexture;  // G, linear
 uniform int uHasThicknessTexture;
 uniform int uThicknessTexCoord;
 uniform mat3 uThicknessUvTransform;
+#endif
+#ifdef DIFFUSE_TRANSMISSION
 uniform float uDiffuseTransmission;  // 0: none
 uniform vec3 uDiffuseTransmissionColor;
 layout(binding = SHADOW_DIFFUSE_TRANSMISSION_UNIT) uniform sampler2D uDiffuseTransmissionTexture;  // A
@@ -35,6 +40,7 @@ layout(binding = SHADOW_DIFFUSE_TRANSMISSION_COLOR_UNIT) uniform sampler2D
 uniform int uHasDiffuseTransmissionColorTexture;
 uniform int uDiffuseTransmissionColorTexCoord;
 uniform mat3 uDiffuseTransmissionColorUvTransform;
+#endif
 
 in ShadowVertex {
   vec3 world;
@@ -46,41 +52,50 @@ in ShadowVertex {
 
 layout(location = 0) out vec4 outTransmittance;
 
+#if defined(VOLUME) || defined(DIFFUSE_TRANSMISSION)
 vec2 textureUv(mat3 uvTransform, int texCoord) {
   return (uvTransform * vec3(texCoord == 0 ? fIn.uv0 : fIn.uv1, 1.0)).xy;
 }
+#endif
 
 void main() {
   vec4 base = uBaseColorFactor * vec4(fIn.color, fIn.alpha);
   if (uHasBaseColorTexture != 0)
-    base *= texture(uBaseColorTexture, textureUv(uBaseColorUvTransform, uBaseColorTexCoord));
+    base *= texture(uBaseColorTexture,
+                    (uBaseColorUvTransform * vec3(uBaseColorTexCoord == 0 ? fIn.uv0 : fIn.uv1,
+                                                  1.0)).xy);
   if (uAlphaMode == 1 && base.a < uAlphaCutoff) discard;
   float alpha = uAlphaMode == 2 ? clamp(base.a, 0.0, 1.0) : 1.0;
   float transmission = uTransmission;
   if (uHasTransmissionTexture != 0)
-    transmission *=
-        texture(uTransmissionTexture, textureUv(uTransmissionUvTransform, uTransmissionTexCoord)).r;
-  vec3 through = transmission * clamp(base.rgb, 0.0, 1.0);
+    transmission *= texture(uTransmissionTexture,
+                            (uTransmissionUvTransform *
+                             vec3(uTransmissionTexCoord == 0 ? fIn.uv0 : fIn.uv1, 1.0)).xy).r;
+  vec3 color = clamp(base.rgb, 0.0, 1.0);
+#ifdef VOLUME
   if (uVolumeAttenuationExponent != vec3(0.0)) {
     float thickness = 1.0;
     if (uHasThicknessTexture != 0)
       thickness = clamp(texture(uThicknessTexture, textureUv(uThicknessUvTransform,
                                                              uThicknessTexCoord)).g, 0.0, 1.0);
-    through *= exp(uVolumeAttenuationExponent * thickness);
+    color *= exp(uVolumeAttenuationExponent * thickness);
   }
+#endif
+  vec3 t = vec3(1.0 - alpha) + alpha * transmission * color;
+#ifdef DIFFUSE_TRANSMISSION
   if (uDiffuseTransmission > 0.0) {
     float fraction = uDiffuseTransmission;
     if (uHasDiffuseTransmissionTexture != 0)
       fraction *= clamp(texture(uDiffuseTransmissionTexture,
                                 textureUv(uDiffuseTransmissionUvTransform,
                                           uDiffuseTransmissionTexCoord)).a, 0.0, 1.0);
-    vec3 color = uDiffuseTransmissionColor;
+    vec3 diffuseColor = uDiffuseTransmissionColor;
     if (uHasDiffuseTransmissionColorTexture != 0)
-      color *= clamp(texture(uDiffuseTransmissionColorTexture,
-                             textureUv(uDiffuseTransmissionColorUvTransform,
-                                       uDiffuseTransmissionColorTexCoord)).rgb, 0.0, 1.0);
-    through += (1.0 - transmission) * fraction * color;
+      diffuseColor *= clamp(texture(uDiffuseTransmissionColorTexture,
+                                    textureUv(uDiffuseTransmissionColorUvTransform,
+                                              uDiffuseTransmissionColorTexCoord)).rgb, 0.0, 1.0);
+    t += alpha * (1.0 - transmission) * fraction * diffuseColor;
   }
-  vec3 t = vec3(1.0 - alpha) + alpha * through;
+#endif
   outTransmittance = vec4(t, gl_FragCoord.z);
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "renderer/core/errors.h"
 #include "renderer/gl/gl_debug.h"
@@ -16,10 +17,37 @@
 
 namespace omnishadow {
 
-TransmittancePass::TransmittancePass()
-    : program_("shadow_depth.vert", "shadow_transmittance.frag",
-               contract::withShaderContract({"TRANSMITTANCE"})),
-      framebuffer_(gl::createFramebuffer()) {}
+namespace {
+
+constexpr unsigned kVolumeFeature = 1u, kDiffuseTransmissionFeature = 2u;
+
+// What the casters a light's layers draw need of the program.
+unsigned casterFeatures(const GpuScene& scene, const TranslucentReach& reach) {
+  unsigned features = 0;
+  for (std::size_t index = 0; index < scene.draws().size(); ++index) {
+    if (reach.casterLayers[index] == 0u) continue;
+    const Material& m = scene.materials()[scene.draws()[index].material].desc;
+    if (volumeAttenuationExponent(m, 1.0f) != glm::vec3(0.0f)) features |= kVolumeFeature;
+    if (hasDiffuseTransmission(m)) features |= kDiffuseTransmissionFeature;
+  }
+  return features;
+}
+
+}  // namespace
+
+TransmittancePass::TransmittancePass() : framebuffer_(gl::createFramebuffer()) {}
+
+const ShaderProgram& TransmittancePass::program(unsigned features) {
+  std::unique_ptr<ShaderProgram>& slot = programs_[features];
+  if (!slot) {
+    std::vector<std::string> defines = {"TRANSMITTANCE"};
+    if (features & kVolumeFeature) defines.emplace_back("VOLUME");
+    if (features & kDiffuseTransmissionFeature) defines.emplace_back("DIFFUSE_TRANSMISSION");
+    slot = std::make_unique<ShaderProgram>("shadow_depth.vert", "shadow_transmittance.frag",
+                                           contract::withShaderContract(defines));
+  }
+  return *slot;
+}
 
 TranslucentReach translucentReach(const GpuScene& scene, const LightShadowPlan& plan,
                                   int resolution) {
@@ -122,9 +150,11 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
   // keeps the binding valid.
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kDrawObjectsBinding, scene.modelBuffer());
   glBindVertexArray(scene.vertexArray());
-  program_.use();
-  program_.set("uViewProjections", plan.viewProjection.data(), plan.layerCount);
-  program_.set("uDrawBase", 0);
+  const unsigned features = casterFeatures(scene, reach);
+  const ShaderProgram& shader = program(features);
+  shader.use();
+  shader.set("uViewProjections", plan.viewProjection.data(), plan.layerCount);
+  shader.set("uDrawBase", 0);
 
   const float clear[4] = {1.0f, 1.0f, 1.0f, 0.0f};
   int atlasLayer = atlasLayers.first;
@@ -137,56 +167,58 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
     // Only the rectangle is read back: it is all that is cleared and drawn.
     scissorTo(rect);
     glClearNamedFramebufferfv(fb, GL_COLOR, 0, clear);
-    program_.set("uView", layer);
+    shader.set("uView", layer);
     for (std::size_t index = 0; index < scene.draws().size(); ++index) {
       const GpuDraw& draw = scene.draws()[index];
       const GpuMaterial& material = scene.materials()[draw.material];
       const Material& m = material.desc;
       if ((reach.casterLayers[index] >> layer & 1u) == 0) continue;
-      program_.set("uObject", static_cast<int>(index));
-      program_.set("uBaseColorFactor", m.baseColorFactor);
-      program_.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
-      program_.set("uBaseColorTexCoord", m.baseColorTexture.texCoord);
-      program_.set("uBaseColorUvTransform", m.baseColorTexture.uvTransform);
-      program_.set("uAlphaMode", static_cast<int>(m.alphaMode));
-      program_.set("uAlphaCutoff", m.alphaCutoff);
-      program_.set("uTransmission", m.transmissionFactor);
-      program_.set("uHasTransmissionTexture", material.transmission != 0 ? 1 : 0);
-      program_.set("uTransmissionTexCoord", m.transmissionTexture.texCoord);
-      program_.set("uTransmissionUvTransform", m.transmissionTexture.uvTransform);
+      shader.set("uObject", static_cast<int>(index));
+      shader.set("uBaseColorFactor", m.baseColorFactor);
+      shader.set("uHasBaseColorTexture", material.baseColor != 0 ? 1 : 0);
+      shader.set("uBaseColorTexCoord", m.baseColorTexture.texCoord);
+      shader.set("uBaseColorUvTransform", m.baseColorTexture.uvTransform);
+      shader.set("uAlphaMode", static_cast<int>(m.alphaMode));
+      shader.set("uAlphaCutoff", m.alphaCutoff);
+      shader.set("uTransmission", m.transmissionFactor);
+      shader.set("uHasTransmissionTexture", material.transmission != 0 ? 1 : 0);
+      shader.set("uTransmissionTexCoord", m.transmissionTexture.texCoord);
+      shader.set("uTransmissionUvTransform", m.transmissionTexture.uvTransform);
       glBindTextureUnit(contract::kTransmissionUnit, material.transmission);
       glBindSampler(contract::kTransmissionUnit, material.transmissionSampler);
       // Volumes and diffuse transmission (translucency.h); the textures are 0 unless the
       // lighting pass draws them, which is when these apply.
-      program_.set("uVolumeAttenuationExponent",
+      if (features & kVolumeFeature) {
+        shader.set("uVolumeAttenuationExponent",
                    volumeAttenuationExponent(m, volumeScale(draw.world)));
-      program_.set("uHasThicknessTexture", material.thickness != 0 ? 1 : 0);
-      program_.set("uThicknessTexCoord", m.thicknessTexture.texCoord);
-      program_.set("uThicknessUvTransform", m.thicknessTexture.uvTransform);
-      program_.set("uDiffuseTransmission",
-                   hasDiffuseTransmission(m) ? m.diffuseTransmissionFactor : 0.0f);
-      program_.set("uDiffuseTransmissionColor", m.diffuseTransmissionColorFactor);
-      program_.set("uHasDiffuseTransmissionTexture", material.diffuseTransmission != 0 ? 1 : 0);
-      program_.set("uDiffuseTransmissionTexCoord", m.diffuseTransmissionTexture.texCoord);
-      program_.set("uDiffuseTransmissionUvTransform", m.diffuseTransmissionTexture.uvTransform);
-      program_.set("uHasDiffuseTransmissionColorTexture",
-                   material.diffuseTransmissionColor != 0 ? 1 : 0);
-      program_.set("uDiffuseTransmissionColorTexCoord", m.diffuseTransmissionColorTexture.texCoord);
-      program_.set("uDiffuseTransmissionColorUvTransform",
-                   m.diffuseTransmissionColorTexture.uvTransform);
-      for (const auto& [unit, texture, sampler] :
-           {std::tuple{contract::kShadowThicknessUnit, material.thickness,
-                       material.thicknessSampler},
-            std::tuple{contract::kShadowDiffuseTransmissionUnit, material.diffuseTransmission,
-                       material.diffuseTransmissionSampler},
-            std::tuple{contract::kShadowDiffuseTransmissionColorUnit,
-                       material.diffuseTransmissionColor,
-                       material.diffuseTransmissionColorSampler}}) {
-        glBindTextureUnit(unit, texture);
-        glBindSampler(unit, sampler);
+        shader.set("uHasThicknessTexture", material.thickness != 0 ? 1 : 0);
+        shader.set("uThicknessTexCoord", m.thicknessTexture.texCoord);
+        shader.set("uThicknessUvTransform", m.thicknessTexture.uvTransform);
+        glBindTextureUnit(contract::kShadowThicknessUnit, material.thickness);
+        glBindSampler(contract::kShadowThicknessUnit, material.thicknessSampler);
       }
-      glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);
-      glBindSampler(contract::kBaseColorUnit, material.baseColorSampler);
+      if (features & kDiffuseTransmissionFeature) {
+        shader.set("uDiffuseTransmission",
+                   hasDiffuseTransmission(m) ? m.diffuseTransmissionFactor : 0.0f);
+        shader.set("uDiffuseTransmissionColor", m.diffuseTransmissionColorFactor);
+        shader.set("uHasDiffuseTransmissionTexture", material.diffuseTransmission != 0 ? 1 : 0);
+        shader.set("uDiffuseTransmissionTexCoord", m.diffuseTransmissionTexture.texCoord);
+        shader.set("uDiffuseTransmissionUvTransform", m.diffuseTransmissionTexture.uvTransform);
+        shader.set("uHasDiffuseTransmissionColorTexture",
+                   material.diffuseTransmissionColor != 0 ? 1 : 0);
+        shader.set("uDiffuseTransmissionColorTexCoord", m.diffuseTransmissionColorTexture.texCoord);
+        shader.set("uDiffuseTransmissionColorUvTransform",
+                   m.diffuseTransmissionColorTexture.uvTransform);
+        for (const auto& [unit, texture, sampler] :
+             {std::tuple{contract::kShadowDiffuseTransmissionUnit, material.diffuseTransmission,
+                         material.diffuseTransmissionSampler},
+              std::tuple{contract::kShadowDiffuseTransmissionColorUnit,
+                         material.diffuseTransmissionColor,
+                         material.diffuseTransmissionColorSampler}}) {
+          glBindTextureUnit(unit, texture);
+          glBindSampler(unit, sampler);
+        }
+      }
       const GpuMeshRange& range = scene.meshes()[draw.mesh];
       glDrawElementsBaseVertex(
           GL_TRIANGLES, range.indexCount, GL_UNSIGNED_INT,

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <array>
+#include <memory>
 #include <vector>
 
 #include "renderer/gl/gl_resources.h"
@@ -84,7 +86,11 @@ class TransmittancePass {
   // Where the layer's casters are drawn: its atlas layer, or the scratch layer.
   void attachTarget(const TexelRect& rect, int atlasLayer, int resolution);
 
-  ShaderProgram program_;
+  // The program for casters with or without volumes (bit 0) and diffuse transmission (bit 1),
+  // made when first needed.
+  const ShaderProgram& program(unsigned features);
+
+  std::array<std::unique_ptr<ShaderProgram>, 4> programs_;
   gl::Framebuffer framebuffer_;
   gl::Texture atlas_;
   int width_ = 0, height_ = 0, layers_ = 0;

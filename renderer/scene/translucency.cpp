@@ -26,19 +26,21 @@ glm::vec3 surfaceTransmittance(const Material& material, const SurfaceTexels& te
   float alpha = 1.0f;
   if (material.alphaMode == AlphaMode::Blend) alpha = glm::clamp(base.a, 0.0f, 1.0f);
   if (material.alphaMode == AlphaMode::Mask && base.a < material.alphaCutoff) return {1, 1, 1};
-  const glm::vec3 color = glm::clamp(glm::vec3(base), 0.0f, 1.0f);
+  // In the order the shader multiplies (shadow_transmittance.frag), so that a material without
+  // a volume or diffuse transmission gives the same float as before they counted.
+  const glm::vec3 color = glm::clamp(glm::vec3(base), 0.0f, 1.0f) *
+                          glm::exp(volumeAttenuationExponent(material, volumeScale) *
+                                   glm::clamp(texels.thickness, 0.0f, 1.0f));
   const float transmission =
       material.transmissionFactor * glm::clamp(texels.transmission, 0.0f, 1.0f);
-  const glm::vec3 volume = glm::exp(volumeAttenuationExponent(material, volumeScale) *
-                                    glm::clamp(texels.thickness, 0.0f, 1.0f));
-  glm::vec3 through = transmission * color * volume;
+  glm::vec3 t = glm::vec3(1.0f - alpha) + alpha * transmission * color;
   if (hasDiffuseTransmission(material)) {
-    through += (1.0f - transmission) * material.diffuseTransmissionFactor *
-               glm::clamp(texels.diffuseTransmission, 0.0f, 1.0f) *
-               material.diffuseTransmissionColorFactor *
-               glm::clamp(texels.diffuseTransmissionColor, 0.0f, 1.0f);
+    t += alpha * (1.0f - transmission) * material.diffuseTransmissionFactor *
+         glm::clamp(texels.diffuseTransmission, 0.0f, 1.0f) *
+         (material.diffuseTransmissionColorFactor *
+          glm::clamp(texels.diffuseTransmissionColor, 0.0f, 1.0f));
   }
-  return glm::vec3(1.0f - alpha) + alpha * through;
+  return t;
 }
 
 bool hasTranslucentCasters(const Scene& scene) {
