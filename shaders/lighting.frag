@@ -14,7 +14,8 @@
 // KHR_materials_volume, and its texture), DISPERSION (with VOLUME, KHR_materials_dispersion),
 // ANISOTROPY and ANISOTROPY_TEXTURE (KHR_materials_anisotropy, and its texture), IRIDESCENCE,
 // IRIDESCENCE_TEXTURE and IRIDESCENCE_THICKNESS_TEXTURE (KHR_materials_iridescence, and each of
-// its textures), DIFFUSE_TRANSMISSION, DIFFUSE_TRANSMISSION_TEXTURE and
+// its textures; IRIDESCENCE_DIELECTRIC_ONLY or IRIDESCENCE_METAL_ONLY where metallic is 0 or 1
+// throughout), DIFFUSE_TRANSMISSION, DIFFUSE_TRANSMISSION_TEXTURE and
 // DIFFUSE_TRANSMISSION_COLOR_TEXTURE (KHR_materials_diffuse_transmission, and each texture).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
@@ -544,8 +545,18 @@ void main() {
 #endif
     float cosView = clamp(dot(N, V), 0.0, 1.0);
     film.strength = thickness > 0.0 ? clamp(strength, 0.0, 1.0) : 0.0;
+    // A base that weighs 0 everywhere (metallic 0 or 1 throughout) takes no film: mix() with a
+    // weight of 0 or 1 leaves the other's value exactly.
+#ifdef IRIDESCENCE_METAL_ONLY
+    film.dielectric = vec3(0.0);
+#else
     film.dielectric = iridescentFresnel(uIridescenceIor, filmBaseF0, thickness, cosView);
+#endif
+#ifdef IRIDESCENCE_DIELECTRIC_ONLY
+    film.metal = vec3(0.0);
+#else
     film.metal = iridescentFresnel(uIridescenceIor, baseColor.rgb, thickness, cosView);
+#endif
   }
 #endif
   float cameraDistance = length(uCameraPosition - vIn.worldPosition);
