@@ -375,6 +375,29 @@ TEST(AvifImage, AnAvifImageSequenceIsRefusedNamingTheImage) {
                 "takes still images)");
 }
 
+// libavif takes the container's size (its ispe box) over the AV1 frame's: 8x8 of AV1 data
+// under an ispe of 16384^2 would decode to 16384^2, 1.4 GB with the planes. AVIF's limit is
+// half the other formats' texels, checked from the container.
+TEST(AvifImage, AContainerClaimingMoreThanTheLimitIsRefusedFromItsHeader) {
+  std::vector<unsigned char> avif =
+      encodeAvif(8, 8, test_support::cornersPictureRgba(8, 8), Coding::Lossy);
+  const std::string ispe = "ispe";
+  const auto at = std::search(avif.begin(), avif.end(), ispe.begin(), ispe.end());
+  ASSERT_NE(at, avif.end());
+  // After the type, version and flags (4 bytes): width and height, big-endian.
+  const std::size_t size = static_cast<std::size_t>(at - avif.begin()) + 8;
+  for (std::size_t field : {size, size + 4})
+    for (int i = 0; i < 4; ++i)
+      avif[field + i] = static_cast<unsigned char>(16384u >> (24 - 8 * i));
+  TempFolder folder("avif");
+  const fs::path path = test_support::writeTexturedTriangle(
+      folder.path(), {{avif, "tex", "image/avif", "tex.avif", kAvif}}, ImageStorage::BufferView);
+  EXPECT_EQ(inputError([&] { loadGltf(path); }),
+            path.string() +
+                ": images[0] \"tex\": 16384x16384 texels is too large (at most 32768 per side "
+                "and 134217728 in all for AVIF)");
+}
+
 class AvifLoadingTest : public test_support::CliFixture {
  protected:
   AvifLoadingTest() : CliFixture("avif-loading") {}

@@ -25,10 +25,11 @@ namespace {
 // file but 16 GiB once decoded, so the header is checked before anything is allocated.
 constexpr std::uint32_t kMaxImageSide = 32768;
 constexpr std::uint64_t kMaxImageTexels = std::uint64_t{1} << 28;  // 1 GiB of RGBA8
-// libwebp's lossless decoder keeps the picture twice (its ARGB rows beside the RGBA output),
-// and neither can be bounded by the data (see imageTooLarge): half the texels, so that a file
-// of a few bytes makes it reserve at most 1 GiB in all.
-constexpr std::uint64_t kMaxWebpTexels = kMaxImageTexels / 2;
+// WebP and AVIF decoders keep the picture twice (libwebp's lossless ARGB rows, libavif's YUV
+// planes, up to 6 bytes a texel, beside the RGBA output), and neither can be bounded by the
+// data (see imageTooLarge): a few bytes can claim a picture as large as a container says (an
+// AVIF's ispe box of 16384^2 over an 8x8 AV1 frame decodes to 16384^2). Half the texels.
+constexpr std::uint64_t kMaxCodecTexels = kMaxImageTexels / 2;
 // Nor may a header claim more than its data can hold: stb_image allocates for the header before
 // it finds the data missing (a 400-byte JPEG can claim 16384 x 16384: 1 GiB, then decoded).
 // A PNG's unfiltered rows fit in kMaxDeflateExpansion bytes per byte of file; a JPEG codes
@@ -122,7 +123,7 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
     width = header.width;
     height = header.height;
     format = "WebP";
-    maxTexels = kMaxWebpTexels;
+    maxTexels = kMaxCodecTexels;
   } else if (isAvif(bytes, size)) {
     // Nor for AVIF; libavif reads the container's size (ispe) without decoding, and is given
     // the limits again to pass on to the AV1 decoder.
@@ -132,6 +133,7 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
     width = header.width;
     height = header.height;
     format = "AVIF";
+    maxTexels = kMaxCodecTexels;
   } else {
     return {};
   }
@@ -139,7 +141,8 @@ std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   if (width > kMaxImageSide || height > kMaxImageSide ||
       std::uint64_t{width} * height > maxTexels) {
     return texels + " is too large (at most " + std::to_string(kMaxImageSide) + " per side and " +
-           std::to_string(maxTexels) + " in all" + (format == "WebP" ? " for WebP)" : ")");
+           std::to_string(maxTexels) + " in all" +
+           (maxTexels != kMaxImageTexels ? " for " + format + ")" : ")");
   }
   // stb sizes its buffer for a PNG's rows with an int (16-bit RGBA at the limit overflows it).
   if (rawBytes > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
@@ -194,7 +197,7 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
     }
   }
   if (isAvif(bytes, length)) {
-    DecodedImage avif = decodeAvif(bytes, length, kMaxImageSide, kMaxImageTexels);
+    DecodedImage avif = decodeAvif(bytes, length, kMaxImageSide, kMaxCodecTexels);
     if (!avif.ok) {
       if (error) *error += "cannot decode the AVIF: " + avif.error + "\n";
       return false;
@@ -203,7 +206,7 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
     return true;
   }
   if (isWebp(bytes, length)) {
-    DecodedImage webp = decodeWebp(bytes, length, kMaxImageSide, kMaxWebpTexels);
+    DecodedImage webp = decodeWebp(bytes, length, kMaxImageSide, kMaxCodecTexels);
     if (!webp.ok) {
       if (error) *error += "cannot decode the WebP: " + webp.error + "\n";
       return false;
