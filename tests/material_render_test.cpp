@@ -1355,6 +1355,39 @@ TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsTh
   ASSERT_FALSE(encoded.beauty.pixels.empty());
 }
 
+// Two clear panes, one half a metre over the other, over the floor, seen straight down: the far
+// pane is drawn first, over a copy of the floor, and the near one over a copy that holds it, so
+// the floor shows through both: (1 - F0)^2 x base^2 x the floor's pixel. (Drawn over one copy,
+// the near pane would show the floor through itself alone.)
+TEST(TransmissionRender, ClearPanesOneBehindTheOtherShowEachOther) {
+  test_support::TempFolder folder("omnishadow-transmission-stacked");
+  const glm::vec3 floorColor(0.2f, 0.5f, 0.3f);
+  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
+  Light sun = sunAlong(-towardsSun, 3.0f);
+  sun.shadow.enabled = false;
+  const glm::vec3 eye(0.0f, 100.0f, 0.0f);
+  const auto frameOf = [&](const Scene& scene) {
+    const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 16, 16,
+                                       2.0f * glm::degrees(std::atan(0.2f / eye.y)), {0, 0, -1});
+    StageTimes times;
+    return sharedRenderer().render(scene, {sun}, glm::vec3(0.1f), camera, {}, times);
+  };
+  GlassInputs clear;
+  clear.roughness = 0.0f;
+  const Frame bare = frameOf(glassOverFloor(folder / "bare.gltf", clear, glm::vec4(floorColor, 1),
+                                            [](GltfBuilder& b) { b.model().nodes[0].mesh = -1; }));
+  const glm::vec3 floorPixel(bare.beauty.at(8, 8, 0), bare.beauty.at(8, 8, 1),
+                             bare.beauty.at(8, 8, 2));
+  const Frame stacked = frameOf(
+      glassOverFloor(folder / "stacked.gltf", clear, glm::vec4(floorColor, 1), [](GltfBuilder& b) {
+        b.addNode("far glass", {glm::vec3(0.0f, -0.5f, 0.0f)}, b.model().nodes[0].mesh);
+      }));
+  const glm::vec3 once = (1.0f - fresnel004(1.0f)) * clear.base;
+  const glm::vec3 expected = once * once * floorPixel;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(stacked.beauty.at(8, 8, c), expected[c], 0.01f * expected[c]) << "channel " << c;
+}
+
 // Roughness blurs what shows through: across the seam of a red and a green floor, a rough pane's
 // pixels near the seam mix both colors where a clear pane's stay one; with an ior of 1 the
 // specification takes the roughness away, and the pane shows the seam sharp again.

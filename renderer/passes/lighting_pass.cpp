@@ -723,18 +723,66 @@ LightingPass::DrawSet LightingPass::drawSet(std::size_t material, const GpuScene
                                    : DrawSet::Blended;
 }
 
-LightingPass::SeeThrough LightingPass::seeThrough(const GpuScene& scene) const {
+LightingPass::SeeThrough LightingPass::seeThrough(const GpuScene& scene,
+                                                  const glm::mat4& view) const {
   SeeThrough found;
-  for (const GpuDraw& draw : scene.draws()) {
+  std::vector<BlendedDraw> draws;
+  for (std::size_t i = 0; i < scene.draws().size(); ++i) {
+    const GpuDraw& draw = scene.draws()[i];
     if (drawSet(draw.material, scene) != DrawSet::SeeThrough) continue;
     const GpuMaterial& material = scene.materials()[draw.material];
     found.any = true;
+    draws.push_back({i, draw.boundsCenter});
     // lighting.frag reads level log2(size) x roughness x clamp(2 ior - 2, 0, 1), and a
     // roughness texture only multiplies the factor.
     const Material& d = material.desc;
     if (d.roughnessFactor > 0.0f && d.ior > 1.0f) found.blurred = true;
   }
+  found.order = farthestFirst(draws, view);
   return found;
+}
+
+namespace {
+
+// The screen rectangle (x0, y0, x1, y1 in NDC) that a bounding sphere covers at most: its box's
+// corners projected; the whole screen when some corner lies behind the eye.
+glm::vec4 screenBounds(const glm::mat4& viewProjection, const glm::vec3& center, float radius) {
+  glm::vec4 bounds(1e30f, 1e30f, -1e30f, -1e30f);
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 offset((corner & 1) ? radius : -radius, (corner & 2) ? radius : -radius,
+                           (corner & 4) ? radius : -radius);
+    const glm::vec4 clip = viewProjection * glm::vec4(center + offset, 1.0f);
+    if (!(clip.w > 1e-6f)) return {-1.0f, -1.0f, 1.0f, 1.0f};
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    bounds = {std::min(bounds.x, ndc.x), std::min(bounds.y, ndc.y), std::max(bounds.z, ndc.x),
+              std::max(bounds.w, ndc.y)};
+  }
+  return bounds;
+}
+
+bool overlap(const glm::vec4& a, const glm::vec4& b) {
+  return a.x <= b.z && b.x <= a.z && a.y <= b.w && b.y <= a.w;
+}
+
+}  // namespace
+
+void LightingPass::drawSeeThrough(const GpuScene& scene, const SeeThrough& seen,
+                                  const glm::mat4& viewProjection, const FrameTargets& targets,
+                                  const FrameUniforms& uniforms) {
+  // Since the last copy: the screen bounds of the draws it does not hold.
+  std::vector<glm::vec4> sinceCopy;
+  for (std::size_t k = 0; k < seen.order.size(); ++k) {
+    const GpuDraw& draw = scene.draws()[seen.order[k]];
+    const glm::vec4 bounds = screenBounds(viewProjection, draw.boundsCenter, draw.boundsRadius);
+    if (k == 0 || std::any_of(sinceCopy.begin(), sinceCopy.end(),
+                              [&](const glm::vec4& drawn) { return overlap(drawn, bounds); })) {
+      copySceneBehind(targets, seen.blurred);
+      sinceCopy.clear();
+    }
+    const std::vector<std::size_t> one = {seen.order[k]};
+    drawScene(scene, DrawSet::SeeThrough, nullptr, uniforms, &one);
+    sinceCopy.push_back(bounds);
+  }
 }
 
 void LightingPass::copySceneBehind(const FrameTargets& targets, bool mipmaps) {
@@ -936,14 +984,16 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
 }
 
 void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
-                             const FrameUniforms& uniforms) {
+                             const FrameUniforms& uniforms, const std::vector<std::size_t>* only) {
   const bool lighting = depthOnly == nullptr;
   const ShaderProgram* current = depthOnly;
   if (depthOnly) depthOnly->use();
-  const bool sorted = set == DrawSet::Blended;
-  const std::size_t count = sorted ? blendedOrder_.size() : scene.draws().size();
+  const std::vector<std::size_t>* order = only                      ? only
+                                          : set == DrawSet::Blended ? &blendedOrder_
+                                                                    : nullptr;
+  const std::size_t count = order ? order->size() : scene.draws().size();
   for (std::size_t k = 0; k < count; ++k) {
-    const std::size_t index = sorted ? blendedOrder_[k] : k;
+    const std::size_t index = order ? (*order)[k] : k;
     const GpuDraw& draw = scene.draws()[index];
     const GpuMaterial& material = scene.materials()[draw.material];
     const DrawSet drawSet = this->drawSet(draw.material, scene);
@@ -988,7 +1038,7 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.firstIndex) * 4),
           range.baseVertex);
     };
-    if (sorted && material.desc.doubleSided) {
+    if (set == DrawSet::Blended && material.desc.doubleSided) {
       // Its back faces, then its front faces, so that "over" puts the side facing the camera
       // over the far side of a closed glass (as three.js and Filament draw them).
       gl::CullState{true, GL_FRONT, winding}.apply();
@@ -1100,11 +1150,13 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
   // See-through surfaces over what the opaque and masked ones drew, which they read (the ids
   // pass has no beauty to read: they are opaque there).
-  if (const SeeThrough seen = seeThrough(scene); seen.any) {
+  if (const SeeThrough seen = seeThrough(scene, camera.view); seen.any) {
     if (writesSrgb8(outputs_))
       throw std::logic_error("the 8-bit beauty pass cannot draw see-through surfaces");
-    if (outputs_ != PassOutputs::Ids) copySceneBehind(targets, seen.blurred);
-    drawScene(scene, DrawSet::SeeThrough, nullptr, uniforms);
+    if (outputs_ != PassOutputs::Ids)
+      drawSeeThrough(scene, seen, uniforms.viewProjection, targets, uniforms);
+    else
+      drawScene(scene, DrawSet::SeeThrough, nullptr, uniforms);
   }
 
   // Blended surfaces over the opaque frame, farthest first; the AOVs, layers and ids keep the

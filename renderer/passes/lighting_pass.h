@@ -252,16 +252,24 @@ class LightingPass {
   struct SeeThrough {
     bool any = false;      // some draw is drawn see-through
     bool blurred = false;  // and some of those may read a coarser level (rough, ior above 1)
+    std::vector<std::size_t> order;  // the see-through draws, farthest from the camera first
   };
-  SeeThrough seeThrough(const GpuScene& scene) const;
+  SeeThrough seeThrough(const GpuScene& scene, const glm::mat4& view) const;
+  // Draws the see-through surfaces farthest first, each over a copy of what lies behind it:
+  // one copy for all of them, and another before each whose screen bounds meet those of one
+  // drawn since the last copy, so that see-through surfaces show each other.
+  void drawSeeThrough(const GpuScene& scene, const SeeThrough& seen,
+                      const glm::mat4& viewProjection, const FrameTargets& targets,
+                      const FrameUniforms& uniforms);
   // Copies the beauty drawn so far (the opaque and masked surfaces) into sceneBehind_, with its
   // mipmaps when `mipmaps`, and binds it where see-through surfaces read it.
   void copySceneBehind(const FrameTargets& targets, bool mipmaps);
   // depthOnly: that program for every draw; null: each material's lighting variant, whose
   // frame uniforms `uniforms` sets on first use. Blended draws go in blendedOrder_, a double-sided
   // one as two draws: back faces, then front faces.
+  // `only`: these draws, in this order (all of the set's, of `set`, when null).
   void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
-                 const FrameUniforms& uniforms);
+                 const FrameUniforms& uniforms, const std::vector<std::size_t>* only = nullptr);
   void drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program, bool lighting);
 
   Shading shading_;
