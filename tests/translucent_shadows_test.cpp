@@ -285,6 +285,30 @@ TEST(TranslucentShadows, VolumesAndDiffuseTransmissionTintAsTheRaysAndTheHandVal
   }
 }
 
+// Each pane's color and alpha from its own base color texture: a green and a red texel of alpha
+// 0.4 under white factors, transmission 0.5: (1 - 0.4) + 0.4 x 0.5 x the texel's color.
+TEST(TranslucentShadows, TexturedPanesTintAsTheirTexturesSay) {
+  Staged s = paneScene({{glass({1, 1, 1, 1}, AlphaMode::Blend, 0.5f), {-1.6f, 1.0f, 0.0f}, 1.5f},
+                        {glass({1, 1, 1, 1}, AlphaMode::Blend, 0.5f), {1.6f, 1.0f, 0.0f}, 1.5f}});
+  for (const std::uint8_t red : {0, 255}) {
+    Image texel;
+    texel.width = texel.height = 1;
+    texel.rgba = {red, static_cast<std::uint8_t>(255 - red), 0, 102};
+    s.scene.images.push_back(texel);
+    Texture texture;
+    texture.image = static_cast<int>(s.scene.images.size()) - 1;
+    s.scene.textures.push_back(texture);
+    s.scene.materials[s.scene.textures.size()].baseColorTexture.texture = texture.image;
+  }
+  const Frame frame = renderAovs(s);
+  const Light& point = s.lights[0];
+  for (const glm::vec3 hand : {glm::vec3(0.6f, 0.8f, 0.6f), glm::vec3(0.8f, 0.6f, 0.6f)}) {
+    const HandCheck check = checkFloor(s, *frame.aovs, point, hand);
+    EXPECT_GT(check.points, 100) << hand.r;
+    EXPECT_EQ(check.matching, check.points) << hand.r;
+  }
+}
+
 // A colored pane (BLEND with transmission) 1 unit over the floor: the floor under it receives
 // (1 - 0.8) + 0.8 x 0.5 x (1, 0.5, 0.2) = (0.6, 0.4, 0.28) of every light, as the rays find.
 TEST(TranslucentShadows, ColoredPaneCastsATintedShadowThatMatchesTheRaysAndTheHandValue) {

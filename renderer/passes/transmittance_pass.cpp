@@ -186,6 +186,8 @@ void TransmittancePass::render(const GpuScene& scene, const Light& light,
       shader.set("uTransmissionUvTransform", m.transmissionTexture.uvTransform);
       glBindTextureUnit(contract::kTransmissionUnit, material.transmission);
       glBindSampler(contract::kTransmissionUnit, material.transmissionSampler);
+      glBindTextureUnit(contract::kBaseColorUnit, material.baseColor);
+      glBindSampler(contract::kBaseColorUnit, material.baseColorSampler);
       // Volumes and diffuse transmission (translucency.h); the textures are 0 unless the
       // lighting pass draws them, which is when these apply.
       if (features & kVolumeFeature) {
