@@ -267,7 +267,7 @@ class LightingPass {
   // depthOnly: that program for every draw; null: each material's lighting variant, whose
   // frame uniforms `uniforms` sets on first use. Blended draws go in blendedOrder_, a double-sided
   // one as two draws: back faces, then front faces.
-  // `only`: these draws, in this order (all of the set's, of `set`, when null).
+  // `only`: just these draws of `set`, in this order (null: all of the set's).
   void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
                  const FrameUniforms& uniforms, const std::vector<std::size_t>* only = nullptr);
   void drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program, bool lighting);

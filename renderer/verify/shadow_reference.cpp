@@ -22,8 +22,6 @@ constexpr unsigned kInAovs = 2u;
 constexpr int kGlClampToEdge = 0x812F;
 constexpr int kGlMirroredRepeat = 0x8370;
 
-// What the alpha filter needs of one cut-out instance, copied so that the reference does not
-// depend on the Scene's lifetime.
 // One channel (or RGB) of a texture at the nearest texel, with KHR_texture_transform applied to
 // the per-vertex UVs (which an affine map allows); width 0 = no texture.
 struct TexelMap {
@@ -33,6 +31,8 @@ struct TexelMap {
   int wrapS = 0, wrapT = 0;
 };
 
+// What the alpha filter needs of one cut-out instance, copied so that the reference does not
+// depend on the Scene's lifetime.
 struct Cutout {
   std::vector<std::uint32_t> indices;  // 3 per triangle, in Embree's primitive order
   std::vector<float> vertexAlpha;      // baseColorFactor.a * COLOR_0.a
