@@ -1292,34 +1292,43 @@ TEST(TransmissionRender, ALightBehindThePaneShinesThroughItAsTheBtdfSays) {
   }
 }
 
-// The floor behind a pane, seen straight down through it (the sun to one side, no shadows, so
-// that the pane's own highlight misses the camera): a clear pane shows the floor's pixel times
-// transmission x base color x (1 - Fresnel); half the transmission shows half of that over half
-// the pane's own diffuse; an opaque pane's pixel is its diffuse alone. Where nothing lies behind
-// the pane, its coverage is 1 minus the fraction of the background it lets through.
-TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsThrough) {
-  test_support::TempFolder folder("omnishadow-transmission-floor");
-  const glm::vec3 floorColor(0.2f, 0.5f, 0.3f);
-  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
-  Light sun = sunAlong(-towardsSun, 3.0f);
-  sun.shadow.enabled = false;
-  const float ambient = 0.1f;
-  const auto frameOf = [&](const Scene& scene, glm::vec3 eye, RenderSettings settings = {}) {
+// glassOverFloor seen straight down from 100 m, 0.4 m of the pane across 16 x 16 pixels: the
+// sun to one side (no shadows), so that the pane's own highlight misses the camera.
+struct StraightDown {
+  glm::vec3 floorColor{0.2f, 0.5f, 0.3f};
+  glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
+  float ambient = 0.1f;
+
+  Frame frame(const Scene& scene, const RenderSettings& settings = {}) const {
+    Light sun = sunAlong(-towardsSun, 3.0f);
+    sun.shadow.enabled = false;
+    const glm::vec3 eye(0.0f, 100.0f, 0.0f);
     const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 16, 16,
                                        2.0f * glm::degrees(std::atan(0.2f / eye.y)), {0, 0, -1});
     StageTimes times;
     return sharedRenderer().render(scene, {sun}, glm::vec3(ambient), camera, settings, times);
-  };
-  const glm::vec3 eye(0.0f, 100.0f, 0.0f);
-  // The floor alone: the pane's extension makes it see-through, and a transmission of 1 and a
-  // white base over the floor leave (1 - F0) of the floor's radiance.
+  }
+  // The floor alone, at the middle pixel (the pane's node left without its mesh).
+  glm::vec3 floorPixel(const fs::path& folder) const {
+    const Frame bare =
+        frame(glassOverFloor(folder / "bare.gltf", GlassInputs{}, glm::vec4(floorColor, 1),
+                             [](GltfBuilder& b) { b.model().nodes[0].mesh = -1; }));
+    return {bare.beauty.at(8, 8, 0), bare.beauty.at(8, 8, 1), bare.beauty.at(8, 8, 2)};
+  }
+};
+
+// The floor behind a pane, seen straight down through it: a clear pane shows the floor's pixel
+// times transmission x base color x (1 - Fresnel); half the transmission shows half of that over
+// half the pane's own diffuse; an opaque pane's pixel is its diffuse alone. Where nothing lies
+// behind the pane, its coverage is 1 minus the fraction of the background it lets through.
+TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsThrough) {
+  test_support::TempFolder folder("omnishadow-transmission-floor");
+  const StraightDown view;
+  const glm::vec3 floorColor = view.floorColor, towardsSun = view.towardsSun;
+  const float ambient = view.ambient;
   GlassInputs clear;
   clear.roughness = 0.0f;
-  const Frame bare = frameOf(glassOverFloor(folder / "bare.gltf", clear, glm::vec4(floorColor, 1),
-                                            [](GltfBuilder& b) { b.model().nodes[0].mesh = -1; }),
-                             eye);
-  const glm::vec3 floorPixel(bare.beauty.at(8, 8, 0), bare.beauty.at(8, 8, 1),
-                             bare.beauty.at(8, 8, 2));
+  const glm::vec3 floorPixel = view.floorPixel(folder.path());
   ASSERT_GT(floorPixel.g, 0.1f);
   const float NdotL = towardsSun.y;
   const float VdotH = glm::dot(glm::vec3(0, 1, 0), glm::normalize(towardsSun + glm::vec3(0, 1, 0)));
@@ -1327,10 +1336,8 @@ TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsTh
     GlassInputs in;
     in.roughness = 0.0f;
     in.transmission = transmission;
-    const Frame frame =
-        frameOf(glassOverFloor(folder / ("t" + std::to_string(transmission) + ".gltf"), in,
-                               glm::vec4(floorColor, 1)),
-                eye);
+    const Frame frame = view.frame(glassOverFloor(
+        folder / ("t" + std::to_string(transmission) + ".gltf"), in, glm::vec4(floorColor, 1)));
     const glm::vec3 diffuse =
         (1.0f - fresnel004(VdotH)) * in.base / kPi * 3.0f * NdotL + ambient * in.base;
     const glm::vec3 expected = (1.0f - transmission) * diffuse +
@@ -1342,7 +1349,7 @@ TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsTh
   }
   // Nothing behind: the pane covers 1 - transmission x (1 - F0) x mean(base color) of the pixel,
   // and its color holds no background.
-  const Frame alone = frameOf(glassOverFloor(folder / "alone.gltf", clear, glm::vec4(0.0f)), eye);
+  const Frame alone = view.frame(glassOverFloor(folder / "alone.gltf", clear, glm::vec4(0.0f)));
   const float letThrough =
       (1.0f - fresnel004(1.0f)) * (clear.base.r + clear.base.g + clear.base.b) / 3.0f;
   EXPECT_NEAR(alone.beauty.at(8, 8, 3), 1.0f - letThrough, 1e-3f);
@@ -1350,7 +1357,7 @@ TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsTh
   RenderSettings srgb8;
   srgb8.srgb8Exposure = 0.0f;
   const Frame encoded =
-      frameOf(glassOverFloor(folder / "encoded.gltf", clear, glm::vec4(floorColor, 1)), eye, srgb8);
+      view.frame(glassOverFloor(folder / "encoded.gltf", clear, glm::vec4(floorColor, 1)), srgb8);
   EXPECT_FALSE(encoded.srgb8.has_value());
   ASSERT_FALSE(encoded.beauty.pixels.empty());
 }
@@ -1361,25 +1368,12 @@ TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsTh
 // the near pane would show the floor through itself alone.)
 TEST(TransmissionRender, ClearPanesOneBehindTheOtherShowEachOther) {
   test_support::TempFolder folder("omnishadow-transmission-stacked");
-  const glm::vec3 floorColor(0.2f, 0.5f, 0.3f);
-  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
-  Light sun = sunAlong(-towardsSun, 3.0f);
-  sun.shadow.enabled = false;
-  const glm::vec3 eye(0.0f, 100.0f, 0.0f);
-  const auto frameOf = [&](const Scene& scene) {
-    const ViewCamera camera = lookFrom(scene, eye, {0, 0, 0}, 16, 16,
-                                       2.0f * glm::degrees(std::atan(0.2f / eye.y)), {0, 0, -1});
-    StageTimes times;
-    return sharedRenderer().render(scene, {sun}, glm::vec3(0.1f), camera, {}, times);
-  };
+  const StraightDown view;
   GlassInputs clear;
   clear.roughness = 0.0f;
-  const Frame bare = frameOf(glassOverFloor(folder / "bare.gltf", clear, glm::vec4(floorColor, 1),
-                                            [](GltfBuilder& b) { b.model().nodes[0].mesh = -1; }));
-  const glm::vec3 floorPixel(bare.beauty.at(8, 8, 0), bare.beauty.at(8, 8, 1),
-                             bare.beauty.at(8, 8, 2));
-  const Frame stacked = frameOf(
-      glassOverFloor(folder / "stacked.gltf", clear, glm::vec4(floorColor, 1), [](GltfBuilder& b) {
+  const glm::vec3 floorPixel = view.floorPixel(folder.path());
+  const Frame stacked = view.frame(glassOverFloor(
+      folder / "stacked.gltf", clear, glm::vec4(view.floorColor, 1), [](GltfBuilder& b) {
         b.addNode("far glass", {glm::vec3(0.0f, -0.5f, 0.0f)}, b.model().nodes[0].mesh);
       }));
   const glm::vec3 once = (1.0f - fresnel004(1.0f)) * clear.base;
