@@ -1382,6 +1382,30 @@ TEST(TransmissionRender, ClearPanesOneBehindTheOtherShowEachOther) {
     EXPECT_NEAR(stacked.beauty.at(8, 8, c), expected[c], 0.01f * expected[c]) << "channel " << c;
 }
 
+// A thin-walled, double-sided glass box over the floor, seen straight down: its back faces are
+// drawn first, the beauty copied, then its front faces, so that its top shows its bottom and the
+// floor through both, as two panes would. A flat double-sided pane has one side to show.
+TEST(TransmissionRender, AThinWalledBoxShowsItsFarSideThroughItsNearSide) {
+  test_support::TempFolder folder("omnishadow-transmission-box");
+  const StraightDown view;
+  GlassInputs clear;
+  clear.roughness = 0.0f;
+  const glm::vec3 floorPixel = view.floorPixel(folder.path());
+  const Frame box = view.frame(
+      glassOverFloor(folder / "box.gltf", clear, glm::vec4(view.floorColor, 1), [](GltfBuilder& b) {
+        tinygltf::Model& model = b.model();
+        model.materials[0].doubleSided = true;
+        PrimitiveOptions options;
+        options.material = 0;
+        model.nodes[0].mesh = b.addMesh(builder::makeBox(glm::vec3(2.0f, 0.2f, 2.0f)), options);
+        model.nodes[0].translation = {0.0, -0.5, 0.0};
+      }));
+  const glm::vec3 once = (1.0f - fresnel004(1.0f)) * clear.base;
+  const glm::vec3 expected = once * once * floorPixel;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(box.beauty.at(8, 8, c), expected[c], 0.01f * expected[c]) << "channel " << c;
+}
+
 // Roughness blurs what shows through: across the seam of a red and a green floor, a rough pane's
 // pixels near the seam mix both colors where a clear pane's stay one; with an ior of 1 the
 // specification takes the roughness away, and the pane shows the seam sharp again.

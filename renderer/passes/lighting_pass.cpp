@@ -769,18 +769,29 @@ bool overlap(const glm::vec4& a, const glm::vec4& b) {
 void LightingPass::drawSeeThrough(const GpuScene& scene, const SeeThrough& seen,
                                   const glm::mat4& viewProjection, const FrameTargets& targets,
                                   const FrameUniforms& uniforms) {
-  // Since the last copy: the screen bounds of the draws it does not hold.
+  // The screen bounds of the draws since the last copy, which it does not hold.
   std::vector<glm::vec4> sinceCopy;
+  const auto copy = [&] {
+    copySceneBehind(targets, seen.blurred);
+    sinceCopy.clear();
+  };
   for (std::size_t k = 0; k < seen.order.size(); ++k) {
     const GpuDraw& draw = scene.draws()[seen.order[k]];
     const glm::vec4 bounds = screenBounds(viewProjection, draw.boundsCenter, draw.boundsRadius);
     if (k == 0 || std::any_of(sinceCopy.begin(), sinceCopy.end(),
-                              [&](const glm::vec4& drawn) { return overlap(drawn, bounds); })) {
-      copySceneBehind(targets, seen.blurred);
-      sinceCopy.clear();
-    }
+                              [&](const glm::vec4& other) { return overlap(other, bounds); }))
+      copy();
     const std::vector<std::size_t> one = {seen.order[k]};
-    drawScene(scene, DrawSet::SeeThrough, nullptr, uniforms, &one);
+    // A closed thin wall shows its far side through its near side. A flat mesh shows one side.
+    const bool twoWalls = scene.materials()[draw.material].desc.doubleSided &&
+                          !(frameVariants_[draw.material] & kVolumeBit) && !draw.plane;
+    if (twoWalls) {
+      drawScene(scene, DrawSet::SeeThrough, nullptr, uniforms, &one, GL_BACK);
+      copy();
+      drawScene(scene, DrawSet::SeeThrough, nullptr, uniforms, &one, GL_FRONT);
+    } else {
+      drawScene(scene, DrawSet::SeeThrough, nullptr, uniforms, &one);
+    }
     sinceCopy.push_back(bounds);
   }
 }
@@ -984,7 +995,8 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
 }
 
 void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
-                             const FrameUniforms& uniforms, const std::vector<std::size_t>* only) {
+                             const FrameUniforms& uniforms, const std::vector<std::size_t>* only,
+                             GLenum faces) {
   const bool lighting = depthOnly == nullptr;
   const ShaderProgram* current = depthOnly;
   if (depthOnly) depthOnly->use();
@@ -1018,7 +1030,10 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     const ShaderProgram& program = *current;
     // A mirrored transform turns the winding around, so front faces are the clockwise ones.
     const auto winding = static_cast<GLenum>(draw.mirrored ? GL_CW : GL_CCW);
-    gl::CullState{!material.desc.doubleSided, GL_BACK, winding}.apply();
+    if (faces == GL_FRONT_AND_BACK)
+      gl::CullState{!material.desc.doubleSided, GL_BACK, winding}.apply();
+    else
+      gl::CullState{true, faces == GL_FRONT ? GL_BACK : GL_FRONT, winding}.apply();
     program.set("uModel", draw.world);
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
     if (lighting) {

@@ -257,7 +257,8 @@ class LightingPass {
   SeeThrough seeThrough(const GpuScene& scene, const glm::mat4& view) const;
   // Draws the see-through surfaces farthest first, each over a copy of what lies behind it:
   // one copy for all of them, and another before each whose screen bounds meet those of one
-  // drawn since the last copy, so that see-through surfaces show each other.
+  // drawn since the last copy, so that see-through surfaces show each other; a thin-walled
+  // double-sided mesh that is not flat draws its back faces, is copied, then its front faces.
   void drawSeeThrough(const GpuScene& scene, const SeeThrough& seen,
                       const glm::mat4& viewProjection, const FrameTargets& targets,
                       const FrameUniforms& uniforms);
@@ -267,9 +268,11 @@ class LightingPass {
   // depthOnly: that program for every draw; null: each material's lighting variant, whose
   // frame uniforms `uniforms` sets on first use. Blended draws go in blendedOrder_, a double-sided
   // one as two draws: back faces, then front faces.
-  // `only`: just these draws of `set`, in this order (null: all of the set's).
+  // `only`: just these draws of `set`, in this order (null: all of the set's). `faces`: GL_FRONT
+  // or GL_BACK to draw only those faces (GL_FRONT_AND_BACK: as the material says).
   void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
-                 const FrameUniforms& uniforms, const std::vector<std::size_t>* only = nullptr);
+                 const FrameUniforms& uniforms, const std::vector<std::size_t>* only = nullptr,
+                 GLenum faces = GL_FRONT_AND_BACK);
   void drawPointsAndLines(const GpuMeshRange& range, const ShaderProgram& program, bool lighting);
 
   Shading shading_;
