@@ -311,7 +311,11 @@ Json toJson(const Info& info) {
     Json imageJson = nullptr;
     if (image >= 0) {
       const Image& im = scene.images[static_cast<std::size_t>(image)];
-      imageJson = {{"index", image}, {"name", im.name}, {"width", im.width}, {"height", im.height}};
+      imageJson = {{"index", image},
+                   {"name", im.name},
+                   {"width", im.width},
+                   {"height", im.height},
+                   {"format", im.format}};
     }
     textures.push_back({{"index", i}, {"image", imageJson}});
   }
@@ -490,7 +494,7 @@ void printText(const Info& info) {
     }
     const Image& im = scene.images[static_cast<std::size_t>(image)];
     rows.push_back({std::to_string(i), "image " + std::to_string(image), quoted(im.name),
-                    std::to_string(im.width) + "x" + std::to_string(im.height)});
+                    std::to_string(im.width) + "x" + std::to_string(im.height), im.format});
   }
   printTable(rows);
 

@@ -133,6 +133,7 @@ TEST_P(ExtensionImageTest, LosslessFilesDecodeToTheSourceTexelsFromABufferViewAF
     EXPECT_EQ(image.width, kWidth);
     EXPECT_EQ(image.height, kHeight);
     EXPECT_EQ(image.rgba, source) << "storage " << int(storage);
+    EXPECT_EQ(image.format, format.name);
     EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
     EXPECT_TRUE(scene.source.extensions.at(0).supported);
   }
@@ -264,6 +265,7 @@ TEST(WebpImage, TheWebpIsDrawnAndItsPngFallbackIsNotDecoded) {
   ASSERT_EQ(scene.images.size(), 2u);
   EXPECT_EQ(scene.textures.at(0).image, 1);
   EXPECT_TRUE(scene.images[0].rgba.empty());
+  EXPECT_EQ(scene.images[0].format, "");
   EXPECT_EQ(scene.images[1].rgba, red);
   EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
 }

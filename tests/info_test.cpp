@@ -188,7 +188,8 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
             (Keys{"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"}));
   ASSERT_FALSE(doc["textures"].empty());
   EXPECT_EQ(keys(doc["textures"][0]), (Keys{"index", "image"}));
-  EXPECT_EQ(keys(doc["textures"][0]["image"]), (Keys{"index", "name", "width", "height"}));
+  EXPECT_EQ(keys(doc["textures"][0]["image"]),
+            (Keys{"index", "name", "width", "height", "format"}));
   ASSERT_FALSE(doc["cameras"].empty());
   EXPECT_EQ(keys(doc["cameras"][0]),
             (Keys{"index", "name", "node", "type", "yfovDegrees", "aspectRatio", "xmag", "ymag",
@@ -263,6 +264,7 @@ TEST_F(InfoTest, ListsMaterialsTexturesAndCameras) {
   EXPECT_EQ(doc["textures"][0]["image"]["name"], "leaves");
   EXPECT_EQ(doc["textures"][0]["image"]["width"], 4);
   EXPECT_EQ(doc["textures"][0]["image"]["height"], 2);
+  EXPECT_EQ(doc["textures"][0]["image"]["format"], "PNG");
 
   ASSERT_EQ(doc["cameras"].size(), 1u);
   const Json& camera = doc["cameras"][0];
@@ -397,7 +399,7 @@ TEST_F(InfoTest, TextReportHasTheKeyLines) {
         std::string("  1  \"leaf\"   MASK 0.3  double-sided"),
         std::string("textures baseColor=0\n"),
         std::string("textures    1 (1 image)\n"),
-        std::string("  0  image 0  \"leaves\"  4x2\n"),
+        std::string("  0  image 0  \"leaves\"  4x2  PNG\n"),
         std::string("cameras     1\n"),
         std::string("  0  \"main\"  perspective  yfov 45.8366 deg  at (0, 2, 5)\n"),
         std::string("lights      2\n"),

@@ -84,6 +84,14 @@ std::optional<std::pair<std::uint32_t, std::uint32_t>> jpegFrameSize(const unsig
 
 }  // namespace
 
+std::string imageMimeType(const unsigned char* bytes, std::size_t size) {
+  return isPng(bytes, size)    ? "image/png"
+         : isJpeg(bytes, size) ? "image/jpeg"
+         : isWebp(bytes, size) ? "image/webp"
+         : isAvif(bytes, size) ? "image/avif"
+                               : "";
+}
+
 // Empty string when a PNG, JPEG, WebP or AVIF may be decoded, else why not.
 std::string imageTooLarge(const unsigned char* bytes, std::size_t size) {
   std::uint32_t width = 0, height = 0;
@@ -178,8 +186,10 @@ void setRgba8(tinygltf::Image& image, int width, int height, std::vector<unsigne
 
 }  // namespace
 
-bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
-                 const unsigned char* bytes, int size) {
+namespace {
+
+bool decodePixels(tinygltf::Image* image, int index, std::string* error, std::string* warning,
+                  const unsigned char* bytes, int size) {
   const auto length = static_cast<std::size_t>(std::max(size, 0));
   if (isJpeg(bytes, length)) {
     DecodedJpeg jpeg = decodeJpeg(bytes, length, kMaxImageSide, kMaxImageTexels);
@@ -222,6 +232,15 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
     return true;
   }
   return tinygltf::LoadImageData(image, index, error, warning, 0, 0, bytes, size, nullptr);
+}
+
+}  // namespace
+
+bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
+                 const unsigned char* bytes, int size) {
+  if (!decodePixels(image, index, error, warning, bytes, size)) return false;
+  image->mimeType = imageMimeType(bytes, static_cast<std::size_t>(std::max(size, 0)));
+  return true;
 }
 
 bool isExtensionImageFormat(const unsigned char* b, std::size_t size) {

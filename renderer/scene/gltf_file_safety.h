@@ -19,13 +19,18 @@ bool isDecodableImage(const unsigned char* b, std::size_t size);
 // bring, which the loader never decodes.
 bool isExtensionImageFormat(const unsigned char* b, std::size_t size);
 
+// "image/png", "image/jpeg", "image/webp" or "image/avif" as the bytes' signature says; empty
+// for anything else.
+std::string imageMimeType(const unsigned char* bytes, std::size_t size);
+
 // Empty string when a PNG, JPEG, WebP or AVIF may be decoded, else why not.
 std::string imageTooLarge(const unsigned char* bytes, std::size_t size);
 
 // Decodes a PNG, JPEG, WebP or AVIF that passed the checks above into `image`, as
 // tinygltf::LoadImageData would (width, height, component, bits, pixel_type, image): JPEG with
 // libjpeg-turbo, and with stb_image (tinygltf's decoder) the CMYK JPEGs libjpeg-turbo does not
-// turn into RGB; PNG with libdeflate or stb_image; WebP with libwebp; AVIF with libavif. Damaged
+// turn into RGB; PNG with libdeflate or stb_image; WebP with libwebp; AVIF with libavif.
+// Sets `image`'s mimeType to what the bytes are (imageMimeType). Damaged
 // JPEG data that still gives a picture adds a line to `warning`; a JPEG libjpeg-turbo refuses is an
 // error, not tried again with stb_image.
 bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,

@@ -126,6 +126,15 @@ std::vector<Decoded> decodeImages(const Context& ctx, const std::vector<bool>& u
   return out;
 }
 
+// "PNG", "JPEG", "WebP" or "AVIF" for the mime type decodeImage() set.
+std::string formatName(const std::string& mimeType) {
+  return mimeType == "image/png"    ? "PNG"
+         : mimeType == "image/jpeg" ? "JPEG"
+         : mimeType == "image/webp" ? "WebP"
+         : mimeType == "image/avif" ? "AVIF"
+                                    : "";
+}
+
 // Any channel count (1 = gray, 2 = gray + alpha) and 8 or 16 bits to RGBA8.
 std::vector<std::uint8_t> toRgba8(const Context& ctx, const tinygltf::Image& decoded,
                                   const std::string& object) {
@@ -202,6 +211,7 @@ void convertImages(Context& ctx) {
                                                    static_cast<std::size_t>(decoded.height) * 4;
     // A decoded JPEG is RGBA8 already; the copy of 16 MB (Sundial) is not free.
     image.rgba = rgba8 && byLoader ? std::move(ours.image.image) : toRgba8(ctx, decoded, object);
+    image.format = formatName(decoded.mimeType);
     ours.image = {};  // the decoded bytes, when they were converted
     ctx.scene.images.push_back(std::move(image));
   }

@@ -21,6 +21,9 @@ struct Image {
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> rgba;  // 8-bit RGBA, first row = top of the picture (as in the file)
+  // What the file was, as decoded: "PNG", "JPEG", "WebP" or "AVIF"; empty for an image that
+  // is not decoded (a fallback that no texture draws, or KTX2 and DDS).
+  std::string format;
 };
 
 // glTF sampler codes (GL enums), with glTF's defaults.
