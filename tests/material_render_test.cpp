@@ -1362,48 +1362,44 @@ TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsTh
   ASSERT_FALSE(encoded.beauty.pixels.empty());
 }
 
-// Two clear panes, one half a metre over the other, over the floor, seen straight down: the far
-// pane is drawn first, over a copy of the floor, and the near one over a copy that holds it, so
-// the floor shows through both: (1 - F0)^2 x base^2 x the floor's pixel. (Drawn over one copy,
-// the near pane would show the floor through itself alone.)
-TEST(TransmissionRender, ClearPanesOneBehindTheOtherShowEachOther) {
-  test_support::TempFolder folder("omnishadow-transmission-stacked");
+// The floor seen straight down through two clear walls of glass (the scene `extend` makes of
+// glassOverFloor's): (1 - F0)^2 x base^2 x the floor's pixel, within 1%. One wall alone would
+// show (1 - F0) x base x the floor's pixel.
+void expectTheFloorThroughTwoWalls(const std::string& name,
+                                   const std::function<void(GltfBuilder&)>& extend) {
+  test_support::TempFolder folder("omnishadow-transmission-" + name);
   const StraightDown view;
   GlassInputs clear;
   clear.roughness = 0.0f;
   const glm::vec3 floorPixel = view.floorPixel(folder.path());
-  const Frame stacked = view.frame(glassOverFloor(
-      folder / "stacked.gltf", clear, glm::vec4(view.floorColor, 1), [](GltfBuilder& b) {
-        b.addNode("far glass", {glm::vec3(0.0f, -0.5f, 0.0f)}, b.model().nodes[0].mesh);
-      }));
+  const Frame frame = view.frame(
+      glassOverFloor(folder / (name + ".gltf"), clear, glm::vec4(view.floorColor, 1), extend));
   const glm::vec3 once = (1.0f - fresnel004(1.0f)) * clear.base;
   const glm::vec3 expected = once * once * floorPixel;
   for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(stacked.beauty.at(8, 8, c), expected[c], 0.01f * expected[c]) << "channel " << c;
+    EXPECT_NEAR(frame.beauty.at(8, 8, c), expected[c], 0.01f * expected[c]) << "channel " << c;
 }
 
-// A thin-walled, double-sided glass box over the floor, seen straight down: its back faces are
-// drawn first, the beauty copied, then its front faces, so that its top shows its bottom and the
-// floor through both, as two panes would. A flat double-sided pane has one side to show.
+// Two clear panes, one half a metre over the other: the far pane is drawn first, over a copy of
+// the floor, and the near one over a copy that holds it.
+TEST(TransmissionRender, ClearPanesOneBehindTheOtherShowEachOther) {
+  expectTheFloorThroughTwoWalls("stacked", [](GltfBuilder& b) {
+    b.addNode("far glass", {glm::vec3(0.0f, -0.5f, 0.0f)}, b.model().nodes[0].mesh);
+  });
+}
+
+// A thin-walled, double-sided glass box: its back faces are drawn first, the beauty copied,
+// then its front faces, so that its top shows its bottom (a flat double-sided pane has one side
+// to show).
 TEST(TransmissionRender, AThinWalledBoxShowsItsFarSideThroughItsNearSide) {
-  test_support::TempFolder folder("omnishadow-transmission-box");
-  const StraightDown view;
-  GlassInputs clear;
-  clear.roughness = 0.0f;
-  const glm::vec3 floorPixel = view.floorPixel(folder.path());
-  const Frame box = view.frame(
-      glassOverFloor(folder / "box.gltf", clear, glm::vec4(view.floorColor, 1), [](GltfBuilder& b) {
-        tinygltf::Model& model = b.model();
-        model.materials[0].doubleSided = true;
-        PrimitiveOptions options;
-        options.material = 0;
-        model.nodes[0].mesh = b.addMesh(builder::makeBox(glm::vec3(2.0f, 0.2f, 2.0f)), options);
-        model.nodes[0].translation = {0.0, -0.5, 0.0};
-      }));
-  const glm::vec3 once = (1.0f - fresnel004(1.0f)) * clear.base;
-  const glm::vec3 expected = once * once * floorPixel;
-  for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(box.beauty.at(8, 8, c), expected[c], 0.01f * expected[c]) << "channel " << c;
+  expectTheFloorThroughTwoWalls("box", [](GltfBuilder& b) {
+    tinygltf::Model& model = b.model();
+    model.materials[0].doubleSided = true;
+    PrimitiveOptions options;
+    options.material = 0;
+    model.nodes[0].mesh = b.addMesh(builder::makeBox(glm::vec3(2.0f, 0.2f, 2.0f)), options);
+    model.nodes[0].translation = {0.0, -0.5, 0.0};
+  });
 }
 
 // Roughness blurs what shows through: across the seam of a red and a green floor, a rough pane's
