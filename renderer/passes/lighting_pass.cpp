@@ -1033,7 +1033,8 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     if (faces == GL_FRONT_AND_BACK)
       gl::CullState{!material.desc.doubleSided, GL_BACK, winding}.apply();
     else
-      gl::CullState{true, faces == GL_FRONT ? GL_BACK : GL_FRONT, winding}.apply();
+      gl::CullState{true, static_cast<GLenum>(faces == GL_FRONT ? GL_BACK : GL_FRONT), winding}
+          .apply();
     program.set("uModel", draw.world);
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
     if (lighting) {
