@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <glm/glm.hpp>
+#include <limits>
 
 namespace omnishadow::gltf_detail {
 
@@ -72,22 +73,31 @@ const tinygltf::Value* extensionOf(const tinygltf::Material& material, const cha
   return found == material.extensions.end() ? nullptr : &found->second;
 }
 
+// A number that `valid` accepts, or `fallback` when the property is absent; any other value
+// fails "<property> must be <what>".
+template <class Valid>
+float checkedNumber(const Context& ctx, const std::string& object, const tinygltf::Value& parent,
+                    const char* property, double fallback, Valid valid, const char* what) {
+  if (!parent.Has(property)) return static_cast<float>(fallback);
+  const double value = number(ctx, object, parent, property, fallback);
+  if (!valid(value)) ctx.fail(object, std::string(property) + " must be " + what);
+  return static_cast<float>(value);
+}
+
 // A number in [0, 1], or `fallback` when the property is absent.
 float unitNumber(const Context& ctx, const std::string& object, const tinygltf::Value& parent,
                  const char* property, float fallback) {
-  const double value = number(ctx, object, parent, property, fallback);
-  if (!(value >= 0.0 && value <= 1.0))
-    ctx.fail(object, std::string(property) + " must be a number in [0, 1]");
-  return static_cast<float>(value);
+  return checkedNumber(
+      ctx, object, parent, property, fallback, [](double v) { return v >= 0.0 && v <= 1.0; },
+      "a number in [0, 1]");
 }
 
 // A number of at least 0 (finite), or `fallback` when the property is absent.
 float nonNegativeNumber(const Context& ctx, const std::string& object,
                         const tinygltf::Value& parent, const char* property, float fallback) {
-  const double value = number(ctx, object, parent, property, fallback);
-  if (!(value >= 0.0 && std::isfinite(value)))
-    ctx.fail(object, std::string(property) + " must be a number of at least 0");
-  return static_cast<float>(value);
+  return checkedNumber(
+      ctx, object, parent, property, fallback,
+      [](double v) { return v >= 0.0 && std::isfinite(v); }, "a number of at least 0");
 }
 
 // A color of 3 numbers in [0, 1], or `fallback` when the property is absent.
@@ -182,12 +192,9 @@ void applyVolume(const Context& ctx, std::size_t index, Material& material) {
   material.thicknessFactor = nonNegativeNumber(ctx, where, *volume, "thicknessFactor", 0.0f);
   material.thicknessTexture =
       slotFromValue(ctx, where + ".thicknessTexture", volume->Get("thicknessTexture"));
-  if (volume->Has("attenuationDistance")) {
-    const double distance = number(ctx, where, *volume, "attenuationDistance", 0.0);
-    if (!(distance > 0.0 && std::isfinite(distance)))
-      ctx.fail(where, "attenuationDistance must be a number above 0");
-    material.attenuationDistance = static_cast<float>(distance);
-  }
+  material.attenuationDistance = checkedNumber(
+      ctx, where, *volume, "attenuationDistance", std::numeric_limits<double>::infinity(),
+      [](double v) { return v > 0.0 && std::isfinite(v); }, "a number above 0");
   material.attenuationColor = unitColor(ctx, where, *volume, "attenuationColor", glm::vec3(1.0f));
   warnIfExcluded(ctx, index, material, where, "the volume");
 }
@@ -197,9 +204,9 @@ void applyAnisotropy(const Context& ctx, std::size_t index, Material& material) 
   const auto [anisotropy, where] = materialExtension(ctx, index, "KHR_materials_anisotropy");
   if (!anisotropy) return;
   material.anisotropyStrength = unitNumber(ctx, where, *anisotropy, "anisotropyStrength", 0.0f);
-  const double rotation = number(ctx, where, *anisotropy, "anisotropyRotation", 0.0);
-  if (!std::isfinite(rotation)) ctx.fail(where, "anisotropyRotation must be a finite number");
-  material.anisotropyRotation = static_cast<float>(rotation);
+  material.anisotropyRotation = checkedNumber(
+      ctx, where, *anisotropy, "anisotropyRotation", 0.0, [](double v) { return std::isfinite(v); },
+      "a finite number");
   material.anisotropyTexture =
       slotFromValue(ctx, where + ".anisotropyTexture", anisotropy->Get("anisotropyTexture"));
   warnIfExcluded(ctx, index, material, where, "the anisotropy");
@@ -212,10 +219,9 @@ void applyIridescence(const Context& ctx, std::size_t index, Material& material)
   material.iridescenceFactor = unitNumber(ctx, where, *film, "iridescenceFactor", 0.0f);
   material.iridescenceTexture =
       slotFromValue(ctx, where + ".iridescenceTexture", film->Get("iridescenceTexture"));
-  const double ior = number(ctx, where, *film, "iridescenceIor", 1.3);
-  if (!(ior >= 1.0 && std::isfinite(ior)))
-    ctx.fail(where, "iridescenceIor must be a number of at least 1");
-  material.iridescenceIor = static_cast<float>(ior);
+  material.iridescenceIor = checkedNumber(
+      ctx, where, *film, "iridescenceIor", 1.3,
+      [](double v) { return v >= 1.0 && std::isfinite(v); }, "a number of at least 1");
   // The minimum may exceed the maximum (the specification allows it).
   material.iridescenceThicknessMinimum =
       nonNegativeNumber(ctx, where, *film, "iridescenceThicknessMinimum", 100.0f);
@@ -295,12 +301,12 @@ void applyMaterialExtensions(const Context& ctx, std::size_t index, Material& ma
                                                  transmission->Get("transmissionTexture"));
   }
   if (const auto [ior, where] = materialExtension(ctx, index, "KHR_materials_ior"); ior) {
-    const double value = number(ctx, where, *ior, "ior", 1.5);
     // The schema's range: 1 and above, or exactly 0 (a reflectance of 1, for materials
     // converted from specular-glossiness).
-    if (!(value == 0.0 || (value >= 1.0 && std::isfinite(value))))
-      ctx.fail(where, "ior must be 0 or a number of at least 1");
-    material.ior = static_cast<float>(value);
+    material.ior = checkedNumber(
+        ctx, where, *ior, "ior", 1.5,
+        [](double v) { return v == 0.0 || (v >= 1.0 && std::isfinite(v)); },
+        "0 or a number of at least 1");
   }
   applySpecular(ctx, index, material);
   applySheen(ctx, index, material);
