@@ -1,0 +1,58 @@
+#pragma once
+
+// Image-based lighting from an equirectangular environment map, prefiltered on the CPU for the
+// split-sum approximation (Karis 2013): the specular radiance per roughness, the diffuse
+// irradiance, and the table of the BRDF's scale and bias of F0. No GL.
+
+#include <glm/glm.hpp>
+#include <vector>
+
+namespace omnishadow {
+
+// A latitude-longitude (equirectangular) picture of the light arriving from every direction:
+// linear RGB radiance, row 0 at the top (+Y), the last row at the bottom (-Y). Its middle
+// column looks along -Z, the column a quarter of the width to its right along +X (so that a
+// camera looking down -Z, glTF's default, faces the middle of the panorama).
+struct EquirectImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // width * height * 3, row by row
+};
+
+// (u, v) in [0, 1]^2 of a direction (need not be normalized; nonzero):
+// u = 0.5 + atan2(d.x, -d.z) / (2 pi), v = acos(clamp(d.y / |d|, -1, 1)) / pi.
+glm::vec2 equirectCoordinates(const glm::vec3& direction);
+// The unit direction of (u, v), the inverse of equirectCoordinates.
+glm::vec3 equirectDirection(const glm::vec2& uv);
+
+// What the lighting pass reads of an environment (split-sum image-based lighting, Karis 2013).
+struct PrefilteredEnvironment {
+  // specular[k]: the radiance prefiltered with the GGX distribution at perceptual roughness
+  // k / (specular.size() - 1) (alpha = roughness^2), with N = V = R. Level 0 is the radiance
+  // itself (area-averaged down to at most kMaxSpecularWidth x kMaxSpecularWidth/2); level k is
+  // max(1, width0 >> k) x max(1, height0 >> k): exactly a GL mipmap chain of level 0.
+  std::vector<EquirectImage> specular;
+  // E(n) / pi: the radiance a white Lambertian surface of normal n reflects (the cosine-weighted
+  // mean of the radiance over the hemisphere around n), kIrradianceWidth x kIrradianceWidth/2.
+  EquirectImage irradiance;
+};
+inline constexpr int kMaxSpecularWidth = 1024;
+// Roughness 0, 0.2, ..., 1; fewer when level 0 is narrower than 32: min(kSpecularLevels,
+// 1 + floor(log2(width0))) levels, as many as its mip chain has (a single one: roughness 0).
+inline constexpr int kSpecularLevels = 6;
+inline constexpr int kIrradianceWidth = 32;
+
+// Throws std::invalid_argument when the image is empty or rgb.size() != width*height*3.
+// Deterministic: the same bytes whatever `threads` (>= 1; less counts as 1) is.
+PrefilteredEnvironment prefilterEnvironment(const EquirectImage& radiance, int threads);
+
+// The split-sum's scale A and bias B of F0 (specular = prefiltered * (F0 * A + F90 * B)) for
+// the GGX BRDF with the height-correlated Smith visibility, at n.v = (i + 0.5) / size
+// (columns i) and perceptual roughness (j + 0.5) / size (rows j): (A, B) pairs, row by row.
+// Throws std::invalid_argument when size < 1.
+struct SpecularBrdfTable {
+  int size = 0;
+  std::vector<float> scaleBias;  // size * size * 2
+};
+SpecularBrdfTable specularBrdfTable(int size);
+
+}  // namespace omnishadow
