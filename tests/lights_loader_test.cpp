@@ -109,6 +109,47 @@ TEST(LightsLoader, EmptyObjectGivesDefaultAmbientAndNoLights) {
   EXPECT_TRUE(warnings.empty());
 }
 
+TEST(LightsLoader, ReadsEveryEnvironmentField) {
+  const LightSetup setup = parse(R"({"environment": {"image": "sky.exr", "color": [1, 0.5, 0.25],
+                                     "intensity": 2, "rotation": 90, "background": true}})");
+  ASSERT_TRUE(setup.environment);
+  EXPECT_EQ(setup.environment->image, "sky.exr");
+  expectVec3(setup.environment->color, 1.0f, 0.5f, 0.25f);
+  EXPECT_EQ(setup.environment->intensity, 2.0f);
+  EXPECT_NEAR(setup.environment->rotation, kPi / 2.0f, 1e-6f);
+  EXPECT_TRUE(setup.environment->background);
+  EXPECT_EQ(setup.environment->origin, kLabel);
+}
+
+TEST(LightsLoader, EnvironmentDefaultsToAUniformWhiteOneWithoutAmbient) {
+  const LightSetup none = parse("{}");
+  EXPECT_FALSE(none.environment);
+  const LightSetup setup = parse(R"({"environment": {}})");
+  ASSERT_TRUE(setup.environment);
+  EXPECT_TRUE(setup.environment->image.empty());
+  expectVec3(setup.environment->color, 1.0f, 1.0f, 1.0f);
+  EXPECT_EQ(setup.environment->intensity, 1.0f);
+  EXPECT_EQ(setup.environment->rotation, 0.0f);
+  EXPECT_FALSE(setup.environment->background);
+  // The environment stands in for the constant ambient, unless the file asks for both.
+  expectVec3(setup.ambient, 0.0f, 0.0f, 0.0f);
+  expectVec3(parse(R"({"ambient": [0.1, 0.1, 0.1], "environment": {}})").ambient, 0.1f, 0.1f, 0.1f);
+  expectVec3(parse(R"({"environment": {}, "ambient": [0.1, 0.1, 0.1]})").ambient, 0.1f, 0.1f, 0.1f);
+}
+
+TEST(LightsLoader, EnvironmentRotationWrapsToAHalfTurnEitherWay) {
+  EXPECT_NEAR(parse(R"({"environment": {"rotation": 450}})").environment->rotation, kPi / 2.0f,
+              1e-6f);
+  EXPECT_NEAR(parse(R"({"environment": {"rotation": -90}})").environment->rotation, -kPi / 2.0f,
+              1e-6f);
+  EXPECT_NEAR(parse(R"({"environment": {"rotation": 1e30}})").environment->rotation, 0.0f, kPi);
+}
+
+TEST(LightsLoader, WarnsAboutUnknownEnvironmentFields) {
+  EXPECT_EQ(warningsOf(R"({"environment": {"imgae": "sky.hdr"}})"),
+            std::vector<std::string>{"lights.json: environment.imgae: unknown field, ignored"});
+}
+
 TEST(LightsLoader, EmptyLightGetsEveryDefault) {
   const LightSetup setup = parse(R"({"lights": [{}]})");
   ASSERT_EQ(setup.lights.size(), 1u);
@@ -354,6 +395,23 @@ const ErrorCase kErrorCases[] = {
      "lights: expected an array of light objects"},
     {"LightsNull", R"({"lights": null})", "lights: expected an array of light objects"},
     {"LightNotObject", R"({"lights": [{}, 5]})", "lights[1]: expected a light object, got 5"},
+    // environment
+    {"EnvironmentNotObject", R"({"environment": "sky.hdr"})",
+     "environment: expected an environment object, got \"sky.hdr\""},
+    {"EnvironmentImageEmpty", R"({"environment": {"image": ""}})",
+     "environment.image: expected a non-empty string, got \"\""},
+    {"EnvironmentImageNumber", R"({"environment": {"image": 3}})",
+     "environment.image: expected a non-empty string, got 3"},
+    {"EnvironmentImageNul", R"({"environment": {"image": "a\u0000b"}})",
+     "environment.image: expected a file path, got \"a\\u0000b\""},
+    {"EnvironmentColorNegative", R"({"environment": {"color": [1, -1, 1]}})",
+     "environment.color: expected an array of 3 finite numbers >= 0"},
+    {"EnvironmentIntensityNegative", R"({"environment": {"intensity": -1}})",
+     "environment.intensity: expected a finite number >= 0, got -1"},
+    {"EnvironmentRotationString", R"({"environment": {"rotation": "90"}})",
+     "environment.rotation: expected a finite number of degrees, got \"90\""},
+    {"EnvironmentBackgroundNumber", R"({"environment": {"background": 1}})",
+     "environment.background: expected true or false, got 1"},
     // ambient
     {"AmbientTooShort", R"({"ambient": [1, 2]})",
      "ambient: expected an array of 3 finite numbers >= 0"},
@@ -642,6 +700,17 @@ TEST_F(LightsFileTest, LoadsFileAndUsesItsPathAsOrigin) {
   const std::vector<std::string> expected = {path.string() +
                                              ": lights[0].colour: unknown field, ignored"};
   EXPECT_EQ(warnings, expected);
+}
+
+TEST_F(LightsFileTest, EnvironmentImageIsFoundBesideTheFile) {
+  std::filesystem::create_directories(directory_ / "rig");
+  const auto path = write("rig/studio.json", R"({"environment": {"image": "maps/sky.exr"}})");
+  std::vector<std::string> warnings;
+  const LightSetup setup = omnishadow::loadLightsFile(path, warnings);
+  EXPECT_EQ(setup.environment->image, directory_ / "rig" / "maps" / "sky.exr");
+  EXPECT_EQ(setup.environment->origin, path.string());
+  const auto absolute = write("absolute.json", R"({"environment": {"image": "/srv/sky.exr"}})");
+  EXPECT_EQ(omnishadow::loadLightsFile(absolute, warnings).environment->image, "/srv/sky.exr");
 }
 
 TEST_F(LightsFileTest, LabelsContentErrorsWithThePath) {

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <filesystem>
 #include <glm/glm.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,9 +70,36 @@ struct Light {
   std::string origin{};  // where it came from, for messages: a lights file path or "glTF"
 };
 
+// The lights file's "environment": light arriving from every direction, from an equirectangular
+// (latitude-longitude) picture of linear radiance or, without one, the same from everywhere.
+// It lights every surface's diffuse and specular reflection (image-based lighting) and casts no
+// shadow; README, "Environment lighting".
+struct EnvironmentLight {
+  // Empty: a uniform environment of `color`. Otherwise read as the CLI reads images (OpenEXR,
+  // Radiance HDR, PNG, anything OpenImageIO reads); relative to the lights file's folder.
+  std::filesystem::path image;
+  glm::vec3 color{1.0f};    // linear RGB, multiplies the image
+  float intensity = 1.0f;   // multiplies the image
+  float rotation = 0.0f;    // radians about +Y, counterclockwise seen from above
+  bool background = false;  // the beauty shows it where no surface covers a pixel
+  std::string origin{};     // the lights file, for messages
+};
+
 struct LightSetup {
-  glm::vec3 ambient{0.03f};  // linear RGB radiance multiplied by albedo
+  // Linear RGB radiance multiplied by albedo. 0 by default when the file has an environment.
+  glm::vec3 ambient{0.03f};
+  std::optional<EnvironmentLight> environment;
   std::vector<Light> lights;
+};
+
+// What lights a frame besides its punctual lights: the constant ambient term and the
+// environment, when there is one. From an ambient radiance alone, as most callers have.
+struct Ambience {
+  Ambience(const glm::vec3& ambientRadiance) : ambient(ambientRadiance) {}  // NOLINT: implicit
+  explicit Ambience(const LightSetup& setup)
+      : ambient(setup.ambient), environment(setup.environment) {}
+  glm::vec3 ambient{0.0f};
+  std::optional<EnvironmentLight> environment;
 };
 
 const char* toString(LightType type);

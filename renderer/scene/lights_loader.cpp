@@ -484,11 +484,40 @@ std::vector<Light> readLights(const Reader& reader, const std::string& origin) {
   return lights;
 }
 
+EnvironmentLight readEnvironment(const Reader& reader, const std::string& origin) {
+  if (!reader.value().is_object()) reader.failGot("expected an environment object");
+  reader.warnUnknownFields({"image", "color", "intensity", "rotation", "background"});
+  EnvironmentLight environment;
+  environment.origin = origin;
+  if (auto field = reader.field("image")) {
+    const std::string path = readName(*field);
+    if (path.find('\0') != std::string::npos) field->failGot("expected a file path");
+    environment.image = path;
+  }
+  if (auto field = reader.field("color")) {
+    environment.color = glm::vec3(readVector(*field, VectorRule::NonNegative));
+  }
+  if (auto field = reader.field("intensity")) environment.intensity = readNonNegative(*field);
+  // Degrees in the file, as a person turns a panorama; any finite angle.
+  if (auto field = reader.field("rotation")) {
+    const auto degrees = finiteNumber(field->value());
+    if (!degrees) field->failGot("expected a finite number of degrees");
+    environment.rotation = static_cast<float>(std::remainder(*degrees, 360.0) * (kHalfPi / 90.0));
+  }
+  if (auto field = reader.field("background")) environment.background = readBool(*field);
+  return environment;
+}
+
 LightSetup readSetup(const Reader& root, const std::string& origin) {
   if (!root.value().is_object()) root.fail("expected a JSON object");
-  root.warnUnknownFields({"ambient", "lights"});
+  root.warnUnknownFields({"ambient", "environment", "lights"});
 
   LightSetup setup;
+  if (auto field = root.field("environment")) {
+    setup.environment = readEnvironment(*field, origin);
+    // The environment lights what the constant ambient stood in for.
+    setup.ambient = glm::vec3(0.0f);
+  }
   if (auto field = root.field("ambient")) {
     setup.ambient = glm::vec3(readVector(*field, VectorRule::NonNegative));
   }
@@ -515,7 +544,12 @@ std::string readFile(const std::filesystem::path& path) {
 }  // namespace
 
 LightSetup loadLightsFile(const std::filesystem::path& path, std::vector<std::string>& warnings) {
-  return parseLights(readFile(path), path.string(), warnings);
+  LightSetup setup = parseLights(readFile(path), path.string(), warnings);
+  // A file names its environment image as it names it to a person: beside the file.
+  if (setup.environment && setup.environment->image.is_relative() &&
+      !setup.environment->image.empty())
+    setup.environment->image = path.parent_path() / setup.environment->image;
+  return setup;
 }
 
 LightSetup parseLights(std::string_view text, std::string_view fileLabel,
