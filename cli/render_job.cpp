@@ -339,7 +339,7 @@ Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loade
                 StageTimes& times) {
   // Refused before the frame is drawn, not after.
   if (!job.masks.empty()) checkMaskInstances(loaded.scene, job.scene.string());
-  return renderer.render(loaded.scene, loaded.lights, loaded.setup.ambient, loaded.camera,
+  return renderer.render(loaded.scene, loaded.lights, Ambience(loaded.setup), loaded.camera,
                          renderSettings(job), times);
 }
 

@@ -16,13 +16,17 @@
 // IRIDESCENCE_TEXTURE and IRIDESCENCE_THICKNESS_TEXTURE (KHR_materials_iridescence, and each of
 // its textures; IRIDESCENCE_DIELECTRIC_ONLY or IRIDESCENCE_METAL_ONLY where metallic is 0 or 1
 // throughout), DIFFUSE_TRANSMISSION, DIFFUSE_TRANSMISSION_TEXTURE and
-// DIFFUSE_TRANSMISSION_COLOR_TEXTURE (KHR_materials_diffuse_transmission, and each texture).
+// DIFFUSE_TRANSMISSION_COLOR_TEXTURE (KHR_materials_diffuse_transmission, and each texture),
+// ENVIRONMENT (an environment light: image-based diffuse and specular reflection).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
 #include "lights.glsl"
 #include "brdf.glsl"
 #include "shadows.glsl"
+#ifdef ENVIRONMENT
+#include "environment.glsl"
+#endif
 #ifdef WRITE_SRGB8
 #include "srgb8_encode.glsl"
 #endif
@@ -567,10 +571,89 @@ void main() {
 #else
   vec3 color = uAmbient * ambientBase * occlusion + emissive;
 #endif
+#ifdef ENVIRONMENT
+  // The environment as each light is reflected below (the same layers, weights and Fresnel),
+  // with each lobe's response to light from everywhere taken from the split-sum table.
+  {
+    float envNdotV = clamp(dot(N, V), 1e-4, 1.0);
+    vec2 envBrdf = environmentBrdf(envNdotV, roughness);
+    vec3 envR = reflect(-V, N);
+#ifdef ANISOTROPY
+    // The lobe stretched along the anisotropy direction reflects what a normal bent towards
+    // it does (the Khronos sample viewer's bent normal).
+    {
+      float strength = sqrt(pixelAnisotropy.stretch);
+      vec3 bent = normalize(cross(cross(pixelAnisotropy.B, V), pixelAnisotropy.B));
+      float keep = 1.0 - strength * (1.0 - roughness);
+      keep *= keep;
+      envR = reflect(-V, normalize(mix(bent, N, keep * keep)));
+    }
+#endif
+    vec3 envPrefiltered = environmentSpecular(envR, roughness);
+    vec3 envIrradiance = environmentDiffuse(N);
+    vec3 envDiffuse, envSpecular;
+#ifdef SHADING_PHONG
+    envDiffuse = envIrradiance * baseColor.rgb;
+#ifdef DIELECTRIC_SPECULAR
+    envSpecular = envPrefiltered * specularF0;
+#else
+    envSpecular = envPrefiltered * uDielectricF0;
+#endif
+    float envDiffuseKept = 1.0;
+#else
+    float envDiffuseKept;
+    if (uSpecularGlossiness != 0) {
+      envSpecular = envPrefiltered * (specularColor * envBrdf.x + envBrdf.y);
+      envDiffuseKept = 1.0 - max(specularColor.r, max(specularColor.g, specularColor.b));
+      envDiffuse = envIrradiance * baseColor.rgb * envDiffuseKept;
+    } else {
+#ifdef DIELECTRIC_SPECULAR
+      vec3 envDielectric = specularF0 * envBrdf.x + specularWeight * envBrdf.y;
+#else
+      vec3 envDielectric = vec3(uDielectricF0 * envBrdf.x + envBrdf.y);
+#endif
+      vec3 envMetal = baseColor.rgb * envBrdf.x + envBrdf.y;
+#ifdef IRIDESCENCE
+      // The film's Fresnel towards the camera in place of Schlick's, over the lobe's albedo.
+      envDielectric = mix(envDielectric, film.dielectric * (envBrdf.x + envBrdf.y), film.strength);
+      envMetal = mix(envMetal, film.metal * (envBrdf.x + envBrdf.y), film.strength);
+#endif
+      envSpecular = envPrefiltered * mix(envDielectric, envMetal, metallic);
+      // What the dielectric's lobe does not reflect, it diffuses.
+      envDiffuseKept = (1.0 - metallic) *
+                       (1.0 - max(envDielectric.r, max(envDielectric.g, envDielectric.b)));
+      envDiffuse = envIrradiance * baseColor.rgb * envDiffuseKept;
+    }
+#endif
+#ifdef TRANSMISSION
+    // The transmitted part arrives from behind (below), as each light's does.
+    envDiffuse *= 1.0 - transmission;
+#endif
+#ifdef DIFFUSE_TRANSMISSION
+    envDiffuse = envDiffuse * (1.0 - diffuseTransmission) +
+                 diffuseTransmission * (1.0 - metallic) * transmitted * diffuseTransmissionColor *
+                     environmentDiffuse(-N);
+#endif
+    vec3 envColor = envDiffuse + envSpecular;
+#ifdef SHEEN
+    // The sheen's lobe is broad: it reflects about the cosine-weighted mean of the radiance.
+    envColor = envColor * sheen.scalingV + sheenColor * sheen.albedoV * envIrradiance;
+#endif
+    color += envColor * occlusion;
+  }
+#endif
 #ifdef CLEARCOAT
   // The layer reflects the ambient with its weight (its lobe's albedo taken as 1) and covers
   // the emission and the ambient the layers below reflect.
   color = color * (1.0 - coat.weight) + coat.weight * uAmbient * occlusion;
+#ifdef ENVIRONMENT
+  {
+    float coatRoughness = clamp(clearcoatRoughness, 0.0, 1.0);
+    vec2 coatBrdf = environmentBrdf(coat.NdotV, coatRoughness);
+    color += clamp(clearcoatFactor, 0.0, 1.0) * (0.04 * coatBrdf.x + coatBrdf.y) *
+             environmentSpecular(reflect(-V, coat.N), coatRoughness) * occlusion;
+  }
+#endif
 #endif
 #ifdef TRANSMISSION
   // What comes through from behind, under the sheen and the clearcoat; the fraction of the

@@ -119,7 +119,7 @@ PyFrame PyRenderer::render(const PyScene& scene, const py::object& lights,
       out.warnings.push_back(kHeadlightWarning);
     }
     loadStage.stop();
-    out.frame = renderer_->render(*scene.scene, merged, loadedLights.setup.ambient, out.camera,
+    out.frame = renderer_->render(*scene.scene, merged, Ambience(loadedLights.setup), out.camera,
                                   settings, out.times);
     out.lights = std::move(merged);
   }

@@ -199,6 +199,12 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
       {units.cubeMoments, "CUBE_MOMENTS_UNIT"}, {units.planarMoments, "PLANAR_MOMENTS_UNIT"}};
   for (const auto& a : arrays)
     if (a.unit >= 0) defines.push_back(std::string(a.define) + " " + std::to_string(a.unit));
+  if (units.environment >= 0) {
+    defines.push_back("ENVIRONMENT");
+    defines.push_back("ENVIRONMENT_SPECULAR_UNIT " + std::to_string(units.environment));
+    defines.push_back("ENVIRONMENT_IRRADIANCE_UNIT " + std::to_string(units.environment + 1));
+    defines.push_back("ENVIRONMENT_BRDF_UNIT " + std::to_string(units.environment + 2));
+  }
   const ExtensionUnits extensionUnits = extensionTextureUnits(material, units.end);
   for (int i = 0; i < contract::kExtensionTextures; ++i)
     if (const int unit = extensionUnits[static_cast<std::size_t>(i)]; unit >= 0)
@@ -636,6 +642,10 @@ ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features) {
     take(depth && features.planarShadows, units.planarDepth);
     take(moments && features.cubeShadows, units.cubeMoments);
     take(moments && features.planarShadows, units.planarMoments);
+    if (features.environment) {
+      units.environment = next;
+      next += 3;
+    }
     units.end = next;
     return units;
   };
@@ -967,7 +977,13 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
   const PassParameters& parameters = uniforms.parameters;
   program.set("uViewProjection", uniforms.viewProjection);
   program.set("uCameraPosition", uniforms.cameraPosition);
-  program.set("uAmbient", uniforms.ambient);
+  program.set("uAmbient", uniforms.ambience.ambient);
+  if (features_.environment) {
+    const EnvironmentBinding& environment = uniforms.ambience.environment;
+    program.set("uEnvironmentRotation", environment.toEnvironment);
+    program.set("uEnvironmentScale", environment.scale);
+    program.set("uEnvironmentMaxLevel", environment.textures->maxLevel());
+  }
   if (outputs_ == PassOutputs::Aovs) {
     program.set("uVisibilityBase", parameters.visibilityBase);
     program.set("uScalarTerms", parameters.scalarTerms);
@@ -1086,8 +1102,11 @@ void LightingPass::drawPointsAndLines(const GpuMeshRange& range, const ShaderPro
 
 void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
                           const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
-                          const TransmittanceAtlas& transmittanceAtlas, const glm::vec3& ambient,
-                          FrameTargets& targets, const PassParameters& parameters) {
+                          const TransmittanceAtlas& transmittanceAtlas,
+                          const LightingAmbience& ambience, FrameTargets& targets,
+                          const PassParameters& parameters) {
+  if (features_.environment != (ambience.environment.textures != nullptr))
+    throw std::logic_error("a lighting pass drawn with another environment than it was made for");
   glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
   // Background: no coverage, lit (visibility 1), no object or material (id -1).
   const float zero[4] = {0, 0, 0, 0};
@@ -1113,7 +1132,18 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   FrameUniforms uniforms;
   uniforms.viewProjection = camera.projection * camera.view;
   uniforms.cameraPosition = camera.eye;
-  uniforms.ambient = ambient;
+  uniforms.ambience = ambience;
+  if (const EnvironmentTextures* environment = ambience.environment.textures) {
+    const auto unit = static_cast<GLuint>(shadowUnits_.environment);
+    const GLuint textures[3] = {environment->specular(), environment->irradiance(),
+                                environment->brdf()};
+    const GLuint samplers[3] = {environment->sampler(), environment->sampler(),
+                                environment->tableSampler()};
+    for (GLuint i = 0; i < 3; ++i) {
+      glBindTextureUnit(unit + i, textures[i]);
+      glBindSampler(unit + i, samplers[i]);
+    }
+  }
   uniforms.parameters = parameters;
   uniforms.cameraView = parameters.cascadeView ? *parameters.cascadeView : camera.view;
   uniforms.lightCount = uploadLights(lights, shadowGroups, transmittanceAtlas);
@@ -1164,6 +1194,12 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.depth = gl::DepthState{};
   state.depth.apply();
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
+  if (ambience.environment.background && outputs_ != PassOutputs::Aovs &&
+      outputs_ != PassOutputs::Layers && outputs_ != PassOutputs::Ids) {
+    drawBackground(targets, uniforms);
+    state.apply();
+    glBindVertexArray(scene.vertexArray());
+  }
   // See-through surfaces over what the opaque and masked ones drew, which they read (the ids
   // pass has no beauty to read: they are opaque there).
   if (const SeeThrough seen = seeThrough(scene, camera.view); seen.any) {
@@ -1199,6 +1235,42 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the lighting pass");
+}
+
+void LightingPass::drawBackground(const FrameTargets& targets, const FrameUniforms& uniforms) {
+  if (!background_) {
+    const ShadowSamplerUnits& units = shadowUnits_;
+    std::vector<std::string> defines = {
+        "ENVIRONMENT_SPECULAR_UNIT " + std::to_string(units.environment),
+        "ENVIRONMENT_IRRADIANCE_UNIT " + std::to_string(units.environment + 1),
+        "ENVIRONMENT_BRDF_UNIT " + std::to_string(units.environment + 2)};
+    if (writesSrgb8(outputs_)) defines.push_back("WRITE_SRGB8");
+    background_ = std::make_unique<ShaderProgram>("fullscreen.vert", "environment_background.frag",
+                                                  contract::withShaderContract(defines));
+    if (writesSrgb8(outputs_)) {
+      const std::array<float, 256>& steps = srgb8Steps();
+      background_->set("uSrgb8Next", steps.data(), static_cast<int>(steps.size()));
+    }
+    emptyVertexArray_ = gl::createVertexArray();
+  }
+  const EnvironmentBinding& environment = uniforms.ambience.environment;
+  background_->use();
+  background_->set("uInverseViewProjection", glm::inverse(uniforms.viewProjection));
+  background_->set("uViewportSize", glm::vec2(targets.width(), targets.height()));
+  background_->set("uEnvironmentRotation", environment.toEnvironment);
+  background_->set("uEnvironmentScale", environment.scale);
+  background_->set("uEnvironmentMaxLevel", environment.textures->maxLevel());
+  if (writesSrgb8(outputs_)) background_->set("uExposureScale", uniforms.parameters.exposureScale);
+  // The full-screen triangle lies at depth 0, the cleared value: it passes only where no
+  // surface wrote a depth. The ids beside the beauty stay "none".
+  gl::RasterState state;
+  state.viewport = {0, 0, targets.width(), targets.height()};
+  state.depth.func = GL_GEQUAL;
+  state.depth.write = false;
+  if (writesIdsBesideBeauty(outputs_)) state.color.offBuffers |= 2u;
+  state.apply();
+  glBindVertexArray(emptyVertexArray_.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
 bool depthPrepassSupported(std::string_view glRenderer) {

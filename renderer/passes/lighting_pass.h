@@ -10,6 +10,7 @@
 
 #include "renderer/gl/gl_resources.h"
 #include "renderer/gl/shader_program.h"
+#include "renderer/passes/environment_textures.h"
 #include "renderer/passes/gpu_scene.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/passes/shadow_textures.h"
@@ -52,6 +53,13 @@ inline bool writesIdsBesideBeauty(PassOutputs outputs) {
 inline bool writesSrgb8(PassOutputs outputs) {
   return outputs == PassOutputs::Srgb8 || outputs == PassOutputs::Srgb8Ids;
 }
+
+// What lights a lighting pass's surfaces besides its lights: the constant ambient radiance and
+// the environment light (its textures null: none).
+struct LightingAmbience {
+  glm::vec3 ambient{0.0f};
+  EnvironmentBinding environment;
+};
 
 // Per-pass choices of a lighting pass.
 struct PassParameters {
@@ -180,6 +188,8 @@ struct LightingFeatures {
   bool facingLightLoop = false;
   // Aovs: the visibility targets (AovVisibilityLayout::outputs); 0 for the other outputs.
   int visibilityOutputs = 0;
+  // An environment light: its textures take three units after the shadow arrays.
+  bool environment = false;
   bool operator==(const LightingFeatures&) const = default;
 };
 
@@ -190,11 +200,13 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
 
 // The first texture unit of each shadow sampler array the lighting pass declares for a frame
 // with `features` (-1: not declared, the frame's filters never read it), each array
-// SHADOW_SLOTS units long. The material extensions' textures take the units from `end` on.
+// SHADOW_SLOTS units long, then the environment's. The material extensions' textures take the
+// units from `end` on.
 struct ShadowSamplerUnits {
   int cubeCompare = -1, planarCompare = -1, cubeDepth = -1, planarDepth = -1, cubeMoments = -1,
       planarMoments = -1;
-  int end = 0;  // one past the last unit taken
+  int environment = -1;  // LightingFeatures::environment: specular, irradiance, BRDF table
+  int end = 0;           // one past the last unit taken
 };
 ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features);
 
@@ -214,7 +226,7 @@ class LightingPass {
   // targets untouched); layer passes draw no blended surfaces.
   void render(const GpuScene& scene, const ViewCamera& camera,
               const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
-              const TransmittanceAtlas& transmittanceAtlas, const glm::vec3& ambient,
+              const TransmittanceAtlas& transmittanceAtlas, const LightingAmbience& ambience,
               FrameTargets& targets, const PassParameters& parameters);
 
   // The counts of the last render() with depthPrepass and countFragments; waits for them.
@@ -224,7 +236,8 @@ class LightingPass {
   // The frame's uniforms, the same in every material variant.
   struct FrameUniforms {
     glm::mat4 viewProjection{1.0f}, cameraView{1.0f};
-    glm::vec3 cameraPosition{0.0f}, ambient{0.0f};
+    glm::vec3 cameraPosition{0.0f};
+    LightingAmbience ambience;
     glm::vec4 viewDepth{0.0f};
     int lightCount = 0;
     LightClusters clusters;  // the grid the cluster buffers were built for
@@ -262,6 +275,10 @@ class LightingPass {
   void drawSeeThrough(const GpuScene& scene, const SeeThrough& seen,
                       const glm::mat4& viewProjection, const FrameTargets& targets,
                       const FrameUniforms& uniforms);
+  // The environment where no surface covers a pixel (EnvironmentBinding::background), over
+  // the opaque and masked surfaces' depth and under what is drawn after them.
+  // Leaves its own raster state applied.
+  void drawBackground(const FrameTargets& targets, const FrameUniforms& uniforms);
   // Copies the beauty drawn so far (the opaque and masked surfaces) into sceneBehind_, with its
   // mipmaps when `mipmaps`, and binds it where see-through surfaces read it.
   void copySceneBehind(const FrameTargets& targets, bool mipmaps);
@@ -286,6 +303,8 @@ class LightingPass {
   std::vector<unsigned> frameVariants_;
   std::vector<std::size_t> blendedOrder_;  // this frame's blended draws, farthest first
   ShaderProgram depthOnly_;
+  std::unique_ptr<ShaderProgram> background_;  // drawBackground()'s, made on first use
+  gl::VertexArray emptyVertexArray_;           // its full-screen triangle needs no attributes
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;
   ClusterBoxCache clusterBoxes_;

@@ -187,7 +187,7 @@ class Renderer::Impl {
  public:
   explicit Impl(const ContextOptions& options);
 
-  Frame render(const Scene& scene, const std::vector<Light>& lights, const glm::vec3& ambient,
+  Frame render(const Scene& scene, const std::vector<Light>& lights, const Ambience& ambience,
                const ViewCamera& camera, const RenderSettings& settings, StageTimes& times);
   std::vector<CubeDistances> renderShadowDistances(const Scene& scene,
                                                    const std::vector<Light>& lights,
@@ -224,36 +224,38 @@ class Renderer::Impl {
   std::vector<PlanarShadowMapDump> readPlanarShadowMaps(const Prepared& prepared,
                                                         StageTimes& times);
   void drawImages(Prepared& prepared, const std::vector<Light>& lights, const ViewCamera& camera,
-                  const glm::vec3& ambient, const RenderSettings& settings, int debugLight,
+                  const LightingAmbience& ambient, const RenderSettings& settings, int debugLight,
                   Frame& frame, StageTimes& times);
   // The float beauty into `outputs`' targets (Beauty, or BeautyIds: the ids into `ids`).
-  FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
-                        const RenderSettings& settings, const PassParameters& parameters,
-                        StageTimes* times, PassOutputs outputs = PassOutputs::Beauty,
-                        IdPixels* ids = nullptr);
+  FloatImage drawBeauty(Prepared& prepared, const ViewCamera& camera,
+                        const LightingAmbience& ambient, const RenderSettings& settings,
+                        const PassParameters& parameters, StageTimes* times,
+                        PassOutputs outputs = PassOutputs::Beauty, IdPixels* ids = nullptr);
   // frame.srgb8, and frame.objectIds where the beauty's outputs are Srgb8Ids.
-  void drawSrgb8(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+  void drawSrgb8(Prepared& prepared, const ViewCamera& camera, const LightingAmbience& ambient,
                  const RenderSettings& settings, PassParameters parameters, Frame& frame,
                  StageTimes& times);
   // With one sample, the ids beside it into `ids` where the beauty's outputs are BeautyIds.
   FloatImage drawAntialiasedBeauty(Prepared& prepared, const ViewCamera& camera,
-                                   const glm::vec3& ambient, const RenderSettings& settings,
+                                   const LightingAmbience& ambient, const RenderSettings& settings,
                                    const PassParameters& parameters, StageTimes& times,
                                    IdPixels& ids);
-  void drawAovs(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+  void drawAovs(Prepared& prepared, const ViewCamera& camera, const LightingAmbience& ambient,
                 const RenderSettings& settings, FloatImage& aovs, StageTimes& times);
   // The extra layers (albedo, ids, per-light diffuse and specular) after the fixed channels and
   // the visibility; `blendedOnly` marks the pixels that take the front-most blended surface.
-  void drawAovLayers(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
+  void drawAovLayers(Prepared& prepared, const ViewCamera& camera, const LightingAmbience& ambient,
                      const RenderSettings& settings, const std::vector<std::uint8_t>& blendedOnly,
                      FloatImage& aovs, StageTimes& times);
   // Frame::objectIds without the AOV pass (RenderSettings::objectIds). `drawn`: the ids the
   // beauty's draws wrote beside it (BeautyIds), which the pass then completes where a pixel
   // takes the front-most blended surface's id; empty: the pass draws them all.
-  FloatImage drawObjectIds(Prepared& prepared, const ViewCamera& camera, const glm::vec3& ambient,
-                           const RenderSettings& settings, StageTimes& times, IdPixels drawn = {});
+  FloatImage drawObjectIds(Prepared& prepared, const ViewCamera& camera,
+                           const LightingAmbience& ambient, const RenderSettings& settings,
+                           StageTimes& times, IdPixels drawn = {});
   std::vector<LightView> drawLightViews(Prepared& prepared, const ViewCamera& camera,
-                                        const glm::vec3& ambient, const RenderSettings& settings);
+                                        const LightingAmbience& ambient,
+                                        const RenderSettings& settings);
   // The beauty's depth pre-pass (PassParameters::depthPrepass: the same picture either way).
   // DepthPrepass::On and Off are taken as they are. Auto chooses per scene (its shadow
   // fingerprint) where the driver allows it: the scene's first two frames draw it, and the
@@ -324,6 +326,7 @@ class Renderer::Impl {
   std::unique_ptr<FrameTargets> aovTargets_;
   std::unique_ptr<FrameTargets> layerTargets_;  // the same for the AOV layer pass
   std::unique_ptr<FrameTargets> idTargets_;     // and for the ids of masks without AOVs
+  EnvironmentCache environmentCache_;
 };
 
 // The scene on the GPU with its shadow maps, shared by every view of one render.
@@ -749,7 +752,8 @@ FrameTargets& Renderer::Impl::beautyTargets(int width, int height, PassOutputs o
 }
 
 FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& camera,
-                                      const glm::vec3& ambient, const RenderSettings& settings,
+                                      const LightingAmbience& ambient,
+                                      const RenderSettings& settings,
                                       const PassParameters& parameters, StageTimes* times,
                                       PassOutputs outputs, IdPixels* ids) {
   StageTimes unused;
@@ -770,7 +774,7 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
 }
 
 void Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
-                               const glm::vec3& ambient, const RenderSettings& settings,
+                               const LightingAmbience& ambient, const RenderSettings& settings,
                                PassParameters parameters, Frame& frame, StageTimes& times) {
   const PassOutputs outputs = prepared.beautyOutputs;
   FrameTargets& targets = beautyTargets(camera.width, camera.height, outputs);
@@ -792,7 +796,7 @@ void Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
 // The mean of the beauty through each sample offset (one offset, the pixel center, without
 // anti-aliasing); the shadow maps are shared by every sample.
 FloatImage Renderer::Impl::drawAntialiasedBeauty(Prepared& prepared, const ViewCamera& camera,
-                                                 const glm::vec3& ambient,
+                                                 const LightingAmbience& ambient,
                                                  const RenderSettings& settings,
                                                  const PassParameters& parameters,
                                                  StageTimes& times, IdPixels& ids) {
@@ -816,7 +820,7 @@ FloatImage Renderer::Impl::drawAntialiasedBeauty(Prepared& prepared, const ViewC
 }
 
 void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
-                              const glm::vec3& ambient, const RenderSettings& settings,
+                              const LightingAmbience& ambient, const RenderSettings& settings,
                               FloatImage& aovs, StageTimes& times) {
   const int lightCount = static_cast<int>(prepared.shaded.size());
   const bool flip = camera.glRowOrder;
@@ -911,8 +915,9 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
 }
 
 FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& camera,
-                                         const glm::vec3& ambient, const RenderSettings& settings,
-                                         StageTimes& times, IdPixels drawn) {
+                                         const LightingAmbience& ambient,
+                                         const RenderSettings& settings, StageTimes& times,
+                                         IdPixels drawn) {
   // The id pass draws what the AOV pass draws, with its depth tests: where an opaque or masked
   // surface covers a pixel, its id is the AOVs' objectId. Its coverage finds the pixels that
   // take the front-most blended surface's id as the AOVs find them: covered (A > 0 there) by no
@@ -949,7 +954,7 @@ FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& c
 }
 
 void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
-                                   const glm::vec3& ambient, const RenderSettings& settings,
+                                   const LightingAmbience& ambient, const RenderSettings& settings,
                                    const std::vector<std::uint8_t>& blendedOnly, FloatImage& aovs,
                                    StageTimes& times) {
   const int lightCount = static_cast<int>(prepared.shaded.size());
@@ -1014,13 +1019,20 @@ void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
 }
 
 Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& lights,
-                             const glm::vec3& ambient, const ViewCamera& camera,
+                             const Ambience& ambience, const ViewCamera& camera,
                              const RenderSettings& settings, StageTimes& times) {
   // Everything that can be refused is refused here, before any GL allocation.
   FramePlan plan = planFrame(scene, lights, camera, settings, limits_);
   checkAovMemory(lights, camera, settings);
   Frame frame;
   frame.warnings = std::move(plan.warnings);
+  const bool lit = drawsLitFrame(settings);
+  LightingAmbience ambient{ambience.ambient, {}};
+  if (lit && ambience.environment) {
+    // Read and prefiltered once for a batch over the same image (EnvironmentCache).
+    ScopedStage stage(times, "environment");
+    ambient.environment = environmentCache_.bind(*ambience.environment);
+  }
 
   ScopedStage shaders(times, "shaders");
   LightingFeatures features = lightingFeatures(lights, settings.debugView);
@@ -1029,7 +1041,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& light
   const std::vector<bool> translucent = translucentShadowLights(lights, scene);
   features.translucentShadows =
       std::find(translucent.begin(), translucent.end(), true) != translucent.end();
-  const bool lit = drawsLitFrame(settings);
+  features.environment = ambient.environment.textures != nullptr;
   const PassOutputs beautyOutputs = omnishadow::beautyOutputs(scene, settings);
   if (lit) lightingPass(settings.shading, beautyOutputs, features);  // made once per feature set
   shaders.stop();
@@ -1138,7 +1150,7 @@ void Renderer::Impl::notePrepass(const std::optional<OpaqueFragments>& counts) {
 }
 
 void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& lights,
-                                const ViewCamera& camera, const glm::vec3& ambient,
+                                const ViewCamera& camera, const LightingAmbience& ambient,
                                 const RenderSettings& settings, int debugLight, Frame& frame,
                                 StageTimes& times) {
   const bool objectIdPass = drawsObjectIdPass(settings);
@@ -1183,7 +1195,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
 }
 
 std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const ViewCamera& camera,
-                                                      const glm::vec3& ambient,
+                                                      const LightingAmbience& ambient,
                                                       const RenderSettings& settings) {
   std::vector<LightView> views;
   for (const ShadedLight& s : prepared.shaded) {
@@ -1322,10 +1334,10 @@ std::string Renderer::glDescription() const {
 }
 
 Frame Renderer::render(const Scene& scene, const std::vector<Light>& lights,
-                       const glm::vec3& ambient, const ViewCamera& camera,
+                       const Ambience& ambience, const ViewCamera& camera,
                        const RenderSettings& settings, StageTimes& times) {
   impl_->context().makeCurrent();
-  return impl_->render(scene, lights, ambient, camera, settings, times);
+  return impl_->render(scene, lights, ambience, camera, settings, times);
 }
 
 std::vector<CubeDistances> Renderer::renderShadowDistances(const Scene& scene,

@@ -32,10 +32,13 @@ class Renderer {
   // GL_VENDOR, GL_RENDERER, GL_VERSION as one line.
   std::string glDescription() const;
 
-  // Renders the scene with `lights` (already merged and uniquely named). Stage times go to
-  // `times`: shaders, upload, shadow maps, lighting, readback. Throws InputError, before any GL
-  // call, for settings the scene cannot satisfy on this device (planFrame()).
-  Frame render(const Scene& scene, const std::vector<Light>& lights, const glm::vec3& ambient,
+  // Renders the scene with `lights` (already merged and uniquely named) and `ambience` (a
+  // constant ambient radiance, or a LightSetup's ambient and environment). Stage times go to
+  // `times`: environment (an environment image read and prefiltered), shaders, upload, shadow
+  // maps, lighting, readback. Throws InputError, before any GL call, for settings the scene
+  // cannot satisfy on this device (planFrame()) and for an environment image that cannot be
+  // read (a renderer keeps the last environment's textures: a batch reads its image once).
+  Frame render(const Scene& scene, const std::vector<Light>& lights, const Ambience& ambience,
                const ViewCamera& camera, const RenderSettings& settings, StageTimes& times);
 
   // Does ahead of render() what needs no scene: allocates and clears the shadow maps of

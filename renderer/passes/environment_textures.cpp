@@ -1,0 +1,130 @@
+#include "renderer/passes/environment_textures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <system_error>
+#include <thread>
+
+#include "renderer/core/errors.h"
+#include "renderer/output/image_writer.h"
+
+namespace omnishadow {
+namespace {
+
+// The split-sum table's entries along n.v and roughness: smooth in both, read bilinearly.
+constexpr int kBrdfTableSize = 32;
+
+// The channels of `image` that hold red, green and blue: R, G, B when named so, else the first
+// channel for all three (grey images).
+std::array<int, 3> rgbChannels(const FloatImage& image) {
+  const int r = image.channelIndex("R"), g = image.channelIndex("G"), b = image.channelIndex("B");
+  if (r >= 0 && g >= 0 && b >= 0) return {r, g, b};
+  return {0, 0, 0};
+}
+
+}  // namespace
+
+EquirectImage environmentRadiance(const EnvironmentLight& light) {
+  EquirectImage radiance;
+  if (light.image.empty()) {
+    // A uniform environment: any image of one value prefilters to that value.
+    radiance.width = 4;
+    radiance.height = 2;
+    radiance.rgb.assign(4 * 2 * 3, 1.0f);
+    return radiance;
+  }
+  const std::string where = light.origin + ": environment.image: ";
+  FloatImage image;
+  try {
+    image = readImage(light.image);
+  } catch (const InputError& error) {
+    throw InputError(where + error.what());
+  }
+  if (image.width <= 0 || image.height <= 0 || image.channels.empty())
+    throw InputError(where + light.image.string() + ": the image is empty");
+  const std::array<int, 3> channels = rgbChannels(image);
+  radiance.width = image.width;
+  radiance.height = image.height;
+  radiance.rgb.resize(static_cast<std::size_t>(image.width) * image.height * 3);
+  const std::size_t stride = image.channels.size();
+  for (std::size_t i = 0, n = static_cast<std::size_t>(image.width) * image.height; i < n; ++i) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      const float value = image.pixels[i * stride + static_cast<std::size_t>(channels[c])];
+      // One infinite or NaN texel would spread over every blurred level and the irradiance.
+      if (!std::isfinite(value)) {
+        throw InputError(where + light.image.string() + ": pixel (" +
+                         std::to_string(i % static_cast<std::size_t>(image.width)) + ", " +
+                         std::to_string(i / static_cast<std::size_t>(image.width)) +
+                         ") is not finite");
+      }
+      // Radiance cannot be negative; resampling in an editor leaves small negative lobes.
+      radiance.rgb[i * 3 + c] = std::max(value, 0.0f);
+    }
+  }
+  return radiance;
+}
+
+EnvironmentTextures::EnvironmentTextures(const PrefilteredEnvironment& environment,
+                                         const SpecularBrdfTable& brdf) {
+  const auto& levels = environment.specular;
+  specular_ = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(specular_.get(), static_cast<GLsizei>(levels.size()), GL_RGB32F,
+                     levels.front().width, levels.front().height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    glTextureSubImage2D(specular_.get(), static_cast<GLint>(k), 0, 0, levels[k].width,
+                        levels[k].height, GL_RGB, GL_FLOAT, levels[k].rgb.data());
+  maxLevel_ = static_cast<float>(levels.size() - 1);
+
+  const EquirectImage& irradiance = environment.irradiance;
+  irradiance_ = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(irradiance_.get(), 1, GL_RGB32F, irradiance.width, irradiance.height);
+  glTextureSubImage2D(irradiance_.get(), 0, 0, 0, irradiance.width, irradiance.height, GL_RGB,
+                      GL_FLOAT, irradiance.rgb.data());
+
+  brdf_ = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(brdf_.get(), 1, GL_RG32F, brdf.size, brdf.size);
+  glTextureSubImage2D(brdf_.get(), 0, 0, 0, brdf.size, brdf.size, GL_RG, GL_FLOAT,
+                      brdf.scaleBias.data());
+
+  sampler_ = gl::createSampler();
+  glSamplerParameteri(sampler_.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glSamplerParameteri(sampler_.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glSamplerParameteri(sampler_.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glSamplerParameteri(sampler_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  tableSampler_ = gl::createSampler();
+  glSamplerParameteri(tableSampler_.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glSamplerParameteri(tableSampler_.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glSamplerParameteri(tableSampler_.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(tableSampler_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+EnvironmentBinding EnvironmentCache::bind(const EnvironmentLight& light) {
+  Key key{light.image, 0, {}};
+  if (!light.image.empty()) {
+    std::error_code error;
+    key.size = std::filesystem::file_size(light.image, error);
+    if (!error) key.modified = std::filesystem::last_write_time(light.image, error);
+    if (error) key = Key{light.image, 0, {}};  // unreadable: environmentRadiance() says why
+  }
+  if (!textures_ || key_ != key || (key.size == 0 && !light.image.empty())) {
+    textures_.reset();
+    key_.reset();
+    const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), 8u));
+    const PrefilteredEnvironment prefiltered =
+        prefilterEnvironment(environmentRadiance(light), static_cast<int>(threads));
+    textures_ =
+        std::make_unique<EnvironmentTextures>(prefiltered, specularBrdfTable(kBrdfTableSize));
+    key_ = key;
+  }
+  EnvironmentBinding binding;
+  binding.textures = textures_.get();
+  // The image turns with `rotation` about +Y: a world direction is turned back into its frame.
+  const float c = std::cos(light.rotation), s = std::sin(light.rotation);
+  binding.toEnvironment = glm::transpose(glm::mat3(c, 0.0f, -s, 0.0f, 1.0f, 0.0f, s, 0.0f, c));
+  binding.scale = light.color * light.intensity;
+  binding.background = light.background;
+  return binding;
+}
+
+}  // namespace omnishadow

@@ -1,0 +1,284 @@
+// Environment lighting (EnvironmentLight) checked against what the light arriving from every
+// direction must give: a white furnace, a sky over a black ground, a mirror's reflection, the
+// background, and the errors of a bad image.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <glm/gtc/matrix_transform.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/core/errors.h"
+#include "renderer/output/image_writer.h"
+#include "renderer/render/renderer.h"
+#include "renderer/scene/srgb_transfer.h"
+#include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
+#include "tests/support/shared_renderer.h"
+#include "tests/support/temp_folder.h"
+
+namespace omnishadow {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::lookFrom;
+using test_support::sharedRenderer;
+using test_support::TempFolder;
+
+constexpr float kPi = 3.14159265358979f;
+
+// An equirectangular OpenEXR picture, each texel's radiance from its direction's (u, v).
+fs::path writePanorama(const fs::path& path, int width, int height,
+                       const std::function<glm::vec3(float u, float v)>& radiance) {
+  FloatImage image;
+  image.width = width;
+  image.height = height;
+  image.channels = {"R", "G", "B"};
+  image.pixels.resize(static_cast<std::size_t>(width) * height * 3);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const glm::vec3 value = radiance((x + 0.5f) / width, (y + 0.5f) / height);
+      for (int c = 0; c < 3; ++c) image.at(x, y, c) = value[c];
+    }
+  writeExr(path, image, ExrPixelType::Float);
+  return path;
+}
+
+Material surface(glm::vec3 base, float metallic, float roughness) {
+  Material m;
+  m.baseColorFactor = glm::vec4(base, 1.0f);
+  m.metallicFactor = metallic;
+  m.roughnessFactor = roughness;
+  m.doubleSided = true;
+  return m;
+}
+
+Frame render(const Scene& scene, const Ambience& ambience, const ViewCamera& camera,
+             RenderSettings settings = {}) {
+  StageTimes times;
+  return sharedRenderer().render(scene, {}, ambience, camera, settings, times);
+}
+
+Ambience withEnvironment(const EnvironmentLight& environment) {
+  Ambience ambience(glm::vec3(0.0f));
+  ambience.environment = environment;
+  return ambience;
+}
+
+glm::vec3 pixel(const Frame& frame, int x, int y) {
+  return {frame.beauty.at(x, y, 0), frame.beauty.at(x, y, 1), frame.beauty.at(x, y, 2)};
+}
+
+// A plane of 2 x 2 facing `normal` at the origin (makePlane faces +Y).
+Scene planeFacing(const Material& material, glm::vec3 normal) {
+  Scene scene;
+  scene.materials.push_back(material);
+  const glm::vec3 up(0, 1, 0);
+  glm::mat4 world(1.0f);
+  if (glm::length(glm::cross(up, normal)) > 1e-6f)
+    world = glm::rotate(world, std::acos(glm::dot(up, normal)), glm::cross(up, normal));
+  else if (normal.y < 0.0f)
+    world = glm::rotate(world, kPi, glm::vec3(1, 0, 0));
+  test::placeMesh(scene, builder::makePlane(2.0f), world, 0);
+  return scene;
+}
+
+// The middle of a 32 x 32 picture of a plane facing `normal`, seen straight on from 3 units.
+glm::vec3 middleOfPlane(const Material& material, glm::vec3 normal, const Ambience& ambience) {
+  const Scene scene = planeFacing(material, normal);
+  const glm::vec3 up = std::abs(normal.y) > 0.5f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
+  const ViewCamera camera = lookFrom(scene, 3.0f * normal, {0, 0, 0}, 32, 32, 20.0f, up);
+  const Frame frame = render(scene, ambience, camera);
+  EXPECT_EQ(frame.beauty.at(16, 16, 3), 1.0f);
+  return pixel(frame, 16, 16);
+}
+
+// A white surface in a uniform environment reflects exactly the radiance that arrives, whatever
+// its roughness: what its specular lobe does not reflect, its diffuse does (the white furnace).
+// A white mirror metal reflects it all too; a rough one only what single scattering keeps.
+TEST(EnvironmentRender, AWhiteSurfaceInAUniformEnvironmentReflectsItsRadiance) {
+  EnvironmentLight uniform;
+  uniform.color = {0.5f, 0.6f, 0.7f};
+  uniform.intensity = 2.0f;
+  const glm::vec3 radiance = uniform.color * uniform.intensity;
+  for (const float roughness : {0.0f, 0.3f, 0.7f, 1.0f}) {
+    SCOPED_TRACE("roughness " + std::to_string(roughness));
+    Scene scene;
+    scene.materials.push_back(surface(glm::vec3(1.0f), 0.0f, roughness));
+    test::placeMesh(scene, builder::makeSphere(1.0f, 48, 24), glm::mat4(1.0f), 0);
+    const ViewCamera camera = lookFrom(scene, {0, 0, 4}, {0, 0, 0}, 48, 48, 35.0f);
+    const Frame frame = render(scene, withEnvironment(uniform), camera);
+    int covered = 0;
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 48; ++x) {
+        if (frame.beauty.at(x, y, 3) < 1.0f) continue;
+        ++covered;
+        for (int c = 0; c < 3; ++c)
+          ASSERT_NEAR(frame.beauty.at(x, y, c), radiance[c], 2e-3f * radiance[c])
+              << "pixel " << x << ", " << y << " channel " << c;
+      }
+    EXPECT_GT(covered, 600);
+  }
+  // The metal, seen face on (the split-sum table's A + B is 1 without roughness).
+  const glm::vec3 mirror =
+      middleOfPlane(surface(glm::vec3(1.0f), 1.0f, 0.0f), {0, 0, 1}, withEnvironment(uniform));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(mirror[c], radiance[c], 0.02f * radiance[c]);
+  const glm::vec3 rough =
+      middleOfPlane(surface(glm::vec3(1.0f), 1.0f, 1.0f), {0, 0, 1}, withEnvironment(uniform));
+  // GGX at roughness 1 seen face on reflects 0.307 of it (the integral of D Vis n.l over the
+  // hemisphere, by uniform sampling); the table's last row lies at roughness 31.5 / 32.
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(rough[c] / radiance[c], 0.31f, 0.025f);
+}
+
+// A sky of radiance L above the horizon and nothing below: a floor receives the whole sky (E /
+// pi = L), a ceiling nothing, a wall half of it (its diffuse sees half the sky, its rough lobe
+// looks at the horizon).
+TEST(EnvironmentRender, ASkyLightsFloorsFullyWallsByHalfAndCeilingsNot) {
+  TempFolder folder("omnishadow-environment-sky");
+  const glm::vec3 sky(0.8f, 0.9f, 1.0f);
+  EnvironmentLight light;
+  light.image = writePanorama(folder / "sky.exr", 128, 64,
+                              [&](float, float v) { return v < 0.5f ? sky : glm::vec3(0.0f); });
+  light.origin = "lights.json";
+  const Ambience ambience = withEnvironment(light);
+  const Material white = surface(glm::vec3(1.0f), 0.0f, 1.0f);
+  const glm::vec3 floor = middleOfPlane(white, {0, 1, 0}, ambience);
+  const glm::vec3 ceiling = middleOfPlane(white, {0, -1, 0}, ambience);
+  const glm::vec3 wall = middleOfPlane(white, {0, 0, 1}, ambience);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(floor[c], sky[c], 0.02f * sky[c]) << "channel " << c;
+    EXPECT_LT(ceiling[c], 0.01f * sky[c]) << "channel " << c;
+    EXPECT_NEAR(wall[c], 0.5f * sky[c], 0.05f * sky[c]) << "channel " << c;
+  }
+  // A grey floor: the dielectric's lobe reflects F0 A + B of the sky, the diffuse the grey of
+  // the rest: between the grey and white.
+  const glm::vec3 grey = middleOfPlane(surface(glm::vec3(0.25f), 0.0f, 0.5f), {0, 1, 0}, ambience);
+  EXPECT_GT(grey.g, 0.25f * sky.g);
+  EXPECT_LT(grey.g, 0.35f * sky.g);
+}
+
+// A mirror reflects the environment in the direction the law of reflection gives: red to +X,
+// green to -X; a half turn of the environment swaps them.
+TEST(EnvironmentRender, AMirrorReflectsTheDirectionItFacesAndTheRotationTurnsIt) {
+  TempFolder folder("omnishadow-environment-mirror");
+  EnvironmentLight light;
+  // The middle column looks along -Z, the right half (u > 0.5) towards +X.
+  light.image = writePanorama(folder / "halves.exr", 64, 32, [](float u, float) {
+    return u > 0.5f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+  });
+  const Material mirror = surface(glm::vec3(1.0f), 1.0f, 0.0f);
+  const glm::vec3 east = middleOfPlane(mirror, {1, 0, 0}, withEnvironment(light));
+  const glm::vec3 west = middleOfPlane(mirror, {-1, 0, 0}, withEnvironment(light));
+  EXPECT_GT(east.r, 0.95f);
+  EXPECT_LT(east.g, 0.02f);
+  EXPECT_GT(west.g, 0.95f);
+  EXPECT_LT(west.r, 0.02f);
+  light.rotation = kPi;
+  const glm::vec3 turned = middleOfPlane(mirror, {1, 0, 0}, withEnvironment(light));
+  EXPECT_GT(turned.g, 0.95f);
+  EXPECT_LT(turned.r, 0.02f);
+  // A quarter turn counterclockwise seen from above brings what lay to +X round to -Z.
+  light.rotation = kPi / 2.0f;
+  const glm::vec3 quarter = middleOfPlane(mirror, {0, 0, -1}, withEnvironment(light));
+  EXPECT_GT(quarter.r, 0.95f);
+}
+
+// With `background`, each pixel no surface covers shows the environment along its view ray and
+// is opaque; without, it stays empty. The 8-bit beauty encodes the same values.
+TEST(EnvironmentRender, TheBackgroundShowsTheEnvironmentAlongEachViewRay) {
+  TempFolder folder("omnishadow-environment-background");
+  EnvironmentLight light;
+  light.image = writePanorama(folder / "ramp.exr", 64, 32,
+                              [](float u, float v) { return glm::vec3(u, v, 0.25f); });
+  light.background = true;
+  Scene scene;
+  scene.materials.push_back(surface(glm::vec3(1.0f), 0.0f, 1.0f));
+  test::placeMesh(scene, builder::makeSphere(0.2f, 16, 8),
+                  glm::translate(glm::mat4(1.0f), {3.0f, 0.0f, -5.0f}), 0);
+  // Looking down -Z: the middle of the picture is (u, v) = (0.5, 0.5).
+  const ViewCamera camera = lookFrom(scene, {0, 0, 0}, {0, 0, -1}, 33, 33, 30.0f);
+  const Frame frame = render(scene, withEnvironment(light), camera);
+  const glm::vec3 middle = pixel(frame, 16, 16);
+  EXPECT_NEAR(middle.r, 0.5f, 0.01f);
+  EXPECT_NEAR(middle.g, 0.5f, 0.01f);
+  EXPECT_NEAR(middle.b, 0.25f, 1e-4f);
+  // Left of the middle the rays turn towards -X, where u is smaller; rows grow downwards (the
+  // picture's first row is its top) as v does.
+  EXPECT_LT(pixel(frame, 2, 16).r, middle.r - 0.02f);
+  for (int y = 0; y < 33; ++y)
+    for (int x = 0; x < 33; ++x) ASSERT_EQ(frame.beauty.at(x, y, 3), 1.0f);
+
+  light.background = false;
+  const Frame empty = render(scene, withEnvironment(light), camera);
+  EXPECT_EQ(empty.beauty.at(16, 16, 3), 0.0f);
+  EXPECT_EQ(pixel(empty, 16, 16), glm::vec3(0.0f));
+
+  light.background = true;
+  RenderSettings bytes;
+  bytes.srgb8Exposure = 0.0f;
+  const Frame encoded = render(scene, withEnvironment(light), camera, bytes);
+  ASSERT_TRUE(encoded.srgb8);
+  for (const auto& [x, y] : {std::pair{16, 16}, std::pair{2, 16}, std::pair{30, 5}})
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(encoded.srgb8->rgb[(static_cast<std::size_t>(y) * 33 + x) * 3 + c],
+                srgb8(frame.beauty.at(x, y, c)))
+          << x << ", " << y << " channel " << c;
+}
+
+// Two frames with one environment are byte-identical; a new image at the same path is read
+// again (a renderer keeps the last environment's textures while the file is unchanged).
+TEST(EnvironmentRender, FramesRepeatAndAChangedImageIsReadAgain) {
+  TempFolder folder("omnishadow-environment-cache");
+  EnvironmentLight light;
+  light.image =
+      writePanorama(folder / "sky.exr", 32, 16, [](float, float) { return glm::vec3(1.0f); });
+  const Material white = surface(glm::vec3(1.0f), 0.0f, 0.6f);
+  const Scene scene = planeFacing(white, {0, 1, 0});
+  const ViewCamera camera = lookFrom(scene, {0, 3, 0}, {0, 0, 0}, 24, 24, 20.0f, {0, 0, -1});
+  const Frame a = render(scene, withEnvironment(light), camera);
+  const Frame b = render(scene, withEnvironment(light), camera);
+  EXPECT_EQ(a.beauty.pixels, b.beauty.pixels);
+  EXPECT_NEAR(a.beauty.at(12, 12, 0), 1.0f, 2e-3f);
+  writePanorama(light.image, 64, 32, [](float, float) { return glm::vec3(3.0f); });
+  const Frame brighter = render(scene, withEnvironment(light), camera);
+  EXPECT_NEAR(brighter.beauty.at(12, 12, 0), 3.0f, 6e-3f);
+}
+
+// An image that cannot be read, or holds a value that is not finite, is an input error naming
+// the lights file, the field and the image.
+TEST(EnvironmentRender, ABadImageIsAnInputErrorNamingTheFieldAndTheFile) {
+  TempFolder folder("omnishadow-environment-errors");
+  const Scene scene = planeFacing(surface(glm::vec3(1.0f), 0.0f, 1.0f), {0, 1, 0});
+  const ViewCamera camera = lookFrom(scene, {0, 3, 0}, {0, 0, 0}, 8, 8, 20.0f, {0, 0, -1});
+  const auto messageOf = [&](const EnvironmentLight& light) -> std::string {
+    try {
+      render(scene, withEnvironment(light), camera);
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "(no error)";
+  };
+  EnvironmentLight missing;
+  missing.image = folder / "missing.exr";
+  missing.origin = "rig.json";
+  const std::string noFile = messageOf(missing);
+  EXPECT_TRUE(noFile.starts_with("rig.json: environment.image: " + missing.image.string()))
+      << noFile;
+  EXPECT_EQ(noFile.find('\n'), std::string::npos);
+
+  EnvironmentLight infinite;
+  infinite.origin = "rig.json";
+  infinite.image = writePanorama(folder / "inf.exr", 8, 4, [](float u, float v) {
+    return u > 0.5f && v > 0.5f ? glm::vec3(INFINITY) : glm::vec3(1.0f);
+  });
+  const std::string notFinite = messageOf(infinite);
+  EXPECT_EQ(notFinite, "rig.json: environment.image: " + infinite.image.string() +
+                           ": pixel (4, 2) is not finite");
+  // The renderer is still good for the next frame.
+  EXPECT_EQ(messageOf(EnvironmentLight{}), "(no error)");
+}
+
+}  // namespace
+}  // namespace omnishadow
