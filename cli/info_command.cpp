@@ -89,6 +89,23 @@ std::string text(const glm::vec3& v) {
   return "(" + readable(v.x) + ", " + readable(v.y) + ", " + readable(v.z) + ")";
 }
 
+// The lights file's environment light as it will light the frame (null: none).
+Json environmentJson(const std::optional<EnvironmentLight>& environment) {
+  if (!environment) return Json(nullptr);
+  const EnvironmentLight& e = *environment;
+  return Json{{"image", e.image.empty() ? Json(nullptr) : Json(e.image.string())},
+              {"color", vec3(e.color)},
+              {"intensity", jsonNumber(e.intensity)},
+              {"rotation", jsonNumber(glm::degrees(e.rotation))},
+              {"background", e.background}};
+}
+
+std::string environmentText(const EnvironmentLight& e) {
+  return (e.image.empty() ? std::string("uniform") : e.image.string()) + ", color " +
+         text(e.color) + ", intensity " + readable(e.intensity) + ", rotation " +
+         readable(glm::degrees(e.rotation)) + " degrees" + (e.background ? ", background" : "");
+}
+
 std::string quoted(const std::string& name) {
   return name.empty() ? "(unnamed)" : "\"" + name + "\"";
 }
@@ -365,6 +382,7 @@ Json toJson(const Info& info) {
   }
   doc["lights"] = lights;
   doc["ambient"] = info.setup ? vec3(info.setup->ambient) : Json(nullptr);
+  doc["environment"] = info.setup ? environmentJson(info.setup->environment) : Json(nullptr);
   doc["animations"] = animationsJson(scene.rig);
   doc["skins"] = skinsJson(scene.rig);
   doc["morphTargets"] = morphTargetsJson(scene.rig);
@@ -527,6 +545,8 @@ void printText(const Info& info) {
   printTable(rows);
   printInfoLine("ambient", info.setup ? text(info.setup->ambient) + " (lights file)"
                                       : "none (no lights file)");
+  if (info.setup && info.setup->environment)
+    printInfoLine("environment", environmentText(*info.setup->environment));
 
   printMotion(scene.rig);
   printInfoLine("warnings", std::to_string(info.warnings.size()));

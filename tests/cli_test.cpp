@@ -271,6 +271,25 @@ TEST_F(CliTest, OutputThatIsAFolderIsRejectedBeforeRendering) {
   EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
 }
 
+TEST_F(CliTest, AnEnvironmentImageThatCannotBeReadEndsTheRenderWithStatusTwoAndNoPicture) {
+  const fs::path scenePath = scene("scene.gltf");
+  const fs::path lightsPath =
+      writeText("lights.json", R"({"environment": {"image": "missing.hdr"}})");
+  const Run r = run({"render", scenePath.string(), "-l", lightsPath.string(), "--width", "16",
+                     "--height", "16", "-o", "a.png"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, lightsPath.string() + ": environment.image: " +
+                                  (in_ / "missing.hdr").string() + ": cannot read image"))
+      << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(filesIn(out_), std::vector<std::string>{});
+  // A uniform environment as the background: every pixel opaque, no alpha channel needed.
+  const fs::path uniform = writeText(
+      "uniform.json", R"({"environment": {"color": [0.2, 0.4, 0.8], "background": true}})");
+  render({scenePath.string(), "-l", uniform.string(), "-o", "lit.png"});
+  EXPECT_EQ(pngHeader(output("lit.png")).colorType, 2);
+}
+
 TEST_F(CliTest, RefusesToOverwriteATextureTheSceneReads) {
   writeBoxScene(in_ / "scene.gltf", {.format = FileFormat::GltfExternal});
   const std::vector<std::string> inputs = filesIn(in_);

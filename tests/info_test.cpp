@@ -167,9 +167,10 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(r.out, Json::parse(r.out).dump(2) + "\n");  // two-space indent, one object
   const Json doc = Json::parse(r.out);
   using Keys = std::vector<std::string>;
-  EXPECT_EQ(keys(doc), (Keys{"file", "format", "asset", "extensions", "scene", "materialVariants",
-                             "counts", "bounds", "materials", "textures", "cameras", "lights",
-                             "ambient", "animations", "skins", "morphTargets", "warnings"}));
+  EXPECT_EQ(keys(doc),
+            (Keys{"file", "format", "asset", "extensions", "scene", "materialVariants", "counts",
+                  "bounds", "materials", "textures", "cameras", "lights", "ambient", "environment",
+                  "animations", "skins", "morphTargets", "warnings"}));
   EXPECT_EQ(keys(doc["materialVariants"]), (Keys{"names", "drawn"}));
   EXPECT_EQ(keys(doc["asset"]), (Keys{"version", "minVersion", "generator", "copyright"}));
   EXPECT_EQ(keys(doc["scene"]), (Keys{"index", "count"}));
@@ -349,6 +350,28 @@ TEST_F(InfoTest, LightsOptionChoosesAnotherFile) {
   EXPECT_TRUE(sun["position"].is_null());
   expectVec3(sun["direction"], {0.0f, 0.0f, -1.0f});
   expectVec3(doc["ambient"], glm::vec3(0.03f));  // the file's default
+}
+
+TEST_F(InfoTest, ReportsTheEnvironmentAsItWillLightTheFrame) {
+  const fs::path lights =
+      writeText("studio.json",
+                R"({"environment": {"image": "maps/sky.hdr", "intensity": 2, "rotation": 90}})");
+  const Json doc = info({scene().string(), "--lights", lights.string()});
+  const Json& environment = doc["environment"];
+  EXPECT_EQ(environment["image"], (lights.parent_path() / "maps" / "sky.hdr").string());
+  expectVec3(environment["color"], glm::vec3(1.0f));
+  EXPECT_EQ(environment["intensity"], 2.0);
+  EXPECT_NEAR(environment["rotation"].get<double>(), 90.0, 1e-4);
+  EXPECT_EQ(environment["background"], false);
+  expectVec3(doc["ambient"], glm::vec3(0.0f));  // the environment stands in for it
+  EXPECT_TRUE(info({scene().string()})["environment"].is_null());  // no lights file
+
+  const fs::path uniform = writeText("uniform.json", R"({"environment": {"background": true}})");
+  const Run r = run({"info", scene().string(), "--lights", uniform.string()});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out,
+                       "environment uniform, color (1, 1, 1), intensity 1, rotation 0 "
+                       "degrees, background\n"));
 }
 
 TEST_F(InfoTest, SceneOptionChoosesAnotherScene) {

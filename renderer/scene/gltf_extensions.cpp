@@ -47,7 +47,8 @@ constexpr KnownExtension kKnownExtensions[] = {
     {"KHR_interactivity", NotSupported, "the static scene; its behaviour graphs do not run"},
     {"KHR_node_selectability", NotSupported, "every node (selection is for interactive viewers)"},
     {"KHR_xmp_json_ld", NotSupported, "the scene; its metadata is not read"},
-    {"EXT_lights_image_based", NotSupported, "the punctual lights and ambient only"},
+    {"EXT_lights_image_based", NotSupported,
+     "the punctual lights, the ambient and the lights file's environment"},
     {"MSFT_lod", NotSupported, "the full-detail meshes"},
 };
 
