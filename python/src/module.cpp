@@ -257,6 +257,21 @@ PYBIND11_MODULE(omnishadow, m) {
                                return py::make_tuple(l.setup.ambient.x, l.setup.ambient.y,
                                                      l.setup.ambient.z);
                              })
+      .def_property_readonly(
+          "environment",
+          [](const PyLights& l) -> py::object {
+            if (!l.setup.environment) return py::none();
+            const EnvironmentLight& e = *l.setup.environment;
+            py::dict environment;
+            environment["image"] =
+                e.image.empty() ? py::object(py::none()) : py::object(py::str(e.image.string()));
+            environment["color"] = py::make_tuple(e.color.x, e.color.y, e.color.z);
+            environment["intensity"] = e.intensity;
+            environment["rotation"] = e.rotation * 57.29577951308232;  // degrees, as written
+            environment["background"] = e.background;
+            return environment;
+          },
+          "The environment light as a dict (image path resolved, rotation in degrees), or None.")
       .def_readonly("warnings", &PyLights::warnings);
 
   m.def(
