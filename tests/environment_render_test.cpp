@@ -3,6 +3,7 @@
 // background, and the errors of a bad image.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -14,6 +15,7 @@
 #include "renderer/output/image_writer.h"
 #include "renderer/render/renderer.h"
 #include "renderer/scene/srgb_transfer.h"
+#include "renderer/view/environment_map.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
@@ -130,6 +132,104 @@ TEST(EnvironmentRender, AWhiteSurfaceInAUniformEnvironmentReflectsItsRadiance) {
   // GGX at roughness 1 seen face on reflects 0.307 of it (the integral of D Vis n.l over the
   // hemisphere, by uniform sampling); the table's last row lies at roughness 31.5 / 32.
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(rough[c] / radiance[c], 0.31f, 0.025f);
+}
+
+// The split-sum table as the shader reads it: bilinear between texel centres at (i + 0.5) /
+// size, clamped at the edges (environment_textures.cpp makes the table 32 x 32).
+glm::vec2 tableAt(float NdotV, float roughness) {
+  static const SpecularBrdfTable table = specularBrdfTable(32);
+  const auto texel = [&](int i, int j) {
+    const std::size_t k = (static_cast<std::size_t>(j) * table.size + i) * 2;
+    return glm::vec2(table.scaleBias[k], table.scaleBias[k + 1]);
+  };
+  const auto axis = [&](float t, int& i0, int& i1, float& f) {
+    const float x = std::clamp(t * table.size - 0.5f, 0.0f, table.size - 1.0f);
+    i0 = static_cast<int>(std::floor(x));
+    i1 = std::min(i0 + 1, table.size - 1);
+    f = x - static_cast<float>(i0);
+  };
+  int x0, x1, y0, y1;
+  float fx, fy;
+  axis(NdotV, x0, x1, fx);
+  axis(roughness, y0, y1, fy);
+  return glm::mix(glm::mix(texel(x0, y0), texel(x1, y0), fx),
+                  glm::mix(texel(x0, y1), texel(x1, y1), fx), fy);
+}
+
+// Each material layer in a uniform environment, seen face on (N = V), against its formula by
+// hand: the same weights as for a light, with each lobe's albedo F0 A + F90 B from the table.
+// Several are white furnaces (what a layer takes from below it gives back).
+TEST(EnvironmentRender, EachMaterialLayerReflectsAUniformEnvironmentAsItsFormulaSays) {
+  EnvironmentLight uniform;  // radiance 1 from everywhere
+  const glm::vec3 grey(0.5f);
+  struct Case {
+    const char* name;
+    Material material;
+    glm::vec3 expected;
+    bool background = false;
+  };
+  std::vector<Case> cases;
+  {
+    Material m = surface(grey, 0.0f, 1.0f);
+    m.specularGlossiness = true;
+    m.specularFactor = glm::vec3(0.2f, 0.3f, 0.4f);
+    m.glossinessFactor = 0.6f;
+    const glm::vec2 ab = tableAt(1.0f, 0.4f);
+    cases.push_back({"specular-glossiness", m, m.specularFactor * ab.x + ab.y + grey * 0.6f});
+  }
+  {
+    Material m = surface(grey, 0.0f, 0.5f);
+    m.specularWeight = 0.5f;
+    m.specularColorFactor = glm::vec3(1.0f, 2.0f, 4.0f);
+    const glm::vec2 ab = tableAt(1.0f, 0.5f);
+    const glm::vec3 dielectric =
+        glm::min(0.04f * m.specularColorFactor, glm::vec3(1.0f)) * 0.5f * ab.x + 0.5f * ab.y;
+    const float kept = 1.0f - std::max({dielectric.r, dielectric.g, dielectric.b});
+    cases.push_back({"KHR_materials_specular", m, dielectric + grey * kept});
+  }
+  {
+    Material m = surface(grey, 0.5f, 0.3f);  // half metal: the two lobes mixed
+    const glm::vec2 ab = tableAt(1.0f, 0.3f);
+    const glm::vec3 dielectric(0.04f * ab.x + ab.y), metal = grey * ab.x + ab.y;
+    const glm::vec3 kept = glm::vec3(0.5f * (1.0f - dielectric.r));
+    cases.push_back({"half metal", m, glm::mix(dielectric, metal, 0.5f) + grey * kept});
+  }
+  {
+    Material m = surface(glm::vec3(1.0f), 0.0f, 0.7f);  // the base alone is a furnace: 1
+    m.clearcoatFactor = 1.0f;
+    m.clearcoatRoughnessFactor = 0.4f;
+    const glm::vec2 ab = tableAt(1.0f, 0.4f);
+    cases.push_back({"clearcoat", m, glm::vec3(1.0f - 0.04f + 0.04f * ab.x + ab.y)});
+  }
+  {
+    Material m = surface(glm::vec3(1.0f), 0.0f, 0.7f);
+    // A grey sheen takes max(color) E(N.V) from the base and gives color E(N.V) back.
+    m.sheenColorFactor = glm::vec3(0.6f);
+    m.sheenRoughnessFactor = 0.5f;
+    cases.push_back({"sheen (a white furnace)", m, glm::vec3(1.0f)});
+  }
+  {
+    // A clear pane before the environment shown as the background: the light it lets through
+    // (1 - F0 face on) and what its lobe reflects (F0 A + B) make the radiance again.
+    Material m = surface(glm::vec3(1.0f), 0.0f, 0.0f);
+    m.transmissionFactor = 1.0f;
+    const glm::vec2 ab = tableAt(1.0f, 0.0f);
+    cases.push_back({"transmission", m, glm::vec3(0.96f + 0.04f * ab.x + ab.y), true});
+  }
+  {
+    Material m = surface(glm::vec3(1.0f), 0.0f, 0.6f);
+    m.diffuseTransmissionFactor = 1.0f;
+    m.diffuseTransmissionColorFactor = glm::vec3(0.25f, 0.5f, 1.0f);
+    const glm::vec2 ab = tableAt(1.0f, 0.6f);
+    cases.push_back({"diffuse transmission", m,
+                     glm::vec3(0.04f * ab.x + ab.y) + 0.96f * m.diffuseTransmissionColorFactor});
+  }
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    uniform.background = c.background;
+    const glm::vec3 seen = middleOfPlane(c.material, {0, 0, 1}, withEnvironment(uniform));
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(seen[i], c.expected[i], 0.01f * c.expected[i]) << i;
+  }
 }
 
 // A sky of radiance L above the horizon and nothing below: a floor receives the whole sky (E /
