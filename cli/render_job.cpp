@@ -308,13 +308,17 @@ void prepareJob(Renderer& renderer, const RenderJob& job) {
   std::error_code error;
   const std::uintmax_t size = fs::file_size(job.lights, error);
   if (error || size > kMaxGuessedLightsFileBytes) return;
-  std::vector<Light> lights;
+  LightSetup setup;
   try {
     std::vector<std::string> warnings;
-    lights = mergeLights({}, loadLightsFile(job.lights, warnings).lights);
+    setup = loadLightsFile(job.lights, warnings);
   } catch (const InputError&) {
     return;  // loadJob() reports it
   }
+  // An environment image is read and prefiltered here, beside the scene's load.
+  if (setup.environment && drawsLitFrame(renderSettings(job)))
+    renderer.prepareEnvironment(*setup.environment);
+  const std::vector<Light> lights = mergeLights({}, setup.lights);
   if (lights.empty()) return;
   try {
     renderer.prepare(lights, job.camera.width.value_or(kDefaultWidth),

@@ -344,6 +344,11 @@ TEST(EnvironmentRender, FramesRepeatAndAChangedImageIsReadAgain) {
   writePanorama(light.image, 64, 32, [](float, float) { return glm::vec3(3.0f); });
   const Frame brighter = render(scene, withEnvironment(light), camera);
   EXPECT_NEAR(brighter.beauty.at(12, 12, 0), 3.0f, 6e-3f);
+  // Prepared ahead, as the CLI does while a scene loads: the same frame.
+  writePanorama(light.image, 16, 8, [](float, float) { return glm::vec3(2.0f); });
+  sharedRenderer().prepareEnvironment(light);
+  const Frame prepared = render(scene, withEnvironment(light), camera);
+  EXPECT_NEAR(prepared.beauty.at(12, 12, 0), 2.0f, 4e-3f);
 }
 
 // An image that cannot be read, or holds a value that is not finite, is an input error naming
@@ -376,6 +381,9 @@ TEST(EnvironmentRender, ABadImageIsAnInputErrorNamingTheFieldAndTheFile) {
   const std::string notFinite = messageOf(infinite);
   EXPECT_EQ(notFinite, "rig.json: environment.image: " + infinite.image.string() +
                            ": pixel (4, 2) is not finite");
+  // Prepared ahead (while a scene loads), a bad image is left for the render to report.
+  EXPECT_NO_THROW(sharedRenderer().prepareEnvironment(infinite));
+  EXPECT_TRUE(messageOf(infinite).ends_with("is not finite")) << messageOf(infinite);
   // The renderer is still good for the next frame.
   EXPECT_EQ(messageOf(EnvironmentLight{}), "(no error)");
 }

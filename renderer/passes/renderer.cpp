@@ -194,6 +194,13 @@ class Renderer::Impl {
                                                    ShadowPassStrategy strategy);
   double prepare(const std::vector<Light>& lights, int width, int height,
                  const RenderSettings& settings, double budgetMiB);
+  void prepareEnvironment(const EnvironmentLight& environment) {
+    try {
+      environmentCache_.bind(environment);
+    } catch (const InputError&) {
+      // render() reports it, after the scene's own errors.
+    }
+  }
   double frameBytes(const Scene& scene, const std::vector<Light>& lights, const ViewCamera& camera,
                     const RenderSettings& settings) const;
 
@@ -1345,6 +1352,11 @@ std::vector<CubeDistances> Renderer::renderShadowDistances(const Scene& scene,
                                                            ShadowPassStrategy strategy) {
   impl_->context().makeCurrent();
   return impl_->renderShadowDistances(scene, lights, strategy);
+}
+
+void Renderer::prepareEnvironment(const EnvironmentLight& environment) {
+  impl_->context().makeCurrent();
+  impl_->prepareEnvironment(environment);
 }
 
 double Renderer::prepare(const std::vector<Light>& lights, int width, int height,

@@ -49,6 +49,11 @@ class Renderer {
   // (render() reports that). Returns the bytes it prepared.
   double prepare(const std::vector<Light>& lights, int width, int height,
                  const RenderSettings& settings, double budgetMiB);
+  // Does ahead of render() what an environment light needs: reads and prefilters its image and
+  // uploads the textures, which the next render() with the same environment takes. For time
+  // spent waiting for the scene to load. An image that cannot be read is left for render() to
+  // report.
+  void prepareEnvironment(const EnvironmentLight& environment);
   // About the bytes render() allocates for the scene's frame: its shadow maps, the beauty's
   // targets and what the beauty is read back into; 0 where render() would refuse it. Makes no
   // GL call (the CLI's memory warm-up faults in as much ahead of the frame).
