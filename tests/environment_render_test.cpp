@@ -156,6 +156,24 @@ glm::vec2 tableAt(float NdotV, float roughness) {
                   glm::mix(texel(x0, y1), texel(x1, y1), fx), fy);
 }
 
+// Radiance beyond a half float's range (65504) keeps its value: a sun is 1e5 and more (the
+// textures are floats; half floats, scaled, measured no faster on llvmpipe).
+TEST(EnvironmentRender, RadianceBeyondAHalfsRangeKeepsItsValue) {
+  TempFolder folder("omnishadow-environment-bright");
+  EnvironmentLight light;
+  light.image = writePanorama(folder / "bright.exr", 32, 16,
+                              [](float, float) { return glm::vec3(2.0e5f, 1.0e5f, 3.0f); });
+  const glm::vec3 mirror =
+      middleOfPlane(surface(glm::vec3(1.0f), 1.0f, 0.0f), {0, 0, 1}, withEnvironment(light));
+  const glm::vec3 matte =
+      middleOfPlane(surface(glm::vec3(1.0f), 0.0f, 1.0f), {0, 0, 1}, withEnvironment(light));
+  const glm::vec3 expected(2.0e5f, 1.0e5f, 3.0f);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(mirror[c], expected[c], 0.02f * expected[c]) << c;
+    EXPECT_NEAR(matte[c], expected[c], 2e-3f * expected[c]) << c;
+  }
+}
+
 // Each material layer in a uniform environment, seen face on (N = V), against its formula by
 // hand: the same weights as for a light, with each lobe's albedo F0 A + F90 B from the table.
 // Several are white furnaces (what a layer takes from below it gives back).
