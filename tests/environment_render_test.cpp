@@ -399,6 +399,12 @@ TEST(EnvironmentRender, ABadImageIsAnInputErrorNamingTheFieldAndTheFile) {
   const std::string notFinite = messageOf(infinite);
   EXPECT_EQ(notFinite, "rig.json: environment.image: " + infinite.image.string() +
                            ": pixel (4, 2) is not finite");
+  EnvironmentLight huge = infinite;
+  huge.image = writePanorama(folder / "huge.exr", 8, 4, [](float u, float) {
+    return u < 0.2f ? glm::vec3(3e38f) : glm::vec3(1.0f);
+  });
+  EXPECT_EQ(messageOf(huge),
+            "rig.json: environment.image: " + huge.image.string() + ": pixel (0, 0) is above 1e20");
   // Prepared ahead (while a scene loads), a bad image is left for the render to report.
   EXPECT_NO_THROW(sharedRenderer().prepareEnvironment(infinite));
   EXPECT_TRUE(messageOf(infinite).ends_with("is not finite")) << messageOf(infinite);

@@ -13,6 +13,8 @@ namespace {
 
 // The split-sum table's entries along n.v and roughness: smooth in both, read bilinearly.
 constexpr int kBrdfTableSize = 32;
+// Far above any measured sky (the sun is about 1e9 cd/m^2), far below a float's 3.4e38.
+constexpr float kMaxRadiance = 1e20f;
 
 // The channels of `image` that hold red, green and blue: R, G, B when named so, else the first
 // channel for all three (grey images).
@@ -50,12 +52,13 @@ EquirectImage environmentRadiance(const EnvironmentLight& light) {
   for (std::size_t i = 0, n = static_cast<std::size_t>(image.width) * image.height; i < n; ++i) {
     for (std::size_t c = 0; c < 3; ++c) {
       const float value = image.pixels[i * stride + static_cast<std::size_t>(channels[c])];
-      // One infinite or NaN texel would spread over every blurred level and the irradiance.
-      if (!std::isfinite(value)) {
+      // One infinite or NaN texel would spread over every blurred level and the irradiance,
+      // and sums of texels near the float's limit overflow to infinity.
+      if (!std::isfinite(value) || value > kMaxRadiance) {
         throw InputError(where + light.image.string() + ": pixel (" +
                          std::to_string(i % static_cast<std::size_t>(image.width)) + ", " +
-                         std::to_string(i / static_cast<std::size_t>(image.width)) +
-                         ") is not finite");
+                         std::to_string(i / static_cast<std::size_t>(image.width)) + ") is " +
+                         (std::isfinite(value) ? "above 1e20" : "not finite"));
       }
       // Radiance cannot be negative; resampling in an editor leaves small negative lobes.
       radiance.rgb[i * 3 + c] = std::max(value, 0.0f);
