@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <png.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -213,6 +214,104 @@ TEST(ImageReaderTest, OtherFormatsAreReadThroughTheOpenImageIOPlugin) {
   }
 }
 
+// Radiance HDR files as OpenImageIO writes them (run-length encoded rows from 8 pixels wide, flat
+// rows below): the values OpenImageIO reads back, but for the half step of the mantissa that
+// Radiance (and Blender) add when reading, (m + 0.5) 2^(e - 136), which OpenImageIO leaves out.
+TEST(ImageReaderTest, RadianceHdrReadsWhatOpenImageIOReadsToHalfAMantissaStep) {
+  TempDir dir;
+  for (const auto& [width, height] : {std::pair{64, 5}, std::pair{5, 3}}) {
+    SCOPED_TRACE(std::to_string(width) + " x " + std::to_string(height));
+    std::vector<float> values(static_cast<std::size_t>(width) * height * 3);
+    for (std::size_t i = 0; i < values.size(); ++i)
+      values[i] = (i % 7 == 0) ? 0.0f
+                               : std::ldexp(static_cast<float>((i * 37) % 101) + 1.0f,
+                                            static_cast<int>(i % 23) - 12);
+    const fs::path path = dir / ("a" + std::to_string(width) + ".hdr");
+    auto output = OIIO::ImageOutput::create("hdr");
+    ASSERT_TRUE(output);
+    ASSERT_TRUE(
+        output->open(path.string(), OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::FLOAT)));
+    ASSERT_TRUE(output->write_image(OIIO::TypeDesc::FLOAT, values.data()));
+    ASSERT_TRUE(output->close());
+    const FloatImage expected = readWithOiio(path);
+    const FloatImage image = readImage(path);
+    ASSERT_EQ(image.width, width);
+    ASSERT_EQ(image.height, height);
+    EXPECT_EQ(image.channels, (std::vector<std::string>{"R", "G", "B"}));
+    for (std::size_t p = 0; p < values.size() / 3; ++p) {
+      const float brightest = std::max({values[p * 3], values[p * 3 + 1], values[p * 3 + 2]});
+      for (std::size_t c = 0; c < 3; ++c) {
+        const float got = image.pixels[p * 3 + c], read = expected.pixels[p * 3 + c];
+        EXPECT_GE(got, read) << p << " " << c;
+        EXPECT_LE(got - read, brightest / 256.0f + 1e-30f) << p << " " << c;
+        EXPECT_NEAR(got, values[p * 3 + c], brightest / 64.0f) << p << " " << c;
+      }
+    }
+  }
+}
+
+// A run-length encoded row by hand: runs and literals, every exponent case, bottom-up rows.
+TEST(ImageReaderTest, RadianceHdrRunsLiteralsAndRowOrder) {
+  TempDir dir;
+  const auto header = [](const std::string& resolution) {
+    return std::string("#?RADIANCE\n# made by hand\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=2\n\n") +
+           resolution + "\n";
+  };
+  // Row 0: R a run of 8 x 128, G literals 0..7 x 16, B runs of 4 x 64 and 4 x 0, E a run of
+  // 8 x 129; row 1: flat pixels (one of each exponent case), then a zero exponent.
+  std::string rle("\x02\x02\x00\x08", 4);
+  rle += std::string("\x88\x80");
+  rle += std::string("\x08") + std::string("\x00\x10\x20\x30\x40\x50\x60\x70", 8);
+  rle += std::string("\x84\x40\x84\x00", 4);
+  rle += std::string("\x88\x81");
+  std::string flat;
+  for (int x = 0; x < 8; ++x)
+    flat += std::string(x == 7 ? "\x80\x80\x80\x00" : "\x80\x40\x20\x88", 4);
+  const auto write = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(dir / name, std::ios::binary) << bytes;
+    return dir / name;
+  };
+  const FloatImage down = readImage(write("down.hdr", header("-Y 2 +X 8") + rle + flat));
+  const FloatImage up = readImage(write("up.hdr", header("+Y 2 +X 8") + rle + flat));
+  const auto at = [](const FloatImage& image, int x, int y, int c) { return image.at(x, y, c); };
+  for (int x = 0; x < 8; ++x) {
+    EXPECT_EQ(at(down, x, 0, 0), 128.5f / 128.0f);
+    EXPECT_EQ(at(down, x, 0, 1), (16.0f * x + 0.5f) / 128.0f);
+    EXPECT_EQ(at(down, x, 0, 2), x < 4 ? 64.5f / 128.0f : 0.5f / 128.0f);
+    EXPECT_EQ(at(down, x, 1, 0), x == 7 ? 0.0f : 128.5f);
+    EXPECT_EQ(at(down, x, 1, 1), x == 7 ? 0.0f : 64.5f);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(at(up, x, 0, c), at(down, x, 1, c));
+  }
+
+  const auto errorOf = [&](const std::string& name, const std::string& bytes) -> std::string {
+    try {
+      readImage(write(name, bytes));
+    } catch (const InputError& error) {
+      return error.what();
+    }
+    return "(no error)";
+  };
+  const std::string prefix = (dir / "x.hdr").string() + ": cannot read image: ";
+  EXPECT_EQ(errorOf("x.hdr", header("-Y 2 +X 8") + rle),
+            prefix + "the Radiance HDR pixels are truncated");
+  EXPECT_EQ(errorOf("x.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n"),
+            prefix + "the Radiance HDR header is truncated or malformed");
+  EXPECT_EQ(errorOf("x.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 2 +X 8\n" + rle + flat),
+            prefix + "only RGBE Radiance HDR files are read, not 32-bit_rle_xyze");
+  EXPECT_EQ(errorOf("x.hdr", header("+X 8 -Y 2") + rle + flat),
+            prefix + "the Radiance HDR resolution line is not \"-Y height +X width\"");
+  std::string overflow = rle;
+  overflow[4] = '\x89';  // a run of 9 in a row of 8
+  EXPECT_EQ(errorOf("x.hdr", header("-Y 2 +X 8") + overflow + flat),
+            prefix + "a Radiance HDR scanline's runs overflow the row");
+  // A header claiming 8192 x 8192 (768 MB of floats) over a few bytes is refused before
+  // anything is allocated, as is one beyond what any image may hold.
+  EXPECT_EQ(errorOf("x.hdr", header("-Y 8192 +X 8192") + rle),
+            prefix + "the Radiance HDR pixels are truncated");
+  EXPECT_TRUE(errorOf("x.hdr", header("-Y 16384 +X 16384") + rle)
+                  .starts_with(prefix + "16384x16384 with 3 channels is too large"));
+}
+
 // The whole point: `omnishadow diff` of PNG and EXR files maps no OpenImageIO library; a TIFF
 // does. LD_DEBUG=files makes the dynamic loader name every library it opens.
 TEST(ImageReaderTest, OnlyOtherFormatsLoadOpenImageIO) {
@@ -235,6 +334,14 @@ TEST(ImageReaderTest, OnlyOtherFormatsLoadOpenImageIO) {
   EXPECT_NE(direct.status, 2) << direct.err;
   EXPECT_NE(direct.err.find("libOpenEXR"), std::string::npos) << "LD_DEBUG gave no list";
   EXPECT_EQ(direct.err.find("libOpenImageIO"), std::string::npos);
+  // Nor of Radiance HDR files (panoramas for environment lighting).
+  std::ofstream(dir / "a.hdr", std::ios::binary)
+      << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n"
+      << std::string("\x80\x80\x80\x81\x80\x80\x80\x81", 8);
+  const auto hdr = test_support::runOmnishadow(
+      {"diff", (dir / "a.hdr").string(), (dir / "a.hdr").string()}, options);
+  EXPECT_EQ(hdr.status, 0) << hdr.err;
+  EXPECT_EQ(hdr.err.find("libOpenImageIO"), std::string::npos);
   const auto tiff = test_support::runOmnishadow(
       {"diff", (dir / "a.tif").string(), (dir / "a.tif").string()}, options);
   EXPECT_EQ(tiff.status, 0) << tiff.out;

@@ -64,7 +64,8 @@ void writeFileBytes(const std::filesystem::path& path, std::string_view bytes);
 void setEncoderThreads(int threads);
 
 // Reads an image as float, for tests and tools: PNG and OpenEXR directly (png_decoder.h,
-// exr_reader.h), any other format OpenImageIO understands through its plugin (oiio_plugin.h).
+// exr_reader.h) and Radiance HDR (radiance_hdr_decoder.h), any other format OpenImageIO
+// understands through its plugin (oiio_plugin.h).
 // Throws InputError when unreadable.
 FloatImage readImage(const std::filesystem::path& path);
 
