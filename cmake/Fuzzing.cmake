@@ -51,6 +51,11 @@ target_link_libraries(fuzz_gltf PRIVATE TinyGLTF::TinyGLTF meshoptimizer::meshop
   PkgConfig::turbojpeg PkgConfig::libdeflate PkgConfig::libwebp)
 target_compile_definitions(fuzz_gltf PRIVATE OMNISHADOW_LIBAVIF_SONAME="${OMNISHADOW_LIBAVIF_SONAME}")
 
+# The Radiance HDR decoder (environment panoramas, diff inputs) alone: it needs no library.
+omnishadow_fuzzer(fuzz_hdr
+  tests/fuzz/fuzz_hdr.cpp
+  renderer/output/radiance_hdr_decoder.cpp)
+
 # The manifest reader and the job checks are instrumented; what they call of the renderer's
 # libraries (nothing renders) is linked uninstrumented.
 omnishadow_fuzzer(fuzz_manifest

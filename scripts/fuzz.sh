@@ -31,7 +31,7 @@ if [[ ! -f "$build/CMakeCache.txt" ]]; then
   fi
 fi
 jobs=$(nproc 2>/dev/null || echo 2)
-if ! cmake --build "$build" -j"$jobs" --target fuzz_lights fuzz_gltf fuzz_manifest >"$log" 2>&1; then
+if ! cmake --build "$build" -j"$jobs" --target fuzz_lights fuzz_gltf fuzz_manifest fuzz_hdr >"$log" 2>&1; then
   cat "$log" >&2
   exit 1
 fi
@@ -50,7 +50,7 @@ fuzz_one() {
     "$build/corpus-$name" >"$build/fuzz_$name.log" 2>&1 || rc=$?
   echo "$rc" >"$build/fuzz_$name.status"
 }
-names=(lights gltf manifest)
+names=(lights gltf manifest hdr)
 for name in "${names[@]}"; do
   rm -f "$build/fuzz_$name.status"
   while (($(jobs -rp | wc -l) >= jobs)); do wait -n || true; done

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Seeds the fuzzers' working corpora: DEST/corpus-lights/, DEST/corpus-gltf/ and
-# DEST/corpus-manifest/ (DEST defaults
+# Seeds the fuzzers' working corpora: DEST/corpus-lights/, DEST/corpus-gltf/,
+# DEST/corpus-manifest/ and DEST/corpus-hdr/ (DEST defaults
 # to build-fuzz/). Existing files are kept, so a corpus grown by earlier runs keeps growing.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 dest=${1:-"$root/build-fuzz"}
-mkdir -p "$dest/corpus-lights" "$dest/corpus-gltf" "$dest/corpus-manifest"
+mkdir -p "$dest/corpus-lights" "$dest/corpus-gltf" "$dest/corpus-manifest" "$dest/corpus-hdr"
 
 seed() {  # seed CORPUS FILE...: copies each file in as seed-<name>, unless already there
   local corpus=$1
@@ -16,6 +16,7 @@ seed() {  # seed CORPUS FILE...: copies each file in as seed-<name>, unless alre
 }
 
 seed lights "$root"/scenes/demo/*.json "$root"/tests/fuzz/corpus-lights/*.json
+seed hdr "$root"/tests/fuzz/corpus-hdr/*.hdr
 # .gltf files with external .bin files do not resolve from the fuzzer's temp folder; they still
 # exercise the JSON side.
 # Compressed geometry reaches the Draco and meshopt decoders: corpus-gltf/draco-box.gltf is
