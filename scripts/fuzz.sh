@@ -29,6 +29,10 @@ if [[ ! -f "$build/CMakeCache.txt" ]]; then
     rm -f "$build/CMakeCache.txt"
     exit 1
   fi
+elif ! cmake "$build" >"$log" 2>&1; then
+  # A kept folder learns of targets added since it was configured (make knows no others).
+  cat "$log" >&2
+  exit 1
 fi
 jobs=$(nproc 2>/dev/null || echo 2)
 if ! cmake --build "$build" -j"$jobs" --target fuzz_lights fuzz_gltf fuzz_manifest fuzz_hdr >"$log" 2>&1; then
