@@ -328,6 +328,11 @@ TEST(EnvironmentRender, TheBackgroundShowsTheEnvironmentAlongEachViewRay) {
   for (int y = 0; y < 33; ++y)
     for (int x = 0; x < 33; ++x) ASSERT_EQ(frame.beauty.at(x, y, 3), 1.0f);
 
+  // The debug views keep an empty background (a normals view shows only surfaces).
+  RenderSettings normals;
+  normals.debugView = DebugView::Normals;
+  EXPECT_EQ(render(scene, withEnvironment(light), camera, normals).beauty.at(16, 16, 3), 0.0f);
+
   light.background = false;
   const Frame empty = render(scene, withEnvironment(light), camera);
   EXPECT_EQ(empty.beauty.at(16, 16, 3), 0.0f);

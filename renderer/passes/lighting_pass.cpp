@@ -1194,8 +1194,10 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.depth = gl::DepthState{};
   state.depth.apply();
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
+  // The beauty's background; the AOVs, layers, ids and debug views keep theirs empty.
   if (ambience.environment.background && outputs_ != PassOutputs::Aovs &&
-      outputs_ != PassOutputs::Layers && outputs_ != PassOutputs::Ids) {
+      outputs_ != PassOutputs::Layers && outputs_ != PassOutputs::Ids &&
+      parameters.debugView == DebugView::None) {
     drawBackground(targets, uniforms);
     state.apply();
     glBindVertexArray(scene.vertexArray());
