@@ -1,5 +1,5 @@
 // An environment light drawn where no surface covers a pixel (EnvironmentLight::background):
-// the radiance seen along each pixel's view ray, from the specular texture's sharpest level.
+// the radiance seen along each pixel's view ray, from the picture at up to 4096 texels wide.
 // Drawn over the cleared beauty with the depth test passing only where nothing was drawn.
 // Variants: WRITE_SRGB8 (the 8-bit beauty, encoded as the lighting pass encodes it).
 const float PI = 3.14159265358979;
@@ -12,6 +12,9 @@ uniform float uExposureScale;
 layout(location = 0) out vec4 outBeauty;  // premultiplied: the environment covers the pixel
 #endif
 
+// The picture at up to 4096 wide with mipmaps (EnvironmentTextures::background()), on the
+// specular texture's unit, which this program does not read.
+layout(binding = ENVIRONMENT_SPECULAR_UNIT) uniform sampler2D uEnvironmentBackground;
 uniform mat4 uInverseViewProjection;
 uniform vec2 uViewportSize;
 
@@ -22,7 +25,14 @@ void main() {
   vec4 near = uInverseViewProjection * vec4(ndc, 1.0, 1.0);
   vec4 farther = uInverseViewProjection * vec4(ndc, 0.5, 1.0);
   vec3 direction = farther.xyz / farther.w - near.xyz / near.w;
-  vec3 radiance = environmentSpecular(direction, 0.0);
+  // The level whose texels are as wide as a pixel, from the angle between neighbouring rays
+  // (the texture coordinates jump at the panorama's seam; the directions do not).
+  vec3 ray = normalize(direction);
+  float radiansPerPixel = max(length(dFdx(ray)), length(dFdy(ray)));
+  float texelsPerRadian = float(textureSize(uEnvironmentBackground, 0).x) * (0.5 / PI);
+  float level = log2(max(radiansPerPixel * texelsPerRadian, 1e-8));
+  vec3 radiance =
+      uEnvironmentScale * textureLod(uEnvironmentBackground, environmentCoordinates(ray), level).rgb;
 #ifdef WRITE_SRGB8
   outBeauty = srgb8(radiance * uExposureScale);
 #else

@@ -350,6 +350,37 @@ TEST(EnvironmentRender, TheBackgroundShowsTheEnvironmentAlongEachViewRay) {
           << x << ", " << y << " channel " << c;
 }
 
+// The background shows the picture sharper than the lighting's 1024 texels (a stripe of 2 of a
+// 2048-wide panorama, straight ahead through a narrow view, keeps its value), and filtered
+// where texels are smaller than pixels (columns alternating 0 and 1 through a wide view show
+// their mean, not a moire).
+TEST(EnvironmentRender, TheBackgroundKeepsDetailAndFiltersWhatPixelsCannotShow) {
+  TempFolder folder("omnishadow-environment-background-detail");
+  Scene scene;
+  scene.materials.push_back(surface(glm::vec3(1.0f), 0.0f, 1.0f));
+  test::placeMesh(scene, builder::makeSphere(0.2f, 16, 8),
+                  glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, 5.0f}), 0);  // behind the camera
+  EnvironmentLight stripe;
+  stripe.background = true;
+  stripe.image = writePanorama(folder / "stripe.exr", 2048, 1024, [](float u, float) {
+    return std::abs(u - 0.5f) < 1.0f / 2048.0f ? glm::vec3(1.0f) : glm::vec3(0.0f);
+  });
+  const ViewCamera narrow = lookFrom(scene, {0, 0, 0}, {0, 0, -1}, 64, 16, 0.5f);
+  const Frame sharp = render(scene, withEnvironment(stripe), narrow);
+  EXPECT_NEAR(sharp.beauty.at(32, 8, 0), 1.0f, 0.02f);
+  EXPECT_LT(sharp.beauty.at(2, 8, 0), 0.01f);
+
+  EnvironmentLight columns = stripe;
+  columns.image = writePanorama(folder / "columns.exr", 2048, 1024, [](float u, float) {
+    return static_cast<int>(u * 2048.0f) % 2 == 0 ? glm::vec3(1.0f) : glm::vec3(0.0f);
+  });
+  const ViewCamera wide = lookFrom(scene, {0, 0, 0}, {0, 0, -1}, 32, 32, 90.0f);
+  const Frame filtered = render(scene, withEnvironment(columns), wide);
+  for (int y = 4; y < 28; y += 4)
+    for (int x = 0; x < 32; ++x)
+      ASSERT_NEAR(filtered.beauty.at(x, y, 0), 0.5f, 0.05f) << x << ", " << y;
+}
+
 // Two frames with one environment are byte-identical; a new image at the same path is read
 // again (a renderer keeps the last environment's textures while the file is unchanged).
 TEST(EnvironmentRender, FramesRepeatAndAChangedImageIsReadAgain) {

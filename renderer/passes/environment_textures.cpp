@@ -102,6 +102,49 @@ EnvironmentTextures::EnvironmentTextures(const PrefilteredEnvironment& environme
   glSamplerParameteri(tableSampler_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
+namespace {
+
+// Half the size in both directions (a single row or column stays), each texel the mean of the
+// two to four it covers.
+EquirectImage halved(const EquirectImage& image) {
+  EquirectImage half;
+  half.width = std::max(1, image.width / 2);
+  half.height = std::max(1, image.height / 2);
+  half.rgb.resize(static_cast<std::size_t>(half.width) * half.height * 3);
+  const int sx = image.width > 1 ? 2 : 1, sy = image.height > 1 ? 2 : 1;
+  for (int y = 0; y < half.height; ++y)
+    for (int x = 0; x < half.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        float sum = 0.0f;
+        for (int j = 0; j < sy; ++j)
+          for (int i = 0; i < sx; ++i)
+            sum += image.rgb[(static_cast<std::size_t>(y * sy + j) * image.width + x * sx + i) * 3 +
+                             static_cast<std::size_t>(c)];
+        half.rgb[(static_cast<std::size_t>(y) * half.width + x) * 3 + static_cast<std::size_t>(c)] =
+            sum / static_cast<float>(sx * sy);
+      }
+  return half;
+}
+
+}  // namespace
+
+void EnvironmentTextures::makeBackground(const EquirectImage& radiance) {
+  // Shared-exponent texels: 4 bytes for RGB with 9 bits of mantissa, to 65408 (a brighter sun
+  // shows white either way), a sixth of a float texture's memory at 4096 x 2048.
+  std::vector<EquirectImage> levels;
+  levels.push_back(radiance);
+  while (levels.front().width > kMaxBackgroundWidth) levels.front() = halved(levels.front());
+  while (levels.back().width > 1 || levels.back().height > 1)
+    levels.push_back(halved(levels.back()));
+  background_ = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(background_.get(), static_cast<GLsizei>(levels.size()), GL_RGB9_E5,
+                     levels.front().width, levels.front().height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    glTextureSubImage2D(background_.get(), static_cast<GLint>(k), 0, 0, levels[k].width,
+                        levels[k].height, GL_RGB, GL_FLOAT, levels[k].rgb.data());
+}
+
 EnvironmentBinding EnvironmentCache::bind(const EnvironmentLight& light) {
   Key key{light.image, 0, {}};
   if (!light.image.empty()) {
@@ -110,15 +153,21 @@ EnvironmentBinding EnvironmentCache::bind(const EnvironmentLight& light) {
     if (!error) key.modified = std::filesystem::last_write_time(light.image, error);
     if (error) key = Key{light.image, 0, {}};  // unreadable: environmentRadiance() says why
   }
-  if (!textures_ || key_ != key || (key.size == 0 && !light.image.empty())) {
-    textures_.reset();
-    key_.reset();
-    const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), 8u));
-    const PrefilteredEnvironment prefiltered =
-        prefilterEnvironment(environmentRadiance(light), static_cast<int>(threads));
-    textures_ =
-        std::make_unique<EnvironmentTextures>(prefiltered, specularBrdfTable(kBrdfTableSize));
-    key_ = key;
+  const bool fresh = !textures_ || key_ != key || (key.size == 0 && !light.image.empty());
+  if (fresh || (light.background && !textures_->background())) {
+    // A kept environment first drawn as a background reads its image again: the full picture
+    // is not kept in memory for a background that may never be asked for.
+    const EquirectImage radiance = environmentRadiance(light);
+    if (fresh) {
+      textures_.reset();
+      key_.reset();
+      const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), 8u));
+      textures_ = std::make_unique<EnvironmentTextures>(
+          prefilterEnvironment(radiance, static_cast<int>(threads)),
+          specularBrdfTable(kBrdfTableSize));
+      key_ = key;
+    }
+    if (light.background) textures_->makeBackground(radiance);
   }
   EnvironmentBinding binding;
   binding.textures = textures_.get();

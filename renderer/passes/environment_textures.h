@@ -15,6 +15,10 @@ namespace omnishadow {
 // field when the image cannot be read or holds a value that is not finite.
 EquirectImage environmentRadiance(const EnvironmentLight& light);
 
+// The background keeps this much of a panorama's width: 4096 texels over 360 degrees are about
+// a pixel of a 1920-wide frame at a 90-degree field of view. The lighting reads at most 1024.
+inline constexpr int kMaxBackgroundWidth = 4096;
+
 // What the lighting pass reads of an environment light: its prefiltered specular levels as one
 // mipmapped equirectangular texture (level k = roughness k / maxLevel), the irradiance over pi,
 // and the split-sum BRDF table. Float textures: an HDR sky's sun is far above a half's range.
@@ -27,9 +31,13 @@ class EnvironmentTextures {
   GLuint sampler() const { return sampler_.get(); }            // equirect: u wraps, v clamps
   GLuint tableSampler() const { return tableSampler_.get(); }  // the BRDF table: clamps
   float maxLevel() const { return maxLevel_; }
+  // The picture itself for the background (EnvironmentLight::background), up to
+  // kMaxBackgroundWidth wide, with box-filtered mipmaps; 0 until makeBackground().
+  GLuint background() const { return background_.get(); }
+  void makeBackground(const EquirectImage& radiance);
 
  private:
-  gl::Texture specular_, irradiance_, brdf_;
+  gl::Texture specular_, irradiance_, brdf_, background_;
   gl::Sampler sampler_, tableSampler_;
   float maxLevel_ = 0.0f;
 };

@@ -1271,8 +1271,13 @@ void LightingPass::drawBackground(const FrameTargets& targets, const FrameUnifor
   state.depth.write = false;
   if (writesIdsBesideBeauty(outputs_)) state.color.offBuffers |= 2u;
   state.apply();
+  // The picture takes the specular texture's unit for this draw; the surfaces drawn after it
+  // read the specular texture there again.
+  const auto unit = static_cast<GLuint>(shadowUnits_.environment);
+  glBindTextureUnit(unit, environment.textures->background());
   glBindVertexArray(emptyVertexArray_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindTextureUnit(unit, environment.textures->specular());
 }
 
 bool depthPrepassSupported(std::string_view glRenderer) {
