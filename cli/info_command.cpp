@@ -97,13 +97,15 @@ Json environmentJson(const std::optional<EnvironmentLight>& environment) {
               {"color", vec3(e.color)},
               {"intensity", jsonNumber(e.intensity)},
               {"rotation", jsonNumber(glm::degrees(e.rotation))},
-              {"background", e.background}};
+              {"background", e.background},
+              {"sun", e.sun}};
 }
 
 std::string environmentText(const EnvironmentLight& e) {
   return (e.image.empty() ? std::string("uniform") : e.image.string()) + ", color " +
          text(e.color) + ", intensity " + readable(e.intensity) + ", rotation " +
-         readable(glm::degrees(e.rotation)) + " degrees" + (e.background ? ", background" : "");
+         readable(glm::degrees(e.rotation)) + " degrees" + (e.background ? ", background" : "") +
+         (e.sun ? ", sun as a light" : "");
 }
 
 std::string quoted(const std::string& name) {

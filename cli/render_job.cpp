@@ -243,7 +243,8 @@ LoadedJob loadJob(const RenderJob& job) {
   if (!job.lights.empty()) loaded.setup = loadLightsFile(job.lights, loaded.warnings);
   const std::vector<std::string> poseWarnings = poseJob(job, job.time, loaded);
   loaded.warnings.insert(loaded.warnings.end(), poseWarnings.begin(), poseWarnings.end());
-  if (loaded.lights.front().origin == "default") loaded.warnings.push_back(kHeadlightWarning);
+  if (!loaded.lights.empty() && loaded.lights.front().origin == "default")
+    loaded.warnings.push_back(kHeadlightWarning);
   if (!job.dumpDepth.empty() || !job.lightViews.empty()) {
     checkFileSafeNames(loaded.lights);
     // The per-light files must spare the inputs and the job's other outputs too.
@@ -269,7 +270,9 @@ std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> tim
   loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
                               loaded.setup.lights);
   loaded.camera = resolveCamera(loaded.scene, job.camera);
-  if (loaded.lights.empty()) loaded.lights.push_back(headlight(loaded.camera, loaded.scene.bounds));
+  // An environment lights the scene by itself; without one, a headlight shows it.
+  if (loaded.lights.empty() && !loaded.setup.environment)
+    loaded.lights.push_back(headlight(loaded.camera, loaded.scene.bounds));
   return warnings;
 }
 

@@ -53,7 +53,7 @@ struct RenderJob {
 struct LoadedJob {
   Scene scene;
   LightSetup setup;
-  std::vector<Light> lights;  // merged; a headlight when there is none
+  std::vector<Light> lights;  // merged; a headlight when there is none and no environment
   ViewCamera camera;
   std::vector<std::string> warnings;
 };

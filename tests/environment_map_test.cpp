@@ -10,6 +10,7 @@
 #include <cstring>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -234,6 +235,42 @@ TEST(EnvironmentMap, IrradianceMatchesBruteForceCosineMean) {
         EXPECT_NEAR(texel(irradiance, x, y)[c], sum[c] / weightSum, 0.01 * sum[c] / weightSum)
             << "texel " << x << ", " << y << ", channel " << c;
     }
+}
+
+// A sky of 0.5 with a sun of 3 texels' width carrying a known irradiance: extractSun() finds its
+// direction and its irradiance above the sky, and leaves the sky where it was.
+TEST(EnvironmentMap, ExtractSunFindsTheSunAndLeavesTheSky) {
+  constexpr int kWidth = 512, kHeight = 256;
+  const glm::dvec3 sunDirection = glm::normalize(glm::dvec3(0.5, 0.7, -0.4));
+  const glm::vec2 sunUv = equirectCoordinates(glm::vec3(sunDirection));
+  const int sx = static_cast<int>(sunUv.x * kWidth), sy = static_cast<int>(sunUv.y * kHeight);
+  const glm::vec3 sky(0.4f, 0.5f, 0.6f), sunRadiance(4000.0f, 3600.0f, 3000.0f);
+  EquirectImage image = environment(kWidth, kHeight, [&](int x, int y) {
+    return std::abs(x - sx) <= 1 && std::abs(y - sy) <= 1 ? sky + sunRadiance : sky;
+  });
+  glm::dvec3 expectedIrradiance(0.0), expectedDirection(0.0);
+  for (int y = sy - 1; y <= sy + 1; ++y)
+    for (int x = sx - 1; x <= sx + 1; ++x) {
+      expectedIrradiance += glm::dvec3(sunRadiance) * texelSolidAngle(y, kWidth, kHeight);
+      expectedDirection +=
+          texelDirection(x, y, kWidth, kHeight) * texelSolidAngle(y, kWidth, kHeight);
+    }
+  const std::optional<EnvironmentSun> sun = extractSun(image);
+  ASSERT_TRUE(sun);
+  EXPECT_GT(glm::dot(glm::dvec3(sun->direction), glm::normalize(expectedDirection)),
+            std::cos(0.1 * kPi / 180.0));
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(sun->irradiance[c], expectedIrradiance[c], 1e-3 * expectedIrradiance[c]);
+  EXPECT_GT(sun->angularRadius, 0.0f);
+  EXPECT_LT(sun->angularRadius, 1.5f * kPi / 180.0f);
+  for (std::size_t i = 0; i < image.rgb.size(); ++i)
+    ASSERT_NEAR(image.rgb[i], sky[i % 3], 1e-6f) << "texel " << i / 3;
+
+  // Nothing stands out of a uniform sky, nor of a gradient: no sun, the image untouched.
+  EquirectImage gradient = environment(64, 32, [](int, int y) { return glm::vec3(1.0f + y); });
+  const std::vector<float> before = gradient.rgb;
+  EXPECT_FALSE(extractSun(gradient));
+  EXPECT_EQ(gradient.rgb, before);
 }
 
 // Each texel of two rough levels against the GGX-weighted mean over every texel. A lobe of the

@@ -381,6 +381,84 @@ TEST(EnvironmentRender, TheBackgroundKeepsDetailAndFiltersWhatPixelsCannotShow) 
       ASSERT_NEAR(filtered.beauty.at(x, y, 0), 0.5f, 0.05f) << x << ", " << y;
 }
 
+// With `sun`, the panorama's sun leaves the image and lights the scene as a shadowed
+// directional light: the frame is the one drawn with the sunless sky and that light given by
+// hand (the sun's texels' radiance above the sky times their solid angles, towards their mean
+// direction), and the floor under a box lies in its shadow. Without `sun`, no shadow.
+TEST(EnvironmentRender, TheSunOfAPanoramaCastsShadowsAsADirectionalLight) {
+  TempFolder folder("omnishadow-environment-sun");
+  constexpr int kWidth = 256, kHeight = 128;
+  // Low enough that the box's shadow falls beside it as the camera above sees it.
+  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.8f, 1.0f, 0.3f));
+  const glm::vec2 sunUv = equirectCoordinates(towardsSun);
+  const int sx = static_cast<int>(sunUv.x * kWidth), sy = static_cast<int>(sunUv.y * kHeight);
+  const glm::vec3 sky(0.3f, 0.35f, 0.4f), sunRadiance(3000.0f, 2800.0f, 2500.0f);
+  const auto inSun = [&](float u, float v) {
+    const int x = static_cast<int>(u * kWidth), y = static_cast<int>(v * kHeight);
+    return std::abs(x - sx) <= 1 && std::abs(y - sy) <= 1;
+  };
+  EnvironmentLight withSun;
+  withSun.image = writePanorama(folder / "sun.exr", kWidth, kHeight, [&](float u, float v) {
+    return inSun(u, v) ? sky + sunRadiance : sky;
+  });
+  withSun.sun = true;
+  EnvironmentLight skyOnly;
+  skyOnly.image =
+      writePanorama(folder / "sky.exr", kWidth, kHeight, [&](float, float) { return sky; });
+  // The light by hand.
+  glm::dvec3 irradiance(0.0), direction(0.0);
+  for (int y = sy - 1; y <= sy + 1; ++y)
+    for (int x = sx - 1; x <= sx + 1; ++x) {
+      const double a = y * kPi / kHeight, b = (y + 1) * kPi / kHeight;
+      const double solidAngle = (2.0 * kPi / kWidth) * (std::cos(a) - std::cos(b));
+      irradiance += glm::dvec3(sunRadiance) * solidAngle;
+      direction +=
+          glm::dvec3(equirectDirection({(x + 0.5f) / kWidth, (y + 0.5f) / kHeight})) * solidAngle;
+    }
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = -glm::vec3(glm::normalize(direction));
+  const float brightest = static_cast<float>(std::max({irradiance.r, irradiance.g, irradiance.b}));
+  sun.color = glm::vec3(irradiance) / brightest;
+  sun.intensity = brightest;
+
+  Scene scene;
+  scene.materials.push_back(surface(glm::vec3(0.8f), 0.0f, 1.0f));
+  test::placeMesh(scene, builder::makePlane(4.0f), glm::mat4(1.0f), 0);
+  const glm::vec3 boxCentre(0.0f, 0.6f, 0.0f);
+  test::placeMesh(scene, builder::makeBox(glm::vec3(0.25f)),
+                  glm::translate(glm::mat4(1.0f), boxCentre), 0);
+  const ViewCamera camera = lookFrom(scene, {0, 5, 0}, {0, 0, 0}, 64, 64, 40.0f, {0, 0, -1});
+  StageTimes times;
+  const Frame extracted = render(scene, withEnvironment(withSun), camera);
+  const Frame byHand =
+      sharedRenderer().render(scene, {sun}, withEnvironment(skyOnly), camera, {}, times);
+  for (std::size_t i = 0; i < extracted.beauty.pixels.size(); ++i)
+    ASSERT_NEAR(extracted.beauty.pixels[i], byHand.beauty.pixels[i],
+                1e-3f * std::max(1.0f, byHand.beauty.pixels[i]))
+        << "value " << i;
+
+  // Where the box's shadow falls, and a floor point well away from it.
+  const auto pixelOf = [&](const glm::vec3& p) {
+    const glm::vec4 clip = camera.projection * camera.view * glm::vec4(p, 1.0f);
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    return glm::ivec2(static_cast<int>((ndc.x * 0.5f + 0.5f) * 64.0f),
+                      static_cast<int>((0.5f - ndc.y * 0.5f) * 64.0f));
+  };
+  const glm::vec3 shadowed = boxCentre - towardsSun * (boxCentre.y / towardsSun.y);
+  const glm::ivec2 dark = pixelOf(shadowed), lit = pixelOf({1.2f, 0.0f, 1.2f});
+  const float litValue = extracted.beauty.at(lit.x, lit.y, 1);
+  const float darkValue = extracted.beauty.at(dark.x, dark.y, 1);
+  // Lambert's 0.8 / pi of the sun's irradiance on the floor, at its cosine.
+  const float sunShare = 0.8f / kPi * static_cast<float>(irradiance.g) * towardsSun.y;
+  EXPECT_NEAR(litValue - darkValue, sunShare, 0.05f * sunShare);
+  withSun.sun = false;
+  const Frame unshadowed = render(scene, withEnvironment(withSun), camera);
+  EXPECT_NEAR(unshadowed.beauty.at(dark.x, dark.y, 1), unshadowed.beauty.at(lit.x, lit.y, 1),
+              0.02f * unshadowed.beauty.at(lit.x, lit.y, 1));
+}
+
 // Two frames with one environment are byte-identical; a new image at the same path is read
 // again (a renderer keeps the last environment's textures while the file is unchanged).
 TEST(EnvironmentRender, FramesRepeatAndAChangedImageIsReadAgain) {

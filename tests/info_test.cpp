@@ -363,6 +363,7 @@ TEST_F(InfoTest, ReportsTheEnvironmentAsItWillLightTheFrame) {
   EXPECT_EQ(environment["intensity"], 2.0);
   EXPECT_NEAR(environment["rotation"].get<double>(), 90.0, 1e-4);
   EXPECT_EQ(environment["background"], false);
+  EXPECT_EQ(environment["sun"], false);
   expectVec3(doc["ambient"], glm::vec3(0.0f));  // the environment stands in for it
   EXPECT_TRUE(info({scene().string()})["environment"].is_null());  // no lights file
 

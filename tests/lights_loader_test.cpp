@@ -111,13 +111,15 @@ TEST(LightsLoader, EmptyObjectGivesDefaultAmbientAndNoLights) {
 
 TEST(LightsLoader, ReadsEveryEnvironmentField) {
   const LightSetup setup = parse(R"({"environment": {"image": "sky.exr", "color": [1, 0.5, 0.25],
-                                     "intensity": 2, "rotation": 90, "background": true}})");
+                                     "intensity": 2, "rotation": 90, "background": true,
+                                     "sun": true}})");
   ASSERT_TRUE(setup.environment);
   EXPECT_EQ(setup.environment->image, "sky.exr");
   expectVec3(setup.environment->color, 1.0f, 0.5f, 0.25f);
   EXPECT_EQ(setup.environment->intensity, 2.0f);
   EXPECT_NEAR(setup.environment->rotation, kPi / 2.0f, 1e-6f);
   EXPECT_TRUE(setup.environment->background);
+  EXPECT_TRUE(setup.environment->sun);
   EXPECT_EQ(setup.environment->origin, kLabel);
 }
 
@@ -131,6 +133,7 @@ TEST(LightsLoader, EnvironmentDefaultsToAUniformWhiteOneWithoutAmbient) {
   EXPECT_EQ(setup.environment->intensity, 1.0f);
   EXPECT_EQ(setup.environment->rotation, 0.0f);
   EXPECT_FALSE(setup.environment->background);
+  EXPECT_FALSE(setup.environment->sun);
   // The environment stands in for the constant ambient, unless the file asks for both.
   expectVec3(setup.ambient, 0.0f, 0.0f, 0.0f);
   expectVec3(parse(R"({"ambient": [0.1, 0.1, 0.1], "environment": {}})").ambient, 0.1f, 0.1f, 0.1f);
@@ -412,6 +415,8 @@ const ErrorCase kErrorCases[] = {
      "environment.rotation: expected a finite number of degrees, got \"90\""},
     {"EnvironmentBackgroundNumber", R"({"environment": {"background": 1}})",
      "environment.background: expected true or false, got 1"},
+    {"EnvironmentSunString", R"({"environment": {"sun": "yes"}})",
+     "environment.sun: expected true or false, got \"yes\""},
     // ambient
     {"AmbientTooShort", R"({"ambient": [1, 2]})",
      "ambient: expected an array of 3 finite numbers >= 0"},

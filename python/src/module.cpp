@@ -269,6 +269,7 @@ PYBIND11_MODULE(omnishadow, m) {
             environment["intensity"] = e.intensity;
             environment["rotation"] = e.rotation * 57.29577951308232;  // degrees, as written
             environment["background"] = e.background;
+            environment["sun"] = e.sun;
             return environment;
           },
           "The environment light as a dict (image path resolved, rotation in degrees), or None.")

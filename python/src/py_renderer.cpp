@@ -114,7 +114,7 @@ PyFrame PyRenderer::render(const PyScene& scene, const py::object& lights,
         mergeLights(options.noGltfLights ? std::vector<Light>{} : scene.scene->lights,
                     loadedLights.setup.lights);
     out.camera = resolveCamera(*scene.scene, request);
-    if (merged.empty()) {
+    if (merged.empty() && !loadedLights.setup.environment) {
       merged.push_back(headlight(out.camera, scene.scene->bounds));
       out.warnings.push_back(kHeadlightWarning);
     }

@@ -36,7 +36,7 @@ def test_lights_report_their_environment():
                                                      "color": [1, 0.5, 0.25]}})
     assert lights.environment == pytest.approx(
         {"image": str(SKY), "color": (1.0, 0.5, 0.25), "intensity": 1.0, "rotation": 90.0,
-         "background": False})
+         "background": False, "sun": False})
     assert lights.ambient == (0.0, 0.0, 0.0)
     assert omnishadow.load_lights({"lights": []}).environment is None
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <system_error>
 #include <thread>
 
@@ -146,24 +147,30 @@ void EnvironmentTextures::makeBackground(const EquirectImage& radiance) {
 }
 
 EnvironmentBinding EnvironmentCache::bind(const EnvironmentLight& light) {
-  Key key{light.image, 0, {}};
+  Key key{light.image, 0, {}, light.sun};
   if (!light.image.empty()) {
     std::error_code error;
     key.size = std::filesystem::file_size(light.image, error);
     if (!error) key.modified = std::filesystem::last_write_time(light.image, error);
-    if (error) key = Key{light.image, 0, {}};  // unreadable: environmentRadiance() says why
+    if (error)
+      key = Key{light.image, 0, {}, light.sun};  // unreadable: environmentRadiance() says why
   }
   const bool fresh = !textures_ || key_ != key || (key.size == 0 && !light.image.empty());
   if (fresh || (light.background && !textures_->background())) {
     // A kept environment first drawn as a background reads its image again: the full picture
     // is not kept in memory for a background that may never be asked for.
-    const EquirectImage radiance = environmentRadiance(light);
+    EquirectImage radiance = environmentRadiance(light);
+    // The background shows the sun; the lighting leaves it to the directional light.
+    EquirectImage lighting = radiance;
+    std::optional<EnvironmentSun> sun;
+    if (light.sun) sun = extractSun(lighting);
     if (fresh) {
       textures_.reset();
       key_.reset();
+      sun_ = sun;
       const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), 8u));
       textures_ = std::make_unique<EnvironmentTextures>(
-          prefilterEnvironment(radiance, static_cast<int>(threads)),
+          prefilterEnvironment(lighting, static_cast<int>(threads)),
           specularBrdfTable(kBrdfTableSize));
       key_ = key;
     }
@@ -176,6 +183,22 @@ EnvironmentBinding EnvironmentCache::bind(const EnvironmentLight& light) {
   binding.toEnvironment = glm::transpose(glm::mat3(c, 0.0f, -s, 0.0f, 1.0f, 0.0f, s, 0.0f, c));
   binding.scale = light.color * light.intensity;
   binding.background = light.background;
+  if (light.sun && sun_) {
+    // A directional light's color x intensity is the irradiance it gives a surface facing it.
+    const glm::vec3 irradiance = sun_->irradiance * binding.scale;
+    const float brightest = std::max({irradiance.r, irradiance.g, irradiance.b});
+    if (brightest > 0.0f) {
+      Light sun;
+      sun.name = kEnvironmentSunName;
+      sun.type = LightType::Directional;
+      sun.direction = -glm::normalize(glm::transpose(binding.toEnvironment) * sun_->direction);
+      sun.color = irradiance / brightest;
+      sun.intensity = brightest;
+      sun.shadow.radius = sun_->angularRadius;  // the penumbrae of "pcss"
+      sun.origin = light.origin;
+      binding.sun = sun;
+    }
+  }
   return binding;
 }
 

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "renderer/gl/gl_resources.h"
 #include "renderer/scene/light.h"
@@ -49,6 +50,8 @@ struct EnvironmentBinding {
   glm::mat3 toEnvironment{1.0f};                  // world direction -> the image's frame
   glm::vec3 scale{1.0f};                          // color x intensity
   bool background = false;
+  // EnvironmentLight::sun: the image's sun as a directional light (none found: nullopt).
+  std::optional<Light> sun;
 };
 
 // Keeps the textures of the last environment a renderer drew with, so that a batch over one
@@ -64,10 +67,12 @@ class EnvironmentCache {
     std::filesystem::path image;
     std::uintmax_t size = 0;
     std::filesystem::file_time_type modified{};
+    bool sunTakenOut = false;
     bool operator==(const Key&) const = default;
   };
   std::optional<Key> key_;
   std::unique_ptr<EnvironmentTextures> textures_;
+  std::optional<EnvironmentSun> sun_;  // what extractSun() took out of the kept textures' image
 };
 
 }  // namespace omnishadow

@@ -1025,21 +1025,30 @@ void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
   }
 }
 
-Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& lights,
+Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& requested,
                              const Ambience& ambience, const ViewCamera& camera,
                              const RenderSettings& settings, StageTimes& times) {
-  // Everything that can be refused is refused here, before any GL allocation.
+  const bool lit = drawsLitFrame(settings);
+  LightingAmbience ambient{ambience.ambient, {}};
+  std::vector<Light> withSun;
+  if (lit && ambience.environment) {
+    // Read and prefiltered once for a batch over the same image (EnvironmentCache); an image
+    // that cannot be read is refused before the textures are made. Its sun, taken out of it,
+    // joins the lights, unless one of them has its name.
+    ScopedStage stage(times, "environment");
+    ambient.environment = environmentCache_.bind(*ambience.environment);
+    const auto named = [](const Light& light) { return light.name == kEnvironmentSunName; };
+    if (ambient.environment.sun && std::none_of(requested.begin(), requested.end(), named)) {
+      withSun = requested;
+      withSun.push_back(*ambient.environment.sun);
+    }
+  }
+  const std::vector<Light>& lights = withSun.empty() ? requested : withSun;
+  // Everything else that can be refused is refused here, before any GL allocation.
   FramePlan plan = planFrame(scene, lights, camera, settings, limits_);
   checkAovMemory(lights, camera, settings);
   Frame frame;
   frame.warnings = std::move(plan.warnings);
-  const bool lit = drawsLitFrame(settings);
-  LightingAmbience ambient{ambience.ambient, {}};
-  if (lit && ambience.environment) {
-    // Read and prefiltered once for a batch over the same image (EnvironmentCache).
-    ScopedStage stage(times, "environment");
-    ambient.environment = environmentCache_.bind(*ambience.environment);
-  }
 
   ScopedStage shaders(times, "shaders");
   LightingFeatures features = lightingFeatures(lights, settings.debugView);

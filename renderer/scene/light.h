@@ -82,8 +82,13 @@ struct EnvironmentLight {
   float intensity = 1.0f;   // multiplies the image
   float rotation = 0.0f;    // radians about +Y, counterclockwise seen from above
   bool background = false;  // the beauty shows it where no surface covers a pixel
-  std::string origin{};     // the lights file, for messages
+  // The image's sun (extractSun(), renderer/view/environment_map.h) taken out of it and drawn
+  // as a shadowed directional light named kEnvironmentSunName, unless a light has that name.
+  bool sun = false;
+  std::string origin{};  // the lights file, for messages
 };
+
+inline constexpr const char* kEnvironmentSunName = "environment-sun";
 
 struct LightSetup {
   // Linear RGB radiance multiplied by albedo. 0 by default when the file has an environment.

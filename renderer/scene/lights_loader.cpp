@@ -486,7 +486,7 @@ std::vector<Light> readLights(const Reader& reader, const std::string& origin) {
 
 EnvironmentLight readEnvironment(const Reader& reader, const std::string& origin) {
   if (!reader.value().is_object()) reader.failGot("expected an environment object");
-  reader.warnUnknownFields({"image", "color", "intensity", "rotation", "background"});
+  reader.warnUnknownFields({"image", "color", "intensity", "rotation", "background", "sun"});
   EnvironmentLight environment;
   environment.origin = origin;
   if (auto field = reader.field("image")) {
@@ -505,6 +505,7 @@ EnvironmentLight readEnvironment(const Reader& reader, const std::string& origin
     environment.rotation = static_cast<float>(std::remainder(*degrees, 360.0) * (kHalfPi / 90.0));
   }
   if (auto field = reader.field("background")) environment.background = readBool(*field);
+  if (auto field = reader.field("sun")) environment.sun = readBool(*field);
   return environment;
 }
 

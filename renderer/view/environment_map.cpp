@@ -488,4 +488,86 @@ SpecularBrdfTable specularBrdfTable(int size) {
   return table;
 }
 
+std::optional<EnvironmentSun> extractSun(EquirectImage& radiance) {
+  if (radiance.width < 1 || radiance.height < 1 ||
+      radiance.rgb.size() != static_cast<std::size_t>(radiance.width) * radiance.height * 3)
+    throw std::invalid_argument("extractSun: malformed image");
+  const int width = radiance.width, height = radiance.height;
+  const auto index = [&](int x, int y) { return (static_cast<std::size_t>(y) * width + x) * 3; };
+  const auto luminance = [&](std::size_t i) {
+    return 0.2126 * radiance.rgb[i] + 0.7152 * radiance.rgb[i + 1] + 0.0722 * radiance.rgb[i + 2];
+  };
+  const auto solidAngle = [&](int y) {
+    const double a = y * kEnvironmentPi / height, b = (y + 1) * kEnvironmentPi / height;
+    return (2.0 * kEnvironmentPi / width) * (std::cos(a) - std::cos(b));
+  };
+  const auto direction = [&](int x, int y) {
+    return glm::dvec3(
+        equirectDirection(glm::vec2((static_cast<float>(x) + 0.5f) / static_cast<float>(width),
+                                    (static_cast<float>(y) + 0.5f) / static_cast<float>(height))));
+  };
+  double mean = 0.0, brightest = -1.0;
+  int bx = 0, by = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double value = luminance(index(x, y));
+      mean += value * solidAngle(y);
+      if (value > brightest) {
+        brightest = value;
+        bx = x;
+        by = y;
+      }
+    }
+  mean /= 4.0 * kEnvironmentPi;
+  if (!(brightest > kSunContrast * mean)) return std::nullopt;
+
+  // The texels near the brightest one: the rows it may reach, every column (near a pole a
+  // small cone spans them all).
+  const glm::dvec3 centre = direction(bx, by);
+  const double searchCos = std::cos(static_cast<double>(kSunSearchRadians));
+  const double ringCos = std::cos(1.6 * kSunSearchRadians);
+  const int rowReach =
+      static_cast<int>(std::ceil(1.6 * kSunSearchRadians / kEnvironmentPi * height)) + 1;
+  const int y0 = std::max(0, by - rowReach), y1 = std::min(height - 1, by + rowReach);
+  glm::dvec3 ring(0.0);
+  double ringWeight = 0.0;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double c = glm::dot(direction(x, y), centre);
+      if (c >= searchCos || c < ringCos) continue;
+      const std::size_t i = index(x, y);
+      ring += glm::dvec3(radiance.rgb[i], radiance.rgb[i + 1], radiance.rgb[i + 2]) * solidAngle(y);
+      ringWeight += solidAngle(y);
+    }
+  const glm::dvec3 sky = ringWeight > 0.0 ? ring / ringWeight : glm::dvec3(0.0);
+  const double threshold = kSunThreshold * brightest;
+  glm::dvec3 irradiance(0.0), weighted(0.0);
+  std::vector<glm::dvec3> region;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = 0; x < width; ++x) {
+      const glm::dvec3 d = direction(x, y);
+      const double c = glm::dot(d, centre);
+      const std::size_t i = index(x, y);
+      if (c < searchCos || luminance(i) < threshold) continue;
+      const glm::dvec3 value(radiance.rgb[i], radiance.rgb[i + 1], radiance.rgb[i + 2]);
+      const glm::dvec3 excess = glm::max(value - sky, glm::dvec3(0.0)) * solidAngle(y);
+      irradiance += excess;
+      weighted += d * (0.2126 * excess.r + 0.7152 * excess.g + 0.0722 * excess.b);
+      region.push_back(d);
+      for (int k = 0; k < 3; ++k)
+        radiance.rgb[i + static_cast<std::size_t>(k)] =
+            static_cast<float>(std::min(value[k], sky[k]));
+    }
+  EnvironmentSun sun;
+  sun.direction =
+      glm::length(weighted) > 0.0 ? glm::vec3(glm::normalize(weighted)) : glm::vec3(centre);
+  sun.irradiance = glm::vec3(irradiance);
+  // The farthest texel centre from the sun's direction.
+  double spread = 1.0;
+  for (const glm::dvec3& d : region)
+    spread = std::min(spread, glm::dot(d, glm::dvec3(sun.direction)));
+  sun.angularRadius = static_cast<float>(std::acos(std::clamp(spread, -1.0, 1.0)));
+  return sun;
+}
+
 }  // namespace omnishadow

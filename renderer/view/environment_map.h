@@ -5,6 +5,7 @@
 // irradiance, and the table of the BRDF's scale and bias of F0. No GL.
 
 #include <glm/glm.hpp>
+#include <optional>
 #include <vector>
 
 namespace omnishadow {
@@ -44,6 +45,24 @@ inline constexpr int kIrradianceWidth = 32;
 // Throws std::invalid_argument when the image is empty or rgb.size() != width*height*3.
 // Deterministic: the same bytes whatever `threads` (>= 1; less counts as 1) is.
 PrefilteredEnvironment prefilterEnvironment(const EquirectImage& radiance, int threads);
+
+// A sun found in an environment: a small region far brighter than the rest of the sky.
+struct EnvironmentSun {
+  glm::vec3 direction{0.0f, 1.0f, 0.0f};  // towards the sun, unit, in the image's frame
+  glm::vec3 irradiance{0.0f};  // RGB: what it adds on a surface facing it, sum of L dOmega
+  float angularRadius = 0.0f;  // radians: to the region's farthest texel centre
+};
+
+// Finds the sun of an environment and takes it out: the brightest texel's luminance must exceed
+// kSunContrast x the mean over the sphere; the sun is every texel within kSunSearchRadians of
+// it brighter than kSunThreshold x that texel's luminance, its irradiance what those texels
+// hold above the sky around them (the mean of a ring just outside), to which they are set. The
+// direction is weighted by that excess. nullopt (and the image untouched) when no texel stands
+// out so (an overcast or indoor panorama). Throws std::invalid_argument for a malformed image.
+inline constexpr float kSunContrast = 50.0f;
+inline constexpr float kSunSearchRadians = 0.087266f;  // 5 degrees
+inline constexpr float kSunThreshold = 0.02f;
+std::optional<EnvironmentSun> extractSun(EquirectImage& radiance);
 
 // The split-sum's scale A and bias B of F0 (specular = prefiltered * (F0 * A + F90 * B)) for
 // the GGX BRDF with the height-correlated Smith visibility, at n.v = (i + 0.5) / size
