@@ -159,15 +159,18 @@ EnvironmentBinding EnvironmentCache::bind(const EnvironmentLight& light) {
   if (fresh || (light.background && !textures_->background())) {
     // A kept environment first drawn as a background reads its image again: the full picture
     // is not kept in memory for a background that may never be asked for.
-    EquirectImage radiance = environmentRadiance(light);
-    // The background shows the sun; the lighting leaves it to the directional light.
-    EquirectImage lighting = radiance;
-    std::optional<EnvironmentSun> sun;
-    if (light.sun) sun = extractSun(lighting);
+    const EquirectImage radiance = environmentRadiance(light);
     if (fresh) {
       textures_.reset();
       key_.reset();
-      sun_ = sun;
+      // The background shows the sun; the lighting leaves it to the directional light.
+      std::optional<EquirectImage> sunless;
+      sun_.reset();
+      if (light.sun) {
+        sunless = radiance;
+        sun_ = extractSun(*sunless);
+      }
+      const EquirectImage& lighting = sunless ? *sunless : radiance;
       const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), 8u));
       textures_ = std::make_unique<EnvironmentTextures>(
           prefilterEnvironment(lighting, static_cast<int>(threads)),
