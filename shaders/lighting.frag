@@ -599,13 +599,11 @@ void main() {
 #else
     envSpecular = envPrefiltered * uDielectricF0;
 #endif
-    float envDiffuseKept = 1.0;
 #else
-    float envDiffuseKept;
     if (uSpecularGlossiness != 0) {
       envSpecular = envPrefiltered * (specularColor * envBrdf.x + envBrdf.y);
-      envDiffuseKept = 1.0 - max(specularColor.r, max(specularColor.g, specularColor.b));
-      envDiffuse = envIrradiance * baseColor.rgb * envDiffuseKept;
+      envDiffuse = envIrradiance * baseColor.rgb *
+                   (1.0 - max(specularColor.r, max(specularColor.g, specularColor.b)));
     } else {
 #ifdef DIELECTRIC_SPECULAR
       vec3 envDielectric = specularF0 * envBrdf.x + specularWeight * envBrdf.y;
@@ -620,9 +618,8 @@ void main() {
 #endif
       envSpecular = envPrefiltered * mix(envDielectric, envMetal, metallic);
       // What the dielectric's lobe does not reflect, it diffuses.
-      envDiffuseKept = (1.0 - metallic) *
-                       (1.0 - max(envDielectric.r, max(envDielectric.g, envDielectric.b)));
-      envDiffuse = envIrradiance * baseColor.rgb * envDiffuseKept;
+      envDiffuse = envIrradiance * baseColor.rgb * (1.0 - metallic) *
+                   (1.0 - max(envDielectric.r, max(envDielectric.g, envDielectric.b)));
     }
 #endif
 #ifdef TRANSMISSION
