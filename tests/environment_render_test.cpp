@@ -248,6 +248,14 @@ TEST(EnvironmentRender, EachMaterialLayerReflectsAUniformEnvironmentAsItsFormula
     const glm::vec3 seen = middleOfPlane(c.material, {0, 0, 1}, withEnvironment(uniform));
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(seen[i], c.expected[i], 0.01f * c.expected[i]) << i;
   }
+  // Blinn-Phong diffuses the irradiance and reflects F0 of the prefiltered image.
+  uniform.background = false;
+  const Scene plane = planeFacing(surface(grey, 0.0f, 0.5f), {0, 0, 1});
+  RenderSettings phong;
+  phong.shading = Shading::Phong;
+  const Frame phongFrame = render(plane, withEnvironment(uniform),
+                                  lookFrom(plane, {0, 0, 3}, {0, 0, 0}, 32, 32, 20.0f), phong);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(phongFrame.beauty.at(16, 16, i), 0.54f, 0.0054f) << i;
 }
 
 // A sky of radiance L above the horizon and nothing below: a floor receives the whole sky (E /
