@@ -527,6 +527,12 @@ TEST(EnvironmentRender, ABadImageIsAnInputErrorNamingTheFieldAndTheFile) {
   });
   EXPECT_EQ(messageOf(huge),
             "rig.json: environment.image: " + huge.image.string() + ": pixel (0, 0) is above 1e20");
+  EnvironmentLight tall = infinite;
+  tall.image =
+      writePanorama(folder / "tall.exr", 4, 40000, [](float, float) { return glm::vec3(1.0f); });
+  EXPECT_EQ(messageOf(tall),
+            "rig.json: environment.image: " + tall.image.string() +
+                ": 4x40000 is not an equirectangular panorama (twice as wide as high)");
   // Prepared ahead (while a scene loads), a bad image is left for the render to report.
   EXPECT_NO_THROW(sharedRenderer().prepareEnvironment(infinite));
   EXPECT_TRUE(messageOf(infinite).ends_with("is not finite")) << messageOf(infinite);

@@ -45,6 +45,12 @@ EquirectImage environmentRadiance(const EnvironmentLight& light) {
   }
   if (image.width <= 0 || image.height <= 0 || image.channels.empty())
     throw InputError(where + light.image.string() + ": the image is empty");
+  // A latitude-longitude panorama is twice as wide as it is high; other shapes are some other
+  // kind of picture, and a very tall one would exceed the GL's texture sizes.
+  if (image.height > image.width || image.width > 4 * image.height)
+    throw InputError(where + light.image.string() + ": " + std::to_string(image.width) + "x" +
+                     std::to_string(image.height) +
+                     " is not an equirectangular panorama (twice as wide as high)");
   const std::array<int, 3> channels = rgbChannels(image);
   radiance.width = image.width;
   radiance.height = image.height;
