@@ -25,6 +25,19 @@ std::array<int, 3> rgbChannels(const FloatImage& image) {
   return {0, 0, 0};
 }
 
+// A texture of `levels`, level 0 first, each uploaded as RGB floats (the GL converts them to
+// `format`).
+gl::Texture mipmappedTexture(const std::vector<EquirectImage>& levels, GLenum format) {
+  gl::Texture texture = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(texture.get(), static_cast<GLsizei>(levels.size()), format,
+                     levels.front().width, levels.front().height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    glTextureSubImage2D(texture.get(), static_cast<GLint>(k), 0, 0, levels[k].width,
+                        levels[k].height, GL_RGB, GL_FLOAT, levels[k].rgb.data());
+  return texture;
+}
+
 }  // namespace
 
 EquirectImage environmentRadiance(const EnvironmentLight& light) {
@@ -76,21 +89,9 @@ EquirectImage environmentRadiance(const EnvironmentLight& light) {
 
 EnvironmentTextures::EnvironmentTextures(const PrefilteredEnvironment& environment,
                                          const SpecularBrdfTable& brdf) {
-  const auto& levels = environment.specular;
-  specular_ = gl::createTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(specular_.get(), static_cast<GLsizei>(levels.size()), GL_RGB32F,
-                     levels.front().width, levels.front().height);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  for (std::size_t k = 0; k < levels.size(); ++k)
-    glTextureSubImage2D(specular_.get(), static_cast<GLint>(k), 0, 0, levels[k].width,
-                        levels[k].height, GL_RGB, GL_FLOAT, levels[k].rgb.data());
-  maxLevel_ = static_cast<float>(levels.size() - 1);
-
-  const EquirectImage& irradiance = environment.irradiance;
-  irradiance_ = gl::createTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(irradiance_.get(), 1, GL_RGB32F, irradiance.width, irradiance.height);
-  glTextureSubImage2D(irradiance_.get(), 0, 0, 0, irradiance.width, irradiance.height, GL_RGB,
-                      GL_FLOAT, irradiance.rgb.data());
+  specular_ = mipmappedTexture(environment.specular, GL_RGB32F);
+  maxLevel_ = static_cast<float>(environment.specular.size() - 1);
+  irradiance_ = mipmappedTexture({environment.irradiance}, GL_RGB32F);
 
   brdf_ = gl::createTexture(GL_TEXTURE_2D);
   glTextureStorage2D(brdf_.get(), 1, GL_RG32F, brdf.size, brdf.size);
@@ -109,47 +110,18 @@ EnvironmentTextures::EnvironmentTextures(const PrefilteredEnvironment& environme
   glSamplerParameteri(tableSampler_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
-namespace {
-
-// Half the size in both directions (a single row or column stays), each texel the mean of the
-// two to four it covers.
-EquirectImage halved(const EquirectImage& image) {
-  EquirectImage half;
-  half.width = std::max(1, image.width / 2);
-  half.height = std::max(1, image.height / 2);
-  half.rgb.resize(static_cast<std::size_t>(half.width) * half.height * 3);
-  const int sx = image.width > 1 ? 2 : 1, sy = image.height > 1 ? 2 : 1;
-  for (int y = 0; y < half.height; ++y)
-    for (int x = 0; x < half.width; ++x)
-      for (int c = 0; c < 3; ++c) {
-        float sum = 0.0f;
-        for (int j = 0; j < sy; ++j)
-          for (int i = 0; i < sx; ++i)
-            sum += image.rgb[(static_cast<std::size_t>(y * sy + j) * image.width + x * sx + i) * 3 +
-                             static_cast<std::size_t>(c)];
-        half.rgb[(static_cast<std::size_t>(y) * half.width + x) * 3 + static_cast<std::size_t>(c)] =
-            sum / static_cast<float>(sx * sy);
-      }
-  return half;
-}
-
-}  // namespace
-
-void EnvironmentTextures::makeBackground(const EquirectImage& radiance) {
+void EnvironmentTextures::makeBackground(const EquirectImage& radiance, int threads) {
   // Shared-exponent texels: 4 bytes for RGB with 9 bits of mantissa, to 65408 (a brighter sun
   // shows white either way), a sixth of a float texture's memory at 4096 x 2048.
   std::vector<EquirectImage> levels;
-  levels.push_back(radiance);
-  while (levels.front().width > kMaxBackgroundWidth) levels.front() = halved(levels.front());
-  while (levels.back().width > 1 || levels.back().height > 1)
-    levels.push_back(halved(levels.back()));
-  background_ = gl::createTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(background_.get(), static_cast<GLsizei>(levels.size()), GL_RGB9_E5,
-                     levels.front().width, levels.front().height);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  for (std::size_t k = 0; k < levels.size(); ++k)
-    glTextureSubImage2D(background_.get(), static_cast<GLint>(k), 0, 0, levels[k].width,
-                        levels[k].height, GL_RGB, GL_FLOAT, levels[k].rgb.data());
+  levels.push_back(
+      radiance.width > kMaxBackgroundWidth
+          ? resampleEquirect(radiance, kMaxBackgroundWidth,
+                             std::max(1, radiance.height * kMaxBackgroundWidth / radiance.width),
+                             threads)
+          : radiance);
+  for (EquirectImage& mip : equirectMips(levels.front(), threads)) levels.push_back(std::move(mip));
+  background_ = mipmappedTexture(levels, GL_RGB9_E5);
 }
 
 EnvironmentBinding EnvironmentCache::bind(const EnvironmentLight& light) {
@@ -166,6 +138,7 @@ EnvironmentBinding EnvironmentCache::bind(const EnvironmentLight& light) {
     // A kept environment first drawn as a background reads its image again: the full picture
     // is not kept in memory for a background that may never be asked for.
     const EquirectImage radiance = environmentRadiance(light);
+    const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), 8u));
     if (fresh) {
       textures_.reset();
       key_.reset();
@@ -177,13 +150,12 @@ EnvironmentBinding EnvironmentCache::bind(const EnvironmentLight& light) {
         sun_ = extractSun(*sunless);
       }
       const EquirectImage& lighting = sunless ? *sunless : radiance;
-      const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), 8u));
       textures_ = std::make_unique<EnvironmentTextures>(
           prefilterEnvironment(lighting, static_cast<int>(threads)),
           specularBrdfTable(kBrdfTableSize));
       key_ = key;
     }
-    if (light.background) textures_->makeBackground(radiance);
+    if (light.background) textures_->makeBackground(radiance, static_cast<int>(threads));
   }
   EnvironmentBinding binding;
   binding.textures = textures_.get();

@@ -33,9 +33,10 @@ class EnvironmentTextures {
   GLuint tableSampler() const { return tableSampler_.get(); }  // the BRDF table: clamps
   float maxLevel() const { return maxLevel_; }
   // The picture itself for the background (EnvironmentLight::background), up to
-  // kMaxBackgroundWidth wide, with box-filtered mipmaps; 0 until makeBackground().
+  // kMaxBackgroundWidth wide (area-averaged down), with area-averaged mipmaps; 0 until
+  // makeBackground().
   GLuint background() const { return background_.get(); }
-  void makeBackground(const EquirectImage& radiance);
+  void makeBackground(const EquirectImage& radiance, int threads);
 
  private:
   gl::Texture specular_, irradiance_, brdf_, background_;

@@ -111,55 +111,6 @@ std::vector<std::vector<AreaTap>> areaTaps(int inputCells, int outputCells,
   return taps;
 }
 
-// The mean radiance over each texel of a width x height grid, by the solid angle each texel of
-// the source covers of it: along a row every column subtends the same angle, and down a column
-// a row between polar angles a and b subtends (cos a - cos b) of it. Up or down, any sizes.
-EquirectImage resampleByArea(const EquirectImage& source, int width, int height, int threads) {
-  const std::vector<std::vector<AreaTap>> columnTaps =
-      areaTaps(source.width, width, [](double a, double b) { return b - a; });
-  const double rowAngle = kEnvironmentPi / source.height;
-  const std::vector<std::vector<AreaTap>> rowTaps = areaTaps(
-      source.height, height,
-      [rowAngle](double a, double b) { return std::cos(a * rowAngle) - std::cos(b * rowAngle); });
-
-  EquirectImage across = blankEquirectImage(width, source.height);
-  forEachEnvironmentRow(source.height, threads, [&](int y) {
-    const float* in = &source.rgb[static_cast<std::size_t>(y) * source.width * 3];
-    float* out = &across.rgb[static_cast<std::size_t>(y) * width * 3];
-    for (int x = 0; x < width; ++x) {
-      double sum[3] = {0.0, 0.0, 0.0};
-      for (const AreaTap& tap : columnTaps[x])
-        for (int c = 0; c < 3; ++c) sum[c] += tap.weight * in[tap.index * 3 + c];
-      for (int c = 0; c < 3; ++c) out[x * 3 + c] = static_cast<float>(sum[c]);
-    }
-  });
-
-  EquirectImage result = blankEquirectImage(width, height);
-  forEachEnvironmentRow(height, threads, [&](int y) {
-    std::vector<double> sum(static_cast<std::size_t>(width) * 3, 0.0);
-    for (const AreaTap& tap : rowTaps[y]) {
-      const float* in = &across.rgb[static_cast<std::size_t>(tap.index) * width * 3];
-      for (int i = 0; i < width * 3; ++i) sum[i] += tap.weight * in[i];
-    }
-    float* out = &result.rgb[static_cast<std::size_t>(y) * width * 3];
-    for (int i = 0; i < width * 3; ++i) out[i] = static_cast<float>(sum[i]);
-  });
-  return result;
-}
-
-// The mips of level 0 down to 1 x 1, each the area average of the one above (odd sizes too).
-std::vector<EquirectImage> coarserMips(const EquirectImage& level0, int threads) {
-  std::vector<EquirectImage> mips;
-  const EquirectImage* above = &level0;
-  while (above->width > 1 || above->height > 1) {
-    EquirectImage mip = resampleByArea(*above, std::max(1, above->width / 2),
-                                       std::max(1, above->height / 2), threads);
-    mips.push_back(std::move(mip));
-    above = &mips.back();
-  }
-  return mips;
-}
-
 // equirectCoordinates of a direction known to be of unit length (up to rounding).
 glm::vec2 unitEquirectCoordinates(const glm::vec3& d) {
   return {0.5f + std::atan2(d.x, -d.z) / (2.0f * kEnvironmentPiF),
@@ -352,7 +303,7 @@ EquirectImage prefilterSpecularLevel(const std::vector<UnrolledMip>& mips, int l
 // come out exactly, whatever the error of the sum.
 EquirectImage irradianceOf(const EquirectImage& level0, int threads) {
   const EquirectImage source =
-      resampleByArea(level0, kIrradianceSourceWidth, kIrradianceSourceWidth / 2, threads);
+      resampleEquirect(level0, kIrradianceSourceWidth, kIrradianceSourceWidth / 2, threads);
   struct SourceTexel {
     glm::dvec3 direction;
     glm::dvec3 radiance;
@@ -406,6 +357,53 @@ double smithGgxCorrelatedVisibility(double nDotL, double nDotV, double alpha) {
 
 }  // namespace
 
+// Along a row every column subtends the same angle, and down a column a row between polar
+// angles a and b subtends (cos a - cos b) of it.
+EquirectImage resampleEquirect(const EquirectImage& source, int width, int height, int threads) {
+  const std::vector<std::vector<AreaTap>> columnTaps =
+      areaTaps(source.width, width, [](double a, double b) { return b - a; });
+  const double rowAngle = kEnvironmentPi / source.height;
+  const std::vector<std::vector<AreaTap>> rowTaps = areaTaps(
+      source.height, height,
+      [rowAngle](double a, double b) { return std::cos(a * rowAngle) - std::cos(b * rowAngle); });
+
+  EquirectImage across = blankEquirectImage(width, source.height);
+  forEachEnvironmentRow(source.height, threads, [&](int y) {
+    const float* in = &source.rgb[static_cast<std::size_t>(y) * source.width * 3];
+    float* out = &across.rgb[static_cast<std::size_t>(y) * width * 3];
+    for (int x = 0; x < width; ++x) {
+      double sum[3] = {0.0, 0.0, 0.0};
+      for (const AreaTap& tap : columnTaps[x])
+        for (int c = 0; c < 3; ++c) sum[c] += tap.weight * in[tap.index * 3 + c];
+      for (int c = 0; c < 3; ++c) out[x * 3 + c] = static_cast<float>(sum[c]);
+    }
+  });
+
+  EquirectImage result = blankEquirectImage(width, height);
+  forEachEnvironmentRow(height, threads, [&](int y) {
+    std::vector<double> sum(static_cast<std::size_t>(width) * 3, 0.0);
+    for (const AreaTap& tap : rowTaps[y]) {
+      const float* in = &across.rgb[static_cast<std::size_t>(tap.index) * width * 3];
+      for (int i = 0; i < width * 3; ++i) sum[i] += tap.weight * in[i];
+    }
+    float* out = &result.rgb[static_cast<std::size_t>(y) * width * 3];
+    for (int i = 0; i < width * 3; ++i) out[i] = static_cast<float>(sum[i]);
+  });
+  return result;
+}
+
+std::vector<EquirectImage> equirectMips(const EquirectImage& level0, int threads) {
+  std::vector<EquirectImage> mips;
+  const EquirectImage* above = &level0;
+  while (above->width > 1 || above->height > 1) {
+    EquirectImage mip = resampleEquirect(*above, std::max(1, above->width / 2),
+                                         std::max(1, above->height / 2), threads);
+    mips.push_back(std::move(mip));
+    above = &mips.back();
+  }
+  return mips;
+}
+
 glm::vec2 equirectCoordinates(const glm::vec3& direction) {
   const float length = glm::length(direction);
   return {0.5f + std::atan2(direction.x, -direction.z) / (2.0f * kEnvironmentPiF),
@@ -432,11 +430,11 @@ PrefilteredEnvironment prefilterEnvironment(const EquirectImage& radiance, int t
 
   EquirectImage level0 =
       radiance.width > kMaxSpecularWidth
-          ? resampleByArea(radiance, kMaxSpecularWidth, kMaxSpecularWidth / 2, threads)
+          ? resampleEquirect(radiance, kMaxSpecularWidth, kMaxSpecularWidth / 2, threads)
           : radiance;
   std::vector<UnrolledMip> mips;
   mips.push_back(unrolledMip(level0));
-  for (const EquirectImage& mip : coarserMips(level0, threads)) mips.push_back(unrolledMip(mip));
+  for (const EquirectImage& mip : equirectMips(level0, threads)) mips.push_back(unrolledMip(mip));
 
   // 1 + floor(log2(width0)) levels in level 0's mip chain.
   const int levels = std::min(

@@ -25,6 +25,13 @@ glm::vec2 equirectCoordinates(const glm::vec3& direction);
 // The unit direction of (u, v), the inverse of equirectCoordinates.
 glm::vec3 equirectDirection(const glm::vec2& uv);
 
+// The mean radiance over each texel of a width x height grid, by the solid angle each texel of
+// `image` covers of it: up or down, any sizes.
+EquirectImage resampleEquirect(const EquirectImage& image, int width, int height, int threads);
+// The mips of `level0` below it, down to 1 x 1, each the area average of the one above (odd
+// sizes too): with level 0, what a GL mipmapped texture of it holds.
+std::vector<EquirectImage> equirectMips(const EquirectImage& level0, int threads);
+
 // What the lighting pass reads of an environment (split-sum image-based lighting, Karis 2013).
 struct PrefilteredEnvironment {
   // specular[k]: the radiance prefiltered with the GGX distribution at perceptual roughness
