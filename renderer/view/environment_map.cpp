@@ -45,6 +45,36 @@ constexpr int kIrradianceSourceWidth = 128;
 // this close to 0 the table's smoothest rows are a mirror's anyway.
 constexpr double kMinBrdfAlpha = 1e-4;
 
+// Throws std::invalid_argument, naming `caller`, unless `image` has texels and as many values.
+void requireEquirect(const EquirectImage& image, const char* caller) {
+  if (image.width <= 0 || image.height <= 0)
+    throw std::invalid_argument(std::string(caller) + ": empty image (" +
+                                std::to_string(image.width) + " x " + std::to_string(image.height) +
+                                ")");
+  if (image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
+    throw std::invalid_argument(std::string(caller) + ": " + std::to_string(image.rgb.size()) +
+                                " values for " + std::to_string(image.width) + " x " +
+                                std::to_string(image.height) + " RGB texels");
+}
+
+// The solid angle of a texel in row y of a width x height grid.
+double equirectTexelSolidAngle(int y, int width, int height) {
+  const double rowAngle = kEnvironmentPi / height;
+  return 2.0 * kEnvironmentPi / width * (std::cos(y * rowAngle) - std::cos((y + 1) * rowAngle));
+}
+
+// The direction of the centre of texel (x, y) of a width x height grid.
+glm::dvec3 equirectTexelDirection(int x, int y, int width, int height) {
+  return glm::dvec3(
+      equirectDirection({(static_cast<float>(x) + 0.5f) / static_cast<float>(width),
+                         (static_cast<float>(y) + 0.5f) / static_cast<float>(height)}));
+}
+
+// Rec. 709 luminance.
+double luminanceOf(const glm::dvec3& rgb) {
+  return 0.2126 * rgb.r + 0.7152 * rgb.g + 0.0722 * rgb.b;
+}
+
 // Calls rowWork(row) for every row in [0, rows), on up to `threads` threads that take rows in
 // turn. Each row's result depends only on its index, so any split gives the same bytes. The
 // first exception a row throws (out of memory) is rethrown here, once every thread is done.
@@ -311,25 +341,19 @@ EquirectImage irradianceOf(const EquirectImage& level0, int threads) {
   };
   std::vector<SourceTexel> texels;
   texels.reserve(static_cast<std::size_t>(source.width) * source.height);
-  const double rowAngle = kEnvironmentPi / source.height;
   for (int y = 0; y < source.height; ++y) {
-    const double solidAngle = 2.0 * kEnvironmentPi / source.width *
-                              (std::cos(y * rowAngle) - std::cos((y + 1) * rowAngle));
+    const double solidAngle = equirectTexelSolidAngle(y, source.width, source.height);
     for (int x = 0; x < source.width; ++x) {
-      const glm::vec2 uv((static_cast<float>(x) + 0.5f) / static_cast<float>(source.width),
-                         (static_cast<float>(y) + 0.5f) / static_cast<float>(source.height));
       const float* rgb = &source.rgb[(static_cast<std::size_t>(y) * source.width + x) * 3];
-      texels.push_back(
-          {glm::dvec3(equirectDirection(uv)), glm::dvec3(rgb[0], rgb[1], rgb[2]), solidAngle});
+      texels.push_back({equirectTexelDirection(x, y, source.width, source.height),
+                        glm::dvec3(rgb[0], rgb[1], rgb[2]), solidAngle});
     }
   }
 
   EquirectImage result = blankEquirectImage(kIrradianceWidth, kIrradianceWidth / 2);
   forEachEnvironmentRow(result.height, threads, [&](int y) {
     for (int x = 0; x < result.width; ++x) {
-      const glm::dvec3 normal(
-          equirectDirection({(static_cast<float>(x) + 0.5f) / static_cast<float>(result.width),
-                             (static_cast<float>(y) + 0.5f) / static_cast<float>(result.height)}));
+      const glm::dvec3 normal = equirectTexelDirection(x, y, result.width, result.height);
       glm::dvec3 sum(0.0);
       double weightSum = 0.0;
       for (const SourceTexel& texel : texels) {
@@ -418,14 +442,7 @@ glm::vec3 equirectDirection(const glm::vec2& uv) {
 }
 
 PrefilteredEnvironment prefilterEnvironment(const EquirectImage& radiance, int threads) {
-  if (radiance.width <= 0 || radiance.height <= 0)
-    throw std::invalid_argument("prefilterEnvironment: empty image (" +
-                                std::to_string(radiance.width) + " x " +
-                                std::to_string(radiance.height) + ")");
-  if (radiance.rgb.size() != static_cast<std::size_t>(radiance.width) * radiance.height * 3)
-    throw std::invalid_argument("prefilterEnvironment: " + std::to_string(radiance.rgb.size()) +
-                                " values for " + std::to_string(radiance.width) + " x " +
-                                std::to_string(radiance.height) + " RGB texels");
+  requireEquirect(radiance, "prefilterEnvironment");
   threads = std::max(threads, 1);
 
   EquirectImage level0 =
@@ -487,28 +504,19 @@ SpecularBrdfTable specularBrdfTable(int size) {
 }
 
 std::optional<EnvironmentSun> extractSun(EquirectImage& radiance) {
-  if (radiance.width < 1 || radiance.height < 1 ||
-      radiance.rgb.size() != static_cast<std::size_t>(radiance.width) * radiance.height * 3)
-    throw std::invalid_argument("extractSun: malformed image");
+  requireEquirect(radiance, "extractSun");
   const int width = radiance.width, height = radiance.height;
-  const auto index = [&](int x, int y) { return (static_cast<std::size_t>(y) * width + x) * 3; };
-  const auto luminance = [&](std::size_t i) {
-    return 0.2126 * radiance.rgb[i] + 0.7152 * radiance.rgb[i + 1] + 0.0722 * radiance.rgb[i + 2];
+  const auto texel = [&](int x, int y) {
+    const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
+    return glm::dvec3(radiance.rgb[i], radiance.rgb[i + 1], radiance.rgb[i + 2]);
   };
-  const auto solidAngle = [&](int y) {
-    const double a = y * kEnvironmentPi / height, b = (y + 1) * kEnvironmentPi / height;
-    return (2.0 * kEnvironmentPi / width) * (std::cos(a) - std::cos(b));
-  };
-  const auto direction = [&](int x, int y) {
-    return glm::dvec3(
-        equirectDirection(glm::vec2((static_cast<float>(x) + 0.5f) / static_cast<float>(width),
-                                    (static_cast<float>(y) + 0.5f) / static_cast<float>(height))));
-  };
+  const auto solidAngle = [&](int y) { return equirectTexelSolidAngle(y, width, height); };
+  const auto direction = [&](int x, int y) { return equirectTexelDirection(x, y, width, height); };
   double mean = 0.0, brightest = -1.0;
   int bx = 0, by = 0;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      const double value = luminance(index(x, y));
+      const double value = luminanceOf(texel(x, y));
       mean += value * solidAngle(y);
       if (value > brightest) {
         brightest = value;
@@ -533,8 +541,7 @@ std::optional<EnvironmentSun> extractSun(EquirectImage& radiance) {
     for (int x = 0; x < width; ++x) {
       const double c = glm::dot(direction(x, y), centre);
       if (c >= searchCos || c < ringCos) continue;
-      const std::size_t i = index(x, y);
-      ring += glm::dvec3(radiance.rgb[i], radiance.rgb[i + 1], radiance.rgb[i + 2]) * solidAngle(y);
+      ring += texel(x, y) * solidAngle(y);
       ringWeight += solidAngle(y);
     }
   const glm::dvec3 sky = ringWeight > 0.0 ? ring / ringWeight : glm::dvec3(0.0);
@@ -545,16 +552,14 @@ std::optional<EnvironmentSun> extractSun(EquirectImage& radiance) {
     for (int x = 0; x < width; ++x) {
       const glm::dvec3 d = direction(x, y);
       const double c = glm::dot(d, centre);
-      const std::size_t i = index(x, y);
-      if (c < searchCos || luminance(i) < threshold) continue;
-      const glm::dvec3 value(radiance.rgb[i], radiance.rgb[i + 1], radiance.rgb[i + 2]);
+      const glm::dvec3 value = texel(x, y);
+      if (c < searchCos || luminanceOf(value) < threshold) continue;
       const glm::dvec3 excess = glm::max(value - sky, glm::dvec3(0.0)) * solidAngle(y);
       irradiance += excess;
-      weighted += d * (0.2126 * excess.r + 0.7152 * excess.g + 0.0722 * excess.b);
+      weighted += d * luminanceOf(excess);
       region.push_back(d);
-      for (int k = 0; k < 3; ++k)
-        radiance.rgb[i + static_cast<std::size_t>(k)] =
-            static_cast<float>(std::min(value[k], sky[k]));
+      const glm::vec3 kept(glm::min(value, sky));
+      std::copy(&kept.x, &kept.x + 3, &radiance.rgb[(static_cast<std::size_t>(y) * width + x) * 3]);
     }
   EnvironmentSun sun;
   sun.direction =
