@@ -134,6 +134,21 @@ int unitOf(const ExtensionUnits& units, contract::ExtensionTexture texture) {
   return units[static_cast<std::size_t>(texture)];
 }
 
+// The defines that put an environment light's textures on the units from `first` on
+// (shaders/environment.glsl): the specular levels, the irradiance, the BRDF table.
+std::vector<std::string> environmentUnitDefines(int first) {
+  return {"ENVIRONMENT_SPECULAR_UNIT " + std::to_string(first),
+          "ENVIRONMENT_IRRADIANCE_UNIT " + std::to_string(first + 1),
+          "ENVIRONMENT_BRDF_UNIT " + std::to_string(first + 2)};
+}
+
+// What shaders/environment.glsl reads of an environment light besides its textures.
+void setEnvironmentUniforms(const ShaderProgram& program, const EnvironmentBinding& environment) {
+  program.set("uEnvironmentRotation", environment.toEnvironment);
+  program.set("uEnvironmentScale", environment.scale);
+  program.set("uEnvironmentMaxLevel", environment.textures->maxLevel());
+}
+
 std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
                                         const LightingFeatures& features, unsigned material) {
   std::vector<std::string> defines;
@@ -201,9 +216,8 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     if (a.unit >= 0) defines.push_back(std::string(a.define) + " " + std::to_string(a.unit));
   if (units.environment >= 0) {
     defines.push_back("ENVIRONMENT");
-    defines.push_back("ENVIRONMENT_SPECULAR_UNIT " + std::to_string(units.environment));
-    defines.push_back("ENVIRONMENT_IRRADIANCE_UNIT " + std::to_string(units.environment + 1));
-    defines.push_back("ENVIRONMENT_BRDF_UNIT " + std::to_string(units.environment + 2));
+    for (std::string& define : environmentUnitDefines(units.environment))
+      defines.push_back(std::move(define));
   }
   const ExtensionUnits extensionUnits = extensionTextureUnits(material, units.end);
   for (int i = 0; i < contract::kExtensionTextures; ++i)
@@ -978,12 +992,7 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
   program.set("uViewProjection", uniforms.viewProjection);
   program.set("uCameraPosition", uniforms.cameraPosition);
   program.set("uAmbient", uniforms.ambience.ambient);
-  if (features_.environment) {
-    const EnvironmentBinding& environment = uniforms.ambience.environment;
-    program.set("uEnvironmentRotation", environment.toEnvironment);
-    program.set("uEnvironmentScale", environment.scale);
-    program.set("uEnvironmentMaxLevel", environment.textures->maxLevel());
-  }
+  if (features_.environment) setEnvironmentUniforms(program, uniforms.ambience.environment);
   if (outputs_ == PassOutputs::Aovs) {
     program.set("uVisibilityBase", parameters.visibilityBase);
     program.set("uScalarTerms", parameters.scalarTerms);
@@ -1241,11 +1250,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
 
 void LightingPass::drawBackground(const FrameTargets& targets, const FrameUniforms& uniforms) {
   if (!background_) {
-    const ShadowSamplerUnits& units = shadowUnits_;
-    std::vector<std::string> defines = {
-        "ENVIRONMENT_SPECULAR_UNIT " + std::to_string(units.environment),
-        "ENVIRONMENT_IRRADIANCE_UNIT " + std::to_string(units.environment + 1),
-        "ENVIRONMENT_BRDF_UNIT " + std::to_string(units.environment + 2)};
+    std::vector<std::string> defines = environmentUnitDefines(shadowUnits_.environment);
     if (writesSrgb8(outputs_)) defines.push_back("WRITE_SRGB8");
     background_ = std::make_unique<ShaderProgram>("fullscreen.vert", "environment_background.frag",
                                                   contract::withShaderContract(defines));
@@ -1259,9 +1264,7 @@ void LightingPass::drawBackground(const FrameTargets& targets, const FrameUnifor
   background_->use();
   background_->set("uInverseViewProjection", glm::inverse(uniforms.viewProjection));
   background_->set("uViewportSize", glm::vec2(targets.width(), targets.height()));
-  background_->set("uEnvironmentRotation", environment.toEnvironment);
-  background_->set("uEnvironmentScale", environment.scale);
-  background_->set("uEnvironmentMaxLevel", environment.textures->maxLevel());
+  setEnvironmentUniforms(*background_, environment);
   if (writesSrgb8(outputs_)) background_->set("uExposureScale", uniforms.parameters.exposureScale);
   // The full-screen triangle lies at depth 0, the cleared value: it passes only where no
   // surface wrote a depth. The ids beside the beauty stay "none".
