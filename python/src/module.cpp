@@ -8,6 +8,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <cstring>
+#include <glm/glm.hpp>
 
 #include "python/src/py_frame.h"
 #include "python/src/py_inputs.h"
@@ -267,7 +268,7 @@ PYBIND11_MODULE(omnishadow, m) {
                 e.image.empty() ? py::object(py::none()) : py::object(py::str(e.image.string()));
             environment["color"] = py::make_tuple(e.color.x, e.color.y, e.color.z);
             environment["intensity"] = e.intensity;
-            environment["rotation"] = e.rotation * 57.29577951308232;  // degrees, as written
+            environment["rotation"] = glm::degrees(e.rotation);  // as the file writes it
             environment["background"] = e.background;
             environment["sun"] = e.sun;
             return environment;
