@@ -96,8 +96,9 @@ FloatImage decodeRadianceHdr(const std::string& bytes, const std::string& name) 
     reader.fail("the Radiance HDR resolution line is not \"-Y height +X width\"");
   if (const std::string problem = imageSizeProblem(width, height, 3); !problem.empty())
     reader.fail(problem);
-  // Every pixel takes at least a byte even run-length encoded (a run of 127 takes 2 of 4
-  // channels' 127 bytes): refuse sizes the data cannot hold before allocating them.
+  // Run-length encoded, a row takes at least 2 bytes per channel for every 127 pixels (8 for
+  // 127 pixels); a claim of more than 64 pixels per byte left cannot be held by the data, and
+  // is refused before its pixels are allocated.
   if (static_cast<double>(width) * static_cast<double>(height) >
       static_cast<double>(reader.remaining()) * 64.0)
     reader.fail("the Radiance HDR pixels are truncated");

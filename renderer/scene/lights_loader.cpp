@@ -502,7 +502,7 @@ EnvironmentLight readEnvironment(const Reader& reader, const std::string& origin
   if (auto field = reader.field("rotation")) {
     const auto degrees = finiteNumber(field->value());
     if (!degrees) field->failGot("expected a finite number of degrees");
-    environment.rotation = static_cast<float>(std::remainder(*degrees, 360.0) * (kHalfPi / 90.0));
+    environment.rotation = static_cast<float>(glm::radians(std::remainder(*degrees, 360.0)));
   }
   if (auto field = reader.field("background")) environment.background = readBool(*field);
   if (auto field = reader.field("sun")) environment.sun = readBool(*field);
