@@ -167,10 +167,11 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
                    "Size of the --light-views images (default 512)")
       ->check(CLI::Range(1, 16384));
   render
-      ->add_option("--debug-view", o.debugView,
-                   "Replace the beauty by: shadow, depth, normals, albedo, lightcount or cascade")
-      ->check(
-          CLI::IsMember({"none", "shadow", "depth", "normals", "albedo", "lightcount", "cascade"}));
+      ->add_option(
+          "--debug-view", o.debugView,
+          "Replace the beauty by: shadow, depth, normals, albedo, lightcount, cascade or occlusion")
+      ->check(CLI::IsMember(
+          {"none", "shadow", "depth", "normals", "albedo", "lightcount", "cascade", "occlusion"}));
   render->add_option(
       "--debug-light", o.debugLight,
       "Light shown by --debug-view depth (default: the first shadowed light, of any type) or "

@@ -132,6 +132,7 @@ DebugView parseDebugView(const std::string& name) {
   if (name == "albedo") return DebugView::Albedo;
   if (name == "lightcount") return DebugView::LightCount;
   if (name == "cascade") return DebugView::Cascade;
+  if (name == "occlusion") return DebugView::Occlusion;
   return DebugView::None;
 }
 

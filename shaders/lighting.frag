@@ -17,7 +17,9 @@
 // its textures; IRIDESCENCE_DIELECTRIC_ONLY or IRIDESCENCE_METAL_ONLY where metallic is 0 or 1
 // throughout), DIFFUSE_TRANSMISSION, DIFFUSE_TRANSMISSION_TEXTURE and
 // DIFFUSE_TRANSMISSION_COLOR_TEXTURE (KHR_materials_diffuse_transmission, and each texture),
-// ENVIRONMENT (an environment light: image-based diffuse and specular reflection).
+// ENVIRONMENT (an environment light: image-based diffuse and specular reflection),
+// AMBIENT_OCCLUSION (the ambient and environment light screen-space occluded, from
+// ambient_occlusion.frag's estimate for the opaque surfaces).
 #ifdef FACING_LIGHT_LOOP
 #extension GL_ARB_shader_ballot : require
 #endif
@@ -29,6 +31,20 @@
 #endif
 #ifdef WRITE_SRGB8
 #include "srgb8_encode.glsl"
+#endif
+#ifdef AMBIENT_OCCLUSION
+// RG: the visible share, the opaque surface's depth it was estimated for.
+layout(binding = AMBIENT_OCCLUSION_UNIT) uniform sampler2D uAmbientOcclusion;
+uniform float uAmbientOcclusionStrength;
+
+// 1 for the surfaces the estimate is not for: those in front of the opaque ones (masked,
+// see-through, blended), whose depth differs. The same draws give the same depths; the
+// tolerance is for drivers whose pre-pass and shading depths differ in the last bits.
+float screenSpaceOcclusion() {
+  vec2 estimate = texelFetch(uAmbientOcclusion, ivec2(gl_FragCoord.xy), 0).rg;
+  if (abs(estimate.g - gl_FragCoord.z) > 1e-5 * gl_FragCoord.z) return 1.0;
+  return 1.0 + uAmbientOcclusionStrength * (estimate.r - 1.0);
+}
 #endif
 
 in VertexData {
@@ -405,6 +421,9 @@ void main() {
   if (uOcclusionTexCoord >= 0)
     occlusion = 1.0 + uOcclusionStrength *
                           (texture(uOcclusionTexture, uvFor(uOcclusionTexCoord, uOcclusionUvTransform)).r - 1.0);
+#ifdef AMBIENT_OCCLUSION
+  occlusion *= screenSpaceOcclusion();
+#endif
   vec3 emissive = uEmissive;
   if (uEmissiveTexCoord >= 0) emissive *= texture(uEmissiveTexture, uvFor(uEmissiveTexCoord, uEmissiveUvTransform)).rgb;
 
@@ -866,6 +885,7 @@ void main() {
   if (uDebugView == DEBUG_VIEW_ALBEDO) color = baseColor.rgb;
   if (uDebugView == DEBUG_VIEW_CASCADE) color = cascadeDebugColor(debugCascade, color);
   if (uDebugView == DEBUG_VIEW_LIGHT_COUNT) color = vec3(float(contributing) / float(max(uLightCount, 1)));
+  if (uDebugView == DEBUG_VIEW_OCCLUSION) color = vec3(occlusion);
 #endif
 #if defined(WRITE_SRGB8)
   // The float the RGBA32F target would hold, scaled as the CPU scales it: the same products.

@@ -219,6 +219,10 @@ std::vector<std::string> variantDefines(Shading shading, PassOutputs outputs,
     for (std::string& define : environmentUnitDefines(units.environment))
       defines.push_back(std::move(define));
   }
+  if (units.ambientOcclusion >= 0 && readsAmbientOcclusion(outputs)) {
+    defines.push_back("AMBIENT_OCCLUSION");
+    defines.push_back("AMBIENT_OCCLUSION_UNIT " + std::to_string(units.ambientOcclusion));
+  }
   const ExtensionUnits extensionUnits = extensionTextureUnits(material, units.end);
   for (int i = 0; i < contract::kExtensionTextures; ++i)
     if (const int unit = extensionUnits[static_cast<std::size_t>(i)]; unit >= 0)
@@ -660,6 +664,7 @@ ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features) {
       units.environment = next;
       next += 3;
     }
+    if (features.ambientOcclusion) units.ambientOcclusion = next++;
     units.end = next;
     return units;
   };
@@ -993,6 +998,9 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
   program.set("uCameraPosition", uniforms.cameraPosition);
   program.set("uAmbient", uniforms.ambience.ambient);
   if (features_.environment) setEnvironmentUniforms(program, uniforms.ambience.environment);
+  if (features_.ambientOcclusion && readsAmbientOcclusion(outputs_))
+    program.set("uAmbientOcclusionStrength",
+                uniforms.ambience.occlusion ? uniforms.ambience.occlusion->strength : 0.0f);
   if (outputs_ == PassOutputs::Aovs) {
     program.set("uVisibilityBase", parameters.visibilityBase);
     program.set("uScalarTerms", parameters.scalarTerms);
@@ -1116,6 +1124,8 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
                           const PassParameters& parameters) {
   if (features_.environment != (ambience.environment.textures != nullptr))
     throw std::logic_error("a lighting pass drawn with another environment than it was made for");
+  if (features_.ambientOcclusion != ambience.occlusion.has_value())
+    throw std::logic_error("a lighting pass drawn with another ambient occlusion than made for");
   glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
   // Background: no coverage, lit (visibility 1), no object or material (id -1).
   const float zero[4] = {0, 0, 0, 0};
@@ -1170,7 +1180,10 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   // tests stay on), masked ones test and write as usual.
   gl::RasterState state;
   state.viewport = {0, 0, targets.width(), targets.height()};
+  const bool occluded = features_.ambientOcclusion && readsAmbientOcclusion(outputs_);
   if (parameters.blendedOnly) {
+    // These passes report the blended surfaces' AOVs, not their light.
+    if (occluded) bindOcclusion(targets, nullptr);
     state.apply();
     drawScene(scene, DrawSet::Blended, nullptr, uniforms);
     gl::RasterState::restoreDefaults();
@@ -1191,6 +1204,11 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
     if (counted_) glBeginQuery(GL_SAMPLES_PASSED, prepassFragments_.get());
     drawScene(scene, DrawSet::Opaque, &depthOnly_, uniforms);
     if (counted_) glEndQuery(GL_SAMPLES_PASSED);
+  }
+  if (occluded) {
+    estimateOcclusion(scene, camera, targets, parameters, uniforms);
+    glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
+    glBindVertexArray(scene.vertexArray());
   }
   // Equal depths pass both ways, so the last drawn of equally near surfaces wins either way.
   state.color.rgba = {true, true, true, true};
@@ -1246,6 +1264,45 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the lighting pass");
+}
+
+void LightingPass::estimateOcclusion(const GpuScene& scene, const ViewCamera& camera,
+                                     const FrameTargets& targets, const PassParameters& parameters,
+                                     const FrameUniforms& uniforms) {
+  if (!occlusion_) occlusion_ = std::make_unique<AmbientOcclusionPass>();
+  const int width = targets.width(), height = targets.height();
+  GLuint depth = targets.depth();
+  if (!parameters.depthPrepass) {
+    // The pre-pass's draws into a depth target of the estimate's own: the same depths, so the
+    // picture does not depend on whether the pre-pass is drawn.
+    const GLuint framebuffer = occlusion_->depthFramebuffer(width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    gl::RasterState state;
+    state.viewport = {0, 0, width, height};
+    state.color.rgba = {false, false, false, false};
+    state.apply();  // depth writes on: the clear obeys them
+    const float clearDepth = 0.0f;
+    glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &clearDepth);
+    depthOnly_.use();
+    depthOnly_.set("uViewProjection", uniforms.viewProjection);
+    glBindVertexArray(scene.vertexArray());
+    drawScene(scene, DrawSet::Opaque, &depthOnly_, uniforms);
+    depth = occlusion_->depthTexture();
+  }
+  occlusion_->estimate(depth, camera.projection, width, height,
+                       uniforms.ambience.occlusion->radius);
+  bindOcclusion(targets, occlusion_.get());
+}
+
+void LightingPass::bindOcclusion(const FrameTargets& targets, AmbientOcclusionPass* estimated) {
+  if (!estimated) {
+    if (!occlusion_) occlusion_ = std::make_unique<AmbientOcclusionPass>();
+    occlusion_->clear(targets.width(), targets.height());
+    glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
+  }
+  const auto unit = static_cast<GLuint>(shadowUnits_.ambientOcclusion);
+  glBindTextureUnit(unit, occlusion_->result());
+  glBindSampler(unit, 0);
 }
 
 void LightingPass::drawBackground(const FrameTargets& targets, const FrameUniforms& uniforms) {

@@ -10,6 +10,7 @@
 
 #include "renderer/gl/gl_resources.h"
 #include "renderer/gl/shader_program.h"
+#include "renderer/passes/ambient_occlusion_pass.h"
 #include "renderer/passes/environment_textures.h"
 #include "renderer/passes/gpu_scene.h"
 #include "renderer/passes/shader_contract.h"
@@ -44,6 +45,12 @@ enum class PassOutputs {
   Ids,
 };
 
+// Whether the pass shades a beauty (its ambient and environment light screen-space occluded
+// when the frame asks): not the layer and id passes.
+inline bool readsAmbientOcclusion(PassOutputs outputs) {
+  return outputs != PassOutputs::Layers && outputs != PassOutputs::Ids;
+}
+
 // Ids in attachment 1 beside the beauty (Srgb8Ids, BeautyIds).
 inline bool writesIdsBesideBeauty(PassOutputs outputs) {
   return outputs == PassOutputs::Srgb8Ids || outputs == PassOutputs::BeautyIds;
@@ -59,6 +66,9 @@ inline bool writesSrgb8(PassOutputs outputs) {
 struct LightingAmbience {
   glm::vec3 ambient{0.0f};
   EnvironmentBinding environment;
+  // Screen-space occlusion of both (its radius resolved: > 0), for passes made with
+  // LightingFeatures::ambientOcclusion.
+  std::optional<AmbientOcclusion> occlusion;
 };
 
 // Per-pass choices of a lighting pass.
@@ -144,6 +154,7 @@ class FrameTargets {
   static double bytes(int width, int height, PassOutputs outputs);
   GLuint framebuffer() const { return framebuffer_.get(); }
   GLuint color(int attachment) const { return colors_[attachment].get(); }
+  GLuint depth() const { return depth_.get(); }
   int attachmentCount() const { return static_cast<int>(colors_.size()); }
   int visibilityOutputs() const { return visibilityOutputs_; }  // Aovs; 0 for the others
   PassOutputs outputs() const { return outputs_; }
@@ -190,6 +201,9 @@ struct LightingFeatures {
   int visibilityOutputs = 0;
   // An environment light: its textures take three units after the shadow arrays.
   bool environment = false;
+  // Screen-space ambient occlusion (LightingAmbience::occlusion): the passes that write a
+  // beauty estimate it from the opaque surfaces' depth and read it on the unit after those.
+  bool ambientOcclusion = false;
   bool operator==(const LightingFeatures&) const = default;
 };
 
@@ -205,8 +219,9 @@ LightingFeatures lightingFeatures(const std::vector<Light>& lights, DebugView de
 struct ShadowSamplerUnits {
   int cubeCompare = -1, planarCompare = -1, cubeDepth = -1, planarDepth = -1, cubeMoments = -1,
       planarMoments = -1;
-  int environment = -1;  // LightingFeatures::environment: specular, irradiance, BRDF table
-  int end = 0;           // one past the last unit taken
+  int environment = -1;       // LightingFeatures::environment: specular, irradiance, BRDF table
+  int ambientOcclusion = -1;  // LightingFeatures::ambientOcclusion
+  int end = 0;                // one past the last unit taken
 };
 ShadowSamplerUnits shadowSamplerUnits(const LightingFeatures& features);
 
@@ -279,6 +294,15 @@ class LightingPass {
   // the opaque and masked surfaces' depth and under what is drawn after them.
   // Leaves its own raster state applied.
   void drawBackground(const FrameTargets& targets, const FrameUniforms& uniforms);
+  // The screen-space ambient occlusion of the opaque surfaces (LightingAmbience::occlusion),
+  // from the pre-pass's depth or, without it, from the same draws into the estimate's own
+  // depth target, bound where the shader reads it. Leaves the framebuffer and vertex array
+  // changed.
+  void estimateOcclusion(const GpuScene& scene, const ViewCamera& camera,
+                         const FrameTargets& targets, const PassParameters& parameters,
+                         const FrameUniforms& uniforms);
+  // Binds the estimate, or with null, an estimate where nothing is occluded.
+  void bindOcclusion(const FrameTargets& targets, AmbientOcclusionPass* estimated);
   // Copies the beauty drawn so far (the opaque and masked surfaces) into sceneBehind_, with its
   // mipmaps when `mipmaps`, and binds it where see-through surfaces read it.
   void copySceneBehind(const FrameTargets& targets, bool mipmaps);
@@ -303,8 +327,9 @@ class LightingPass {
   std::vector<unsigned> frameVariants_;
   std::vector<std::size_t> blendedOrder_;  // this frame's blended draws, farthest first
   ShaderProgram depthOnly_;
-  std::unique_ptr<ShaderProgram> background_;  // drawBackground()'s, made on first use
-  gl::VertexArray emptyVertexArray_;           // its full-screen triangle needs no attributes
+  std::unique_ptr<ShaderProgram> background_;        // drawBackground()'s, made on first use
+  std::unique_ptr<AmbientOcclusionPass> occlusion_;  // made on first use
+  gl::VertexArray emptyVertexArray_;                 // its full-screen triangle needs no attributes
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;
   ClusterBoxCache clusterBoxes_;

@@ -1029,7 +1029,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
                              const Ambience& ambience, const ViewCamera& camera,
                              const RenderSettings& settings, StageTimes& times) {
   const bool lit = drawsLitFrame(settings);
-  LightingAmbience ambient{ambience.ambient, {}};
+  LightingAmbience ambient{ambience.ambient, {}, {}};
   std::vector<Light> withSun;
   if (lit && ambience.environment) {
     // Read and prefiltered once for a batch over the same image (EnvironmentCache); an image
@@ -1042,6 +1042,12 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
       withSun = requested;
       withSun.push_back(*ambient.environment.sun);
     }
+  }
+  if (lit && ambience.ambientOcclusion) {
+    AmbientOcclusion occlusion = *ambience.ambientOcclusion;
+    if (!(occlusion.radius > 0.0f))
+      occlusion.radius = kDefaultAmbientOcclusionShare * 2.0f * scene.bounds.radius();
+    ambient.occlusion = occlusion;
   }
   const std::vector<Light>& lights = withSun.empty() ? requested : withSun;
   // Everything else that can be refused is refused here, before any GL allocation.
@@ -1058,6 +1064,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
   features.translucentShadows =
       std::find(translucent.begin(), translucent.end(), true) != translucent.end();
   features.environment = ambient.environment.textures != nullptr;
+  features.ambientOcclusion = ambient.occlusion.has_value();
   const PassOutputs beautyOutputs = omnishadow::beautyOutputs(scene, settings);
   if (lit) lightingPass(settings.shading, beautyOutputs, features);  // made once per feature set
   shaders.stop();

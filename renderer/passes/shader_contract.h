@@ -224,6 +224,7 @@ inline std::vector<std::string> shaderContractDefines() {
       define("DEBUG_VIEW_ALBEDO", e(DebugView::Albedo)),
       define("DEBUG_VIEW_LIGHT_COUNT", e(DebugView::LightCount)),
       define("DEBUG_VIEW_CASCADE", e(DebugView::Cascade)),
+      define("DEBUG_VIEW_OCCLUSION", e(DebugView::Occlusion)),
   };
 }
 

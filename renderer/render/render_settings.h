@@ -9,7 +9,7 @@ enum class Shading { Pbr, Phong };
 
 // What replaces the beauty image (--debug-view). The values are part of the C++/GLSL contract
 // (renderer/passes/shader_contract.h injects them into lighting.frag).
-enum class DebugView { None = 0, Shadow, Depth, Normals, Albedo, LightCount, Cascade };
+enum class DebugView { None = 0, Shadow, Depth, Normals, Albedo, LightCount, Cascade, Occlusion };
 
 // How a point light's six cube faces are rendered (--shadow-pass). All of them write the same
 // texels; they differ in speed, which depends on the driver (docs/performance.md).

@@ -90,10 +90,24 @@ struct EnvironmentLight {
 
 inline constexpr const char* kEnvironmentSunName = "environment-sun";
 
+// The lights file's "ambient_occlusion": how much of the ambient and environment light reaching
+// each surface its surroundings hide, estimated from the depth of what the camera sees
+// (screen-space; renderer/passes/ambient_occlusion_pass.h). It darkens nothing the punctual
+// lights give, which their shadows do. README, "Ambient occlusion".
+struct AmbientOcclusion {
+  // World units within which surfaces occlude; 0: kDefaultAmbientOcclusionShare of the
+  // diagonal of the scene's bounds.
+  float radius = 0.0f;
+  // 0..1, as a glTF occlusion texture's strength: 1 + strength x (visible share - 1).
+  float strength = 1.0f;
+};
+inline constexpr float kDefaultAmbientOcclusionShare = 0.05f;
+
 struct LightSetup {
   // Linear RGB radiance multiplied by albedo. 0 by default when the file has an environment.
   glm::vec3 ambient{0.03f};
   std::optional<EnvironmentLight> environment;
+  std::optional<AmbientOcclusion> ambientOcclusion;
   std::vector<Light> lights;
 };
 
@@ -102,9 +116,12 @@ struct LightSetup {
 struct Ambience {
   Ambience(const glm::vec3& ambientRadiance) : ambient(ambientRadiance) {}  // NOLINT: implicit
   explicit Ambience(const LightSetup& setup)
-      : ambient(setup.ambient), environment(setup.environment) {}
+      : ambient(setup.ambient),
+        environment(setup.environment),
+        ambientOcclusion(setup.ambientOcclusion) {}
   glm::vec3 ambient{0.0f};
   std::optional<EnvironmentLight> environment;
+  std::optional<AmbientOcclusion> ambientOcclusion;
 };
 
 const char* toString(LightType type);

@@ -509,9 +509,21 @@ EnvironmentLight readEnvironment(const Reader& reader, const std::string& origin
   return environment;
 }
 
+// true: the defaults; false: none; or an object of the fields.
+std::optional<AmbientOcclusion> readAmbientOcclusion(const Reader& reader) {
+  if (reader.value().is_boolean())
+    return readBool(reader) ? std::optional(AmbientOcclusion{}) : std::nullopt;
+  if (!reader.value().is_object()) reader.failGot("expected true, false or an object");
+  reader.warnUnknownFields({"radius", "strength"});
+  AmbientOcclusion occlusion;
+  if (auto field = reader.field("radius")) occlusion.radius = readPositive(*field);
+  if (auto field = reader.field("strength")) occlusion.strength = readUnitInterval(*field);
+  return occlusion;
+}
+
 LightSetup readSetup(const Reader& root, const std::string& origin) {
   if (!root.value().is_object()) root.fail("expected a JSON object");
-  root.warnUnknownFields({"ambient", "environment", "lights"});
+  root.warnUnknownFields({"ambient", "environment", "ambient_occlusion", "lights"});
 
   LightSetup setup;
   if (auto field = root.field("environment")) {
@@ -522,6 +534,8 @@ LightSetup readSetup(const Reader& root, const std::string& origin) {
   if (auto field = root.field("ambient")) {
     setup.ambient = glm::vec3(readVector(*field, VectorRule::NonNegative));
   }
+  if (auto field = root.field("ambient_occlusion"))
+    setup.ambientOcclusion = readAmbientOcclusion(*field);
   if (auto field = root.field("lights")) setup.lights = readLights(*field, origin);
   return setup;
 }

@@ -1,0 +1,45 @@
+#pragma once
+
+#include <glm/glm.hpp>
+#include <memory>
+
+#include "renderer/gl/gl_resources.h"
+#include "renderer/gl/shader_program.h"
+
+namespace omnishadow {
+
+// Screen-space ambient occlusion (AmbientOcclusion, renderer/scene/light.h): for each pixel of
+// the opaque surfaces a camera sees, the share of the cosine-weighted hemisphere above its
+// surface that no surface within `radius` hides, estimated from their depth alone
+// (shaders/ambient_occlusion.frag, ground-truth ambient occlusion) and averaged over 4 x 4
+// pixels of the same surface (shaders/ambient_occlusion_blur.frag). What the camera does not
+// see occludes nothing. The same depth gives the same result, bit for bit.
+class AmbientOcclusionPass {
+ public:
+  AmbientOcclusionPass();
+
+  // Where a caller without the opaque surfaces' depth draws it: a framebuffer with a
+  // DEPTH_COMPONENT32F texture (depthTexture()) of that size alone, kept while the size is.
+  GLuint depthFramebuffer(int width, int height);
+  GLuint depthTexture() const { return ownDepth_.get(); }
+
+  // Estimates from `depth`, the opaque surfaces' reversed depth (0: none) of width x height as
+  // `projection` (glClipControl ZERO_TO_ONE) wrote it; `radius` in world units (0: nothing is
+  // occluded). Leaves the GL's framebuffer, program, vertex array and units 0 and 1 changed.
+  void estimate(GLuint depth, const glm::mat4& projection, int width, int height, float radius);
+  // Every pixel of a frame of that size unoccluded, as where no surface is.
+  void clear(int width, int height);
+  // RG32F: the visible share (1: unoccluded), then the depth it was estimated at (0: none).
+  GLuint result() const { return result_.get(); }
+
+ private:
+  void resize(int width, int height);
+
+  ShaderProgram estimate_, blur_;
+  gl::VertexArray empty_;
+  gl::Texture raw_, result_, ownDepth_;
+  gl::Framebuffer rawFramebuffer_, resultFramebuffer_, depthFramebuffer_;
+  int width_ = 0, height_ = 0, depthWidth_ = 0, depthHeight_ = 0;
+};
+
+}  // namespace omnishadow
