@@ -16,7 +16,7 @@ uniform mat4 uInverseProjection;
 uniform float uRadius;         // view-space (world) units
 uniform float uPixelsPerUnit;  // at a view distance of 1 (perspective) or anywhere (orthographic)
 uniform int uOrthographic;
-layout(location = 0) out float outVisibility;
+layout(location = 0) out vec2 outOcclusion;  // the visible share, the depth (for the blur)
 
 ivec2 gSize;
 
@@ -41,16 +41,20 @@ vec3 tangentTowards(vec3 center, ivec2 pixel, ivec2 step, bool horizontal) {
 }
 
 // (1/4) the cosine-weighted integral of the arc from the view vector to horizon angle h, in a
-// slice where the normal projects at angle n (GTAO's inner integral).
-float arc(float h, float n) {
-  return 0.25 * (cos(n) + 2.0 * h * sin(n) - cos(2.0 * h - n));
+// slice where the normal projects at angle n (GTAO's inner integral); at the tangent plane's
+// horizons, n -+ pi/2, it is (cos n + (n -+ pi/2) sin n) / 2, with no cosine to take.
+float arc(float h, float n, float cosN, float sinN) {
+  return 0.25 * (cosN + 2.0 * h * sinN - cos(2.0 * h - n));
+}
+float openArc(float h, float cosN, float sinN) {
+  return 0.5 * (cosN + h * sinN);
 }
 
 void main() {
   gSize = textureSize(uDepth, 0);
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   float depth = texelFetch(uDepth, pixel, 0).r;
-  outVisibility = 1.0;
+  outOcclusion = vec2(1.0, depth);
   if (depth <= 0.0) return;
   vec3 P = viewPosition(pixel, depth);
   vec3 V = uOrthographic != 0 ? vec3(0.0, 0.0, 1.0) : normalize(-P);
@@ -70,6 +74,7 @@ void main() {
   float falloffStart = 0.8 * uRadius;
 
   float visible = 0.0, unoccluded = 0.0;
+  bool raised = false;
   for (int s = 0; s < SLICES; ++s) {
     float angle = (float(s) + turn) * (PI / float(SLICES));
     vec2 direction = vec2(cos(angle), sin(angle));
@@ -82,8 +87,9 @@ void main() {
     if (projectedLength < 1e-6) continue;
     float cosN = clamp(dot(projected, V) / projectedLength, -1.0, 1.0);
     float n = (dot(ortho, projected) < 0.0 ? -1.0 : 1.0) * acos(cosN);
-    // The lowest horizon on each side: the tangent plane's.
-    float lowPositive = cos(n + HALF_PI), lowNegative = cos(n - HALF_PI);
+    float sinN = sin(n);
+    // The lowest horizon on each side: the tangent plane's, cos(n + pi/2) and cos(n - pi/2).
+    float lowPositive = -sinN, lowNegative = sinN;
     float horizonPositive = lowPositive, horizonNegative = lowNegative;
     for (int j = 0; j < STEPS; ++j) {
       float t = (float(j) + stepOffset) / float(STEPS);
@@ -109,14 +115,21 @@ void main() {
           horizonNegative = max(horizonNegative, mix(lowNegative, cosH, weight));
       }
     }
-    // Horizons no sample raised stay exactly the tangent plane's, so that an open surface
-    // comes out exactly unoccluded.
-    float hPositive = horizonPositive > lowPositive ? acos(horizonPositive) : n + HALF_PI;
-    float hNegative = horizonNegative > lowNegative ? -acos(horizonNegative) : n - HALF_PI;
-    hPositive = n + min(hPositive - n, HALF_PI);
-    hNegative = n + max(hNegative - n, -HALF_PI);
-    visible += projectedLength * (arc(hNegative, n) + arc(hPositive, n));
-    unoccluded += projectedLength * (arc(n - HALF_PI, n) + arc(n + HALF_PI, n));
+    // A horizon no sample raised is the tangent plane's.
+    float open = openArc(n - HALF_PI, cosN, sinN) + openArc(n + HALF_PI, cosN, sinN);
+    float seen = open;
+    if (horizonPositive > lowPositive || horizonNegative > lowNegative) {
+      raised = true;
+      float hPositive = n + min(acos(horizonPositive) - n, HALF_PI);
+      float hNegative = n + max(-acos(horizonNegative) - n, -HALF_PI);
+      seen = (horizonNegative > lowNegative ? arc(hNegative, n, cosN, sinN)
+                                            : openArc(n - HALF_PI, cosN, sinN)) +
+             (horizonPositive > lowPositive ? arc(hPositive, n, cosN, sinN)
+                                            : openArc(n + HALF_PI, cosN, sinN));
+    }
+    visible += projectedLength * seen;
+    unoccluded += projectedLength * open;
   }
-  if (unoccluded > 0.0) outVisibility = clamp(visible / unoccluded, 0.0, 1.0);
+  // An open surface comes out exactly unoccluded.
+  if (raised && unoccluded > 0.0) outOcclusion.x = clamp(visible / unoccluded, 0.0, 1.0);
 }

@@ -4,15 +4,18 @@
 // space, for both projections) to 1% of their distance. Writes the depth it is for beside it:
 // a surface drawn later in front of the opaque ones (masked, see-through, blended) does not
 // take their occlusion.
-layout(binding = 0) uniform sampler2D uDepth;
-layout(binding = 1) uniform sampler2D uVisibility;
+layout(binding = 1) uniform sampler2D uEstimate;  // the visible share, the depth (0: none)
 layout(location = 0) out vec2 outOcclusion;  // visibility, the depth it is for
 
 ivec2 gSize;
 
+vec2 estimateAt(ivec2 pixel) {
+  if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, gSize))) return vec2(1.0, 0.0);
+  return texelFetch(uEstimate, pixel, 0).rg;
+}
+
 float depthAt(ivec2 pixel) {
-  if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, gSize))) return 0.0;
-  return texelFetch(uDepth, pixel, 0).r;
+  return estimateAt(pixel).y;
 }
 
 // The depth's slope along `step`: the side of the smaller change, 0 where neither neighbour
@@ -24,7 +27,7 @@ float slope(ivec2 pixel, float center, ivec2 step) {
 }
 
 void main() {
-  gSize = textureSize(uDepth, 0);
+  gSize = textureSize(uEstimate, 0);
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   float depth = depthAt(pixel);
   if (depth <= 0.0) {
@@ -35,10 +38,10 @@ void main() {
   float sum = 0.0, count = 0.0;
   for (int y = -2; y < 2; ++y)
     for (int x = -2; x < 2; ++x) {
-      ivec2 at = pixel + ivec2(x, y);
-      float d = depthAt(at);
+      vec2 estimate = estimateAt(pixel + ivec2(x, y));
+      float d = estimate.y;
       if (d <= 0.0 || abs(d - (depth + dot(gradient, vec2(x, y)))) > 0.01 * depth) continue;
-      sum += texelFetch(uVisibility, at, 0).r;
+      sum += estimate.x;
       count += 1.0;
     }
   outOcclusion = vec2(sum / count, depth);  // the pixel itself always counts

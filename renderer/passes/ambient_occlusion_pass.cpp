@@ -38,7 +38,7 @@ void AmbientOcclusionPass::resize(int width, int height) {
   if (width == width_ && height == height_) return;
   rawFramebuffer_ = gl::createFramebuffer();
   resultFramebuffer_ = gl::createFramebuffer();
-  raw_ = makeTexture(GL_R32F, width, height);
+  raw_ = makeTexture(GL_RG32F, width, height);
   result_ = makeTexture(GL_RG32F, width, height);
   attach(rawFramebuffer_.get(), GL_COLOR_ATTACHMENT0, raw_.get(), width, height);
   attach(resultFramebuffer_.get(), GL_COLOR_ATTACHMENT0, result_.get(), width, height);
