@@ -108,6 +108,20 @@ std::string environmentText(const EnvironmentLight& e) {
          (e.sun ? ", sun as a light" : "");
 }
 
+// The lights file's ambient occlusion as the scene's frames use it: the radius resolved.
+Json ambientOcclusionJson(const std::optional<AmbientOcclusion>& occlusion, const Bounds& bounds) {
+  if (!occlusion) return Json(nullptr);
+  return Json{{"radius", jsonNumber(effectiveRadius(*occlusion, bounds))},
+              {"radiusFromScene", !(occlusion->radius > 0.0f)},
+              {"strength", jsonNumber(occlusion->strength)}};
+}
+
+std::string ambientOcclusionText(const AmbientOcclusion& occlusion, const Bounds& bounds) {
+  return "radius " + readable(effectiveRadius(occlusion, bounds)) +
+         (occlusion.radius > 0.0f ? "" : " (5% of the scene's diagonal)") + ", strength " +
+         readable(occlusion.strength);
+}
+
 std::string quoted(const std::string& name) {
   return name.empty() ? "(unnamed)" : "\"" + name + "\"";
 }
@@ -385,6 +399,8 @@ Json toJson(const Info& info) {
   doc["lights"] = lights;
   doc["ambient"] = info.setup ? vec3(info.setup->ambient) : Json(nullptr);
   doc["environment"] = info.setup ? environmentJson(info.setup->environment) : Json(nullptr);
+  doc["ambientOcclusion"] =
+      info.setup ? ambientOcclusionJson(info.setup->ambientOcclusion, scene.bounds) : Json(nullptr);
   doc["animations"] = animationsJson(scene.rig);
   doc["skins"] = skinsJson(scene.rig);
   doc["morphTargets"] = morphTargetsJson(scene.rig);
@@ -549,6 +565,9 @@ void printText(const Info& info) {
                                       : "none (no lights file)");
   if (info.setup && info.setup->environment)
     printInfoLine("environment", environmentText(*info.setup->environment));
+  if (info.setup && info.setup->ambientOcclusion)
+    printInfoLine("ambient occlusion",
+                  ambientOcclusionText(*info.setup->ambientOcclusion, scene.bounds));
 
   printMotion(scene.rig);
   printInfoLine("warnings", std::to_string(info.warnings.size()));

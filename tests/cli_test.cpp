@@ -447,6 +447,41 @@ TEST_F(CliTest, DepthPrepassOnAndOffWriteTheSameFiles) {
   }
 }
 
+// Ambient occlusion: the same files across runs and with or without the pre-pass, a debug view
+// of it, and a bad field is an input error naming the file and the field, with no picture.
+TEST_F(CliTest, AmbientOcclusionIsRepeatableAndItsErrorsEndTheRunWithStatusTwo) {
+  const fs::path lights = writeText(
+      "occluded.json", R"({"ambient": [0.3, 0.3, 0.3], "ambient_occlusion": {"radius": 0.5},
+                          "lights": [{"type": "point", "position": [2, 3, 2]}]})");
+  for (const std::string prepass : {"on", "off"})
+    for (const std::string run : {"1", "2"})
+      render({scene().string(), "-l", lights.string(), "--depth-prepass", prepass, "-o",
+              prepass + run + "/a.png", "-o", prepass + run + "/a.exr"});
+  for (const std::string file : {"a.png", "a.exr"}) {
+    EXPECT_TRUE(sameBytes(output("on1") / file, output("on2") / file)) << file;
+    EXPECT_TRUE(sameBytes(output("on1") / file, output("off1") / file)) << file;
+  }
+  render({scene().string(), "-l", lights.string(), "--debug-view", "occlusion", "-o",
+          "occlusion.exr"});
+  const FloatImage view = readImage(output("occlusion.exr"));
+  float darkest = 1.0f;
+  for (int y = 0; y < view.height; ++y)
+    for (int x = 0; x < view.width; ++x) {
+      if (view.at(x, y, 3) < 1.0f) continue;
+      EXPECT_LE(view.at(x, y, 0), 1.0f);
+      darkest = std::min(darkest, view.at(x, y, 0));
+    }
+  EXPECT_LT(darkest, 0.9f);  // the box stands on the floor
+
+  const fs::path bad =
+      writeText("bad.json", R"({"ambient_occlusion": {"radius": 0.5, "strength": 2}})");
+  const Run r = run({"render", scene().string(), "-l", bad.string(), "-o", "bad.png"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "omnishadow: " + bad.string() +
+                       ": ambient_occlusion.strength: expected a number in [0, 1], got 2\n");
+  EXPECT_FALSE(fs::exists(output("bad.png")));
+}
+
 TEST_F(CliTest, ExposureScalesLinearValuesAndBrightensThePng) {
   const std::string path = scene().string();
   render({path, "-o", "zero.exr", "-o", "zero.png"});

@@ -170,7 +170,7 @@ TEST_F(InfoTest, JsonIsPrettyPrintedWithKeysInTheDocumentedOrder) {
   EXPECT_EQ(keys(doc),
             (Keys{"file", "format", "asset", "extensions", "scene", "materialVariants", "counts",
                   "bounds", "materials", "textures", "cameras", "lights", "ambient", "environment",
-                  "animations", "skins", "morphTargets", "warnings"}));
+                  "ambientOcclusion", "animations", "skins", "morphTargets", "warnings"}));
   EXPECT_EQ(keys(doc["materialVariants"]), (Keys{"names", "drawn"}));
   EXPECT_EQ(keys(doc["asset"]), (Keys{"version", "minVersion", "generator", "copyright"}));
   EXPECT_EQ(keys(doc["scene"]), (Keys{"index", "count"}));
@@ -350,6 +350,28 @@ TEST_F(InfoTest, LightsOptionChoosesAnotherFile) {
   EXPECT_TRUE(sun["position"].is_null());
   expectVec3(sun["direction"], {0.0f, 0.0f, -1.0f});
   expectVec3(doc["ambient"], glm::vec3(0.03f));  // the file's default
+}
+
+TEST_F(InfoTest, ReportsTheAmbientOcclusionRadiusTheFramesUse) {
+  const fs::path given = writeText("given.json", R"({"ambient_occlusion": {"radius": 0.3}})");
+  const Json doc = info({scene().string(), "--lights", given.string()});
+  EXPECT_EQ(doc["ambientOcclusion"],
+            Json({{"radius", 0.3}, {"radiusFromScene", false}, {"strength", 1.0}}));
+  EXPECT_TRUE(info({scene().string()})["ambientOcclusion"].is_null());
+
+  // From the scene: 5% of its bounds' diagonal, as info reports the bounds.
+  const fs::path fromScene = writeText("scene.json", R"({"ambient_occlusion": true})");
+  const Json sized = info({scene().string(), "--lights", fromScene.string()});
+  const glm::vec3 low(sized["bounds"]["min"][0], sized["bounds"]["min"][1],
+                      sized["bounds"]["min"][2]);
+  const glm::vec3 high(sized["bounds"]["max"][0], sized["bounds"]["max"][1],
+                       sized["bounds"]["max"][2]);
+  EXPECT_NEAR(sized["ambientOcclusion"]["radius"].get<double>(), 0.05 * glm::length(high - low),
+              1e-5);
+  EXPECT_EQ(sized["ambientOcclusion"]["radiusFromScene"], true);
+  const Run r = run({"info", scene().string(), "--lights", fromScene.string()});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "(5% of the scene's diagonal), strength 1\n")) << r.out;
 }
 
 TEST_F(InfoTest, ReportsTheEnvironmentAsItWillLightTheFrame) {

@@ -153,6 +153,33 @@ TEST(LightsLoader, WarnsAboutUnknownEnvironmentFields) {
             std::vector<std::string>{"lights.json: environment.imgae: unknown field, ignored"});
 }
 
+TEST(LightsLoader, ReadsAmbientOcclusion) {
+  EXPECT_FALSE(parse("{}").ambientOcclusion);
+  EXPECT_FALSE(parse(R"({"ambient_occlusion": false})").ambientOcclusion);
+  const LightSetup defaults = parse(R"({"ambient_occlusion": true})");
+  ASSERT_TRUE(defaults.ambientOcclusion);
+  EXPECT_EQ(defaults.ambientOcclusion->radius, 0.0f);  // from the scene's size
+  EXPECT_EQ(defaults.ambientOcclusion->strength, 1.0f);
+  const LightSetup set = parse(R"({"ambient_occlusion": {"radius": 0.25, "strength": 0.5}})");
+  ASSERT_TRUE(set.ambientOcclusion);
+  EXPECT_EQ(set.ambientOcclusion->radius, 0.25f);
+  EXPECT_EQ(set.ambientOcclusion->strength, 0.5f);
+  EXPECT_EQ(parse(R"({"ambient_occlusion": {}})").ambientOcclusion->radius, 0.0f);
+  // The ambient stays as it was: the occlusion darkens it, not replaces it.
+  expectVec3(defaults.ambient, 0.03f, 0.03f, 0.03f);
+  EXPECT_EQ(
+      warningsOf(R"({"ambient_occlusion": {"radious": 1}})"),
+      std::vector<std::string>{"lights.json: ambient_occlusion.radious: unknown field, ignored"});
+
+  omnishadow::Bounds bounds;
+  bounds.extend(glm::vec3(0.0f));
+  bounds.extend(glm::vec3(3.0f, 4.0f, 0.0f));  // a diagonal of 5
+  EXPECT_FLOAT_EQ(omnishadow::effectiveRadius(omnishadow::AmbientOcclusion{}, bounds), 0.25f);
+  EXPECT_EQ(omnishadow::effectiveRadius(omnishadow::AmbientOcclusion{0.5f, 1.0f}, bounds), 0.5f);
+  EXPECT_EQ(omnishadow::effectiveRadius(omnishadow::AmbientOcclusion{}, omnishadow::Bounds{}),
+            0.0f);
+}
+
 TEST(LightsLoader, EmptyLightGetsEveryDefault) {
   const LightSetup setup = parse(R"({"lights": [{}]})");
   ASSERT_EQ(setup.lights.size(), 1u);
@@ -417,6 +444,15 @@ const ErrorCase kErrorCases[] = {
      "environment.background: expected true or false, got 1"},
     {"EnvironmentSunString", R"({"environment": {"sun": "yes"}})",
      "environment.sun: expected true or false, got \"yes\""},
+    // ambient_occlusion
+    {"AmbientOcclusionString", R"({"ambient_occlusion": "on"})",
+     "ambient_occlusion: expected true, false or an object, got \"on\""},
+    {"AmbientOcclusionRadiusZero", R"({"ambient_occlusion": {"radius": 0}})",
+     "ambient_occlusion.radius: expected a finite number > 0, got 0"},
+    {"AmbientOcclusionRadiusHuge", R"({"ambient_occlusion": {"radius": 1e300}})",
+     "ambient_occlusion.radius: expected a finite number > 0, got 1e+300"},
+    {"AmbientOcclusionStrengthAboveOne", R"({"ambient_occlusion": {"strength": 1.5}})",
+     "ambient_occlusion.strength: expected a number in [0, 1], got 1.5"},
     // ambient
     {"AmbientTooShort", R"({"ambient": [1, 2]})",
      "ambient: expected an array of 3 finite numbers >= 0"},

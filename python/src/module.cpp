@@ -274,6 +274,19 @@ PYBIND11_MODULE(omnishadow, m) {
             return environment;
           },
           "The environment light as a dict (image path resolved, rotation in degrees), or None.")
+      .def_property_readonly(
+          "ambient_occlusion",
+          [](const PyLights& l) -> py::object {
+            if (!l.setup.ambientOcclusion) return py::none();
+            const AmbientOcclusion& o = *l.setup.ambientOcclusion;
+            py::dict occlusion;
+            occlusion["radius"] =
+                o.radius > 0.0f ? py::object(py::float_(o.radius)) : py::object(py::none());
+            occlusion["strength"] = o.strength;
+            return occlusion;
+          },
+          "The screen-space ambient occlusion as a dict (radius None: 5% of each scene's "
+          "diagonal), or None.")
       .def_readonly("warnings", &PyLights::warnings);
 
   m.def(

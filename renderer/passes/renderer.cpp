@@ -1045,8 +1045,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
   }
   if (lit && ambience.ambientOcclusion) {
     AmbientOcclusion occlusion = *ambience.ambientOcclusion;
-    if (!(occlusion.radius > 0.0f))
-      occlusion.radius = kDefaultAmbientOcclusionShare * 2.0f * scene.bounds.radius();
+    occlusion.radius = effectiveRadius(occlusion, scene.bounds);
     ambient.occlusion = occlusion;
   }
   const std::vector<Light>& lights = withSun.empty() ? requested : withSun;

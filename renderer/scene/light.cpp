@@ -68,4 +68,9 @@ std::vector<Light> mergeLights(const std::vector<Light>& gltfLights,
   return merged;
 }
 
+float effectiveRadius(const AmbientOcclusion& occlusion, const Bounds& sceneBounds) {
+  if (occlusion.radius > 0.0f) return occlusion.radius;
+  return kDefaultAmbientOcclusionShare * 2.0f * sceneBounds.radius();
+}
+
 }  // namespace omnishadow

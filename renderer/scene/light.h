@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "renderer/scene/bounds.h"
+
 namespace omnishadow {
 
 // Plain description of punctual lights, mirroring KHR_lights_punctual. Defaults here are the
@@ -102,6 +104,8 @@ struct AmbientOcclusion {
   float strength = 1.0f;
 };
 inline constexpr float kDefaultAmbientOcclusionShare = 0.05f;
+// The radius a frame of a scene with `sceneBounds` uses (0 for an empty scene).
+float effectiveRadius(const AmbientOcclusion& occlusion, const Bounds& sceneBounds);
 
 struct LightSetup {
   // Linear RGB radiance multiplied by albedo. 0 by default when the file has an environment.
