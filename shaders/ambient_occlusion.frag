@@ -3,11 +3,12 @@
 // Occlusion"). In each slice through the view vector the surface is lit by the arc between the
 // two horizons that the depth buffer raises within uRadius; the cosine-weighted integral of
 // that arc, summed over slices, is the visible share of the hemisphere above the surface.
-// Two slices per pixel, turned by a 4 x 4 pattern that ambient_occlusion_blur.frag averages
-// away: 32 slices per 4 x 4 block, the same every run.
+// Drawn at half the frame's size, each texel for the lower left pixel of its 2 x 2 block: four
+// slices, turned by a 2 x 2 pattern that ambient_occlusion_blur.frag averages away, 16 slices
+// per 2 x 2 texels, the same every run.
 const float PI = 3.14159265358979;
 const float HALF_PI = 1.57079632679490;
-const int SLICES = 2;
+const int SLICES = 4;
 const int STEPS = 8;  // per side of a slice
 const float kTangentTolerance = 0.05;  // sine of the elevation above the tangent plane
 
@@ -52,7 +53,8 @@ float openArc(float h, float cosN, float sinN) {
 
 void main() {
   gSize = textureSize(uDepth, 0);
-  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  ivec2 texel = ivec2(gl_FragCoord.xy);
+  ivec2 pixel = texel * 2;
   float depth = texelFetch(uDepth, pixel, 0).r;
   outOcclusion = vec2(1.0, depth);
   if (depth <= 0.0) return;
@@ -65,12 +67,12 @@ void main() {
   radiusPixels = min(radiusPixels, float(max(gSize.x, gSize.y)));
   if (radiusPixels < 1.0) return;
 
-  // A 4 x 4 ordered pattern: every 4 x 4 block holds each turn and step offset once.
-  const float bayer[16] = float[16](0.0, 8.0, 2.0, 10.0, 12.0, 4.0, 14.0, 6.0, 3.0, 11.0, 1.0,
-                                    9.0, 15.0, 7.0, 13.0, 5.0);
-  ivec2 cell = pixel & 3;
-  float turn = (bayer[cell.y * 4 + cell.x] + 0.5) / 16.0;
-  float stepOffset = (bayer[cell.x * 4 + ((cell.y + 2) & 3)] + 0.5) / 16.0;
+  // A 2 x 2 ordered pattern: every 2 x 2 block holds each turn and step offset once.
+  int cell = (texel.y & 1) * 2 + (texel.x & 1);
+  const float turns[4] = float[4](0.125, 0.625, 0.875, 0.375);
+  const float stepOffsets[4] = float[4](0.625, 0.125, 0.375, 0.875);
+  float turn = turns[cell];
+  float stepOffset = stepOffsets[cell];
   float falloffStart = 0.8 * uRadius;
 
   float visible = 0.0, unoccluded = 0.0;

@@ -27,6 +27,12 @@ void attach(GLuint framebuffer, GLenum attachment, GLuint texture, int width, in
                       " ambient occlusion targets");
 }
 
+// The estimate's size along an axis of the frame: a texel for each 2 pixels, the last one
+// alone where the frame's size is odd.
+int halfSize(int size) {
+  return (size + 1) / 2;
+}
+
 }  // namespace
 
 AmbientOcclusionPass::AmbientOcclusionPass()
@@ -38,9 +44,10 @@ void AmbientOcclusionPass::resize(int width, int height) {
   if (width == width_ && height == height_) return;
   rawFramebuffer_ = gl::createFramebuffer();
   resultFramebuffer_ = gl::createFramebuffer();
-  raw_ = makeTexture(GL_RG32F, width, height);
+  raw_ = makeTexture(GL_RG32F, halfSize(width), halfSize(height));
   result_ = makeTexture(GL_RG32F, width, height);
-  attach(rawFramebuffer_.get(), GL_COLOR_ATTACHMENT0, raw_.get(), width, height);
+  attach(rawFramebuffer_.get(), GL_COLOR_ATTACHMENT0, raw_.get(), halfSize(width),
+         halfSize(height));
   attach(resultFramebuffer_.get(), GL_COLOR_ATTACHMENT0, result_.get(), width, height);
   width_ = width;
   height_ = height;
@@ -72,7 +79,7 @@ void AmbientOcclusionPass::estimate(GLuint depth, const glm::mat4& projection, i
   resize(width, height);
   gl::RasterState state;
   state.depth.test = false;  // full-screen triangles, no depth attachment
-  state.viewport = {0, 0, width, height};
+  state.viewport = {0, 0, halfSize(width), halfSize(height)};
   state.apply();
   glBindVertexArray(empty_.get());
   // texelFetch alone: no sampler state is read, but a sampler left bound must not compare.
@@ -91,6 +98,8 @@ void AmbientOcclusionPass::estimate(GLuint depth, const glm::mat4& projection, i
   glDrawArrays(GL_TRIANGLES, 0, 3);
 
   glBindFramebuffer(GL_FRAMEBUFFER, resultFramebuffer_.get());
+  state.viewport = {0, 0, width, height};
+  state.viewport.apply();
   blur_.use();
   glBindTextureUnit(1, raw_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -11,9 +11,10 @@ namespace omnishadow {
 // Screen-space ambient occlusion (AmbientOcclusion, renderer/scene/light.h): for each pixel of
 // the opaque surfaces a camera sees, the share of the cosine-weighted hemisphere above its
 // surface that no surface within `radius` hides, estimated from their depth alone
-// (shaders/ambient_occlusion.frag, ground-truth ambient occlusion) and averaged over 4 x 4
-// pixels of the same surface (shaders/ambient_occlusion_blur.frag). What the camera does not
-// see occludes nothing. The same depth gives the same result, bit for bit.
+// (shaders/ambient_occlusion.frag, ground-truth ambient occlusion) at every other pixel of every
+// other row, then for each pixel the mean of the four nearest estimates of its own surface
+// (shaders/ambient_occlusion_blur.frag). What the camera does not see occludes nothing. The
+// same depth gives the same result, bit for bit.
 class AmbientOcclusionPass {
  public:
   AmbientOcclusionPass();
