@@ -4,8 +4,8 @@
 // two horizons that the depth buffer raises within uRadius; the cosine-weighted integral of
 // that arc, summed over slices, is the visible share of the hemisphere above the surface.
 // Drawn at half the frame's size, each texel for the lower left pixel of its 2 x 2 block: four
-// slices, turned by a 2 x 2 pattern that ambient_occlusion_blur.frag averages away, 16 slices
-// per 2 x 2 texels, the same every run.
+// slices, turned by a 2 x 2 pattern that the lighting pass averages away (lighting.frag,
+// screenSpaceOcclusion()): 16 slices per 2 x 2 texels, the same every run.
 const float PI = 3.14159265358979;
 const float HALF_PI = 1.57079632679490;
 const int SLICES = 4;
@@ -17,7 +17,7 @@ uniform mat4 uInverseProjection;
 uniform float uRadius;         // view-space (world) units
 uniform float uPixelsPerUnit;  // at a view distance of 1 (perspective) or anywhere (orthographic)
 uniform int uOrthographic;
-layout(location = 0) out vec2 outOcclusion;  // the visible share, the depth (for the blur)
+layout(location = 0) out vec2 outOcclusion;  // the visible share, the depth (to average by)
 
 ivec2 gSize;
 

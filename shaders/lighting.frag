@@ -33,17 +33,40 @@
 #include "srgb8_encode.glsl"
 #endif
 #ifdef AMBIENT_OCCLUSION
-// RG: the visible share, the opaque surface's depth it was estimated for.
+// Half the frame's size: at texel q, the visible share ambient_occlusion.frag estimated at
+// pixel 2q of the opaque surfaces, and that pixel's depth (0: none).
 layout(binding = AMBIENT_OCCLUSION_UNIT) uniform sampler2D uAmbientOcclusion;
 uniform float uAmbientOcclusionStrength;
 
-// 1 for the surfaces the estimate is not for: those in front of the opaque ones (masked,
-// see-through, blended), whose depth differs. The same draws give the same depths; the
-// tolerance is for drivers whose pre-pass and shading depths differ in the last bits.
-float screenSpaceOcclusion() {
-  vec2 estimate = texelFetch(uAmbientOcclusion, ivec2(gl_FragCoord.xy), 0).rg;
-  if (abs(estimate.g - gl_FragCoord.z) > 1e-5 * gl_FragCoord.z) return 1.0;
-  return 1.0 + uAmbientOcclusionStrength * (estimate.r - 1.0);
+// The mean of the four estimates nearest the pixel, which hold each of the estimate's slice
+// turns once, taken only from those of this surface: made at a depth on its depth plane
+// (reversed depth is affine across a triangle in screen space, for both projections) to 1% of
+// the distance; where none is, the one nearest that plane if within 5%, else none: a surface
+// in front of the opaque ones (masked, see-through, blended) does not take their occlusion.
+// `gradient`: the depth's derivatives, taken before any lane of the quad may be discarded.
+float screenSpaceOcclusion(vec2 gradient) {
+  float depth = gl_FragCoord.z;
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  ivec2 last = textureSize(uAmbientOcclusion, 0) - 1;
+  ivec2 first = (pixel - 1) >> 1;  // the estimates at pixels 2q nearest this one
+  float sum = 0.0, count = 0.0, nearest = 1.0, nearestError = 0.05 * depth;
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 2; ++x) {
+      ivec2 q = clamp(first + ivec2(x, y), ivec2(0), last);
+      vec2 estimate = texelFetch(uAmbientOcclusion, q, 0).rg;
+      float error = abs(estimate.y - (depth + dot(gradient, vec2(q * 2 - pixel))));
+      if (estimate.y <= 0.0) continue;
+      if (error <= 0.01 * depth) {
+        sum += estimate.x;
+        count += 1.0;
+      }
+      if (error < nearestError) {
+        nearestError = error;
+        nearest = estimate.x;
+      }
+    }
+  float visible = count > 0.0 ? sum / count : nearest;
+  return 1.0 + uAmbientOcclusionStrength * (visible - 1.0);
 }
 #endif
 
@@ -350,6 +373,9 @@ vec3 mappedNormal(vec3 N, vec3 texel, mat3 axes, float scale) {
 void main() {
   vec4 baseColor = uBaseColorFactor * vIn.color;
   if (uBaseColorTexCoord >= 0) baseColor *= texture(uBaseColorTexture, uvFor(uBaseColorTexCoord, uBaseColorUvTransform));
+#ifdef AMBIENT_OCCLUSION
+  vec2 depthGradient = vec2(dFdx(gl_FragCoord.z), dFdy(gl_FragCoord.z));  // the triangle's plane
+#endif
   if (uAlphaMode == 1 && baseColor.a < uAlphaCutoff) discard;
   float alpha = uAlphaMode == 2 ? baseColor.a : 1.0;
 #if defined(WRITE_IDS) || defined(WITH_IDS)
@@ -422,7 +448,7 @@ void main() {
     occlusion = 1.0 + uOcclusionStrength *
                           (texture(uOcclusionTexture, uvFor(uOcclusionTexCoord, uOcclusionUvTransform)).r - 1.0);
 #ifdef AMBIENT_OCCLUSION
-  occlusion *= screenSpaceOcclusion();
+  occlusion *= screenSpaceOcclusion(depthGradient);
 #endif
   vec3 emissive = uEmissive;
   if (uEmissiveTexCoord >= 0) emissive *= texture(uEmissiveTexture, uvFor(uEmissiveTexCoord, uEmissiveUvTransform)).rgb;

@@ -37,18 +37,14 @@ int halfSize(int size) {
 
 AmbientOcclusionPass::AmbientOcclusionPass()
     : estimate_("fullscreen.vert", "ambient_occlusion.frag", contract::shaderContractDefines()),
-      blur_("fullscreen.vert", "ambient_occlusion_blur.frag", contract::shaderContractDefines()),
       empty_(gl::createVertexArray()) {}
 
 void AmbientOcclusionPass::resize(int width, int height) {
   if (width == width_ && height == height_) return;
-  rawFramebuffer_ = gl::createFramebuffer();
-  resultFramebuffer_ = gl::createFramebuffer();
-  raw_ = makeTexture(GL_RG32F, halfSize(width), halfSize(height));
-  result_ = makeTexture(GL_RG32F, width, height);
-  attach(rawFramebuffer_.get(), GL_COLOR_ATTACHMENT0, raw_.get(), halfSize(width),
+  framebuffer_ = gl::createFramebuffer();
+  result_ = makeTexture(GL_RG32F, halfSize(width), halfSize(height));
+  attach(framebuffer_.get(), GL_COLOR_ATTACHMENT0, result_.get(), halfSize(width),
          halfSize(height));
-  attach(resultFramebuffer_.get(), GL_COLOR_ATTACHMENT0, result_.get(), width, height);
   width_ = width;
   height_ = height;
 }
@@ -67,7 +63,7 @@ GLuint AmbientOcclusionPass::depthFramebuffer(int width, int height) {
 void AmbientOcclusionPass::clear(int width, int height) {
   resize(width, height);
   const float none[4] = {1.0f, 0.0f, 0.0f, 0.0f};
-  glClearNamedFramebufferfv(resultFramebuffer_.get(), GL_COLOR, 0, none);
+  glClearNamedFramebufferfv(framebuffer_.get(), GL_COLOR, 0, none);
 }
 
 void AmbientOcclusionPass::estimate(GLuint depth, const glm::mat4& projection, int width,
@@ -84,10 +80,8 @@ void AmbientOcclusionPass::estimate(GLuint depth, const glm::mat4& projection, i
   glBindVertexArray(empty_.get());
   // texelFetch alone: no sampler state is read, but a sampler left bound must not compare.
   glBindSampler(0, 0);
-  glBindSampler(1, 0);
   glBindTextureUnit(0, depth);
-
-  glBindFramebuffer(GL_FRAMEBUFFER, rawFramebuffer_.get());
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
   estimate_.use();
   estimate_.set("uInverseProjection", glm::inverse(projection));
   estimate_.set("uRadius", radius);
@@ -95,13 +89,6 @@ void AmbientOcclusionPass::estimate(GLuint depth, const glm::mat4& projection, i
   // projection's vertical scale over half the image's height.
   estimate_.set("uPixelsPerUnit", projection[1][1] * 0.5f * static_cast<float>(height));
   estimate_.set("uOrthographic", projection[3][3] == 1.0f ? 1 : 0);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-
-  glBindFramebuffer(GL_FRAMEBUFFER, resultFramebuffer_.get());
-  state.viewport = {0, 0, width, height};
-  state.viewport.apply();
-  blur_.use();
-  glBindTextureUnit(1, raw_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   gl::RasterState::restoreDefaults();
   gl::checkErrors("the ambient occlusion pass");
