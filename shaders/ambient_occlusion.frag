@@ -3,12 +3,12 @@
 // Occlusion"). In each slice through the view vector the surface is lit by the arc between the
 // two horizons that the depth buffer raises within uRadius; the cosine-weighted integral of
 // that arc, summed over slices, is the visible share of the hemisphere above the surface.
-// Drawn at half the frame's size, each texel for the lower left pixel of its 2 x 2 block: four
+// Drawn at half the frame's size, each texel for the lower left pixel of its 2 x 2 block: three
 // slices, turned by a 2 x 2 pattern that the lighting pass averages away (lighting.frag,
-// screenSpaceOcclusion()): 16 slices per 2 x 2 texels, the same every run.
+// screenSpaceOcclusion()): 12 slices per 2 x 2 texels, the same every run.
 const float PI = 3.14159265358979;
 const float HALF_PI = 1.57079632679490;
-const int SLICES = 4;
+const int SLICES = 3;
 const int STEPS = 8;  // per side of a slice
 const float kTangentTolerance = 0.05;  // sine of the elevation above the tangent plane
 

@@ -88,7 +88,7 @@ float visibleNearWall(float d, float reach) {
 
 // Where the wall lies within the radius, the estimate lies in the share the geometry gives with
 // the radius cut off between where the falloff starts (0.8) and ends (1), to 0.04 (depth-buffer
-// sampling of 16 slices and eight steps a side; at most 0.028 over more than 800 pixels):
+// sampling of 12 slices and eight steps a side; at most 0.032 over more than 800 pixels):
 // screen-space estimates fall short of the truth, never beyond it. Beyond the radius nothing is
 // occluded: exactly 1, but for pixels whose nearest estimates reach the nearer floor.
 void expectTheWallsShare(const Scene& scene, const ViewCamera& camera, int minimumNear) {
@@ -289,9 +289,9 @@ TEST(AmbientOcclusion, TheRayTracedReferenceGivesTheWallsShare) {
 // estimate's from depth) that meet any surface within 0.9 radius (the falloff's middle).
 // Screen-space estimates miss what the camera does not see and take what it sees for solid to
 // infinity behind it. Measured at 320 x 240, 3 views a model (the numbers in
-// docs/performance.md): over all pixels the mean |error| is 0.002-0.021 and at most 0.8% of
+// docs/performance.md): over all pixels the mean |error| is 0.002-0.021 and at most 0.9% of
 // pixels come out darker by more than 0.25; over the pixels the rays find occluded (below 0.9)
-// the estimate takes 22% (Sundial, its occluders mostly hidden) to 67% (Suzanne) of the error
+// the estimate takes 25% (Sundial, its occluders mostly hidden) to 67% (Suzanne) of the error
 // a frame without it would have, 55% of it over the five models.
 TEST(AmbientOcclusion, RealModelsAgreeWithRayTracedOcclusion) {
   const std::string root = std::string(OMNISHADOW_SOURCE_DIR) + "/scenes/thirdparty/";
