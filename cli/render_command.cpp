@@ -146,7 +146,7 @@ void addRenderCommand(CLI::App& app, RenderOptions& o) {
                      "Write AOVs (position, normal, distance, per-light visibility) to this .exr");
   render->add_option("--aov-layers", o.aovLayers,
                      "Extra AOV layers, comma-separated: albedo, roughness, metallic, diffuse, "
-                     "specular, objectId, materialId, or all (needs --aov)");
+                     "specular, objectId, materialId, occlusion, or all (needs --aov)");
   render->add_option("--masks", o.masks,
                      "Write annotation masks: STEM.instances.png and STEM.semantic.png (16-bit, "
                      "0 = background) and STEM.masks.json (ids, classes, boxes, visible "

@@ -107,7 +107,7 @@ AovLayers parseLayers(const std::string& list) {
     if (!enableAovLayer(layers, name))
       throw InputError("--aov-layers " + list + ": unknown layer \"" + name +
                        "\" (expected albedo, roughness, metallic, diffuse, specular, objectId, "
-                       "materialId or all)");
+                       "materialId, occlusion or all)");
   }
   return layers;
 }

@@ -927,7 +927,7 @@ void main() {
 #endif
 #ifdef WRITE_AOVS
   outPositionDistance = vec4(vIn.worldPosition, cameraDistance);
-  outNormal = vec4(facingNormal, 1.0);
+  outNormal = vec4(facingNormal, occlusion);  // A: the occlusion AOV layer
   for (int o = 0; o < VISIBILITY_OUTPUTS; ++o)
     outVisibility[o] = vec4(visibility[4 * o], visibility[4 * o + 1], visibility[4 * o + 2],
                             visibility[4 * o + 3]);

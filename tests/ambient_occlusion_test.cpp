@@ -221,6 +221,46 @@ TEST(AmbientOcclusion, ItDarkensTheAmbientLightAndNotTheLights) {
             render(scene, glm::vec3(0.0f), camera, {}, {lamp}).beauty.pixels);
 }
 
+// The occlusion AOV layer holds what the debug view shows, and 0 where no surface is.
+TEST(AmbientOcclusion, TheOcclusionLayerIsTheDebugViewsShare) {
+  const Scene scene = floorAndWall();
+  const ViewCamera camera = lookFrom(scene, {4.0f, 2.0f, 1.0f}, {0.5f, 0.2f, 0.0f}, 160, 120);
+  const Ambience ambience = occluded(glm::vec3(0.3f), 1.0f);
+  RenderSettings settings;
+  settings.aovs = true;
+  settings.layers.occlusion = true;
+  const Frame frame = render(scene, ambience, camera, settings);
+  const Frame view = occlusionView(scene, ambience, camera);
+  const FloatImage& aovs = *frame.aovs;
+  const int channel = aovs.channelIndex("occlusion");
+  ASSERT_EQ(channel, static_cast<int>(aovs.channels.size()) - 1);
+  int occludedPixels = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x) {
+      const float layer = aovs.at(x, y, channel);
+      ASSERT_EQ(aovs.at(x, y, 3), 1.0f);
+      EXPECT_EQ(layer, view.beauty.at(x, y, 0)) << x << ", " << y;
+      occludedPixels += layer < 0.9f;
+    }
+  EXPECT_GT(occludedPixels, 500);
+  // Turned away from the wall, to the floor's edge and the sky above it.
+  const ViewCamera away = lookFrom(scene, {2.0f, 1.0f, 0.0f}, {12.0f, 3.0f, 0.0f}, 160, 120);
+  const Frame sky = render(scene, ambience, away, settings);
+  int background = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      if (sky.aovs->at(x, y, 3) == 0.0f) {
+        ++background;
+        EXPECT_EQ(sky.aovs->at(x, y, channel), 0.0f);
+      }
+  EXPECT_GT(background, 1000);
+  // Without ambient_occlusion, the occlusion texture's share alone: 1 here.
+  const Frame open = render(scene, glm::vec3(0.3f), camera, settings);
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      if (open.aovs->at(x, y, 3) > 0.0f) ASSERT_EQ(open.aovs->at(x, y, channel), 1.0f);
+}
+
 // The estimate is made from the depth the pre-pass draws, and drawn for itself where there is
 // no pre-pass: the same frame either way, the same every time.
 TEST(AmbientOcclusion, TheSameWithAndWithoutTheDepthPrepass) {

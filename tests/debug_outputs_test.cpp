@@ -334,10 +334,10 @@ TEST_F(DebugOutputsTest, AllAovLayersWithIdSidecar) {
   EXPECT_EQ(filesIn(out_), (std::vector<std::string>{"a.exr", "a.ids.json"}));
 
   const FloatImage aovs = readImage(output("a.exr"));
-  std::vector<std::string> expected = {"R",        "G",        "B",         "A",        "P.X",
-                                       "P.Y",      "P.Z",      "N.X",       "N.Y",      "N.Z",
-                                       "Z",        "albedo.R", "albedo.G",  "albedo.B", "roughness",
-                                       "metallic", "objectId", "materialId"};
+  std::vector<std::string> expected = {
+      "R",         "G",        "B",        "A",          "P.X",      "P.Y",      "P.Z",
+      "N.X",       "N.Y",      "N.Z",      "Z",          "albedo.R", "albedo.G", "albedo.B",
+      "roughness", "metallic", "objectId", "materialId", "occlusion"};
   for (const std::string light : {"key", "fill"}) {
     expected.push_back("visibility." + light);
     for (const std::string layer : {"diffuse.", "specular."})

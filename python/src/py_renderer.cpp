@@ -23,7 +23,7 @@ AovLayers aovLayers(const py::object& aovs) {
     if (!enableAovLayer(layers, name) && !fixed)
       throw InputError("aovs: unknown layer \"" + name +
                        "\" (expected albedo, roughness, metallic, diffuse, specular, objectId, "
-                       "materialId or all; P, N, Z and visibility are always there)");
+                       "materialId, occlusion or all; P, N, Z and visibility are always there)");
   }
   return layers;
 }

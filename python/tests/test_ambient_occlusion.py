@@ -35,6 +35,17 @@ def test_occlusion_only_darkens(renderer, demo_scene):
     np.testing.assert_array_equal(after.beauty[:, :, 3], before.beauty[:, :, 3])
 
 
+def test_the_occlusion_layer(renderer, demo_scene):
+    lights = omnishadow.load_lights({"ambient": [0.5, 0.5, 0.5], "ambient_occlusion": True,
+                                     "lights": []})
+    frame = renderer.render(demo_scene, lights, width=96, height=64, aovs=["occlusion"])
+    occlusion = frame["occlusion"]
+    covered = frame.beauty[:, :, 3] > 0
+    assert occlusion.shape == (64, 96)
+    assert (occlusion[covered] <= 1.0).all() and (occlusion[covered] < 0.9).any()
+    assert (occlusion[~covered] == 0.0).all()
+
+
 def test_lights_report_their_ambient_occlusion():
     assert omnishadow.load_lights({"ambient_occlusion": {"radius": 0.25, "strength": 0.5}}) \
         .ambient_occlusion == pytest.approx({"radius": 0.25, "strength": 0.5})

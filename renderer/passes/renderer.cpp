@@ -880,9 +880,11 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
     }
     return any;
   };
-  // RGBA; P from the position target's RGB, N; Z from its A.
-  const std::vector<ChannelCopy> fixedCopies = {
-      {0, 0, 4, 0}, {1, 0, 3, 4}, {2, 0, 3, 7}, {1, 3, 1, 10}};
+  // RGBA; P from the position target's RGB, N; Z from its A; the occlusion layer from the
+  // normal target's A.
+  std::vector<ChannelCopy> fixedCopies = {{0, 0, 4, 0}, {1, 0, 3, 4}, {2, 0, 3, 7}, {1, 3, 1, 10}};
+  if (const int occlusion = aovs.channelIndex("occlusion"); occlusion >= 0)
+    fixedCopies.push_back({2, 3, 1, occlusion});
   auto fill = [&](FloatImage& image, bool blendedOnly) {
     if (layout.combined) {
       draw(0, blendedOnly, lightCount, layout.scalarPerPass);
@@ -1015,6 +1017,7 @@ void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
     if (layers.materialId) copies.push_back({2, 2, 1, next++});
     runLayerPass(0, -1, copies);
   }
+  if (layers.occlusion) ++next;  // the AOV pass's (drawAovs())
   if (layers.diffuse || layers.specular) {
     for (int light = 0; light < lightCount; ++light) {
       std::vector<ChannelCopy> copies;  // attachment 1: the light's diffuse; 2: its specular

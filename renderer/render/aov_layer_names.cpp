@@ -6,10 +6,10 @@ namespace omnishadow {
 
 bool enableAovLayer(AovLayers& layers, const std::string& name) {
   const std::pair<const char*, bool AovLayers::*> names[] = {
-      {"albedo", &AovLayers::albedo},        {"roughness", &AovLayers::roughness},
-      {"metallic", &AovLayers::metallic},    {"diffuse", &AovLayers::diffuse},
-      {"specular", &AovLayers::specular},    {"objectId", &AovLayers::objectId},
-      {"materialId", &AovLayers::materialId}};
+      {"albedo", &AovLayers::albedo},         {"roughness", &AovLayers::roughness},
+      {"metallic", &AovLayers::metallic},     {"diffuse", &AovLayers::diffuse},
+      {"specular", &AovLayers::specular},     {"objectId", &AovLayers::objectId},
+      {"materialId", &AovLayers::materialId}, {"occlusion", &AovLayers::occlusion}};
   bool known = name == "all";
   for (const auto& [layer, member] : names)
     if (name == "all" || name == layer) {

@@ -7,8 +7,8 @@
 namespace omnishadow {
 
 // Turns on the layer with this --aov-layers name ("albedo", "roughness", "metallic", "diffuse",
-// "specular", "objectId", "materialId"), or every layer for "all". False for any other name:
-// each front end words the error its own way.
+// "specular", "objectId", "materialId", "occlusion"), or every layer for "all". False for any other
+// name: each front end words the error its own way.
 bool enableAovLayer(AovLayers& layers, const std::string& name);
 
 }  // namespace omnishadow

@@ -15,6 +15,7 @@ std::vector<std::string> aovChannels(const std::vector<Light>& lights, const Aov
   if (layers.metallic) channels.push_back("metallic");
   if (layers.objectId) channels.push_back("objectId");
   if (layers.materialId) channels.push_back("materialId");
+  if (layers.occlusion) channels.push_back("occlusion");
   for (const Light& light : lights) {
     if (layers.diffuse)
       for (const char* c : {"R", "G", "B"}) channels.push_back("diffuse." + light.name + "." + c);

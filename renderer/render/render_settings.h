@@ -59,8 +59,12 @@ struct AovLayers {
   bool objectId = false;    // objectId: index into Scene::instances, -1 = background
   bool materialId = false;  // materialId: index into Scene::materials (the default material is
                             // Scene::materials.size()), -1 = background
+  // occlusion: the share of the ambient and environment light the surface receives (its
+  // occlusion texture times the lights file's ambient_occlusion; --debug-view occlusion)
+  bool occlusion = false;
   bool any() const {
-    return albedo || roughness || metallic || diffuse || specular || objectId || materialId;
+    return albedo || roughness || metallic || diffuse || specular || objectId || materialId ||
+           occlusion;
   }
 };
 
