@@ -92,6 +92,49 @@ void printGroup(const char* label, const ClassCounts& c) {
               countAndPercent(c.falseLight, c.falseLightRate()).c_str());
 }
 
+void printOcclusion(const AmbientOcclusionCounts& c, const VerifySettings& settings) {
+  using C = AmbientOcclusionCounts;
+  std::printf("\nambient occlusion  radius %g, %d rays per point meeting a surface within %g\n",
+              settings.occlusionRadius, settings.occlusionSamples, 0.9 * settings.occlusionRadius);
+  std::printf("  evaluated  %lld points (%lld with an occlusion texture left out)\n",
+              static_cast<long long>(c.evaluated), static_cast<long long>(c.textured));
+  if (c.evaluated == 0) return;
+  std::printf(
+      "  error      mean %+.4f, mean absolute %.4f; darker by more than %g %s, lighter "
+      "%s\n",
+      C::mean(c.sumError, c.evaluated), C::mean(c.sumAbsoluteError, c.evaluated),
+      static_cast<double>(kOcclusionErrorBound),
+      fourDecimalPercent(C::mean(static_cast<double>(c.darker), c.evaluated)).c_str(),
+      fourDecimalPercent(C::mean(static_cast<double>(c.lighter), c.evaluated)).c_str());
+  std::printf(
+      "  occluded   %lld points below %g by the rays: mean absolute error %.4f (%.4f "
+      "without ambient occlusion)\n",
+      static_cast<long long>(c.occluded), static_cast<double>(kOccludedShare),
+      C::mean(c.occludedAbsoluteError, c.occluded), C::mean(c.occludedHidden, c.occluded));
+}
+
+Json occlusionJson(const std::optional<AmbientOcclusionCounts>& counts,
+                   const VerifySettings& settings) {
+  if (!counts) return Json(nullptr);
+  using C = AmbientOcclusionCounts;
+  const C& c = *counts;
+  const auto mean = [&](double sum, std::int64_t n) {
+    return n > 0 ? Json(C::mean(sum, n)) : Json(nullptr);
+  };
+  return Json{{"radius", jsonNumber(settings.occlusionRadius)},
+              {"rays", settings.occlusionSamples},
+              {"evaluated", c.evaluated},
+              {"textured", c.textured},
+              {"meanError", mean(c.sumError, c.evaluated)},
+              {"meanAbsoluteError", mean(c.sumAbsoluteError, c.evaluated)},
+              {"darker", c.darker},
+              {"lighter", c.lighter},
+              {"errorBound", jsonNumber(kOcclusionErrorBound)},
+              {"occluded", c.occluded},
+              {"occludedMeanAbsoluteError", mean(c.occludedAbsoluteError, c.occluded)},
+              {"occludedMeanHidden", mean(c.occludedHidden, c.occluded)}};
+}
+
 const Light& lightNamed(const std::vector<LightToVerify>& lights, const std::string& name) {
   for (const LightToVerify& l : lights)
     if (l.light.name == name) return l.light;
@@ -158,6 +201,7 @@ void printText(const RenderJob& job, const LoadedJob& loaded,
                   fourDecimalPercent(result.transmittance.agreementRate()).c_str(),
                   static_cast<double>(kTransmittanceTolerance));
   }
+  if (v.occlusion) printOcclusion(*v.occlusion, settings);
   std::printf("\n");
   if (!errorImagePath.empty()) std::printf("error image  %s\n", errorImagePath.c_str());
   if (maxError) {
@@ -228,6 +272,7 @@ void printJson(const RenderJob& job, const LoadedJob& loaded,
     entry["pass"] = !maxError || worstInteriorErrorRate(result) <= *maxError;
     out["lights"].push_back(entry);
   }
+  out["ambientOcclusion"] = occlusionJson(v.occlusion, settings);
   out["errorImage"] = errorImagePath.empty() ? Json(nullptr) : Json(errorImagePath.string());
   out["pass"] = !maxError || firstFailure(v, *maxError).empty();
   // File names need not be UTF-8; JSON must be (invalid bytes become U+FFFD).
@@ -253,6 +298,14 @@ int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {
     throw InputError("--error-image " + errorImagePath.string() + ": expected a .png name");
   LoadedJob loaded = loadJob(job);
   warnings = loaded.warnings;
+  // A lights file with ambient occlusion: its layer is compared with rays too.
+  RenderJob drawn = job;
+  if (const std::optional<AmbientOcclusion>& occlusion = loaded.setup.ambientOcclusion) {
+    drawn.layers.occlusion = drawn.layers.materialId = true;
+    settings.occlusionRadius = effectiveRadius(*occlusion, loaded.scene.bounds);
+    for (const Material& material : loaded.scene.materials)
+      settings.texturedMaterials.push_back(material.occlusionTexture.texture >= 0);
+  }
   const std::vector<LightToVerify> lights = selectLights(o, loaded);
   // Staging creates the file, so an unwritable --error-image fails here, before the render.
   OutputTransaction transaction;
@@ -270,7 +323,7 @@ int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {
   ScopedStage contextStage(times, "context");
   const std::unique_ptr<Renderer> renderer = openRenderer(o.device);
   contextStage.stop();
-  const Frame frame = renderJob(*renderer, job, loaded, times);
+  const Frame frame = renderJob(*renderer, drawn, loaded, times);
   warnings.insert(warnings.end(), frame.warnings.begin(), frame.warnings.end());
   if (!frame.aovs) throw RenderError("the renderer returned no AOVs");
 

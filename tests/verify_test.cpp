@@ -581,6 +581,50 @@ TEST_F(VerifyCommand, CornellBoxAgreesWithTheRays) {
   EXPECT_TRUE(report["pass"].get<bool>());
 }
 
+// With ambient_occlusion in the lights file, its layer is compared with rays too: inside the
+// Cornell box most of the occlusion the rays find is in the picture.
+TEST_F(VerifyCommand, ReportsTheAmbientOcclusionAgainstTheRays) {
+  const std::string box =
+      std::string(OMNISHADOW_SOURCE_DIR) + "/scenes/thirdparty/CornellBoxSuzanne/cornell-box.glb";
+  const std::vector<std::string> view = {"--eye", "0,0,3.6", "--target", "0,0,0",    "--fov",
+                                         "40",    "--width", "160",      "--height", "120"};
+  const fs::path occluded =
+      writeText("occluded.json",
+                R"({"ambient": [0.2, 0.2, 0.2], "ambient_occlusion": {"radius": 0.3},
+          "lights": [{"name": "lamp", "position": [0.15, 0.55, 0.35], "intensity": 2}]})");
+  std::vector<std::string> args = {box, "-l", occluded.string(), "--json"};
+  args.insert(args.end(), view.begin(), view.end());
+  const RunResult run = verify(args);
+  ASSERT_EQ(run.status, 0) << run.out << run.err;
+  const nlohmann::json occlusion = parse(run)["ambientOcclusion"];
+  ASSERT_TRUE(occlusion.is_object()) << run.out;
+  EXPECT_NEAR(occlusion["radius"].get<double>(), 0.3, 1e-6);
+  EXPECT_EQ(occlusion["rays"], 64);
+  EXPECT_GT(occlusion["evaluated"].get<int>(), 15000);
+  EXPECT_EQ(occlusion["textured"], 0);
+  EXPECT_LT(occlusion["meanAbsoluteError"].get<double>(), 0.05);
+  EXPECT_GT(occlusion["occluded"].get<int>(), 2000);
+  EXPECT_LT(occlusion["occludedMeanAbsoluteError"].get<double>(),
+            0.5 * occlusion["occludedMeanHidden"].get<double>());
+
+  std::vector<std::string> textArgs = {box, "-l", occluded.string()};
+  textArgs.insert(textArgs.end(), view.begin(), view.end());
+  const RunResult text = verify(textArgs);
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("ambient occlusion  radius 0.3, 64 rays per point meeting a surface "
+                          "within 0.27\n"),
+            std::string::npos)
+      << text.out;
+
+  const fs::path plain =
+      writeText("plain.json", R"({"lights": [{"name": "lamp", "position": [0.15, 0.55, 0.35]}]})");
+  std::vector<std::string> without = {box, "-l", plain.string(), "--json"};
+  without.insert(without.end(), view.begin(), view.end());
+  const RunResult none = verify(without);
+  ASSERT_EQ(none.status, 0) << none.err;
+  EXPECT_TRUE(parse(none)["ambientOcclusion"].is_null());
+}
+
 TEST_F(VerifyCommand, SphereAbovePlaneAgreesAndWritesTheErrorImage) {
   const fs::path lights = writeText("lights.json", lightsJson(R"({"resolution": 1024})"));
   std::vector<std::string> args = {

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <thread>
 
 #include "renderer/core/errors.h"
+#include "renderer/verify/ambient_occlusion_reference.h"
 
 namespace omnishadow {
 namespace {
@@ -13,8 +15,9 @@ namespace {
 // Where the channels of one light's pixels are in the AOV image.
 struct AovLayout {
   int a = -1, p = -1, n = -1, z = -1;
-  std::vector<int> visibility;     // per light
-  std::vector<int> transmittance;  // per light: transmittance.<name>.R, or -1
+  int occlusion = -1, materialId = -1;  // VerifySettings::occlusionRadius > 0
+  std::vector<int> visibility;          // per light
+  std::vector<int> transmittance;       // per light: transmittance.<name>.R, or -1
 };
 
 int requireChannel(const FloatImage& aovs, const std::string& name) {
@@ -23,12 +26,17 @@ int requireChannel(const FloatImage& aovs, const std::string& name) {
   return index;
 }
 
-AovLayout layoutOf(const FloatImage& aovs, const std::vector<LightToVerify>& lights) {
+AovLayout layoutOf(const FloatImage& aovs, const std::vector<LightToVerify>& lights,
+                   bool occlusion) {
   AovLayout layout;
   layout.a = requireChannel(aovs, "A");
   layout.p = requireChannel(aovs, "P.X");
   layout.n = requireChannel(aovs, "N.X");
   layout.z = requireChannel(aovs, "Z");
+  if (occlusion) {
+    layout.occlusion = requireChannel(aovs, "occlusion");
+    layout.materialId = requireChannel(aovs, "materialId");
+  }
   if (aovs.channelIndex("P.Y") != layout.p + 1 || aovs.channelIndex("P.Z") != layout.p + 2 ||
       aovs.channelIndex("N.Y") != layout.n + 1 || aovs.channelIndex("N.Z") != layout.n + 2)
     throw RenderError("the AOVs' P and N channels are not in X, Y, Z order");
@@ -305,7 +313,13 @@ float edgeBandWidth(const Light& light, const glm::vec3& point, float cameraDist
 ShadowVerification verifyShadows(const ShadowReference& reference, const Bounds& sceneBounds,
                                  const std::vector<LightToVerify>& lights, const FloatImage& aovs,
                                  const ViewCamera& camera, const VerifySettings& settings) {
-  const AovLayout layout = layoutOf(aovs, lights);
+  const bool occlusion = settings.occlusionRadius > 0.0f;
+  const AovLayout layout = layoutOf(aovs, lights, occlusion);
+  // Each pixel's estimate and the rays' share (NaN: not compared), summed in order after.
+  std::vector<glm::vec2> occlusionPairs(
+      occlusion ? static_cast<std::size_t>(aovs.width) * aovs.height : 0,
+      glm::vec2(std::numeric_limits<float>::quiet_NaN()));
+  std::atomic<std::int64_t> textured{0};
   ShadowVerification result;
   result.width = aovs.width;
   result.height = aovs.height;
@@ -342,6 +356,17 @@ ShadowVerification verifyShadows(const ShadowReference& reference, const Bounds&
         glm::vec3 view = camera.orthographic ? forward : s.position - camera.eye;
         view = glm::length(view) > 0.0f ? glm::normalize(view) : forward;
         findTriangle(reference, view, s);
+        if (occlusion) {
+          const float material = aovs.at(x, y, layout.materialId);
+          const auto m = static_cast<std::size_t>(std::max(material, 0.0f));
+          if (m < settings.texturedMaterials.size() && settings.texturedMaterials[m])
+            ++textured;
+          else
+            occlusionPairs[index] = {
+                aovs.at(x, y, layout.occlusion),
+                ambientVisibility(reference, s.position, s.geometricNormal,
+                                  0.9f * settings.occlusionRadius, settings.occlusionSamples)};
+        }
         for (std::size_t i = 0; i < lights.size(); ++i) {
           if (!lights[i].light.shadow.enabled) continue;
           const int t = layout.transmittance[i];
@@ -365,6 +390,25 @@ ShadowVerification verifyShadows(const ShadowReference& reference, const Bounds&
 
   for (LightVerification& light : result.lights)
     for (const PointVerdict& point : light.points) count(point, light);
+  if (occlusion) {
+    AmbientOcclusionCounts counts;
+    counts.textured = textured;
+    for (const glm::vec2& pair : occlusionPairs) {
+      if (std::isnan(pair.x) || std::isnan(pair.y)) continue;
+      const double error = static_cast<double>(pair.x) - pair.y;
+      ++counts.evaluated;
+      counts.sumError += error;
+      counts.sumAbsoluteError += std::abs(error);
+      counts.darker += error < -kOcclusionErrorBound;
+      counts.lighter += error > kOcclusionErrorBound;
+      if (pair.y < kOccludedShare) {
+        ++counts.occluded;
+        counts.occludedAbsoluteError += std::abs(error);
+        counts.occludedHidden += 1.0 - pair.y;
+      }
+    }
+    result.occlusion = counts;
+  }
   return result;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,14 @@ struct VerifySettings {
   float edgeTexels = 3.0f;  // half-width of the shadow-edge band, in shadow-map texels
   int sourceSamples = 64;   // rays per point towards a light with shadow.radius > 0
   int threads = 0;          // 0 = one per core; results do not depend on it
+  // > 0: also compare the AOVs' occlusion layer with rays (ambientVisibility()) that meet a
+  // surface within 0.9 of this radius, the middle of the estimate's falloff, from each pixel's
+  // triangle (AmbientOcclusionCounts).
+  float occlusionRadius = 0.0f;
+  int occlusionSamples = 64;
+  // Indexed by materialId: materials with an occlusion texture, whose share the layer also
+  // holds; their pixels are left out of that comparison.
+  std::vector<bool> texturedMaterials;
 };
 
 // One light to check, with the far distance its point or spot shadow map was rendered with
@@ -95,9 +104,27 @@ struct LightVerification {
   std::vector<PointVerdict> points;   // width x height, row 0 = top; empty when not shadowed
 };
 
+// The occlusion layer against the rays (VerifySettings::occlusionRadius): errors are the layer
+// minus the rays' visible share.
+struct AmbientOcclusionCounts {
+  std::int64_t evaluated = 0;
+  std::int64_t textured = 0;             // left out: an occlusion texture's share is in the layer
+  std::int64_t darker = 0, lighter = 0;  // by more than kOcclusionErrorBound
+  std::int64_t occluded = 0;             // the rays' share below kOccludedShare
+  double sumError = 0.0, sumAbsoluteError = 0.0;
+  double occludedAbsoluteError = 0.0;  // over the occluded points
+  double occludedHidden = 0.0;         // sum of 1 - the rays' share there: the error of no estimate
+  static double mean(double sum, std::int64_t n) {
+    return n > 0 ? sum / static_cast<double>(n) : 0.0;
+  }
+};
+inline constexpr float kOcclusionErrorBound = 0.25f;
+inline constexpr float kOccludedShare = 0.9f;
+
 struct ShadowVerification {
   int width = 0, height = 0;
   std::vector<LightVerification> lights;
+  std::optional<AmbientOcclusionCounts> occlusion;  // VerifySettings::occlusionRadius > 0
 };
 
 // World size of one shadow-map texel at `point`, across the light's view: a point light's cube
@@ -114,7 +141,8 @@ float edgeBandWidth(const Light& light, const glm::vec3& point, float cameraDist
                     float shadowFar, const Bounds& sceneBounds, float edgeTexels);
 
 // Checks every pixel of `aovs` (Frame::aovs: A, P.X/Y/Z, N.X/Y/Z, Z and visibility.<name> for
-// every light in `lights`) rendered from `camera`. Throws RenderError when a channel is missing.
+// every light in `lights`; with occlusionRadius, occlusion and materialId) rendered from
+// `camera`. Throws RenderError when a channel is missing.
 // A light whose AOVs have transmittance.<name>.R/G/B (translucent shadows) is also compared in
 // RGB at interior points; its points are edge points where the rays' transmittance changes by
 // more than kTransmittanceTolerance within the band, not where it is fractional.
