@@ -1,6 +1,6 @@
-// Ambient occlusion of the opaque surfaces a camera sees, from their depth alone: ground-truth
-// ambient occlusion (Jimenez et al. 2016, "Practical Realtime Strategies for Accurate Indirect
-// Occlusion"). In each slice through the view vector the surface is lit by the arc between the
+// Ambient occlusion of the opaque and masked surfaces a camera sees, from their depth alone:
+// ground-truth ambient occlusion (Jimenez et al. 2016, "Practical Realtime Strategies for
+// Accurate Indirect Occlusion"). In each slice through the view vector the surface is lit by the arc between the
 // two horizons that the depth buffer raises within uRadius; the cosine-weighted integral of
 // that arc, summed over slices, is the visible share of the hemisphere above the surface.
 // Drawn at half the frame's size, each texel for the lower left pixel of its 2 x 2 block: three

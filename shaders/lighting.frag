@@ -42,7 +42,7 @@ uniform float uAmbientOcclusionStrength;
 // turns once, taken only from those of this surface: made at a depth on its depth plane
 // (reversed depth is affine across a triangle in screen space, for both projections) to 1% of
 // the distance; where none is, the one nearest that plane if within 5%, else none: a surface
-// in front of the opaque ones (masked, see-through, blended) does not take their occlusion.
+// in front of those estimated (see-through, blended) does not take their occlusion.
 // `gradient`: the depth's derivatives, taken before any lane of the quad may be discarded.
 float screenSpaceOcclusion(vec2 gradient) {
   float depth = gl_FragCoord.z;

@@ -280,37 +280,59 @@ TEST(AmbientOcclusion, TheSameWithAndWithoutTheDepthPrepass) {
   EXPECT_EQ(withAovs.beauty.pixels, first.beauty.pixels);
 }
 
-// A masked surface is not in the depth the estimate is made from (nor is a see-through or
-// blended one, by the same depth test): it does not take the occlusion of the opaque surface
-// behind it. The same shelf against the wall is occluded near it when opaque.
-TEST(AmbientOcclusion, SurfacesOutsideTheOpaqueDepthAreLeftAlone) {
-  for (const AlphaMode mode : {AlphaMode::Mask, AlphaMode::Opaque}) {
-    SCOPED_TRACE("alpha mode " + std::to_string(static_cast<int>(mode)));
+// Masked surfaces are in the depth the estimate is made from, but for their cut-out texels: a
+// masked shelf against the wall is occluded near it as the same opaque shelf is, bit for bit,
+// and the wall under it is occluded by it; a shelf cut out everywhere leaves the wall as it is
+// without one. A blended shelf is not in that depth: it takes no occlusion.
+TEST(AmbientOcclusion, MaskedSurfacesCastAndTakeItButForTheirCutOuts) {
+  // A shelf 1 deep and 2 wide at height 1, against the wall.
+  const glm::mat4 shelf = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 1.0f, 0.0f)) *
+                          glm::scale(glm::mat4(1.0f), glm::vec3(0.5f, 1.0f, 1.0f));
+  const auto withShelf = [&](AlphaMode mode, float alpha) {
     Scene scene = floorAndWall();
-    scene.materials.push_back(matte(glm::vec3(0.9f), mode));
-    // A shelf 1 deep and 2 wide at height 1, against the wall.
-    const glm::mat4 shelf = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 1.0f, 0.0f)) *
-                            glm::scale(glm::mat4(1.0f), glm::vec3(0.5f, 1.0f, 1.0f));
+    Material material = matte(glm::vec3(0.9f), mode);
+    material.baseColorFactor.a = alpha;
+    scene.materials.push_back(material);
     test::placeMesh(scene, builder::makePlane(2.0f), shelf, 1);
-    const ViewCamera camera = lookFrom(scene, {4.0f, 3.0f, 0.0f}, {0.5f, 1.0f, 0.0f}, 160, 120);
-    RenderSettings ids;
-    ids.aovs = true;
-    ids.layers.objectId = true;
-    const Frame located = render(scene, glm::vec3(0.2f), camera, ids);
-    const int id = located.aovs->channelIndex("objectId");
-    const Frame view = occlusionView(scene, occluded(glm::vec3(0.2f), 0.5f), camera);
-    int shelfPixels = 0, shelfOccluded = 0;
-    for (int y = 0; y < 120; ++y)
-      for (int x = 0; x < 160; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * 160 + x;
-        if (located.aovs->pixels[i * located.aovs->channels.size() + id] != 2.0f) continue;
-        ++shelfPixels;
-        shelfOccluded += view.beauty.at(x, y, 0) < 0.95f;
-        if (mode == AlphaMode::Mask) EXPECT_EQ(view.beauty.at(x, y, 0), 1.0f) << x << ", " << y;
-      }
-    EXPECT_GT(shelfPixels, 500);
-    if (mode == AlphaMode::Opaque) EXPECT_GT(shelfOccluded, 100);
+    return scene;
+  };
+  const Scene opaque = withShelf(AlphaMode::Opaque, 1.0f);
+  const ViewCamera camera = lookFrom(opaque, {4.0f, 3.0f, 0.0f}, {0.5f, 1.0f, 0.0f}, 160, 120);
+  RenderSettings ids;
+  ids.aovs = true;
+  ids.layers.objectId = true;
+  const Frame located = render(opaque, glm::vec3(0.2f), camera, ids);
+  const int id = located.aovs->channelIndex("objectId");
+  const Ambience ambience = occluded(glm::vec3(0.2f), 0.5f);
+  const Frame opaqueView = occlusionView(opaque, ambience, camera);
+  const Frame maskedView = occlusionView(withShelf(AlphaMode::Mask, 1.0f), ambience, camera);
+  const Frame blendedView = occlusionView(withShelf(AlphaMode::Blend, 1.0f), ambience, camera);
+  EXPECT_EQ(maskedView.beauty.pixels, opaqueView.beauty.pixels);
+  for (const DepthPrepass prepass : {DepthPrepass::On, DepthPrepass::Off}) {
+    RenderSettings settings;
+    settings.depthPrepass = prepass;
+    const Scene masked = withShelf(AlphaMode::Mask, 1.0f);
+    EXPECT_EQ(render(masked, ambience, camera, settings).beauty.pixels,
+              render(masked, ambience, camera).beauty.pixels);
   }
+  int shelfPixels = 0, shelfOccluded = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * 160 + x;
+      if (located.aovs->pixels[i * located.aovs->channels.size() + id] != 2.0f) continue;
+      ++shelfPixels;
+      shelfOccluded += opaqueView.beauty.at(x, y, 0) < 0.95f;
+      // Blended over the wall's occlusion with the shelf's own 1.
+      EXPECT_EQ(blendedView.beauty.at(x, y, 0), 1.0f) << x << ", " << y;
+    }
+  EXPECT_GT(shelfPixels, 500);
+  EXPECT_GT(shelfOccluded, 100);
+
+  // Cut out everywhere (alpha below the cutoff): the frame of the wall and floor alone.
+  const Scene bare = floorAndWall();
+  EXPECT_EQ(occlusionView(withShelf(AlphaMode::Mask, 0.2f), ambience, camera).beauty.pixels,
+            occlusionView(bare, ambience, camera).beauty.pixels);
+  EXPECT_NE(opaqueView.beauty.pixels, occlusionView(bare, ambience, camera).beauty.pixels);
 }
 
 // The ray-traced reference the real models are measured against gives the wall's share too.

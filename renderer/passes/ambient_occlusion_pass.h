@@ -9,7 +9,7 @@
 namespace omnishadow {
 
 // Screen-space ambient occlusion (AmbientOcclusion, renderer/scene/light.h): for the opaque
-// surfaces a camera sees, the share of the cosine-weighted hemisphere above each surface that
+// and masked surfaces a camera sees, the share of the cosine-weighted hemisphere above each surface that
 // no surface within `radius` hides, estimated from their depth alone (shaders/ambient_occlusion
 // .frag, ground-truth ambient occlusion) at every other pixel of every other row. The lighting
 // pass gives each pixel the mean of the four nearest estimates of its own surface
@@ -24,7 +24,7 @@ class AmbientOcclusionPass {
   GLuint depthFramebuffer(int width, int height);
   GLuint depthTexture() const { return ownDepth_.get(); }
 
-  // Estimates from `depth`, the opaque surfaces' reversed depth (0: none) of width x height as
+  // Estimates from `depth`, the surfaces' reversed depth (0: none) of width x height as
   // `projection` (glClipControl ZERO_TO_ONE) wrote it; `radius` in world units (0: nothing is
   // occluded). Leaves the GL's framebuffer, program, vertex array and unit 0 changed.
   void estimate(GLuint depth, const glm::mat4& projection, int width, int height, float radius);

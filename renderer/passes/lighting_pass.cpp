@@ -385,6 +385,17 @@ void bindExtensionTextures(const ShaderProgram& program, unsigned variant,
   }
 }
 
+// What shaders/depth_masked.frag reads of a masked material: its base color's alpha and cutoff.
+void bindAlphaCutoff(const ShaderProgram& program, const GpuMaterial& m) {
+  const Material& d = m.desc;
+  program.set("uBaseColorFactor", d.baseColorFactor);
+  program.set("uBaseColorTexCoord", m.baseColor ? d.baseColorTexture.texCoord : -1);
+  program.set("uBaseColorUvTransform", d.baseColorTexture.uvTransform);
+  program.set("uAlphaCutoff", d.alphaCutoff);
+  glBindTextureUnit(contract::kBaseColorUnit, m.baseColor);
+  glBindSampler(contract::kBaseColorUnit, m.baseColorSampler);
+}
+
 // KHR_materials_volume's Beer's law as exp(-coefficient x distance): -ln(attenuationColor) /
 // attenuationDistance per channel, 0 at an infinite distance. A color of 0 counts as 1e-30, so
 // that the uniform stays finite: a tenth of the distance then lets through a thousandth.
@@ -1069,6 +1080,7 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
       gl::CullState{true, static_cast<GLenum>(faces == GL_FRONT ? GL_BACK : GL_FRONT), winding}
           .apply();
     program.set("uModel", draw.world);
+    if (!lighting && set == DrawSet::Masked) bindAlphaCutoff(program, material);
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
     if (lighting) {
       program.set("uNormalMatrix", draw.normalMatrix);
@@ -1272,7 +1284,12 @@ void LightingPass::estimateOcclusion(const GpuScene& scene, const ViewCamera& ca
   if (!occlusion_) occlusion_ = std::make_unique<AmbientOcclusionPass>();
   const int width = targets.width(), height = targets.height();
   GLuint depth = targets.depth();
-  if (!parameters.depthPrepass) {
+  // Masked surfaces cast occlusion and take it too: where the frame has some, the estimate
+  // draws its own depth of them and the opaque ones (the pre-pass draws no cut-outs).
+  bool masked = false;
+  for (const GpuDraw& draw : scene.draws())
+    masked = masked || drawSet(draw.material, scene) == DrawSet::Masked;
+  if (!parameters.depthPrepass || masked) {
     // The pre-pass's draws into a depth target of the estimate's own: the same depths, so the
     // picture does not depend on whether the pre-pass is drawn.
     const GLuint framebuffer = occlusion_->depthFramebuffer(width, height);
@@ -1287,6 +1304,14 @@ void LightingPass::estimateOcclusion(const GpuScene& scene, const ViewCamera& ca
     depthOnly_.set("uViewProjection", uniforms.viewProjection);
     glBindVertexArray(scene.vertexArray());
     drawScene(scene, DrawSet::Opaque, &depthOnly_, uniforms);
+    if (masked) {
+      if (!maskedDepth_)
+        maskedDepth_ = std::make_unique<ShaderProgram>("scene.vert", "depth_masked.frag",
+                                                       contract::shaderContractDefines());
+      maskedDepth_->use();
+      maskedDepth_->set("uViewProjection", uniforms.viewProjection);
+      drawScene(scene, DrawSet::Masked, maskedDepth_.get(), uniforms);
+    }
     depth = occlusion_->depthTexture();
   }
   occlusion_->estimate(depth, camera.projection, width, height,

@@ -294,9 +294,10 @@ class LightingPass {
   // the opaque and masked surfaces' depth and under what is drawn after them.
   // Leaves its own raster state applied.
   void drawBackground(const FrameTargets& targets, const FrameUniforms& uniforms);
-  // The screen-space ambient occlusion of the opaque surfaces (LightingAmbience::occlusion),
-  // from the pre-pass's depth or, without it, from the same draws into the estimate's own
-  // depth target, bound where the shader reads it. Leaves the framebuffer and vertex array
+  // The screen-space ambient occlusion of the opaque and masked surfaces
+  // (LightingAmbience::occlusion), from the pre-pass's depth or, without it or with masked
+  // surfaces, from the same draws (and the masked ones') into the estimate's own depth target,
+  // bound where the shader reads it. Leaves the framebuffer and vertex array
   // changed.
   void estimateOcclusion(const GpuScene& scene, const ViewCamera& camera,
                          const FrameTargets& targets, const PassParameters& parameters,
@@ -329,6 +330,7 @@ class LightingPass {
   ShaderProgram depthOnly_;
   std::unique_ptr<ShaderProgram> background_;        // drawBackground()'s, made on first use
   std::unique_ptr<AmbientOcclusionPass> occlusion_;  // made on first use
+  std::unique_ptr<ShaderProgram> maskedDepth_;       // masked surfaces' depth for it, likewise
   gl::VertexArray emptyVertexArray_;                 // its full-screen triangle needs no attributes
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;
