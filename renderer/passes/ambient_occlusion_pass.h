@@ -19,7 +19,7 @@ class AmbientOcclusionPass {
  public:
   AmbientOcclusionPass();
 
-  // Where a caller without the opaque surfaces' depth draws it: a framebuffer with a
+  // Where a caller without the surfaces' depth draws it: a framebuffer with a
   // DEPTH_COMPONENT32F texture (depthTexture()) of that size alone, kept while the size is.
   GLuint depthFramebuffer(int width, int height);
   GLuint depthTexture() const { return ownDepth_.get(); }

@@ -202,7 +202,8 @@ struct LightingFeatures {
   // An environment light: its textures take three units after the shadow arrays.
   bool environment = false;
   // Screen-space ambient occlusion (LightingAmbience::occlusion): the passes that write a
-  // beauty estimate it from the opaque surfaces' depth and read it on the unit after those.
+  // beauty estimate it from the opaque and masked surfaces' depth and read it on the unit after
+  // those.
   bool ambientOcclusion = false;
   bool operator==(const LightingFeatures&) const = default;
 };
