@@ -9,12 +9,12 @@
 namespace omnishadow {
 
 // Screen-space ambient occlusion (AmbientOcclusion, renderer/scene/light.h): for the opaque
-// and masked surfaces a camera sees, the share of the cosine-weighted hemisphere above each surface that
-// no surface within `radius` hides, estimated from their depth alone (shaders/ambient_occlusion
-// .frag, ground-truth ambient occlusion) at every other pixel of every other row. The lighting
-// pass gives each pixel the mean of the four nearest estimates of its own surface
-// (shaders/lighting.frag, screenSpaceOcclusion()). What the camera does not see occludes
-// nothing. The same depth gives the same estimates, bit for bit.
+// and masked surfaces a camera sees, the share of the cosine-weighted hemisphere above each
+// surface that no surface within `radius` hides, estimated from their depth alone
+// (shaders/ambient_occlusion.frag, ground-truth ambient occlusion) at every other pixel of every
+// other row. The lighting pass gives each pixel the mean of the four nearest estimates of its
+// own surface (shaders/lighting.frag, screenSpaceOcclusion()). What the camera does not see
+// occludes nothing. The same depth gives the same estimates, bit for bit.
 class AmbientOcclusionPass {
  public:
   AmbientOcclusionPass();
