@@ -118,8 +118,10 @@ Json ambientOcclusionJson(const std::optional<AmbientOcclusion>& occlusion, cons
 
 std::string ambientOcclusionText(const AmbientOcclusion& occlusion, const Bounds& bounds) {
   return "radius " + readable(effectiveRadius(occlusion, bounds)) +
-         (occlusion.radius > 0.0f ? "" : " (5% of the scene's diagonal)") + ", strength " +
-         readable(occlusion.strength);
+         (occlusion.radius > 0.0f ? ""
+                                  : " (" + readable(100.0f * kDefaultAmbientOcclusionShare) +
+                                        "% of the scene's diagonal)") +
+         ", strength " + readable(occlusion.strength);
 }
 
 std::string quoted(const std::string& name) {

@@ -1009,9 +1009,8 @@ void LightingPass::setFrameUniforms(const ShaderProgram& program,
   program.set("uCameraPosition", uniforms.cameraPosition);
   program.set("uAmbient", uniforms.ambience.ambient);
   if (features_.environment) setEnvironmentUniforms(program, uniforms.ambience.environment);
-  if (features_.ambientOcclusion && readsAmbientOcclusion(outputs_))
-    program.set("uAmbientOcclusionStrength",
-                uniforms.ambience.occlusion ? uniforms.ambience.occlusion->strength : 0.0f);
+  if (readsOcclusion())  // render() checked that the frame has it
+    program.set("uAmbientOcclusionStrength", uniforms.ambience.occlusion->strength);
   if (outputs_ == PassOutputs::Aovs) {
     program.set("uVisibilityBase", parameters.visibilityBase);
     program.set("uScalarTerms", parameters.scalarTerms);
@@ -1192,10 +1191,13 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   // tests stay on), masked ones test and write as usual.
   gl::RasterState state;
   state.viewport = {0, 0, targets.width(), targets.height()};
-  const bool occluded = features_.ambientOcclusion && readsAmbientOcclusion(outputs_);
+  const bool occluded = readsOcclusion();
   if (parameters.blendedOnly) {
     // These passes report the blended surfaces' AOVs, not their light.
-    if (occluded) bindOcclusion(targets, nullptr);
+    if (occluded) {
+      occlusionPass().clear(targets.width(), targets.height());
+      bindOcclusion();
+    }
     state.apply();
     drawScene(scene, DrawSet::Blended, nullptr, uniforms);
     gl::RasterState::restoreDefaults();
@@ -1211,10 +1213,8 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   if (parameters.depthPrepass) {
     state.color.rgba = {false, false, false, false};
     state.apply();
-    depthOnly_.use();
-    depthOnly_.set("uViewProjection", camera.projection * camera.view);
     if (counted_) glBeginQuery(GL_SAMPLES_PASSED, prepassFragments_.get());
-    drawScene(scene, DrawSet::Opaque, &depthOnly_, uniforms);
+    drawDepth(scene, DrawSet::Opaque, depthOnly_, uniforms);
     if (counted_) glEndQuery(GL_SAMPLES_PASSED);
   }
   if (occluded) {
@@ -1278,10 +1278,22 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   gl::checkErrors("the lighting pass");
 }
 
+void LightingPass::drawDepth(const GpuScene& scene, DrawSet set, const ShaderProgram& program,
+                             const FrameUniforms& uniforms) {
+  program.use();
+  program.set("uViewProjection", uniforms.viewProjection);
+  drawScene(scene, set, &program, uniforms);
+}
+
+AmbientOcclusionPass& LightingPass::occlusionPass() {
+  if (!occlusion_) occlusion_ = std::make_unique<AmbientOcclusionPass>();
+  return *occlusion_;
+}
+
 void LightingPass::estimateOcclusion(const GpuScene& scene, const ViewCamera& camera,
                                      const FrameTargets& targets, const PassParameters& parameters,
                                      const FrameUniforms& uniforms) {
-  if (!occlusion_) occlusion_ = std::make_unique<AmbientOcclusionPass>();
+  AmbientOcclusionPass& occlusion = occlusionPass();
   const int width = targets.width(), height = targets.height();
   GLuint depth = targets.depth();
   // Masked surfaces cast occlusion and take it too: where the frame has some, the estimate
@@ -1292,7 +1304,7 @@ void LightingPass::estimateOcclusion(const GpuScene& scene, const ViewCamera& ca
   if (!parameters.depthPrepass || masked) {
     // The pre-pass's draws into a depth target of the estimate's own: the same depths, so the
     // picture does not depend on whether the pre-pass is drawn.
-    const GLuint framebuffer = occlusion_->depthFramebuffer(width, height);
+    const GLuint framebuffer = occlusion.depthFramebuffer(width, height);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     gl::RasterState state;
     state.viewport = {0, 0, width, height};
@@ -1300,31 +1312,20 @@ void LightingPass::estimateOcclusion(const GpuScene& scene, const ViewCamera& ca
     state.apply();  // depth writes on: the clear obeys them
     const float clearDepth = 0.0f;
     glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &clearDepth);
-    depthOnly_.use();
-    depthOnly_.set("uViewProjection", uniforms.viewProjection);
-    glBindVertexArray(scene.vertexArray());
-    drawScene(scene, DrawSet::Opaque, &depthOnly_, uniforms);
+    drawDepth(scene, DrawSet::Opaque, depthOnly_, uniforms);
     if (masked) {
       if (!maskedDepth_)
         maskedDepth_ = std::make_unique<ShaderProgram>("scene.vert", "depth_masked.frag",
                                                        contract::shaderContractDefines());
-      maskedDepth_->use();
-      maskedDepth_->set("uViewProjection", uniforms.viewProjection);
-      drawScene(scene, DrawSet::Masked, maskedDepth_.get(), uniforms);
+      drawDepth(scene, DrawSet::Masked, *maskedDepth_, uniforms);
     }
-    depth = occlusion_->depthTexture();
+    depth = occlusion.depthTexture();
   }
-  occlusion_->estimate(depth, camera.projection, width, height,
-                       uniforms.ambience.occlusion->radius);
-  bindOcclusion(targets, occlusion_.get());
+  occlusion.estimate(depth, camera.projection, width, height, uniforms.ambience.occlusion->radius);
+  bindOcclusion();
 }
 
-void LightingPass::bindOcclusion(const FrameTargets& targets, AmbientOcclusionPass* estimated) {
-  if (!estimated) {
-    if (!occlusion_) occlusion_ = std::make_unique<AmbientOcclusionPass>();
-    occlusion_->clear(targets.width(), targets.height());
-    glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
-  }
+void LightingPass::bindOcclusion() const {
   const auto unit = static_cast<GLuint>(shadowUnits_.ambientOcclusion);
   glBindTextureUnit(unit, occlusion_->result());
   glBindSampler(unit, 0);

@@ -303,8 +303,18 @@ class LightingPass {
   void estimateOcclusion(const GpuScene& scene, const ViewCamera& camera,
                          const FrameTargets& targets, const PassParameters& parameters,
                          const FrameUniforms& uniforms);
-  // Binds the estimate, or with null, an estimate where nothing is occluded.
-  void bindOcclusion(const FrameTargets& targets, AmbientOcclusionPass* estimated);
+  // Binds occlusion_'s result where the shader reads it.
+  void bindOcclusion() const;
+  AmbientOcclusionPass& occlusionPass();  // occlusion_, made on first use
+  // Whether this variant reads the screen-space occlusion: the frame has it and the pass
+  // shades a beauty.
+  bool readsOcclusion() const {
+    return features_.ambientOcclusion && readsAmbientOcclusion(outputs_);
+  }
+  // The depth alone of `set`'s surfaces, drawn with `program` (depthOnly_, or the masked
+  // surfaces' alpha-tested one) at the frame's view-projection.
+  void drawDepth(const GpuScene& scene, DrawSet set, const ShaderProgram& program,
+                 const FrameUniforms& uniforms);
   // Copies the beauty drawn so far (the opaque and masked surfaces) into sceneBehind_, with its
   // mipmaps when `mipmaps`, and binds it where see-through surfaces read it.
   void copySceneBehind(const FrameTargets& targets, bool mipmaps);
@@ -330,7 +340,7 @@ class LightingPass {
   std::vector<std::size_t> blendedOrder_;  // this frame's blended draws, farthest first
   ShaderProgram depthOnly_;
   std::unique_ptr<ShaderProgram> background_;        // drawBackground()'s, made on first use
-  std::unique_ptr<AmbientOcclusionPass> occlusion_;  // made on first use
+  std::unique_ptr<AmbientOcclusionPass> occlusion_;  // occlusionPass()
   std::unique_ptr<ShaderProgram> maskedDepth_;       // masked surfaces' depth for it, likewise
   gl::VertexArray emptyVertexArray_;                 // its full-screen triangle needs no attributes
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
