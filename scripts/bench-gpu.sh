@@ -21,7 +21,7 @@ while (($#)); do
   case $1 in
     --bundle) bundle=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
-    --rounds|--repeat|--sections|--batch-scenes) passthrough+=("$1" "$2"); shift 2 ;;
+    --rounds|--repeat|--sections|--batch-scenes|--many-triangles|--many-resolutions|--many-passes) passthrough+=("$1" "$2"); shift 2 ;;
     -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) echo "bench-gpu: unknown argument $1" >&2; exit 2 ;;
   esac
@@ -62,6 +62,16 @@ make_references() {
     "$root/build/omnishadow" render "${scene[0]}" \
       -l "$scenes/$n.lights.json" -o "$dir/$n.png" --width 1280 --height 720 --no-gltf-lights \
       >/dev/null
+  done
+  # The occlusion estimate alone, for bench_gpu.py's occlusion section.
+  for n in cornell sundial whackamole test_room; do
+    local scene=("$scenes/$n".gl*) lights
+    lights=$(python3 -c 'import sys; sys.path.insert(0, sys.argv[1])
+from bench_gpu import occlusion_lights
+print(occlusion_lights(*sys.argv[2:5], True))' "$root/scripts" "$scenes/$n.lights.json" "$dir" "$n")
+    "$root/build/omnishadow" render "${scene[0]}" -l "$lights" -o "$dir/$n.occlusion.png" \
+      --width 1280 --height 720 --no-gltf-lights --debug-view occlusion >/dev/null
+    rm "$lights"
   done
 }
 

@@ -14,6 +14,8 @@ cannot build (a lent GPU). Sections, each written to OUT/gpu.md as soon as it is
            many-lights frame and three peers' scenes: steady lighting, and whether on and off
            draw the same picture (an NVIDIA driver once failed the pre-pass's depth test)
   verify   `omnishadow verify` on three scenes: the device's shadows against exact ray casting
+  occlusion  ambient occlusion's cost: four peers' scenes with an ambient term, steady frames
+           without and with `"ambient_occlusion": true`, and the occlusion layer against llvmpipe's
   batch    generated small scenes through `omnishadow batch`: scenes per second by workers
 Rounds are interleaved (A, B, C, A, B, C, ...) so that drift hits every configuration alike."""
 import argparse, glob, json, os, re, shutil, statistics, subprocess, sys, tempfile, time
@@ -200,11 +202,13 @@ class Bench:
                  "frame)." % (self.a.repeat, self.a.rounds), "",
                  "| cube map | image | --shadow-pass | steady frame | shadow maps | lighting | "
                  "readback | first frame |", "|---|---|---|---:|---:|---:|---:|---:|"]
-        for res in map(int, self.a.many_resolutions.split(",")):
+        for i, res in enumerate(map(int, self.a.many_resolutions.split(","))):
             scene, mem = self.many_scene(res)
-            for w, h in ((1280, 720), (1920, 1080)):
-                # The default pass and the one pass for all lights, round by round.
-                rows = {p: [] for p in ("auto", "batched")}
+            # Both image sizes at the first cube map size only: the larger maps change the
+            # shadow stage, not the lighting.
+            for w, h in ((1280, 720), (1920, 1080))[:2 if i == 0 else 1]:
+                # The default pass against the others, round by round.
+                rows = {p: [] for p in self.a.many_passes.split(",")}
                 for _ in range(self.a.rounds):
                     for p in rows:
                         rows[p].append(self.run(["render", scene, "-o", f"{self.tmp}/many.png",
@@ -284,6 +288,50 @@ class Bench:
                     lines.append(f"| {n} | {light} | {f[2]} | {' '.join(f[3:5])} | {' '.join(f[5:7])} |")
         self.write("Shadows against the exact reference", lines)
 
+    def occlusion(self):
+        """What screen-space ambient occlusion costs on this device, and how far its estimate is
+        from the same estimate on llvmpipe (the reference folder's NAME.occlusion.png)."""
+        names = ("cornell", "sundial", "whackamole", "test_room")
+        variants = {}
+        for n in names:
+            scene, lights = self.scene(n)
+            variants[n] = (scene, occlusion_lights(lights, self.tmp, n, False),
+                           occlusion_lights(lights, self.tmp, n, True))
+        rows = {(n, on): [] for n in names for on in (False, True)}
+        for _ in range(self.a.rounds):
+            for n in names:
+                scene, off, on = variants[n]
+                for flag, lights in ((False, off), (True, on)):
+                    rows[(n, flag)].append(self.run(
+                        ["render", scene, "-l", lights, "--no-gltf-lights", "--stats",
+                         "--width", "1280", "--height", "720", "-o", f"{self.tmp}/ao.png",
+                         "--repeat", str(self.a.repeat)]))
+        lines = ["The peers' scenes with an ambient of 0.3 added to their lights, without and with "
+                 "`\"ambient_occlusion\": true` (1280x720; ms, medians of %d interleaved rounds of "
+                 "`render --repeat %d`)." % (self.a.rounds, self.a.repeat), "",
+                 "| scene | steady frame without | with | steady lighting without | with | "
+                 "first frame without | with |", "|---|---:|---:|---:|---:|---:|---:|"]
+        for n in names:
+            med = lambda on, k: statistics.median(x.get(k, float("nan")) for x in rows[(n, on)])
+            lines.append(f"| {n} | {med(False, 'steady frame'):.2f} | {med(True, 'steady frame'):.2f} | "
+                         f"{med(False, 'steady lighting'):.2f} | {med(True, 'steady lighting'):.2f} | "
+                         f"{med(False, 'first'):.1f} | {med(True, 'first'):.1f} |")
+        if self.a.reference:
+            lines += ["", "The `occlusion` debug view on this device against llvmpipe's "
+                      "(`omnishadow diff`, 8-bit as 0..1):", "",
+                      "| scene | max abs | mean abs | PSNR dB | pixels that differ |",
+                      "|---|---:|---:|---:|---:|"]
+            for n in names:
+                ref = os.path.join(self.a.reference, f"{n}.occlusion.png")
+                if not os.path.exists(ref):
+                    continue
+                scene, _, on = variants[n]
+                out = os.path.join(self.a.out, f"{n}.occlusion.gpu.png")
+                self.run(["render", scene, "-l", on, "--no-gltf-lights", "--width", "1280",
+                          "--height", "720", "--debug-view", "occlusion", "-o", out])
+                lines.append(diff_row(self.a.bin, n, ref, out))
+        self.write("Ambient occlusion", lines)
+
     def batch(self):
         self.device = self.hardware_device()
         scenes = os.path.join(self.tmp, "batch-scenes")
@@ -312,6 +360,18 @@ class Bench:
             s = statistics.median(times[(size, workers)]) / 1000
             lines.append(f"| {size} | {workers} | {s:.2f} | {n / s:.0f} |")
         self.write("Batch throughput", lines)
+
+
+def occlusion_lights(lights, folder, name, on):
+    """NAME's lights with an ambient term of 0.3, and ambient occlusion when on."""
+    with open(lights) as f:
+        data = json.load(f)
+    data["ambient"] = [0.3, 0.3, 0.3]
+    data["ambient_occlusion"] = on
+    path = os.path.join(folder, f"{name}.ao-{'on' if on else 'off'}.lights.json")
+    with open(path, "w") as f:
+        json.dump(data, f)
+    return path
 
 
 def diff_row(binary, name, a, b):
@@ -343,7 +403,9 @@ def main():
     ap.add_argument("--batch-scenes", type=int, default=200)
     ap.add_argument("--many-triangles", type=int, default=1000000)
     ap.add_argument("--many-resolutions", default="512,1024", help="cube map sizes of the 256 lights")
-    ap.add_argument("--sections", default="info,peers,passes,verify,lights,prepass,batch")
+    ap.add_argument("--many-passes", default="auto,instanced,batched",
+                    help="--shadow-pass values timed on the many-lights frame")
+    ap.add_argument("--sections", default="info,peers,passes,verify,lights,prepass,occlusion,batch")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     b = Bench(a)
