@@ -128,6 +128,9 @@ void printStats(const StageTimes& times) {
   for (const auto& [stage, ms] : times.stages())
     std::fprintf(stderr, "%-12s %8.1f\n", stage.c_str(), ms);
   std::fprintf(stderr, "%-12s %8.1f\n", "total", times.total());
+  // Parts of the stages above, so after the total: each GL stage's wait for the GPU.
+  for (const auto& [stage, ms] : times.waits())
+    std::fprintf(stderr, "%-12s %8.1f\n", (stage + " wait").c_str(), ms);
 }
 
 std::string shortestDecimal(float value) {

@@ -42,6 +42,11 @@ void printSteadyFrames(Renderer& renderer, const RenderJob& job, const LoadedJob
         sum += ms;
     }
     frames.push_back(sum);
+    for (const auto& [stage, ms] : times.waits()) {
+      const std::string wait = stage + " wait";
+      if (!stages.count(wait)) order.push_back(wait);
+      stages[wait].push_back(ms);
+    }
   }
   std::fprintf(stderr, "steady frames %d\n", repeat);
   for (const std::string& stage : order)

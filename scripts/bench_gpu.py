@@ -200,8 +200,10 @@ class Bench:
         lines = [f"{tris / 1e6:g}M triangles, 256 shadowed point lights (generator's ranges), steady frame of "
                  "`render --repeat %d` (ms, medians of %d rounds; every shadow map redrawn each "
                  "frame)." % (self.a.repeat, self.a.rounds), "",
-                 "| cube map | image | --shadow-pass | steady frame | shadow maps | lighting | "
-                 "readback | first frame |", "|---|---|---|---:|---:|---:|---:|---:|"]
+                 "Each stage's wait: the part of it spent in glFinish, waiting for the GPU.", "",
+                 "| cube map | image | --shadow-pass | steady frame | shadow maps | its wait | "
+                 "lighting | its wait | readback | first frame |",
+                 "|---|---|---|---:|---:|---:|---:|---:|---:|---:|"]
         for i, res in enumerate(map(int, self.a.many_resolutions.split(","))):
             scene, mem = self.many_scene(res)
             # Both image sizes at the first cube map size only: the larger maps change the
@@ -219,7 +221,9 @@ class Bench:
                     med = lambda k: statistics.median(x.get(k, float("nan")) for x in runs)
                     lines.append(f"| {res}^2 | {w}x{h} | {p} | {med('steady frame'):.2f} | "
                                  f"{med('steady shadow maps'):.2f} | "
+                                 f"{med('steady shadow maps wait'):.2f} | "
                                  f"{med('steady lighting'):.2f} | "
+                                 f"{med('steady lighting wait'):.2f} | "
                                  f"{med('steady readback'):.2f} | {med('first'):.1f} |")
         self.write(f"256 shadowed point lights on {tris / 1e6:g}M triangles", lines)
 

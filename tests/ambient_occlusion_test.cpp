@@ -257,8 +257,11 @@ TEST(AmbientOcclusion, TheOcclusionLayerIsTheDebugViewsShare) {
   // Without ambient_occlusion, the occlusion texture's share alone: 1 here.
   const Frame open = render(scene, glm::vec3(0.3f), camera, settings);
   for (int y = 0; y < 120; ++y)
-    for (int x = 0; x < 160; ++x)
-      if (open.aovs->at(x, y, 3) > 0.0f) ASSERT_EQ(open.aovs->at(x, y, channel), 1.0f);
+    for (int x = 0; x < 160; ++x) {
+      if (open.aovs->at(x, y, 3) > 0.0f) {
+        ASSERT_EQ(open.aovs->at(x, y, channel), 1.0f);
+      }
+    }
 }
 
 // The estimate is made from the depth the pre-pass draws, and drawn for itself where there is

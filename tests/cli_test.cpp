@@ -530,6 +530,25 @@ TEST_F(CliTest, StatsNameEveryStage) {
   }
 }
 
+// The GL stages' waits for the GPU come after the total, each a part of its stage's time.
+TEST_F(CliTest, StatsGiveEachGlStagesWaitForTheGpu) {
+  const Run r = render({scene().string(), "-o", "a.png", "--stats"});
+  auto row = [&](const std::string& name) {
+    std::smatch m;
+    EXPECT_TRUE(std::regex_search(r.err, m, std::regex("(^|\n)" + name + " +([0-9]+\\.[0-9])\n")))
+        << "no row " << name << " in:\n"
+        << r.err;
+    return m.empty() ? -1.0 : std::stod(m[2].str());
+  };
+  const std::size_t total = r.err.find("\ntotal ");
+  for (const char* stage : {"upload", "shadow maps", "lighting"}) {
+    const double wait = row(std::string(stage) + " wait");
+    EXPECT_GE(wait, 0.0) << stage;
+    EXPECT_LE(wait, row(stage)) << stage;
+    EXPECT_GT(r.err.find(std::string("\n") + stage + " wait"), total) << r.err;
+  }
+}
+
 // More than 20 lights with AOVs: lighting runs in several passes, yet --stats sums each stage
 // into one row.
 TEST_F(CliTest, StatsNameEachStageOnceWhenLightingRunsInSeveralPasses) {

@@ -27,7 +27,8 @@ TEST_F(SteadyFramesTest, RepeatPrintsMediansAndWritesTheSameImage) {
       runSucceeding("render", {in("scene.gltf"), "-o", "repeated.png", "--repeat", "3"}, size);
   EXPECT_TRUE(sameBytes(output("once.png"), output("repeated.png")));
   EXPECT_TRUE(contains(r.err, "steady frames 3\n"));
-  for (const char* stage : {"shadow maps", "lighting", "readback", "frame"})
+  for (const char* stage :
+       {"shadow maps", "lighting", "readback", "frame", "shadow maps wait", "lighting wait"})
     EXPECT_TRUE(std::regex_search(
         r.err, std::regex(std::string("\nsteady ") + stage + " +[0-9]+\\.[0-9]\n")))
         << stage << " in " << r.err;

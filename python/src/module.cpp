@@ -74,6 +74,10 @@ void bindFrame(py::module_& m) {
       .def_property_readonly("times", &PyFrame::timesDict,
                              "Milliseconds per stage: load, shaders, upload, shadow maps, "
                              "lighting, readback, ...")
+      .def_property_readonly("gpu_waits", &PyFrame::gpuWaitsDict,
+                             "Milliseconds of the GL stages (upload, shadow maps, lighting) "
+                             "spent waiting for the GPU to finish their work: part of times, "
+                             "most of a stage bound by the GPU, little of one bound by the CPU")
       .def_property_readonly("shadow_maps", &PyFrame::shadowMaps,
                              "With shadow_maps=True, per shadowed light: point {'type': "
                              "'point', 'distances': 6 x R x R float32 (distance to the light, "

@@ -122,6 +122,12 @@ py::dict PyFrame::timesDict() const {
   return d;
 }
 
+py::dict PyFrame::gpuWaitsDict() const {
+  py::dict d;
+  for (const auto& [stage, ms] : times.waits()) d[py::str(stage)] = ms;
+  return d;
+}
+
 py::dict PyFrame::shadowMaps() const {
   py::dict maps;
   for (const ShadowMapDump& dump : frame.shadowMaps) {

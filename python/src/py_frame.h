@@ -41,6 +41,7 @@ struct PyFrame {
   // The CLI's --camera-json document (renderer/output/camera_sidecar.h) as Python data.
   pybind11::dict cameraDict() const;
   pybind11::dict timesDict() const;
+  pybind11::dict gpuWaitsDict() const;
   pybind11::dict shadowMaps() const;
   // What objectId and materialId stand for, as the CLI's "<aov>.ids.json".
   pybind11::dict idIndex() const;

@@ -96,6 +96,10 @@ def test_camera_matches_the_request(renderer, demo_scene):
     assert np.isclose(k["fy"], 10 / np.tan(np.radians(30)), rtol=1e-5)
     assert (k["cx"], k["cy"]) == (20.0, 10.0)
     assert {"upload", "shadow maps", "lighting", "readback"} <= set(frame.times)
+    # Each GL stage's wait for the GPU is a part of that stage's time.
+    assert {"upload", "shadow maps", "lighting"} <= set(frame.gpu_waits)
+    for stage, wait in frame.gpu_waits.items():
+        assert 0.0 <= wait <= frame.times[stage]
 
 
 @pytest.mark.parametrize("cli_args, render_args", [

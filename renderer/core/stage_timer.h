@@ -25,6 +25,18 @@ class StageTimes {
     stages_.emplace_back(stage, milliseconds);
   }
   const std::vector<std::pair<std::string, double>>& stages() const { return stages_; }
+  // The part of a stage spent waiting for the GPU to finish what the stage submitted (glFinish):
+  // a stage whose wait is most of it is bound by the GPU, one with little wait by the CPU (our
+  // work and the driver's). Included in the stage's own time, not added to total().
+  void addWait(const std::string& stage, double milliseconds) {
+    for (auto& [name, total] : waits_)
+      if (name == stage) {
+        total += milliseconds;
+        return;
+      }
+    waits_.emplace_back(stage, milliseconds);
+  }
+  const std::vector<std::pair<std::string, double>>& waits() const { return waits_; }
   double total() const {
     double sum = 0;
     for (const auto& stage : stages_) sum += stage.second;
@@ -33,6 +45,7 @@ class StageTimes {
 
  private:
   std::vector<std::pair<std::string, double>> stages_;
+  std::vector<std::pair<std::string, double>> waits_;
 };
 
 // Measures from construction to stop() (or destruction) and records it under `stage`.

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <utility>
 
@@ -34,6 +36,13 @@
 
 namespace omnishadow {
 namespace {
+
+// Ends a stage's GL work: glFinish, with the time it blocked recorded as the stage's GPU wait.
+void finishStage(StageTimes& times, const std::string& stage) {
+  const auto start = std::chrono::steady_clock::now();
+  glFinish();
+  times.addWait(stage, millisecondsSince(start));
+}
 
 // GL_MESA_pack_invert's pixel store parameter (not in glcorearb.h).
 constexpr GLenum kPackInvertMesa = 0x8758;
@@ -771,7 +780,7 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
     lightingPass(settings.shading, outputs, prepared.features)
         .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
-    glFinish();
+    finishStage(stages, "lighting");
   }
   ScopedStage readback(stages, "readback");
   FloatImage image{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
@@ -791,7 +800,7 @@ void Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
     lightingPass(settings.shading, outputs, prepared.features)
         .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
-    glFinish();
+    finishStage(times, "lighting");
   }
   ScopedStage readback(times, "readback");
   frame.srgb8 = readSrgb8(targets, camera.glRowOrder);
@@ -858,7 +867,7 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
     ScopedStage stage(times, "lighting");
     pass.render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
-    glFinish();
+    finishStage(times, "lighting");
   };
   // The copies of the scalar terms of lights [base, end) from channel 0 on.
   auto scalarCopies = [&](int base, int end, std::vector<ChannelCopy>& copies) {
@@ -1080,7 +1089,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
   prepared.beautyOutputs = beautyOutputs;
   frame.warnings.insert(frame.warnings.end(), prepared.gpu.warnings().begin(),
                         prepared.gpu.warnings().end());
-  glFinish();
+  finishStage(times, "upload");
   upload.stop();
   if (!lit) {
     // Masks alone: the id pass reads no light and no shadow map. The shadow cache stays as the
@@ -1101,7 +1110,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
   ScopedStage shadowStage(times, "shadow maps");
   renderShadows(prepared, std::move(plan.shadows), scene, lights, settings,
                 shadowFingerprint(scene, meshes), &frame);
-  glFinish();
+  finishStage(times, "shadow maps");
   shadowStage.stop();
 
   if (settings.readShadowMaps) frame.shadowMaps = readShadowMaps(prepared, times);
