@@ -540,6 +540,42 @@ TEST(LightClusters, CachedBoxesGiveTheClustersOfEachCamera) {
   }
 }
 
+// From 16 ranged lights on, the lights' clusters are found on several threads: each list must
+// be what each light alone gives, in light order, with the lights reaching everywhere first.
+TEST(LightClusters, ManyLightsListEachClusterAsEachLightAloneDoes) {
+  for (const bool orthographic : {false, true}) {
+    ViewCamera camera = topDownCamera();
+    if (orthographic) {
+      camera.orthographic = true;
+      camera.projection = reversedOrthographic(12.0f, 12.0f, 0.01f, 30.0f);
+    }
+    std::mt19937 rng(11);
+    std::vector<Light> storage = randomRangedLights(rng, 301);
+    storage[7].range = 0.0f;  // reaches everywhere
+    const std::vector<const Light*> lights = pointersTo(storage);
+    ClusterBoxCache cache;
+    const LightClusters all = buildLightClusters(lights, camera, 20.0f, 16, 24, &cache);
+    const std::size_t count = all.ranges.size() / 2;
+    std::vector<std::vector<std::uint32_t>> expected(count);
+    for (std::size_t i = 0; i < storage.size(); ++i) {
+      if (storage[i].range <= 0.0f) continue;
+      const LightClusters alone = buildLightClusters({&storage[i]}, camera, 20.0f, 16, 24, &cache);
+      ASSERT_EQ(alone.ranges.size(), all.ranges.size());
+      for (std::size_t c = 0; c < count; ++c)
+        if (alone.ranges[2 * c + 1] != 0) expected[c].push_back(static_cast<std::uint32_t>(i));
+    }
+    ASSERT_EQ(all.globalCount, 1u);
+    EXPECT_EQ(all.lights[0], 7u);
+    std::size_t pairs = 0;
+    for (std::size_t c = 0; c < count; ++c) {
+      ASSERT_EQ(clusterList(all, c), expected[c]) << "cluster " << c;
+      pairs += expected[c].size();
+    }
+    EXPECT_GT(pairs, 1000u);
+    EXPECT_EQ(all.lights.size(), 1 + pairs);
+  }
+}
+
 TEST(LightClusters, EveryPointFindsEveryLightThatReachesItInItsCluster) {
   // Random ranged lights through a perspective and an orthographic view; random points in
   // view: a light whose sphere holds the point must be in the point's cluster, and most

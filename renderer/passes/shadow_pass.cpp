@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <future>
 #include <numeric>
 #include <string>
 #include <thread>
 
+#include "renderer/core/in_parts.h"
 #include "renderer/gl/gl_debug.h"
 #include "renderer/gl/raster_state.h"
 #include "renderer/passes/shader_contract.h"
@@ -242,7 +242,7 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
   // Each light's culling and draws are CPU work of its own, which the driver waits for: from
   // 16 lights on, spread over the machine's threads (a GPU's host has cores to spare).
   std::vector<LightDraws> perLight(lights.size());
-  const auto planLights = [&](std::size_t first, std::size_t end) {
+  const auto planLights = [&](std::size_t /*part*/, std::size_t first, std::size_t end) {
     for (std::size_t i = first; i < end; ++i) {
       perLight[i] = lightDraws(scene, sceneCasters, *lights[i].light, *lights[i].plan,
                                ShadowLayering::Instanced, true, false, everyCaster);
@@ -254,12 +254,7 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
       lights.size() < 16 ? 1
                          : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1,
                                                    std::min<std::size_t>(lights.size() / 8, 16));
-  std::vector<std::future<void>> helpers;
-  for (std::size_t t = 1; t < threads; ++t)
-    helpers.push_back(std::async(std::launch::async, planLights, lights.size() * t / threads,
-                                 lights.size() * (t + 1) / threads));
-  planLights(0, lights.size() / threads);
-  for (std::future<void>& helper : helpers) helper.get();
+  inParts(lights.size(), threads, planLights);
   for (const LightDraws& draws : perLight) flatLeftOut.push_back(draws.culling.flatLeftOut);
 
   // The shader reads the layers' view-projections from a uniform block: a window of

@@ -5,7 +5,10 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <thread>
+#include <utility>
 
+#include "renderer/core/in_parts.h"
 #include "renderer/view/sphere_projection.h"
 
 namespace omnishadow {
@@ -122,11 +125,15 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
   clusters.sliceScale =
       static_cast<float>(slices) / std::log(std::max(far / clusters.sliceNear, 1.0001f));
 
-  // (cluster, light) pairs of the ranged lights, in light order.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  ClusterBoxCache ownCache;
-  ClusterBoxCache& boxCache = cache ? *cache : ownCache;
-  const std::vector<ClusterBox>* boxes = nullptr;
+  // Where each ranged light may reach: its tiles and slices.
+  struct Reach {
+    std::uint32_t light;
+    glm::vec3 center;  // view space
+    float radius;
+    TileRect tiles;
+    int firstSlice, lastSlice;
+  };
+  std::vector<Reach> reaches;
   for (std::size_t i = 0; i < lights.size(); ++i) {
     const Light& light = *lights[i];
     if (light.type == LightType::Directional || light.range <= 0.0f) {
@@ -138,24 +145,44 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
     if (-c.z + r < camera.znear) continue;  // wholly behind the camera
     const TileRect rect = coveredTiles(c, r, camera, clusters);
     if (rect.x1 < rect.x0) continue;
-    if (!boxes) boxes = &boxCache.boxes(clusters, camera);
     const int s0 = clusterSlice(clusters, -c.z - r), s1 = clusterSlice(clusters, -c.z + r);
-    for (int s = std::max(0, s0 - 1); s <= std::min(slices - 1, s1 + 1); ++s)
-      for (int y = rect.y0; y <= rect.y1; ++y)
-        for (int x = rect.x0; x <= rect.x1; ++x) {
-          const std::size_t index =
-              (static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x;
-          if (touchesSphere((*boxes)[index], c, r))
-            pairs.emplace_back(static_cast<std::uint32_t>(index), static_cast<std::uint32_t>(i));
-        }
+    reaches.push_back({static_cast<std::uint32_t>(i), c, r, rect, std::max(0, s0 - 1),
+                       std::min(slices - 1, s1 + 1)});
   }
   clusters.globalCount = static_cast<std::uint32_t>(clusters.lights.size());
+
+  // (cluster, light) pairs of the ranged lights, in light order: each part of the lights on a
+  // thread of its own from 16 lights on (256 lights at 1280x720 give about 700k pairs), its
+  // pairs in a list of its own, the lists taken in order.
+  ClusterBoxCache ownCache;
+  ClusterBoxCache& boxCache = cache ? *cache : ownCache;
+  const std::vector<ClusterBox>* boxes =
+      reaches.empty() ? nullptr : &boxCache.boxes(clusters, camera);
+  const std::size_t parts =
+      reaches.size() < 16 ? 1
+                          : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1,
+                                                    std::min<std::size_t>(reaches.size() / 8, 16));
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> pairs(parts);
+  inParts(reaches.size(), parts, [&](std::size_t part, std::size_t first, std::size_t end) {
+    for (std::size_t k = first; k < end; ++k) {
+      const Reach& reach = reaches[k];
+      for (int s = reach.firstSlice; s <= reach.lastSlice; ++s)
+        for (int y = reach.tiles.y0; y <= reach.tiles.y1; ++y)
+          for (int x = reach.tiles.x0; x <= reach.tiles.x1; ++x) {
+            const std::size_t index =
+                (static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x;
+            if (touchesSphere((*boxes)[index], reach.center, reach.radius))
+              pairs[part].emplace_back(static_cast<std::uint32_t>(index), reach.light);
+          }
+    }
+  });
 
   // Counting sort by cluster keeps the light order within each cluster.
   const std::size_t count =
       static_cast<std::size_t>(clusters.columns) * clusters.rows * clusters.slices;
   std::vector<std::uint32_t> sizes(count, 0);
-  for (const auto& [cluster, light] : pairs) ++sizes[cluster];
+  for (const auto& part : pairs)
+    for (const auto& [cluster, light] : part) ++sizes[cluster];
   clusters.ranges.resize(2 * count);
   std::uint32_t next = clusters.globalCount;
   for (std::size_t k = 0; k < count; ++k) {
@@ -164,10 +191,11 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
     next += sizes[k];
   }
   clusters.lights.resize(next);
-  for (const auto& [cluster, light] : pairs) {
-    const std::uint32_t slot = clusters.ranges[2 * cluster] + clusters.ranges[2 * cluster + 1]++;
-    clusters.lights[slot] = light;
-  }
+  for (const auto& part : pairs)
+    for (const auto& [cluster, light] : part) {
+      const std::uint32_t slot = clusters.ranges[2 * cluster] + clusters.ranges[2 * cluster + 1]++;
+      clusters.lights[slot] = light;
+    }
   return clusters;
 }
 

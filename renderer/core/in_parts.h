@@ -1,0 +1,26 @@
+#pragma once
+
+#include <cstddef>
+#include <future>
+#include <vector>
+
+namespace omnishadow {
+
+// work(part, first, end) over [0, count) cut into `parts` consecutive ranges: this thread does
+// part 0, a thread of its own each other. For loops whose ranges write disjoint memory, so that
+// the result is the same bytes however many parts there are.
+template <class Work>
+void inParts(std::size_t count, std::size_t parts, const Work& work) {
+  if (parts < 2) {
+    work(std::size_t{0}, std::size_t{0}, count);
+    return;
+  }
+  std::vector<std::future<void>> helpers;
+  for (std::size_t p = 1; p < parts; ++p)
+    helpers.push_back(
+        std::async(std::launch::async, work, p, count * p / parts, count * (p + 1) / parts));
+  work(std::size_t{0}, std::size_t{0}, count / parts);
+  for (std::future<void>& helper : helpers) helper.get();
+}
+
+}  // namespace omnishadow
