@@ -51,7 +51,7 @@ bool touchesSphere(const ClusterBox& box, const glm::vec3& c, float r) {
 // View-space bounding boxes of every cluster. Depth bounds are widened a little so that a
 // fragment whose slice rounds to a neighbour still finds its lights there; the first slice
 // starts at the camera and the last one reaches well past the farthest geometry.
-std::vector<ClusterBox> clusterBoxes(const LightClusters& clusters, const ViewCamera& camera) {
+ClusterBoxes clusterBoxes(const LightClusters& clusters, const ViewCamera& camera) {
   const glm::mat4 inverse = glm::inverse(camera.projection);
   // The view-space point of normalized device coordinates (x, y) at view depth d.
   auto at = [&](float x, float y, float d) {
@@ -63,8 +63,10 @@ std::vector<ClusterBox> clusterBoxes(const LightClusters& clusters, const ViewCa
   std::vector<float> bounds(static_cast<std::size_t>(clusters.slices) + 1);
   for (int s = 0; s <= clusters.slices; ++s)
     bounds[s] = clusters.sliceNear * std::exp(static_cast<float>(s) / clusters.sliceScale);
-  std::vector<ClusterBox> boxes(static_cast<std::size_t>(clusters.columns) * clusters.rows *
-                                clusters.slices);
+  ClusterBoxes boxes;
+  boxes.clusters.resize(static_cast<std::size_t>(clusters.columns) * clusters.rows *
+                        clusters.slices);
+  boxes.rows.resize(static_cast<std::size_t>(clusters.rows) * clusters.slices);
   // Normalized device coordinates spanned by tile `i` along an axis of `pixels`, half a pixel
   // wider on each side.
   const float tile = static_cast<float>(clusters.tileSize);
@@ -80,11 +82,13 @@ std::vector<ClusterBox> clusterBoxes(const LightClusters& clusters, const ViewCa
       const std::array<float, 2> ys = ndcSpan(y, camera.height);
       for (int x = 0; x < clusters.columns; ++x) {
         const std::array<float, 2> xs = ndcSpan(x, camera.width);
-        ClusterBox& box =
-            boxes[(static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x];
+        const std::size_t row = static_cast<std::size_t>(s) * clusters.rows + y;
+        ClusterBox& box = boxes.clusters[row * clusters.columns + x];
         for (const float d : {d0, d1})
           for (const float nx : xs)
             for (const float ny : ys) extend(box, at(nx, ny, d));
+        extend(boxes.rows[row], box.lo);
+        extend(boxes.rows[row], box.hi);
       }
     }
   }
@@ -93,11 +97,10 @@ std::vector<ClusterBox> clusterBoxes(const LightClusters& clusters, const ViewCa
 
 }  // namespace
 
-const std::vector<ClusterBox>& ClusterBoxCache::boxes(const LightClusters& grid,
-                                                      const ViewCamera& camera) {
+const ClusterBoxes& ClusterBoxCache::boxes(const LightClusters& grid, const ViewCamera& camera) {
   const Key key{camera.projection, camera.orthographic, camera.width,   camera.height,
                 grid.tileSize,     grid.slices,         grid.sliceNear, grid.sliceScale};
-  if (boxes_.empty() || !(key == key_)) {
+  if (boxes_.clusters.empty() || !(key == key_)) {
     boxes_ = clusterBoxes(grid, camera);
     key_ = key;
   }
@@ -156,8 +159,7 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
   // pairs in a list of its own, the lists taken in order.
   ClusterBoxCache ownCache;
   ClusterBoxCache& boxCache = cache ? *cache : ownCache;
-  const std::vector<ClusterBox>* boxes =
-      reaches.empty() ? nullptr : &boxCache.boxes(clusters, camera);
+  const ClusterBoxes* boxes = reaches.empty() ? nullptr : &boxCache.boxes(clusters, camera);
   const std::size_t parts =
       reaches.size() < 16 ? 1
                           : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1,
@@ -167,13 +169,17 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
     for (std::size_t k = first; k < end; ++k) {
       const Reach& reach = reaches[k];
       for (int s = reach.firstSlice; s <= reach.lastSlice; ++s)
-        for (int y = reach.tiles.y0; y <= reach.tiles.y1; ++y)
+        for (int y = reach.tiles.y0; y <= reach.tiles.y1; ++y) {
+          const std::size_t row = static_cast<std::size_t>(s) * clusters.rows + y;
+          // The row's box holds each cluster's: touchesSphere computes a distance to it no
+          // larger than to any of them, rounding included, so no cluster it misses is lost.
+          if (!touchesSphere(boxes->rows[row], reach.center, reach.radius)) continue;
           for (int x = reach.tiles.x0; x <= reach.tiles.x1; ++x) {
-            const std::size_t index =
-                (static_cast<std::size_t>(s) * clusters.rows + y) * clusters.columns + x;
-            if (touchesSphere((*boxes)[index], reach.center, reach.radius))
+            const std::size_t index = row * clusters.columns + x;
+            if (touchesSphere(boxes->clusters[index], reach.center, reach.radius))
               pairs[part].emplace_back(static_cast<std::uint32_t>(index), reach.light);
           }
+        }
     }
   });
 

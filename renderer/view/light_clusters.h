@@ -36,12 +36,20 @@ struct ClusterBox {
   glm::vec3 hi{std::numeric_limits<float>::lowest()};
 };
 
+// The view-space bounding boxes of a grid's clusters, and of each of its rows of clusters.
+struct ClusterBoxes {
+  std::vector<ClusterBox> clusters;  // indexed as LightClusters::ranges
+  // Per (slice, row), at index slice * rows + row: the box around the row's clusters. A sphere
+  // that misses it misses every cluster of the row, so a light's rows it misses are skipped.
+  std::vector<ClusterBox> rows;
+};
+
 // The bounding boxes of every cluster of the last grid asked for: they depend on the camera's
 // projection and size and the grid's slices alone, and frames of one camera (batch jobs of one
 // scene, --repeat) ask for the same ones again (86k boxes at 1280x720).
 class ClusterBoxCache {
  public:
-  const std::vector<ClusterBox>& boxes(const LightClusters& grid, const ViewCamera& camera);
+  const ClusterBoxes& boxes(const LightClusters& grid, const ViewCamera& camera);
 
  private:
   struct Key {
@@ -52,7 +60,7 @@ class ClusterBoxCache {
     bool operator==(const Key&) const = default;
   };
   Key key_;
-  std::vector<ClusterBox> boxes_;
+  ClusterBoxes boxes_;
 };
 
 // `farthestDepth`: the largest view depth of any geometry (the slices end there). `cache`:
