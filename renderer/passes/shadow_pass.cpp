@@ -30,7 +30,11 @@ ShadowPassStrategy resolveShadowPassStrategy(ShadowPassStrategy requested,
   // steady pass): six 16.0-17.8 ms, instanced 15.0-16.9, geometry 25.0-27.5; instanced was
   // ahead of six by 3-8% in 14 rounds of 15. On an NVIDIA H200 at 7249b74 (two runs of 5
   // rounds): six 7.7-9.1 ms, instanced 7.6-8.7, geometry 17.9-19.2; neither of six and
-  // instanced ahead in every round. Not chosen by driver: no GPU showed a margin worth a rule.
+  // instanced ahead in every round. `batched` (one pass for all point lights), on an H200 with
+  // 256 lights on 1M triangles (eab6c48, 3 rounds): six 74.0 ms, instanced 72.3, batched 86.0
+  // at 512^2; 209.3, 206.9 and 229.4 at 1024^2: it spares the driver's per-light submission,
+  // but the GPU's own work is then the bound, and larger. Not chosen by driver: no GPU showed a
+  // margin worth a rule.
   (void)glRenderer;
   return ShadowPassStrategy::Six;
 }
