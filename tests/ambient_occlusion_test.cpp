@@ -264,6 +264,48 @@ TEST(AmbientOcclusion, TheOcclusionLayerIsTheDebugViewsShare) {
     }
 }
 
+// An AOV frame of many shadowed lights draws its lighting pass once per group of visibility
+// channels; the passes after the first read the first one's estimate. Each frame's first pass
+// makes its own: after a frame seen from elsewhere, the layer is still this view's share.
+TEST(AmbientOcclusion, AnAovFrameOfManyLightsTakesItsOwnViewsEstimate) {
+  const Scene scene = floorAndWall();
+  const ViewCamera camera = lookFrom(scene, {4.0f, 2.0f, 1.0f}, {0.5f, 0.2f, 0.0f}, 160, 120);
+  const ViewCamera elsewhere = lookFrom(scene, {3.0f, 4.0f, -3.0f}, {0.0f, 1.0f, 0.0f}, 160, 120);
+  const Ambience ambience = occluded(glm::vec3(0.3f), 1.0f);
+  std::vector<Light> lamps;
+  for (int i = 0; i < 10; ++i) {
+    Light lamp;
+    lamp.name = "lamp" + std::to_string(i);
+    lamp.type = LightType::Point;
+    lamp.position = {1.0f + 0.3f * static_cast<float>(i), 2.0f,
+                     -2.0f + 0.4f * static_cast<float>(i)};
+    lamp.intensity = 5.0f;
+    lamp.shadow.resolution = 64;
+    lamps.push_back(lamp);
+  }
+  RenderSettings settings;
+  settings.aovs = true;
+  settings.layers.occlusion = true;
+  const Frame before = render(scene, ambience, elsewhere, settings, lamps);
+  const Frame frame = render(scene, ambience, camera, settings, lamps);
+  const Frame view = occlusionView(scene, ambience, camera);
+  const int channel = frame.aovs->channelIndex("occlusion");
+  ASSERT_GE(channel, 0);
+  int occludedPixels = 0, differentBefore = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x) {
+      const float layer = frame.aovs->at(x, y, channel);
+      ASSERT_EQ(layer, view.beauty.at(x, y, 0)) << x << ", " << y;
+      occludedPixels += layer < 0.9f;
+      differentBefore += layer != before.aovs->at(x, y, channel);
+    }
+  EXPECT_GT(occludedPixels, 500);
+  EXPECT_GT(differentBefore, 1000);  // the frame before left another estimate behind
+  // The last lamp's shadow term came from a later pass than the first.
+  const int last = frame.aovs->channelIndex("visibility.lamp9");
+  ASSERT_GE(last, 0) << "no visibility.lamp9";
+}
+
 // The estimate is made from the depth the pre-pass draws, and drawn for itself where there is
 // no pre-pass: the same frame either way, the same every time.
 TEST(AmbientOcclusion, TheSameWithAndWithoutTheDepthPrepass) {

@@ -1196,6 +1196,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
     // These passes report the blended surfaces' AOVs, not their light.
     if (occluded) {
       occlusionPass().clear(targets.width(), targets.height());
+      occlusionEstimated_ = false;
       bindOcclusion();
     }
     state.apply();
@@ -1217,8 +1218,11 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
     drawDepth(scene, DrawSet::Opaque, depthOnly_, uniforms);
     if (counted_) glEndQuery(GL_SAMPLES_PASSED);
   }
-  if (occluded) {
+  if (occluded && parameters.reuseOcclusion && occlusionEstimated_) {
+    bindOcclusion();
+  } else if (occluded) {
     estimateOcclusion(scene, camera, targets, parameters, uniforms);
+    occlusionEstimated_ = true;
     glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
     glBindVertexArray(scene.vertexArray());
   }

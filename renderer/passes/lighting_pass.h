@@ -97,6 +97,9 @@ struct PassParameters {
   // counts the fragments of both ways (opaqueFragments()).
   bool depthPrepass = true;
   bool countFragments = false;
+  // Aovs: this pass draws the frame the pass before it drew (camera, geometry, size), so it
+  // reads the ambient occlusion estimate that pass made rather than making it again.
+  bool reuseOcclusion = false;
 };
 
 // Whether the beauty's depth pre-pass is drawn at all on a GL renderer (its GL_RENDERER
@@ -343,6 +346,8 @@ class LightingPass {
   std::unique_ptr<AmbientOcclusionPass> occlusion_;  // occlusionPass()
   std::unique_ptr<ShaderProgram> maskedDepth_;       // masked surfaces' depth for it, likewise
   gl::VertexArray emptyVertexArray_;                 // its full-screen triangle needs no attributes
+  // occlusion_ holds this pass's last estimate, not a clear: a pass with reuseOcclusion reads it.
+  bool occlusionEstimated_ = false;
   gl::Sampler cubeCompare_, planarCompare_, rawDepth_, moments_;
   gl::StreamBuffer lightBuffer_, viewProjectionBuffer_, clusterRanges_, clusterLights_;
   ClusterBoxCache clusterBoxes_;

@@ -857,9 +857,12 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
   FrameTargets& targets =
       keptTargets(aovTargets_, camera.width, camera.height, PassOutputs::Aovs, layout.outputs);
   LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, features);
-  // One lighting pass into `targets`; the caller reads them back.
+  // One lighting pass into `targets`; the caller reads them back. Every pass after the first
+  // draws the same frame, so it reads the first one's ambient occlusion estimate.
+  bool drawnBefore = false;
   auto draw = [&](int visibilityBase, bool blendedOnly, int scalarTerms, int rgbFirst) {
     PassParameters parameters;
+    parameters.reuseOcclusion = std::exchange(drawnBefore, true);
     parameters.visibilityBase = visibilityBase;
     parameters.blendedOnly = blendedOnly;
     parameters.scalarTerms = scalarTerms;
