@@ -131,7 +131,7 @@ void printStats(const StageTimes& times) {
   std::fprintf(stderr, "%-12s %8.1f\n", "total", times.total());
   // Parts of the stages above, so after the total: each GL stage's wait for the GPU.
   for (const auto& [stage, ms] : times.waits())
-    std::fprintf(stderr, "%-12s %8.1f\n", (stage + " wait").c_str(), ms);
+    std::fprintf(stderr, "%-12s %8.1f\n", (kGpuWaitPrefix + stage).c_str(), ms);
 }
 
 std::string shortestDecimal(float value) {

@@ -43,7 +43,7 @@ void printSteadyFrames(Renderer& renderer, const RenderJob& job, const LoadedJob
     }
     frames.push_back(sum);
     for (const auto& [stage, ms] : times.waits()) {
-      const std::string wait = stage + " wait";
+      const std::string wait = kGpuWaitPrefix + stage;
       if (!stages.count(wait)) order.push_back(wait);
       stages[wait].push_back(ms);
     }

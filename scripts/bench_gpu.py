@@ -28,7 +28,7 @@ def stages(text):
     """--stats lines ("shadow maps  12.3", "steady lighting  4.5") summed by name."""
     out = {}
     for line in text.splitlines():
-        m = re.match(r"^(\w[\w ]*?)\s+([\d.]+)$", line.strip())
+        m = re.match(r"^(\w[\w :]*?)\s+([\d.]+)$", line.strip())
         if m:
             out[m.group(1)] = out.get(m.group(1), 0.0) + float(m.group(2))
     return out
@@ -221,9 +221,9 @@ class Bench:
                     med = lambda k: statistics.median(x.get(k, float("nan")) for x in runs)
                     lines.append(f"| {res}^2 | {w}x{h} | {p} | {med('steady frame'):.2f} | "
                                  f"{med('steady shadow maps'):.2f} | "
-                                 f"{med('steady shadow maps wait'):.2f} | "
+                                 f"{med('steady GPU wait: shadow maps'):.2f} | "
                                  f"{med('steady lighting'):.2f} | "
-                                 f"{med('steady lighting wait'):.2f} | "
+                                 f"{med('steady GPU wait: lighting'):.2f} | "
                                  f"{med('steady readback'):.2f} | {med('first'):.1f} |")
         self.write(f"256 shadowed point lights on {tris / 1e6:g}M triangles", lines)
 

@@ -28,7 +28,7 @@ TEST_F(SteadyFramesTest, RepeatPrintsMediansAndWritesTheSameImage) {
   EXPECT_TRUE(sameBytes(output("once.png"), output("repeated.png")));
   EXPECT_TRUE(contains(r.err, "steady frames 3\n"));
   for (const char* stage :
-       {"shadow maps", "lighting", "readback", "frame", "shadow maps wait", "lighting wait"})
+       {"shadow maps", "lighting", "readback", "frame", "GPU wait: shadow maps", "GPU wait: lighting"})
     EXPECT_TRUE(std::regex_search(
         r.err, std::regex(std::string("\nsteady ") + stage + " +[0-9]+\\.[0-9]\n")))
         << stage << " in " << r.err;

@@ -12,6 +12,10 @@ inline double millisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
+// How --stats names a stage's wait for the GPU ("GPU wait: lighting"): not "<stage> ...", so
+// that a script reading the lines that begin with a stage's name does not take it for the stage.
+constexpr const char* kGpuWaitPrefix = "GPU wait: ";
+
 // Wall time of the named stages of one render, in the order they first ran (--stats). A stage
 // that runs several times (lighting in several passes) is one row with its total.
 class StageTimes {
