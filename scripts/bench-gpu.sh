@@ -5,24 +5,28 @@
 # scripts/bench_gpu.py; on a machine without a GPU the same tables measure llvmpipe.
 #
 # Usage: scripts/bench-gpu.sh [--out DIR] [--rounds N] [--repeat N] [--sections LIST]
-#        scripts/bench-gpu.sh --bundle DIR
+#        scripts/bench-gpu.sh --bundle DIR [--baseline BIN]
 # --bundle DIR  build here and pack into DIR what a machine that cannot build needs: the
 #               binaries, the shared libraries they load beyond glibc, the scenes with the
 #               peers' lights, llvmpipe's images of them, and DIR/run.sh. There:
 #               `DIR/run.sh OUT [bench_gpu.py options]` (sets LD_LIBRARY_PATH and NVIDIA's
 #               EGL vendor file when it exists).
+# --baseline BIN  (with --bundle) another omnishadow, packed as bin/omnishadow.baseline and timed
+#               in the same rounds as this build's (the peers' steady frames, the many-lights
+#               frame): one lease measures a change against what came before.
 # --out DIR     where gpu.md and the images go (default build-bench/gpu)
 # The scenes come from ../shared (peers/threejs/scenes and scenes-thirdparty).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 shared="$root/../shared"
-bundle="" out="$root/build-bench/gpu" passthrough=()
+bundle="" baseline="" out="$root/build-bench/gpu" passthrough=()
 while (($#)); do
   case $1 in
     --bundle) bundle=$2; shift 2 ;;
+    --baseline) baseline=$(realpath "$2"); shift 2 ;;
     --out) out=$2; shift 2 ;;
     --rounds|--repeat|--sections|--batch-scenes|--many-triangles|--many-resolutions|--many-passes) passthrough+=("$1" "$2"); shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     *) echo "bench-gpu: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -81,9 +85,10 @@ if [[ -n "$bundle" ]]; then
   for b in omnishadow make_shadow_bench_scene make_bench_scenes; do
     strip -o "$bundle/bin/$b" "$root/build/$b"
   done
+  [[ -n "$baseline" ]] && strip -o "$bundle/bin/omnishadow.baseline" "$baseline"
   # Every library beyond glibc: the other machine may have none of Debian's packages, and
   # glvnd's loaders (libEGL, libOpenGL) find the vendor's driver there.
-  ldd "$root"/build/{omnishadow,make_shadow_bench_scene,make_bench_scenes} |
+  ldd "$root"/build/{omnishadow,make_shadow_bench_scene,make_bench_scenes} ${baseline:+"$baseline"} |
     awk '/=>/ { print $3 }' | sort -u |
     grep -vE '/(libc|libm|libpthread|libdl|librt|ld-linux[^/]*)\.so' |
     while read -r lib; do cp -L "$lib" "$bundle/lib/"; done
@@ -102,7 +107,9 @@ for d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib; do
 done
 vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 [[ -f $vendor && -z ${__EGL_VENDOR_LIBRARY_FILENAMES:-} ]] && export __EGL_VENDOR_LIBRARY_FILENAMES=$vendor
-exec python3 "$here/bench_gpu.py" --bin "$here/bin/omnishadow" \
+baseline=()
+[[ -x $here/bin/omnishadow.baseline ]] && baseline=(--baseline-bin "$here/bin/omnishadow.baseline")
+exec python3 "$here/bench_gpu.py" --bin "$here/bin/omnishadow" "${baseline[@]}" \
   --shadow-gen "$here/bin/make_shadow_bench_scene" --batch-gen "$here/bin/make_bench_scenes" \
   --scenes "$here/scenes" --reference "$here/reference" --out "$out" "$@"
 SH

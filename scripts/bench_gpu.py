@@ -49,10 +49,10 @@ class Bench:
                  __GL_SHADER_DISK_CACHE_SKIP_CLEANUP="1", MESA_SHADER_CACHE_DIR=cache)
         return e
 
-    def run(self, args, cache=None, timeout=600):
+    def run(self, args, cache=None, timeout=600, binary=None):
         cache = cache or self.warm_cache
         t0 = time.perf_counter()
-        p = subprocess.run([self.a.bin] + args, capture_output=True, text=True,
+        p = subprocess.run([binary or self.a.bin] + args, capture_output=True, text=True,
                            timeout=timeout, env=self.env(cache))
         wall = (time.perf_counter() - t0) * 1000
         if p.returncode != 0:
@@ -123,7 +123,7 @@ class Bench:
 
     def peers(self):
         w, h = 1280, 720
-        res = {n: {"cold": [], "warm": [], "steady": []} for n in PEERS}
+        res = {n: {"cold": [], "warm": [], "steady": [], "baseline": []} for n in PEERS}
         for r in range(self.a.rounds):
             for n in PEERS:
                 scene, lights = self.scene(n)
@@ -133,6 +133,10 @@ class Bench:
                 res[n]["cold"].append(self.run(base + ["-o", out], cache=self.cold_cache()))
                 res[n]["warm"].append(self.run(base + ["-o", out]))
                 res[n]["steady"].append(self.run(base + ["-o", out, "--repeat", str(self.a.repeat)]))
+                if self.a.baseline_bin:
+                    res[n]["baseline"].append(self.run(
+                        base + ["-o", f"{self.tmp}/{n}.baseline.png", "--repeat", str(self.a.repeat)],
+                        binary=self.a.baseline_bin))
                 if r == 0:
                     shutil.copy(out, os.path.join(self.a.out, f"{n}.gpu.png"))
         lines = ["Medians of %d interleaved rounds (ms). Cold: an empty shader cache folder; "
@@ -150,6 +154,16 @@ class Bench:
                          f"{med(c, 'shaders'):.1f} | {med(wm, 'shaders'):.1f} | "
                          f"{med(s, 'steady frame'):.2f} | {med(s, 'steady shadow maps'):.2f} | "
                          f"{med(s, 'steady lighting'):.2f} | {med(s, 'steady readback'):.2f} |")
+        if self.a.baseline_bin:
+            lines += ["", f"The baseline (`{os.path.basename(self.a.baseline_bin)}`) in the same rounds, "
+                      "steady (medians, ms): this binary / the baseline:", "",
+                      "| scene | steady frame | steady shadow maps | steady lighting | steady readback |",
+                      "|---|---:|---:|---:|---:|"]
+            for n in PEERS:
+                cell = lambda k: (f"{statistics.median(x.get(k, float('nan')) for x in res[n]['steady']):.2f} / "
+                                  f"{statistics.median(x.get(k, float('nan')) for x in res[n]['baseline']):.2f}")
+                lines.append(f"| {n} | {cell('steady frame')} | {cell('steady shadow maps')} | "
+                             f"{cell('steady lighting')} | {cell('steady readback')} |")
         stage_names = [k for k in res["test_room"]["warm"][0] if k not in ("wall", "first", "stderr")]
         lines += ["", "Every stage of the warm first frame (medians, ms):", "",
                   "| scene | " + " | ".join(stage_names) + " |",
@@ -211,12 +225,15 @@ class Bench:
             for w, h in ((1280, 720), (1920, 1080))[:2 if i == 0 else 1]:
                 # The default pass against the others, round by round.
                 rows = {p: [] for p in self.a.many_passes.split(",")}
+                if self.a.baseline_bin:  # the baseline binary's default pass, same rounds
+                    rows["auto, baseline"] = []
                 for _ in range(self.a.rounds):
                     for p in rows:
                         rows[p].append(self.run(["render", scene, "-o", f"{self.tmp}/many.png",
                                                  "--stats", "--width", str(w), "--height", str(h),
-                                                 "--max-memory", f"{mem:.0f}", "--shadow-pass", p,
-                                                 "--repeat", str(self.a.repeat)]))
+                                                 "--max-memory", f"{mem:.0f}", "--shadow-pass",
+                                                 p.split(",")[0], "--repeat", str(self.a.repeat)],
+                                                binary=self.a.baseline_bin if "baseline" in p else None))
                 for p, runs in rows.items():
                     med = lambda k: statistics.median(x.get(k, float("nan")) for x in runs)
                     lines.append(f"| {res}^2 | {w}x{h} | {p} | {med('steady frame'):.2f} | "
@@ -401,6 +418,8 @@ def main():
                     help="folder with box, cornell, sundial, whackamole, test_room (.glb/.gltf) "
                          "and NAME.lights.json beside each")
     ap.add_argument("--reference", help="folder with NAME.png rendered elsewhere (llvmpipe)")
+    ap.add_argument("--baseline-bin", help="another omnishadow, timed in the same rounds (peers' "
+                    "steady frames, the many-lights frame's default pass)")
     ap.add_argument("--out", required=True)
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--repeat", type=int, default=20)
