@@ -1182,6 +1182,40 @@ TEST(ShadowMap, TheBatchedPassOfManyLightsWritesSixsTexels) {
     EXPECT_EQ(differingTexels(six[l], batched[l]), 0) << "light " << l;
 }
 
+// One GL context drawing 16 maps or more (a GPU's frame) works out the lights' culling and
+// draw lists ahead, on several threads: each light's map is the one it gets drawn among fewer
+// lights, whose work is done between their GL calls.
+TEST(ShadowMap, ManyLightsPlannedAheadInOneContextWriteTheirOwnTexels) {
+  Scene scene;
+  const int grey = addMaterial(scene, glm::vec4(0.6f));
+  addObject(scene, builder::makePlane(12.0f), glm::mat4(1.0f), grey);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-5.0f, 5.0f);
+  for (int i = 0; i < 60; ++i)
+    addObject(scene, i % 2 ? builder::makeSphere(0.25f, 12, 6) : builder::makeBox(glm::vec3(0.25f)),
+              translate({u(rng), 0.4f, u(rng)}), grey);
+  std::vector<Light> lights;
+  for (int i = 0; i < 40; ++i) {
+    Light light =
+        pointLight("l" + std::to_string(i), {u(rng), 1.2f, u(rng)}, ShadowFilter::Pcf, 32);
+    light.range = 3.0f;
+    lights.push_back(light);
+  }
+  for (const ShadowPassStrategy strategy :
+       {ShadowPassStrategy::Six, ShadowPassStrategy::Instanced}) {
+    const auto together = sharedRenderer().renderShadowDistances(scene, lights, strategy, false);
+    ASSERT_EQ(together.size(), lights.size());
+    for (std::size_t first = 0; first < lights.size(); first += 10) {
+      const std::vector<Light> few(lights.begin() + static_cast<std::ptrdiff_t>(first),
+                                   lights.begin() + static_cast<std::ptrdiff_t>(first + 10));
+      const auto alone = sharedRenderer().renderShadowDistances(scene, few, strategy, false);
+      ASSERT_EQ(alone.size(), few.size());
+      for (std::size_t l = 0; l < few.size(); ++l)
+        EXPECT_EQ(differingTexels(together[first + l], alone[l]), 0) << "light " << first + l;
+    }
+  }
+}
+
 // The batched pass across frames: maps of lights that did not move are kept in the texture it
 // draws the others into, other textures' lights (vsm, a spot) are drawn one by one, and every
 // frame is the one the default pass draws.

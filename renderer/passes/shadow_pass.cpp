@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <numeric>
 #include <string>
-#include <thread>
 
 #include "renderer/core/in_parts.h"
 #include "renderer/gl/gl_debug.h"
@@ -189,22 +188,45 @@ ShadowPass::LightDraws ShadowPass::lightDraws(const GpuScene& scene,
   return {std::move(culling), std::move(draws), {}};
 }
 
+namespace {
+
+// The strategy render() draws a light's layers of `target` with.
+ShadowPassStrategy drawnStrategy(ShadowPassStrategy strategy, const ShadowGroupTextures& target) {
+  // A light drawn alone under Batched (renderBatched takes the others) is drawn as by Six.
+  if (target.key.layout != ShadowLayout::Cube || strategy == ShadowPassStrategy::Auto ||
+      strategy == ShadowPassStrategy::Batched)
+    return ShadowPassStrategy::Six;
+  return strategy;
+}
+
+}  // namespace
+
+ShadowPass::LightDraws ShadowPass::planDraws(const GpuScene& scene,
+                                             const SceneCasters& sceneCasters, const Light& light,
+                                             const LightShadowPlan& plan,
+                                             const ShadowGroupTextures& target,
+                                             ShadowPassStrategy strategy, bool everyCaster) {
+  LightDraws planned =
+      lightDraws(scene, sceneCasters, light, plan, layeringOf(drawnStrategy(strategy, target)),
+                 target.key.layout == ShadowLayout::Cube, target.key.moments, everyCaster);
+  planned.texels = casterTexels(sceneCasters.casters, planned.culling, plan, target.key.resolution);
+  return planned;
+}
+
 int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
                        const SceneCasters& sceneCasters, const Light& light,
                        const LightShadowPlan& plan, ShadowGroupTextures& target,
-                       ShadowPassStrategy strategy, bool everyCaster) {
-  const bool cube = target.key.layout == ShadowLayout::Cube;
-  // A light drawn alone under Batched (renderBatched takes the others) is drawn as by Six.
-  if (!cube || strategy == ShadowPassStrategy::Auto || strategy == ShadowPassStrategy::Batched)
-    strategy = ShadowPassStrategy::Six;
+                       ShadowPassStrategy strategy, bool everyCaster, const LightDraws* planned) {
+  strategy = drawnStrategy(strategy, target);
   const ShadowLayering layering = layeringOf(strategy);
   const bool moments = target.key.moments;
 
-  const std::vector<ShadowCaster>& casters = sceneCasters.casters;
-  const LightDraws planned =
-      lightDraws(scene, sceneCasters, light, plan, layering, cube, moments, everyCaster);
-  const CasterCulling& culling = planned.culling;
-  const ShadowDrawList& draws = planned.draws;
+  std::optional<LightDraws> here;
+  if (!planned)
+    planned =
+        &here.emplace(planDraws(scene, sceneCasters, light, plan, target, strategy, everyCaster));
+  const CasterCulling& culling = planned->culling;
+  const ShadowDrawList& draws = planned->draws;
   commands_.upload(draws.commands);
   drawObjects_.upload(draws.objects);
 
@@ -217,8 +239,7 @@ int ShadowPass::render(const GpuScene& scene, const SceneVertexArrays& arrays,
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, contract::kDrawObjectsBinding, drawObjects_.get());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_.get());
 
-  ShadowLayerBinding layers(fb, target, plan.firstLayer, plan.layerCount,
-                            casterTexels(casters, culling, plan, target.key.resolution),
+  ShadowLayerBinding layers(fb, target, plan.firstLayer, plan.layerCount, planned->texels,
                             moments ? VsmFilter::spread(light.shadow.filterRadius) : 0);
   if (layering != ShadowLayering::PerView) layers.bind(ShadowLayerBinding::kAllLayers);
   const LightPass pass{scene, arrays, light, plan, strategy, moments, layers};
@@ -254,11 +275,7 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
           casterTexels(sceneCasters.casters, perLight[i].culling, *lights[i].plan, resolution);
     }
   };
-  const std::size_t threads =
-      lights.size() < 16 ? 1
-                         : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1,
-                                                   std::min<std::size_t>(lights.size() / 8, 16));
-  inParts(lights.size(), threads, planLights);
+  inParts(lights.size(), partsFor(lights.size()), planLights);
   for (const LightDraws& draws : perLight) flatLeftOut.push_back(draws.culling.flatLeftOut);
 
   // The shader reads the layers' view-projections from a uniform block: a window of

@@ -43,14 +43,30 @@ class ShadowPass {
   ShadowPass();
   ~ShadowPass();
 
+  // What render() works out on the CPU before its GL calls: the light's casters culled, its
+  // draw lists and the texels they may cover per layer.
+  struct LightDraws {
+    CasterCulling culling;
+    ShadowDrawList draws;
+    std::vector<TexelRect> texels;  // per layer (casterTexels)
+  };
+  // render()'s LightDraws for these arguments; touches no GL state, so any thread may make
+  // them, many lights at once, ahead of the GL calls (Renderer: 16 lights or more in one
+  // context).
+  static LightDraws planDraws(const GpuScene& scene, const SceneCasters& casters,
+                              const Light& light, const LightShadowPlan& plan,
+                              const ShadowGroupTextures& target, ShadowPassStrategy strategy,
+                              bool everyCaster);
+
   // Draws the light's layers of `target` and updates their `written` texels. Flat casters
   // that shadow no receiver (shadowsNoReceiver) are left out unless `everyCaster`: maps that
   // are read back (depth dumps, the depth view) hold the whole scene as the light sees it.
   // Returns how many flat casters it left out. `arrays`: the scene's vertex arrays as the
   // current context knows them (GpuScene::vertexArrays() in the context that made the scene).
+  // `planned`: planDraws()'s result for the same arguments, or null to work it out here.
   int render(const GpuScene& scene, const SceneVertexArrays& arrays, const SceneCasters& casters,
              const Light& light, const LightShadowPlan& plan, ShadowGroupTextures& target,
-             ShadowPassStrategy strategy, bool everyCaster);
+             ShadowPassStrategy strategy, bool everyCaster, const LightDraws* planned = nullptr);
 
   // ShadowPassStrategy::Batched: draws the maps of several point lights of one group in one
   // pass, the group's whole texture attached once, as render() would with Instanced. The
@@ -70,11 +86,6 @@ class ShadowPass {
 
  private:
   struct LightPass;
-  struct LightDraws {
-    CasterCulling culling;
-    ShadowDrawList draws;
-    std::vector<TexelRect> texels;  // per layer (casterTexels); renderBatched's only
-  };
   static LightDraws lightDraws(const GpuScene& scene, const SceneCasters& casters,
                                const Light& light, const LightShadowPlan& plan,
                                ShadowLayering layering, bool cube, bool moments, bool everyCaster);

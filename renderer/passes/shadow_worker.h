@@ -18,6 +18,8 @@ struct ShadowJob {
   const LightShadowPlan* plan = nullptr;
   ShadowGroupTextures* target = nullptr;
   int flatCastersLeftOut = 0;  // filled by the worker
+  // ShadowPass::planDraws()'s result, when the renderer worked it out ahead; else null.
+  const ShadowPass::LightDraws* planned = nullptr;
 };
 
 // Draws some lights' shadow maps in a second GL context, on a thread of its own, while the

@@ -61,10 +61,11 @@ class Renderer {
                     const RenderSettings& settings) const;
 
   // Depth cube maps of the shadowed point lights, as distances, with every caster drawn (as the
-  // depth dumps hold them), e.g. for tests.
+  // depth dumps hold them), e.g. for tests. `parallelShadowMaps`: as RenderSettings' (false:
+  // one GL context draws every map, as on a GPU).
   std::vector<CubeDistances> renderShadowDistances(
       const Scene& scene, const std::vector<Light>& lights,
-      ShadowPassStrategy strategy = ShadowPassStrategy::Auto);
+      ShadowPassStrategy strategy = ShadowPassStrategy::Auto, bool parallelShadowMaps = true);
 
  private:
   class Impl;

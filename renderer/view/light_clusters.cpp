@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <thread>
 #include <utility>
 
 #include "renderer/core/in_parts.h"
@@ -160,10 +159,7 @@ LightClusters buildLightClusters(const std::vector<const Light*>& lights, const 
   ClusterBoxCache ownCache;
   ClusterBoxCache& boxCache = cache ? *cache : ownCache;
   const ClusterBoxes* boxes = reaches.empty() ? nullptr : &boxCache.boxes(clusters, camera);
-  const std::size_t parts =
-      reaches.size() < 16 ? 1
-                          : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1,
-                                                    std::min<std::size_t>(reaches.size() / 8, 16));
+  const std::size_t parts = partsFor(reaches.size());
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> pairs(parts);
   inParts(reaches.size(), parts, [&](std::size_t part, std::size_t first, std::size_t end) {
     for (std::size_t k = first; k < end; ++k) {
