@@ -172,9 +172,8 @@ class Bench:
             lines.append(f"| {n} | " + " | ".join(
                 f"{statistics.median(x.get(k, 0) for x in res[n]['warm']):.1f}" for k in stage_names) + " |")
         if self.a.reference:
-            lines += ["", "The GPU's image against llvmpipe's (`omnishadow diff`, 8-bit RGB as 0..1):", "",
-                      "| scene | max abs | mean abs | PSNR dB | pixels that differ |",
-                      "|---|---:|---:|---:|---:|"]
+            lines += diff_table_head("The GPU's image against llvmpipe's (`omnishadow diff`, "
+                                     "8-bit RGB as 0..1):")
             for n in PEERS:
                 ref = os.path.join(self.a.reference, f"{n}.png")
                 if not os.path.exists(ref):
@@ -338,10 +337,8 @@ class Bench:
                          f"{med(False, 'steady lighting'):.2f} | {med(True, 'steady lighting'):.2f} | "
                          f"{med(False, 'first'):.1f} | {med(True, 'first'):.1f} |")
         if self.a.reference:
-            lines += ["", "The `occlusion` debug view on this device against llvmpipe's "
-                      "(`omnishadow diff`, 8-bit as 0..1):", "",
-                      "| scene | max abs | mean abs | PSNR dB | pixels that differ |",
-                      "|---|---:|---:|---:|---:|"]
+            lines += diff_table_head("The `occlusion` debug view on this device against "
+                                     "llvmpipe's (`omnishadow diff`, 8-bit as 0..1):")
             for n in names:
                 ref = os.path.join(self.a.reference, f"{n}.occlusion.png")
                 if not os.path.exists(ref):
@@ -393,6 +390,12 @@ def occlusion_lights(lights, folder, name, on):
     with open(path, "w") as f:
         json.dump(data, f)
     return path
+
+
+def diff_table_head(title):
+    """The lines before diff_row()'s rows: a blank line, the title and the table's head."""
+    return ["", title, "", "| scene | max abs | mean abs | PSNR dB | pixels that differ |",
+            "|---|---:|---:|---:|---:|"]
 
 
 def diff_row(binary, name, a, b):

@@ -1156,13 +1156,15 @@ TEST(Shadows, StaticShadowMapsAreReusedForTheSameSceneAndLights) {
   EXPECT_EQ(fresh.beauty.pixels, reused.beauty.pixels);
 }
 
-// From 16 lights on, the batched pass finds each light's draws on several threads: the maps
-// are still six's, texel for texel.
-TEST(ShadowMap, TheBatchedPassOfManyLightsWritesSixsTexels) {
+namespace {
+
+// 60 boxes and spheres on a floor under 40 point lights with 32^2 maps and ranges of 3 m, placed
+// by `seed`: enough lights that their CPU work is spread over threads.
+std::pair<Scene, std::vector<Light>> manyLightsOnBlocks(unsigned seed) {
   Scene scene;
   const int grey = addMaterial(scene, glm::vec4(0.6f));
   addObject(scene, builder::makePlane(12.0f), glm::mat4(1.0f), grey);
-  std::mt19937 rng(11);
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(-5.0f, 5.0f);
   for (int i = 0; i < 60; ++i)
     addObject(scene, i % 2 ? builder::makeSphere(0.25f, 12, 6) : builder::makeBox(glm::vec3(0.25f)),
@@ -1174,6 +1176,15 @@ TEST(ShadowMap, TheBatchedPassOfManyLightsWritesSixsTexels) {
     light.range = 3.0f;
     lights.push_back(light);
   }
+  return {std::move(scene), std::move(lights)};
+}
+
+}  // namespace
+
+// From 16 lights on, the batched pass finds each light's draws on several threads: the maps
+// are still six's, texel for texel.
+TEST(ShadowMap, TheBatchedPassOfManyLightsWritesSixsTexels) {
+  const auto [scene, lights] = manyLightsOnBlocks(11);
   const auto six = sharedRenderer().renderShadowDistances(scene, lights, ShadowPassStrategy::Six);
   const auto batched =
       sharedRenderer().renderShadowDistances(scene, lights, ShadowPassStrategy::Batched);
@@ -1186,21 +1197,7 @@ TEST(ShadowMap, TheBatchedPassOfManyLightsWritesSixsTexels) {
 // draw lists ahead, on several threads: each light's map is the one it gets drawn among fewer
 // lights, whose work is done between their GL calls.
 TEST(ShadowMap, ManyLightsPlannedAheadInOneContextWriteTheirOwnTexels) {
-  Scene scene;
-  const int grey = addMaterial(scene, glm::vec4(0.6f));
-  addObject(scene, builder::makePlane(12.0f), glm::mat4(1.0f), grey);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> u(-5.0f, 5.0f);
-  for (int i = 0; i < 60; ++i)
-    addObject(scene, i % 2 ? builder::makeSphere(0.25f, 12, 6) : builder::makeBox(glm::vec3(0.25f)),
-              translate({u(rng), 0.4f, u(rng)}), grey);
-  std::vector<Light> lights;
-  for (int i = 0; i < 40; ++i) {
-    Light light =
-        pointLight("l" + std::to_string(i), {u(rng), 1.2f, u(rng)}, ShadowFilter::Pcf, 32);
-    light.range = 3.0f;
-    lights.push_back(light);
-  }
+  const auto [scene, lights] = manyLightsOnBlocks(5);
   for (const ShadowPassStrategy strategy :
        {ShadowPassStrategy::Six, ShadowPassStrategy::Instanced}) {
     const auto together = sharedRenderer().renderShadowDistances(scene, lights, strategy, false);

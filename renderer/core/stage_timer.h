@@ -20,25 +20,13 @@ constexpr const char* kGpuWaitPrefix = "GPU wait: ";
 // that runs several times (lighting in several passes) is one row with its total.
 class StageTimes {
  public:
-  void add(const std::string& stage, double milliseconds) {
-    for (auto& [name, total] : stages_)
-      if (name == stage) {
-        total += milliseconds;
-        return;
-      }
-    stages_.emplace_back(stage, milliseconds);
-  }
+  void add(const std::string& stage, double milliseconds) { addTo(stages_, stage, milliseconds); }
   const std::vector<std::pair<std::string, double>>& stages() const { return stages_; }
   // The part of a stage spent waiting for the GPU to finish what the stage submitted (glFinish):
   // a stage whose wait is most of it is bound by the GPU, one with little wait by the CPU (our
   // work and the driver's). Included in the stage's own time, not added to total().
   void addWait(const std::string& stage, double milliseconds) {
-    for (auto& [name, total] : waits_)
-      if (name == stage) {
-        total += milliseconds;
-        return;
-      }
-    waits_.emplace_back(stage, milliseconds);
+    addTo(waits_, stage, milliseconds);
   }
   const std::vector<std::pair<std::string, double>>& waits() const { return waits_; }
   double total() const {
@@ -48,6 +36,15 @@ class StageTimes {
   }
 
  private:
+  using Rows = std::vector<std::pair<std::string, double>>;
+  static void addTo(Rows& rows, const std::string& stage, double milliseconds) {
+    for (auto& [name, total] : rows)
+      if (name == stage) {
+        total += milliseconds;
+        return;
+      }
+    rows.emplace_back(stage, milliseconds);
+  }
   std::vector<std::pair<std::string, double>> stages_;
   std::vector<std::pair<std::string, double>> waits_;
 };
