@@ -33,7 +33,7 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
                    "(one pass for the frame's point lights) or auto (default; six: the fastest "
                    "measured on llvmpipe; on NVIDIA H100 and H200 GPUs within 10% of instanced, "
                    "1.6-2.9x faster than geometry, and 1.1-1.2x faster than batched with 256 "
-                   "lights)")
+                   "lights at 512^2 and 1024^2)")
         ->check(CLI::IsMember({"auto", "six", "geometry", "instanced", "batched"}));
   if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
     app.add_option("--depth-prepass", o.depthPrepass,
