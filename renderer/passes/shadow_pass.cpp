@@ -263,17 +263,14 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
                                            bool wholeTexture) {
   std::vector<int> flatLeftOut;
   if (lights.empty()) return flatLeftOut;
-  const int resolution = target.key.resolution;
   // Each light's culling and draws are CPU work of its own, which the driver waits for: from
-  // 16 lights on, spread over the machine's threads (a GPU's host has cores to spare).
+  // 16 lights on, spread over the machine's threads (a GPU's host has cores to spare). Drawn
+  // as Instanced draws them (the target is a cube map array without moments).
   std::vector<LightDraws> perLight(lights.size());
   const auto planLights = [&](std::size_t /*part*/, std::size_t first, std::size_t end) {
-    for (std::size_t i = first; i < end; ++i) {
-      perLight[i] = lightDraws(scene, sceneCasters, *lights[i].light, *lights[i].plan,
-                               ShadowLayering::Instanced, true, false, everyCaster);
-      perLight[i].texels =
-          casterTexels(sceneCasters.casters, perLight[i].culling, *lights[i].plan, resolution);
-    }
+    for (std::size_t i = first; i < end; ++i)
+      perLight[i] = planDraws(scene, sceneCasters, *lights[i].light, *lights[i].plan, target,
+                              ShadowPassStrategy::Instanced, everyCaster);
   };
   inParts(lights.size(), partsFor(lights.size()), planLights);
   for (const LightDraws& draws : perLight) flatLeftOut.push_back(draws.culling.flatLeftOut);
@@ -346,7 +343,8 @@ std::vector<int> ShadowPass::renderBatched(const GpuScene& scene, const SceneVer
   const GLuint fb = framebuffer_.get();
   glBindFramebuffer(GL_FRAMEBUFFER, fb);
   const ShadowSettings& settings = lights.front().light->shadow;
-  rasterState(settings, false, resolution).apply();  // before the clears, which obey its masks
+  // Before the clears, which obey its masks.
+  rasterState(settings, false, target.key.resolution).apply();
   glNamedFramebufferDrawBuffer(fb, GL_NONE);
   glNamedFramebufferReadBuffer(fb, GL_NONE);
   glNamedFramebufferTexture(fb, GL_DEPTH_ATTACHMENT, target.depth.get(), 0);  // every layer
