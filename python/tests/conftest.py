@@ -1,6 +1,7 @@
 """Shared fixtures: the module (PYTHONPATH=build/python, set by CTest), the CLI binary, one
 Renderer per test session (made on the main thread) and the repository's scenes."""
 
+import json
 import os
 import subprocess
 from pathlib import Path
@@ -36,6 +37,17 @@ def run_cli(binary, *args):
     """Runs the CLI; returns (exit status, stdout, stderr)."""
     done = subprocess.run([binary, *map(str, args)], capture_output=True, text=True)
     return done.returncode, done.stdout, done.stderr
+
+
+def cli_render_demo(binary, setup, tmp_path, width, height):
+    """The demo scene rendered by the CLI with the lights file `setup` (a dict) at width x
+    height, which must succeed: its PNG as read_image() gives it, (pixels, channel names)."""
+    lights_path = tmp_path / "lights.json"
+    lights_path.write_text(json.dumps(setup))
+    status, _, stderr = run_cli(binary, "render", DEMO_SCENE, "-l", lights_path, "--width", width,
+                                "--height", height, "-o", tmp_path / "cli.png")
+    assert status == 0, stderr
+    return omnishadow.read_image(tmp_path / "cli.png")
 
 
 def cli_error(binary, *args):

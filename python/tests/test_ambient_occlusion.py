@@ -1,13 +1,11 @@
 """Ambient occlusion through the module: the same pixels as the CLI, the lights file's fields as
 a dict, and the ambient light it darkens."""
 
-import json
-
 import numpy as np
 import pytest
 
 import omnishadow
-from conftest import DEMO_SCENE, run_cli
+from conftest import cli_render_demo
 
 
 def test_the_module_and_the_cli_render_the_same_occlusion(binary, renderer, demo_scene,
@@ -15,13 +13,8 @@ def test_the_module_and_the_cli_render_the_same_occlusion(binary, renderer, demo
     setup = {"ambient": [0.4, 0.4, 0.4], "ambient_occlusion": {"radius": 0.5},
              "lights": [{"name": "key", "type": "point", "position": [2, 3, 2],
                          "intensity": 30}]}
-    lights_path = tmp_path / "lights.json"
-    lights_path.write_text(json.dumps(setup))
-    status, _, stderr = run_cli(binary, "render", DEMO_SCENE, "-l", lights_path, "--width", 96,
-                                "--height", 64, "-o", tmp_path / "cli.png")
-    assert status == 0, stderr
+    png, _ = cli_render_demo(binary, setup, tmp_path, 96, 64)
     frame = renderer.render(demo_scene, omnishadow.load_lights(setup), width=96, height=64)
-    png, _ = omnishadow.read_image(tmp_path / "cli.png")
     np.testing.assert_array_equal(frame.to_srgb8(), np.round(png * 255).astype(np.uint8))
 
 

@@ -1,13 +1,11 @@
 """Environment lighting through the module: the same pixels as the CLI, the lights file's
 fields as a dict, and the error of an image that cannot be read."""
 
-import json
-
 import numpy as np
 import pytest
 
 import omnishadow
-from conftest import DEMO_SCENE, SOURCE_DIR, run_cli
+from conftest import SOURCE_DIR, cli_render_demo
 
 SKY = SOURCE_DIR / "scenes" / "environments" / "sky.exr"
 
@@ -18,13 +16,8 @@ def test_the_module_and_the_cli_render_the_same_environment(binary, renderer, de
                              "background": True},
              "lights": [{"name": "sun", "type": "directional", "direction": [-1, -1, -1],
                          "intensity": 2}]}
-    lights_path = tmp_path / "lights.json"
-    lights_path.write_text(json.dumps(setup))
-    status, _, stderr = run_cli(binary, "render", DEMO_SCENE, "-l", lights_path, "--width", 64,
-                                "--height", 48, "-o", tmp_path / "cli.png")
-    assert status == 0, stderr
+    png, channels = cli_render_demo(binary, setup, tmp_path, 64, 48)
     frame = renderer.render(demo_scene, omnishadow.load_lights(setup), width=64, height=48)
-    png, channels = omnishadow.read_image(tmp_path / "cli.png")
     assert channels == ["R", "G", "B"]
     np.testing.assert_array_equal(frame.to_srgb8(), np.round(png * 255).astype(np.uint8))
     # The background makes every pixel opaque.
