@@ -16,7 +16,8 @@ std::vector<T> unindexed(const std::vector<T>& values, const std::vector<std::ui
   return out;
 }
 
-// Any unit vector perpendicular to n, for tangents the UVs cannot define.
+}  // namespace
+
 glm::vec3 anyPerpendicular(const glm::vec3& n) {
   const glm::vec3 axis =
       std::abs(n.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
@@ -24,8 +25,6 @@ glm::vec3 anyPerpendicular(const glm::vec3& n) {
   const float length = glm::length(t);
   return length > 0.0f && std::isfinite(length) ? t / length : axis;  // n was zero or NaN
 }
-
-}  // namespace
 
 void generateNormals(Mesh& mesh) {
   const std::size_t triangles = mesh.indices.size() / 3;

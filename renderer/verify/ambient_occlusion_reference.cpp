@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "renderer/scene/tangents.h"
+
 namespace omnishadow {
 
 float ambientVisibility(const ShadowReference& reference, const glm::vec3& point,
@@ -10,8 +12,7 @@ float ambientVisibility(const ShadowReference& reference, const glm::vec3& point
   const int side = std::max(1, static_cast<int>(std::sqrt(static_cast<float>(samples))));
   // Any frame around the normal: the grid covers the whole disk either way.
   const glm::vec3 n = glm::normalize(normal);
-  const glm::vec3 helper = std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-  const glm::vec3 t = glm::normalize(glm::cross(helper, n));
+  const glm::vec3 t = anyPerpendicular(n);
   const glm::vec3 b = glm::cross(n, t);
   const glm::vec3 origin = point + n * reference.epsilon();
   int open = 0;
