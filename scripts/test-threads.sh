@@ -19,7 +19,7 @@ build="$root/build-tsan"
 tests=(parallel_shadow_maps_test concurrent_renderers_test steady_frames_test robustness_test
   render_test verify_test batch_test cli_test camera_sets_test material_render_test
   gltf_loader_test jpeg_texture_test png_texture_test image_mipmaps_test mipmap_queue_test
-  memory_warmup_test texture_cache_test scene_fingerprint_test view_math_test)
+  memory_warmup_test texture_cache_test scene_fingerprint_test view_math_test in_parts_test)
 
 reports="$build/tsan-reports"
 mkdir -p "$build"

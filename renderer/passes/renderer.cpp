@@ -38,9 +38,13 @@
 namespace omnishadow {
 namespace {
 
-// From this many maps drawn in one context, their CPU work is done ahead on several threads
+// From this many maps drawn in one context, their CPU work is done ahead on threads of its own
 // (drawSpread): fewer gain less than the threads cost to start.
 constexpr std::size_t kPlannedAheadLights = 16;
+// Planning a light takes one thread about 35 us (256 lights on 1M triangles, llvmpipe's host);
+// the H200 draws one in 140-290 us. Two threads keep well ahead; more only cost more to start:
+// with 16, that frame's first shadow maps took 4 ms longer (docs/performance.md).
+constexpr std::size_t kPlanningThreads = 2;
 
 // Ends a stage's GL work: glFinish, with the time it blocked recorded as the stage's GPU wait.
 void finishStage(StageTimes& times, const std::string& stage) {
@@ -628,19 +632,20 @@ void Renderer::Impl::drawSpread(Prepared& prepared, const SceneCasters* casters,
     }
   }
   // One context drawing many maps (a GPU's): the lights' culling, draw lists and texel
-  // rectangles worked out first, on the machine's threads, rather than each between its
-  // light's GL calls, where the driver waits for it (256 lights on 1M triangles: 10 ms of CPU
-  // a frame on this machine's one thread; docs/performance.md).
+  // rectangles worked out on other threads in light order while this one feeds the driver the
+  // lights already planned. Not between each light's GL calls, where the driver waits for them
+  // (256 lights on 1M triangles: 10 ms of CPU a frame on llvmpipe's host), nor all before the
+  // first GL call, where the GPU waits: on the H200 that made the shadow maps 4-5 ms slower
+  // (docs/performance.md).
   std::vector<ShadowPass::LightDraws> planned;
+  std::optional<InOrderAhead> planning;
   if (!worker && casters && drawn.size() >= kPlannedAheadLights) {
     planned.resize(drawn.size());
-    inParts(drawn.size(), partsFor(drawn.size()),
-            [&](std::size_t /*part*/, std::size_t first, std::size_t end) {
-              for (std::size_t k = first; k < end; ++k)
-                planned[k] =
-                    ShadowPass::planDraws(prepared.gpu, *casters, *drawn[k].light, *drawn[k].plan,
-                                          *drawn[k].target, strategy, everyCaster);
-            });
+    planning.emplace(drawn.size(), kPlanningThreads, [&](std::size_t first, std::size_t end) {
+      for (std::size_t k = first; k < end; ++k)
+        planned[k] = ShadowPass::planDraws(prepared.gpu, *casters, *drawn[k].light, *drawn[k].plan,
+                                           *drawn[k].target, strategy, everyCaster);
+    });
     for (std::size_t k = 0; k < drawn.size(); ++k) drawn[k].planned = &planned[k];
   }
   // Waits for the worker also when drawing here throws: it reads what this frame owns.
@@ -656,6 +661,7 @@ void Renderer::Impl::drawSpread(Prepared& prepared, const SceneCasters* casters,
   } wait{worker};
   for (std::size_t k = 0; k < drawn.size(); ++k) {
     if (worker && k % 2 == 1) continue;
+    if (planning) planning->ready(k);
     drawHere(drawn[k]);
     finishLight(drawn[k]);
   }
