@@ -540,12 +540,21 @@ TEST(LightClusters, CachedBoxesGiveTheClustersOfEachCamera) {
   }
 }
 
-// From 16 ranged lights on, the lights' clusters are found on several threads: each list must
-// be what each light alone gives, in light order, with the lights reaching everywhere first.
+// From 16 ranged lights on, the clusters' rows are listed on several threads, in blocks of
+// rows dealt out in turn: each list must be what each light alone gives, in light order, with
+// the lights reaching everywhere first. The second grid's 13 x 23 rows do not fill their last
+// block, and its 21 columns are not the rows' count.
 TEST(LightClusters, ManyLightsListEachClusterAsEachLightAloneDoes) {
-  for (const bool orthographic : {false, true}) {
+  struct Grid {
+    bool orthographic;
+    int width, height, slices;
+  };
+  for (const Grid grid : {Grid{false, 320, 320, 24}, Grid{true, 320, 320, 24},
+                          Grid{false, 328, 200, 23}, Grid{true, 328, 200, 23}}) {
     ViewCamera camera = topDownCamera();
-    if (orthographic) {
+    camera.width = grid.width;
+    camera.height = grid.height;
+    if (grid.orthographic) {
       camera.orthographic = true;
       camera.projection = reversedOrthographic(12.0f, 12.0f, 0.01f, 30.0f);
     }
@@ -554,12 +563,15 @@ TEST(LightClusters, ManyLightsListEachClusterAsEachLightAloneDoes) {
     storage[7].range = 0.0f;  // reaches everywhere
     const std::vector<const Light*> lights = pointersTo(storage);
     ClusterBoxCache cache;
-    const LightClusters all = buildLightClusters(lights, camera, 20.0f, 16, 24, &cache);
+    const LightClusters all = buildLightClusters(lights, camera, 20.0f, 16, grid.slices, &cache);
+    ASSERT_EQ(all.columns, (grid.width + 15) / 16);
     const std::size_t count = all.ranges.size() / 2;
+    ASSERT_EQ(count, static_cast<std::size_t>(all.columns * all.rows * grid.slices));
     std::vector<std::vector<std::uint32_t>> expected(count);
     for (std::size_t i = 0; i < storage.size(); ++i) {
       if (storage[i].range <= 0.0f) continue;
-      const LightClusters alone = buildLightClusters({&storage[i]}, camera, 20.0f, 16, 24, &cache);
+      const LightClusters alone =
+          buildLightClusters({&storage[i]}, camera, 20.0f, 16, grid.slices, &cache);
       ASSERT_EQ(alone.ranges.size(), all.ranges.size());
       for (std::size_t c = 0; c < count; ++c)
         if (alone.ranges[2 * c + 1] != 0) expected[c].push_back(static_cast<std::uint32_t>(i));
@@ -569,6 +581,8 @@ TEST(LightClusters, ManyLightsListEachClusterAsEachLightAloneDoes) {
     std::size_t pairs = 0;
     for (std::size_t c = 0; c < count; ++c) {
       ASSERT_EQ(clusterList(all, c), expected[c]) << "cluster " << c;
+      // Each list starts where the one before it ends: no gap, no overlap.
+      ASSERT_EQ(all.ranges[2 * c], 1 + pairs) << "cluster " << c;
       pairs += expected[c].size();
     }
     EXPECT_GT(pairs, 1000u);
