@@ -1,6 +1,7 @@
 // The 8-bit beauty (RenderSettings::srgb8Exposure): where the lighting pass encodes the PNG's
-// bytes itself, they are the bytes the CPU makes of the float beauty, exactly; where it cannot
-// (blended surfaces, --aa, AOVs) the frame keeps the float beauty.
+// bytes itself, or a pass after it encodes the float target's (blended and see-through
+// surfaces), they are the bytes the CPU makes of the float beauty, exactly; where neither can
+// (--aa, AOVs) the frame keeps the float beauty.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -57,6 +58,16 @@ Scene litScene() {
   test::placeMesh(scene, builder::makeSphere(0.6f, 32, 16),
                   glm::translate(glm::mat4(1.0f), {0.9f, 0.6f, 0.3f}), addMaterial(scene, metal));
   return scene;
+}
+
+// litScene() and a blended box, which the 8-bit target cannot take.
+Scene glassScene() {
+  Scene glass = litScene();
+  Material blended = colored({0.2f, 0.5f, 0.9f, 0.4f});
+  blended.alphaMode = AlphaMode::Blend;
+  test::placeMesh(glass, builder::makeBox({0.3f, 0.3f, 0.3f}),
+                  glm::translate(glm::mat4(1.0f), {0.0f, 1.5f, 1.0f}), addMaterial(glass, blended));
+  return glass;
 }
 
 std::vector<Light> litLights() {
@@ -179,31 +190,84 @@ TEST(Srgb8Beauty, EveryByteStepIsWhereTheCpuPutsIt) {
   }
 }
 
-// Blended surfaces, several samples a pixel and AOVs need the float beauty: the frame has it,
-// and no 8-bit one.
+// Several samples a pixel and AOVs need the float beauty: the frame has it, and no 8-bit one.
 TEST(Srgb8Beauty, FramesThePassCannotEncodeKeepTheFloatBeauty) {
   const std::vector<Light> lights = litLights();
-  Scene glass = litScene();
-  Material blended = colored({0.2f, 0.5f, 0.9f, 0.4f});
-  blended.alphaMode = AlphaMode::Blend;
-  test::placeMesh(glass, builder::makeBox({0.3f, 0.3f, 0.3f}),
-                  glm::translate(glm::mat4(1.0f), {0.0f, 1.5f, 1.0f}), addMaterial(glass, blended));
   const Scene plain = litScene();
   struct Case {
     const char* what;
-    const Scene* scene;
     RenderSettings settings;
   };
-  for (const Case& c : {Case{"blended", &glass, {.srgb8Exposure = 0.0f}},
-                        Case{"aa", &plain, {.antialiasing = 4, .srgb8Exposure = 0.0f}},
-                        Case{"aovs", &plain, {.aovs = true, .srgb8Exposure = 0.0f}}}) {
+  for (const Case& c : {Case{"aa", {.antialiasing = 4, .srgb8Exposure = 0.0f}},
+                        Case{"aovs", {.aovs = true, .srgb8Exposure = 0.0f}}}) {
     SCOPED_TRACE(c.what);
-    const ViewCamera camera = litCamera(*c.scene);
-    const Frame frame = render(*c.scene, lights, camera, c.settings);
+    const ViewCamera camera = litCamera(plain);
+    const Frame frame = render(plain, lights, camera, c.settings);
     EXPECT_FALSE(frame.srgb8.has_value());
     EXPECT_EQ(frame.beauty.pixels.size(),
               static_cast<std::size_t>(camera.width) * camera.height * 4);
   }
+}
+
+// Blended and see-through surfaces need the float target; the frame's 8-bit beauty is then
+// encoded from it on the GPU (Srgb8Resolve): the same bytes as toSrgb8() of the float frame, at
+// odd sizes and exposures too, and the masks' object ids the same as beside the float beauty.
+TEST(Srgb8Beauty, FloatFramesEncodedOnTheGpuEqualTheCpuEncoding) {
+  const std::vector<Light> lights = litLights();
+  const Scene glass = glassScene();
+  Scene window = litScene();
+  Material clear = colored({0.9f, 0.9f, 0.95f, 1.0f});
+  clear.transmissionFactor = 0.8f;
+  test::placeMesh(window, builder::makeBox({0.4f, 0.4f, 0.05f}),
+                  glm::translate(glm::mat4(1.0f), {0.0f, 0.8f, 1.5f}), addMaterial(window, clear));
+  ASSERT_TRUE(hasTransmission(window.materials.back()));
+  struct Case {
+    const char* what;
+    const Scene* scene;
+    int width, height;
+    float exposure;
+    bool objectIds;
+  };
+  for (const Case& c : {Case{"blended", &glass, 160, 96, 0.0f, false},
+                        Case{"blended, odd size, exposure", &glass, 61, 37, -1.25f, false},
+                        Case{"blended, ids", &glass, 160, 96, 0.5f, true},
+                        Case{"see-through", &window, 97, 64, 0.75f, false}}) {
+    SCOPED_TRACE(c.what);
+    const ViewCamera camera = litCamera(*c.scene, c.width, c.height);
+    const Frame linear = render(*c.scene, lights, camera, {.objectIds = c.objectIds});
+    const Frame encoded = render(*c.scene, lights, camera,
+                                 {.objectIds = c.objectIds,
+                                  .srgb8Exposure = c.exposure,
+                                  .floatBeautyEncoding = FloatBeautyEncoding::Gpu});
+    ASSERT_TRUE(encoded.srgb8.has_value());
+    EXPECT_TRUE(encoded.beauty.pixels.empty());
+    EXPECT_EQ(encoded.srgb8->width, c.width);
+    EXPECT_EQ(encoded.srgb8->height, c.height);
+    const std::vector<std::uint8_t> expected = toSrgb8(linear.beauty, c.exposure);
+    ASSERT_EQ(encoded.srgb8->rgb.size(), expected.size());
+    std::size_t differ = 0, lit = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      differ += encoded.srgb8->rgb[i] != expected[i];
+      lit += expected[i] > 0;
+    }
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(lit, expected.size() / 2);  // the picture is not black
+    if (c.objectIds) {
+      ASSERT_TRUE(linear.objectIds && encoded.objectIds);
+      EXPECT_EQ(encoded.objectIds->pixels, linear.objectIds->pixels);
+    }
+  }
+}
+
+// FloatBeautyEncoding::Cpu keeps the float beauty of such a frame for the caller to encode.
+TEST(Srgb8Beauty, FloatFramesLeftToTheCpuKeepTheFloatBeauty) {
+  const Scene glass = glassScene();
+  const ViewCamera camera = litCamera(glass);
+  const Frame frame =
+      render(glass, litLights(), camera,
+             {.srgb8Exposure = 0.0f, .floatBeautyEncoding = FloatBeautyEncoding::Cpu});
+  EXPECT_FALSE(frame.srgb8.has_value());
+  EXPECT_EQ(frame.beauty.pixels.size(), static_cast<std::size_t>(camera.width) * camera.height * 4);
 }
 
 // The pass keeps its 8-bit targets for the next frame of the same size, and a float frame in

@@ -27,6 +27,7 @@
 #include "renderer/passes/shadow_pass.h"
 #include "renderer/passes/shadow_textures.h"
 #include "renderer/passes/shadow_worker.h"
+#include "renderer/passes/srgb8_resolve.h"
 #include "renderer/passes/transmittance_pass.h"
 #include "renderer/passes/vsm_filter.h"
 #include "renderer/render/antialiasing.h"
@@ -85,39 +86,9 @@ FloatPixels readAttachment(const FrameTargets& targets, int index, bool glRowOrd
   return pixels;
 }
 
-// One row of RGBA bytes as RGB, two pixels a step through 64-bit words: byte by byte, the
-// copy took 0.56 ms of a 1280x720 frame's readback, this way 0.28. A step stores 8 bytes for
-// its 6, into the next pixel's place, which a later step fills; so each step needs a pixel
-// after its pair, and the row's last one or two go byte by byte.
-void rgbaRowToRgb(const std::uint8_t* from, std::uint8_t* to, int width) {
-  int x = 0;
-  if constexpr (std::endian::native == std::endian::little) {
-    for (; x + 3 <= width; x += 2, from += 8, to += 6) {
-      std::uint64_t pair = 0;
-      std::memcpy(&pair, from, 8);
-      pair = (pair & 0xFFFFFFull) | ((pair >> 8) & 0xFFFFFF000000ull);
-      std::memcpy(to, &pair, 8);
-    }
-  }
-  for (; x < width; ++x, from += 4, to += 3) {
-    to[0] = from[0];
-    to[1] = from[1];
-    to[2] = from[2];
-  }
-}
-
 // The RGB bytes of an Srgb8 target, first row = top.
 Srgb8Image readSrgb8(const FrameTargets& targets, bool glRowOrder) {
-  const int w = targets.width(), h = targets.height();
-  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * h * 4);
-  glGetTextureImage(targets.color(0), 0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
-                    static_cast<GLsizei>(rgba.size()), rgba.data());
-  Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
-  // The copy into RGB turns the rows around too.
-  for (int y = 0; y < h; ++y)
-    rgbaRowToRgb(rgba.data() + static_cast<std::size_t>(glRowOrder ? y : h - 1 - y) * w * 4,
-                 image.rgb.data() + static_cast<std::size_t>(y) * w * 3, w);
-  return image;
+  return readSrgb8Texture(targets.color(0), targets.width(), targets.height(), glRowOrder);
 }
 
 // Whether the lighting pass can encode the frame's beauty into 8-bit sRGB itself
@@ -260,6 +231,15 @@ class Renderer::Impl {
   void drawSrgb8(Prepared& prepared, const ViewCamera& camera, const LightingAmbience& ambient,
                  const RenderSettings& settings, PassParameters parameters, Frame& frame,
                  StageTimes& times);
+  // Whether a frame whose beauty the lighting pass draws in float has it encoded on the GPU
+  // (RenderSettings::floatBeautyEncoding).
+  bool encodesFloatBeautyOnGpu(const RenderSettings& settings) const;
+  // The float beauty's pass, then its 8-bit encoding on the GPU (Srgb8Resolve): for frames
+  // with srgb8Exposure the lighting pass cannot encode itself (blended or see-through surfaces).
+  void drawResolvedSrgb8(Prepared& prepared, const ViewCamera& camera,
+                         const LightingAmbience& ambient, const RenderSettings& settings,
+                         const PassParameters& parameters, Frame& frame, StageTimes& times,
+                         IdPixels& ids);
   // With one sample, the ids beside it into `ids` where the beauty's outputs are BeautyIds.
   FloatImage drawAntialiasedBeauty(Prepared& prepared, const ViewCamera& camera,
                                    const LightingAmbience& ambient, const RenderSettings& settings,
@@ -313,6 +293,7 @@ class Renderer::Impl {
   std::unique_ptr<ShadowPass> shadowPass_;
   std::unique_ptr<VsmFilter> vsmFilter_;
   std::unique_ptr<TransmittancePass> transmittancePass_;  // made by the first translucent light
+  std::unique_ptr<Srgb8Resolve> srgb8Resolve_;  // made by the first float frame with srgb8Exposure
   TextureCache textureCache_;    // the last render's scene textures, for a render of it again
   GeometryCache geometryCache_;  // the last render's scene geometry, likewise
   TransmittanceAtlas transmittanceAtlas() const {
@@ -836,6 +817,33 @@ void Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
     frame.objectIds = readObjectIds(targets, 1, camera.glRowOrder);
 }
 
+bool Renderer::Impl::encodesFloatBeautyOnGpu(const RenderSettings& settings) const {
+  if (!settings.srgb8Exposure || settings.aovs || settings.antialiasing != 1) return false;
+  return settings.floatBeautyEncoding == FloatBeautyEncoding::Gpu ||
+         (settings.floatBeautyEncoding == FloatBeautyEncoding::Auto && !softwareRasterizer_);
+}
+
+void Renderer::Impl::drawResolvedSrgb8(Prepared& prepared, const ViewCamera& camera,
+                                       const LightingAmbience& ambient,
+                                       const RenderSettings& settings,
+                                       const PassParameters& parameters, Frame& frame,
+                                       StageTimes& times, IdPixels& ids) {
+  const PassOutputs outputs = prepared.beautyOutputs;
+  FrameTargets& targets = beautyTargets(camera.width, camera.height, outputs);
+  {
+    ScopedStage stage(times, "lighting");
+    lightingPass(settings.shading, outputs, prepared.features)
+        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
+                ambient, targets, parameters);
+    finishStage(times, "lighting");
+  }
+  ScopedStage readback(times, "readback");
+  if (!srgb8Resolve_) srgb8Resolve_ = std::make_unique<Srgb8Resolve>();
+  frame.srgb8 = srgb8Resolve_->resolve(targets.color(0), camera.width, camera.height,
+                                       std::exp2(*settings.srgb8Exposure), camera.glRowOrder);
+  if (outputs == PassOutputs::BeautyIds) ids = readIdPixels(targets, 1, camera.glRowOrder);
+}
+
 // The mean of the beauty through each sample offset (one offset, the pixel center, without
 // anti-aliasing); the shadow maps are shared by every sample.
 FloatImage Renderer::Impl::drawAntialiasedBeauty(Prepared& prepared, const ViewCamera& camera,
@@ -1241,6 +1249,8 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     IdPixels ids;  // written beside the float beauty (BeautyIds)
     if (writesSrgb8(prepared.beautyOutputs))
       drawSrgb8(prepared, camera, ambient, settings, parameters, frame, times);
+    else if (encodesFloatBeautyOnGpu(settings))
+      drawResolvedSrgb8(prepared, camera, ambient, settings, parameters, frame, times, ids);
     else
       frame.beauty =
           drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times, ids);
@@ -1365,8 +1375,13 @@ double Renderer::Impl::frameBytes(const Scene& scene, const std::vector<Light>& 
   double bytes = plan.shadows.bytes;
   if (drawsBeauty(settings)) {
     const PassOutputs outputs = beautyOutputs(scene, settings);
+    // What is read back a pixel: RGB bytes, or the float RGBA; encoded on the GPU, its RGBA8UI
+    // target and the RGB bytes.
+    const double readback = writesSrgb8(outputs)                ? 3.0
+                            : encodesFloatBeautyOnGpu(settings) ? 4.0 + 3.0
+                                                                : 16.0;
     bytes += FrameTargets::bytes(camera.width, camera.height, outputs) +
-             static_cast<double>(camera.width) * camera.height * (writesSrgb8(outputs) ? 3 : 16);
+             static_cast<double>(camera.width) * camera.height * readback;
   }
   return bytes;
 }

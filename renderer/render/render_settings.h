@@ -33,6 +33,19 @@ ShadowPassStrategy parseShadowPassStrategy(const std::string& name);
 // the CLI lists them in its option).
 bool isShadowPassStrategyName(const std::string& name);
 
+// Where the PNG bytes of a beauty drawn in float are made (RenderSettings::srgb8Exposure with
+// blended or see-through surfaces, which the lighting pass cannot encode itself). The bytes are
+// the same either way.
+enum class FloatBeautyEncoding {
+  // On the GPU except on a software rasterizer (llvmpipe), where the float target's read back
+  // is a copy in memory and the pass costs more than it saves (1280x720: readback 1.5 -> 6.2 ms).
+  Auto,
+  // A pass after the lighting encodes the float target into an 8-bit one, read back at a quarter
+  // of the bytes (an H200: readback 7.6-8.1 -> 1.8-2.5 ms a 1280x720 frame); Frame::srgb8.
+  Gpu,
+  Cpu,  // the float beauty read back, Frame::beauty, encoded by the caller (toSrgb8())
+};
+
 // Whether the beauty's opaque surfaces first write their depth alone, so that the light loop
 // runs once a pixel (--depth-prepass). The picture is the same either way; the speed depends on
 // how many surfaces hide others and on the driver (docs/performance.md).
@@ -101,8 +114,11 @@ struct RenderSettings {
   // Set, for callers that want the beauty only as 8-bit sRGB (a PNG): where it can (no AOVs, no
   // --aa, no blended surfaces in the scene) the lighting pass encodes the beauty times
   // 2^srgb8Exposure itself, into an 8-bit target a quarter of the float one's size to clear and
-  // read back, and render() fills Frame::srgb8 instead of Frame::beauty.
+  // read back, and render() fills Frame::srgb8 instead of Frame::beauty; with blended or
+  // see-through surfaces, a pass after it may (floatBeautyEncoding).
   std::optional<float> srgb8Exposure{};
+  // With srgb8Exposure, for the frames the lighting pass cannot encode itself.
+  FloatBeautyEncoding floatBeautyEncoding = FloatBeautyEncoding::Auto;
 };
 
 // Asks for each pixel's objectId (annotation masks): the AOVs' objectId layer when `settings`
