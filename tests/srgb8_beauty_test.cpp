@@ -99,6 +99,25 @@ ViewCamera litCamera(const Scene& scene, int width = 160, int height = 96) {
   return lookFrom(scene, {0.0f, 3.0f, 5.0f}, {0.0f, 0.3f, 0.0f}, width, height);
 }
 
+// `encoded` has an 8-bit beauty alone, of width x height, each byte what toSrgb8() makes of
+// `linear`'s float beauty with `exposure`, and the picture is not black.
+void expectCpuEncoding(const Frame& encoded, const Frame& linear, float exposure, int width,
+                       int height) {
+  ASSERT_TRUE(encoded.srgb8.has_value());
+  EXPECT_TRUE(encoded.beauty.pixels.empty());
+  EXPECT_EQ(encoded.srgb8->width, width);
+  EXPECT_EQ(encoded.srgb8->height, height);
+  const std::vector<std::uint8_t> expected = toSrgb8(linear.beauty, exposure);
+  ASSERT_EQ(encoded.srgb8->rgb.size(), expected.size());
+  std::size_t differ = 0, lit = 0;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    differ += encoded.srgb8->rgb[i] != expected[i];
+    lit += expected[i] > 0;
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GT(lit, expected.size() / 2);
+}
+
 // The bytes of an encoded frame equal toSrgb8() of the float frame, whatever the exposure, the
 // shading model or the debug view; the float beauty is then left out.
 TEST(Srgb8Beauty, EqualsTheCpuEncodingOfTheFloatBeauty) {
@@ -119,19 +138,7 @@ TEST(Srgb8Beauty, EqualsTheCpuEncodingOfTheFloatBeauty) {
     const Frame linear = render(scene, lights, camera, settings);
     settings.srgb8Exposure = c.exposure;
     const Frame encoded = render(scene, lights, camera, settings);
-    ASSERT_TRUE(encoded.srgb8.has_value());
-    EXPECT_TRUE(encoded.beauty.pixels.empty());
-    EXPECT_EQ(encoded.srgb8->width, camera.width);
-    EXPECT_EQ(encoded.srgb8->height, camera.height);
-    const std::vector<std::uint8_t> expected = toSrgb8(linear.beauty, c.exposure);
-    ASSERT_EQ(encoded.srgb8->rgb.size(), expected.size());
-    std::size_t differ = 0, lit = 0;
-    for (std::size_t i = 0; i < expected.size(); ++i) {
-      differ += encoded.srgb8->rgb[i] != expected[i];
-      lit += expected[i] > 0;
-    }
-    EXPECT_EQ(differ, 0u);
-    EXPECT_GT(lit, expected.size() / 2);  // the picture is not black
+    expectCpuEncoding(encoded, linear, c.exposure, camera.width, camera.height);
   }
 }
 
@@ -239,19 +246,7 @@ TEST(Srgb8Beauty, FloatFramesEncodedOnTheGpuEqualTheCpuEncoding) {
                                  {.objectIds = c.objectIds,
                                   .srgb8Exposure = c.exposure,
                                   .floatBeautyEncoding = FloatBeautyEncoding::Gpu});
-    ASSERT_TRUE(encoded.srgb8.has_value());
-    EXPECT_TRUE(encoded.beauty.pixels.empty());
-    EXPECT_EQ(encoded.srgb8->width, c.width);
-    EXPECT_EQ(encoded.srgb8->height, c.height);
-    const std::vector<std::uint8_t> expected = toSrgb8(linear.beauty, c.exposure);
-    ASSERT_EQ(encoded.srgb8->rgb.size(), expected.size());
-    std::size_t differ = 0, lit = 0;
-    for (std::size_t i = 0; i < expected.size(); ++i) {
-      differ += encoded.srgb8->rgb[i] != expected[i];
-      lit += expected[i] > 0;
-    }
-    EXPECT_EQ(differ, 0u);
-    EXPECT_GT(lit, expected.size() / 2);  // the picture is not black
+    expectCpuEncoding(encoded, linear, c.exposure, c.width, c.height);
     if (c.objectIds) {
       ASSERT_TRUE(linear.objectIds && encoded.objectIds);
       EXPECT_EQ(encoded.objectIds->pixels, linear.objectIds->pixels);

@@ -228,6 +228,12 @@ class Renderer::Impl {
                         const PassParameters& parameters, StageTimes* times,
                         PassOutputs outputs = PassOutputs::Beauty, IdPixels* ids = nullptr);
   // frame.srgb8, and frame.objectIds where the beauty's outputs are Srgb8Ids.
+  // The beauty's lighting pass into its targets of `outputs` (the "lighting" stage, to the GPU's
+  // finish); the callers read them back.
+  FrameTargets& drawLighting(Prepared& prepared, const ViewCamera& camera,
+                             const LightingAmbience& ambient, const RenderSettings& settings,
+                             const PassParameters& parameters, PassOutputs outputs,
+                             StageTimes& times);
   void drawSrgb8(Prepared& prepared, const ViewCamera& camera, const LightingAmbience& ambient,
                  const RenderSettings& settings, PassParameters parameters, Frame& frame,
                  StageTimes& times);
@@ -775,6 +781,20 @@ FrameTargets& Renderer::Impl::beautyTargets(int width, int height, PassOutputs o
   return keptTargets(beautyTargets_[writesSrgb8(outputs) ? 1 : 0], width, height, outputs);
 }
 
+FrameTargets& Renderer::Impl::drawLighting(Prepared& prepared, const ViewCamera& camera,
+                                           const LightingAmbience& ambient,
+                                           const RenderSettings& settings,
+                                           const PassParameters& parameters, PassOutputs outputs,
+                                           StageTimes& times) {
+  FrameTargets& targets = beautyTargets(camera.width, camera.height, outputs);
+  ScopedStage stage(times, "lighting");
+  lightingPass(settings.shading, outputs, prepared.features)
+      .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(), ambient,
+              targets, parameters);
+  finishStage(times, "lighting");
+  return targets;
+}
+
 FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& camera,
                                       const LightingAmbience& ambient,
                                       const RenderSettings& settings,
@@ -782,14 +802,8 @@ FloatImage Renderer::Impl::drawBeauty(Prepared& prepared, const ViewCamera& came
                                       PassOutputs outputs, IdPixels* ids) {
   StageTimes unused;
   StageTimes& stages = times ? *times : unused;
-  FrameTargets& targets = beautyTargets(camera.width, camera.height, outputs);
-  {
-    ScopedStage stage(stages, "lighting");
-    lightingPass(settings.shading, outputs, prepared.features)
-        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
-                ambient, targets, parameters);
-    finishStage(stages, "lighting");
-  }
+  FrameTargets& targets =
+      drawLighting(prepared, camera, ambient, settings, parameters, outputs, stages);
   ScopedStage readback(stages, "readback");
   FloatImage image{camera.width, camera.height, {"R", "G", "B", "A"}, {}};
   image.pixels = readAttachment(targets, 0, camera.glRowOrder, packInvert_);
@@ -801,15 +815,9 @@ void Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
                                const LightingAmbience& ambient, const RenderSettings& settings,
                                PassParameters parameters, Frame& frame, StageTimes& times) {
   const PassOutputs outputs = prepared.beautyOutputs;
-  FrameTargets& targets = beautyTargets(camera.width, camera.height, outputs);
   parameters.exposureScale = std::exp2(*settings.srgb8Exposure);  // as toSrgb8() scales
-  {
-    ScopedStage stage(times, "lighting");
-    lightingPass(settings.shading, outputs, prepared.features)
-        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
-                ambient, targets, parameters);
-    finishStage(times, "lighting");
-  }
+  FrameTargets& targets =
+      drawLighting(prepared, camera, ambient, settings, parameters, outputs, times);
   ScopedStage readback(times, "readback");
   frame.srgb8 = readSrgb8(targets, camera.glRowOrder);
   // Without blended surfaces no pixel takes a blended surface's id: the ids are complete.
@@ -829,14 +837,8 @@ void Renderer::Impl::drawResolvedSrgb8(Prepared& prepared, const ViewCamera& cam
                                        const PassParameters& parameters, Frame& frame,
                                        StageTimes& times, IdPixels& ids) {
   const PassOutputs outputs = prepared.beautyOutputs;
-  FrameTargets& targets = beautyTargets(camera.width, camera.height, outputs);
-  {
-    ScopedStage stage(times, "lighting");
-    lightingPass(settings.shading, outputs, prepared.features)
-        .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
-                ambient, targets, parameters);
-    finishStage(times, "lighting");
-  }
+  FrameTargets& targets =
+      drawLighting(prepared, camera, ambient, settings, parameters, outputs, times);
   ScopedStage readback(times, "readback");
   if (!srgb8Resolve_) srgb8Resolve_ = std::make_unique<Srgb8Resolve>();
   frame.srgb8 = srgb8Resolve_->resolve(targets.color(0), camera.width, camera.height,
