@@ -41,7 +41,7 @@ enum class FloatBeautyEncoding {
   // is a copy in memory and the pass costs more than it saves (1280x720: readback 1.5 -> 6.2 ms).
   Auto,
   // A pass after the lighting encodes the float target into an 8-bit one, read back at a quarter
-  // of the bytes (an H200: readback 7.6-8.1 -> 1.8-2.5 ms a 1280x720 frame); Frame::srgb8.
+  // of the bytes (an H200, Sundial at 1280x720: readback 5.9-8.1 -> 2.2-2.5 ms); Frame::srgb8.
   Gpu,
   Cpu,  // the float beauty read back, Frame::beauty, encoded by the caller (toSrgb8())
 };
