@@ -85,12 +85,13 @@ TEST(InOrderAhead, WhatARangeThrowsComesOutOfReadyForItsItems) {
 
 TEST(InOrderAhead, LeavingEarlyStopsTheRangesNotBegun) {
   std::atomic<std::size_t> made{0};
-  const std::size_t count = 80;
+  const std::size_t count = 400;
   {
-    // Two threads, 80 items of 10 ms: 400 ms if nothing stopped them.
+    // Two threads, 400 items of 5 ms: a second if nothing stopped them; ready(0) comes after one
+    // range (a 64th of the items), so half of them left is a wide margin on a loaded machine.
     InOrderAhead ahead(count, 2, [&](std::size_t first, std::size_t end) {
       for (std::size_t i = first; i < end; ++i) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
         made.fetch_add(1);
       }
     });
