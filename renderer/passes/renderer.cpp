@@ -227,13 +227,13 @@ class Renderer::Impl {
                         const LightingAmbience& ambient, const RenderSettings& settings,
                         const PassParameters& parameters, StageTimes* times,
                         PassOutputs outputs = PassOutputs::Beauty, IdPixels* ids = nullptr);
-  // frame.srgb8, and frame.objectIds where the beauty's outputs are Srgb8Ids.
   // The beauty's lighting pass into its targets of `outputs` (the "lighting" stage, to the GPU's
   // finish); the callers read them back.
   FrameTargets& drawLighting(Prepared& prepared, const ViewCamera& camera,
                              const LightingAmbience& ambient, const RenderSettings& settings,
                              const PassParameters& parameters, PassOutputs outputs,
                              StageTimes& times);
+  // frame.srgb8, and frame.objectIds where the beauty's outputs are Srgb8Ids.
   void drawSrgb8(Prepared& prepared, const ViewCamera& camera, const LightingAmbience& ambient,
                  const RenderSettings& settings, PassParameters parameters, Frame& frame,
                  StageTimes& times);
