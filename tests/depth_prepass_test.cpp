@@ -76,49 +76,88 @@ TEST(DepthPrepass, ASceneWithOverdrawKeepsIt) {
   const glm::vec3 center = scene.bounds.center();
   const float size = 2.0f * scene.bounds.radius();
   const std::vector<Light> lights = {keyLight(center + glm::vec3(0.0f, 0.3f, 0.0f) * size)};
+  // Large enough for the hidden fragments to outnumber twice the box's triangles.
   const ViewCamera camera =
-      lookFrom(scene, center + glm::vec3(0.0f, 0.0f, 1.2f) * size, center, 96, 64);
+      lookFrom(scene, center + glm::vec3(0.0f, 0.0f, 1.2f) * size, center, 192, 128);
   for (int frame = 0; frame < 3; ++frame) {
     const Frame next = render(scene, lights, camera);
     EXPECT_TRUE(next.depthPrepass);
     EXPECT_GT(std::count_if(next.srgb8->rgb.begin(), next.srgb8->rgb.end(),
                             [](std::uint8_t v) { return v > 20; }),
-              2000);  // the box fills the picture
+              8000);  // the box fills the picture
   }
 }
 
-// A floor with a smaller square above it, drawn after it: the pre-pass lets through the floor's
-// fragments that the square hides, a share of the shaded ones that the square's area sets. The
-// pre-pass is dropped below 10% of them (Sundial's 5.5% lost it a millisecond a frame) and kept
-// above; the picture is the same either way.
+// A floor and a smaller square above it, in one mesh whose floor triangles come first, a grey
+// floor and a blue square listed as two draws, or a floor of many triangles.
+enum class FloorAndSquare { OneMesh, TwoDraws, ManyFloorTriangles };
+
+// The first three frames of such a scene, the square hiding `share` of the floor's pixels.
+std::vector<Frame> framesWithHiddenShare(float share, FloorAndSquare layout) {
+  Scene scene;
+  Material flat;
+  flat.unlit = true;
+  flat.baseColorFactor = {0.8f, 0.8f, 0.8f, 1.0f};
+  scene.materials.push_back(flat);
+  flat.baseColorFactor = {0.2f, 0.4f, 0.9f, 1.0f};
+  scene.materials.push_back(flat);
+  builder::MeshData floor =
+      builder::makePlane(2.0f, layout == FloorAndSquare::ManyFloorTriangles ? 40 : 1);
+  builder::MeshData square = builder::makePlane(2.0f * std::sqrt(share));
+  for (glm::vec3& p : square.positions) p.y += 0.2f;
+  if (layout == FloorAndSquare::TwoDraws) {
+    test::placeMesh(scene, floor, glm::mat4(1.0f), 0);
+    test::placeMesh(scene, square, glm::mat4(1.0f), 1);
+  } else {
+    // Drawn in one call, the floor's triangles before the square's: no draw order spares them.
+    const auto base = static_cast<std::uint32_t>(floor.positions.size());
+    floor.positions.insert(floor.positions.end(), square.positions.begin(), square.positions.end());
+    floor.normals.insert(floor.normals.end(), square.normals.begin(), square.normals.end());
+    floor.uvs.insert(floor.uvs.end(), square.uvs.begin(), square.uvs.end());
+    for (const std::uint32_t i : square.indices) floor.indices.push_back(base + i);
+    test::placeMesh(scene, floor, glm::mat4(1.0f), 0);
+  }
+  const ViewCamera camera = lookFrom(scene, {0.0f, 3.0f, 0.01f}, {0, 0, 0}, 96, 96);
+  std::vector<Frame> frames;
+  for (int frame = 0; frame < 3; ++frame) frames.push_back(render(scene, {}, camera));
+  return frames;
+}
+
+// The pre-pass lets through the floor's fragments that the square hides, a share of the shaded
+// ones that the square's area sets. It is dropped below 10% of them (Sundial's 5.5% lost it a
+// millisecond a frame) and kept above; the picture is the same either way.
 TEST(DepthPrepass, KeptOnlyWhereSurfacesHideATenthOrMore) {
-  const auto framesWithHiddenShare = [](float share) {
-    Scene scene;
-    Material flat;
-    flat.unlit = true;
-    flat.baseColorFactor = {0.8f, 0.8f, 0.8f, 1.0f};
-    scene.materials.push_back(flat);
-    flat.baseColorFactor = {0.2f, 0.4f, 0.9f, 1.0f};
-    scene.materials.push_back(flat);
-    test::placeMesh(scene, builder::makePlane(2.0f), glm::mat4(1.0f), 0);
-    test::placeMesh(scene, builder::makePlane(2.0f * std::sqrt(share)),
-                    glm::translate(glm::mat4(1.0f), {0.0f, 0.2f, 0.0f}), 1);
-    const ViewCamera camera = lookFrom(scene, {0.0f, 3.0f, 0.01f}, {0, 0, 0}, 96, 96);
-    std::vector<Frame> frames;
-    for (int frame = 0; frame < 3; ++frame) frames.push_back(render(scene, {}, camera));
-    return frames;
-  };
   for (const float share : {0.06f, 0.16f}) {
     SCOPED_TRACE("hidden share " + std::to_string(share));
-    const std::vector<Frame> frames = framesWithHiddenShare(share);
+    const std::vector<Frame> frames = framesWithHiddenShare(share, FloorAndSquare::OneMesh);
     ASSERT_TRUE(frames[0].depthPrepass);
     ASSERT_TRUE(frames[1].depthPrepass);  // counts
     EXPECT_EQ(frames[2].depthPrepass, share > 0.1f);
     EXPECT_EQ(frames[2].srgb8->rgb, frames[0].srgb8->rgb);
-    // The square is drawn: its blue in the middle of the picture.
-    const std::uint8_t* middle = frames[2].srgb8->rgb.data() + (48 * 96 + 48) * 3;
-    EXPECT_GT(middle[2], middle[0]);
   }
+}
+
+// The same 16%, but the floor has 3,200 triangles: drawing them again costs more than shading
+// the 1.2k fragments the pre-pass would spare, so it is dropped.
+TEST(DepthPrepass, DroppedWhereItSparesFewFragmentsForItsTriangles) {
+  const std::vector<Frame> frames =
+      framesWithHiddenShare(0.16f, FloorAndSquare::ManyFloorTriangles);
+  ASSERT_TRUE(frames[1].depthPrepass);  // counts
+  EXPECT_FALSE(frames[2].depthPrepass);
+  EXPECT_EQ(frames[2].srgb8->rgb, frames[0].srgb8->rgb);
+}
+
+// The square listed after the floor is still drawn before it, being nearer the camera: the
+// depth test turns away the floor's hidden fragments, so hardly more pass the pre-pass than are
+// shaded, and it is dropped where the scene's order would have kept it (the test above).
+TEST(DepthPrepass, NearerSurfacesAreDrawnFirst) {
+  const std::vector<Frame> frames = framesWithHiddenShare(0.16f, FloorAndSquare::TwoDraws);
+  ASSERT_TRUE(frames[1].depthPrepass);  // counts
+  EXPECT_FALSE(frames[2].depthPrepass);
+  EXPECT_EQ(frames[2].srgb8->rgb, frames[0].srgb8->rgb);
+  // The square is drawn: its blue in the middle of the picture.
+  const std::uint8_t* middle = frames[2].srgb8->rgb.data() + (48 * 96 + 48) * 3;
+  EXPECT_GT(middle[2], middle[0]);
 }
 
 // Two overlapping coplanar squares, the later drawn wins where they tie, with the pre-pass and
@@ -163,8 +202,9 @@ TEST(DepthPrepass, OnAndOffAreDrawnAsAskedWithTheSamePicture) {
     const glm::vec3 center = scene->bounds.center();
     const float size = 2.0f * scene->bounds.radius();
     const std::vector<Light> lights = {keyLight(center + glm::vec3(0.3f, 0.4f, 0.2f) * size)};
+    // Large enough for the Cornell box's hidden fragments to outnumber twice its triangles.
     const ViewCamera camera =
-        lookFrom(*scene, center + glm::vec3(0.2f, 0.3f, 1.2f) * size, center, 96, 64);
+        lookFrom(*scene, center + glm::vec3(0.2f, 0.3f, 1.2f) * size, center, 192, 128);
     const Frame reference = render(*scene, lights, camera);
     ASSERT_TRUE(reference.srgb8);
     for (int frame = 0; frame < 4; ++frame) {

@@ -15,7 +15,7 @@
 #include "renderer/gl/software_rasterizer.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/scene/srgb_transfer.h"
-#include "renderer/view/blended_order.h"
+#include "renderer/view/draw_order.h"
 #include "renderer/view/sheen_albedo_table.h"
 
 namespace omnishadow {
@@ -23,15 +23,24 @@ namespace {
 
 using contract::GpuLight;
 
-// The scene's blended draws, farthest from the camera first (renderer/view/blended_order.h).
+// The scene's blended draws, farthest from the camera first (renderer/view/draw_order.h).
 std::vector<std::size_t> blendedDrawOrder(const GpuScene& scene, const glm::mat4& view) {
-  std::vector<BlendedDraw> blended;
+  std::vector<DrawCenter> blended;
   for (std::size_t i = 0; i < scene.draws().size(); ++i) {
     const GpuDraw& draw = scene.draws()[i];
     if (scene.materials()[draw.material].desc.alphaMode == AlphaMode::Blend)
       blended.push_back({i, draw.boundsCenter});
   }
   return farthestFirst(blended, view);
+}
+
+// Every draw of the scene, nearest to the camera first (renderer/view/draw_order.h).
+std::vector<std::size_t> nearestDrawOrder(const GpuScene& scene, const glm::mat4& view) {
+  std::vector<DrawCenter> draws;
+  draws.reserve(scene.draws().size());
+  for (std::size_t i = 0; i < scene.draws().size(); ++i)
+    draws.push_back({i, scene.draws()[i].boundsCenter});
+  return nearestFirst(draws, view);
 }
 
 // Texture slots in unit order (kBaseColorUnit + i), as bits of a material variant.
@@ -766,7 +775,7 @@ LightingPass::DrawSet LightingPass::drawSet(std::size_t material, const GpuScene
 LightingPass::SeeThrough LightingPass::seeThrough(const GpuScene& scene,
                                                   const glm::mat4& view) const {
   SeeThrough found;
-  std::vector<BlendedDraw> draws;
+  std::vector<DrawCenter> draws;
   for (std::size_t i = 0; i < scene.draws().size(); ++i) {
     const GpuDraw& draw = scene.draws()[i];
     if (drawSet(draw.material, scene) != DrawSet::SeeThrough) continue;
@@ -1043,12 +1052,10 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
   const bool lighting = depthOnly == nullptr;
   const ShaderProgram* current = depthOnly;
   if (depthOnly) depthOnly->use();
-  const std::vector<std::size_t>* order = only                      ? only
-                                          : set == DrawSet::Blended ? &blendedOrder_
-                                                                    : nullptr;
-  const std::size_t count = order ? order->size() : scene.draws().size();
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::size_t index = order ? (*order)[k] : k;
+  const std::vector<std::size_t>& order = only                      ? *only
+                                          : set == DrawSet::Blended ? blendedOrder_
+                                                                    : nearestOrder_;
+  for (const std::size_t index : order) {
     const GpuDraw& draw = scene.draws()[index];
     const GpuMaterial& material = scene.materials()[draw.material];
     const DrawSet drawSet = this->drawSet(draw.material, scene);
@@ -1180,6 +1187,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   if (features_.clusteredLights) uploadClusters(scene, lights, camera, uniforms);
   framePrograms_.clear();
   blendedOrder_ = blendedDrawOrder(scene, camera.view);
+  nearestOrder_ = nearestDrawOrder(scene, camera.view);
   frameVariants_.clear();
   for (const GpuMaterial& material : scene.materials())
     frameVariants_.push_back(materialVariant(material));
@@ -1210,6 +1218,12 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   if (counted_ && !prepassFragments_) {
     prepassFragments_ = gl::createQuery(GL_SAMPLES_PASSED);
     shadedFragments_ = gl::createQuery(GL_SAMPLES_PASSED);
+  }
+  if (counted_) {
+    countedTriangles_ = 0;
+    for (const GpuDraw& draw : scene.draws())
+      if (drawSet(draw.material, scene) == DrawSet::Opaque)
+        countedTriangles_ += static_cast<std::uint64_t>(scene.meshes()[draw.mesh].indexCount) / 3;
   }
   if (parameters.depthPrepass) {
     state.color.rgba = {false, false, false, false};
@@ -1379,6 +1393,7 @@ std::optional<OpaqueFragments> LightingPass::opaqueFragments() const {
   OpaqueFragments counts;
   glGetQueryObjectui64v(prepassFragments_.get(), GL_QUERY_RESULT, &counts.prepass);
   glGetQueryObjectui64v(shadedFragments_.get(), GL_QUERY_RESULT, &counts.shaded);
+  counts.triangles = countedTriangles_;
   return counts;
 }
 

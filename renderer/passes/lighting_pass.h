@@ -110,10 +110,12 @@ struct PassParameters {
 bool depthPrepassSupported(std::string_view glRenderer);
 
 // Fragments of a frame's opaque surfaces that the depth pre-pass let through (those shading
-// without it would shade, less ties) and those the pass then shaded (about one a pixel).
+// without it would shade, less ties) and those the pass then shaded (about one a pixel), and
+// the triangles the pre-pass drew.
 struct OpaqueFragments {
   std::uint64_t prepass = 0;
   std::uint64_t shaded = 0;
+  std::uint64_t triangles = 0;
 };
 
 // How the AOV passes of a frame report its lights' shadow terms in their visibility targets:
@@ -323,7 +325,7 @@ class LightingPass {
   void copySceneBehind(const FrameTargets& targets, bool mipmaps);
   // depthOnly: that program for every draw; null: each material's lighting variant, whose
   // frame uniforms `uniforms` sets on first use. Blended draws go in blendedOrder_, a double-sided
-  // one as two draws: back faces, then front faces.
+  // one as two draws: back faces, then front faces; the others in nearestOrder_.
   // `only`: just these draws of `set`, in this order (null: all of the set's). `faces`: GL_FRONT
   // or GL_BACK to draw only those faces (GL_FRONT_AND_BACK: as the material says).
   void drawScene(const GpuScene& scene, DrawSet set, const ShaderProgram* depthOnly,
@@ -341,6 +343,7 @@ class LightingPass {
   // every draw set reads it).
   std::vector<unsigned> frameVariants_;
   std::vector<std::size_t> blendedOrder_;  // this frame's blended draws, farthest first
+  std::vector<std::size_t> nearestOrder_;  // this frame's draws, nearest first
   ShaderProgram depthOnly_;
   std::unique_ptr<ShaderProgram> background_;        // drawBackground()'s, made on first use
   std::unique_ptr<AmbientOcclusionPass> occlusion_;  // occlusionPass()
@@ -356,6 +359,7 @@ class LightingPass {
   int behindWidth_ = 0, behindHeight_ = 0;
   gl::Query prepassFragments_, shadedFragments_;  // GL_SAMPLES_PASSED, made on first use
   bool counted_ = false;                          // the last render() counted them
+  std::uint64_t countedTriangles_ = 0;            // the opaque triangles it counted over
 };
 
 }  // namespace omnishadow

@@ -278,6 +278,8 @@ class Renderer::Impl {
   static constexpr int kPrepassRecount = 8;
   // Percent more fragments through the pre-pass than shaded after it below which it is dropped.
   static constexpr int kPrepassMinOverdraw = 10;
+  // Fragments the pre-pass must spare the shading per opaque triangle it draws, or it is dropped.
+  static constexpr int kPrepassMinSparedPerTriangle = 2;
   struct PrepassChoice {
     std::uint64_t scene = 0;
     int frames = 0;  // frames of this scene so far
@@ -1219,8 +1221,15 @@ void Renderer::Impl::notePrepass(const std::optional<OpaqueFragments>& counts) {
   // (Box: the pre-pass 0.3 ms against 7 ms of shading; WhackAMole, 86k triangles, 5 against 38).
   // Sundial lets 5.5% more through the pre-pass than it shades, and its steady lighting took
   // 13.9 ms with the pre-pass against 12.9 without (with three lights, 23.2 against 22.1); the
-  // Cornell box (69% more) and test_room (66%) keep it.
-  prepassChoice_.skip = counts->prepass * 100 <= counts->shaded * (100 + kPrepassMinOverdraw);
+  // Cornell box (58% more) keeps it. Beyond that share it still costs more than it spares where
+  // the scene has many triangles for the fragments spared: with its surfaces drawn nearest first,
+  // test_room (102k triangles) spares 82k fragments, 11%, and its steady lighting took 60-64 ms
+  // without the pre-pass against 64-72 with it; CesiumMilkTruck (3.6k triangles) spares 20k,
+  // 13%, and is a little faster with it (docs/performance.md).
+  const std::uint64_t spared =
+      counts->prepass > counts->shaded ? counts->prepass - counts->shaded : 0;
+  prepassChoice_.skip = spared * 100 <= counts->shaded * kPrepassMinOverdraw ||
+                        spared <= counts->triangles * kPrepassMinSparedPerTriangle;
 }
 
 void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& lights,

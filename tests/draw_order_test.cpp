@@ -1,5 +1,5 @@
 // Blended surfaces compose nearer over farther, whatever order the scene lists them in.
-#include "renderer/view/blended_order.h"
+#include "renderer/view/draw_order.h"
 
 #include <gtest/gtest.h>
 
@@ -82,10 +82,10 @@ Scene frontAndBackSquares() {
 TEST(BlendedOrder, FarthestFirstAlongTheViewAxis) {
   const glm::mat4 view = viewFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
   // Depths 10, 12, 8 and 9.5 (the last one off the axis: depth, not distance, counts).
-  const std::vector<BlendedDraw> draws = {{0, {0.0f, 0.0f, 0.0f}},
-                                          {1, {0.0f, 0.0f, -2.0f}},
-                                          {2, {0.0f, 0.0f, 2.0f}},
-                                          {3, {6.0f, 0.0f, 0.5f}}};
+  const std::vector<DrawCenter> draws = {{0, {0.0f, 0.0f, 0.0f}},
+                                         {1, {0.0f, 0.0f, -2.0f}},
+                                         {2, {0.0f, 0.0f, 2.0f}},
+                                         {3, {6.0f, 0.0f, 0.5f}}};
   EXPECT_EQ(farthestFirst(draws, view), (std::vector<std::size_t>{1, 0, 3, 2}));
   // Seen from the other side, the other way round.
   EXPECT_EQ(farthestFirst(draws, viewFrom({0.0f, 0.0f, -10.0f}, glm::vec3(0.0f))),
@@ -94,10 +94,10 @@ TEST(BlendedOrder, FarthestFirstAlongTheViewAxis) {
 
 TEST(BlendedOrder, EqualDepthsKeepTheSceneOrder) {
   const glm::mat4 view = viewFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
-  const std::vector<BlendedDraw> draws = {{7, {1.0f, 0.0f, 0.0f}},
-                                          {3, {-1.0f, 0.0f, 0.0f}},
-                                          {5, {0.0f, 2.0f, 0.0f}},
-                                          {9, {0.0f, 0.0f, -1.0f}}};
+  const std::vector<DrawCenter> draws = {{7, {1.0f, 0.0f, 0.0f}},
+                                         {3, {-1.0f, 0.0f, 0.0f}},
+                                         {5, {0.0f, 2.0f, 0.0f}},
+                                         {9, {0.0f, 0.0f, -1.0f}}};
   EXPECT_EQ(farthestFirst(draws, view), (std::vector<std::size_t>{9, 7, 3, 5}));
   EXPECT_TRUE(farthestFirst({}, view).empty());
 }
