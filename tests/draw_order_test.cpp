@@ -102,6 +102,18 @@ TEST(BlendedOrder, EqualDepthsKeepTheSceneOrder) {
   EXPECT_TRUE(farthestFirst({}, view).empty());
 }
 
+// Opaque surfaces: the reverse, equal depths still in the scene's order.
+TEST(DrawOrder, NearestFirstAlongTheViewAxis) {
+  const glm::mat4 view = viewFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
+  const std::vector<DrawCenter> draws = {{0, {0.0f, 0.0f, 0.0f}},
+                                         {1, {0.0f, 0.0f, -2.0f}},
+                                         {2, {0.0f, 0.0f, 2.0f}},
+                                         {3, {6.0f, 0.0f, 0.5f}},
+                                         {4, {0.0f, 3.0f, 0.0f}}};
+  EXPECT_EQ(nearestFirst(draws, view), (std::vector<std::size_t>{2, 3, 0, 4, 1}));
+  EXPECT_TRUE(nearestFirst({}, view).empty());
+}
+
 // Red over blue over the black background where red is nearer, and blue over red where blue
 // is: "over" in the order the panes lie, not the order the scene lists them.
 TEST(BlendedOrder, NearerPaneComposesOverTheFartherOneInEitherSceneOrder) {
