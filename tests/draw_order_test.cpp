@@ -102,9 +102,12 @@ TEST(BlendedOrder, EqualDepthsKeepTheSceneOrder) {
   EXPECT_TRUE(farthestFirst({}, view).empty());
 }
 
-// Opaque surfaces: the reverse, equal depths still in the scene's order.
-TEST(DrawOrder, NearestFirstAlongTheViewAxis) {
+// Opaque surfaces: nearest first by the far side of each bounding sphere, equal depths in the
+// scene's order. A floor whose centre lies nearer than a box standing on it, but whose sphere
+// reaches farther, goes after the box.
+TEST(DrawOrder, NearestFirstByTheFarSideOfEachSphere) {
   const glm::mat4 view = viewFrom({0.0f, 0.0f, 10.0f}, glm::vec3(0.0f));
+  // Far sides at depths 10, 12, 8, 9.5 and 10.
   const std::vector<DrawCenter> draws = {{0, {0.0f, 0.0f, 0.0f}},
                                          {1, {0.0f, 0.0f, -2.0f}},
                                          {2, {0.0f, 0.0f, 2.0f}},
@@ -112,6 +115,10 @@ TEST(DrawOrder, NearestFirstAlongTheViewAxis) {
                                          {4, {0.0f, 3.0f, 0.0f}}};
   EXPECT_EQ(nearestFirst(draws, view), (std::vector<std::size_t>{2, 3, 0, 4, 1}));
   EXPECT_TRUE(nearestFirst({}, view).empty());
+  // The floor's centre at depth 9, the box's at 9.5; the floor reaches to 14, the box to 10.
+  const std::vector<DrawCenter> floorAndBox = {{0, {0.0f, -1.0f, 1.0f}, 5.0f},
+                                               {1, {0.0f, 0.0f, 0.5f}, 0.5f}};
+  EXPECT_EQ(nearestFirst(floorAndBox, view), (std::vector<std::size_t>{1, 0}));
 }
 
 // Red over blue over the black background where red is nearer, and blue over red where blue

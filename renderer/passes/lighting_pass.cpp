@@ -39,7 +39,7 @@ std::vector<std::size_t> nearestDrawOrder(const GpuScene& scene, const glm::mat4
   std::vector<DrawCenter> draws;
   draws.reserve(scene.draws().size());
   for (std::size_t i = 0; i < scene.draws().size(); ++i)
-    draws.push_back({i, scene.draws()[i].boundsCenter});
+    draws.push_back({i, scene.draws()[i].boundsCenter, scene.draws()[i].boundsRadius});
   return nearestFirst(draws, view);
 }
 

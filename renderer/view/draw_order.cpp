@@ -9,14 +9,15 @@
 namespace omnishadow {
 namespace {
 
-// The draws' indices by the depth of their centres, farthest first or nearest first.
+// The draws' indices by the depth of their centres moved `farSide` radii along the view axis,
+// farthest first or nearest first.
 std::vector<std::size_t> byDepth(const std::vector<DrawCenter>& draws, const glm::mat4& view,
-                                 bool farthest) {
+                                 float farSide, bool farthest) {
   const glm::vec4 depthRow = viewDepthRow(view);
   std::vector<std::pair<float, std::size_t>> keyed;
   keyed.reserve(draws.size());
   for (const DrawCenter& d : draws) {
-    const float depth = glm::dot(depthRow, glm::vec4(d.center, 1.0f));
+    const float depth = glm::dot(depthRow, glm::vec4(d.center, 1.0f)) + farSide * d.radius;
     // A NaN depth sorts as the nearest, so that the comparison stays a strict weak order.
     keyed.emplace_back(std::isnan(depth) ? -std::numeric_limits<float>::infinity() : depth, d.draw);
   }
@@ -33,11 +34,11 @@ std::vector<std::size_t> byDepth(const std::vector<DrawCenter>& draws, const glm
 
 std::vector<std::size_t> farthestFirst(const std::vector<DrawCenter>& draws,
                                        const glm::mat4& view) {
-  return byDepth(draws, view, true);
+  return byDepth(draws, view, 0.0f, true);
 }
 
 std::vector<std::size_t> nearestFirst(const std::vector<DrawCenter>& draws, const glm::mat4& view) {
-  return byDepth(draws, view, false);
+  return byDepth(draws, view, 1.0f, false);
 }
 
 }  // namespace omnishadow
