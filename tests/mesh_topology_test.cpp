@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/scene_objects.h"
 
 namespace omnishadow {
 namespace {
@@ -143,6 +144,61 @@ TEST(MeshPlane, ATransformedPlaneHoldsTheTransformedMesh) {
   EXPECT_NEAR(moved->thickness, 5.0f * local->thickness, 1e-3f * local->thickness);
   // A transform that flattens the plane's normal direction away has no plane.
   EXPECT_FALSE(transformedPlane(*local, glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 0.0f, 1.0f))));
+}
+
+}  // namespace
+}  // namespace omnishadow
+
+namespace omnishadow {
+namespace {
+
+TEST(WeldedWithin, PositionsWithinTheToleranceOfAnEarlierOneTakeItsValue) {
+  const std::vector<glm::vec3> positions = {{0.0f, 0.0f, 0.0f},           {1.0f, 0.0f, 0.0f},
+                                            {0.5e-3f, -0.5e-3f, 1e-3f},   {2e-3f, 0.0f, 0.0f},
+                                            {1.0f + 0.9e-3f, 0.0f, 0.0f}, {2.9e-3f, 0.0f, 0.0f}};
+  // The third is within 1e-3 of the first in every coordinate; the fourth is not (2e-3 in x);
+  // the sixth is within it of the fourth, which is a first of its own.
+  const std::vector<glm::vec3> welded = weldedWithin(positions, 1e-3f);
+  ASSERT_EQ(welded.size(), positions.size());
+  EXPECT_EQ(welded[0], positions[0]);
+  EXPECT_EQ(welded[1], positions[1]);
+  EXPECT_EQ(welded[2], positions[0]);
+  EXPECT_EQ(welded[3], positions[3]);
+  EXPECT_EQ(welded[4], positions[1]);
+  EXPECT_EQ(welded[5], positions[3]);
+  EXPECT_EQ(weldedWithin(positions, 0.0f), positions);
+}
+
+TEST(WeldedClosedSolid, ASphereOpenByUlpsAtItsSeamAndPoleIsClosedOnceWelded) {
+  for (const float radius : {0.5f, 1.0f, 30.0f}) {
+    SCOPED_TRACE(radius);
+    const MeshData sphere = test::ulpSeamSphere(radius, 32, 16);
+    ASSERT_FALSE(closed(sphere));  // the premise: open by an ulp
+    const std::optional<std::vector<glm::vec3>> welded =
+        weldedClosedSolid(sphere.positions, sphere.indices);
+    ASSERT_TRUE(welded);
+    EXPECT_TRUE(isClosedSolid(*welded, sphere.indices));
+    ASSERT_EQ(welded->size(), sphere.positions.size());
+    float moved = 0.0f;
+    for (std::size_t i = 0; i < welded->size(); ++i)
+      moved = std::max(moved, glm::length((*welded)[i] - sphere.positions[i]));
+    EXPECT_GT(moved, 0.0f);
+    EXPECT_LE(moved, 2e-6f * radius * std::sqrt(3.0f));  // a millionth of the 2r extent
+  }
+}
+
+TEST(WeldedClosedSolid, ClosedMeshesAndRealOpeningsGetNone) {
+  const MeshData box = builder::makeBox(glm::vec3(0.5f));
+  EXPECT_FALSE(weldedClosedSolid(box.positions, box.indices));  // closed as it is
+  MeshData holed = test::ulpSeamSphere(1.0f, 32, 16);
+  holed.indices.resize(holed.indices.size() - 3);
+  EXPECT_FALSE(weldedClosedSolid(holed.positions, holed.indices));
+  // The seam's second column a ten-thousandth of the extent away: a crack, not rounding.
+  MeshData apart = test::ulpSeamSphere(1.0f, 32, 16);
+  for (int iy = 1; iy < 16; ++iy)
+    apart.positions[static_cast<std::size_t>(iy * 33 + 32)].x += 2e-4f;
+  EXPECT_FALSE(weldedClosedSolid(apart.positions, apart.indices));
+  EXPECT_FALSE(weldedClosedSolid({}, {}));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "renderer/core/in_parts.h"
 #include "renderer/scene/bounds.h"
 #include "renderer/scene/mesh_topology.h"
 #include "renderer/scene/scene_fingerprint.h"
@@ -32,8 +33,7 @@ void setAttribute(GLuint vao, GLuint location, GLint size, GLuint offset) {
 }  // namespace
 
 GpuGeometry::GpuGeometry(const Scene& scene) {
-  uploadMeshes(scene);
-  uploadCasterStream(scene);
+  uploadCasterStream(scene, uploadMeshes(scene));
   vertexArrays_ = makeVertexArrays();
 }
 
@@ -55,18 +55,38 @@ SceneVertexArrays GpuGeometry::makeVertexArrays() const {
   return arrays;
 }
 
-void GpuGeometry::uploadMeshes(const Scene& scene) {
+std::vector<std::optional<std::vector<glm::vec3>>> GpuGeometry::uploadMeshes(const Scene& scene) {
   std::vector<Vertex> vertices;
   std::vector<std::uint32_t> indices;
-  for (const Mesh& mesh : scene.meshes) {
+  std::vector<std::optional<std::vector<glm::vec3>>> welded;
+  // Whether each mesh bounds a solid, as it is or welded, and whether it is flat: a look at
+  // every edge, most of the upload's CPU in a scene of many meshes, on the machine's threads.
+  struct Shape {
+    SolidCheck solid;
+    std::optional<MeshPlane> plane;
+  };
+  std::vector<Shape> shapes(scene.meshes.size());
+  inParts(scene.meshes.size(), partsFor(scene.meshes.size()),
+          [&](std::size_t /*part*/, std::size_t first, std::size_t end) {
+            for (std::size_t m = first; m < end; ++m) {
+              const Mesh& mesh = scene.meshes[m];
+              shapes[m].solid = checkSolid(mesh.positions, mesh.indices);
+              // A closed solid encloses a volume, so it is never flat.
+              if (!shapes[m].solid.closed)
+                shapes[m].plane = flatMeshPlane(mesh.positions, mesh.indices);
+            }
+          });
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
     GpuMeshRange range;
     range.baseVertex = static_cast<GLint>(vertices.size());
     range.firstIndex = static_cast<GLsizei>(indices.size());
     range.indexCount = static_cast<GLsizei>(mesh.indices.size());
     range.hasTangents = !mesh.tangents.empty();
-    range.closed = isClosedSolid(mesh.positions, mesh.indices);
-    // A closed solid encloses a volume, so it is never flat.
-    if (!range.closed) range.plane = flatMeshPlane(mesh.positions, mesh.indices);
+    range.closed = shapes[m].solid.closed;
+    range.closedInStream = range.closed;  // and the welded ones, once copied into the stream
+    range.plane = shapes[m].plane;
+    welded.push_back(std::move(shapes[m].solid.welded));
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
       Vertex v;
       v.position = mesh.positions[i];
@@ -129,6 +149,7 @@ void GpuGeometry::uploadMeshes(const Scene& scene) {
   models_ = gl::createBuffer();
   glNamedBufferStorage(models_.get(), static_cast<GLsizeiptr>(models.size() * sizeof(glm::mat4)),
                        models.data(), 0);
+  return welded;
 }
 
 namespace {
@@ -147,7 +168,8 @@ std::uint32_t zOrder(const glm::vec3& unit) {
 
 }  // namespace
 
-void GpuGeometry::uploadCasterStream(const Scene& scene) {
+void GpuGeometry::uploadCasterStream(
+    const Scene& scene, const std::vector<std::optional<std::vector<glm::vec3>>>& welded) {
   std::vector<std::size_t> instancesOf(scene.meshes.size(), 0);
   for (const GpuDraw& draw : draws_) ++instancesOf[static_cast<std::size_t>(draw.mesh)];
   std::vector<std::size_t> copied;
@@ -172,12 +194,18 @@ void GpuGeometry::uploadCasterStream(const Scene& scene) {
   std::vector<std::uint32_t> indices;
   for (const std::size_t d : copied) {
     GpuDraw& draw = draws_[d];
-    const Mesh& mesh = scene.meshes[static_cast<std::size_t>(draw.mesh)];
+    const auto m = static_cast<std::size_t>(draw.mesh);
+    const Mesh& mesh = scene.meshes[m];
+    // Copies of a mesh closed only once welded are made from the welded positions.
+    if (welded[m]) meshes_[m].closedInStream = true;
+    const std::vector<glm::vec3>& positions = welded[m] ? *welded[m] : mesh.positions;
     const auto base = static_cast<std::uint32_t>(world.size());
     draw.casterFirstIndex = static_cast<GLint>(indices.size());
-    for (const glm::vec3& p : mesh.positions) {
-      world.emplace_back(draw.world * glm::vec4(p, 1.0f));
-      receiverBounds_.extend(world.back());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      world.emplace_back(draw.world * glm::vec4(positions[v], 1.0f));
+      // Where shadows land: the mesh as the lighting pass draws it.
+      receiverBounds_.extend(welded[m] ? glm::vec3(draw.world * glm::vec4(mesh.positions[v], 1.0f))
+                                       : world.back());
     }
     for (const std::uint32_t i : mesh.indices) indices.push_back(base + i);
   }

@@ -27,6 +27,9 @@ struct GpuMeshRange {
   // The mesh bounds a solid (isClosedSolid): from a light outside it only front faces can be
   // nearest, so the shadow pass skips its back faces.
   bool closed = false;
+  // Its copies in the world-space caster stream bound a solid: it is closed, or closed once
+  // nearly equal positions are welded (weldedClosedSolid), which the copies are made from.
+  bool closedInStream = false;
   // The plane its triangles lie in, when they are flat (flatMeshPlane): a floor or a wall.
   std::optional<MeshPlane> plane;
 };
@@ -82,8 +85,11 @@ class GpuGeometry {
   const Bounds& receiverBounds() const { return receiverBounds_; }
 
  private:
-  void uploadMeshes(const Scene& scene);
-  void uploadCasterStream(const Scene& scene);
+  // Returns, per mesh, the welded positions that close it where only welding does
+  // (checkSolid()), for the caster stream's copies.
+  std::vector<std::optional<std::vector<glm::vec3>>> uploadMeshes(const Scene& scene);
+  void uploadCasterStream(const Scene& scene,
+                          const std::vector<std::optional<std::vector<glm::vec3>>>& welded);
 
   gl::Buffer vertices_, indices_, models_, casterPositions_, casterIndices_;
   std::vector<GpuMeshRange> meshes_;

@@ -47,9 +47,11 @@ SceneCasters describeCasters(const GpuScene& scene) {
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
     // Blended surfaces cast cut-out shadows (where at least half opaque) for lights without
     // translucent shadows.
+    // Opaque copies in the caster stream are drawn from it, welded where that closes them.
+    const bool closed = draw.casterFirstIndex >= 0 ? range.closedInStream : range.closed;
     out.casters.push_back({draw.boundsCenter, draw.boundsRadius,
-                           material.alphaMode != AlphaMode::Opaque, range.closed,
-                           material.doubleSided, draw.mirrored, draw.plane});
+                           material.alphaMode != AlphaMode::Opaque, closed, material.doubleSided,
+                           draw.mirrored, draw.plane});
     out.geometry.push_back({static_cast<std::uint32_t>(range.indexCount),
                             static_cast<std::uint32_t>(range.firstIndex), range.baseVertex,
                             draw.casterFirstIndex});

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <unordered_map>
 
 namespace omnishadow {
 namespace {
@@ -52,57 +53,81 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 
 }  // namespace
 
-bool isClosedSolid(const std::vector<glm::vec3>& positions,
-                   const std::vector<std::uint32_t>& indices) {
-  const std::vector<std::uint32_t> ids = weldedIds(positions);
-  std::vector<std::uint32_t> parent(positions.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  std::vector<std::size_t> triangles;  // first index of each non-degenerate triangle
-  // Directed edges grouped by their first corner (counting sort): edgeStart[a] .. edgeStart[a+1]
-  // hold the second corners of the edges leaving a.
-  std::vector<std::uint32_t> edgeStart(positions.size() + 1, 0);
+namespace {
+
+// A mesh's non-degenerate triangles between bit-welded positions (weldedIds), their connected
+// pieces, and their directed edges grouped by first corner: edgeStart[a] .. edgeStart[a + 1] of
+// edgeEnd hold, sorted, the second corners of the edges leaving a.
+struct Surface {
+  std::vector<std::uint32_t> ids;
+  std::vector<std::size_t> triangles;  // first index of each
+  std::vector<std::uint32_t> parent;   // union-find over ids: the pieces
+  std::vector<std::uint32_t> edgeStart, edgeEnd;
+  bool repeatedEdge = false;  // an edge run twice the same way: no consistent surface
+};
+
+Surface surfaceOf(const std::vector<glm::vec3>& positions,
+                  const std::vector<std::uint32_t>& indices) {
+  Surface s;
+  s.ids = weldedIds(positions);
+  s.parent.resize(positions.size());
+  std::iota(s.parent.begin(), s.parent.end(), 0u);
+  s.edgeStart.assign(positions.size() + 1, 0);
   for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
-    const std::uint32_t v[3] = {ids[indices[t]], ids[indices[t + 1]], ids[indices[t + 2]]};
+    const std::uint32_t v[3] = {s.ids[indices[t]], s.ids[indices[t + 1]], s.ids[indices[t + 2]]};
     // A triangle with two welded corners covers no area and bounds nothing.
     if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
-    triangles.push_back(t);
+    s.triangles.push_back(t);
     for (int e = 0; e < 3; ++e) {
-      ++edgeStart[v[e] + 1];
-      const std::uint32_t a = findRoot(parent, v[e]), b = findRoot(parent, v[(e + 1) % 3]);
-      if (a != b) parent[a] = b;
+      ++s.edgeStart[v[e] + 1];
+      const std::uint32_t a = findRoot(s.parent, v[e]), b = findRoot(s.parent, v[(e + 1) % 3]);
+      if (a != b) s.parent[a] = b;
     }
   }
-  if (triangles.empty()) return false;
-  std::partial_sum(edgeStart.begin(), edgeStart.end(), edgeStart.begin());
-  std::vector<std::uint32_t> edgeEnd(edgeStart.back());
-  std::vector<std::uint32_t> filled(edgeStart.begin(), edgeStart.end() - 1);
-  for (const std::size_t t : triangles) {
-    const std::uint32_t v[3] = {ids[indices[t]], ids[indices[t + 1]], ids[indices[t + 2]]};
-    for (int e = 0; e < 3; ++e) edgeEnd[filled[v[e]]++] = v[(e + 1) % 3];
+  std::partial_sum(s.edgeStart.begin(), s.edgeStart.end(), s.edgeStart.begin());
+  s.edgeEnd.resize(s.edgeStart.back());
+  std::vector<std::uint32_t> filled(s.edgeStart.begin(), s.edgeStart.end() - 1);
+  for (const std::size_t t : s.triangles) {
+    const std::uint32_t v[3] = {s.ids[indices[t]], s.ids[indices[t + 1]], s.ids[indices[t + 2]]};
+    for (int e = 0; e < 3; ++e) s.edgeEnd[filled[v[e]]++] = v[(e + 1) % 3];
   }
-  // Each directed edge once, and its reverse once: every edge joins exactly two triangles that
-  // agree on which side is out. (Sorted lists keep a vertex shared by thousands of triangles
-  // from costing its degree squared.)
-  const auto list = [&](std::uint32_t a) {
-    return std::make_pair(edgeEnd.begin() + edgeStart[a], edgeEnd.begin() + edgeStart[a + 1]);
-  };
-  for (std::uint32_t a = 0; a + 1 < edgeStart.size(); ++a) {
-    const auto [first, last] = list(a);
+  // Sorted lists keep a vertex shared by thousands of triangles from costing its degree squared.
+  for (std::size_t a = 0; a + 1 < s.edgeStart.size(); ++a) {
+    const auto first = s.edgeEnd.begin() + s.edgeStart[a];
+    const auto last = s.edgeEnd.begin() + s.edgeStart[a + 1];
     std::sort(first, last);
-    if (std::adjacent_find(first, last) != last) return false;
+    if (std::adjacent_find(first, last) != last) s.repeatedEdge = true;
   }
-  for (std::uint32_t a = 0; a + 1 < edgeStart.size(); ++a)
-    for (std::uint32_t k = edgeStart[a]; k < edgeStart[a + 1]; ++k) {
-      const auto [first, last] = list(edgeEnd[k]);
-      if (!std::binary_search(first, last, a)) return false;
-    }
+  return s;
+}
 
-  // Signed volume per connected piece, relative to a point of the piece (less cancellation
-  // than relative to the origin). A piece turned inside out has a negative volume.
+// Whether every directed edge has its reverse: each edge joins exactly two triangles that agree
+// on which side is out. With `open`, the corners (ids) of the edges that have none are added to
+// it, and every edge is looked at; without, the first such edge ends the search.
+bool everyEdgeHasItsReverse(const Surface& s, std::vector<std::uint32_t>* open) {
+  bool all = true;
+  for (std::uint32_t a = 0; a + 1 < s.edgeStart.size(); ++a)
+    for (std::uint32_t k = s.edgeStart[a]; k < s.edgeStart[a + 1]; ++k) {
+      const std::uint32_t b = s.edgeEnd[k];
+      if (std::binary_search(s.edgeEnd.begin() + s.edgeStart[b],
+                             s.edgeEnd.begin() + s.edgeStart[b + 1], a))
+        continue;
+      if (!open) return false;
+      all = false;
+      open->push_back(a);
+      open->push_back(b);
+    }
+  return all;
+}
+
+// Signed volume per connected piece, relative to a point of the piece (less cancellation than
+// relative to the origin): a piece turned inside out has a negative volume.
+bool everyPieceEnclosesAVolume(Surface& s, const std::vector<glm::vec3>& positions,
+                               const std::vector<std::uint32_t>& indices) {
   std::vector<double> volume(positions.size(), 0.0);
   std::vector<int> origin(positions.size(), -1);
-  for (const std::size_t t : triangles) {
-    const std::uint32_t root = findRoot(parent, ids[indices[t]]);
+  for (const std::size_t t : s.triangles) {
+    const std::uint32_t root = findRoot(s.parent, s.ids[indices[t]]);
     if (origin[root] < 0) origin[root] = static_cast<int>(indices[t]);
     const glm::dvec3 o(positions[static_cast<std::size_t>(origin[root])]);
     const glm::dvec3 a = glm::dvec3(positions[indices[t]]) - o;
@@ -113,6 +138,106 @@ bool isClosedSolid(const std::vector<glm::vec3>& positions,
   for (std::size_t root = 0; root < positions.size(); ++root)
     if (origin[root] >= 0 && !(volume[root] > 0.0)) return false;
   return true;
+}
+
+}  // namespace
+
+bool isClosedSolid(const std::vector<glm::vec3>& positions,
+                   const std::vector<std::uint32_t>& indices) {
+  Surface s = surfaceOf(positions, indices);
+  if (s.triangles.empty() || s.repeatedEdge || !everyEdgeHasItsReverse(s, nullptr)) return false;
+  return everyPieceEnclosesAVolume(s, positions, indices);
+}
+
+std::vector<glm::vec3> weldedWithin(const std::vector<glm::vec3>& positions, float tolerance) {
+  std::vector<glm::vec3> welded = positions;
+  if (!(tolerance > 0.0f) || positions.empty()) return welded;
+  // Cells of the tolerance's size: a position within it of another lies in one of the 27
+  // cells around that one's. Coordinates too large for a cell index are left alone.
+  const auto cellOf = [&](const glm::vec3& p, glm::i64vec3& cell) {
+    const glm::dvec3 c = glm::floor(glm::dvec3(p) / static_cast<double>(tolerance));
+    if (!(glm::all(glm::lessThan(glm::abs(c), glm::dvec3(1e15))))) return false;
+    cell = glm::i64vec3(c);
+    return true;
+  };
+  const auto key = [](const glm::i64vec3& c) {
+    std::uint64_t h = static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<std::uint64_t>(c.y) * 0xC2B2AE3D27D4EB4Full;
+    h ^= static_cast<std::uint64_t>(c.z) * 0x165667B19E3779F9ull;
+    return h ^ (h >> 29);
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> firsts;  // per cell key
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    glm::i64vec3 cell;
+    if (!cellOf(positions[i], cell)) continue;
+    // The earliest first position within the tolerance (hash collisions only cost a test).
+    std::uint32_t found = 0xffffffffu;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = firsts.find(key(cell + glm::i64vec3(dx, dy, dz)));
+          if (it == firsts.end()) continue;
+          for (const std::uint32_t j : it->second)
+            if (j < found && glm::all(glm::lessThanEqual(glm::abs(positions[j] - positions[i]),
+                                                         glm::vec3(tolerance))))
+              found = j;
+        }
+    if (found != 0xffffffffu) {
+      welded[i] = positions[found];
+    } else {
+      firsts[key(cell)].push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  return welded;
+}
+
+std::optional<std::vector<glm::vec3>> weldedClosedSolid(const std::vector<glm::vec3>& positions,
+                                                        const std::vector<std::uint32_t>& indices) {
+  return checkSolid(positions, indices).welded;
+}
+
+SolidCheck checkSolid(const std::vector<glm::vec3>& positions,
+                      const std::vector<std::uint32_t>& indices) {
+  SolidCheck check;
+  Surface s = surfaceOf(positions, indices);
+  std::vector<std::uint32_t> open;
+  if (s.triangles.empty() || s.repeatedEdge) return check;  // no surface welding could close
+  if (everyEdgeHasItsReverse(s, &open)) {
+    check.closed = everyPieceEnclosesAVolume(s, positions, indices);
+    return check;  // closed, or inside out: nothing to weld either way
+  }
+  glm::vec3 low(INFINITY), high(-INFINITY);
+  for (const glm::vec3& p : positions) {
+    low = glm::min(low, p);
+    high = glm::max(high, p);
+  }
+  const glm::vec3 extent = high - low;
+  const float tolerance = 1e-6f * std::max({extent.x, extent.y, extent.z});
+  if (!std::isfinite(tolerance) || !(tolerance > 0.0f)) return check;
+  // Only the open edges' corners can close a crack: they are welded among themselves, each id
+  // at the position of its first vertex, in the order the ids were given (vertex order).
+  std::sort(open.begin(), open.end());
+  open.erase(std::unique(open.begin(), open.end()), open.end());
+  std::vector<std::uint32_t> firstVertex(positions.size(), 0xffffffffu);
+  for (std::size_t v = positions.size(); v-- > 0;)
+    firstVertex[s.ids[v]] = static_cast<std::uint32_t>(v);
+  std::vector<glm::vec3> corners;
+  corners.reserve(open.size());
+  for (const std::uint32_t id : open) corners.push_back(positions[firstVertex[id]]);
+  const std::vector<glm::vec3> moved = weldedWithin(corners, tolerance);
+  if (moved == corners) return check;
+  std::vector<glm::vec3> to(positions.size());
+  std::vector<bool> changed(positions.size(), false);
+  for (std::size_t k = 0; k < open.size(); ++k)
+    if (moved[k] != corners[k]) {
+      changed[open[k]] = true;
+      to[open[k]] = moved[k];
+    }
+  std::vector<glm::vec3> welded = positions;
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    if (changed[s.ids[v]]) welded[v] = to[s.ids[v]];
+  if (isClosedSolid(welded, indices)) check.welded = std::move(welded);
+  return check;
 }
 
 std::optional<MeshPlane> flatMeshPlane(const std::vector<glm::vec3>& positions,
