@@ -45,10 +45,10 @@ SceneCasters describeCasters(const GpuScene& scene) {
   for (const GpuDraw& draw : scene.draws()) {
     const Material& material = scene.materials()[draw.material].desc;
     const GpuMeshRange& range = scene.meshes()[draw.mesh];
-    // Blended surfaces cast cut-out shadows (where at least half opaque) for lights without
-    // translucent shadows.
     // Opaque copies in the caster stream are drawn from it, welded where that closes them.
     const bool closed = draw.casterFirstIndex >= 0 ? range.closedInStream : range.closed;
+    // Blended surfaces cast cut-out shadows (where at least half opaque) for lights without
+    // translucent shadows.
     out.casters.push_back({draw.boundsCenter, draw.boundsRadius,
                            material.alphaMode != AlphaMode::Opaque, closed, material.doubleSided,
                            draw.mirrored, draw.plane});

@@ -51,10 +51,6 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
   return i;
 }
 
-}  // namespace
-
-namespace {
-
 // A mesh's non-degenerate triangles between bit-welded positions (weldedIds), their connected
 // pieces, and their directed edges grouped by first corner: edgeStart[a] .. edgeStart[a + 1] of
 // edgeEnd hold, sorted, the second corners of the edges leaving a.
