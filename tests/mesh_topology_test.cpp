@@ -187,6 +187,63 @@ TEST(WeldedClosedSolid, ASphereOpenByUlpsAtItsSeamAndPoleIsClosedOnceWelded) {
   }
 }
 
+// A box whose faces' copies of one corner differ in the last bit, as a generator computing
+// each face's corners by its own expression leaves them: every corner is open, and welded.
+TEST(WeldedClosedSolid, ABoxOpenByAnUlpAtOneCornerIsClosedOnceWelded) {
+  MeshData box = builder::makeBox(glm::vec3(0.5f));
+  ASSERT_TRUE(closed(box));
+  const glm::vec3 corner = box.positions[0];
+  for (std::size_t i = 1; i < box.positions.size(); ++i)
+    if (box.positions[i] == corner) box.positions[i].x = std::nextafter(corner.x, 1.0f);
+  ASSERT_FALSE(closed(box));
+  const SolidCheck check = checkSolid(box.positions, box.indices);
+  EXPECT_FALSE(check.closed);
+  ASSERT_TRUE(check.welded);
+  EXPECT_TRUE(isClosedSolid(*check.welded, box.indices));
+}
+
+// Leaves as separate cards are open by design: with more open corners than a quarter of the
+// mesh's positions (and over 1,024), nothing is welded (a weld would cost time in proportion to
+// the mesh for nothing), and checkSolid says what isClosedSolid says.
+TEST(WeldedClosedSolid, MeshesMostlyOfOpenCornersAreLeftAlone) {
+  MeshData cards;
+  const MeshData card = builder::makePlane(0.1f);
+  for (int i = 0; i < 600; ++i) {
+    const auto base = static_cast<std::uint32_t>(cards.positions.size());
+    for (const glm::vec3& p : card.positions)
+      cards.positions.push_back(p + glm::vec3(0.3f * static_cast<float>(i % 30), 0.0f,
+                                              0.3f * static_cast<float>(i / 30)));
+    for (const std::uint32_t index : card.indices) cards.indices.push_back(base + index);
+  }
+  const SolidCheck check = checkSolid(cards.positions, cards.indices);
+  EXPECT_FALSE(check.closed);
+  EXPECT_FALSE(check.welded);
+  // So are 100 boxes in one mesh whose faces' copies of every corner differ in the last bit
+  // (2,400 open corners): the bound is on how open a mesh is, not on whether welding would
+  // close it.
+  MeshData boxes;
+  for (int i = 0; i < 100; ++i)
+    boxes = merged(boxes, builder::makeBox(glm::vec3(0.05f)),
+                   glm::vec3(0.2f * static_cast<float>(i), 0, 0));
+  const std::vector<glm::vec3> exact = boxes.positions;
+  for (std::size_t i = 1; i < exact.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)  // one ulp more for each earlier copy
+      if (exact[j] == exact[i]) boxes.positions[i].x = std::nextafter(boxes.positions[i].x, 1e9f);
+  EXPECT_FALSE(checkSolid(boxes.positions, boxes.indices).welded);
+  // One of them alone (24 open corners) is welded.
+  const MeshData one{std::vector<glm::vec3>(boxes.positions.begin(), boxes.positions.begin() + 24),
+                     {},
+                     {},
+                     std::vector<std::uint32_t>(boxes.indices.begin(), boxes.indices.begin() + 36)};
+  EXPECT_TRUE(checkSolid(one.positions, one.indices).welded);
+  const MeshData sphere = test::ulpSeamSphere(1.0f, 32, 16);
+  const SolidCheck seam = checkSolid(sphere.positions, sphere.indices);
+  EXPECT_FALSE(seam.closed);
+  EXPECT_TRUE(seam.welded);
+  const MeshData solid = builder::makeSphere(1.0f, 24, 12);
+  EXPECT_TRUE(checkSolid(solid.positions, solid.indices).closed);
+}
+
 TEST(WeldedClosedSolid, ClosedMeshesAndRealOpeningsGetNone) {
   const MeshData box = builder::makeBox(glm::vec3(0.5f));
   EXPECT_FALSE(weldedClosedSolid(box.positions, box.indices));  // closed as it is

@@ -46,6 +46,10 @@ std::vector<std::uint32_t> weldedIds(const std::vector<glm::vec3>& positions) {
   return ids;
 }
 
+// Open corners checkSolid() welds in any mesh (a box open by an ulp has all its corners open);
+// beyond this, at most a quarter of the mesh's distinct positions.
+constexpr std::size_t kMaxWeldedCornersAlways = 1024;
+
 std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
@@ -148,12 +152,14 @@ bool isClosedSolid(const std::vector<glm::vec3>& positions,
 std::vector<glm::vec3> weldedWithin(const std::vector<glm::vec3>& positions, float tolerance) {
   std::vector<glm::vec3> welded = positions;
   if (!(tolerance > 0.0f) || positions.empty()) return welded;
-  // Cells of the tolerance's size: a position within it of another lies in one of the 27
-  // cells around that one's. Coordinates too large for a cell index are left alone.
-  const auto cellOf = [&](const glm::vec3& p, glm::i64vec3& cell) {
-    const glm::dvec3 c = glm::floor(glm::dvec3(p) / static_cast<double>(tolerance));
-    if (!(glm::all(glm::lessThan(glm::abs(c), glm::dvec3(1e15))))) return false;
-    cell = glm::i64vec3(c);
+  // Cells twice the tolerance wide: the positions within it of p lie in at most two cells along
+  // each axis, those of p - tolerance and p + tolerance. Coordinates too large for a cell index
+  // are left alone.
+  const double cell = 2.0 * static_cast<double>(tolerance);
+  const auto cellOf = [&](const glm::dvec3& p, glm::i64vec3& index) {
+    const glm::dvec3 c = glm::floor(p / cell);
+    if (!glm::all(glm::lessThan(glm::abs(c), glm::dvec3(1e15)))) return false;
+    index = glm::i64vec3(c);
     return true;
   };
   const auto key = [](const glm::i64vec3& c) {
@@ -163,15 +169,18 @@ std::vector<glm::vec3> weldedWithin(const std::vector<glm::vec3>& positions, flo
     return h ^ (h >> 29);
   };
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> firsts;  // per cell key
+  firsts.reserve(positions.size());
+  const glm::dvec3 reach(static_cast<double>(tolerance));
   for (std::size_t i = 0; i < positions.size(); ++i) {
-    glm::i64vec3 cell;
-    if (!cellOf(positions[i], cell)) continue;
+    const glm::dvec3 p(positions[i]);
+    glm::i64vec3 low, high, own;
+    if (!cellOf(p - reach, low) || !cellOf(p + reach, high) || !cellOf(p, own)) continue;
     // The earliest first position within the tolerance (hash collisions only cost a test).
     std::uint32_t found = 0xffffffffu;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const auto it = firsts.find(key(cell + glm::i64vec3(dx, dy, dz)));
+    for (std::int64_t z = low.z; z <= high.z; ++z)
+      for (std::int64_t y = low.y; y <= high.y; ++y)
+        for (std::int64_t x = low.x; x <= high.x; ++x) {
+          const auto it = firsts.find(key({x, y, z}));
           if (it == firsts.end()) continue;
           for (const std::uint32_t j : it->second)
             if (j < found && glm::all(glm::lessThanEqual(glm::abs(positions[j] - positions[i]),
@@ -181,7 +190,7 @@ std::vector<glm::vec3> weldedWithin(const std::vector<glm::vec3>& positions, flo
     if (found != 0xffffffffu) {
       welded[i] = positions[found];
     } else {
-      firsts[key(cell)].push_back(static_cast<std::uint32_t>(i));
+      firsts[key(own)].push_back(static_cast<std::uint32_t>(i));
     }
   }
   return welded;
@@ -214,6 +223,12 @@ SolidCheck checkSolid(const std::vector<glm::vec3>& positions,
   // at the position of its first vertex, in the order the ids were given (vertex order).
   std::sort(open.begin(), open.end());
   open.erase(std::unique(open.begin(), open.end()), open.end());
+  // A mesh open by rounding is open along a seam or at a pole; one mostly made of open corners
+  // (leaves as separate cards, a triangle soup) is open by design, and a weld would cost time
+  // in proportion to its size for nothing.
+  const std::size_t distinct =
+      s.ids.empty() ? 0 : std::size_t{*std::max_element(s.ids.begin(), s.ids.end())} + 1;
+  if (open.size() > std::max<std::size_t>(kMaxWeldedCornersAlways, distinct / 4)) return check;
   std::vector<std::uint32_t> firstVertex(positions.size(), 0xffffffffu);
   for (std::size_t v = positions.size(); v-- > 0;)
     firstVertex[s.ids[v]] = static_cast<std::uint32_t>(v);
