@@ -175,7 +175,7 @@ TEST(WeldedClosedSolid, ASphereOpenByUlpsAtItsSeamAndPoleIsClosedOnceWelded) {
     const MeshData sphere = test::ulpSeamSphere(radius, 32, 16);
     ASSERT_FALSE(closed(sphere));  // the premise: open by an ulp
     const std::optional<std::vector<glm::vec3>> welded =
-        weldedClosedSolid(sphere.positions, sphere.indices);
+        checkSolid(sphere.positions, sphere.indices).welded;
     ASSERT_TRUE(welded);
     EXPECT_TRUE(isClosedSolid(*welded, sphere.indices));
     ASSERT_EQ(welded->size(), sphere.positions.size());
@@ -246,16 +246,16 @@ TEST(WeldedClosedSolid, MeshesMostlyOfOpenCornersAreLeftAlone) {
 
 TEST(WeldedClosedSolid, ClosedMeshesAndRealOpeningsGetNone) {
   const MeshData box = builder::makeBox(glm::vec3(0.5f));
-  EXPECT_FALSE(weldedClosedSolid(box.positions, box.indices));  // closed as it is
+  EXPECT_FALSE(checkSolid(box.positions, box.indices).welded);  // closed as it is
   MeshData holed = test::ulpSeamSphere(1.0f, 32, 16);
   holed.indices.resize(holed.indices.size() - 3);
-  EXPECT_FALSE(weldedClosedSolid(holed.positions, holed.indices));
+  EXPECT_FALSE(checkSolid(holed.positions, holed.indices).welded);
   // The seam's second column a ten-thousandth of the extent away: a crack, not rounding.
   MeshData apart = test::ulpSeamSphere(1.0f, 32, 16);
   for (int iy = 1; iy < 16; ++iy)
     apart.positions[static_cast<std::size_t>(iy * 33 + 32)].x += 2e-4f;
-  EXPECT_FALSE(weldedClosedSolid(apart.positions, apart.indices));
-  EXPECT_FALSE(weldedClosedSolid({}, {}));
+  EXPECT_FALSE(checkSolid(apart.positions, apart.indices).welded);
+  EXPECT_FALSE(checkSolid({}, {}).welded);
 }
 
 }  // namespace

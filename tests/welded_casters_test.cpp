@@ -67,7 +67,9 @@ TEST(WeldedCasters, AnUlpOpenSphereIsClosedInTheCasterStreamOnly) {
     EXPECT_FALSE(range.closed);
     EXPECT_TRUE(range.closedInStream);
     for (const GpuDraw& draw : geometry.draws())
-      if (draw.mesh == 1) EXPECT_GE(draw.casterFirstIndex, 0);
+      if (draw.mesh == 1) {
+        EXPECT_GE(draw.casterFirstIndex, 0);
+      }
     EXPECT_FALSE(geometry.meshes()[0].closedInStream);  // the floor is open
   }
 }
@@ -78,7 +80,7 @@ TEST(WeldedCasters, AnUlpOpenSphereIsClosedInTheCasterStreamOnly) {
 TEST(WeldedCasters, ShadowMapsAreThoseOfTheWeldedMesh) {
   const builder::MeshData ball = test::ulpSeamSphere(0.5f, 32, 16);
   const std::optional<std::vector<glm::vec3>> welded =
-      weldedClosedSolid(ball.positions, ball.indices);
+      checkSolid(ball.positions, ball.indices).welded;
   ASSERT_TRUE(welded);
   builder::MeshData weldedBall = ball;
   weldedBall.positions = *welded;

@@ -84,7 +84,7 @@ std::vector<std::optional<std::vector<glm::vec3>>> GpuGeometry::uploadMeshes(con
     range.indexCount = static_cast<GLsizei>(mesh.indices.size());
     range.hasTangents = !mesh.tangents.empty();
     range.closed = shapes[m].solid.closed;
-    range.closedInStream = range.closed;  // and the welded ones, once copied into the stream
+    range.closedInStream = range.closed || shapes[m].solid.welded.has_value();
     range.plane = shapes[m].plane;
     welded.push_back(std::move(shapes[m].solid.welded));
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
@@ -197,7 +197,6 @@ void GpuGeometry::uploadCasterStream(
     const auto m = static_cast<std::size_t>(draw.mesh);
     const Mesh& mesh = scene.meshes[m];
     // Copies of a mesh closed only once welded are made from the welded positions.
-    if (welded[m]) meshes_[m].closedInStream = true;
     const std::vector<glm::vec3>& positions = welded[m] ? *welded[m] : mesh.positions;
     const auto base = static_cast<std::uint32_t>(world.size());
     draw.casterFirstIndex = static_cast<GLint>(indices.size());

@@ -28,7 +28,7 @@ struct GpuMeshRange {
   // nearest, so the shadow pass skips its back faces.
   bool closed = false;
   // Its copies in the world-space caster stream bound a solid: it is closed, or closed once
-  // nearly equal positions are welded (weldedClosedSolid), which the copies are made from.
+  // nearly equal positions are welded (checkSolid), which the copies are made from.
   bool closedInStream = false;
   // The plane its triangles lie in, when they are flat (flatMeshPlane): a floor or a wall.
   std::optional<MeshPlane> plane;

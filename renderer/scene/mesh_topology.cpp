@@ -196,11 +196,6 @@ std::vector<glm::vec3> weldedWithin(const std::vector<glm::vec3>& positions, flo
   return welded;
 }
 
-std::optional<std::vector<glm::vec3>> weldedClosedSolid(const std::vector<glm::vec3>& positions,
-                                                        const std::vector<std::uint32_t>& indices) {
-  return checkSolid(positions, indices).welded;
-}
-
 SolidCheck checkSolid(const std::vector<glm::vec3>& positions,
                       const std::vector<std::uint32_t>& indices) {
   SolidCheck check;

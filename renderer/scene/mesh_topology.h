@@ -23,19 +23,16 @@ bool isClosedSolid(const std::vector<glm::vec3>& positions,
 // vertex order, takes that one's exact value; the first of each group keeps its own.
 std::vector<glm::vec3> weldedWithin(const std::vector<glm::vec3>& positions, float tolerance);
 
-// The welded positions of a mesh that is not a closed solid as it is but is once the corners of
-// its open edges are welded (weldedWithin among themselves, a millionth of the mesh's extent;
-// every vertex at such a corner's position moves with it); none otherwise. Generators and
+// One look at a mesh's edges gives two answers. `closed`: isClosedSolid's. `welded`, for a mesh
+// that is not closed: the positions that close it once the corners of its open edges are welded
+// (weldedWithin among themselves, a millionth of the mesh's extent; every vertex at such a
+// corner's position moves with it), if any do; none for a mesh mostly of open corners (more
+// than a quarter of its positions, and over 1,024), which is open by design. Generators and
 // exporters compute a seam's two copies of a vertex, or a sphere's pole, by different float
 // expressions (sin 2 pi is not 0 in float), which leaves the mesh open by an ulp. Drawn from
 // the welded positions, whose shared corners are then the same bits after any transform, the
 // mesh has no crack for a rasterizer's sample to fall through, and skipping its back faces
 // changes no depth of the welded solid, which lies within the tolerance of the mesh.
-std::optional<std::vector<glm::vec3>> weldedClosedSolid(const std::vector<glm::vec3>& positions,
-                                                        const std::vector<std::uint32_t>& indices);
-
-// Both answers from one look at the mesh's edges: isClosedSolid's, and where that is no,
-// weldedClosedSolid's.
 struct SolidCheck {
   bool closed = false;
   std::optional<std::vector<glm::vec3>> welded;
