@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <glm/gtc/matrix_transform.hpp>
 #include <utility>
 #include <vector>
 
@@ -160,6 +161,42 @@ TEST(CasterCulling, SphereTexelRectBoundsEveryPointOfTheSphereItProjects) {
   EXPECT_EQ(around.x1, n);
   EXPECT_EQ(around.y1, n);
   EXPECT_TRUE(sphereTexelRect(viewProjection, at + glm::vec3(5, 20, 0), 0.5f, n).empty());
+}
+
+// What a camera's frame may show of a placed box (the lighting pass clears no more than that).
+TEST(CasterCulling, NdcTexelRectOfABoxBoundsEveryPointOfTheBoxOnAWideFrame) {
+  const glm::mat4 viewProjection =
+      glm::perspective(glm::radians(50.0f), 1280.0f / 720.0f, 0.1f, 100.0f) *
+      glm::lookAt(glm::vec3(0.3f, 1.2f, 4.0f), glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  // Turned, stretched and moved to the right of the view.
+  const glm::mat4 model =
+      glm::translate(glm::mat4(1.0f), glm::vec3(1.1f, 0.2f, -0.5f)) *
+      glm::rotate(glm::mat4(1.0f), 0.7f, glm::normalize(glm::vec3(1, 2, 0.5f))) *
+      glm::scale(glm::mat4(1.0f), glm::vec3(0.5f, 0.2f, 0.9f));
+  const glm::vec3 low(-1.0f, -0.5f, -0.25f), high(0.5f, 1.0f, 0.75f);
+  const TexelRect rect = ndcTexelRect(projectedBox(viewProjection, model, low, high), 1280, 720);
+  ASSERT_FALSE(rect.empty());
+  EXPECT_GT(rect.x0, 640);  // right of the centre, and well inside the frame
+  EXPECT_LT((rect.x1 - rect.x0) * (rect.y1 - rect.y0), 1280 * 720 / 4);
+  int onEdge = 0;
+  for (int i = 0; i < 4096; ++i) {
+    const glm::vec3 t(static_cast<float>(i % 16) / 15.0f, static_cast<float>(i / 16 % 16) / 15.0f,
+                      static_cast<float>(i / 256) / 15.0f);
+    const glm::vec4 clip = viewProjection * model * glm::vec4(low + t * (high - low), 1.0f);
+    const glm::vec2 window = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * glm::vec2(1280, 720);
+    ASSERT_GE(window.x, static_cast<float>(rect.x0) + 1.0f);  // a pixel of margin
+    ASSERT_LE(window.x, static_cast<float>(rect.x1) - 1.0f);
+    ASSERT_GE(window.y, static_cast<float>(rect.y0) + 1.0f);
+    ASSERT_LE(window.y, static_cast<float>(rect.y1) - 1.0f);
+    onEdge += window.x < static_cast<float>(rect.x0) + 3.0f;
+  }
+  EXPECT_GT(onEdge, 0);  // tight: some corner is within two pixels of the margin
+  // Reaching behind the eye: the whole frame. Beside the frame: nothing.
+  const glm::mat4 atEye = glm::translate(glm::mat4(1.0f), glm::vec3(0.3f, 1.2f, 4.0f));
+  EXPECT_EQ(ndcTexelRect(projectedBox(viewProjection, atEye, low, high), 1280, 720),
+            (TexelRect{0, 0, 1280, 720}));
+  const glm::mat4 aside = glm::translate(glm::mat4(1.0f), glm::vec3(30.0f, 0.0f, 0.0f));
+  EXPECT_TRUE(ndcTexelRect(projectedBox(viewProjection, aside, low, high), 1280, 720).empty());
 }
 
 TEST(CasterCulling, TexelRectsUniteToTheirBoundsAndEmptyOnesAddNothing) {

@@ -138,6 +138,7 @@ std::vector<std::optional<std::vector<glm::vec3>>> GpuGeometry::uploadMeshes(con
         std::max({glm::length(linear[0]), glm::length(linear[1]), glm::length(linear[2])});
     draw.boundsCenter = glm::vec3(instance.world * glm::vec4(center, 1.0f));
     draw.boundsRadius = radius * scale * (1.0f + 1e-5f);
+    draw.meshBounds = mesh.bounds;
     const std::optional<MeshPlane>& plane = meshes_[static_cast<std::size_t>(instance.mesh)].plane;
     if (plane) draw.plane = transformedPlane(*plane, instance.world);
     draws_.push_back(draw);

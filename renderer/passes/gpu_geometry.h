@@ -43,6 +43,7 @@ struct GpuDraw {
   bool mirrored = false;         // negative determinant: front faces are clockwise
   glm::vec3 boundsCenter{0.0f};  // world-space bounding sphere, for culling
   float boundsRadius = 0.0f;
+  Bounds meshBounds;  // the mesh's box, which `world` places: tighter on screen than the sphere
   std::optional<MeshPlane> plane;  // world space, for flat meshes
   // First index of this draw's copy in the world-space caster stream (SceneVertexArrays::casters),
   // whose indices need no base vertex; -1 when it has none.

@@ -14,6 +14,7 @@
 #include "renderer/gl/raster_state.h"
 #include "renderer/gl/software_rasterizer.h"
 #include "renderer/passes/shader_contract.h"
+#include "renderer/passes/texel_scissor.h"
 #include "renderer/scene/srgb_transfer.h"
 #include "renderer/view/draw_order.h"
 #include "renderer/view/sheen_albedo_table.h"
@@ -624,6 +625,16 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visib
                       " framebuffer (status " + hex(status) + ")");
 }
 
+TexelRect FrameTargets::toClear(int clearValues) const {
+  if (clearValues_ != clearValues) return {0, 0, width_, height_};
+  return drawn_;
+}
+
+void FrameTargets::cleared(int clearValues, const TexelRect& drawn) {
+  clearValues_ = clearValues;
+  drawn_ = drawn;
+}
+
 double FrameTargets::bytes(int width, int height, PassOutputs outputs) {
   const double texels = static_cast<double>(width) * height;
   double texel = sizeof(float);  // the depth
@@ -811,6 +822,23 @@ glm::vec4 screenBounds(const glm::mat4& viewProjection, const glm::vec3& center,
 
 bool overlap(const glm::vec4& a, const glm::vec4& b) {
   return a.x <= b.z && b.x <= a.z && a.y <= b.w && b.y <= a.w;
+}
+
+// The pixels a lighting pass of `scene` may draw: its draws' boxes projected, with a pixel more
+// for the points and lines (a pixel wide, centred on their vertices).
+TexelRect drawnPixels(const GpuScene& scene, const glm::mat4& viewProjection,
+                      const FrameTargets& targets) {
+  const int width = targets.width(), height = targets.height();
+  TexelRect drawn;
+  for (const GpuDraw& draw : scene.draws()) {
+    if (draw.meshBounds.empty()) continue;  // no vertex
+    drawn = drawn.united(ndcTexelRect(
+        projectedBox(viewProjection, draw.world, draw.meshBounds.min, draw.meshBounds.max), width,
+        height));
+  }
+  if (drawn.empty()) return drawn;
+  return {std::max(drawn.x0 - 1, 0), std::max(drawn.y0 - 1, 0), std::min(drawn.x1 + 1, width),
+          std::min(drawn.y1 + 1, height)};
 }
 
 }  // namespace
@@ -1135,16 +1163,8 @@ void LightingPass::drawPointsAndLines(const GpuMeshRange& range, const ShaderPro
   if (lighting) program.set("uUnlit", 0);
 }
 
-void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
-                          const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
-                          const TransmittanceAtlas& transmittanceAtlas,
-                          const LightingAmbience& ambience, FrameTargets& targets,
-                          const PassParameters& parameters) {
-  if (features_.environment != (ambience.environment.textures != nullptr))
-    throw std::logic_error("a lighting pass drawn with another environment than it was made for");
-  if (features_.ambientOcclusion != ambience.occlusion.has_value())
-    throw std::logic_error("a lighting pass drawn with another ambient occlusion than made for");
-  glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
+void LightingPass::clearTargets(const FrameTargets& targets,
+                                const PassParameters& parameters) const {
   // Background: no coverage, lit (visibility 1), no object or material (id -1).
   const float zero[4] = {0, 0, 0, 0};
   const float lit[4] = {1, 1, 1, 1};
@@ -1165,9 +1185,37 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   }
   const float clearDepth = 0.0f;
   glClearNamedFramebufferfv(targets.framebuffer(), GL_DEPTH, 0, &clearDepth);
+}
+
+void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
+                          const std::vector<ShadedLight>& lights, const ShadowGroups& shadowGroups,
+                          const TransmittanceAtlas& transmittanceAtlas,
+                          const LightingAmbience& ambience, FrameTargets& targets,
+                          const PassParameters& parameters) {
+  if (features_.environment != (ambience.environment.textures != nullptr))
+    throw std::logic_error("a lighting pass drawn with another environment than it was made for");
+  if (features_.ambientOcclusion != ambience.occlusion.has_value())
+    throw std::logic_error("a lighting pass drawn with another ambient occlusion than made for");
+  glBindFramebuffer(GL_FRAMEBUFFER, targets.framebuffer());
+  const glm::mat4 viewProjection = camera.projection * camera.view;
+  const bool background = ambience.environment.background && outputs_ != PassOutputs::Aovs &&
+                          outputs_ != PassOutputs::Layers && outputs_ != PassOutputs::Ids &&
+                          parameters.debugView == DebugView::None;
+  // Only the layers' mode changes what the targets are cleared to (clearTargets()).
+  const int clearValues = outputs_ == PassOutputs::Layers && parameters.layerMode == 0 ? 1 : 0;
+  const TexelRect whole{0, 0, targets.width(), targets.height()};
+  const TexelRect stale = targets.toClear(clearValues);
+  if (stale == whole) {
+    clearTargets(targets, parameters);
+  } else if (!stale.empty()) {  // empty: every pixel holds what the clear would write
+    scissorTo(stale);
+    clearTargets(targets, parameters);
+    gl::Scissor{}.apply();
+  }
+  targets.cleared(clearValues, background ? whole : drawnPixels(scene, viewProjection, targets));
 
   FrameUniforms uniforms;
-  uniforms.viewProjection = camera.projection * camera.view;
+  uniforms.viewProjection = viewProjection;
   uniforms.cameraPosition = camera.eye;
   uniforms.ambience = ambience;
   if (const EnvironmentTextures* environment = ambience.environment.textures) {
@@ -1252,9 +1300,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.depth.apply();
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
   // The beauty's background; the AOVs, layers, ids and debug views keep theirs empty.
-  if (ambience.environment.background && outputs_ != PassOutputs::Aovs &&
-      outputs_ != PassOutputs::Layers && outputs_ != PassOutputs::Ids &&
-      parameters.debugView == DebugView::None) {
+  if (background) {
     drawBackground(targets, uniforms);
     state.apply();
     glBindVertexArray(scene.vertexArray());

@@ -19,6 +19,7 @@
 #include "renderer/render/render_settings.h"
 #include "renderer/scene/light.h"
 #include "renderer/view/camera.h"
+#include "renderer/view/caster_culling.h"
 #include "renderer/view/light_clusters.h"
 
 namespace omnishadow {
@@ -166,10 +167,21 @@ class FrameTargets {
   int width() const { return width_; }
   int height() const { return height_; }
 
+  // The pixels a pass that clears to `clearValues` (a key of the values it clears to) must
+  // clear: those the last pass may have drawn, where the rest still hold what it cleared them
+  // to; every pixel of new targets and before other clear values. llvmpipe clears a 16-byte
+  // texel at a time and visits every tile a clear reaches: a whole 1280x720 float beauty took
+  // 2.2 ms of Sundial's 10 ms lighting pass.
+  TexelRect toClear(int clearValues) const;
+  // A pass cleared toClear(clearValues) to `clearValues` and then drew within `drawn`.
+  void cleared(int clearValues, const TexelRect& drawn);
+
  private:
   int width_, height_;
   PassOutputs outputs_;
   int visibilityOutputs_;
+  std::optional<int> clearValues_;  // none: what the targets hold is not known
+  TexelRect drawn_;
   gl::Framebuffer framebuffer_;
   std::vector<gl::Texture> colors_;
   gl::Texture depth_;
@@ -299,6 +311,9 @@ class LightingPass {
   // The environment where no surface covers a pixel (EnvironmentBinding::background), over
   // the opaque and masked surfaces' depth and under what is drawn after them.
   // Leaves its own raster state applied.
+  // Clears the color targets to what a pixel without a surface holds, and the depth (obeying
+  // the scissor).
+  void clearTargets(const FrameTargets& targets, const PassParameters& parameters) const;
   void drawBackground(const FrameTargets& targets, const FrameUniforms& uniforms);
   // The screen-space ambient occlusion of the opaque and masked surfaces
   // (LightingAmbience::occlusion), from the pre-pass's depth or, without it or with masked

@@ -40,19 +40,22 @@ TexelRect TexelRect::grown(int dx, int dy, int resolution) const {
 
 TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& center, float radius,
                           int resolution) {
-  const std::optional<NdcBounds> ndc = projectedSphereBox(viewProjection, center, radius);
-  if (!ndc) return TexelRect::whole(resolution);
-  const auto window = [resolution](float v) {
-    return (v * 0.5f + 0.5f) * static_cast<float>(resolution);
+  return ndcTexelRect(projectedSphereBox(viewProjection, center, radius), resolution, resolution);
+}
+
+TexelRect ndcTexelRect(const std::optional<NdcBounds>& ndc, int width, int height) {
+  if (!ndc) return {0, 0, width, height};
+  const auto window = [](float v, int size) {
+    return (v * 0.5f + 0.5f) * static_cast<float>(size);
   };
-  const auto clamped = [resolution](float v) {
-    return static_cast<int>(std::clamp(v, 0.0f, static_cast<float>(resolution)));
+  const auto clamped = [](float v, int size) {
+    return static_cast<int>(std::clamp(v, 0.0f, static_cast<float>(size)));
   };
   // A texel of margin on every side.
-  const TexelRect rect{clamped(std::floor(window(ndc->low.x)) - 1.0f),
-                       clamped(std::floor(window(ndc->low.y)) - 1.0f),
-                       clamped(std::ceil(window(ndc->high.x)) + 1.0f),
-                       clamped(std::ceil(window(ndc->high.y)) + 1.0f)};
+  const TexelRect rect{clamped(std::floor(window(ndc->low.x, width)) - 1.0f, width),
+                       clamped(std::floor(window(ndc->low.y, height)) - 1.0f, height),
+                       clamped(std::ceil(window(ndc->high.x, width)) + 1.0f, width),
+                       clamped(std::ceil(window(ndc->high.y, height)) + 1.0f, height)};
   return rect.empty() ? TexelRect{} : rect;
 }
 

@@ -9,6 +9,7 @@
 #include "renderer/scene/light.h"
 #include "renderer/scene/mesh_topology.h"
 #include "renderer/view/shadow_plan.h"
+#include "renderer/view/sphere_projection.h"
 
 namespace omnishadow {
 
@@ -46,6 +47,9 @@ struct TexelRect {
 // projection no longer bounds it), an empty rectangle when it lies outside the view.
 TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& center, float radius,
                           int resolution);
+// The texels of a `width` x `height` view that `ndc` covers, with a texel of margin; the whole
+// view without bounds (projectedBox(), projectedSphereBox()).
+TexelRect ndcTexelRect(const std::optional<NdcBounds>& ndc, int width, int height);
 
 // Unites into `texels` (one rectangle per layer of `plan`) what a caster's bounding sphere may
 // cover in each layer of `viewMask`, at `resolution`; returns `viewMask` without the layers

@@ -15,5 +15,9 @@ struct NdcBounds {
 // corners no longer bound the projection.
 std::optional<NdcBounds> projectedSphereBox(const glm::mat4& viewProjection,
                                             const glm::vec3& center, float radius);
+// The same for a box given in the space `model` places in the world: `low` and `high` are its
+// opposite corners there.
+std::optional<NdcBounds> projectedBox(const glm::mat4& viewProjection, const glm::mat4& model,
+                                      const glm::vec3& low, const glm::vec3& high);
 
 }  // namespace omnishadow
