@@ -1,11 +1,16 @@
 // A lighting pass clears only the pixels that the last pass on the same targets may have drawn
 // (FrameTargets::toClear): whatever came before on a renderer, a frame is the frame alone.
 #include <gtest/gtest.h>
+#include <malloc.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <glm/gtc/matrix_transform.hpp>
 #include <string>
 #include <vector>
 
+#include "renderer/gl/software_rasterizer.h"
+#include "renderer/passes/lighting_pass.h"
 #include "renderer/render/renderer.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
@@ -90,7 +95,7 @@ void expectSameFrame(const Frame& a, const Frame& b, const std::string& what) {
 TEST(PartialClear, AFrameAfterAnotherIsTheFrameAlone) {
   int size = 0;
   for (const Case& c : cases()) {
-    // A size of its own: the renderer makes new targets, which the first frame clears whole.
+    // A size of its own: the renderer makes new targets for the first frame.
     const Scene left = ballAt({-0.7f, 0.0f, 0.0f}, c.glass);
     const Scene right = ballAt({0.7f, 0.1f, 0.0f}, c.glass);
     const ViewCamera camera = lookFrom(left, {0, 0.3f, 3.0f}, {0, 0, 0}, 120 + 2 * size++, 72);
@@ -131,6 +136,57 @@ TEST(PartialClear, EveryAovHoldsTheBackgroundsValuesWhereNothingIsDrawn) {
             << name << " at " << pixel.x << "," << pixel.y;
       }
     }
+  }
+}
+
+// On llvmpipe new frame targets count as cleared to zeros without a clear (FrameTargets's
+// madeZeroed), as new shadow textures do (render_test's NewShadowTexturesOfLlvmpipeHoldThe-
+// ClearedDepth): the driver fills every texture it makes with zero bytes. Checked on targets
+// made where some full of other values were just deleted, with malloc set as `render` sets it,
+// so that the heap hands back those very bytes.
+TEST(PartialClear, NewBeautyTargetsOfLlvmpipeHoldZeros) {
+  if (!gl::isLlvmpipe(sharedRenderer().glDescription()))
+    GTEST_SKIP() << "the renderer relies on this on llvmpipe only";
+  const bool heapSet = mallopt(M_MMAP_MAX, 0) == 1 && mallopt(M_TRIM_THRESHOLD, 1 << 30) == 1;
+  struct MallocDefaults {
+    bool set;
+    ~MallocDefaults() {
+      if (!set) return;
+      mallopt(M_MMAP_MAX, 65536);
+      mallopt(M_TRIM_THRESHOLD, 128 * 1024);
+    }
+  } restore{heapSet};
+  const int w = 160, h = 90;
+  const std::size_t texels = static_cast<std::size_t>(w) * h;
+  for (const PassOutputs outputs : {PassOutputs::Beauty, PassOutputs::Srgb8}) {
+    const bool bytes = outputs == PassOutputs::Srgb8;
+    {
+      FrameTargets full(w, h, outputs);
+      EXPECT_EQ(full.toClear(0, true), (TexelRect{0, 0, w, h}));  // not known to be zeroed
+      const float value[4] = {0.75f, 0.5f, 0.25f, 1.0f};
+      const GLuint codes[4] = {191, 128, 64, 255};
+      if (bytes)
+        glClearTexImage(full.color(0), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, codes);
+      else
+        glClearTexImage(full.color(0), 0, GL_RGBA, GL_FLOAT, value);
+      const float depth = 0.5f;
+      glClearTexImage(full.depth(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, &depth);
+      glFinish();
+    }
+    FrameTargets fresh(w, h, outputs, contract::kMaxVisibilityOutputs, true);
+    EXPECT_TRUE(fresh.toClear(0, true).empty());
+    EXPECT_EQ(fresh.toClear(0, false), (TexelRect{0, 0, w, h}));  // other values: cleared
+    std::vector<std::uint32_t> color(texels * 4, 7u);
+    glGetTextureImage(fresh.color(0), 0, bytes ? GL_RGBA_INTEGER : GL_RGBA,
+                      bytes ? GL_UNSIGNED_INT : GL_FLOAT,
+                      static_cast<GLsizei>(color.size() * sizeof(std::uint32_t)), color.data());
+    std::vector<float> depths(texels, -1.0f);
+    glGetTextureImage(fresh.depth(), 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                      static_cast<GLsizei>(texels * sizeof(float)), depths.data());
+    ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    EXPECT_EQ(std::count(color.begin(), color.end(), 0u), static_cast<std::ptrdiff_t>(texels * 4))
+        << (bytes ? "8-bit beauty" : "float beauty");
+    EXPECT_EQ(std::count(depths.begin(), depths.end(), 0.0f), static_cast<std::ptrdiff_t>(texels));
   }
 }
 

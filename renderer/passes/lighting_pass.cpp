@@ -602,11 +602,13 @@ AovVisibilityLayout aovVisibilityLayout(int lights, bool rgbTerms) {
   return layout;
 }
 
-FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visibilityOutputs)
+FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visibilityOutputs,
+                           bool madeZeroed)
     : width_(width),
       height_(height),
       outputs_(outputs),
       visibilityOutputs_(outputs == PassOutputs::Aovs ? visibilityOutputs : 0),
+      madeZeroed_(madeZeroed),
       framebuffer_(gl::createFramebuffer()) {
   const int count = attachmentsFor(outputs, visibilityOutputs);
   std::vector<GLenum> drawBuffers;
@@ -625,7 +627,8 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visib
                       " framebuffer (status " + hex(status) + ")");
 }
 
-TexelRect FrameTargets::toClear(int clearValues) const {
+TexelRect FrameTargets::toClear(int clearValues, bool zeros) const {
+  if (!clearValues_ && madeZeroed_ && zeros) return {};
   if (clearValues_ != clearValues) return {0, 0, width_, height_};
   return drawn_;
 }
@@ -1163,27 +1166,29 @@ void LightingPass::drawPointsAndLines(const GpuMeshRange& range, const ShaderPro
   if (lighting) program.set("uUnlit", 0);
 }
 
+std::array<float, 4> LightingPass::clearValue(int attachment,
+                                              const PassParameters& parameters) const {
+  // Background: no coverage, lit (visibility 1), no object or material (id -1).
+  const int i = attachment;
+  if (outputs_ == PassOutputs::Aovs && i >= 3) return {1, 1, 1, 1};
+  if (outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0) return {0, -1, -1, 0};
+  if (outputs_ == PassOutputs::Ids || (writesIdsBesideBeauty(outputs_) && i == 1))
+    return {-1, 0, 0, 0};
+  return {0, 0, 0, 0};  // the 8-bit beauty's too, in integers
+}
+
 void LightingPass::clearTargets(const FrameTargets& targets,
                                 const PassParameters& parameters) const {
-  // Background: no coverage, lit (visibility 1), no object or material (id -1).
-  const float zero[4] = {0, 0, 0, 0};
-  const float lit[4] = {1, 1, 1, 1};
-  const float noIds[4] = {0, -1, -1, 0};
-  const float noId[4] = {-1, 0, 0, 0};
   for (int i = 0; i < targets.attachmentCount(); ++i) {
-    const float* value =
-        outputs_ == PassOutputs::Aovs && i >= 3                                       ? lit
-        : outputs_ == PassOutputs::Layers && i == 2 && parameters.layerMode == 0      ? noIds
-        : outputs_ == PassOutputs::Ids || (writesIdsBesideBeauty(outputs_) && i == 1) ? noId
-                                                                                      : zero;
+    const std::array<float, 4> value = clearValue(i, parameters);
     if (writesSrgb8(outputs_) && i == 0) {
       const GLuint black[4] = {0, 0, 0, 0};
       glClearNamedFramebufferuiv(targets.framebuffer(), GL_COLOR, i, black);
     } else {
-      glClearNamedFramebufferfv(targets.framebuffer(), GL_COLOR, i, value);
+      glClearNamedFramebufferfv(targets.framebuffer(), GL_COLOR, i, value.data());
     }
   }
-  const float clearDepth = 0.0f;
+  const float clearDepth = 0.0f;  // zero bytes, as clearValue()'s zeros
   glClearNamedFramebufferfv(targets.framebuffer(), GL_DEPTH, 0, &clearDepth);
 }
 
@@ -1204,7 +1209,10 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   // Only the layers' mode changes what the targets are cleared to (clearTargets()).
   const int clearValues = outputs_ == PassOutputs::Layers && parameters.layerMode == 0 ? 1 : 0;
   const TexelRect whole{0, 0, targets.width(), targets.height()};
-  const TexelRect stale = targets.toClear(clearValues);
+  bool zeros = true;
+  for (int i = 0; i < targets.attachmentCount(); ++i)
+    zeros = zeros && clearValue(i, parameters) == std::array<float, 4>{0, 0, 0, 0};
+  const TexelRect stale = targets.toClear(clearValues, zeros);
   if (stale == whole) {
     clearTargets(targets, parameters);
   } else if (!stale.empty()) {  // empty: every pixel holds what the clear would write

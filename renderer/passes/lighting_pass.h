@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -153,8 +154,10 @@ using ShadowGroups = std::vector<ShadowGroupTextures>;
 // layer values.
 class FrameTargets {
  public:
+  // `madeZeroed`: the driver fills every texture it makes with zero bytes, as llvmpipe does
+  // (ShadowTexturePool), so new targets hold what a pass that clears to zeros clears them to.
   FrameTargets(int width, int height, PassOutputs outputs,
-               int visibilityOutputs = contract::kMaxVisibilityOutputs);
+               int visibilityOutputs = contract::kMaxVisibilityOutputs, bool madeZeroed = false);
   // The most bytes such targets take (their colors and a 32-bit depth), for checks made before
   // any of them is allocated.
   static double bytes(int width, int height, PassOutputs outputs);
@@ -167,12 +170,13 @@ class FrameTargets {
   int width() const { return width_; }
   int height() const { return height_; }
 
-  // The pixels a pass that clears to `clearValues` (a key of the values it clears to) must
-  // clear: those the last pass may have drawn, where the rest still hold what it cleared them
-  // to; every pixel of new targets and before other clear values. llvmpipe clears a 16-byte
+  // The pixels a pass that clears to `clearValues` (a key of the values it clears to; `zeros`:
+  // they are all zero bytes) must clear: those the last pass may have drawn, where the rest
+  // still hold what it cleared them to; every pixel before other clear values, and of new
+  // targets unless they were made zeroed and the values are zeros. llvmpipe clears a 16-byte
   // texel at a time and visits every tile a clear reaches: a whole 1280x720 float beauty took
   // 2.2 ms of Sundial's 10 ms lighting pass.
-  TexelRect toClear(int clearValues) const;
+  TexelRect toClear(int clearValues, bool zeros) const;
   // A pass cleared toClear(clearValues) to `clearValues` and then drew within `drawn`.
   void cleared(int clearValues, const TexelRect& drawn);
 
@@ -180,7 +184,8 @@ class FrameTargets {
   int width_, height_;
   PassOutputs outputs_;
   int visibilityOutputs_;
-  std::optional<int> clearValues_;  // none: what the targets hold is not known
+  bool madeZeroed_;
+  std::optional<int> clearValues_;  // none: nothing cleared them yet
   TexelRect drawn_;
   gl::Framebuffer framebuffer_;
   std::vector<gl::Texture> colors_;
@@ -311,8 +316,9 @@ class LightingPass {
   // The environment where no surface covers a pixel (EnvironmentBinding::background), over
   // the opaque and masked surfaces' depth and under what is drawn after them.
   // Leaves its own raster state applied.
-  // Clears the color targets to what a pixel without a surface holds, and the depth (obeying
-  // the scissor).
+  // What color attachment `attachment` holds where no surface is.
+  std::array<float, 4> clearValue(int attachment, const PassParameters& parameters) const;
+  // Clears the color targets to their clearValue() and the depth (obeying the scissor).
   void clearTargets(const FrameTargets& targets, const PassParameters& parameters) const;
   void drawBackground(const FrameTargets& targets, const FrameUniforms& uniforms);
   // The screen-space ambient occlusion of the opaque and masked surfaces

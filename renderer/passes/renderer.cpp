@@ -766,13 +766,14 @@ FloatImage objectIdsOf(const IdPixels& ids, bool& anyBlendedOnly) {
 
 // `kept`, remade first when it is missing or of another size, attachments or shape (one slot
 // holds the beauty's targets with and without the ids).
-FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, int width, int height,
-                          PassOutputs outputs,
+// `madeZeroed`: the driver fills new textures with zero bytes (FrameTargets).
+FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, bool madeZeroed, int width,
+                          int height, PassOutputs outputs,
                           int visibilityOutputs = contract::kMaxVisibilityOutputs) {
   if (!kept || kept->width() != width || kept->height() != height || kept->outputs() != outputs ||
       (outputs == PassOutputs::Aovs && kept->visibilityOutputs() != visibilityOutputs)) {
     kept.reset();  // the old one goes before the new one takes its memory
-    kept = std::make_unique<FrameTargets>(width, height, outputs, visibilityOutputs);
+    kept = std::make_unique<FrameTargets>(width, height, outputs, visibilityOutputs, madeZeroed);
   }
   return *kept;
 }
@@ -780,7 +781,8 @@ FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, int width, int he
 }  // namespace
 
 FrameTargets& Renderer::Impl::beautyTargets(int width, int height, PassOutputs outputs) {
-  return keptTargets(beautyTargets_[writesSrgb8(outputs) ? 1 : 0], width, height, outputs);
+  return keptTargets(beautyTargets_[writesSrgb8(outputs) ? 1 : 0], softwareRasterizer_, width,
+                     height, outputs);
 }
 
 FrameTargets& Renderer::Impl::drawLighting(Prepared& prepared, const ViewCamera& camera,
@@ -893,8 +895,8 @@ void Renderer::Impl::drawAovs(Prepared& prepared, const ViewCamera& camera,
   const AovVisibilityLayout layout = aovVisibilityLayout(lightCount, hasTransmittance);
   LightingFeatures features = prepared.features;
   features.visibilityOutputs = layout.outputs;
-  FrameTargets& targets =
-      keptTargets(aovTargets_, camera.width, camera.height, PassOutputs::Aovs, layout.outputs);
+  FrameTargets& targets = keptTargets(aovTargets_, softwareRasterizer_, camera.width, camera.height,
+                                      PassOutputs::Aovs, layout.outputs);
   LightingPass& pass = lightingPass(settings.shading, PassOutputs::Aovs, features);
   // One lighting pass into `targets`; the caller reads them back. Every pass after the first
   // draws the same frame, so it reads the first one's ambient occlusion estimate.
@@ -990,7 +992,8 @@ FloatImage Renderer::Impl::drawObjectIds(Prepared& prepared, const ViewCamera& c
   IdPixels ids = std::move(drawn);
   auto draw = [&] {
     if (!stage) stage.emplace(times, "layers");
-    FrameTargets& targets = keptTargets(idTargets_, camera.width, camera.height, PassOutputs::Ids);
+    FrameTargets& targets =
+        keptTargets(idTargets_, softwareRasterizer_, camera.width, camera.height, PassOutputs::Ids);
     lightingPass(settings.shading, PassOutputs::Ids, prepared.features)
         .render(prepared.gpu, camera, prepared.shaded, prepared.groups, transmittanceAtlas(),
                 ambient, targets, parameters);
@@ -1021,8 +1024,8 @@ void Renderer::Impl::drawAovLayers(Prepared& prepared, const ViewCamera& camera,
   const bool flip = camera.glRowOrder;
   const AovLayers& layers = settings.layers;
   if (!layers.any()) return;
-  FrameTargets& layerTargets =
-      keptTargets(layerTargets_, camera.width, camera.height, PassOutputs::Layers);
+  FrameTargets& layerTargets = keptTargets(layerTargets_, softwareRasterizer_, camera.width,
+                                           camera.height, PassOutputs::Layers);
   LightingPass& layerPass = lightingPass(settings.shading, PassOutputs::Layers, prepared.features);
   // One layer pass, its `copies` (attachments 1 and 2) read into the AOV image; where only
   // blended surfaces cover a pixel, a second pass of those gives it theirs.
