@@ -1,7 +1,6 @@
 // A lighting pass clears only the pixels that the last pass on the same targets may have drawn
 // (FrameTargets::toClear): whatever came before on a renderer, a frame is the frame alone.
 #include <gtest/gtest.h>
-#include <malloc.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -13,6 +12,7 @@
 #include "renderer/passes/lighting_pass.h"
 #include "renderer/render/renderer.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/render_heap.h"
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
@@ -142,20 +142,12 @@ TEST(PartialClear, EveryAovHoldsTheBackgroundsValuesWhereNothingIsDrawn) {
 // On llvmpipe new frame targets count as cleared to zeros without a clear (FrameTargets's
 // madeZeroed), as new shadow textures do (render_test's NewShadowTexturesOfLlvmpipeHoldThe-
 // ClearedDepth): the driver fills every texture it makes with zero bytes. Checked on targets
-// made where some full of other values were just deleted, with malloc set as `render` sets it,
-// so that the heap hands back those very bytes.
+// made where some full of other values were just deleted, with malloc set as `render` sets it
+// (test_support::RenderHeap), so that the heap hands back those very bytes.
 TEST(PartialClear, NewBeautyTargetsOfLlvmpipeHoldZeros) {
   if (!gl::isLlvmpipe(sharedRenderer().glDescription()))
     GTEST_SKIP() << "the renderer relies on this on llvmpipe only";
-  const bool heapSet = mallopt(M_MMAP_MAX, 0) == 1 && mallopt(M_TRIM_THRESHOLD, 1 << 30) == 1;
-  struct MallocDefaults {
-    bool set;
-    ~MallocDefaults() {
-      if (!set) return;
-      mallopt(M_MMAP_MAX, 65536);
-      mallopt(M_TRIM_THRESHOLD, 128 * 1024);
-    }
-  } restore{heapSet};
+  const test_support::RenderHeap heap;
   const int w = 160, h = 90;
   const std::size_t texels = static_cast<std::size_t>(w) * h;
   for (const PassOutputs outputs : {PassOutputs::Beauty, PassOutputs::Srgb8}) {

@@ -2,7 +2,6 @@
 // that see the light are lit, cube map faces are where the GL convention puts them.
 // Runs on whatever EGL gives (llvmpipe in CI); sizes are small to keep it quick.
 #include <gtest/gtest.h>
-#include <malloc.h>
 
 #include <cmath>
 #include <cstdio>
@@ -27,6 +26,7 @@
 #include "renderer/view/cube_faces.h"
 #include "renderer/view/shadow_plan.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/render_heap.h"
 #include "tests/support/scene_objects.h"
 #include "tests/support/segment_occlusion.h"
 #include "tests/support/shared_renderer.h"
@@ -488,22 +488,12 @@ TEST(ShadowMap, SkippingTheBackFacesOfClosedCastersChangesNoTexel) {
 // On llvmpipe the renderer counts a new depth-only shadow texture as cleared without clearing
 // it (ShadowTexturePool's madeZeroed): the driver fills the storage of every texture it makes
 // with zeros, the cleared depth. Checked on a texture made where one full of depths was just
-// deleted, with malloc set as `render` sets it (cli/memory_warmup.h: no mmap, no trimming), so
-// that the heap hands back those very bytes rather than fresh zero pages of the kernel's; moments
-// (VSM) still clear. Under AddressSanitizer mallopt does nothing, but its allocator fills the
-// start of every new block with 0xbe, which the check would see as well.
+// deleted, with malloc set as `render` sets it (test_support::RenderHeap), so that the heap
+// hands back those very bytes; moments (VSM) still clear.
 TEST(ShadowMap, NewShadowTexturesOfLlvmpipeHoldTheClearedDepth) {
   if (!gl::isLlvmpipe(sharedRenderer().glDescription()))
     GTEST_SKIP() << "the renderer relies on this on llvmpipe only";
-  const bool heapSet = mallopt(M_MMAP_MAX, 0) == 1 && mallopt(M_TRIM_THRESHOLD, 1 << 30) == 1;
-  struct MallocDefaults {
-    bool set;
-    ~MallocDefaults() {
-      if (!set) return;
-      mallopt(M_MMAP_MAX, 65536);
-      mallopt(M_TRIM_THRESHOLD, 128 * 1024);
-    }
-  } restore{heapSet};
+  const test_support::RenderHeap heap;
   const int n = 256;
   const ShadowGroupPlan cube{{ShadowLayout::Cube, n, DepthFormat::Float32, false}, 12};
   const std::size_t texels = static_cast<std::size_t>(n) * n * 12;
