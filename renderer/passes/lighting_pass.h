@@ -313,13 +313,13 @@ class LightingPass {
   void drawSeeThrough(const GpuScene& scene, const SeeThrough& seen,
                       const glm::mat4& viewProjection, const FrameTargets& targets,
                       const FrameUniforms& uniforms);
-  // The environment where no surface covers a pixel (EnvironmentBinding::background), over
-  // the opaque and masked surfaces' depth and under what is drawn after them.
-  // Leaves its own raster state applied.
   // What color attachment `attachment` holds where no surface is.
   std::array<float, 4> clearValue(int attachment, const PassParameters& parameters) const;
   // Clears the color targets to their clearValue() and the depth (obeying the scissor).
   void clearTargets(const FrameTargets& targets, const PassParameters& parameters) const;
+  // The environment where no surface covers a pixel (EnvironmentBinding::background), over
+  // the opaque and masked surfaces' depth and under what is drawn after them.
+  // Leaves its own raster state applied.
   void drawBackground(const FrameTargets& targets, const FrameUniforms& uniforms);
   // The screen-space ambient occlusion of the opaque and masked surfaces
   // (LightingAmbience::occlusion), from the pre-pass's depth or, without it or with masked
