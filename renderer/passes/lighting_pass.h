@@ -177,7 +177,7 @@ class FrameTargets {
   // texel at a time and visits every tile a clear reaches: a whole 1280x720 float beauty took
   // 2.2 ms of Sundial's 10 ms lighting pass.
   TexelRect toClear(int clearValues, bool zeros) const;
-  // A pass cleared toClear(clearValues) to `clearValues` and then drew within `drawn`.
+  // A pass cleared toClear() to `clearValues` and then drew within `drawn`.
   void cleared(int clearValues, const TexelRect& drawn);
 
  private:
