@@ -832,12 +832,14 @@ bool overlap(const glm::vec4& a, const glm::vec4& b) {
 TexelRect drawnPixels(const GpuScene& scene, const glm::mat4& viewProjection,
                       const FrameTargets& targets) {
   const int width = targets.width(), height = targets.height();
+  const TexelRect whole{0, 0, width, height};
   TexelRect drawn;
   for (const GpuDraw& draw : scene.draws()) {
     if (draw.meshBounds.empty()) continue;  // no vertex
     drawn = drawn.united(ndcTexelRect(
         projectedBox(viewProjection, draw.world, draw.meshBounds.min, draw.meshBounds.max), width,
         height));
+    if (drawn == whole) return whole;  // a room seen from inside: nothing more to learn
   }
   if (drawn.empty()) return drawn;
   return {std::max(drawn.x0 - 1, 0), std::max(drawn.y0 - 1, 0), std::min(drawn.x1 + 1, width),
