@@ -629,7 +629,7 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visib
 
 TexelRect FrameTargets::toClear(int clearValues, bool zeros) const {
   if (!clearValues_ && madeZeroed_ && zeros) return {};
-  if (clearValues_ != clearValues) return {0, 0, width_, height_};
+  if (clearValues_ != clearValues) return TexelRect::whole(width_, height_);
   return drawn_;
 }
 
@@ -832,7 +832,7 @@ bool overlap(const glm::vec4& a, const glm::vec4& b) {
 TexelRect drawnPixels(const GpuScene& scene, const glm::mat4& viewProjection,
                       const FrameTargets& targets) {
   const int width = targets.width(), height = targets.height();
-  const TexelRect whole{0, 0, width, height};
+  const TexelRect whole = TexelRect::whole(width, height);
   TexelRect drawn;
   for (const GpuDraw& draw : scene.draws()) {
     if (draw.meshBounds.empty()) continue;  // no vertex
@@ -841,9 +841,7 @@ TexelRect drawnPixels(const GpuScene& scene, const glm::mat4& viewProjection,
         height));
     if (drawn == whole) return whole;  // a room seen from inside: nothing more to learn
   }
-  if (drawn.empty()) return drawn;
-  return {std::max(drawn.x0 - 1, 0), std::max(drawn.y0 - 1, 0), std::min(drawn.x1 + 1, width),
-          std::min(drawn.y1 + 1, height)};
+  return drawn.grown(1, 1, width, height);
 }
 
 }  // namespace
@@ -1210,7 +1208,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
                           parameters.debugView == DebugView::None;
   // Only the layers' mode changes what the targets are cleared to (clearTargets()).
   const int clearValues = outputs_ == PassOutputs::Layers && parameters.layerMode == 0 ? 1 : 0;
-  const TexelRect whole{0, 0, targets.width(), targets.height()};
+  const TexelRect whole = TexelRect::whole(targets.width(), targets.height());
   bool zeros = true;
   for (int i = 0; i < targets.attachmentCount(); ++i)
     zeros = zeros && clearValue(i, parameters) == std::array<float, 4>{0, 0, 0, 0};

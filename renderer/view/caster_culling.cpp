@@ -32,10 +32,10 @@ TexelRect TexelRect::united(const TexelRect& other) const {
           std::max(y1, other.y1)};
 }
 
-TexelRect TexelRect::grown(int dx, int dy, int resolution) const {
+TexelRect TexelRect::grown(int dx, int dy, int width, int height) const {
   if (empty()) return *this;
-  return {std::max(x0 - dx, 0), std::max(y0 - dy, 0), std::min(x1 + dx, resolution),
-          std::min(y1 + dy, resolution)};
+  return {std::max(x0 - dx, 0), std::max(y0 - dy, 0), std::min(x1 + dx, width),
+          std::min(y1 + dy, height)};
 }
 
 TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& center, float radius,
@@ -44,7 +44,7 @@ TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& cent
 }
 
 TexelRect ndcTexelRect(const std::optional<NdcBounds>& ndc, int width, int height) {
-  if (!ndc) return {0, 0, width, height};
+  if (!ndc) return TexelRect::whole(width, height);
   const auto window = [](float v, int size) {
     return (v * 0.5f + 0.5f) * static_cast<float>(size);
   };

@@ -37,8 +37,13 @@ struct TexelRect {
   TexelRect united(const TexelRect& other) const;
   // Grown by dx texels left and right and dy up and down, within a `resolution`-sided view (an
   // empty one stays empty).
-  TexelRect grown(int dx, int dy, int resolution) const;
-  static TexelRect whole(int resolution) { return {0, 0, resolution, resolution}; }
+  TexelRect grown(int dx, int dy, int resolution) const {
+    return grown(dx, dy, resolution, resolution);
+  }
+  // The same within a `width` x `height` view.
+  TexelRect grown(int dx, int dy, int width, int height) const;
+  static TexelRect whole(int resolution) { return whole(resolution, resolution); }
+  static TexelRect whole(int width, int height) { return {0, 0, width, height}; }
   bool operator==(const TexelRect& other) const = default;
 };
 
