@@ -117,6 +117,20 @@ TEST(CasterCulling, SphereContainingTheLightTouchesAllSixFaces) {
   EXPECT_EQ(maskOf(light, {1.5f, 2.0f, 3.0f}, 2.0f), kAllFaces);
 }
 
+// Of two casters with the same triangles in the same place, only the later is drawn: a depth
+// map holds the nearest depth once.
+TEST(CasterCulling, ARepeatedCasterIsLeftToItsLaterCopy) {
+  const ShadowCullingLight light = pointLight(glm::vec3(0.0f));
+  ShadowCaster caster;
+  caster.center = {5.0f, 0.0f, 0.0f};
+  caster.radius = 0.5f;
+  ShadowCaster repeated = caster;
+  repeated.repeated = true;
+  const CasterCulling culling = cullCasters({repeated, caster}, light, Bounds{});
+  EXPECT_EQ(culling.viewMask[0], 0u);
+  EXPECT_EQ(culling.viewMask[1], faceBit(CubeFace::PosX));
+}
+
 TEST(CasterCulling, SphereOutsideTheDepthRangeTouchesNoFace) {
   const ShadowCullingLight light = pointLight(glm::vec3(0.0f));
   EXPECT_EQ(maskOf(light, {150, 0, 0}, 1.0f), 0u);  // beyond far = 100

@@ -1,6 +1,10 @@
 #include "renderer/passes/gpu_geometry.h"
 
 #include <algorithm>
+#include <array>
+#include <cstring>
+#include <glm/gtc/type_ptr.hpp>
+#include <tuple>
 
 #include "renderer/core/in_parts.h"
 #include "renderer/scene/bounds.h"
@@ -31,6 +35,26 @@ void setAttribute(GLuint vao, GLuint location, GLint size, GLuint offset) {
 }
 
 }  // namespace
+
+void markRepeatedDraws(std::vector<GpuDraw>& draws) {
+  // The transform's bits: -0 and +0, or two NaNs of other payloads, are not the same draw.
+  using Key = std::tuple<int, int, std::array<std::uint32_t, 16>>;
+  const auto key = [&](std::size_t i) {
+    Key k{draws[i].mesh, draws[i].material, {}};
+    std::memcpy(std::get<2>(k).data(), glm::value_ptr(draws[i].world), sizeof(glm::mat4));
+    return k;
+  };
+  std::vector<std::pair<Key, std::size_t>> keyed;
+  keyed.reserve(draws.size());
+  for (std::size_t i = 0; i < draws.size(); ++i) keyed.emplace_back(key(i), i);
+  // Equal keys end up next to each other, in the scene's order.
+  std::sort(keyed.begin(), keyed.end());
+  for (std::size_t k = 1; k < keyed.size(); ++k) {
+    if (keyed[k].first != keyed[k - 1].first) continue;
+    draws[keyed[k - 1].second].repeatedLater = true;
+    draws[keyed[k].second].repeatsEarlier = true;
+  }
+}
 
 GpuGeometry::GpuGeometry(const Scene& scene) {
   uploadCasterStream(scene, uploadMeshes(scene));
@@ -143,6 +167,7 @@ std::vector<std::optional<std::vector<glm::vec3>>> GpuGeometry::uploadMeshes(con
     if (plane) draw.plane = transformedPlane(*plane, instance.world);
     draws_.push_back(draw);
   }
+  markRepeatedDraws(draws_);
   // World matrices by draw index, for passes that draw many objects in one call.
   std::vector<glm::mat4> models;
   for (const GpuDraw& draw : draws_) models.push_back(draw.world);

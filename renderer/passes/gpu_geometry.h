@@ -48,7 +48,17 @@ struct GpuDraw {
   // First index of this draw's copy in the world-space caster stream (SceneVertexArrays::casters),
   // whose indices need no base vertex; -1 when it has none.
   GLint casterFirstIndex = -1;
+  // Another draw of the same mesh and material with the same transform, bit for bit, comes
+  // later / came earlier in the scene's order (markRepeatedDraws()). Its fragments are this
+  // draw's, so a pass in which a surface drawn twice changes nothing (depths; opaque surfaces
+  // that replace what they cover) draws only one of them. WhackAMole's seven mole nodes, for
+  // one, all stand at the origin.
+  bool repeatedLater = false;
+  bool repeatsEarlier = false;
 };
+
+// Sets every draw's repeatedLater and repeatsEarlier.
+void markRepeatedDraws(std::vector<GpuDraw>& draws);
 
 // The two vertex arrays that read a GpuGeometry's buffers. Vertex arrays are not shared between
 // GL contexts, so a second context (ShadowWorker) makes its own with makeVertexArrays().

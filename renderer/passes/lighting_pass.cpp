@@ -1091,6 +1091,14 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     const GpuMaterial& material = scene.materials()[draw.material];
     const DrawSet drawSet = this->drawSet(draw.material, scene);
     if (drawSet != set) continue;
+    // One of each set of repeated draws (GpuDraw::repeatedLater): the one that wins the depth
+    // test among them, so that the ids are the same as with all of them. Opaque surfaces test
+    // GL_GEQUAL (the last of equal depths wins; the nearest-first order keeps the scene's order
+    // for equal spheres), masked ones GL_GREATER (the first wins). See-through and blended
+    // surfaces read or blend what lies under them, and every copy counts.
+    if ((set == DrawSet::Opaque && draw.repeatedLater) ||
+        (set == DrawSet::Masked && draw.repeatsEarlier))
+      continue;
     // GL does not blend into integer targets: the renderer gives frames with blended surfaces
     // the float target.
     if (drawSet == DrawSet::Blended && writesSrgb8(outputs_))
@@ -1278,7 +1286,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   if (counted_) {
     countedTriangles_ = 0;
     for (const GpuDraw& draw : scene.draws())
-      if (drawSet(draw.material, scene) == DrawSet::Opaque)
+      if (drawSet(draw.material, scene) == DrawSet::Opaque && !draw.repeatedLater)
         countedTriangles_ += static_cast<std::uint64_t>(scene.meshes()[draw.mesh].indexCount) / 3;
   }
   if (parameters.depthPrepass) {

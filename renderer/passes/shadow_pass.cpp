@@ -51,7 +51,7 @@ SceneCasters describeCasters(const GpuScene& scene) {
     // translucent shadows.
     out.casters.push_back({draw.boundsCenter, draw.boundsRadius,
                            material.alphaMode != AlphaMode::Opaque, closed, material.doubleSided,
-                           draw.mirrored, draw.plane});
+                           draw.mirrored, draw.plane, draw.repeatedLater});
     out.geometry.push_back({static_cast<std::uint32_t>(range.indexCount),
                             static_cast<std::uint32_t>(range.firstIndex), range.baseVertex,
                             draw.casterFirstIndex});

@@ -177,7 +177,10 @@ CasterCulling cullCasters(const std::vector<ShadowCaster>& casters, const Shadow
   };
   const auto cull = [&](std::size_t c, bool leftOutFlat) {
     const ShadowCaster& caster = casters[c];
-    if (leftOutFlat || (cube && outsideCubeReach(light, caster.center, caster.radius))) return;
+    // A depth map holds the nearest depth: the later copy draws the same one.
+    if (leftOutFlat || caster.repeated ||
+        (cube && outsideCubeReach(light, caster.center, caster.radius)))
+      return;
     const unsigned mask = casterViewMask(views, caster.center, caster.radius);
     culling.viewMask[c] = mask;
     if (mask != 0u) culling.bucket[c] = cullBucket(caster, light);

@@ -71,6 +71,7 @@ struct ShadowCaster {
   bool doubleSided = false;        // its material's doubleSided
   bool mirrored = false;           // negative determinant: front faces are clockwise
   std::optional<MeshPlane> plane;  // world space, when its triangles are flat
+  bool repeated = false;           // a later caster has the same triangles in the same place
 };
 
 // What culling needs to know of one light and its views.
