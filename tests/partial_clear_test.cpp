@@ -13,12 +13,14 @@
 #include "renderer/render/renderer.h"
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/render_heap.h"
+#include "tests/support/same_frame.h"
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
 namespace omnishadow {
 namespace {
 
+using test_support::expectSameFrame;
 using test_support::lookFrom;
 using test_support::sharedRenderer;
 
@@ -75,18 +77,6 @@ std::vector<Case> cases() {
 Frame render(const Scene& scene, const ViewCamera& camera, const RenderSettings& settings) {
   StageTimes times;
   return sharedRenderer().render(scene, keyLight(), glm::vec3(0.05f), camera, settings, times);
-}
-
-void expectSameFrame(const Frame& a, const Frame& b, const std::string& what) {
-  ASSERT_EQ(a.srgb8.has_value(), b.srgb8.has_value()) << what;
-  if (a.srgb8) {
-    EXPECT_TRUE(a.srgb8->rgb == b.srgb8->rgb) << what << ": the 8-bit beauty differs";
-  }
-  EXPECT_TRUE(a.beauty.pixels == b.beauty.pixels) << what << ": the float beauty differs";
-  ASSERT_EQ(a.aovs.has_value(), b.aovs.has_value()) << what;
-  if (a.aovs) {
-    EXPECT_TRUE(a.aovs->pixels == b.aovs->pixels) << what << ": the AOVs differ";
-  }
 }
 
 // The ball on the left, then on the right, then on the left again: the last frame is the first

@@ -11,12 +11,14 @@
 #include "renderer/passes/gpu_geometry.h"
 #include "renderer/render/renderer.h"
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/same_frame.h"
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
 namespace omnishadow {
 namespace {
 
+using test_support::expectSameFrame;
 using test_support::lookFrom;
 using test_support::sharedRenderer;
 
@@ -138,22 +140,9 @@ std::vector<Case> cases() {
 // fails when blended copies, or the translucent shadow of each, are drawn once.
 TEST(RepeatedDraws, EveryOutputIsThatOfTheCopiesDrawnOneByOne) {
   for (const Case& c : cases()) {
-    SCOPED_TRACE(c.name);
     const Frame repeated = render(copies(false, c.blended), c.settings);
     const Frame drawnEach = render(copies(true, c.blended), c.settings);
-    ASSERT_EQ(repeated.srgb8.has_value(), drawnEach.srgb8.has_value());
-    if (repeated.srgb8) {
-      EXPECT_TRUE(repeated.srgb8->rgb == drawnEach.srgb8->rgb);
-    }
-    EXPECT_TRUE(repeated.beauty.pixels == drawnEach.beauty.pixels);
-    ASSERT_EQ(repeated.aovs.has_value(), drawnEach.aovs.has_value());
-    if (repeated.aovs) {
-      EXPECT_TRUE(repeated.aovs->pixels == drawnEach.aovs->pixels);
-    }
-    ASSERT_EQ(repeated.objectIds.has_value(), drawnEach.objectIds.has_value());
-    if (repeated.objectIds) {
-      EXPECT_TRUE(repeated.objectIds->pixels == drawnEach.objectIds->pixels);
-    }
+    expectSameFrame(repeated, drawnEach, c.name);
   }
 }
 
