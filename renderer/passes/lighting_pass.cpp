@@ -786,6 +786,17 @@ LightingPass::DrawSet LightingPass::drawSet(std::size_t material, const GpuScene
                                    : DrawSet::Blended;
 }
 
+bool LightingPass::drawnInSet(const GpuDraw& draw, DrawSet set) {
+  // One of each set of repeated draws: the one that wins the depth test among them, so that
+  // the ids are the same as with all of them. Opaque surfaces test GL_GEQUAL (the last of equal
+  // depths wins; the nearest-first order keeps the scene's order for equal spheres), masked
+  // ones GL_GREATER (the first wins). See-through and blended surfaces read or blend what lies
+  // under them, and every copy counts.
+  if (set == DrawSet::Opaque) return !draw.repeatedLater;
+  if (set == DrawSet::Masked) return !draw.repeatsEarlier;
+  return true;
+}
+
 LightingPass::SeeThrough LightingPass::seeThrough(const GpuScene& scene,
                                                   const glm::mat4& view) const {
   SeeThrough found;
@@ -1090,15 +1101,7 @@ void LightingPass::drawScene(const GpuScene& scene, DrawSet set, const ShaderPro
     const GpuDraw& draw = scene.draws()[index];
     const GpuMaterial& material = scene.materials()[draw.material];
     const DrawSet drawSet = this->drawSet(draw.material, scene);
-    if (drawSet != set) continue;
-    // One of each set of repeated draws (GpuDraw::repeatedLater): the one that wins the depth
-    // test among them, so that the ids are the same as with all of them. Opaque surfaces test
-    // GL_GEQUAL (the last of equal depths wins; the nearest-first order keeps the scene's order
-    // for equal spheres), masked ones GL_GREATER (the first wins). See-through and blended
-    // surfaces read or blend what lies under them, and every copy counts.
-    if ((set == DrawSet::Opaque && draw.repeatedLater) ||
-        (set == DrawSet::Masked && draw.repeatsEarlier))
-      continue;
+    if (drawSet != set || !drawnInSet(draw, set)) continue;
     // GL does not blend into integer targets: the renderer gives frames with blended surfaces
     // the float target.
     if (drawSet == DrawSet::Blended && writesSrgb8(outputs_))
@@ -1286,7 +1289,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   if (counted_) {
     countedTriangles_ = 0;
     for (const GpuDraw& draw : scene.draws())
-      if (drawSet(draw.material, scene) == DrawSet::Opaque && !draw.repeatedLater)
+      if (drawSet(draw.material, scene) == DrawSet::Opaque && drawnInSet(draw, DrawSet::Opaque))
         countedTriangles_ += static_cast<std::uint64_t>(scene.meshes()[draw.mesh].indexCount) / 3;
   }
   if (parameters.depthPrepass) {

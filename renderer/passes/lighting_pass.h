@@ -300,6 +300,8 @@ class LightingPass {
   enum class DrawSet { Opaque, Masked, SeeThrough, Blended };
   // The set of the draws of scene material `material`, from this frame's variants.
   DrawSet drawSet(std::size_t material, const GpuScene& scene) const;
+  // Whether `draw` of `set` is drawn, or left to a copy of it (GpuDraw::repeatedLater).
+  static bool drawnInSet(const GpuDraw& draw, DrawSet set);
   struct SeeThrough {
     bool any = false;      // some draw is drawn see-through
     bool blurred = false;  // and some of those may read a coarser level (rough, ior above 1)
