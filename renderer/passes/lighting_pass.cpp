@@ -17,6 +17,7 @@
 #include "renderer/passes/texel_scissor.h"
 #include "renderer/scene/srgb_transfer.h"
 #include "renderer/view/draw_order.h"
+#include "renderer/view/overdraw_estimate.h"
 #include "renderer/view/sheen_albedo_table.h"
 
 namespace omnishadow {
@@ -777,10 +778,14 @@ unsigned LightingPass::materialVariant(const GpuMaterial& material) const {
 }
 
 LightingPass::DrawSet LightingPass::drawSet(std::size_t material, const GpuScene& scene) const {
+  return drawSetOf(frameVariants_[material], scene.materials()[material]);
+}
+
+LightingPass::DrawSet LightingPass::drawSetOf(unsigned variant, const GpuMaterial& material) {
   // See-through: hasTransmission, but not in Phong frames, which draw the base material alone,
   // nor where the scene behind would have no texture unit (materialVariant()).
-  if (frameVariants_[material] & kTransmissionBit) return DrawSet::SeeThrough;
-  const AlphaMode mode = scene.materials()[material].desc.alphaMode;
+  if (variant & kTransmissionBit) return DrawSet::SeeThrough;
+  const AlphaMode mode = material.desc.alphaMode;
   return mode == AlphaMode::Opaque ? DrawSet::Opaque
          : mode == AlphaMode::Mask ? DrawSet::Masked
                                    : DrawSet::Blended;
@@ -1451,6 +1456,27 @@ void LightingPass::drawBackground(const FrameTargets& targets, const FrameUnifor
 
 bool depthPrepassSupported(std::string_view glRenderer) {
   return gl::isLlvmpipe(glRenderer);
+}
+
+OpaqueFragments LightingPass::estimateOpaqueFragments(const GpuScene& scene,
+                                                      const std::vector<Mesh>& meshes,
+                                                      const ViewCamera& camera) const {
+  // 1280x720 at one sample per 8x8 pixels: within 1% of the counts of the bench scenes
+  // (docs/performance.md), in 0.3-3.6 ms.
+  constexpr int kMaxSamples = 16384;
+  std::vector<OverdrawSurface> surfaces;
+  for (const std::size_t index : nearestDrawOrder(scene, camera.view)) {
+    const GpuDraw& draw = scene.draws()[index];
+    const GpuMaterial& material = scene.materials()[draw.material];
+    if (drawSetOf(materialVariant(material), material) != DrawSet::Opaque ||
+        !drawnInSet(draw, DrawSet::Opaque))
+      continue;
+    surfaces.push_back({&meshes[static_cast<std::size_t>(draw.mesh)], draw.world,
+                        !material.desc.doubleSided, draw.mirrored});
+  }
+  const OverdrawCounts counts = estimateOverdraw(surfaces, camera.projection * camera.view,
+                                                 camera.width, camera.height, kMaxSamples);
+  return {counts.passed, counts.covered, counts.triangles};
 }
 
 std::optional<OpaqueFragments> LightingPass::opaqueFragments() const {

@@ -270,6 +270,12 @@ class LightingPass {
   // The counts of the last render() with depthPrepass and countFragments; waits for them.
   std::optional<OpaqueFragments> opaqueFragments() const;
 
+  // What those counts would be for `camera`'s frame, estimated on the CPU before anything is
+  // drawn (estimateOverdraw(), at most 16,384 samples): the opaque surfaces this pass shades,
+  // in its order, with their culling. `meshes`: the scene's, which `scene` was made from.
+  OpaqueFragments estimateOpaqueFragments(const GpuScene& scene, const std::vector<Mesh>& meshes,
+                                          const ViewCamera& camera) const;
+
  private:
   // The frame's uniforms, the same in every material variant.
   struct FrameUniforms {
@@ -300,6 +306,8 @@ class LightingPass {
   enum class DrawSet { Opaque, Masked, SeeThrough, Blended };
   // The set of the draws of scene material `material`, from this frame's variants.
   DrawSet drawSet(std::size_t material, const GpuScene& scene) const;
+  // The same for a material of `variant` (materialVariant()).
+  static DrawSet drawSetOf(unsigned variant, const GpuMaterial& material);
   // Whether `draw` of `set` is drawn, or left to a copy of it (GpuDraw::repeatedLater).
   static bool drawnInSet(const GpuDraw& draw, DrawSet set);
   struct SeeThrough {

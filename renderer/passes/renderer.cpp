@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -269,12 +270,15 @@ class Renderer::Impl {
                                         const RenderSettings& settings);
   // The beauty's depth pre-pass (PassParameters::depthPrepass: the same picture either way).
   // DepthPrepass::On and Off are taken as they are. Auto chooses per scene (its shadow
-  // fingerprint) where the driver allows it: the scene's first two frames draw it, and the
-  // second counts fragments; where the pre-pass let through hardly more than were then shaded
-  // (few surfaces hide others), the scene's next frames shade without it, and every
-  // kPrepassRecount-th frame draws it again to count afresh.
-  void choosePrepass(std::uint64_t scene, DepthPrepass requested, PassParameters& parameters);
+  // fingerprint) where the driver allows it: the scene's first frame by `estimate` (the
+  // fragments estimated on the CPU), its second draws it and counts fragments; where the
+  // pre-pass lets through hardly more than are then shaded (few surfaces hide others), the
+  // frames shade without it, and every kPrepassRecount-th frame draws it again to count afresh.
+  void choosePrepass(std::uint64_t scene, DepthPrepass requested,
+                     const std::function<OpaqueFragments()>& estimate, PassParameters& parameters);
   void notePrepass(const std::optional<OpaqueFragments>& counts);
+  // Whether `counts` (estimated or counted) say the pre-pass costs more than it spares.
+  static bool prepassSparesTooLittle(const OpaqueFragments& counts);
   static constexpr int kPrepassRecount = 8;
   // Percent more fragments through the pre-pass than shaded after it below which it is dropped.
   static constexpr int kPrepassMinOverdraw = 10;
@@ -347,7 +351,8 @@ class Renderer::Impl {
 struct Renderer::Impl::Prepared {
   Prepared(const Scene& s, TextureCache* textures, GeometryCache* geometry,
            const std::vector<MeshDigests>* meshes)
-      : gpu(s, textures, geometry, meshes), bounds(s.bounds) {}
+      : scene(s), gpu(s, textures, geometry, meshes), bounds(s.bounds) {}
+  const Scene& scene;
   GpuScene gpu;
   Bounds bounds;  // the scene's, for defaults that follow its scale
   LightingFeatures features;
@@ -1199,6 +1204,7 @@ std::vector<PlanarShadowMapDump> Renderer::Impl::readPlanarShadowMaps(const Prep
 }
 
 void Renderer::Impl::choosePrepass(std::uint64_t scene, DepthPrepass requested,
+                                   const std::function<OpaqueFragments()>& estimate,
                                    PassParameters& parameters) {
   parameters.countFragments = false;
   if (requested != DepthPrepass::Auto) {  // the auto choice of the scene's frames stays as it was
@@ -1210,9 +1216,9 @@ void Renderer::Impl::choosePrepass(std::uint64_t scene, DepthPrepass requested,
     return;
   }
   PrepassChoice& choice = prepassChoice_;
-  if (scene == 0 || choice.scene != scene) choice = {scene, 0, false};
+  if (scene == 0 || choice.scene != scene) choice = {scene, 0, prepassSparesTooLittle(estimate())};
   // Counting costs llvmpipe work in every fragment (Sundial's lighting 3 ms more), so a
-  // scene's first frame, often its only one, does not count; its second frame does.
+  // scene's first frame, often its only one, does not count but estimates; its second counts.
   const bool count = choice.frames++ % kPrepassRecount == 1;
   parameters.depthPrepass = count || !choice.skip;
   parameters.countFragments = count;
@@ -1229,10 +1235,13 @@ void Renderer::Impl::notePrepass(const std::optional<OpaqueFragments>& counts) {
   // test_room (102k triangles) spares 82k fragments, 11%, and its steady lighting took 60-64 ms
   // without the pre-pass against 64-72 with it; CesiumMilkTruck (3.6k triangles) spares 20k,
   // 13%, and is a little faster with it (docs/performance.md).
-  const std::uint64_t spared =
-      counts->prepass > counts->shaded ? counts->prepass - counts->shaded : 0;
-  prepassChoice_.skip = spared * 100 <= counts->shaded * kPrepassMinOverdraw ||
-                        spared <= counts->triangles * kPrepassMinSparedPerTriangle;
+  prepassChoice_.skip = prepassSparesTooLittle(*counts);
+}
+
+bool Renderer::Impl::prepassSparesTooLittle(const OpaqueFragments& counts) {
+  const std::uint64_t spared = counts.prepass > counts.shaded ? counts.prepass - counts.shaded : 0;
+  return spared * 100 <= counts.shaded * kPrepassMinOverdraw ||
+         spared <= counts.triangles * kPrepassMinSparedPerTriangle;
 }
 
 void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& lights,
@@ -1258,7 +1267,12 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     PassParameters parameters;
     parameters.debugView = settings.debugView;
     parameters.debugLight = debugLight;
-    choosePrepass(prepared.fingerprint, settings.depthPrepass, parameters);
+    const LightingPass& pass =
+        lightingPass(settings.shading, prepared.beautyOutputs, prepared.features);
+    choosePrepass(
+        prepared.fingerprint, settings.depthPrepass,
+        [&] { return pass.estimateOpaqueFragments(prepared.gpu, prepared.scene.meshes, camera); },
+        parameters);
     frame.depthPrepass = parameters.depthPrepass;
     IdPixels ids;  // written beside the float beauty (BeautyIds)
     if (writesSrgb8(prepared.beautyOutputs))
