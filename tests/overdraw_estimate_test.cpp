@@ -102,6 +102,17 @@ TEST(OverdrawEstimate, TrianglesCrossingTheNearPlaneAreClipped) {
   EXPECT_EQ(counts.passed, counts.covered);
 }
 
+// A triangle reaching billions of pixels beyond the frame covers all of it: its extent is
+// clamped to the frame before it becomes a sample index.
+TEST(OverdrawEstimate, ATriangleFarBeyondTheFrameCoversIt) {
+  Mesh mesh;
+  mesh.positions = {{-1e9f, -1e9f, 0}, {1e9f, -1e9f, 0}, {0, 1e9f, 0}};
+  mesh.indices = {0, 1, 2};
+  const OverdrawCounts counts =
+      estimateOverdraw({{&mesh, glm::mat4(1.0f)}}, orthographicView(), kWidth, kHeight, kSamples);
+  EXPECT_EQ(counts.covered, static_cast<std::uint64_t>(kWidth * kHeight));
+}
+
 // Fewer samples than pixels: one at the centre of each 4x4-pixel cell, counted as 16 pixels.
 // The squares span x 92-112 and 104-124 and y 40-60, so 5 x 5 samples each, 2 x 5 shared.
 TEST(OverdrawEstimate, SampledCountsAreScaledToPixels) {

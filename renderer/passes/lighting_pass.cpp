@@ -1471,7 +1471,7 @@ OpaqueFragments LightingPass::estimateOpaqueFragments(const GpuScene& scene,
     if (drawSetOf(materialVariant(material), material) != DrawSet::Opaque ||
         !drawnInSet(draw, DrawSet::Opaque))
       continue;
-    surfaces.push_back({&meshes[static_cast<std::size_t>(draw.mesh)], draw.world,
+    surfaces.push_back({&meshes.at(static_cast<std::size_t>(draw.mesh)), draw.world,
                         !material.desc.doubleSided, draw.mirrored});
   }
   const OverdrawCounts counts = estimateOverdraw(surfaces, camera.projection * camera.view,

@@ -51,10 +51,14 @@ class SampleGrid {
     if (cullBack && ((area > 0.0f) == mirrored)) return;
     if (area < 0.0f) std::swap(p[1], p[2]);
     const float twiceArea = std::abs(area);
+    // The samples whose centres lie in [low, high], clamped before they become ints: a
+    // triangle may reach far beyond the frame.
     const auto span = [](float low, float high, float spacing, int count) {
-      const int first = static_cast<int>(std::ceil(low / spacing - 0.5f));
-      const int last = static_cast<int>(std::floor(high / spacing - 0.5f));
-      return std::pair{std::max(first, 0), std::min(last, count - 1)};
+      const float first =
+          std::clamp(std::ceil(low / spacing - 0.5f), 0.0f, static_cast<float>(count));
+      const float last =
+          std::clamp(std::floor(high / spacing - 0.5f), -1.0f, static_cast<float>(count - 1));
+      return std::pair{static_cast<int>(first), static_cast<int>(last)};
     };
     const auto [x0, x1] = span(std::min({p[0].x, p[1].x, p[2].x}),
                                std::max({p[0].x, p[1].x, p[2].x}), spacingX_, columns_);
@@ -161,7 +165,7 @@ OverdrawCounts estimateOverdraw(const std::vector<OverdrawSurface>& inDrawOrder,
       for (int i = 1; i + 1 < count; ++i) {
         const glm::vec4& p = clipped[0];
         const glm::vec4& q = clipped[static_cast<std::size_t>(i)];
-        const glm::vec4& r = clipped[static_cast<std::size_t>(i + 1)];
+        const glm::vec4& r = clipped[static_cast<std::size_t>(i) + 1];
         if (p.w > 0.0f && q.w > 0.0f && r.w > 0.0f)
           grid.triangle(grid.window(p), grid.window(q), grid.window(r), surface.cullBackFaces,
                         surface.mirrored);
