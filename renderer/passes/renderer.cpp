@@ -351,10 +351,9 @@ class Renderer::Impl {
 struct Renderer::Impl::Prepared {
   Prepared(const Scene& s, TextureCache* textures, GeometryCache* geometry,
            const std::vector<MeshDigests>* meshes)
-      : scene(s), gpu(s, textures, geometry, meshes), bounds(s.bounds) {}
+      : scene(s), gpu(s, textures, geometry, meshes) {}
   const Scene& scene;
   GpuScene gpu;
-  Bounds bounds;  // the scene's, for defaults that follow its scale
   LightingFeatures features;
   PassOutputs beautyOutputs = PassOutputs::Beauty;  // beautyOutputs()
   std::uint64_t fingerprint = 0;  // shadowFingerprint() when the shadow cache is used
@@ -1282,8 +1281,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     else
       frame.beauty =
           drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times, ids);
-    notePrepass(lightingPass(settings.shading, prepared.beautyOutputs, prepared.features)
-                    .opaqueFragments());
+    notePrepass(pass.opaqueFragments());
     if (objectIdPass && !frame.objectIds)
       frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times, std::move(ids));
     return;
@@ -1321,8 +1319,8 @@ std::vector<LightView> Renderer::Impl::drawLightViews(Prepared& prepared, const 
       view.width = view.height = settings.lightViewSize;
       view.eye = s.light->position;
       view.view = cubeFaceView(static_cast<CubeFace>(face), s.light->position);
-      view.projection = reversedPerspective(glm::radians(90.0f), 1.0f,
-                                            effectiveShadowNear(*s.light, prepared.bounds), 0.0f);
+      view.projection = reversedPerspective(
+          glm::radians(90.0f), 1.0f, effectiveShadowNear(*s.light, prepared.scene.bounds), 0.0f);
       view.glRowOrder = true;
       PassParameters parameters;
       parameters.cascadeView = &camera.view;  // directional cascades stay those of the frame
