@@ -60,9 +60,6 @@ inline void deleteProgram(GLuint id) {
 inline void deleteShader(GLuint id) {
   glDeleteShader(id);
 }
-inline void deleteQuery(GLuint id) {
-  glDeleteQueries(1, &id);
-}
 }  // namespace detail
 
 using Buffer = Handle<detail::deleteBuffer>;
@@ -72,13 +69,6 @@ using VertexArray = Handle<detail::deleteVertexArray>;
 using Sampler = Handle<detail::deleteSampler>;
 using Program = Handle<detail::deleteProgram>;
 using Shader = Handle<detail::deleteShader>;
-using Query = Handle<detail::deleteQuery>;
-
-inline Query createQuery(GLenum target) {
-  GLuint id = 0;
-  glCreateQueries(target, 1, &id);
-  return Query(id);
-}
 
 inline Buffer createBuffer() {
   GLuint id = 0;

@@ -1286,23 +1286,10 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
     gl::checkErrors("a pass over the blended surfaces");
     return;
   }
-  counted_ = parameters.depthPrepass && parameters.countFragments;
-  if (counted_ && !prepassFragments_) {
-    prepassFragments_ = gl::createQuery(GL_SAMPLES_PASSED);
-    shadedFragments_ = gl::createQuery(GL_SAMPLES_PASSED);
-  }
-  if (counted_) {
-    countedTriangles_ = 0;
-    for (const GpuDraw& draw : scene.draws())
-      if (drawSet(draw.material, scene) == DrawSet::Opaque && drawnInSet(draw, DrawSet::Opaque))
-        countedTriangles_ += static_cast<std::uint64_t>(scene.meshes()[draw.mesh].indexCount) / 3;
-  }
   if (parameters.depthPrepass) {
     state.color.rgba = {false, false, false, false};
     state.apply();
-    if (counted_) glBeginQuery(GL_SAMPLES_PASSED, prepassFragments_.get());
     drawDepth(scene, DrawSet::Opaque, depthOnly_, uniforms);
-    if (counted_) glEndQuery(GL_SAMPLES_PASSED);
   }
   if (occluded && parameters.reuseOcclusion && occlusionEstimated_) {
     bindOcclusion();
@@ -1317,9 +1304,7 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   state.depth.func = GL_GEQUAL;
   state.depth.write = !parameters.depthPrepass;
   state.apply();
-  if (counted_) glBeginQuery(GL_SAMPLES_PASSED, shadedFragments_.get());
   drawScene(scene, DrawSet::Opaque, nullptr, uniforms);
-  if (counted_) glEndQuery(GL_SAMPLES_PASSED);
   state.depth = gl::DepthState{};
   state.depth.apply();
   drawScene(scene, DrawSet::Masked, nullptr, uniforms);
@@ -1461,8 +1446,8 @@ bool depthPrepassSupported(std::string_view glRenderer) {
 OpaqueFragments LightingPass::estimateOpaqueFragments(const GpuScene& scene,
                                                       const std::vector<Mesh>& meshes,
                                                       const ViewCamera& camera) const {
-  // 1280x720 at one sample per 8x8 pixels: within 1% of the counts of the bench scenes, in
-  // 0.05-4.7 ms; the time goes per triangle (31 ms for 1M; docs/performance.md).
+  // 1280x720 at one sample per 8x8 pixels: within 1% of GL's occlusion counts on the bench
+  // scenes, in 0.05-4.7 ms; the time goes per triangle (31 ms for 1M; docs/performance.md).
   constexpr int kMaxSamples = 16384;
   std::vector<OverdrawSurface> surfaces;
   for (const std::size_t index : nearestDrawOrder(scene, camera.view)) {
@@ -1477,15 +1462,6 @@ OpaqueFragments LightingPass::estimateOpaqueFragments(const GpuScene& scene,
   const OverdrawCounts counts = estimateOverdraw(surfaces, camera.projection * camera.view,
                                                  camera.width, camera.height, kMaxSamples);
   return {counts.passed, counts.covered, counts.triangles};
-}
-
-std::optional<OpaqueFragments> LightingPass::opaqueFragments() const {
-  if (!counted_) return std::nullopt;
-  OpaqueFragments counts;
-  glGetQueryObjectui64v(prepassFragments_.get(), GL_QUERY_RESULT, &counts.prepass);
-  glGetQueryObjectui64v(shadedFragments_.get(), GL_QUERY_RESULT, &counts.shaded);
-  counts.triangles = countedTriangles_;
-  return counts;
 }
 
 }  // namespace omnishadow

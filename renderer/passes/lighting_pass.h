@@ -95,10 +95,8 @@ struct PassParameters {
   // Opaque surfaces first write their depth alone, then shade where theirs is the nearest
   // (each pixel shaded once); without it they test and write depth as they shade (some
   // pixels shaded several times, no second pass over the triangles). The picture is the same:
-  // the nearest surface, the last drawn of equally near ones. With countFragments the pass
-  // counts the fragments of both ways (opaqueFragments()).
+  // the nearest surface, the last drawn of equally near ones.
   bool depthPrepass = true;
-  bool countFragments = false;
   // Aovs: this pass draws the frame the pass before it drew (camera, geometry, size), so it
   // reads the ambient occlusion estimate that pass made rather than making it again.
   bool reuseOcclusion = false;
@@ -111,9 +109,9 @@ struct PassParameters {
 // shading pass's GL_GEQUAL failing against the pre-pass's depths; docs/performance.md).
 bool depthPrepassSupported(std::string_view glRenderer);
 
-// Fragments of a frame's opaque surfaces that the depth pre-pass let through (those shading
-// without it would shade, less ties) and those the pass then shaded (about one a pixel), and
-// the triangles the pre-pass drew.
+// Fragments of a frame's opaque surfaces that the depth pre-pass lets through (those shading
+// without it would shade, less ties) and those the pass then shades (about one a pixel), and
+// the triangles the pre-pass draws.
 struct OpaqueFragments {
   std::uint64_t prepass = 0;
   std::uint64_t shaded = 0;
@@ -267,12 +265,10 @@ class LightingPass {
               const TransmittanceAtlas& transmittanceAtlas, const LightingAmbience& ambience,
               FrameTargets& targets, const PassParameters& parameters);
 
-  // The counts of the last render() with depthPrepass and countFragments; waits for them.
-  std::optional<OpaqueFragments> opaqueFragments() const;
-
-  // What those counts would be for `camera`'s frame, estimated on the CPU before anything is
-  // drawn (estimateOverdraw(), at most 16,384 samples): the opaque surfaces this pass shades,
-  // in its order, with their culling. `meshes`: the scene's, which `scene` was made from.
+  // The opaque fragments of `camera`'s frame with and without the depth pre-pass, estimated on
+  // the CPU before anything is drawn (estimateOverdraw(), at most 16,384 samples): the opaque
+  // surfaces this pass shades, in its order, with their culling. `meshes`: the scene's, which
+  // `scene` was made from.
   OpaqueFragments estimateOpaqueFragments(const GpuScene& scene, const std::vector<Mesh>& meshes,
                                           const ViewCamera& camera) const;
 
@@ -388,9 +384,6 @@ class LightingPass {
   gl::Texture sceneBehind_;  // copySceneBehind(), RGBA16F with mipmaps, kept while the size is
   gl::Framebuffer behindFramebuffer_;
   int behindWidth_ = 0, behindHeight_ = 0;
-  gl::Query prepassFragments_, shadedFragments_;  // GL_SAMPLES_PASSED, made on first use
-  bool counted_ = false;                          // the last render() counted them
-  std::uint64_t countedTriangles_ = 0;            // the opaque triangles it counted over
 };
 
 }  // namespace omnishadow

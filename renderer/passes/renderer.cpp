@@ -270,23 +270,25 @@ class Renderer::Impl {
                                         const RenderSettings& settings);
   // The beauty's depth pre-pass (PassParameters::depthPrepass: the same picture either way).
   // DepthPrepass::On and Off are taken as they are. Auto chooses per scene (its shadow
-  // fingerprint) where the driver allows it: the scene's first frame by `estimate` (the
-  // fragments estimated on the CPU), its second draws it and counts fragments; where the
-  // pre-pass lets through hardly more than are then shaded (few surfaces hide others), the
-  // frames shade without it, and every kPrepassRecount-th frame draws it again to count afresh.
-  void choosePrepass(std::uint64_t scene, DepthPrepass requested,
+  // fingerprint) and camera where the driver allows it, by `estimate` (the fragments through
+  // the pre-pass and shaded after it, estimated on the CPU): where the pre-pass would let
+  // through hardly more than are then shaded (few surfaces hide others), the frames shade
+  // without it. A scene's first frame estimates; later frames keep that choice, estimating
+  // again every kPrepassReestimate-th frame if the camera has moved since.
+  void choosePrepass(std::uint64_t scene, DepthPrepass requested, const ViewCamera& camera,
                      const std::function<OpaqueFragments()>& estimate, PassParameters& parameters);
-  void notePrepass(const std::optional<OpaqueFragments>& counts);
-  // Whether `counts` (estimated or counted) say the pre-pass costs more than it spares.
+  // Whether `counts` say the pre-pass costs more than it spares.
   static bool prepassSparesTooLittle(const OpaqueFragments& counts);
-  static constexpr int kPrepassRecount = 8;
+  static constexpr int kPrepassReestimate = 8;
   // Percent more fragments through the pre-pass than shaded after it below which it is dropped.
   static constexpr int kPrepassMinOverdraw = 10;
   // Fragments the pre-pass must spare the shading per opaque triangle it draws, or it is dropped.
   static constexpr int kPrepassMinSparedPerTriangle = 2;
   struct PrepassChoice {
     std::uint64_t scene = 0;
-    int frames = 0;  // frames of this scene so far
+    glm::mat4 viewProjection{0.0f};  // the camera the choice was estimated for
+    int width = 0, height = 0;
+    int frames = 0;  // frames since that estimate
     bool skip = false;
   };
   PrepassChoice prepassChoice_;
@@ -1203,40 +1205,40 @@ std::vector<PlanarShadowMapDump> Renderer::Impl::readPlanarShadowMaps(const Prep
 }
 
 void Renderer::Impl::choosePrepass(std::uint64_t scene, DepthPrepass requested,
+                                   const ViewCamera& camera,
                                    const std::function<OpaqueFragments()>& estimate,
                                    PassParameters& parameters) {
-  parameters.countFragments = false;
   if (requested != DepthPrepass::Auto) {  // the auto choice of the scene's frames stays as it was
     parameters.depthPrepass = requested == DepthPrepass::On;
     return;
   }
   if (!prepassSupported_) {
-    parameters.depthPrepass = parameters.countFragments = false;
+    parameters.depthPrepass = false;
     return;
   }
   PrepassChoice& choice = prepassChoice_;
-  if (scene == 0 || choice.scene != scene) choice = {scene, 0, prepassSparesTooLittle(estimate())};
-  // Counting costs llvmpipe work in every fragment (Sundial's lighting 3 ms more), so a
-  // scene's first frame, often its only one, does not count but estimates; its second counts.
-  const bool count = choice.frames++ % kPrepassRecount == 1;
-  parameters.depthPrepass = count || !choice.skip;
-  parameters.countFragments = count;
+  const glm::mat4 viewProjection = camera.projection * camera.view;
+  const bool moved = viewProjection != choice.viewProjection || camera.width != choice.width ||
+                     camera.height != choice.height;
+  // The estimate costs up to 5 ms a frame on 100k triangles (31 on 1M), so a camera that moves
+  // every frame is estimated for every eighth; occlusion counts in a frame that draws the
+  // pre-pass to count cost more (Sundial's lighting 3 ms, test_room's 10, docs/performance.md).
+  if (scene == 0 || choice.scene != scene || (moved && choice.frames >= kPrepassReestimate))
+    choice = {
+        scene, viewProjection, camera.width, camera.height, 0, prepassSparesTooLittle(estimate())};
+  ++choice.frames;
+  parameters.depthPrepass = !choice.skip;
 }
 
-void Renderer::Impl::notePrepass(const std::optional<OpaqueFragments>& counts) {
-  if (!counts) return;
-  // Shading up to 10% more fragments costs less than drawing every opaque triangle once more
-  // (Box: the pre-pass 0.3 ms against 7 ms of shading; WhackAMole, 86k triangles, 5 against 38).
-  // Sundial lets 5.5% more through the pre-pass than it shades, and its steady lighting took
-  // 13.9 ms with the pre-pass against 12.9 without (with three lights, 23.2 against 22.1); the
-  // Cornell box (58% more) keeps it. Beyond that share it still costs more than it spares where
-  // the scene has many triangles for the fragments spared: with its surfaces drawn nearest first,
-  // test_room (102k triangles) spares 82k fragments, 11%, and its steady lighting took 60-64 ms
-  // without the pre-pass against 64-72 with it; CesiumMilkTruck (3.6k triangles) spares 20k,
-  // 13%, and is a little faster with it (docs/performance.md).
-  prepassChoice_.skip = prepassSparesTooLittle(*counts);
-}
-
+// Shading up to 10% more fragments costs less than drawing every opaque triangle once more
+// (Box: the pre-pass 0.3 ms against 7 ms of shading; WhackAMole, 86k triangles, 5 against 38).
+// Sundial lets 5.5% more through the pre-pass than it shades, and its steady lighting took
+// 13.9 ms with the pre-pass against 12.9 without (with three lights, 23.2 against 22.1); the
+// Cornell box (58% more) keeps it. Beyond that share it still costs more than it spares where
+// the scene has many triangles for the fragments spared: with its surfaces drawn nearest first,
+// test_room (102k triangles) spares 82k fragments, 11%, and its steady lighting took 60-64 ms
+// without the pre-pass against 64-72 with it; CesiumMilkTruck (3.6k triangles) spares 20k,
+// 13%, and is a little faster with it (docs/performance.md).
 bool Renderer::Impl::prepassSparesTooLittle(const OpaqueFragments& counts) {
   const std::uint64_t spared = counts.prepass > counts.shaded ? counts.prepass - counts.shaded : 0;
   return spared * 100 <= counts.shaded * kPrepassMinOverdraw ||
@@ -1269,7 +1271,7 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     const LightingPass& pass =
         lightingPass(settings.shading, prepared.beautyOutputs, prepared.features);
     choosePrepass(
-        prepared.fingerprint, settings.depthPrepass,
+        prepared.fingerprint, settings.depthPrepass, camera,
         [&] { return pass.estimateOpaqueFragments(prepared.gpu, prepared.scene.meshes, camera); },
         parameters);
     frame.depthPrepass = parameters.depthPrepass;
@@ -1281,7 +1283,6 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     else
       frame.beauty =
           drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times, ids);
-    notePrepass(pass.opaqueFragments());
     if (objectIdPass && !frame.objectIds)
       frame.objectIds = drawObjectIds(prepared, camera, ambient, settings, times, std::move(ids));
     return;
