@@ -39,9 +39,8 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
     app.add_option("--depth-prepass", o.depthPrepass,
                    "Whether the opaque surfaces write their depth before they are shaded, so "
                    "that each pixel is shaded once: on, off or auto (default; on llvmpipe drawn "
-                   "unless little overdraw for its triangles is estimated before the scene's "
-                   "first frame, or counted in its second; off on GPUs). The picture is the "
-                   "same")
+                   "unless little overdraw for its triangles is estimated on the CPU for the "
+                   "scene and camera; off on GPUs). The picture is the same")
         ->check(CLI::IsMember({"auto", "on", "off"}));
   if (renders)
     app.add_option("--max-memory", o.maxMemoryMiB,
