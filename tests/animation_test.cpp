@@ -245,6 +245,32 @@ TEST(SimpleSkin, VerticesFollowTheJointsAtTwoTimes) {
   EXPECT_NEAR(scene.bounds.max.x, 1.0f, kEps);
 }
 
+// A renderer takes the meshes of a scene with the revision of its last one as that scene's
+// (Scene::revision): every load gives a new revision, a copy keeps it, and a pose that moves
+// vertices (a skin) gives a new one while a pose that moves only nodes keeps it.
+TEST(SceneRevision, NewForEveryLoadAndEveryDeformingPose) {
+  Scene skinnedScene = loadGltf(khronos("SimpleSkin/SimpleSkin.gltf"));
+  const Scene again = loadGltf(khronos("SimpleSkin/SimpleSkin.gltf"));
+  EXPECT_NE(skinnedScene.revision, 0u);
+  EXPECT_NE(again.revision, 0u);
+  EXPECT_NE(again.revision, skinnedScene.revision);
+  const Scene copy = skinnedScene;
+  EXPECT_EQ(copy.revision, skinnedScene.revision);
+  poseScene(skinnedScene, {1.0, ""});
+  EXPECT_NE(skinnedScene.revision, copy.revision);
+  EXPECT_NE(skinnedScene.revision, 0u);
+
+  Scene nodesOnly = loadGltf(khronos("InterpolationTest/InterpolationTest.glb"));
+  ASSERT_TRUE(nodesOnly.rig.deformed.empty());
+  const std::uint64_t loaded = nodesOnly.revision;
+  const std::vector<Mesh> meshes = nodesOnly.meshes;
+  poseScene(nodesOnly, {1.5, ""});
+  EXPECT_EQ(nodesOnly.revision, loaded);
+  ASSERT_EQ(nodesOnly.meshes.size(), meshes.size());
+  for (std::size_t i = 0; i < meshes.size(); ++i)
+    EXPECT_EQ(nodesOnly.meshes[i].positions, meshes[i].positions) << "mesh " << i;
+}
+
 // --- morph targets -----------------------------------------------------------------------------
 
 TEST(MorphPrimitivesTest, DefaultMeshWeightsApply) {

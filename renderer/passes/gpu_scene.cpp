@@ -7,6 +7,7 @@
 #include <future>
 #include <memory>
 #include <set>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -144,16 +145,18 @@ struct GpuScene::TextureUploads {
 };
 
 GpuScene::GpuScene(const Scene& scene, TextureCache* textures, GeometryCache* geometry,
-                   const std::vector<MeshDigests>* meshes)
+                   const std::vector<MeshDigests>* meshes, ImageDigests* images)
     : geometry_(!geometry ? std::make_shared<const GpuGeometry>(scene)
                 : meshes  ? geometry->find(scene, *meshes)
                           : geometry->find(scene, meshDigests(scene))),
       textureCache_(textures) {
-  uploadMaterials(scene);
+  if (images && images->size() != scene.images.size())
+    throw std::logic_error("image digests of another scene");
+  uploadMaterials(scene, images);
 }
 
 GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool srgb,
-                            TextureUploads& uploads) {
+                            TextureUploads& uploads, ImageDigests* images) {
   if (slot.texture < 0) return 0;
   const int imageIndex = scene.textures[slot.texture].image;
   if (imageIndex < 0) return 0;
@@ -195,7 +198,10 @@ GLuint GpuScene::textureFor(const Scene& scene, const TextureSlot& slot, bool sr
       while (uploads.pending.size() > kMaxPendingChains) finishOldest(uploads);
       return made;
     };
-    texture = textureCache_ ? textureCache_->find(image, srgb, make)
+    // A downscaled image's digest is not its source's.
+    std::optional<TextureCache::Digest>* known =
+        images && !fitted ? &(*images)[static_cast<std::size_t>(imageIndex)] : nullptr;
+    texture = textureCache_ ? textureCache_->find(image, srgb, make, known)
                             : std::make_shared<const gl::Texture>(make());
   }
   return texture->get();
@@ -228,7 +234,7 @@ GLuint GpuScene::samplerFor(const Scene& scene, const TextureSlot& slot) {
   return sampler.get();
 }
 
-void GpuScene::uploadMaterials(const Scene& scene) {
+void GpuScene::uploadMaterials(const Scene& scene, ImageDigests* images) {
   textures_.resize(2 * scene.images.size());
   samplers_.resize(scene.textures.size());
   std::vector<Material> descs = scene.materials;
@@ -246,7 +252,7 @@ void GpuScene::uploadMaterials(const Scene& scene) {
     GpuMaterial m;
     m.desc = desc;
     for (const TextureUse& use : textureUses(scene, desc)) {
-      m.*use.texture = textureFor(scene, *use.slot, use.srgb, uploads);
+      m.*use.texture = textureFor(scene, *use.slot, use.srgb, uploads, images);
       m.*use.sampler = samplerFor(scene, *use.slot);
     }
     materials_.push_back(std::move(m));

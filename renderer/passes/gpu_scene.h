@@ -49,12 +49,14 @@ struct GpuMaterial {
 // so) with mipmaps, and sampler objects.
 class GpuScene {
  public:
-  // With `textures`, textures are taken from and added to that cache; with `geometry`, the
-  // geometry is taken from that cache when it holds this scene's (`meshes`: the scene's
-  // meshDigests(), found here when not given).
+  // With `textures`, textures are taken from and added to that cache (`images`: the digests of
+  // the scene's images as far as known, one per image, which the cache completes); with
+  // `geometry`, the geometry is taken from that cache when it holds this scene's (`meshes`: the
+  // scene's meshDigests(), found here when not given).
   explicit GpuScene(const Scene& scene, TextureCache* textures = nullptr,
                     GeometryCache* geometry = nullptr,
-                    const std::vector<MeshDigests>* meshes = nullptr);
+                    const std::vector<MeshDigests>* meshes = nullptr,
+                    ImageDigests* images = nullptr);
 
   GLuint vertexArray() const { return geometry_->vertexArray(); }
   // GpuGeometry::vertexArrays() and makeVertexArrays().
@@ -71,9 +73,9 @@ class GpuScene {
 
  private:
   struct TextureUploads;  // the textures of one uploadMaterials() still waiting for mipmaps
-  void uploadMaterials(const Scene& scene);
-  GLuint textureFor(const Scene& scene, const TextureSlot& slot, bool srgb,
-                    TextureUploads& uploads);
+  void uploadMaterials(const Scene& scene, ImageDigests* images);
+  GLuint textureFor(const Scene& scene, const TextureSlot& slot, bool srgb, TextureUploads& uploads,
+                    ImageDigests* images);
   void finishOldest(TextureUploads& uploads);  // puts in the levels of the oldest pending texture
   void finishLevels(TextureUploads& uploads);  // of every pending texture
   GLuint samplerFor(const Scene& scene, const TextureSlot& slot);

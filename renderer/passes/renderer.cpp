@@ -310,6 +310,16 @@ class Renderer::Impl {
   std::unique_ptr<Srgb8Resolve> srgb8Resolve_;  // made by the first float frame with srgb8Exposure
   TextureCache textureCache_;    // the last render's scene textures, for a render of it again
   GeometryCache geometryCache_;  // the last render's scene geometry, likewise
+  // The digests of the last render's meshes (hashed once for both caches, the geometry's and
+  // the shadow maps') and of its images as far as the texture cache took them: the next render
+  // of the same nonzero Scene::revision takes them instead of hashing the bytes again.
+  struct SceneDigests {
+    std::uint64_t revision = 0;
+    std::vector<MeshDigests> meshes;
+    ImageDigests images;
+  };
+  SceneDigests sceneDigests_;
+  SceneDigests& sceneDigests(const Scene& scene);
   TransmittanceAtlas transmittanceAtlas() const {
     return transmittancePass_ ? transmittancePass_->atlas() : TransmittanceAtlas{};
   }
@@ -352,8 +362,8 @@ class Renderer::Impl {
 // The scene on the GPU with its shadow maps, shared by every view of one render.
 struct Renderer::Impl::Prepared {
   Prepared(const Scene& s, TextureCache* textures, GeometryCache* geometry,
-           const std::vector<MeshDigests>* meshes)
-      : scene(s), gpu(s, textures, geometry, meshes) {}
+           const std::vector<MeshDigests>* meshes, ImageDigests* images)
+      : scene(s), gpu(s, textures, geometry, meshes, images) {}
   const Scene& scene;
   GpuScene gpu;
   LightingFeatures features;
@@ -1132,9 +1142,9 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
   shaders.stop();
 
   ScopedStage upload(times, "upload");
-  // Hashed once for both caches, the geometry's and the shadow maps'.
-  const std::vector<MeshDigests> meshes = meshDigests(scene);
-  Prepared prepared(scene, &textureCache_, &geometryCache_, &meshes);
+  SceneDigests& digests = sceneDigests(scene);
+  const std::vector<MeshDigests>& meshes = digests.meshes;
+  Prepared prepared(scene, &textureCache_, &geometryCache_, &meshes, &digests.images);
   textureCache_.dropUnused();  // an earlier scene's textures this one did not take
   prepared.features = features;
   prepared.beautyOutputs = beautyOutputs;
@@ -1202,6 +1212,14 @@ std::vector<PlanarShadowMapDump> Renderer::Impl::readPlanarShadowMaps(const Prep
            readPlanarDistances(prepared.groups[s.shadow->group], *s.shadow, layer, directional)});
   }
   return dumps;
+}
+
+Renderer::Impl::SceneDigests& Renderer::Impl::sceneDigests(const Scene& scene) {
+  if (scene.revision == 0 || scene.revision != sceneDigests_.revision ||
+      sceneDigests_.meshes.size() != scene.meshes.size() ||
+      sceneDigests_.images.size() != scene.images.size())
+    sceneDigests_ = {scene.revision, meshDigests(scene), ImageDigests(scene.images.size())};
+  return sceneDigests_;
 }
 
 void Renderer::Impl::choosePrepass(std::uint64_t scene, DepthPrepass requested,
@@ -1336,7 +1354,7 @@ std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(const Scene& sc
                                                                  const std::vector<Light>& lights,
                                                                  ShadowPassStrategy strategy,
                                                                  bool parallel) {
-  Prepared prepared(scene, nullptr, nullptr, nullptr);
+  Prepared prepared(scene, nullptr, nullptr, nullptr, nullptr);
   RenderSettings settings;
   settings.shadowPass = strategy;
   settings.parallelShadowMaps = parallel;

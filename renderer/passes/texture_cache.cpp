@@ -65,20 +65,29 @@ TextureCache::Digest TextureCache::entryDigest(Entry& entry, std::size_t size) {
 }
 
 std::shared_ptr<const gl::Texture> TextureCache::find(const Image& image, bool srgb,
-                                                      const std::function<gl::Texture()>& make) {
+                                                      const std::function<gl::Texture()>& make,
+                                                      std::optional<Digest>* known) {
   const std::uint64_t sample = sampleOf(image);
   std::optional<Digest> digest;  // the image's, once a candidate needs it
+  bool fromBytes = false;        // hashed here rather than known
   for (Entry& entry : entries_) {
     if (entry.srgb != srgb || entry.width != image.width || entry.height != image.height ||
         entry.sample != sample || image.rgba.empty())
       continue;
-    if (!digest) digest = digestOf(image.rgba.data(), image.rgba.size());
+    if (!digest && known && *known) {
+      digest = *known;
+    } else if (!digest) {
+      digest = digestOf(image.rgba.data(), image.rgba.size());
+      fromBytes = true;
+      if (known) *known = digest;
+    }
     if (entryDigest(entry, image.rgba.size()) == *digest) {
       entry.used = true;
       return entry.texture;
     }
   }
-  entries_.push_back({image.width, image.height, srgb, sample, digest,
+  // Only bytes hashed here vouch for what a new entry is made of, not a known digest.
+  entries_.push_back({image.width, image.height, srgb, sample, fromBytes ? digest : std::nullopt,
                       std::make_shared<const gl::Texture>(make()), true});
   return entries_.back().texture;
 }

@@ -22,20 +22,23 @@ namespace omnishadow {
 // back, when an image first asks for it: a process that renders once never pays for it.
 class TextureCache {
  public:
+  struct Digest {
+    std::uint64_t low = 0, high = 0;
+    bool operator==(const Digest&) const = default;
+  };
+
   // The texture of `image` as `srgb` says, made by `make` when none is here. Needs the GL
-  // context the textures belong to.
+  // context the textures belong to. `known`, where given: the digest of the image's bytes if
+  // known (taken as it is, not checked), and where the digest goes once this call has taken it.
   std::shared_ptr<const gl::Texture> find(const Image& image, bool srgb,
-                                          const std::function<gl::Texture()>& make);
+                                          const std::function<gl::Texture()>& make,
+                                          std::optional<Digest>* known = nullptr);
   // Drops the textures not found since the last call: called once a scene is uploaded, it
   // leaves the cache holding that scene's textures (which the scene holds too while it draws).
   void dropUnused();
   std::size_t size() const { return entries_.size(); }
 
  private:
-  struct Digest {
-    std::uint64_t low = 0, high = 0;
-    bool operator==(const Digest&) const = default;
-  };
   struct Entry {
     int width = 0, height = 0;
     bool srgb = false;
@@ -50,5 +53,9 @@ class TextureCache {
   std::vector<Entry> entries_;
   std::vector<std::uint8_t> readback_;  // entryDigest()'s, kept for the next one
 };
+
+// The digests of a scene's images by image index, as TextureCache::find() took them: kept by a
+// renderer for the next render of the same scene revision (Scene::revision).
+using ImageDigests = std::vector<std::optional<TextureCache::Digest>>;
 
 }  // namespace omnishadow

@@ -94,6 +94,7 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   gltf_detail::readRig(ctx);
   gltf_detail::addNodes(ctx, roots, rootsObject);
   poseScene(scene, {});  // skins and default morph weights apply without a time too
+  scene.revision = newSceneRevision();
   return scene;
 }
 

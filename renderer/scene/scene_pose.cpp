@@ -185,6 +185,7 @@ std::vector<std::string> poseScene(Scene& scene, const PoseRequest& request) {
     }
     writeDeformedMesh(source, vertices, scene.meshes[static_cast<std::size_t>(instance.mesh)]);
   }
+  if (!rig.deformed.empty()) scene.revision = newSceneRevision();
   scene.bounds = Bounds{};
   for (const MeshInstance& instance : scene.instances)
     scene.bounds.extend(

@@ -24,9 +24,10 @@ std::vector<int> chooseAnimations(const Scene& scene, const std::string& selecti
 // Poses `scene` (loaded by loadGltf()) in place from its rig: node transforms (animated at
 // request.time, each clip clamped to its own start and end), then instance matrices, skinned
 // and morphed vertices with their normals, tangents and bounds, cameras, glTF lights and the
-// scene bounds. Where two chosen clips animate the same property of a node, the lower index
-// drives it; the others are named in the returned warning. Any pose can follow any other: the
-// rig keeps the rest data. Throws InputError for an unknown clip.
+// scene bounds; a scene whose meshes it deforms gets a new Scene::revision. Where two chosen clips
+// animate the same property of a node, the lower index drives it; the others are named in the
+// returned warning. Any pose can follow any other: the rig keeps the rest data. Throws InputError
+// for an unknown clip.
 std::vector<std::string> poseScene(Scene& scene, const PoseRequest& request);
 
 // poseScene() with the checks both front ends make, in the CLI's words (--time, --animation):
