@@ -18,6 +18,7 @@
 #include "cli/batch_worker.h"
 #include "cli/common_options.h"
 #include "cli/shard_env.h"
+#include "cli/shared_scene_loads.h"
 #include "renderer/core/errors.h"
 #include "renderer/core/message_text.h"
 #include "renderer/output/image_writer.h"
@@ -138,6 +139,13 @@ void writeReport(const fs::path& path, const std::vector<BatchEntry>& jobs,
 // Renders the feed's jobs in order on this (the GL) thread. Loading runs up to `workers` jobs
 // ahead and encoding up to `workers` jobs behind, on other threads; with 0 workers everything
 // runs here. Results go to the feed in the order the jobs came.
+std::vector<RenderJob> renderJobsOf(const std::vector<BatchEntry>& entries) {
+  std::vector<RenderJob> jobs;
+  jobs.reserve(entries.size());
+  for (const BatchEntry& entry : entries) jobs.push_back(entry.job);
+  return jobs;
+}
+
 class BatchRunner {
  public:
   // `stopOnRenderError`: after a render error (the context may be lost) stop and let a fresh
@@ -148,7 +156,8 @@ class BatchRunner {
         options_(options),
         device_(device),
         stopOnRenderError_(stopOnRenderError),
-        results_(jobs.size()) {
+        results_(jobs.size()),
+        sharedLoads_(renderJobsOf(jobs)) {
     workers_ = options.jobs >= 0
                    ? options.jobs
                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -217,7 +226,8 @@ class BatchRunner {
     for (const std::size_t i : upcoming) {
       if (loading_.count(i) || skipped(i)) continue;
       const RenderJob& job = jobs_[i].job;
-      loading_.emplace(i, std::async(std::launch::async, [&job] { return loadJobTimed(job); }));
+      loading_.emplace(i, std::async(std::launch::async,
+                                     [this, &job] { return loadJobTimed(job, &sharedLoads_); }));
     }
   }
 
@@ -235,7 +245,7 @@ class BatchRunner {
         loaded = it->second.get();
         loading_.erase(it);
       } else {
-        loaded = loadJobTimed(jobs_[i].job);
+        loaded = loadJobTimed(jobs_[i].job, &sharedLoads_);
       }
       result.times.add("load", loaded.milliseconds);
       // Shared with the encoder, which may run after this job's turn.
@@ -298,6 +308,7 @@ class BatchRunner {
   std::vector<JobResult> results_;
   int workers_ = 0;
   std::unique_ptr<Renderer> renderer_;
+  SharedSceneLoads sharedLoads_;  // before loading_, whose loads use it
   std::map<std::size_t, std::future<TimedLoad>> loading_;
   std::deque<Pending> encoding_;
 };

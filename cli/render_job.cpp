@@ -10,6 +10,7 @@
 #include <system_error>
 #include <utility>
 
+#include "cli/shared_scene_loads.h"
 #include "renderer/core/errors.h"
 #include "renderer/output/annotation_masks.h"
 #include "renderer/output/camera_sidecar.h"
@@ -224,20 +225,28 @@ void validateJob(const RenderJob& job) {
   checkNotAnInput(job, {job.scene.string(), job.lights.string()});
 }
 
-TimedLoad loadJobTimed(const RenderJob& job) {
+TimedLoad loadJobTimed(const RenderJob& job, SharedSceneLoads* shared) {
   const auto start = std::chrono::steady_clock::now();
-  TimedLoad load{loadJob(job)};
+  TimedLoad load{shared ? loadJob(job, shared->scene(job)) : loadJob(job)};
   load.milliseconds = millisecondsSince(start);
   return load;
 }
 
-LoadedJob loadJob(const RenderJob& job) {
-  LoadedJob loaded;
+Scene loadJobScene(const RenderJob& job) {
   GltfLoadOptions loadOptions;
   loadOptions.sceneIndex = job.sceneIndex;
   loadOptions.materialVariant = job.materialVariant;
   loadOptions.allowExternalUris = job.allowExternalUris;
-  loaded.scene = loadGltf(job.scene, loadOptions);
+  return loadGltf(job.scene, loadOptions);
+}
+
+LoadedJob loadJob(const RenderJob& job) {
+  return loadJob(job, loadJobScene(job));
+}
+
+LoadedJob loadJob(const RenderJob& job, Scene scene) {
+  LoadedJob loaded;
+  loaded.scene = std::move(scene);
   checkNotAnInput(job, loaded.scene.inputFiles);
   requireTriangles(loaded.scene);
   loaded.warnings = loaded.scene.warnings;

@@ -62,16 +62,24 @@ struct LoadedJob {
 // Throws InputError.
 void validateJob(const RenderJob& job);
 
+// Reads the scene file as the job's options say, at rest. Throws InputError.
+Scene loadJobScene(const RenderJob& job);
+
 // Reads the scene and lights file, poses the scene at job.time and resolves the camera.
 // Throws InputError.
 LoadedJob loadJob(const RenderJob& job);
+// The same with the job's scene as loadJobScene() read it.
+LoadedJob loadJob(const RenderJob& job, Scene scene);
 
-// loadJob() and how long it took (the `load` stage), for loads run beside other work.
+class SharedSceneLoads;
+
+// loadJob() and how long it took (the `load` stage), for loads run beside other work; with
+// `shared`, the scene comes from there (a batch's jobs of one file).
 struct TimedLoad {
   LoadedJob job;
   double milliseconds = 0.0;
 };
-TimedLoad loadJobTimed(const RenderJob& job);
+TimedLoad loadJobTimed(const RenderJob& job, SharedSceneLoads* shared = nullptr);
 
 // Poses the loaded scene at `time` (job.animation's clips), then merges its lights with the
 // lights file's again and resolves the camera: what a frame of a sequence changes. Returns the
