@@ -63,8 +63,10 @@ omnishadow_fuzzer(fuzz_manifest
   cli/batch_jobs.cpp
   cli/common_options.cpp
   cli/frame_set.cpp
-  cli/render_job.cpp)
-# render_job.cpp also holds the render step, so the GL passes are linked (never called).
+  cli/render_job.cpp
+  cli/shared_scene_loads.cpp)
+# render_job.cpp also holds the render step, so the GL passes are linked (never called), and
+# the batch's shared loads.
 # common_options.cpp names the demo scene (a manifest job without a scene renders it).
 target_compile_definitions(fuzz_manifest PRIVATE OMNISHADOW_DEMO_SCENE="${OMNISHADOW_DEMO_SCENE}")
 target_link_libraries(fuzz_manifest PRIVATE omnishadow_passes omnishadow_render omnishadow_output
