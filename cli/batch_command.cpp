@@ -136,9 +136,6 @@ void writeReport(const fs::path& path, const std::vector<BatchEntry>& jobs,
   if (!out.flush()) throw RenderError("cannot write the report " + path.string());
 }
 
-// Renders the feed's jobs in order on this (the GL) thread. Loading runs up to `workers` jobs
-// ahead and encoding up to `workers` jobs behind, on other threads; with 0 workers everything
-// runs here. Results go to the feed in the order the jobs came.
 std::vector<RenderJob> renderJobsOf(const std::vector<BatchEntry>& entries) {
   std::vector<RenderJob> jobs;
   jobs.reserve(entries.size());
@@ -146,6 +143,10 @@ std::vector<RenderJob> renderJobsOf(const std::vector<BatchEntry>& entries) {
   return jobs;
 }
 
+// Renders the feed's jobs in order on this (the GL) thread. Loading runs up to `workers` jobs
+// ahead and encoding up to `workers` jobs behind, on other threads; with 0 workers everything
+// runs here. Jobs of one scene file share its load (SharedSceneLoads). Results go to the feed
+// in the order the jobs came.
 class BatchRunner {
  public:
   // `stopOnRenderError`: after a render error (the context may be lost) stop and let a fresh

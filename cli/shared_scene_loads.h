@@ -45,7 +45,7 @@ class SharedSceneLoads {
   };
   struct Loaded {
     Scene scene;
-    std::vector<FileStamp> stamps;  // the scene file and every file it read, before loading
+    std::vector<FileStamp> stamps;  // the scene file and every file it read, once loaded
   };
   struct Entry {
     std::shared_future<std::shared_ptr<const Loaded>> loaded;  // valid once a job asked
