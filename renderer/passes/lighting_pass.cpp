@@ -17,7 +17,6 @@
 #include "renderer/passes/texel_scissor.h"
 #include "renderer/scene/srgb_transfer.h"
 #include "renderer/view/draw_order.h"
-#include "renderer/view/overdraw_estimate.h"
 #include "renderer/view/sheen_albedo_table.h"
 
 namespace omnishadow {
@@ -1443,9 +1442,9 @@ bool depthPrepassSupported(std::string_view glRenderer) {
   return gl::isLlvmpipe(glRenderer);
 }
 
-OpaqueFragments LightingPass::estimateOpaqueFragments(const GpuScene& scene,
-                                                      const std::vector<Mesh>& meshes,
-                                                      const ViewCamera& camera) const {
+OverdrawCounts LightingPass::estimateOpaqueFragments(const GpuScene& scene,
+                                                     const std::vector<Mesh>& meshes,
+                                                     const ViewCamera& camera) const {
   // 1280x720 at one sample per 8x8 pixels: within 1% of GL's occlusion counts on the bench
   // scenes, in 0.05-4.7 ms; the time goes per triangle (31 ms for 1M; docs/performance.md).
   constexpr int kMaxSamples = 16384;
@@ -1459,9 +1458,8 @@ OpaqueFragments LightingPass::estimateOpaqueFragments(const GpuScene& scene,
     surfaces.push_back({&meshes.at(static_cast<std::size_t>(draw.mesh)), draw.world,
                         !material.desc.doubleSided, draw.mirrored});
   }
-  const OverdrawCounts counts = estimateOverdraw(surfaces, camera.projection * camera.view,
-                                                 camera.width, camera.height, kMaxSamples);
-  return {counts.passed, counts.covered, counts.triangles};
+  return estimateOverdraw(surfaces, camera.projection * camera.view, camera.width, camera.height,
+                          kMaxSamples);
 }
 
 }  // namespace omnishadow

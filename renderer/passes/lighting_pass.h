@@ -22,6 +22,7 @@
 #include "renderer/view/camera.h"
 #include "renderer/view/caster_culling.h"
 #include "renderer/view/light_clusters.h"
+#include "renderer/view/overdraw_estimate.h"
 
 namespace omnishadow {
 
@@ -108,15 +109,6 @@ struct PassParameters {
 // and where NVIDIA's driver (580.159, H100) lost blocks of WhackAMole's ground with it (the
 // shading pass's GL_GEQUAL failing against the pre-pass's depths; docs/performance.md).
 bool depthPrepassSupported(std::string_view glRenderer);
-
-// Fragments of a frame's opaque surfaces that the depth pre-pass lets through (those shading
-// without it would shade, less ties) and those the pass then shades (about one a pixel), and
-// the triangles the pre-pass draws.
-struct OpaqueFragments {
-  std::uint64_t prepass = 0;
-  std::uint64_t shaded = 0;
-  std::uint64_t triangles = 0;
-};
 
 // How the AOV passes of a frame report its lights' shadow terms in their visibility targets:
 // the scalar terms one light per channel, the RGB terms of translucent shadows (`rgbTerms`)
@@ -269,8 +261,8 @@ class LightingPass {
   // the CPU before anything is drawn (estimateOverdraw(), at most 16,384 samples): the opaque
   // surfaces this pass shades, in its order, with their culling. `meshes`: the scene's, which
   // `scene` was made from.
-  OpaqueFragments estimateOpaqueFragments(const GpuScene& scene, const std::vector<Mesh>& meshes,
-                                          const ViewCamera& camera) const;
+  OverdrawCounts estimateOpaqueFragments(const GpuScene& scene, const std::vector<Mesh>& meshes,
+                                         const ViewCamera& camera) const;
 
  private:
   // The frame's uniforms, the same in every material variant.

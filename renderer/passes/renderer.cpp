@@ -276,9 +276,9 @@ class Renderer::Impl {
   // without it. A scene's first frame estimates; later frames keep that choice, estimating
   // again every kPrepassReestimate-th frame if the camera has moved since.
   void choosePrepass(std::uint64_t scene, DepthPrepass requested, const ViewCamera& camera,
-                     const std::function<OpaqueFragments()>& estimate, PassParameters& parameters);
+                     const std::function<OverdrawCounts()>& estimate, PassParameters& parameters);
   // Whether `counts` say the pre-pass costs more than it spares.
-  static bool prepassSparesTooLittle(const OpaqueFragments& counts);
+  static bool prepassSparesTooLittle(const OverdrawCounts& counts);
   static constexpr int kPrepassReestimate = 8;
   // Percent more fragments through the pre-pass than shaded after it below which it is dropped.
   static constexpr int kPrepassMinOverdraw = 10;
@@ -1224,7 +1224,7 @@ Renderer::Impl::SceneDigests& Renderer::Impl::sceneDigests(const Scene& scene) {
 
 void Renderer::Impl::choosePrepass(std::uint64_t scene, DepthPrepass requested,
                                    const ViewCamera& camera,
-                                   const std::function<OpaqueFragments()>& estimate,
+                                   const std::function<OverdrawCounts()>& estimate,
                                    PassParameters& parameters) {
   if (requested != DepthPrepass::Auto) {  // the auto choice of the scene's frames stays as it was
     parameters.depthPrepass = requested == DepthPrepass::On;
@@ -1257,9 +1257,9 @@ void Renderer::Impl::choosePrepass(std::uint64_t scene, DepthPrepass requested,
 // test_room (102k triangles) spares 82k fragments, 11%, and its steady lighting took 60-64 ms
 // without the pre-pass against 64-72 with it; CesiumMilkTruck (3.6k triangles) spares 20k,
 // 13%, and is a little faster with it (docs/performance.md).
-bool Renderer::Impl::prepassSparesTooLittle(const OpaqueFragments& counts) {
-  const std::uint64_t spared = counts.prepass > counts.shaded ? counts.prepass - counts.shaded : 0;
-  return spared * 100 <= counts.shaded * kPrepassMinOverdraw ||
+bool Renderer::Impl::prepassSparesTooLittle(const OverdrawCounts& counts) {
+  const std::uint64_t spared = counts.passed > counts.covered ? counts.passed - counts.covered : 0;
+  return spared * 100 <= counts.covered * kPrepassMinOverdraw ||
          spared <= counts.triangles * kPrepassMinSparedPerTriangle;
 }
 

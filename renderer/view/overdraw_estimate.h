@@ -9,8 +9,7 @@
 namespace omnishadow {
 
 // What a frame's opaque surfaces would draw, estimated on the CPU before anything is drawn, so
-// that a scene's first frame can choose the depth pre-pass by its overdraw as its later frames
-// do from occlusion queries (Renderer::Impl::choosePrepass).
+// that the frame can choose the depth pre-pass by its overdraw (Renderer::Impl::choosePrepass).
 
 // An opaque draw: its mesh's triangles placed by `world`; back faces culled unless the
 // material is double-sided, front faces clockwise where `world` mirrors.
@@ -21,11 +20,11 @@ struct OverdrawSurface {
   bool mirrored = false;
 };
 
-// Counts at sample points, scaled to pixels, as the pre-pass's occlusion queries count them
-// (OpaqueFragments): the fragments that pass the pre-pass's depth test with depth writes
-// (`passed`: what it lets through, and what shading without it would shade, ties aside), the
-// pixels covered at the end (`covered`: what shading after it shades, ties aside), and every
-// triangle (`triangles`: what it draws).
+// Counts at sample points, scaled to pixels, as GL's occlusion queries would count them around
+// the pre-pass and the shading after it: the fragments that pass the pre-pass's depth test with
+// depth writes (`passed`: what it lets through, and what shading without it would shade, ties
+// aside), the pixels covered at the end (`covered`: what shading after it shades, ties aside),
+// and every triangle (`triangles`: what it draws).
 struct OverdrawCounts {
   std::uint64_t passed = 0;
   std::uint64_t covered = 0;
