@@ -18,58 +18,53 @@ SharedSceneLoads::SharedSceneLoads(const std::vector<RenderJob>& jobs) {
 
 std::string SharedSceneLoads::keyOf(const RenderJob& job) {
   // What loadJobScene() reads the file with; the pose comes after, per job.
-  std::error_code error;
-  const fs::path file = fs::weakly_canonical(job.scene, error);
-  return (error ? job.scene : file).string() + '\n' + std::to_string(job.sceneIndex) + '\n' +
+  return resolvedPath(job.scene).string() + '\n' + std::to_string(job.sceneIndex) + '\n' +
          job.materialVariant + '\n' + (job.allowExternalUris ? "1" : "0");
 }
 
-std::vector<SharedSceneLoads::FileStamp> SharedSceneLoads::stamps(
-    const std::vector<fs::path>& files) {
-  std::vector<FileStamp> out;
-  for (const fs::path& file : files) {
-    std::error_code error;
-    FileStamp stamp{file, fs::file_size(file, error), {}};
-    if (!error) stamp.modified = fs::last_write_time(file, error);
-    if (error) stamp.size = static_cast<std::uintmax_t>(-1);  // gone: never equal to a file
-    out.push_back(std::move(stamp));
-  }
-  return out;
+SharedSceneLoads::FileStamp SharedSceneLoads::stampOf(const fs::path& file) {
+  std::error_code error;
+  FileStamp stamp{file, fs::file_size(file, error), {}};
+  if (!error) stamp.modified = fs::last_write_time(file, error);
+  if (error) stamp.size = static_cast<std::uintmax_t>(-1);  // gone: never equal to a file
+  return stamp;
 }
 
 std::shared_ptr<const SharedSceneLoads::Loaded> SharedSceneLoads::load(const RenderJob& job) {
   auto loaded = std::make_shared<Loaded>();
   loaded->scene = loadJobScene(job);
-  std::vector<fs::path> files(loaded->scene.inputFiles.begin(), loaded->scene.inputFiles.end());
-  loaded->stamps = stamps(files);
+  for (const std::string& file : loaded->scene.inputFiles) loaded->stamps.push_back(stampOf(file));
   return loaded;
 }
 
+std::shared_future<std::shared_ptr<const SharedSceneLoads::Loaded>> SharedSceneLoads::claim(
+    const std::string& key, std::promise<std::shared_ptr<const Loaded>>& made, bool& loads) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = entries_.find(key);
+  if (it == entries_.end()) return {};  // a file of its own, or let go
+  Entry& entry = it->second;
+  if (!entry.loaded.valid()) {
+    entry.loaded = made.get_future().share();
+    loads = true;
+    // Only the latest kKept scenes stay loaded: the others' next jobs load them again.
+    std::vector<std::pair<std::uint64_t, std::string>> loadedOnes;
+    for (const auto& [otherKey, other] : entries_)
+      if (other.loaded.valid() && otherKey != key) loadedOnes.emplace_back(other.used, otherKey);
+    std::sort(loadedOnes.begin(), loadedOnes.end());
+    for (std::size_t i = 0; i + kKept < loadedOnes.size() + 1; ++i)
+      entries_[loadedOnes[i].second].loaded = {};
+  }
+  entry.used = ++clock_;
+  std::shared_future<std::shared_ptr<const Loaded>> shared = entry.loaded;
+  if (--entry.users <= 0) entries_.erase(it);
+  return shared;
+}
+
 Scene SharedSceneLoads::scene(const RenderJob& job) {
-  const std::string key = keyOf(job);
-  std::shared_future<std::shared_ptr<const Loaded>> shared;
   std::promise<std::shared_ptr<const Loaded>> made;
   bool loads = false;  // this call loads the scene the others wait for
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    const auto it = entries_.find(key);
-    if (it == entries_.end()) return loadJobScene(job);  // a file of its own, or let go
-    Entry& entry = it->second;
-    if (!entry.loaded.valid()) {
-      entry.loaded = made.get_future().share();
-      loads = true;
-      // Only the latest kKept scenes stay loaded: the others' next jobs load them again.
-      std::vector<std::pair<std::uint64_t, std::string>> loadedOnes;
-      for (const auto& [otherKey, other] : entries_)
-        if (other.loaded.valid() && otherKey != key) loadedOnes.emplace_back(other.used, otherKey);
-      std::sort(loadedOnes.begin(), loadedOnes.end());
-      for (std::size_t i = 0; i + kKept < loadedOnes.size() + 1; ++i)
-        entries_[loadedOnes[i].second].loaded = {};
-    }
-    entry.used = ++clock_;
-    shared = entry.loaded;
-    if (--entry.users <= 0) entries_.erase(it);
-  }
+  const std::shared_future<std::shared_ptr<const Loaded>> shared = claim(keyOf(job), made, loads);
+  if (!shared.valid()) return loadJobScene(job);  // outside the lock: loads run side by side
   if (loads) {
     try {
       made.set_value(load(job));
@@ -84,9 +79,8 @@ Scene SharedSceneLoads::scene(const RenderJob& job) {
   } catch (...) {  // the first job's load failed: this job tries again and reports its own
     return loadJobScene(job);
   }
-  std::vector<fs::path> files;
-  for (const FileStamp& stamp : loaded->stamps) files.push_back(stamp.path);
-  if (stamps(files) != loaded->stamps) return loadJobScene(job);  // changed since: read again
+  for (const FileStamp& stamp : loaded->stamps)
+    if (stampOf(stamp.path) != stamp) return loadJobScene(job);  // changed since: read again
   return loaded->scene;
 }
 

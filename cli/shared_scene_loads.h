@@ -55,8 +55,12 @@ class SharedSceneLoads {
   // Scenes kept loaded at most: a shard of a batch may run only some of a file's jobs.
   static constexpr std::size_t kKept = 2;
   static std::string keyOf(const RenderJob& job);
-  static std::vector<FileStamp> stamps(const std::vector<std::filesystem::path>& files);
+  static FileStamp stampOf(const std::filesystem::path& file);
   static std::shared_ptr<const Loaded> load(const RenderJob& job);
+  // Under the lock: the shared load of `key` (invalid for a file no other job shares), which
+  // this call makes with `made` (`loads` set) when no job asked for it before.
+  std::shared_future<std::shared_ptr<const Loaded>> claim(
+      const std::string& key, std::promise<std::shared_ptr<const Loaded>>& made, bool& loads);
 
   std::mutex mutex_;
   std::map<std::string, Entry> entries_;  // by keyOf(), for files two or more jobs load
