@@ -178,7 +178,7 @@ int renderFrameSet(const RenderJob& job, const FrameSetOptions& o, const DeviceO
 
   std::vector<CameraView> cameraSet;
   if (views) {
-    const glm::vec3 center = loaded.scene.bounds.center();
+    const glm::vec3 center = loaded.scene().bounds.center();
     cameraSet = o.orbit > 0
                     ? orbitViews(loaded.camera.eye, center, o.orbit)
                     : hemisphereViews(center, glm::length(loaded.camera.eye - center), viewCount);

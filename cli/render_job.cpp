@@ -227,7 +227,8 @@ void validateJob(const RenderJob& job) {
 
 TimedLoad loadJobTimed(const RenderJob& job, SharedSceneLoads* shared) {
   const auto start = std::chrono::steady_clock::now();
-  TimedLoad load{shared ? loadJob(job, shared->scene(job)) : loadJob(job)};
+  std::shared_ptr<const Scene> scene = shared ? shared->scene(job) : nullptr;
+  TimedLoad load{scene ? loadJob(job, std::move(scene)) : loadJob(job)};
   load.milliseconds = millisecondsSince(start);
   return load;
 }
@@ -240,16 +241,14 @@ Scene loadJobScene(const RenderJob& job) {
   return loadGltf(job.scene, loadOptions);
 }
 
-LoadedJob loadJob(const RenderJob& job) {
-  return loadJob(job, loadJobScene(job));
-}
+namespace {
 
-LoadedJob loadJob(const RenderJob& job, Scene scene) {
-  LoadedJob loaded;
-  loaded.scene = std::move(scene);
-  checkNotAnInput(job, loaded.scene.inputFiles);
-  requireTriangles(loaded.scene);
-  loaded.warnings = loaded.scene.warnings;
+// The rest of a load once the job has its scene: checks on it, the lights file, the pose, the
+// camera and the per-light files.
+LoadedJob finishLoad(const RenderJob& job, LoadedJob loaded) {
+  checkNotAnInput(job, loaded.scene().inputFiles);
+  requireTriangles(loaded.scene());
+  loaded.warnings = loaded.scene().warnings;
   if (!job.lights.empty()) loaded.setup = loadLightsFile(job.lights, loaded.warnings);
   const std::vector<std::string> poseWarnings = poseJob(job, job.time, loaded);
   loaded.warnings.insert(loaded.warnings.end(), poseWarnings.begin(), poseWarnings.end());
@@ -258,7 +257,7 @@ LoadedJob loadJob(const RenderJob& job, Scene scene) {
   if (!job.dumpDepth.empty() || !job.lightViews.empty()) {
     checkFileSafeNames(loaded.lights);
     // The per-light files must spare the inputs and the job's other outputs too.
-    std::vector<std::string> inputs = loaded.scene.inputFiles;
+    std::vector<std::string> inputs = loaded.scene().inputFiles;
     inputs.push_back(job.lights.string());
     const std::vector<fs::path> files = job.perLightFiles(loaded.lights);
     for (const fs::path& file : files) {
@@ -273,16 +272,36 @@ LoadedJob loadJob(const RenderJob& job, Scene scene) {
   return loaded;
 }
 
+}  // namespace
+
+LoadedJob loadJob(const RenderJob& job) {
+  LoadedJob loaded;
+  loaded.own = loadJobScene(job);
+  return finishLoad(job, std::move(loaded));
+}
+
+LoadedJob loadJob(const RenderJob& job, std::shared_ptr<const Scene> scene) {
+  LoadedJob loaded;
+  loaded.shared = std::move(scene);
+  return finishLoad(job, std::move(loaded));
+}
+
 std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> time,
                                  LoadedJob& loaded) {
-  std::vector<std::string> warnings =
-      poseSceneChecked(loaded.scene, job.scene.string(), time, job.animation);
-  loaded.lights = mergeLights(job.noGltfLights ? std::vector<Light>{} : loaded.scene.lights,
-                              loaded.setup.lights);
-  loaded.camera = resolveCamera(loaded.scene, job.camera);
+  std::vector<std::string> warnings;
+  if (loaded.own || time) {
+    if (!loaded.own) loaded.own = *loaded.shared;
+    warnings = poseSceneChecked(*loaded.own, job.scene.string(), time, job.animation);
+  } else {
+    checkPoseRequest(time, job.animation);  // a shared scene is at rest, as the loader left it
+  }
+  const Scene& scene = loaded.scene();
+  loaded.lights =
+      mergeLights(job.noGltfLights ? std::vector<Light>{} : scene.lights, loaded.setup.lights);
+  loaded.camera = resolveCamera(scene, job.camera);
   // An environment lights the scene by itself; without one, a headlight shows it.
   if (loaded.lights.empty() && !loaded.setup.environment)
-    loaded.lights.push_back(headlight(loaded.camera, loaded.scene.bounds));
+    loaded.lights.push_back(headlight(loaded.camera, scene.bounds));
   return warnings;
 }
 
@@ -345,18 +364,18 @@ void prepareJob(Renderer& renderer, const RenderJob& job) {
 std::size_t frameMemoryEstimate(const Renderer& renderer, const RenderJob& job,
                                 const LoadedJob& loaded) {
   double bytes =
-      renderer.frameBytes(loaded.scene, loaded.lights, loaded.camera, renderSettings(job));
-  for (const Image& image : loaded.scene.images)
+      renderer.frameBytes(loaded.scene(), loaded.lights, loaded.camera, renderSettings(job));
+  for (const Image& image : loaded.scene().images)
     bytes += static_cast<double>(image.rgba.size()) * 4.0 / 3.0;
-  for (const Mesh& mesh : loaded.scene.meshes) bytes += static_cast<double>(meshBytes(mesh));
+  for (const Mesh& mesh : loaded.scene().meshes) bytes += static_cast<double>(meshBytes(mesh));
   return static_cast<std::size_t>(bytes);
 }
 
 Frame renderJob(Renderer& renderer, const RenderJob& job, const LoadedJob& loaded,
                 StageTimes& times) {
   // Refused before the frame is drawn, not after.
-  if (!job.masks.empty()) checkMaskInstances(loaded.scene, job.scene.string());
-  return renderer.render(loaded.scene, loaded.lights, Ambience(loaded.setup), loaded.camera,
+  if (!job.masks.empty()) checkMaskInstances(loaded.scene(), job.scene.string());
+  return renderer.render(loaded.scene(), loaded.lights, Ambience(loaded.setup), loaded.camera,
                          renderSettings(job), times);
 }
 
@@ -375,7 +394,7 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
   if (!job.masks.empty())
     masks = std::async(std::launch::async, [&] {
       return encodeAnnotationMasks(
-          annotationMasks(loaded.scene, loaded.camera, objectIdImage(frame)));
+          annotationMasks(loaded.scene(), loaded.camera, objectIdImage(frame)));
     });
   if (frame.srgb8) {
     for (const fs::path& path : job.png)
@@ -395,7 +414,7 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
     writeExr(stage(job.aov), *frame.aovs, ExrPixelType::Float, &camera);
   if (job.cameraJson) {
     std::ofstream out(stage(cameraJsonPath(job)));
-    out << cameraSidecar(loaded.camera, loaded.scene, job.time).dump(2) << "\n";
+    out << cameraSidecar(loaded.camera, loaded.scene(), job.time).dump(2) << "\n";
     if (!out.flush()) throw RenderError("cannot write " + cameraJsonPath(job).string());
   }
   if (!job.masks.empty()) {
@@ -404,7 +423,7 @@ std::vector<fs::path> writeJobOutputs(const RenderJob& job, const LoadedJob& loa
   }
   if (job.layers.objectId || job.layers.materialId) {
     written.push_back(idSidecarPath(job));
-    writeIdSidecar(idSidecarPath(job), loaded.scene, transaction);
+    writeIdSidecar(idSidecarPath(job), loaded.scene(), transaction);
   }
   for (const ShadowMapDump& dump : frame.shadowMaps)
     writePointShadowDump(job.dumpDepth, fileSafeName(dump.light), dump.distances, dump.far,

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,7 +52,12 @@ struct RenderJob {
 
 // The job's inputs, loaded: CPU only, so it may run on any thread.
 struct LoadedJob {
-  Scene scene;
+  // The job's scene: its own, or one at rest that a batch's jobs of one file share (no copy of
+  // its images and meshes per job). A shared scene is never changed: a job that poses it at a
+  // time poses a copy of its own.
+  std::optional<Scene> own;
+  std::shared_ptr<const Scene> shared;  // used while `own` is empty
+  const Scene& scene() const { return own ? *own : *shared; }
   LightSetup setup;
   std::vector<Light> lights;  // merged; a headlight when there is none and no environment
   ViewCamera camera;
@@ -68,8 +74,8 @@ Scene loadJobScene(const RenderJob& job);
 // Reads the scene and lights file, poses the scene at job.time and resolves the camera.
 // Throws InputError.
 LoadedJob loadJob(const RenderJob& job);
-// The same with the job's scene as loadJobScene() read it.
-LoadedJob loadJob(const RenderJob& job, Scene scene);
+// The same with the job's scene as loadJobScene() read it, shared with other jobs.
+LoadedJob loadJob(const RenderJob& job, std::shared_ptr<const Scene> scene);
 
 class SharedSceneLoads;
 
@@ -81,9 +87,9 @@ struct TimedLoad {
 };
 TimedLoad loadJobTimed(const RenderJob& job, SharedSceneLoads* shared = nullptr);
 
-// Poses the loaded scene at `time` (job.animation's clips), then merges its lights with the
-// lights file's again and resolves the camera: what a frame of a sequence changes. Returns the
-// posing warnings.
+// Poses the loaded scene at `time` (job.animation's clips; a shared scene is copied first, and
+// drawn as it is without a time: it is at rest), then merges its lights with the lights file's
+// again and resolves the camera: what a frame of a sequence changes. Returns the posing warnings.
 std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> time,
                                  LoadedJob& loaded);
 

@@ -60,11 +60,11 @@ std::shared_future<std::shared_ptr<const SharedSceneLoads::Loaded>> SharedSceneL
   return shared;
 }
 
-Scene SharedSceneLoads::scene(const RenderJob& job) {
+std::shared_ptr<const Scene> SharedSceneLoads::scene(const RenderJob& job) {
   std::promise<std::shared_ptr<const Loaded>> made;
   bool loads = false;  // this call loads the scene the others wait for
   const std::shared_future<std::shared_ptr<const Loaded>> shared = claim(keyOf(job), made, loads);
-  if (!shared.valid()) return loadJobScene(job);  // outside the lock: loads run side by side
+  if (!shared.valid()) return nullptr;
   if (loads) {
     try {
       made.set_value(load(job));
@@ -77,11 +77,11 @@ Scene SharedSceneLoads::scene(const RenderJob& job) {
   try {
     loaded = shared.get();
   } catch (...) {  // the first job's load failed: this job tries again and reports its own
-    return loadJobScene(job);
+    return nullptr;
   }
   for (const FileStamp& stamp : loaded->stamps)
-    if (stampOf(stamp.path) != stamp) return loadJobScene(job);  // changed since: read again
-  return loaded->scene;
+    if (stampOf(stamp.path) != stamp) return nullptr;  // changed since: read again
+  return {loaded, &loaded->scene};
 }
 
 }  // namespace omnishadow::cli

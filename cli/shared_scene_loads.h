@@ -4,9 +4,9 @@
 //
 // A manifest often renders one scene many times (cameras, lights, variants of a shot). Each job
 // loaded its file again: Avocado's three 2048^2 PNGs decode in about 85 ms, where its frame at
-// 640x360 takes about 10. Jobs that read the same file with the same load options now take
-// copies of one scene loaded at rest; a copy keeps its Scene::revision, so the renderer also
-// takes its meshes and images as the ones it hashed before.
+// 640x360 takes about 10. Jobs that read the same file with the same load options now share one
+// scene loaded at rest, read-only (a job posed at a time poses a copy of its own); its
+// Scene::revision tells the renderer that it hashed these meshes and images before.
 
 #include <cstddef>
 #include <cstdint>
@@ -26,15 +26,16 @@ namespace omnishadow::cli {
 class SharedSceneLoads {
  public:
   // `jobs`: every job the batch may run. Only files that two or more of them load alike are
-  // kept; a job of its own loads its scene as before, with no copy.
+  // kept.
   explicit SharedSceneLoads(const std::vector<RenderJob>& jobs);
 
-  // The scene `job` names, at rest, as loadJobScene() loads it: for a file other jobs load too,
-  // a copy of the one loaded for the first of them, as long as no file it read has changed
-  // since (size or modification time); loaded anew otherwise. The last job that needs it lets
-  // it go. Thread-safe. Throws what loadJobScene() throws (and a job after a failed load tries
-  // again).
-  Scene scene(const RenderJob& job);
+  // The scene `job` names, at rest, as loadJobScene() loads it, for a file other jobs load too:
+  // the one loaded for the first of them (by this call when it is the first). Null where the
+  // job loads its own: a file no other job loads alike, a scene let go, a file read since that
+  // has changed (size or modification time), a shared load that failed (the job meets the
+  // error itself). The last job that needs a scene lets it go. Thread-safe. Throws what
+  // loadJobScene() throws.
+  std::shared_ptr<const Scene> scene(const RenderJob& job);
 
  private:
   struct FileStamp {

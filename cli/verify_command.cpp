@@ -48,7 +48,7 @@ std::optional<double> parseMaxError(const std::string& text) {
 void checkErrorImageName(const fs::path& path, const RenderJob& job, const LoadedJob& loaded) {
   if (fs::is_directory(path))
     throw InputError("--error-image " + path.string() + ": is a folder, expected a file name");
-  std::vector<std::string> inputs = loaded.scene.inputFiles;
+  std::vector<std::string> inputs = loaded.scene().inputFiles;
   inputs.push_back(job.lights.string());
   const fs::path target = fs::weakly_canonical(fs::absolute(path));
   for (const std::string& input : inputs)
@@ -61,7 +61,7 @@ std::vector<LightToVerify> selectLights(const VerifyOptions& o, const LoadedJob&
   std::vector<LightToVerify> selected;
   for (const Light& light : loaded.lights)
     if (o.light.empty() || light.name == o.light)
-      selected.push_back({light, effectiveShadowFar(light, loaded.scene.bounds)});
+      selected.push_back({light, effectiveShadowFar(light, loaded.scene().bounds)});
   if (selected.empty()) {
     std::string names;
     for (const Light& light : loaded.lights)
@@ -302,8 +302,8 @@ int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {
   RenderJob drawn = job;
   if (const std::optional<AmbientOcclusion>& occlusion = loaded.setup.ambientOcclusion) {
     drawn.layers.occlusion = drawn.layers.materialId = true;
-    settings.occlusionRadius = effectiveRadius(*occlusion, loaded.scene.bounds);
-    for (const Material& material : loaded.scene.materials)
+    settings.occlusionRadius = effectiveRadius(*occlusion, loaded.scene().bounds);
+    for (const Material& material : loaded.scene().materials)
       settings.texturedMaterials.push_back(material.occlusionTexture.texture >= 0);
   }
   const std::vector<LightToVerify> lights = selectLights(o, loaded);
@@ -328,11 +328,11 @@ int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {
   if (!frame.aovs) throw RenderError("the renderer returned no AOVs");
 
   ScopedStage referenceStage(times, "reference");
-  const ShadowReference reference(loaded.scene);
+  const ShadowReference reference(loaded.scene());
   referenceStage.stop();
   ScopedStage raysStage(times, "rays");
   const ShadowVerification result =
-      verifyShadows(reference, loaded.scene.bounds, lights, *frame.aovs, loaded.camera, settings);
+      verifyShadows(reference, loaded.scene().bounds, lights, *frame.aovs, loaded.camera, settings);
   raysStage.stop();
 
   if (!errorImagePath.empty()) {

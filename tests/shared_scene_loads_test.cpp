@@ -1,11 +1,12 @@
-// A batch's jobs of one file share one load (cli/shared_scene_loads.h): a later job takes a copy
-// of the scene the first loaded, which keeps its revision (a fresh load would get a new one),
-// unless a file it read has changed or the scene was let go.
+// A batch's jobs of one file share one load (cli/shared_scene_loads.h): a later job takes the
+// scene the first loaded, unless a file it read has changed or the scene was let go; then, and
+// for a file no other job loads alike, it loads its own (a null scene).
 #include "cli/shared_scene_loads.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -34,15 +35,42 @@ TEST(SharedSceneLoads, JobsOfOneFileShareItsLoad) {
   RenderJob sameFileOtherSpelling = jobOf(folder / "." / "box.glb");
   sameFileOtherSpelling.camera.eye = glm::vec3(3.0f);  // the view is not the load's
   SharedSceneLoads loads({job, sameFileOtherSpelling, job});
-  const Scene first = loads.scene(job);
-  const Scene second = loads.scene(sameFileOtherSpelling);
-  EXPECT_NE(first.revision, 0u);
-  EXPECT_EQ(second.revision, first.revision);  // a copy, not a load
-  EXPECT_EQ(second.meshes.size(), first.meshes.size());
-  EXPECT_EQ(second.meshes[0].positions, first.meshes[0].positions);
-  // Past its jobs the scene is let go: one job more loads the file again.
-  EXPECT_EQ(loads.scene(job).revision, first.revision);
-  EXPECT_NE(loads.scene(job).revision, first.revision);
+  const std::shared_ptr<const Scene> first = loads.scene(job);
+  ASSERT_NE(first, nullptr);
+  EXPECT_NE(first->revision, 0u);
+  EXPECT_EQ(first->meshes.size(), 1u);
+  EXPECT_EQ(loads.scene(sameFileOtherSpelling), first);  // the same scene, not a copy
+  EXPECT_EQ(loads.scene(job), first);
+  // Past its jobs the scene is let go: one job more loads its own.
+  EXPECT_EQ(loads.scene(job), nullptr);
+}
+
+// Jobs share the scene at rest; one posed at a time poses a copy and leaves the shared one be.
+TEST(SharedSceneLoads, AJobPosedAtATimeLeavesTheSharedSceneAtRest) {
+  RenderJob atRest = jobOf(fs::path(OMNISHADOW_SOURCE_DIR) / "scenes" / "khronos" / "RiggedSimple" /
+                           "RiggedSimple.glb");
+  RenderJob posed = atRest;
+  posed.time = 0.5;
+  SharedSceneLoads loads({atRest, posed, atRest});
+  const LoadedJob first = loadJobTimed(atRest, &loads).job;
+  const LoadedJob second = loadJobTimed(posed, &loads).job;
+  const LoadedJob third = loadJobTimed(atRest, &loads).job;
+  ASSERT_NE(first.shared, nullptr);
+  EXPECT_FALSE(first.own.has_value());
+  EXPECT_EQ(third.shared, first.shared);
+  EXPECT_FALSE(third.own.has_value());
+  ASSERT_TRUE(second.own.has_value());
+  const LoadedJob alone = loadJob(posed);  // what the posed job draws when it loads alone
+  ASSERT_EQ(second.scene().meshes.size(), alone.scene().meshes.size());
+  bool moved = false;
+  for (std::size_t m = 0; m < alone.scene().meshes.size(); ++m) {
+    EXPECT_EQ(second.scene().meshes[m].positions, alone.scene().meshes[m].positions);
+    moved = moved || second.scene().meshes[m].positions != first.scene().meshes[m].positions;
+  }
+  EXPECT_TRUE(moved) << "the pose at 0.5 s moves no vertex: choose another time";
+  const LoadedJob restAlone = loadJob(atRest);
+  for (std::size_t m = 0; m < restAlone.scene().meshes.size(); ++m)
+    EXPECT_EQ(third.scene().meshes[m].positions, restAlone.scene().meshes[m].positions);
 }
 
 TEST(SharedSceneLoads, AJobOfItsOwnAndOtherOptionsLoadTheirOwn) {
@@ -50,9 +78,8 @@ TEST(SharedSceneLoads, AJobOfItsOwnAndOtherOptionsLoadTheirOwn) {
   RenderJob otherScene = box;
   otherScene.sceneIndex = 0;  // another load option: another load
   SharedSceneLoads loads({box, otherScene});
-  const Scene a = loads.scene(box);
-  const Scene b = loads.scene(otherScene);
-  EXPECT_NE(a.revision, b.revision);
+  EXPECT_EQ(loads.scene(box), nullptr);
+  EXPECT_EQ(loads.scene(otherScene), nullptr);
 }
 
 // A file rewritten between two jobs is read again, and the later job draws what it holds now.
@@ -61,13 +88,14 @@ TEST(SharedSceneLoads, AFileChangedSinceItsLoadIsReadAgain) {
   fs::copy_file(thirdParty("Box/Box.glb"), folder / "scene.glb");
   const RenderJob job = jobOf(folder / "scene.glb");
   SharedSceneLoads loads({job, job, job});
-  const Scene box = loads.scene(job);
+  const LoadedJob box = loadJobTimed(job, &loads).job;
+  ASSERT_NE(box.shared, nullptr);
   fs::copy_file(thirdParty("BoxTextured/BoxTextured.glb"), folder / "scene.glb",
                 fs::copy_options::overwrite_existing);
-  const Scene textured = loads.scene(job);
-  EXPECT_NE(textured.revision, box.revision);
-  EXPECT_TRUE(box.images.empty());
-  EXPECT_FALSE(textured.images.empty());
+  const LoadedJob textured = loadJobTimed(job, &loads).job;
+  EXPECT_EQ(textured.shared, nullptr);
+  EXPECT_TRUE(box.scene().images.empty());
+  EXPECT_FALSE(textured.scene().images.empty());
 }
 
 // A file that cannot be loaded fails every job that names it, each with the loader's message.
@@ -77,7 +105,7 @@ TEST(SharedSceneLoads, AFailedLoadFailsEachJob) {
   SharedSceneLoads loads({job, job});
   for (int i = 0; i < 2; ++i) {
     try {
-      loads.scene(job);
+      loadJobTimed(job, &loads);
       ADD_FAILURE() << "job " << i << " loaded a missing file";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("missing.glb"), std::string::npos) << e.what();
@@ -92,11 +120,16 @@ TEST(SharedSceneLoads, AtMostTwoScenesStayLoaded) {
   const RenderJob b = jobOf(thirdParty("BoxTextured/BoxTextured.glb"));
   const RenderJob c = jobOf(thirdParty("Duck/Duck.glb"));
   SharedSceneLoads loads({a, b, c, a, b, c});
-  const std::uint64_t aFirst = loads.scene(a).revision;
-  loads.scene(b);
-  const std::uint64_t cFirst = loads.scene(c).revision;
-  EXPECT_NE(loads.scene(a).revision, aFirst);
-  EXPECT_EQ(loads.scene(c).revision, cFirst);
+  const std::shared_ptr<const Scene> aFirst = loads.scene(a);
+  ASSERT_NE(aFirst, nullptr);
+  ASSERT_NE(loads.scene(b), nullptr);
+  const std::shared_ptr<const Scene> cFirst = loads.scene(c);
+  ASSERT_NE(cFirst, nullptr);
+  const std::shared_ptr<const Scene> aAgain = loads.scene(a);
+  ASSERT_NE(aAgain, nullptr);
+  EXPECT_NE(aAgain, aFirst);  // loaded again
+  EXPECT_NE(aAgain->revision, aFirst->revision);
+  EXPECT_EQ(loads.scene(c), cFirst);
 }
 
 }  // namespace

@@ -193,13 +193,17 @@ std::vector<std::string> poseScene(Scene& scene, const PoseRequest& request) {
   return warnings;
 }
 
-std::vector<std::string> poseSceneChecked(Scene& scene, const std::string& file,
-                                          std::optional<double> time,
-                                          const std::string& animation) {
+void checkPoseRequest(std::optional<double> time, const std::string& animation) {
   if (!animation.empty() && !time)
     throw InputError("--animation " + animation + ": needs --time SECONDS");
   if (time && !std::isfinite(*time))
     throw InputError("--time: expected a finite number of seconds");
+}
+
+std::vector<std::string> poseSceneChecked(Scene& scene, const std::string& file,
+                                          std::optional<double> time,
+                                          const std::string& animation) {
+  checkPoseRequest(time, animation);
   std::vector<std::string> warnings = poseScene(scene, {time, animation});
   if (time && scene.rig.animations.empty())
     warnings.push_back(file + ": has no animations; --time changes nothing");

@@ -30,6 +30,10 @@ std::vector<int> chooseAnimations(const Scene& scene, const std::string& selecti
 // for an unknown clip.
 std::vector<std::string> poseScene(Scene& scene, const PoseRequest& request);
 
+// The checks of poseSceneChecked() on the request alone, for a caller that keeps the scene at
+// rest as the loader posed it: an animation needs a time, the time must be finite.
+void checkPoseRequest(std::optional<double> time, const std::string& animation);
+
 // poseScene() with the checks both front ends make, in the CLI's words (--time, --animation):
 // an animation needs a time, the time must be finite; a time given for a file without
 // animations is a warning naming `file`. Returns poseScene()'s warnings, then that one.
