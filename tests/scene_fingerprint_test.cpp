@@ -104,6 +104,42 @@ TEST(ShadowFingerprint, IndicesInstancesAndArrayBoundariesCount) {
 // The geometry's hash: every array of every mesh counts (the GPU vertex holds them all), and
 // so do line and point indices, each mesh's material index and bounds, the instances and the
 // number of materials (the default material's index); materials' contents and images do not.
+// A cut-out caster's texture shapes its shadow: its pixels count, and an image's hash kept
+// from an earlier fingerprint (as a renderer keeps them for one Scene::revision) is taken
+// without hashing the pixels again. An opaque caster's texture is not hashed at all.
+TEST(ShadowFingerprint, ACutOutCastersPixelsCountAndTheirKeptHashIsTaken) {
+  Scene scene = twoSpheres();
+  scene.meshes[0].uv0.assign(scene.meshes[0].positions.size(), glm::vec2(0.5f));
+  Image image;
+  image.width = image.height = 4;
+  image.rgba.assign(4 * 4 * 4, 200);
+  scene.images.push_back(image);
+  scene.textures.push_back(Texture{0, {}});
+  Material cutOut;
+  cutOut.alphaMode = AlphaMode::Mask;
+  cutOut.baseColorTexture.texture = 0;
+  scene.materials.push_back(cutOut);
+  scene.meshes[0].material = 0;
+  const std::vector<MeshDigests> meshes = meshDigests(scene);
+
+  const std::uint64_t before = shadowFingerprint(scene);
+  ImageHashes kept(scene.images.size());
+  EXPECT_EQ(shadowFingerprint(scene, meshes, &kept), before);
+  ASSERT_TRUE(kept[0].has_value());
+  scene.images[0].rgba[7] = 0;  // one texel's alpha
+  const std::uint64_t after = shadowFingerprint(scene);
+  EXPECT_NE(after, before);
+  EXPECT_EQ(shadowFingerprint(scene, meshes, &kept), before);  // the kept hash, as promised
+  ImageHashes fresh(scene.images.size());
+  EXPECT_EQ(shadowFingerprint(scene, meshes, &fresh), after);
+
+  scene.materials[0].alphaMode = AlphaMode::Opaque;
+  ImageHashes opaque(scene.images.size());
+  shadowFingerprint(scene, meshes, &opaque);
+  EXPECT_FALSE(opaque[0].has_value());
+  EXPECT_EQ(shadowFingerprint(scene), shadowFingerprint(scene, meshes, &kept));
+}
+
 TEST(GeometryFingerprint, EveryMeshArrayCountsButNotMaterialsOrImages) {
   Scene original = twoSpheres();
   original.meshes[0].uv0.assign(original.meshes[0].positions.size(), glm::vec2(0.25f));
@@ -113,7 +149,7 @@ TEST(GeometryFingerprint, EveryMeshArrayCountsButNotMaterialsOrImages) {
   original.meshes[1].lineIndices = {0, 1};
   original.meshes[1].pointIndices = {2};
   original.materials.resize(2);
-  original.images.push_back({"image", 2, 2, std::vector<std::uint8_t>(16, 9)});
+  original.images.push_back({"image", 2, 2, std::vector<std::uint8_t>(16, 9), ""});
   const std::uint64_t h = geometryFingerprint(original);
   EXPECT_EQ(geometryFingerprint(Scene(original)), h);
 
@@ -151,7 +187,6 @@ TEST(GeometryFingerprint, EveryMeshArrayCountsButNotMaterialsOrImages) {
   shading.instances[1].nodeName = "renamed";
   EXPECT_EQ(geometryFingerprint(shading), h);
 }
-
 
 // Above 4 MiB the meshes are hashed on two threads: each mesh's digests are those it has
 // hashed alone, in the scene's order, and a change in either half of the meshes counts.

@@ -311,12 +311,14 @@ class Renderer::Impl {
   TextureCache textureCache_;    // the last render's scene textures, for a render of it again
   GeometryCache geometryCache_;  // the last render's scene geometry, likewise
   // The digests of the last render's meshes (hashed once for both caches, the geometry's and
-  // the shadow maps') and of its images as far as the texture cache took them: the next render
-  // of the same nonzero Scene::revision takes them instead of hashing the bytes again.
+  // the shadow maps'), of its images as far as the texture cache took them, and of the images
+  // the shadow fingerprint hashed: the next render of the same nonzero Scene::revision takes
+  // them instead of hashing the bytes again.
   struct SceneDigests {
     std::uint64_t revision = 0;
     std::vector<MeshDigests> meshes;
     ImageDigests images;
+    ImageHashes casterImages;
   };
   SceneDigests sceneDigests_;
   SceneDigests& sceneDigests(const Scene& scene);
@@ -1170,7 +1172,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
 
   ScopedStage shadowStage(times, "shadow maps");
   renderShadows(prepared, std::move(plan.shadows), scene, lights, settings,
-                shadowFingerprint(scene, meshes), &frame);
+                shadowFingerprint(scene, meshes, &digests.casterImages), &frame);
   finishStage(times, "shadow maps");
   shadowStage.stop();
 
@@ -1218,7 +1220,8 @@ Renderer::Impl::SceneDigests& Renderer::Impl::sceneDigests(const Scene& scene) {
   if (scene.revision == 0 || scene.revision != sceneDigests_.revision ||
       sceneDigests_.meshes.size() != scene.meshes.size() ||
       sceneDigests_.images.size() != scene.images.size())
-    sceneDigests_ = {scene.revision, meshDigests(scene), ImageDigests(scene.images.size())};
+    sceneDigests_ = {scene.revision, meshDigests(scene), ImageDigests(scene.images.size()),
+                     ImageHashes(scene.images.size())};
   return sceneDigests_;
 }
 

@@ -86,15 +86,28 @@ void hashInstances(ContentHash& h, const Scene& scene) {
   }
 }
 
+// The hash of image `index`'s pixels, from `images` where it is there (and left there).
+std::uint64_t imageHash(const Scene& scene, int index, ImageHashes* images) {
+  const auto i = static_cast<std::size_t>(index);
+  if (images && (*images)[i]) return *(*images)[i];
+  const Image& image = scene.images[i];
+  ContentHash h;
+  h.value(image.width);
+  h.vector(image.rgba);
+  if (images) (*images)[i] = h.get();
+  return h.get();
+}
+
 // A material's texture slot; with `withImage`, also the sampler and the pixels of a slot in use.
-void hashTextureSlot(ContentHash& h, const Scene& scene, const TextureSlot& slot, bool withImage) {
+void hashTextureSlot(ContentHash& h, const Scene& scene, const TextureSlot& slot, bool withImage,
+                     ImageHashes* images) {
   h.value(slot.texture);
   h.value(slot.texCoord);
   h.value(slot.uvTransform);
   if (withImage && slot.texture >= 0) {
     const Texture& texture = scene.textures[slot.texture];
     h.value(texture.sampler);
-    if (texture.image >= 0) h.vector(scene.images[texture.image].rgba);
+    if (texture.image >= 0) h.value(imageHash(scene, texture.image, images));
   }
 }
 
@@ -137,7 +150,8 @@ std::uint64_t shadowFingerprint(const Scene& scene) {
   return shadowFingerprint(scene, meshDigests(scene));
 }
 
-std::uint64_t shadowFingerprint(const Scene& scene, const std::vector<MeshDigests>& meshes) {
+std::uint64_t shadowFingerprint(const Scene& scene, const std::vector<MeshDigests>& meshes,
+                                ImageHashes* images) {
   ContentHash h;
   h.value(scene.meshes.size());
   for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
@@ -163,7 +177,7 @@ std::uint64_t shadowFingerprint(const Scene& scene, const std::vector<MeshDigest
     h.value(m.baseColorFactor.a);
     // Translucent casters tint the transmittance layers with their color.
     h.value(m.transmissionFactor);
-    hashTextureSlot(h, scene, m.transmissionTexture, true);
+    hashTextureSlot(h, scene, m.transmissionTexture, true, images);
     if (isTranslucentCaster(m)) {
       h.value(glm::vec3(m.baseColorFactor));
       // Volumes attenuate and diffuse transmission tints what they let through.
@@ -174,13 +188,13 @@ std::uint64_t shadowFingerprint(const Scene& scene, const std::vector<MeshDigest
       h.value(m.diffuseTransmissionColorFactor);
     }
     const bool translucent = isTranslucentCaster(m);
-    hashTextureSlot(h, scene, m.thicknessTexture, translucent && hasVolume(m));
+    hashTextureSlot(h, scene, m.thicknessTexture, translucent && hasVolume(m), images);
     hashTextureSlot(h, scene, m.diffuseTransmissionTexture,
-                    translucent && hasDiffuseTransmission(m));
+                    translucent && hasDiffuseTransmission(m), images);
     hashTextureSlot(h, scene, m.diffuseTransmissionColorTexture,
-                    translucent && hasDiffuseTransmission(m));
+                    translucent && hasDiffuseTransmission(m), images);
     hashTextureSlot(h, scene, m.baseColorTexture,
-                    m.alphaMode != AlphaMode::Opaque || isTranslucentCaster(m));
+                    m.alphaMode != AlphaMode::Opaque || isTranslucentCaster(m), images);
   }
   return h.get();
 }

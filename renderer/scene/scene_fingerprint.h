@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "renderer/scene/scene.h"
@@ -17,12 +18,20 @@ struct MeshDigests {
 };
 std::vector<MeshDigests> meshDigests(const Scene& scene);
 
+// Per image of a scene, a 64-bit hash of its pixels where shadowFingerprint() took one
+// (the images of casters that are not opaque), by image index.
+using ImageHashes = std::vector<std::optional<std::uint64_t>>;
+
 // A 64-bit hash of everything in a scene that shapes its shadow maps: the triangles,
 // where instances are, and the alpha of casters that are not opaque. Two loads of the same file
 // give the same value; any change to a caster changes it (barring hash collisions).
 std::uint64_t shadowFingerprint(const Scene& scene);
-// The same from the scene's meshDigests().
-std::uint64_t shadowFingerprint(const Scene& scene, const std::vector<MeshDigests>& meshes);
+// The same from the scene's meshDigests(). With `images` (sized to the scene's images), an
+// image's hash found there is taken as it is, and one taken is left there: a caller keeps them
+// for the next fingerprint of the same Scene::revision, as it keeps the mesh digests (a
+// masked caster's 2048^2 texture is 16 MB to hash).
+std::uint64_t shadowFingerprint(const Scene& scene, const std::vector<MeshDigests>& meshes,
+                                ImageHashes* images = nullptr);
 
 // A 64-bit hash of everything the GPU geometry of a scene is made from (GpuGeometry): every
 // mesh array, each mesh's material and bounds, the instances and the number of materials.
