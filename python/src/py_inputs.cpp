@@ -73,20 +73,26 @@ std::string nameOrIndex(const py::object& value, const char* message) {
   return {};
 }
 
+// A pose's time: a real number of seconds, or None for the rest pose.
+std::optional<double> secondsOf(const py::object& time) {
+  if (time.is_none()) return std::nullopt;
+  if (py::isinstance<py::bool_>(time) ||
+      !py::isinstance(time, py::module_::import("numbers").attr("Real")))
+    throw py::type_error("time: expected a number of seconds or None");
+  return time.cast<double>();
+}
+
+// The CLI's --animation text: a name, an index or "all" (empty: all).
+std::string clipsOf(const py::object& animation) {
+  return nameOrIndex(animation, "animation: expected a name, an index, \"all\" or None");
+}
+
 }  // namespace
 
 PyScene loadScene(const std::string& path, const py::object& sceneIndex, const py::object& time,
                   const py::object& animation, const py::object& variant, bool allowExternalUris) {
-  std::optional<double> seconds;
-  if (!time.is_none()) {
-    if (py::isinstance<py::bool_>(time) ||
-        !py::isinstance(time, py::module_::import("numbers").attr("Real")))
-      throw py::type_error("time: expected a number of seconds or None");
-    seconds = time.cast<double>();
-  }
-  // The CLI's --animation text (a name, an index or "all") and --variant text.
-  const std::string clips =
-      nameOrIndex(animation, "animation: expected a name, an index, \"all\" or None");
+  const std::optional<double> seconds = secondsOf(time);
+  const std::string clips = clipsOf(animation);
   GltfLoadOptions options;
   options.allowExternalUris = allowExternalUris;
   options.materialVariant = nameOrIndex(variant, "variant: expected a name, an index or None");
@@ -100,9 +106,21 @@ PyScene loadScene(const std::string& path, const py::object& sceneIndex, const p
   auto scene = std::make_shared<Scene>(loadGltf(path, options));
   requireTriangles(*scene);
   // Posed like the CLI's render (loadJob): the pose's warnings follow the loader's.
+  const std::size_t loaderWarnings = scene->warnings.size();
   const std::vector<std::string> warnings = poseSceneChecked(*scene, path, seconds, clips);
   scene->warnings.insert(scene->warnings.end(), warnings.begin(), warnings.end());
-  return PyScene{std::move(scene), seconds};
+  return PyScene{std::move(scene), seconds, loaderWarnings};
+}
+
+PyScene posedScene(const PyScene& scene, const py::object& time, const py::object& animation) {
+  const std::optional<double> seconds = secondsOf(time);
+  const std::string clips = clipsOf(animation);
+  py::gil_scoped_release release;  // a copy of the images, and skinning
+  auto posed = std::make_shared<Scene>(*scene.scene);
+  posed->warnings.resize(scene.loaderWarnings);
+  const std::vector<std::string> warnings = poseSceneChecked(*posed, posed->path, seconds, clips);
+  posed->warnings.insert(posed->warnings.end(), warnings.begin(), warnings.end());
+  return PyScene{std::move(posed), seconds, scene.loaderWarnings};
 }
 
 PyLights loadLights(const py::object& source, const std::string& label) {

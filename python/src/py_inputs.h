@@ -5,6 +5,7 @@
 
 #include <pybind11/pybind11.h>
 
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,7 +20,8 @@ namespace omnishadow::python {
 // A loaded scene, shared (read only) by every frame rendered from it.
 struct PyScene {
   std::shared_ptr<const Scene> scene;
-  std::optional<double> time;  // the pose's time (load_scene(time=)); none = the rest pose
+  std::optional<double> time;      // the pose's time (load_scene(time=)); none = the rest pose
+  std::size_t loaderWarnings = 0;  // scene->warnings' first ones are the loader's, then the pose's
 };
 
 // A lights file's content: the lights, the ambient term and the loader's warnings.
@@ -36,6 +38,13 @@ struct PyLights {
 PyScene loadScene(const std::string& path, const pybind11::object& sceneIndex,
                   const pybind11::object& time, const pybind11::object& animation,
                   const pybind11::object& variant, bool allowExternalUris);
+
+// `scene` posed anew at `time` (seconds or None = the rest pose) with the clips `animation`
+// names, as loadScene() poses a load of its file, with the same messages and warnings; the file
+// is not read again. A copy: the renderer takes its images as those it drew (and its meshes too
+// where no mesh is deformed), as for the scene it came from.
+PyScene posedScene(const PyScene& scene, const pybind11::object& time,
+                   const pybind11::object& animation);
 
 // A lights file path (str or os.PathLike), a dict with the lights file's schema, or a list of
 // light dicts (the file's "lights" array). Python data goes through the lights file parser, so

@@ -85,3 +85,54 @@ def test_time_on_a_file_without_animations_warns_like_the_cli(binary, renderer, 
     frame = renderer.render(omnishadow.load_scene(STILL, time=1), width=8, height=8)
     assert "omnishadow: warning: " + frame.warnings[
         [i for i, w in enumerate(frame.warnings) if "has no animations" in w][0]] == warning
+
+
+# Scene.posed(time) poses a loaded scene anew without reading the file: the same scene as a
+# load at that time, from the rest pose or from another pose, and the scene it came from
+# keeps its own pose.
+@pytest.mark.parametrize("start", [None, 4.0])
+def test_posed_equals_a_load_at_that_time(renderer, start):
+    loaded = omnishadow.load_scene(SKIN, time=start)
+
+    def seen(scene):
+        frame = renderer.render(scene, camera=VIEW, width=48, height=48, aovs=[])
+        return frame.beauty, frame["P.X"], frame.camera["time"]
+
+    before = seen(loaded)
+    for time in (None, 1.0, 4.0):
+        posed, fresh = seen(loaded.posed(time)), seen(omnishadow.load_scene(SKIN, time=time))
+        np.testing.assert_array_equal(posed[0], fresh[0])
+        np.testing.assert_array_equal(posed[1], fresh[1])
+        assert posed[2] == fresh[2] == time
+    after = seen(loaded)
+    np.testing.assert_array_equal(after[0], before[0])
+    np.testing.assert_array_equal(after[1], before[1])
+
+
+def test_posed_picks_clips_and_raises_like_a_load():
+    interpolation = omnishadow.load_scene(INTERPOLATION)
+    linear = interpolation.posed(0.7, animation="Linear Scale")
+    assert linear.warnings == omnishadow.load_scene(INTERPOLATION, time=0.7,
+                                                    animation="Linear Scale").warnings
+    for pose in ({"time": None, "animation": 1}, {"time": 1, "animation": "Walk"},
+                 {"time": float("nan")}):
+        with pytest.raises(omnishadow.InputError) as posing:
+            interpolation.posed(**pose)
+        with pytest.raises(omnishadow.InputError) as loading:
+            omnishadow.load_scene(INTERPOLATION, **pose)
+        assert str(posing.value) == str(loading.value)
+    with pytest.raises(TypeError, match="time"):
+        interpolation.posed("1")
+    with pytest.raises(TypeError, match="animation"):
+        interpolation.posed(1, animation=1.5)
+
+
+# A pose's warnings are those of its own time: a scene posed at a time of a file without
+# animations warns once, and posed back at rest, not at all.
+def test_posed_keeps_the_loaders_warnings_and_only_its_own_pose_warnings():
+    still = omnishadow.load_scene(STILL)
+    timed = still.posed(1.0)
+    assert timed.warnings == omnishadow.load_scene(STILL, time=1.0).warnings
+    assert sum("has no animations" in w for w in timed.warnings) == 1
+    assert sum("has no animations" in w for w in timed.posed(2.0).warnings) == 1
+    assert timed.posed(None).warnings == still.warnings
