@@ -1146,6 +1146,44 @@ TEST(Shadows, StaticShadowMapsAreReusedForTheSameSceneAndLights) {
   EXPECT_EQ(fresh.beauty.pixels, reused.beauty.pixels);
 }
 
+// A cut-out caster's texture shapes its shadow, and the renderer hashes its pixels once per
+// scene revision (as it takes meshes and textures): a texture changed in place under the same
+// revision is taken as the one it hashed, and the shadow map is kept; with revision 0 or a new
+// one the change is seen and the map rendered again.
+TEST(Shadows, ACutOutCastersPixelsAreHashedOncePerSceneRevision) {
+  Scene scene = sphereOverPlane();
+  Image image;
+  image.width = image.height = 4;
+  image.rgba.assign(4 * 4 * 4, 255);
+  scene.images.push_back(image);
+  scene.textures.push_back(Texture{0, {}});
+  const int cutOut = addMaterial(scene, glm::vec4(0.8f));
+  scene.materials[static_cast<std::size_t>(cutOut)].alphaMode = AlphaMode::Mask;
+  scene.materials[static_cast<std::size_t>(cutOut)].baseColorTexture.texture = 0;
+  scene.meshes[1].material = cutOut;  // the sphere
+  scene.revision = newSceneRevision();
+  const std::vector<Light> lights = {pointLight("lamp", {0, 3, 0}, ShadowFilter::Pcf, 128)};
+  const ViewCamera camera = lookFrom(scene, {0, 6, 4}, {0, 0, 0}, 64, 48);
+  StageTimes times;
+  Renderer& renderer = sharedRenderer();
+  renderer.render(scene, lights, glm::vec3(0.03f), camera, {}, times);
+  EXPECT_EQ(renderer.render(scene, lights, glm::vec3(0.03f), camera, {}, times).shadowMapsReused,
+            1);
+  for (std::size_t texel = 3; texel < scene.images[0].rgba.size(); texel += 4)
+    scene.images[0].rgba[texel] = 0;  // the whole sphere cut out: it casts no shadow now
+  EXPECT_EQ(renderer.render(scene, lights, glm::vec3(0.03f), camera, {}, times).shadowMapsReused,
+            1);
+  scene.revision = 0;
+  EXPECT_EQ(renderer.render(scene, lights, glm::vec3(0.03f), camera, {}, times).shadowMapsReused,
+            0);
+  scene.revision = newSceneRevision();
+  renderer.render(scene, lights, glm::vec3(0.03f), camera, {}, times);
+  scene.images[0].rgba.assign(scene.images[0].rgba.size(), 255);
+  scene.revision = newSceneRevision();
+  EXPECT_EQ(renderer.render(scene, lights, glm::vec3(0.03f), camera, {}, times).shadowMapsReused,
+            0);
+}
+
 namespace {
 
 // 60 boxes and spheres on a floor under 40 point lights with 32^2 maps and ranges of 3 m, placed
