@@ -289,11 +289,13 @@ LoadedJob loadJob(const RenderJob& job, std::shared_ptr<const Scene> scene) {
 std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> time,
                                  LoadedJob& loaded) {
   std::vector<std::string> warnings;
-  if (loaded.own || time) {
+  if (time || !loaded.atRest) {
     if (!loaded.own) loaded.own = *loaded.shared;
     warnings = poseSceneChecked(*loaded.own, job.scene.string(), time, job.animation);
+    loaded.atRest = !time;
   } else {
-    checkPoseRequest(time, job.animation);  // a shared scene is at rest, as the loader left it
+    // The loader left the scene at rest: posing it there again would skin it a second time.
+    checkPoseRequest(time, job.animation);
   }
   const Scene& scene = loaded.scene();
   loaded.lights =

@@ -57,6 +57,7 @@ struct LoadedJob {
   // time poses a copy of its own.
   std::optional<Scene> own;
   std::shared_ptr<const Scene> shared;  // used while `own` is empty
+  bool atRest = true;  // the scene is at rest as the loader left it (a shared one always is)
   const Scene& scene() const { return own ? *own : *shared; }
   LightSetup setup;
   std::vector<Light> lights;  // merged; a headlight when there is none and no environment
@@ -87,8 +88,8 @@ struct TimedLoad {
 };
 TimedLoad loadJobTimed(const RenderJob& job, SharedSceneLoads* shared = nullptr);
 
-// Poses the loaded scene at `time` (job.animation's clips; a shared scene is copied first, and
-// drawn as it is without a time: it is at rest), then merges its lights with the lights file's
+// Poses the loaded scene at `time` (job.animation's clips; a shared scene is copied first, and a
+// scene at rest is drawn as it is without a time), then merges its lights with the lights file's
 // again and resolves the camera: what a frame of a sequence changes. Returns the posing warnings.
 std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> time,
                                  LoadedJob& loaded);

@@ -105,8 +105,13 @@ PyScene loadScene(const std::string& path, const py::object& sceneIndex, const p
   py::gil_scoped_release release;  // loading is CPU only and may take long
   auto scene = std::make_shared<Scene>(loadGltf(path, options));
   requireTriangles(*scene);
-  // Posed like the CLI's render (loadJob): the pose's warnings follow the loader's.
+  // Posed like the CLI's render (loadJob): the pose's warnings follow the loader's. The loader
+  // left the scene at rest, so without a time there is nothing to pose.
   const std::size_t loaderWarnings = scene->warnings.size();
+  if (!seconds) {
+    checkPoseRequest(seconds, clips);
+    return PyScene{std::move(scene), seconds, loaderWarnings};
+  }
   const std::vector<std::string> warnings = poseSceneChecked(*scene, path, seconds, clips);
   scene->warnings.insert(scene->warnings.end(), warnings.begin(), warnings.end());
   return PyScene{std::move(scene), seconds, loaderWarnings};
@@ -115,6 +120,10 @@ PyScene loadScene(const std::string& path, const py::object& sceneIndex, const p
 PyScene posedScene(const PyScene& scene, const py::object& time, const py::object& animation) {
   const std::optional<double> seconds = secondsOf(time);
   const std::string clips = clipsOf(animation);
+  if (!seconds && !scene.time) {  // at rest already: the same scene
+    checkPoseRequest(seconds, clips);
+    return scene;
+  }
   py::gil_scoped_release release;  // a copy of the images, and skinning
   auto posed = std::make_shared<Scene>(*scene.scene);
   posed->warnings.resize(scene.loaderWarnings);

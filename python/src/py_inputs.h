@@ -41,8 +41,9 @@ PyScene loadScene(const std::string& path, const pybind11::object& sceneIndex,
 
 // `scene` posed anew at `time` (seconds or None = the rest pose) with the clips `animation`
 // names, as loadScene() poses a load of its file, with the same messages and warnings; the file
-// is not read again. A copy: the renderer takes its images as those it drew (and its meshes too
-// where no mesh is deformed), as for the scene it came from.
+// is not read again. A copy (`scene` itself where both are at rest): the renderer takes its
+// images as those it drew (and its meshes too where no mesh is deformed), as for the scene it
+// came from.
 PyScene posedScene(const PyScene& scene, const pybind11::object& time,
                    const pybind11::object& animation);
 
