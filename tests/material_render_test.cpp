@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/output/display_transform.h"
 #include "renderer/passes/lighting_pass.h"
 #include "renderer/passes/shader_contract.h"
 #include "renderer/render/renderer.h"
@@ -1353,13 +1354,21 @@ TEST(TransmissionRender, ThePaneShowsTheFloorBehindItTintedAndCoversWhatItLetsTh
   const float letThrough =
       (1.0f - fresnel004(1.0f)) * (clear.base.r + clear.base.g + clear.base.b) / 3.0f;
   EXPECT_NEAR(alone.beauty.at(8, 8, 3), 1.0f - letThrough, 1e-3f);
-  // The 8-bit beauty is not drawn for such a frame: the float one is, and encoded after.
+  // The lighting pass cannot encode such a frame itself: it is drawn in float, which the caller
+  // gets (FloatBeautyEncoding::Caller) or which is encoded after (the default), to the same bytes.
+  const Scene behind = glassOverFloor(folder / "encoded.gltf", clear, glm::vec4(floorColor, 1));
+  RenderSettings toCaller;
+  toCaller.srgb8Exposure = 0.0f;
+  toCaller.floatBeautyEncoding = FloatBeautyEncoding::Caller;
+  const Frame linear = view.frame(behind, toCaller);
+  EXPECT_FALSE(linear.srgb8.has_value());
+  ASSERT_FALSE(linear.beauty.pixels.empty());
   RenderSettings srgb8;
   srgb8.srgb8Exposure = 0.0f;
-  const Frame encoded =
-      view.frame(glassOverFloor(folder / "encoded.gltf", clear, glm::vec4(floorColor, 1)), srgb8);
-  EXPECT_FALSE(encoded.srgb8.has_value());
-  ASSERT_FALSE(encoded.beauty.pixels.empty());
+  const Frame encoded = view.frame(behind, srgb8);
+  ASSERT_TRUE(encoded.srgb8.has_value());
+  EXPECT_TRUE(encoded.beauty.pixels.empty());
+  EXPECT_EQ(encoded.srgb8->rgb, toSrgb8(linear.beauty, 0.0f));
 }
 
 // The floor seen straight down through two clear walls of glass (the scene `extend` makes of

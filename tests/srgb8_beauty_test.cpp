@@ -217,9 +217,10 @@ TEST(Srgb8Beauty, FramesThePassCannotEncodeKeepTheFloatBeauty) {
 }
 
 // Blended and see-through surfaces need the float target; the frame's 8-bit beauty is then
-// encoded from it on the GPU (Srgb8Resolve): the same bytes as toSrgb8() of the float frame, at
-// odd sizes and exposures too, and the masks' object ids the same as beside the float beauty.
-TEST(Srgb8Beauty, FloatFramesEncodedOnTheGpuEqualTheCpuEncoding) {
+// encoded from it on the GPU (Srgb8Resolve) or on the CPU as its bands are read back: the same
+// bytes as toSrgb8() of the float frame, at odd sizes and exposures too, and the masks' object
+// ids the same as beside the float beauty. Auto, with either, gives the same.
+TEST(Srgb8Beauty, FloatFramesEncodedOnTheGpuOrInBandsEqualTheCpuEncoding) {
   const std::vector<Light> lights = litLights();
   const Scene glass = glassScene();
   Scene window = litScene();
@@ -238,29 +239,32 @@ TEST(Srgb8Beauty, FloatFramesEncodedOnTheGpuEqualTheCpuEncoding) {
   for (const Case& c : {Case{"blended", &glass, 160, 96, 0.0f, false},
                         Case{"blended, odd size, exposure", &glass, 61, 37, -1.25f, false},
                         Case{"blended, ids", &glass, 160, 96, 0.5f, true},
+                        Case{"blended, two threads encode", &glass, 704, 403, 0.25f, false},
                         Case{"see-through", &window, 97, 64, 0.75f, false}}) {
-    SCOPED_TRACE(c.what);
     const ViewCamera camera = litCamera(*c.scene, c.width, c.height);
     const Frame linear = render(*c.scene, lights, camera, {.objectIds = c.objectIds});
-    const Frame encoded = render(*c.scene, lights, camera,
-                                 {.objectIds = c.objectIds,
-                                  .srgb8Exposure = c.exposure,
-                                  .floatBeautyEncoding = FloatBeautyEncoding::Gpu});
-    expectCpuEncoding(encoded, linear, c.exposure, c.width, c.height);
-    if (c.objectIds) {
-      ASSERT_TRUE(linear.objectIds && encoded.objectIds);
-      EXPECT_EQ(encoded.objectIds->pixels, linear.objectIds->pixels);
+    for (const FloatBeautyEncoding encoder :
+         {FloatBeautyEncoding::Gpu, FloatBeautyEncoding::CpuInBands, FloatBeautyEncoding::Auto}) {
+      SCOPED_TRACE(::testing::Message() << c.what << ", encoder " << static_cast<int>(encoder));
+      const Frame encoded = render(
+          *c.scene, lights, camera,
+          {.objectIds = c.objectIds, .srgb8Exposure = c.exposure, .floatBeautyEncoding = encoder});
+      expectCpuEncoding(encoded, linear, c.exposure, c.width, c.height);
+      if (c.objectIds) {
+        ASSERT_TRUE(linear.objectIds && encoded.objectIds);
+        EXPECT_EQ(encoded.objectIds->pixels, linear.objectIds->pixels);
+      }
     }
   }
 }
 
-// FloatBeautyEncoding::Cpu keeps the float beauty of such a frame for the caller to encode.
+// FloatBeautyEncoding::Caller keeps the float beauty of such a frame for the caller to encode.
 TEST(Srgb8Beauty, FloatFramesLeftToTheCpuKeepTheFloatBeauty) {
   const Scene glass = glassScene();
   const ViewCamera camera = litCamera(glass);
   const Frame frame =
       render(glass, litLights(), camera,
-             {.srgb8Exposure = 0.0f, .floatBeautyEncoding = FloatBeautyEncoding::Cpu});
+             {.srgb8Exposure = 0.0f, .floatBeautyEncoding = FloatBeautyEncoding::Caller});
   EXPECT_FALSE(frame.srgb8.has_value());
   EXPECT_EQ(frame.beauty.pixels.size(), static_cast<std::size_t>(camera.width) * camera.height * 4);
 }

@@ -28,6 +28,7 @@
 #include "renderer/passes/shadow_pass.h"
 #include "renderer/passes/shadow_textures.h"
 #include "renderer/passes/shadow_worker.h"
+#include "renderer/passes/srgb8_band_encoding.h"
 #include "renderer/passes/srgb8_resolve.h"
 #include "renderer/passes/transmittance_pass.h"
 #include "renderer/passes/vsm_filter.h"
@@ -238,12 +239,13 @@ class Renderer::Impl {
   void drawSrgb8(Prepared& prepared, const ViewCamera& camera, const LightingAmbience& ambient,
                  const RenderSettings& settings, PassParameters parameters, Frame& frame,
                  StageTimes& times);
-  // Whether a frame whose beauty the lighting pass draws in float has it encoded on the GPU
-  // (RenderSettings::floatBeautyEncoding).
-  bool encodesFloatBeautyOnGpu(const RenderSettings& settings) const;
-  // The float beauty's pass, then its 8-bit encoding on the GPU (Srgb8Resolve): for frames
-  // with srgb8Exposure the lighting pass cannot encode itself (blended or see-through surfaces).
-  void drawResolvedSrgb8(Prepared& prepared, const ViewCamera& camera,
+  // Where a frame whose beauty the lighting pass draws in float has it encoded: Gpu, CpuInBands,
+  // or Caller where the frame keeps the float beauty (RenderSettings::floatBeautyEncoding).
+  FloatBeautyEncoding floatBeautyEncoder(const RenderSettings& settings) const;
+  // The float beauty's pass, then its 8-bit encoding on the GPU (Srgb8Resolve) or on the CPU as
+  // it is read back: for frames with srgb8Exposure the lighting pass cannot encode itself
+  // (blended or see-through surfaces).
+  void drawResolvedSrgb8(FloatBeautyEncoding encoder, Prepared& prepared, const ViewCamera& camera,
                          const LightingAmbience& ambient, const RenderSettings& settings,
                          const PassParameters& parameters, Frame& frame, StageTimes& times,
                          IdPixels& ids);
@@ -847,14 +849,16 @@ void Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
     frame.objectIds = readObjectIds(targets, 1, camera.glRowOrder);
 }
 
-bool Renderer::Impl::encodesFloatBeautyOnGpu(const RenderSettings& settings) const {
-  if (!settings.srgb8Exposure || settings.aovs || settings.antialiasing != 1) return false;
-  return settings.floatBeautyEncoding == FloatBeautyEncoding::Gpu ||
-         (settings.floatBeautyEncoding == FloatBeautyEncoding::Auto && !softwareRasterizer_);
+FloatBeautyEncoding Renderer::Impl::floatBeautyEncoder(const RenderSettings& settings) const {
+  if (!settings.srgb8Exposure || settings.aovs || settings.antialiasing != 1)
+    return FloatBeautyEncoding::Caller;
+  if (settings.floatBeautyEncoding != FloatBeautyEncoding::Auto)
+    return settings.floatBeautyEncoding;
+  return softwareRasterizer_ ? FloatBeautyEncoding::CpuInBands : FloatBeautyEncoding::Gpu;
 }
 
-void Renderer::Impl::drawResolvedSrgb8(Prepared& prepared, const ViewCamera& camera,
-                                       const LightingAmbience& ambient,
+void Renderer::Impl::drawResolvedSrgb8(FloatBeautyEncoding encoder, Prepared& prepared,
+                                       const ViewCamera& camera, const LightingAmbience& ambient,
                                        const RenderSettings& settings,
                                        const PassParameters& parameters, Frame& frame,
                                        StageTimes& times, IdPixels& ids) {
@@ -862,9 +866,15 @@ void Renderer::Impl::drawResolvedSrgb8(Prepared& prepared, const ViewCamera& cam
   FrameTargets& targets =
       drawLighting(prepared, camera, ambient, settings, parameters, outputs, times);
   ScopedStage readback(times, "readback");
-  if (!srgb8Resolve_) srgb8Resolve_ = std::make_unique<Srgb8Resolve>();
-  frame.srgb8 = srgb8Resolve_->resolve(targets.color(0), camera.width, camera.height,
-                                       std::exp2(*settings.srgb8Exposure), camera.glRowOrder);
+  const float exposureScale = std::exp2(*settings.srgb8Exposure);  // as toSrgb8() scales
+  if (encoder == FloatBeautyEncoding::CpuInBands) {
+    frame.srgb8 = readSrgb8InBands(targets.color(0), camera.width, camera.height, exposureScale,
+                                   camera.glRowOrder, packInvert_);
+  } else {
+    if (!srgb8Resolve_) srgb8Resolve_ = std::make_unique<Srgb8Resolve>();
+    frame.srgb8 = srgb8Resolve_->resolve(targets.color(0), camera.width, camera.height,
+                                         exposureScale, camera.glRowOrder);
+  }
   if (outputs == PassOutputs::BeautyIds) ids = readIdPixels(targets, 1, camera.glRowOrder);
 }
 
@@ -1299,8 +1309,10 @@ void Renderer::Impl::drawImages(Prepared& prepared, const std::vector<Light>& li
     IdPixels ids;  // written beside the float beauty (BeautyIds)
     if (writesSrgb8(prepared.beautyOutputs))
       drawSrgb8(prepared, camera, ambient, settings, parameters, frame, times);
-    else if (encodesFloatBeautyOnGpu(settings))
-      drawResolvedSrgb8(prepared, camera, ambient, settings, parameters, frame, times, ids);
+    else if (const FloatBeautyEncoding encoder = floatBeautyEncoder(settings);
+             encoder != FloatBeautyEncoding::Caller)
+      drawResolvedSrgb8(encoder, prepared, camera, ambient, settings, parameters, frame, times,
+                        ids);
     else
       frame.beauty =
           drawAntialiasedBeauty(prepared, camera, ambient, settings, parameters, times, ids);
@@ -1424,10 +1436,11 @@ double Renderer::Impl::frameBytes(const Scene& scene, const std::vector<Light>& 
   if (drawsBeauty(settings)) {
     const PassOutputs outputs = beautyOutputs(scene, settings);
     // What is read back a pixel: RGB bytes, or the float RGBA; encoded on the GPU, its RGBA8UI
-    // target and the RGB bytes.
-    const double readback = writesSrgb8(outputs)                ? 3.0
-                            : encodesFloatBeautyOnGpu(settings) ? 4.0 + 3.0
-                                                                : 16.0;
+    // target and the RGB bytes; encoded on the CPU in bands, the RGB bytes (and a few bands).
+    const FloatBeautyEncoding encoder = floatBeautyEncoder(settings);
+    const double readback = writesSrgb8(outputs) || encoder == FloatBeautyEncoding::CpuInBands ? 3.0
+                            : encoder == FloatBeautyEncoding::Gpu ? 4.0 + 3.0
+                                                                  : 16.0;
     bytes += FrameTargets::bytes(camera.width, camera.height, outputs) +
              static_cast<double>(camera.width) * camera.height * readback;
   }

@@ -37,13 +37,19 @@ bool isShadowPassStrategyName(const std::string& name);
 // blended or see-through surfaces, which the lighting pass cannot encode itself). The bytes are
 // the same either way.
 enum class FloatBeautyEncoding {
-  // On the GPU except on a software rasterizer (llvmpipe), where the float target's read back
-  // is a copy in memory and the pass costs more than it saves (1280x720: readback 1.5 -> 6.2 ms).
+  // On the GPU, except on a software rasterizer (llvmpipe), where the float target's read back
+  // is a copy in memory and the pass costs more than it saves (1280x720: readback 1.5 -> 6.2
+  // ms): there on the CPU while the rows are read back (CpuInBands).
   Auto,
   // A pass after the lighting encodes the float target into an 8-bit one, read back at a quarter
   // of the bytes (an H200, Sundial at 1280x720: readback 5.9-8.1 -> 2.2-2.5 ms); Frame::srgb8.
   Gpu,
-  Cpu,  // the float beauty read back, Frame::beauty, encoded by the caller (toSrgb8())
+  // The float target read back a band of rows at a time, each band encoded on the CPU while the
+  // next is read (llvmpipe, Sundial at 1280x720: a process's first frame's readback 8.4 -> 3.0
+  // ms, its PNG encoding 10.6 -> 8.4; a later frame's readback 1.4 -> 2.8, which now includes
+  // the encoding); Frame::srgb8.
+  CpuInBands,
+  Caller,  // the float beauty read back, Frame::beauty, encoded by the caller (toSrgb8())
 };
 
 // Whether the beauty's opaque surfaces first write their depth alone, so that the light loop
@@ -115,7 +121,7 @@ struct RenderSettings {
   // --aa, no blended surfaces in the scene) the lighting pass encodes the beauty times
   // 2^srgb8Exposure itself, into an 8-bit target a quarter of the float one's size to clear and
   // read back, and render() fills Frame::srgb8 instead of Frame::beauty; with blended or
-  // see-through surfaces, a pass after it may (floatBeautyEncoding).
+  // see-through surfaces, the renderer encodes the float target (floatBeautyEncoding).
   std::optional<float> srgb8Exposure{};
   // With srgb8Exposure, for the frames the lighting pass cannot encode itself.
   FloatBeautyEncoding floatBeautyEncoding = FloatBeautyEncoding::Auto;

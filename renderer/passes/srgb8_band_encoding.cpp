@@ -1,0 +1,159 @@
+#include "renderer/passes/srgb8_band_encoding.h"
+
+#include <algorithm>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include "renderer/output/image_writer.h"
+#include "renderer/scene/srgb_transfer.h"
+
+namespace omnishadow {
+
+namespace {
+
+constexpr GLenum kPackInvertMesa = 0x8758;
+// 32 rows of a 1280-pixel frame are 640 KB of floats, so the buffers stay in cache between
+// their read and their encoding; bands of 8 to 64 rows measured alike (Sundial, 1280x720).
+constexpr int kBandRows = 32;
+// A band's buffer is read into again once the band four before it has been encoded.
+constexpr int kBuffers = 4;
+// From this many pixels on a second thread encodes: for a small frame its start costs more
+// than it saves (the same bound as the CPU encoder's, display_transform.cpp).
+constexpr std::size_t kTwoThreadPixels = std::size_t{1} << 18;
+
+// Which bands have been read, taken for encoding and encoded, shared by the reading thread and
+// the encoding one. Bands are taken in order, each once, when read.
+class BandProgress {
+ public:
+  explicit BandProgress(int bands) : bands_(bands), encoded_(static_cast<std::size_t>(bands)) {}
+
+  void markRead() {
+    {
+      std::lock_guard lock(mutex_);
+      ++read_;
+    }
+    changed_.notify_all();
+  }
+  // The next band read and not taken yet, or nothing for now.
+  std::optional<int> tryTake() {
+    std::lock_guard lock(mutex_);
+    return takeLocked();
+  }
+  // The next band read and not taken yet, once there is one; nothing when every band is taken.
+  std::optional<int> waitTake() {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return taken_ < read_ || taken_ == bands_; });
+    return takeLocked();
+  }
+  void markEncoded(int band) {
+    {
+      std::lock_guard lock(mutex_);
+      encoded_[static_cast<std::size_t>(band)] = 1;
+    }
+    changed_.notify_all();
+  }
+  bool isEncoded(int band) {
+    std::lock_guard lock(mutex_);
+    return encoded_[static_cast<std::size_t>(band)] != 0;
+  }
+  void waitEncoded(int band) {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return encoded_[static_cast<std::size_t>(band)] != 0; });
+  }
+
+ private:
+  std::optional<int> takeLocked() {
+    if (taken_ == read_) return std::nullopt;
+    return taken_++;
+  }
+
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  const int bands_;
+  int read_ = 0, taken_ = 0;
+  std::vector<char> encoded_;
+};
+
+}  // namespace
+
+Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, float exposureScale,
+                            bool glRowOrder, bool packInvert) {
+  const int w = width, h = height;
+  const std::size_t row = static_cast<std::size_t>(w) * 4;
+  Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
+  const int bands = (h + kBandRows - 1) / kBandRows;
+  const int bufferCount = std::min(bands, kBuffers);
+  std::vector<FloatPixels> buffers(static_cast<std::size_t>(bufferCount),
+                                   FloatPixels(row * kBandRows));
+  const bool invert = packInvert && !glRowOrder;
+  // A band's rows lie in its buffer in the picture's order (top first unless glRowOrder), or,
+  // read without the driver turning them around, in GL's (bottom first).
+  const bool inOrder = glRowOrder || invert;
+  const auto firstRow = [&](int band) { return band * kBandRows; };
+  const auto rowsOf = [&](int band) { return std::min(kBandRows, h - firstRow(band)); };
+  const auto encode = [&](int band) {
+    const int n = rowsOf(band);
+    const float* rows = buffers[static_cast<std::size_t>(band % bufferCount)].data();
+    std::uint8_t* to = image.rgb.data() + static_cast<std::size_t>(firstRow(band)) * w * 3;
+    if (inOrder) {
+      rgbaToSrgb8Rgb(rows, static_cast<std::size_t>(w) * n, exposureScale, to);
+      return;
+    }
+    for (int i = 0; i < n; ++i)
+      rgbaToSrgb8Rgb(rows + static_cast<std::size_t>(n - 1 - i) * row, static_cast<std::size_t>(w),
+                     exposureScale, to + static_cast<std::size_t>(i) * w * 3);
+  };
+
+  BandProgress progress(bands);
+  std::thread encoder;
+  if (static_cast<std::size_t>(w) * h >= kTwoThreadPixels &&
+      std::thread::hardware_concurrency() >= 2) {
+    try {
+      encoder = std::thread([&] {
+        while (const std::optional<int> band = progress.waitTake()) {
+          encode(*band);
+          progress.markEncoded(*band);
+        }
+      });
+    } catch (const std::system_error&) {
+      // No second thread: this one encodes each band after reading it.
+    }
+  }
+  // This thread encodes what is ready while it waits for a buffer, and whatever is left at the
+  // end.
+  const auto encodeOne = [&] {
+    const std::optional<int> band = progress.tryTake();
+    if (!band) return false;
+    encode(*band);
+    progress.markEncoded(*band);
+    return true;
+  };
+  if (invert) glPixelStorei(kPackInvertMesa, GL_TRUE);
+  for (int band = 0; band < bands; ++band) {
+    const int previous = band - bufferCount;
+    if (previous >= 0)
+      while (!progress.isEncoded(previous))
+        if (!encodeOne()) progress.waitEncoded(previous);
+    const int n = rowsOf(band);
+    FloatPixels& buffer = buffers[static_cast<std::size_t>(band % bufferCount)];
+    glGetTextureSubImage(texture, 0, 0, glRowOrder ? firstRow(band) : h - firstRow(band) - n, 0, w,
+                         n, 1, GL_RGBA, GL_FLOAT,
+                         static_cast<GLsizei>(buffer.size() * sizeof(float)), buffer.data());
+    progress.markRead();
+    if (!encoder.joinable()) encodeOne();
+  }
+  if (invert) glPixelStorei(kPackInvertMesa, GL_FALSE);
+  while (encodeOne()) {
+  }
+  for (int band = 0; band < bands; ++band) progress.waitEncoded(band);
+  if (encoder.joinable()) encoder.join();
+  return image;
+}
+
+}  // namespace omnishadow

@@ -1,0 +1,96 @@
+// The 8-bit beauty encoded on the CPU while the float target is read back in bands
+// (renderer/passes/srgb8_band_encoding.h): toSrgb8()'s bytes for every pixel, whatever the size
+// (one band, a last band cut short, more bands than buffers, one thread or two), the row order
+// asked for, and whether the driver turns the rows around.
+#include "renderer/passes/srgb8_band_encoding.h"
+
+#include <GL/glcorearb.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "renderer/gl/gl_resources.h"
+#include "renderer/output/display_transform.h"
+#include "renderer/output/image_writer.h"
+#include "tests/support/shared_renderer.h"
+
+namespace omnishadow {
+namespace {
+
+bool hasPackInvert() {
+  GLint count = 0;
+  glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+  for (GLint i = 0; i < count; ++i)
+    if (std::string_view(reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, i))) ==
+        "GL_MESA_pack_invert")
+      return true;
+  return false;
+}
+
+// A float RGBA picture whose every row and column differs, with values below 0, above 1 and
+// on both sides of sRGB steps, first row = GL's first (the bottom).
+std::vector<float> picture(int width, int height) {
+  std::vector<float> rgba(static_cast<std::size_t>(width) * height * 4);
+  std::uint32_t state = 12345u;
+  for (std::size_t i = 0; i < rgba.size(); ++i) {
+    state = state * 1664525u + 1013904223u;
+    rgba[i] = -0.05f + 1.2f * static_cast<float>(state >> 8) / static_cast<float>(1u << 24);
+  }
+  return rgba;
+}
+
+// The same picture top row first unless `glRowOrder`, as a FloatImage for toSrgb8().
+FloatImage asFrame(const std::vector<float>& glRows, int width, int height, bool glRowOrder) {
+  FloatImage image{width, height, {"R", "G", "B", "A"}, {}};
+  image.pixels.resize(glRows.size());
+  const std::size_t row = static_cast<std::size_t>(width) * 4;
+  for (int y = 0; y < height; ++y) {
+    const std::size_t from = static_cast<std::size_t>(glRowOrder ? y : height - 1 - y) * row;
+    for (std::size_t i = 0; i < row; ++i) image.pixels[y * row + i] = glRows[from + i];
+  }
+  return image;
+}
+
+TEST(Srgb8BandEncoding, EveryByteIsToSrgb8OfTheFloatTarget) {
+  test_support::sharedRenderer();  // its GL context is current here
+  const bool packInvert = hasPackInvert();
+  struct Size {
+    int width, height;
+  };
+  // 1x1 and 61x37: one thread, one and two bands (the second cut short); 160x96: three whole
+  // bands; 704x403: two threads, 13 bands through 4 buffers, the last of 19 rows.
+  for (const Size size : {Size{1, 1}, Size{61, 37}, Size{160, 96}, Size{704, 403}}) {
+    const std::vector<float> rows = picture(size.width, size.height);
+    gl::Texture texture = gl::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(texture.get(), 1, GL_RGBA32F, size.width, size.height);
+    glTextureSubImage2D(texture.get(), 0, 0, 0, size.width, size.height, GL_RGBA, GL_FLOAT,
+                        rows.data());
+    for (const bool glRowOrder : {false, true})
+      for (const bool invert : {false, true}) {
+        if (invert && !packInvert) continue;  // a driver without GL_MESA_pack_invert
+        for (const float exposure : {0.0f, -1.25f}) {
+          SCOPED_TRACE(::testing::Message()
+                       << size.width << "x" << size.height << ", glRowOrder " << glRowOrder
+                       << ", pack invert " << invert << ", exposure " << exposure);
+          const Srgb8Image encoded = readSrgb8InBands(texture.get(), size.width, size.height,
+                                                      std::exp2(exposure), glRowOrder, invert);
+          EXPECT_EQ(encoded.width, size.width);
+          EXPECT_EQ(encoded.height, size.height);
+          const std::vector<std::uint8_t> expected =
+              toSrgb8(asFrame(rows, size.width, size.height, glRowOrder), exposure);
+          ASSERT_EQ(encoded.rgb.size(), expected.size());
+          std::size_t differ = 0;
+          for (std::size_t i = 0; i < expected.size(); ++i) differ += encoded.rgb[i] != expected[i];
+          EXPECT_EQ(differ, 0u);
+        }
+      }
+    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  }
+}
+
+}  // namespace
+}  // namespace omnishadow
