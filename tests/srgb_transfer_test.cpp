@@ -132,7 +132,7 @@ TEST(SrgbTransfer, RgbaToSrgb8RgbIsEachChannelsSrgb8) {
     EXPECT_EQ(mismatches, 0u) << "scale " << scale;
     EXPECT_EQ(rgb.back(), 77) << "wrote past the last pixel";
   }
-  for (std::size_t n = 0; n <= 5; ++n) {
+  for (std::size_t n = 0; n <= 17; ++n) {  // steps of eight pixels and what is left
     std::vector<std::uint8_t> rgb(n * 3 + 8, 77);
     rgbaToSrgb8Rgb(rgba.data(), n, 1.0f, rgb.data());
     for (std::size_t i = 0; i < n * 3; ++i)

@@ -140,20 +140,45 @@ __attribute__((target("avx2"))) std::uint64_t packBytes(__m256i lanes) {
 // render against 2.8 with it, in a perf profile of 8 renders).
 constexpr std::size_t kPrefetchBytes = 1024;
 
-// Two RGBA pixels per step; the bytes of each step's R, G, B of both pixels are stored as 6.
+// Eight RGBA pixels per step: their 24 colour channels moved into three registers, alpha left
+// out, so that every gathered lane is a colour. Two pixels a step gathered alpha in a quarter of
+// the lanes for nothing: a 1280x720 frame on one thread took 3.6-5.3 ms (median 5.0 of 15
+// runs of a /tmp micro-benchmark), this way 2.5-4.5 (median 3.4).
 __attribute__((target("avx2"))) std::size_t rgbaToSrgb8RgbAvx2(const float* rgba, std::size_t count,
                                                                float scale, std::uint8_t* rgb) {
   const Srgb8Table& table = srgb8Table();
   const __m256 factor = _mm256_set1_ps(scale);
-  const __m128i dropAlpha = _mm_setr_epi8(0, 1, 2, 4, 5, 6, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1);
+  // v0..v3 hold pixels 0-1, 2-3, 4-5 and 6-7 as RGBA RGBA; the lanes each gives its register:
+  // c0 = pixels 0 and 1 (v0), pixel 2's R and G (v1);
+  const __m256i c0From0 = _mm256_setr_epi32(0, 1, 2, 4, 5, 6, 0, 0);
+  const __m256i c0From1 = _mm256_setr_epi32(0, 0, 0, 0, 0, 0, 0, 1);
+  // c1 = pixel 2's B and pixel 3 (v1), pixel 4 and pixel 5's R (v2);
+  const __m256i c1From1 = _mm256_setr_epi32(2, 4, 5, 6, 0, 0, 0, 0);
+  const __m256i c1From2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 2, 4);
+  // c2 = pixel 5's G and B (v2), pixels 6 and 7 (v3).
+  const __m256i c2From2 = _mm256_setr_epi32(5, 6, 0, 0, 0, 0, 0, 0);
+  const __m256i c2From3 = _mm256_setr_epi32(0, 0, 0, 1, 2, 4, 5, 6);
   std::size_t i = 0;
-  for (; i + 2 <= count; i += 2) {
-    _mm_prefetch(reinterpret_cast<const char*>(rgba + i * 4) + kPrefetchBytes, _MM_HINT_T0);
-    const __m256i codes = srgb8Avx2(_mm256_mul_ps(_mm256_loadu_ps(rgba + i * 4), factor), table);
-    const __m128i bytes =
-        _mm_shuffle_epi8(_mm_cvtsi64_si128(static_cast<long long>(packBytes(codes))), dropAlpha);
-    const auto six = static_cast<std::uint64_t>(_mm_cvtsi128_si64(bytes));
-    std::memcpy(rgb + i * 3, &six, 6);
+  for (; i + 8 <= count; i += 8) {
+    const float* p = rgba + i * 4;
+    _mm_prefetch(reinterpret_cast<const char*>(p) + kPrefetchBytes, _MM_HINT_T0);
+    _mm_prefetch(reinterpret_cast<const char*>(p) + kPrefetchBytes + 64, _MM_HINT_T0);
+    const __m256 v0 = _mm256_mul_ps(_mm256_loadu_ps(p), factor);
+    const __m256 v1 = _mm256_mul_ps(_mm256_loadu_ps(p + 8), factor);
+    const __m256 v2 = _mm256_mul_ps(_mm256_loadu_ps(p + 16), factor);
+    const __m256 v3 = _mm256_mul_ps(_mm256_loadu_ps(p + 24), factor);
+    const __m256 c0 = _mm256_blend_ps(_mm256_permutevar8x32_ps(v0, c0From0),
+                                      _mm256_permutevar8x32_ps(v1, c0From1), 0xC0);
+    const __m256 c1 = _mm256_blend_ps(_mm256_permutevar8x32_ps(v1, c1From1),
+                                      _mm256_permutevar8x32_ps(v2, c1From2), 0xF0);
+    const __m256 c2 = _mm256_blend_ps(_mm256_permutevar8x32_ps(v2, c2From2),
+                                      _mm256_permutevar8x32_ps(v3, c2From3), 0xFC);
+    const std::uint64_t b0 = packBytes(srgb8Avx2(c0, table));
+    const std::uint64_t b1 = packBytes(srgb8Avx2(c1, table));
+    const std::uint64_t b2 = packBytes(srgb8Avx2(c2, table));
+    std::memcpy(rgb + i * 3, &b0, 8);
+    std::memcpy(rgb + i * 3 + 8, &b1, 8);
+    std::memcpy(rgb + i * 3 + 16, &b2, 8);
   }
   return i;
 }
