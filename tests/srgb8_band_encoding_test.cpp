@@ -61,8 +61,8 @@ TEST(Srgb8BandEncoding, EveryByteIsToSrgb8OfTheFloatTarget) {
   struct Size {
     int width, height;
   };
-  // 1x1 and 61x37: one thread, one and two bands (the second cut short); 160x96: three whole
-  // bands; 704x403: two threads, 13 bands through 4 buffers, the last of 19 rows.
+  // With bands of 8 rows through 4 buffers: 1x1, one band; 61x37, one thread, 5 bands, the last
+  // of 5 rows; 160x96, 12 whole bands; 704x403, two threads, 51 bands, the last of 3 rows.
   for (const Size size : {Size{1, 1}, Size{61, 37}, Size{160, 96}, Size{704, 403}}) {
     const std::vector<float> rows = picture(size.width, size.height);
     gl::Texture texture = gl::createTexture(GL_TEXTURE_2D);

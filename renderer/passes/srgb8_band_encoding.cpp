@@ -18,9 +18,11 @@ namespace omnishadow {
 namespace {
 
 constexpr GLenum kPackInvertMesa = 0x8758;
-// 32 rows of a 1280-pixel frame are 640 KB of floats, so the buffers stay in cache between
-// their read and their encoding; bands of 8 to 64 rows measured alike (Sundial, 1280x720).
-constexpr int kBandRows = 32;
+// 8 rows of a 1280-pixel frame are 160 KB of floats, so the buffers stay in cache between their
+// read and their encoding. Bands of 8 to 64 rows took the same time in later frames (Sundial,
+// 1280x720); in a process's first frame, whose buffers are fresh pages, 8 rows took 2.7 ms
+// against 3.2 for 32 (medians of 10 renders).
+constexpr int kBandRows = 8;
 // A band's buffer is read into again once the band four before it has been encoded.
 constexpr int kBuffers = 4;
 // From this many pixels on a second thread encodes: for a small frame its start costs more

@@ -45,8 +45,8 @@ enum class FloatBeautyEncoding {
   // of the bytes (an H200, Sundial at 1280x720: readback 5.9-8.1 -> 2.2-2.5 ms); Frame::srgb8.
   Gpu,
   // The float target read back a band of rows at a time, each band encoded on the CPU while the
-  // next is read (llvmpipe, Sundial at 1280x720: a process's first frame's readback 8.4 -> 3.0
-  // ms, its PNG encoding 10.6 -> 8.4; a later frame's readback 1.4 -> 2.8, which now includes
+  // next is read (llvmpipe, Sundial at 1280x720: a process's first frame's readback 9.7 -> 2.7
+  // ms, its PNG encoding 11.6 -> 8.7; a later frame's readback 1.5 -> 2.9, which now includes
   // the encoding); Frame::srgb8.
   CpuInBands,
   Caller,  // the float beauty read back, Frame::beauty, encoded by the caller (toSrgb8())
