@@ -61,7 +61,7 @@ Scene loadWithJpeg(const TempFolder& folder, const std::vector<unsigned char>& j
       folder.path(), {{jpeg, "photo", "image/jpeg", "photo.jpg"}}, storage));
 }
 
-int largestDifference(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+int largestDifference(const PixelBytes& a, const std::vector<std::uint8_t>& b) {
   EXPECT_EQ(a.size(), b.size());
   int largest = 0;
   for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)

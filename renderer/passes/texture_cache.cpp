@@ -19,7 +19,7 @@ std::uint64_t TextureCache::sampleOf(const Image& image) {
     h = (h ^ v) * 0x9e3779b97f4a7c15ull;
     return h ^ (h >> 32);
   };
-  const std::vector<std::uint8_t>& bytes = image.rgba;
+  const PixelBytes& bytes = image.rgba;
   std::uint64_t h = mix(mix(0x243f6a8885a308d3ull, static_cast<std::uint64_t>(image.width)),
                         static_cast<std::uint64_t>(image.height));
   constexpr std::size_t kWords = 1024;

@@ -10,6 +10,7 @@
 
 #include "renderer/scene/bounds.h"
 #include "renderer/scene/light.h"
+#include "renderer/scene/pixel_bytes.h"
 #include "renderer/scene/scene_rig.h"
 
 namespace omnishadow {
@@ -20,7 +21,7 @@ struct Image {
   std::string name;
   int width = 0;
   int height = 0;
-  std::vector<std::uint8_t> rgba;  // 8-bit RGBA, first row = top of the picture (as in the file)
+  PixelBytes rgba;  // 8-bit RGBA, first row = top of the picture (as in the file); shared by copies
   // What the file was, as decoded: "PNG", "JPEG", "WebP" or "AVIF"; empty for an image that
   // is not decoded (a fallback that no texture draws, or KTX2 and DDS).
   std::string format;

@@ -93,7 +93,7 @@ std::uint64_t imageHash(const Scene& scene, int index, ImageHashes* images) {
   const Image& image = scene.images[i];
   ContentHash h;
   h.value(image.width);
-  h.vector(image.rgba);
+  h.bytes(image.rgba.data(), image.rgba.size());
   if (images) (*images)[i] = h.get();
   return h.get();
 }
