@@ -228,13 +228,15 @@ void validateJob(const RenderJob& job) {
 TimedLoad loadJobTimed(const RenderJob& job, SharedSceneLoads* shared) {
   const auto start = std::chrono::steady_clock::now();
   std::shared_ptr<const Scene> scene = shared ? shared->scene(job) : nullptr;
-  TimedLoad load{scene ? loadJob(job, std::move(scene)) : loadJob(job)};
+  TimedLoad load{scene ? loadJob(job, std::move(scene))
+                       : loadJob(job, shared ? shared->decodedImages() : nullptr)};
   load.milliseconds = millisecondsSince(start);
   return load;
 }
 
-Scene loadJobScene(const RenderJob& job) {
+Scene loadJobScene(const RenderJob& job, DecodedImageCache* decodedImages) {
   GltfLoadOptions loadOptions;
+  loadOptions.decodedImages = decodedImages;
   loadOptions.sceneIndex = job.sceneIndex;
   loadOptions.materialVariant = job.materialVariant;
   loadOptions.allowExternalUris = job.allowExternalUris;
@@ -274,9 +276,9 @@ LoadedJob finishLoad(const RenderJob& job, LoadedJob loaded) {
 
 }  // namespace
 
-LoadedJob loadJob(const RenderJob& job) {
+LoadedJob loadJob(const RenderJob& job, DecodedImageCache* decodedImages) {
   LoadedJob loaded;
-  loaded.own = loadJobScene(job);
+  loaded.own = loadJobScene(job, decodedImages);
   return finishLoad(job, std::move(loaded));
 }
 

@@ -12,6 +12,10 @@
 #include "renderer/scene/scene.h"
 #include "renderer/view/camera.h"
 
+namespace omnishadow {
+class DecodedImageCache;
+}  // namespace omnishadow
+
 namespace omnishadow::cli {
 
 // One render, as `render` or one entry of `batch` describes it: inputs, view, outputs.
@@ -69,19 +73,22 @@ struct LoadedJob {
 // Throws InputError.
 void validateJob(const RenderJob& job);
 
-// Reads the scene file as the job's options say, at rest. Throws InputError.
-Scene loadJobScene(const RenderJob& job);
+// Reads the scene file as the job's options say, at rest; with `decodedImages`, pictures other
+// loads decoded from the same image bytes are taken from there (GltfLoadOptions). Throws
+// InputError.
+Scene loadJobScene(const RenderJob& job, DecodedImageCache* decodedImages = nullptr);
 
 // Reads the scene and lights file, poses the scene at job.time and resolves the camera.
 // Throws InputError.
-LoadedJob loadJob(const RenderJob& job);
+LoadedJob loadJob(const RenderJob& job, DecodedImageCache* decodedImages = nullptr);
 // The same with the job's scene as loadJobScene() read it, shared with other jobs.
 LoadedJob loadJob(const RenderJob& job, std::shared_ptr<const Scene> scene);
 
 class SharedSceneLoads;
 
 // loadJob() and how long it took (the `load` stage), for loads run beside other work; with
-// `shared`, the scene comes from there (a batch's jobs of one file).
+// `shared`, the scene comes from there (a batch's jobs of one file), and a job that loads its
+// own takes the pictures of other loads from its DecodedImageCache.
 struct TimedLoad {
   LoadedJob job;
   double milliseconds = 0.0;

@@ -32,7 +32,7 @@ SharedSceneLoads::FileStamp SharedSceneLoads::stampOf(const fs::path& file) {
 
 std::shared_ptr<const SharedSceneLoads::Loaded> SharedSceneLoads::load(const RenderJob& job) {
   auto loaded = std::make_shared<Loaded>();
-  loaded->scene = loadJobScene(job);
+  loaded->scene = loadJobScene(job, &decodedImages_);
   for (const std::string& file : loaded->scene.inputFiles) loaded->stamps.push_back(stampOf(file));
   return loaded;
 }

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "cli/render_job.h"
+#include "renderer/scene/decoded_image_cache.h"
 #include "renderer/scene/scene.h"
 
 namespace omnishadow::cli {
@@ -36,6 +37,9 @@ class SharedSceneLoads {
   // error itself). The last job that needs a scene lets it go. Thread-safe. Throws what
   // loadJobScene() throws.
   std::shared_ptr<const Scene> scene(const RenderJob& job);
+  // The pictures the batch's loads decoded, while some scene holds them: a folder with one
+  // model as glTF, glTF-Binary and glTF-Draco decodes each picture once. Thread-safe.
+  DecodedImageCache* decodedImages() { return &decodedImages_; }
 
  private:
   struct FileStamp {
@@ -57,7 +61,7 @@ class SharedSceneLoads {
   static constexpr std::size_t kKept = 2;
   static std::string keyOf(const RenderJob& job);
   static FileStamp stampOf(const std::filesystem::path& file);
-  static std::shared_ptr<const Loaded> load(const RenderJob& job);
+  std::shared_ptr<const Loaded> load(const RenderJob& job);
   // Under the lock: the shared load of `key` (invalid for a file no other job shares), which
   // this call makes with `made` (`loads` set) when no job asked for it before.
   std::shared_future<std::shared_ptr<const Loaded>> claim(
@@ -66,6 +70,7 @@ class SharedSceneLoads {
   std::mutex mutex_;
   std::map<std::string, Entry> entries_;  // by keyOf(), for files two or more jobs load
   std::uint64_t clock_ = 0;
+  DecodedImageCache decodedImages_;
 };
 
 }  // namespace omnishadow::cli

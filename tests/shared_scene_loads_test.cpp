@@ -73,6 +73,25 @@ TEST(SharedSceneLoads, AJobPosedAtATimeLeavesTheSharedSceneAtRest) {
     EXPECT_EQ(third.scene().meshes[m].positions, restAlone.scene().meshes[m].positions);
 }
 
+// Files of their own that hold the same image bytes (a model as glTF-Binary and as a copy)
+// decode the picture once while a scene holds it: the batch's loads share a DecodedImageCache.
+TEST(SharedSceneLoads, FilesOfTheirOwnShareThePicturesOfTheSameImageBytes) {
+  test_support::TempFolder folder("shared-loads");
+  fs::copy_file(thirdParty("BoxTextured/BoxTextured.glb"), folder / "a.glb");
+  fs::copy_file(thirdParty("BoxTextured/BoxTextured.glb"), folder / "b.glb");
+  const RenderJob a = jobOf(folder / "a.glb");
+  const RenderJob b = jobOf(folder / "b.glb");
+  SharedSceneLoads loads({a, b});
+  const LoadedJob first = loadJobTimed(a, &loads).job;
+  const LoadedJob second = loadJobTimed(b, &loads).job;
+  ASSERT_TRUE(first.own && second.own);  // files of their own: no shared scene
+  ASSERT_EQ(first.scene().images.size(), 1u);
+  EXPECT_TRUE(second.scene().images[0].rgba.sharesWith(first.scene().images[0].rgba));
+  EXPECT_EQ(second.scene().images[0].rgba, loadJob(b).scene().images[0].rgba);
+  EXPECT_FALSE(loadJob(b).scene().images[0].rgba.sharesWith(first.scene().images[0].rgba))
+      << "a load outside the batch decodes its own";
+}
+
 TEST(SharedSceneLoads, AJobOfItsOwnAndOtherOptionsLoadTheirOwn) {
   const RenderJob box = jobOf(thirdParty("Box/Box.glb"));
   RenderJob otherScene = box;

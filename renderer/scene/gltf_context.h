@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "renderer/core/errors.h"
+#include "renderer/scene/decoded_image_cache.h"
 #include "renderer/scene/gltf_compressed_json.h"
 #include "renderer/scene/scene.h"
 
@@ -43,6 +44,7 @@ struct Context {
   std::map<int, std::vector<unsigned char>> dracoAccessors{};
   std::string primitive{};   // "meshes[m].primitives[p]" while one is converted, for decoders
   int materialVariant = -1;  // KHR_materials_variants: the chosen variant, -1 for none
+  DecodedImageCache* decodedImages = nullptr;  // GltfLoadOptions::decodedImages
 
   [[noreturn]] void fail(const std::string& object, const std::string& problem) const {
     throw InputError(file + ": " + object + ": " + problem);

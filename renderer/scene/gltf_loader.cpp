@@ -82,6 +82,7 @@ Scene loadGltf(const std::filesystem::path& path, const GltfLoadOptions& options
   scene.source = summarize(model, binary);
   Context ctx{scene.path, model, scene};
   ctx.fixups = std::move(fixups);
+  ctx.decodedImages = options.decodedImages;
   ctx.quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
                             "KHR_mesh_quantization") != model.extensionsUsed.end();
   checkMinVersion(ctx);

@@ -6,6 +6,8 @@
 
 namespace omnishadow {
 
+class DecodedImageCache;
+
 struct GltfLoadOptions {
   int sceneIndex = -1;  // -1 = the file's default scene (or scene 0 when it names none)
   // Buffer and image URIs may name files outside the scene's folder (../, absolute paths).
@@ -13,6 +15,9 @@ struct GltfLoadOptions {
   // KHR_materials_variants: the variant to draw, by name or index; empty = the primitives' own
   // materials. A file without that variant is an InputError.
   std::string materialVariant;
+  // Pictures decoded by earlier loads that scenes still hold, taken instead of decoding the same
+  // image bytes again, and where this load's decoded pictures go (not owned; null: none).
+  DecodedImageCache* decodedImages = nullptr;
 };
 
 // Loads a .gltf (external or embedded buffers, data URIs) or .glb into CPU-side plain data:

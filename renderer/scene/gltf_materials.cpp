@@ -6,6 +6,7 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -66,12 +67,57 @@ bool decodedByLoader(const tinygltf::Image& source) {
   return source.bufferView >= 0 || source.as_is;
 }
 
-// One image the loader decodes, decoded, or why not.
+// One image the loader decodes, decoded, or why not. With a DecodedImageCache the RGBA8 pixels
+// are in `rgba` (taken from the cache or put there), and `image` keeps the rest.
 struct Decoded {
   tinygltf::Image image;
+  PixelBytes rgba;
   std::vector<std::string> warnings;
   std::exception_ptr error;
 };
+
+bool isRgba8(const tinygltf::Image& image) {
+  return image.component == 4 && image.bits == 8 &&
+         image.image.size() ==
+             static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4;
+}
+
+// Decodes an image's bytes, or takes the picture another load decoded from the same bytes
+// (Context::decodedImages), which that load's checks and decoding passed and said the same of.
+Decoded decodeOrFind(const Context& ctx, std::size_t index, const std::string& object,
+                     const unsigned char* bytes, std::size_t length) {
+  Decoded out;
+  DecodedImageCache* cache = ctx.decodedImages;
+  DecodedImageCache::Lookup lookup;
+  if (cache) lookup = cache->find(bytes, length);
+  if (lookup.picture) {
+    out.image.width = lookup.picture->width;
+    out.image.height = lookup.picture->height;
+    out.image.component = 4;
+    out.image.bits = 8;
+    out.image.mimeType = lookup.picture->mimeType;
+    out.rgba = std::move(lookup.picture->rgba);
+    out.warnings = std::move(lookup.picture->warnings);
+    return out;
+  }
+  try {
+    out.image = decodeImageBytes(ctx, index, object, bytes, length, out.warnings);
+  } catch (...) {
+    if (lookup.claim) cache->abandon(lookup.claim);
+    throw;
+  }
+  if (!lookup.claim) return out;
+  if (!isRgba8(out.image)) {
+    cache->abandon(lookup.claim);  // converted by convertImages(), not shared
+    return out;
+  }
+  DecodedImageCache::Picture picture{out.image.width, out.image.height, out.image.mimeType,
+                                     out.warnings, std::move(out.image.image)};
+  out.image.image = {};
+  out.rgba = picture.rgba;
+  cache->fulfil(lookup.claim, picture);
+  return out;
+}
 
 // At most this many threads decode a file's images: a .glb's five 2048^2 JPEGs (DamagedHelmet)
 // were decoded one after the other, on the thread the load keeps busy while the GL context opens.
@@ -104,8 +150,7 @@ std::vector<Decoded> decodeImages(const Context& ctx, const std::vector<bool>& u
     for (std::size_t k; (k = next.fetch_add(1)) < work.size();) {
       const auto& [i, bytes] = work[k];
       try {
-        out[i].image =
-            decodeImageBytes(ctx, i, objects[i], bytes.first, bytes.second, out[i].warnings);
+        out[i] = decodeOrFind(ctx, i, objects[i], bytes.first, bytes.second);
       } catch (...) {
         out[i].error = std::current_exception();
       }
@@ -199,18 +244,20 @@ void convertImages(Context& ctx) {
     for (const std::string& line : ours.warnings) ctx.warn(object + ": " + line);
     const bool byLoader = decodedByLoader(source);
     const tinygltf::Image& decoded = byLoader ? ours.image : source;
-    if (decoded.image.empty() || decoded.width <= 0 || decoded.height <= 0) {
+    const bool shared = byLoader && !ours.rgba.empty();  // RGBA8 kept by the cache
+    if ((decoded.image.empty() && !shared) || decoded.width <= 0 || decoded.height <= 0) {
       // tinygltf only warns when an external image is missing or undecodable.
       ctx.fail(object, externalFile ? "cannot read or decode " + source.uri
                                     : "cannot decode the image data");
     }
     image.width = decoded.width;
     image.height = decoded.height;
-    const bool rgba8 = decoded.component == 4 && decoded.bits == 8 &&
-                       decoded.image.size() == static_cast<std::size_t>(decoded.width) *
-                                                   static_cast<std::size_t>(decoded.height) * 4;
     // A decoded JPEG is RGBA8 already; the copy of 16 MB (Sundial) is not free.
-    image.rgba = rgba8 && byLoader ? std::move(ours.image.image) : toRgba8(ctx, decoded, object);
+    if (shared)
+      image.rgba = std::move(ours.rgba);
+    else
+      image.rgba = isRgba8(decoded) && byLoader ? std::move(ours.image.image)
+                                                : toRgba8(ctx, decoded, object);
     image.format = formatName(decoded.mimeType);
     ours.image = {};  // the decoded bytes, when they were converted
     ctx.scene.images.push_back(std::move(image));
