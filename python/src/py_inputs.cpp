@@ -124,7 +124,7 @@ PyScene posedScene(const PyScene& scene, const py::object& time, const py::objec
     checkPoseRequest(seconds, clips);
     return scene;
   }
-  py::gil_scoped_release release;  // a copy of the images, and skinning
+  py::gil_scoped_release release;  // a copy (its pixels shared), and skinning
   auto posed = std::make_shared<Scene>(*scene.scene);
   posed->warnings.resize(scene.loaderWarnings);
   const std::vector<std::string> warnings = poseSceneChecked(*posed, posed->path, seconds, clips);

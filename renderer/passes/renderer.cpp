@@ -869,7 +869,7 @@ void Renderer::Impl::drawResolvedSrgb8(FloatBeautyEncoding encoder, Prepared& pr
   const float exposureScale = std::exp2(*settings.srgb8Exposure);  // as toSrgb8() scales
   if (encoder == FloatBeautyEncoding::CpuInBands) {
     frame.srgb8 = readSrgb8InBands(targets.color(0), camera.width, camera.height, exposureScale,
-                                   camera.glRowOrder, packInvert_);
+                                   camera.glRowOrder);
   } else {
     if (!srgb8Resolve_) srgb8Resolve_ = std::make_unique<Srgb8Resolve>();
     frame.srgb8 = srgb8Resolve_->resolve(targets.color(0), camera.width, camera.height,

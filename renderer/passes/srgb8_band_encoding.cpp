@@ -17,7 +17,6 @@ namespace omnishadow {
 
 namespace {
 
-constexpr GLenum kPackInvertMesa = 0x8758;
 // 8 rows of a 1280-pixel frame are 160 KB of floats, so the buffers stay in cache between their
 // read and their encoding. Bands of 8 to 64 rows took the same time in later frames (Sundial,
 // 1280x720); in a process's first frame, whose buffers are fresh pages, 8 rows took 2.7 ms
@@ -85,7 +84,7 @@ class BandProgress {
 }  // namespace
 
 Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, float exposureScale,
-                            bool glRowOrder, bool packInvert) {
+                            bool glRowOrder) {
   const int w = width, h = height;
   const std::size_t row = static_cast<std::size_t>(w) * 4;
   Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
@@ -93,23 +92,18 @@ Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, float exposur
   const int bufferCount = std::min(bands, kBuffers);
   std::vector<FloatPixels> buffers(static_cast<std::size_t>(bufferCount),
                                    FloatPixels(row * kBandRows));
-  const bool invert = packInvert && !glRowOrder;
-  // A band's rows lie in its buffer in the picture's order (top first unless glRowOrder), or,
-  // read without the driver turning them around, in GL's (bottom first).
-  const bool inOrder = glRowOrder || invert;
+  // Bands in GL's order (bottom first); each row is encoded into its place in the picture, as
+  // readChannels() places them, so the rows need no turning around.
   const auto firstRow = [&](int band) { return band * kBandRows; };
   const auto rowsOf = [&](int band) { return std::min(kBandRows, h - firstRow(band)); };
   const auto encode = [&](int band) {
-    const int n = rowsOf(band);
     const float* rows = buffers[static_cast<std::size_t>(band % bufferCount)].data();
-    std::uint8_t* to = image.rgb.data() + static_cast<std::size_t>(firstRow(band)) * w * 3;
-    if (inOrder) {
-      rgbaToSrgb8Rgb(rows, static_cast<std::size_t>(w) * n, exposureScale, to);
-      return;
+    for (int r = 0; r < rowsOf(band); ++r) {
+      const int glRow = firstRow(band) + r;
+      const int y = glRowOrder ? glRow : h - 1 - glRow;
+      rgbaToSrgb8Rgb(rows + static_cast<std::size_t>(r) * row, static_cast<std::size_t>(w),
+                     exposureScale, image.rgb.data() + static_cast<std::size_t>(y) * w * 3);
     }
-    for (int i = 0; i < n; ++i)
-      rgbaToSrgb8Rgb(rows + static_cast<std::size_t>(n - 1 - i) * row, static_cast<std::size_t>(w),
-                     exposureScale, to + static_cast<std::size_t>(i) * w * 3);
   };
 
   BandProgress progress(bands);
@@ -136,21 +130,17 @@ Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, float exposur
     progress.markEncoded(*band);
     return true;
   };
-  if (invert) glPixelStorei(kPackInvertMesa, GL_TRUE);
   for (int band = 0; band < bands; ++band) {
     const int previous = band - bufferCount;
     if (previous >= 0)
       while (!progress.isEncoded(previous))
         if (!encodeOne()) progress.waitEncoded(previous);
-    const int n = rowsOf(band);
     FloatPixels& buffer = buffers[static_cast<std::size_t>(band % bufferCount)];
-    glGetTextureSubImage(texture, 0, 0, glRowOrder ? firstRow(band) : h - firstRow(band) - n, 0, w,
-                         n, 1, GL_RGBA, GL_FLOAT,
+    glGetTextureSubImage(texture, 0, 0, firstRow(band), 0, w, rowsOf(band), 1, GL_RGBA, GL_FLOAT,
                          static_cast<GLsizei>(buffer.size() * sizeof(float)), buffer.data());
     progress.markRead();
     if (!encoder.joinable()) encodeOne();
   }
-  if (invert) glPixelStorei(kPackInvertMesa, GL_FALSE);
   while (encodeOne()) {
   }
   for (int band = 0; band < bands; ++band) progress.waitEncoded(band);

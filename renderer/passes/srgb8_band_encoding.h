@@ -15,9 +15,8 @@ namespace omnishadow {
 // first took 14.7 MB of fresh memory for a 1280x720 frame, whose pages faulted in the first frame
 // of a process (about 3,600 faults), and a second pass over it to encode. On llvmpipe, Sundial's
 // first frame: readback 9.7 -> 2.7 ms, PNG encoding 11.6 -> 8.7 (medians of 10 renders); a later
-// frame's readback 1.5 -> 2.9, now with the encoding in it. `packInvert`: the driver has
-// GL_MESA_pack_invert.
+// frame's readback 1.5 -> 2.9, now with the encoding in it.
 Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, float exposureScale,
-                            bool glRowOrder, bool packInvert);
+                            bool glRowOrder);
 
 }  // namespace omnishadow
