@@ -42,6 +42,14 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
                    "unless little overdraw for its triangles is estimated on the CPU for the "
                    "scene and camera; off on GPUs). The picture is the same")
         ->check(CLI::IsMember({"auto", "on", "off"}));
+  if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
+    app.add_option("--finish-each-stage", o.finishEachStage,
+                   "Whether the GPU finishes the upload and the shadow maps before the lighting "
+                   "is submitted, so that --stats gives each stage its own GPU work: on, off "
+                   "(the lighting's CPU work runs while the GPU draws the shadow maps, and the "
+                   "lighting's time holds what is left of their GPU work) or auto (default; on "
+                   "llvmpipe, off on GPUs). The picture is the same")
+        ->check(CLI::IsMember({"auto", "on", "off"}));
   if (renders)
     app.add_option("--max-memory", o.maxMemoryMiB,
                    "Memory the shadow maps of one frame may use, in MiB (default 4096)");
@@ -83,6 +91,7 @@ void applySceneSettings(const SceneInputOptions& o, RenderJob& job) {
   job.maxMemoryMiB = o.maxMemoryMiB;
   job.shadowPass = parseShadowPassStrategy(o.shadowPass);
   job.depthPrepass = parseDepthPrepass(o.depthPrepass);
+  if (o.finishEachStage != "auto") job.finishEachStage = o.finishEachStage == "on";
   job.sceneIndex = o.sceneIndex;
   job.materialVariant = o.materialVariant;
   job.time = o.time;

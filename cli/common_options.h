@@ -30,6 +30,7 @@ struct SceneInputOptions {
   double maxMemoryMiB = 4096.0;
   std::string shadowPass = "auto";
   std::string depthPrepass = "auto";
+  std::string finishEachStage = "auto";
   int sceneIndex = -1;
   std::optional<double> time;   // --time SECONDS; nullopt = the rest pose
   std::string animation;        // --animation NAME|INDEX|all; empty = all

@@ -327,6 +327,7 @@ RenderSettings renderSettings(const RenderJob& job) {
   settings.maxAovMemoryMiB = job.maxMemoryMiB;
   settings.shadowPass = job.shadowPass;
   settings.depthPrepass = job.depthPrepass;
+  settings.finishEachStage = job.finishEachStage;
   settings.antialiasing = job.antialiasing;
   // Only PNGs of the beauty: the lighting pass may encode their bytes itself.
   if (!job.png.empty() && job.exr.empty()) settings.srgb8Exposure = job.exposure;

@@ -44,9 +44,10 @@ struct RenderJob {
   double maxMemoryMiB = 4096.0;  // for shadow maps
   ShadowPassStrategy shadowPass = ShadowPassStrategy::Auto;
   DepthPrepass depthPrepass = DepthPrepass::Auto;
-  std::optional<double> time;  // pose at this time; nullopt = rest pose
-  std::string animation;       // clips that play: name, index or "all"; empty = all
-  bool cameraJson = false;     // write the camera sidecar next to the first image
+  std::optional<bool> finishEachStage;  // RenderSettings::finishEachStage; unset = auto
+  std::optional<double> time;           // pose at this time; nullopt = rest pose
+  std::string animation;                // clips that play: name, index or "all"; empty = all
+  bool cameraJson = false;              // write the camera sidecar next to the first image
 
   // Every file the job writes besides the per-light ones: images, AOVs, the id sidecar.
   std::vector<std::filesystem::path> outputFiles() const;

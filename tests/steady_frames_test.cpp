@@ -27,11 +27,31 @@ TEST_F(SteadyFramesTest, RepeatPrintsMediansAndWritesTheSameImage) {
       runSucceeding("render", {in("scene.gltf"), "-o", "repeated.png", "--repeat", "3"}, size);
   EXPECT_TRUE(sameBytes(output("once.png"), output("repeated.png")));
   EXPECT_TRUE(contains(r.err, "steady frames 3\n"));
-  for (const char* stage :
-       {"shadow maps", "lighting", "readback", "frame", "GPU wait: shadow maps", "GPU wait: lighting"})
+  for (const char* stage : {"shadow maps", "lighting", "readback", "frame", "GPU wait: shadow maps",
+                            "GPU wait: lighting"})
     EXPECT_TRUE(std::regex_search(
         r.err, std::regex(std::string("\nsteady ") + stage + " +[0-9]+\\.[0-9]\n")))
         << stage << " in " << r.err;
+}
+
+// --finish-each-stage off: the GPU's work for the upload and the shadow maps is waited for in
+// the lighting stage, so neither has a wait line; the image is the same bytes.
+TEST_F(SteadyFramesTest, StagesLeftUnfinishedHaveNoWaitAndTheSameImage) {
+  test_support::writeBoxScene(input("scene.gltf"));
+  const std::vector<std::string> size = {"--width", "64", "--height", "48", "--stats"};
+  const Run on = runSucceeding(
+      "render", {in("scene.gltf"), "-o", "on.png", "--finish-each-stage", "on"}, size);
+  const Run off = runSucceeding(
+      "render", {in("scene.gltf"), "-o", "off.png", "--finish-each-stage", "off", "--repeat", "2"},
+      size);
+  EXPECT_TRUE(sameBytes(output("on.png"), output("off.png")));
+  EXPECT_TRUE(contains(on.err, "\nGPU wait: shadow maps ")) << on.err;
+  EXPECT_FALSE(contains(off.err, "GPU wait: shadow maps")) << off.err;
+  EXPECT_FALSE(contains(off.err, "GPU wait: upload")) << off.err;
+  EXPECT_TRUE(contains(off.err, "\nsteady GPU wait: lighting ")) << off.err;
+  const Run bad = run({"render", in("scene.gltf"), "--finish-each-stage", "sometimes"});
+  EXPECT_EQ(bad.status, 2) << bad.err;
+  EXPECT_TRUE(contains(bad.err, "--finish-each-stage")) << bad.err;
 }
 
 TEST_F(SteadyFramesTest, NegativeRepeatIsAUsageError) {

@@ -56,6 +56,16 @@ void finishStage(StageTimes& times, const std::string& stage) {
   times.addWait(stage, millisecondsSince(start));
 }
 
+// Ends the upload's or the shadow maps' GL work (RenderSettings::finishEachStage): glFinish on a
+// software rasterizer or when asked, else glFlush, so that the GPU starts on it while the next
+// stage's CPU work is done.
+void endStage(StageTimes& times, const std::string& stage, bool finish) {
+  if (finish)
+    finishStage(times, stage);
+  else
+    glFlush();
+}
+
 // GL_MESA_pack_invert's pixel store parameter (not in glcorearb.h).
 constexpr GLenum kPackInvertMesa = 0x8758;
 
@@ -89,8 +99,9 @@ FloatPixels readAttachment(const FrameTargets& targets, int index, bool glRowOrd
 }
 
 // The RGB bytes of an Srgb8 target, first row = top.
-Srgb8Image readSrgb8(const FrameTargets& targets, bool glRowOrder) {
-  return readSrgb8Texture(targets.color(0), targets.width(), targets.height(), glRowOrder);
+Srgb8Image readSrgb8(const FrameTargets& targets, bool glRowOrder, gl::PixelPackBuffer* readback) {
+  return readSrgb8Texture(targets.color(0), targets.width(), targets.height(), glRowOrder,
+                          readback);
 }
 
 // Whether the lighting pass can encode the frame's beauty into 8-bit sRGB itself
@@ -310,6 +321,7 @@ class Renderer::Impl {
   std::unique_ptr<VsmFilter> vsmFilter_;
   std::unique_ptr<TransmittancePass> transmittancePass_;  // made by the first translucent light
   std::unique_ptr<Srgb8Resolve> srgb8Resolve_;  // made by the first float frame with srgb8Exposure
+  gl::PixelPackBuffer srgb8Readback_;           // the 8-bit beauty's, but on llvmpipe
   TextureCache textureCache_;    // the last render's scene textures, for a render of it again
   GeometryCache geometryCache_;  // the last render's scene geometry, likewise
   // The digests of the last render's meshes (hashed once for both caches, the geometry's and
@@ -843,7 +855,8 @@ void Renderer::Impl::drawSrgb8(Prepared& prepared, const ViewCamera& camera,
   FrameTargets& targets =
       drawLighting(prepared, camera, ambient, settings, parameters, outputs, times);
   ScopedStage readback(times, "readback");
-  frame.srgb8 = readSrgb8(targets, camera.glRowOrder);
+  frame.srgb8 =
+      readSrgb8(targets, camera.glRowOrder, softwareRasterizer_ ? nullptr : &srgb8Readback_);
   // Without blended surfaces no pixel takes a blended surface's id: the ids are complete.
   if (outputs == PassOutputs::Srgb8Ids)
     frame.objectIds = readObjectIds(targets, 1, camera.glRowOrder);
@@ -1162,7 +1175,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
   prepared.beautyOutputs = beautyOutputs;
   frame.warnings.insert(frame.warnings.end(), prepared.gpu.warnings().begin(),
                         prepared.gpu.warnings().end());
-  finishStage(times, "upload");
+  endStage(times, "upload", settings.finishEachStage.value_or(softwareRasterizer_));
   upload.stop();
   if (!lit) {
     // Masks alone: the id pass reads no light and no shadow map. The shadow cache stays as the
@@ -1183,7 +1196,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
   ScopedStage shadowStage(times, "shadow maps");
   renderShadows(prepared, std::move(plan.shadows), scene, lights, settings,
                 shadowFingerprint(scene, meshes, &digests.casterImages), &frame);
-  finishStage(times, "shadow maps");
+  endStage(times, "shadow maps", settings.finishEachStage.value_or(softwareRasterizer_));
   shadowStage.stop();
 
   if (settings.readShadowMaps) frame.shadowMaps = readShadowMaps(prepared, times);

@@ -40,16 +40,25 @@ void rgbaRowToRgb(const std::uint8_t* from, std::uint8_t* to, int width) {
 
 }  // namespace
 
-Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, bool glRowOrder) {
+Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, bool glRowOrder,
+                            gl::PixelPackBuffer* readback) {
   const int w = width, h = height;
-  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * h * 4);
-  glGetTextureImage(texture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
-                    static_cast<GLsizei>(rgba.size()), rgba.data());
+  const std::size_t bytes = static_cast<std::size_t>(w) * h * 4;
   Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
   // The copy into RGB turns the rows around too.
-  for (int y = 0; y < h; ++y)
-    rgbaRowToRgb(rgba.data() + static_cast<std::size_t>(glRowOrder ? y : h - 1 - y) * w * 4,
-                 image.rgb.data() + static_cast<std::size_t>(y) * w * 3, w);
+  auto toRgb = [&](const std::uint8_t* rgba) {
+    for (int y = 0; y < h; ++y)
+      rgbaRowToRgb(rgba + static_cast<std::size_t>(glRowOrder ? y : h - 1 - y) * w * 4,
+                   image.rgb.data() + static_cast<std::size_t>(y) * w * 3, w);
+  };
+  if (readback) {
+    toRgb(readback->read(texture, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, bytes).data());
+  } else {
+    std::vector<std::uint8_t> rgba(bytes);
+    glGetTextureImage(texture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes),
+                      rgba.data());
+    toRgb(rgba.data());
+  }
   return image;
 }
 
@@ -92,7 +101,7 @@ Srgb8Image Srgb8Resolve::resolve(GLuint beauty, int width, int height, float exp
   gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the 8-bit beauty's encoding");
-  return readSrgb8Texture(target_.get(), width, height, glRowOrder);
+  return readSrgb8Texture(target_.get(), width, height, glRowOrder, &readback_);
 }
 
 }  // namespace omnishadow

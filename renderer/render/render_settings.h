@@ -125,6 +125,13 @@ struct RenderSettings {
   std::optional<float> srgb8Exposure{};
   // With srgb8Exposure, for the frames the lighting pass cannot encode itself.
   FloatBeautyEncoding floatBeautyEncoding = FloatBeautyEncoding::Auto;
+  // Whether the GPU finishes the upload's and the shadow maps' work before the next stage is
+  // submitted, so that each stage's time (StageTimes) holds its own GPU work. False: the
+  // lighting's CPU work (its light clusters, its draws) runs while the GPU still draws the
+  // maps, and the lighting's wait holds what is left of theirs. Unset: true on a software
+  // rasterizer, whose threads are busy with the maps anyway (no gain measured there), false on
+  // GPUs. The pictures are the same either way.
+  std::optional<bool> finishEachStage{};
 };
 
 // Asks for each pixel's objectId (annotation masks): the AOVs' objectId layer when `settings`

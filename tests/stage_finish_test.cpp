@@ -1,0 +1,97 @@
+// RenderSettings::finishEachStage: without a glFinish after the upload and the shadow maps (the
+// default on GPUs, forced here on any GL), the frames are those of a renderer that finishes
+// each stage, and only the finished stages record a wait for the GPU.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <glm/gtc/matrix_transform.hpp>
+#include <string>
+#include <vector>
+
+#include "renderer/render/renderer.h"
+#include "tests/support/scene_objects.h"
+#include "tests/support/shared_renderer.h"
+
+using namespace omnishadow;
+using test_support::lookFrom;
+
+namespace {
+
+Scene stage() {
+  Scene scene;
+  Material white;
+  white.baseColorFactor = glm::vec4(0.8f);
+  white.metallicFactor = 0.0f;
+  Material glass = white;  // the float beauty and the transmittance maps
+  glass.alphaMode = AlphaMode::Blend;
+  glass.baseColorFactor = glm::vec4(0.2f, 0.6f, 1.0f, 0.5f);
+  scene.materials = {white, glass};
+  test::placeMesh(scene, builder::makePlane(8.0f), glm::mat4(1.0f), 0);
+  test::placeMesh(scene, builder::makeSphere(0.5f, 24, 12),
+                  glm::translate(glm::mat4(1.0f), {0.0f, 1.0f, 0.0f}), 0);
+  test::placeMesh(scene, builder::makeBox(glm::vec3(0.5f, 0.05f, 0.5f)),
+                  glm::translate(glm::mat4(1.0f), {-1.0f, 1.2f, 0.5f}), 1);
+  return scene;
+}
+
+std::vector<Light> lights(float shift) {
+  std::vector<Light> out;
+  for (const LightType type : {LightType::Point, LightType::Spot, LightType::Directional}) {
+    Light light;
+    light.name = "light" + std::to_string(out.size());
+    light.type = type;
+    light.position = glm::vec3(1.0f + shift, 3.0f, 0.5f - static_cast<float>(out.size()));
+    light.direction = glm::normalize(-light.position);
+    light.intensity = type == LightType::Directional ? 2.0f : 15.0f;
+    light.outerConeAngle = 0.9f;
+    light.shadow.filter = ShadowFilter::Pcf;
+    light.shadow.resolution = 128;
+    out.push_back(light);
+  }
+  return out;
+}
+
+bool waited(const StageTimes& times, const std::string& stage) {
+  return std::any_of(times.waits().begin(), times.waits().end(),
+                     [&](const auto& wait) { return wait.first == stage; });
+}
+
+}  // namespace
+
+TEST(StageFinish, FramesWithoutAFinishAfterTheShadowMapsAreTheFramesWithOne) {
+  Renderer& renderer = test_support::sharedRenderer();
+  const Scene scene = stage();
+  const ViewCamera camera = lookFrom(scene, {0.0f, 5.0f, 6.0f}, {0.0f, 0.5f, 0.0f}, 96, 64);
+  for (const bool png : {false, true}) {  // the float beauty, and the 8-bit one read back
+    SCOPED_TRACE(png ? "8-bit beauty" : "float beauty");
+    RenderSettings finished;
+    finished.finishEachStage = true;
+    finished.readShadowMaps = true;
+    if (png) finished.srgb8Exposure = 0.0f;
+    RenderSettings flushed = finished;
+    flushed.finishEachStage = false;
+    // The frame between moves the lights, so that the last frame draws every map again.
+    StageTimes finishedTimes, between, flushedTimes;
+    const Frame one =
+        renderer.render(scene, lights(0.1f), glm::vec3(0.03f), camera, finished, finishedTimes);
+    renderer.render(scene, lights(0.2f), glm::vec3(0.03f), camera, finished, between);
+    const Frame two =
+        renderer.render(scene, lights(0.1f), glm::vec3(0.03f), camera, flushed, flushedTimes);
+    EXPECT_EQ(two.shadowMapsRendered, 3);
+    EXPECT_EQ(one.beauty.pixels, two.beauty.pixels);
+    ASSERT_EQ(one.srgb8.has_value(), png);
+    ASSERT_EQ(two.srgb8.has_value(), png);
+    if (png) EXPECT_EQ(one.srgb8->rgb, two.srgb8->rgb);
+    ASSERT_EQ(one.shadowMaps.size(), two.shadowMaps.size());
+    for (std::size_t i = 0; i < one.shadowMaps.size(); ++i)
+      EXPECT_EQ(one.shadowMaps[i].distances.faces, two.shadowMaps[i].distances.faces);
+    ASSERT_EQ(one.planarShadowMaps.size(), two.planarShadowMaps.size());
+    for (std::size_t i = 0; i < one.planarShadowMaps.size(); ++i)
+      EXPECT_EQ(one.planarShadowMaps[i].distances, two.planarShadowMaps[i].distances);
+    EXPECT_TRUE(waited(finishedTimes, "shadow maps"));
+    EXPECT_TRUE(waited(finishedTimes, "upload"));
+    EXPECT_FALSE(waited(flushedTimes, "shadow maps"));
+    EXPECT_FALSE(waited(flushedTimes, "upload"));
+    EXPECT_TRUE(waited(flushedTimes, "lighting"));  // where the maps' GPU work is waited for
+  }
+}
