@@ -101,15 +101,17 @@ if [[ -n "$bundle" ]]; then
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 out=$1; shift
-export LD_LIBRARY_PATH="$here/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+# The bundled libraries go to the binaries alone (bench_gpu.py's --ld-library-path): that
+# machine's Python needs its own versions of libraries the bundle carries too.
+libs="$here/lib"
 for d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib; do
-  [[ -d $d ]] && LD_LIBRARY_PATH="$LD_LIBRARY_PATH:$d"
+  [[ -d $d ]] && libs="$libs:$d"
 done
 vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 [[ -f $vendor && -z ${__EGL_VENDOR_LIBRARY_FILENAMES:-} ]] && export __EGL_VENDOR_LIBRARY_FILENAMES=$vendor
 baseline=()
 [[ -x $here/bin/omnishadow.baseline ]] && baseline=(--baseline-bin "$here/bin/omnishadow.baseline")
-exec python3 "$here/bench_gpu.py" --bin "$here/bin/omnishadow" "${baseline[@]}" \
+exec python3 "$here/bench_gpu.py" --bin "$here/bin/omnishadow" "${baseline[@]}" --ld-library-path "$libs" \
   --shadow-gen "$here/bin/make_shadow_bench_scene" --batch-gen "$here/bin/make_bench_scenes" \
   --scenes "$here/scenes" --reference "$here/reference" --out "$out" "$@"
 SH

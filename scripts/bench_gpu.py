@@ -49,8 +49,9 @@ class Bench:
                  __GL_SHADER_DISK_CACHE_SKIP_CLEANUP="1", MESA_SHADER_CACHE_DIR=cache)
         return e
 
-    def run(self, args, cache=None, timeout=600, binary=None):
+    def run(self, args, cache=None, binary=None):
         cache = cache or self.warm_cache
+        timeout = self.a.timeout
         t0 = time.perf_counter()
         p = subprocess.run([binary or self.a.bin] + args, capture_output=True, text=True,
                            timeout=timeout, env=self.env(cache))
@@ -188,8 +189,10 @@ class Bench:
         rows = {p: [] for p in PASSES}
         for _ in range(self.a.rounds):
             for p in PASSES:
+                # Each stage finished, so that the shadow maps' time holds their GPU work.
                 rows[p].append(self.run(["render", room, "-o", f"{self.tmp}/room-{p}.png", "--stats",
-                                         "--shadow-pass", p, "--repeat", str(self.a.repeat)]))
+                                         "--shadow-pass", p, "--repeat", str(self.a.repeat),
+                                         "--finish-each-stage", "on"]))
         geo_first = [x["shadow maps"] for x in rows["geometry"]]
         geo_steady = [x["steady shadow maps"] for x in rows["geometry"]]
         lines = ["250k triangles, 4 point lights, 1024^2 cube maps, 1280x720; `shadow maps` stage "
@@ -213,7 +216,10 @@ class Bench:
         lines = [f"{tris / 1e6:g}M triangles, 256 shadowed point lights (generator's ranges), steady frame of "
                  "`render --repeat %d` (ms, medians of %d rounds; every shadow map redrawn each "
                  "frame)." % (self.a.repeat, self.a.rounds), "",
-                 "Each stage's wait: the part of it spent in glFinish, waiting for the GPU.", "",
+                 "Each stage's wait: the part of it spent in glFinish, waiting for the GPU. Without "
+                 "`--finish-each-stage on` (the default on GPUs) the upload and the shadow maps "
+                 "end without one, so their stage is the CPU's submission and the lighting's "
+                 "wait holds what is left of the maps' GPU work.", "",
                  "| cube map | image | --shadow-pass | steady frame | shadow maps | its wait | "
                  "lighting | its wait | readback | first frame |",
                  "|---|---|---|---:|---:|---:|---:|---:|---:|---:|"]
@@ -224,14 +230,19 @@ class Bench:
             for w, h in ((1280, 720), (1920, 1080))[:2 if i == 0 else 1]:
                 # The default pass against the others, round by round.
                 rows = {p: [] for p in self.a.many_passes.split(",")}
+                # The default pass with each stage finished: the shadow maps' own GPU work, and
+                # what the overlap of the lighting's CPU work with it is worth.
+                rows["auto, each stage finished"] = []
                 if self.a.baseline_bin:  # the baseline binary's default pass, same rounds
                     rows["auto, baseline"] = []
                 for _ in range(self.a.rounds):
                     for p in rows:
+                        finish = ["--finish-each-stage", "on"] if "finished" in p else []
                         rows[p].append(self.run(["render", scene, "-o", f"{self.tmp}/many.png",
                                                  "--stats", "--width", str(w), "--height", str(h),
                                                  "--max-memory", f"{mem:.0f}", "--shadow-pass",
-                                                 p.split(",")[0], "--repeat", str(self.a.repeat)],
+                                                 p.split(",")[0], "--repeat", str(self.a.repeat)]
+                                                + finish,
                                                 binary=self.a.baseline_bin if "baseline" in p else None))
                 for p, runs in rows.items():
                     med = lambda k: statistics.median(x.get(k, float("nan")) for x in runs)
@@ -424,7 +435,11 @@ def main():
     ap.add_argument("--baseline-bin", help="another omnishadow, timed in the same rounds (peers' "
                     "steady frames, the many-lights frame's default pass)")
     ap.add_argument("--out", required=True)
+    ap.add_argument("--ld-library-path", help="the libraries of the binaries under test, given to "
+                    "them alone: this Python may need its own machine's versions of the same ones")
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--timeout", type=float, default=600,
+                    help="seconds one omnishadow process may take before its section is given up")
     ap.add_argument("--repeat", type=int, default=20)
     ap.add_argument("--batch-scenes", type=int, default=200)
     ap.add_argument("--many-triangles", type=int, default=1000000)
@@ -433,6 +448,9 @@ def main():
                     help="--shadow-pass values timed on the many-lights frame")
     ap.add_argument("--sections", default="info,peers,passes,verify,lights,prepass,occlusion,batch")
     a = ap.parse_args()
+    if a.ld_library_path:  # read by the loader of each child process, not by this one
+        old = os.environ.get("LD_LIBRARY_PATH")
+        os.environ["LD_LIBRARY_PATH"] = a.ld_library_path + (":" + old if old else "")
     os.makedirs(a.out, exist_ok=True)
     b = Bench(a)
     failed = False
