@@ -140,6 +140,9 @@ class Bench:
                         binary=self.a.baseline_bin))
                 if r == 0:
                     shutil.copy(out, os.path.join(self.a.out, f"{n}.gpu.png"))
+                    if self.a.baseline_bin:
+                        res[n]["same"] = (open(out, "rb").read() ==
+                                          open(f"{self.tmp}/{n}.baseline.png", "rb").read())
         lines = ["Medians of %d interleaved rounds (ms). Cold: an empty shader cache folder; "
                  "first frame = shadow maps + lighting + readback of the one frame; steady = "
                  "median frame of `render --repeat %d` (lights moved, every shadow map redrawn)."
@@ -157,14 +160,16 @@ class Bench:
                          f"{med(s, 'steady lighting'):.2f} | {med(s, 'steady readback'):.2f} |")
         if self.a.baseline_bin:
             lines += ["", f"The baseline (`{os.path.basename(self.a.baseline_bin)}`) in the same rounds, "
-                      "steady (medians, ms): this binary / the baseline:", "",
-                      "| scene | steady frame | steady shadow maps | steady lighting | steady readback |",
-                      "|---|---:|---:|---:|---:|"]
+                      "steady (medians, ms): this binary / the baseline; and whether the two "
+                      "PNGs are the same bytes:", "",
+                      "| scene | steady frame | steady shadow maps | steady lighting | steady readback "
+                      "| PNG |", "|---|---:|---:|---:|---:|---|"]
             for n in PEERS:
                 cell = lambda k: (f"{statistics.median(x.get(k, float('nan')) for x in res[n]['steady']):.2f} / "
                                   f"{statistics.median(x.get(k, float('nan')) for x in res[n]['baseline']):.2f}")
+                same = "byte-identical" if res[n].get("same") else "DIFFER"
                 lines.append(f"| {n} | {cell('steady frame')} | {cell('steady shadow maps')} | "
-                             f"{cell('steady lighting')} | {cell('steady readback')} |")
+                             f"{cell('steady lighting')} | {cell('steady readback')} | {same} |")
         stage_names = [k for k in res["test_room"]["warm"][0] if k not in ("wall", "first", "stderr")]
         lines += ["", "Every stage of the warm first frame (medians, ms):", "",
                   "| scene | " + " | ".join(stage_names) + " |",
