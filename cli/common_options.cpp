@@ -27,7 +27,7 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
           ? "One lights file for every scene (default: <scene>.lights.json, else "
             "lights.json in the scene's folder)"
           : "Lights file (JSON); default: <scene>.lights.json next to the scene, if any");
-  if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
+  if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch) {
     app.add_option("--shadow-pass", o.shadowPass,
                    "How point-light cube maps are rendered: six, geometry, instanced, batched "
                    "(one pass for the frame's point lights) or auto (default; six: the fastest "
@@ -35,21 +35,21 @@ void addSceneInputOptions(CLI::App& app, SceneInputOptions& o, SceneInputCommand
                    "1.6-2.9x faster than geometry, and 1.1-1.2x faster than batched with 256 "
                    "lights at 512^2 and 1024^2)")
         ->check(CLI::IsMember({"auto", "six", "geometry", "instanced", "batched"}));
-  if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
+    const CLI::IsMember autoOnOff({"auto", "on", "off"});
     app.add_option("--depth-prepass", o.depthPrepass,
                    "Whether the opaque surfaces write their depth before they are shaded, so "
                    "that each pixel is shaded once: on, off or auto (default; on llvmpipe drawn "
                    "unless little overdraw for its triangles is estimated on the CPU for the "
                    "scene and camera; off on GPUs). The picture is the same")
-        ->check(CLI::IsMember({"auto", "on", "off"}));
-  if (command == SceneInputCommand::Render || command == SceneInputCommand::Batch)
+        ->check(autoOnOff);
     app.add_option("--finish-each-stage", o.finishEachStage,
                    "Whether the GPU finishes the upload and the shadow maps before the lighting "
                    "is submitted, so that --stats gives each stage its own GPU work: on, off "
                    "(the lighting's CPU work runs while the GPU draws the shadow maps, and the "
                    "lighting's time holds what is left of their GPU work) or auto (default; on "
                    "llvmpipe, off on GPUs). The picture is the same")
-        ->check(CLI::IsMember({"auto", "on", "off"}));
+        ->check(autoOnOff);
+  }
   if (renders)
     app.add_option("--max-memory", o.maxMemoryMiB,
                    "Memory the shadow maps of one frame may use, in MiB (default 4096)");

@@ -8,36 +8,13 @@
 
 #include "renderer/gl/software_rasterizer.h"
 #include "renderer/render/renderer.h"
-#include "tests/support/scene_objects.h"
+#include "tests/support/shadow_stage.h"
 #include "tests/support/shared_renderer.h"
 
 using namespace omnishadow;
 using test_support::lookFrom;
 
 namespace {
-
-Scene stage() {
-  Scene scene;
-  Material white;
-  white.baseColorFactor = glm::vec4(0.8f);
-  white.metallicFactor = 0.0f;
-  Material masked = white;  // drawn one by one by the shadow pass's alpha-tested path
-  masked.alphaMode = AlphaMode::Mask;
-  masked.baseColorFactor = glm::vec4(0.6f, 0.7f, 0.8f, 0.9f);
-  Material glass = white;  // tints the lights with translucent shadows (transmittance pass)
-  glass.alphaMode = AlphaMode::Blend;
-  glass.baseColorFactor = glm::vec4(0.2f, 0.6f, 1.0f, 0.5f);
-  glass.doubleSided = true;
-  scene.materials = {white, masked, glass};
-  test::placeMesh(scene, builder::makePlane(8.0f), glm::mat4(1.0f), 0);
-  test::placeMesh(scene, builder::makeSphere(0.5f, 24, 12),
-                  glm::translate(glm::mat4(1.0f), {0.0f, 1.0f, 0.0f}), 0);
-  test::placeMesh(scene, builder::makeBox(glm::vec3(0.4f)),
-                  glm::translate(glm::mat4(1.0f), {1.2f, 0.4f, -0.6f}), 1);
-  test::placeMesh(scene, builder::makeBox(glm::vec3(0.5f, 0.05f, 0.5f)),
-                  glm::translate(glm::mat4(1.0f), {-1.0f, 1.2f, 0.5f}), 2);
-  return scene;
-}
 
 Light shadowed(const std::string& name, LightType type, glm::vec3 position, ShadowFilter filter,
                int resolution) {
@@ -85,7 +62,7 @@ void expectSameFrames(const Frame& one, const Frame& two) {
 TEST(ParallelShadowMaps, DrawTheSameMapsAndPicturesAsOneContext) {
   // A renderer of its own: its first frame is drawn in one context whatever the settings say.
   Renderer renderer(ContextOptions{});
-  const Scene scene = stage();
+  const Scene scene = test_support::shadowStage();
   const ViewCamera camera = lookFrom(scene, {0.0f, 5.0f, 6.0f}, {0.0f, 0.5f, 0.0f}, 96, 64);
   StageTimes times;
   RenderSettings settings;
@@ -120,7 +97,7 @@ TEST(ParallelShadowMaps, DrawTheSameMapsAndPicturesAsOneContext) {
 // A frame with one map to draw, or only maps kept from the frame before, has nothing to share.
 TEST(ParallelShadowMaps, OneMapOrReusedMapsStayInOneContext) {
   Renderer& renderer = test_support::sharedRenderer();
-  const Scene scene = stage();
+  const Scene scene = test_support::shadowStage();
   const ViewCamera camera = lookFrom(scene, {0.0f, 5.0f, 6.0f}, {0.0f, 0.5f, 0.0f}, 48, 32);
   StageTimes times;
   const std::vector<Light> all = rig(0.0f);
