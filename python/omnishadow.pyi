@@ -107,6 +107,7 @@ class Renderer:
         max_memory: float = 4096.0,
         shadow_pass: str = "auto",
         depth_prepass: str = "auto",
+        finish_each_stage: str = "auto",
     ) -> Frame: ...
     def verify(
         self,

@@ -133,7 +133,8 @@ void bindRenderer(py::module_& m) {
              const py::object& camera, const py::object& width, const py::object& height,
              const py::object& aovs, const std::string& shading, float exposure, int aa,
              bool shadowMaps, bool masks, bool beauty, bool noGltfLights, double maxMemory,
-             const std::string& shadowPass, const std::string& depthPrepass) {
+             const std::string& shadowPass, const std::string& depthPrepass,
+             const std::string& finishEachStage) {
             PyRenderOptions o;
             o.camera = camera;
             o.width = width;
@@ -149,6 +150,7 @@ void bindRenderer(py::module_& m) {
             o.maxMemoryMiB = maxMemory;
             o.shadowPass = shadowPass;
             o.depthPrepass = depthPrepass;
+            o.finishEachStage = finishEachStage;
             return r.render(scene, lights, o);
           },
           py::arg("scene"), py::arg("lights") = py::none(), py::kw_only(),
@@ -157,7 +159,7 @@ void bindRenderer(py::module_& m) {
           py::arg("exposure") = 0.0f, py::arg("aa") = 1, py::arg("shadow_maps") = false,
           py::arg("masks") = false, py::arg("beauty") = true, py::arg("no_gltf_lights") = false,
           py::arg("max_memory") = 4096.0, py::arg("shadow_pass") = "auto",
-          py::arg("depth_prepass") = "auto",
+          py::arg("depth_prepass") = "auto", py::arg("finish_each_stage") = "auto",
           "Renders `scene` (from load_scene) with the glTF's lights and `lights` (a Lights, a "
           "lights file path, a dict like the file or a list of light dicts; None = the glTF's "
           "only, a headlight when there is none). camera: None, a glTF camera name or index, "
@@ -167,8 +169,10 @@ void bindRenderer(py::module_& m) {
           "--masks (no shadow maps, no lighting; Frame.beauty, to_srgb8 and save raise "
           "ValueError); with anything else the picture is drawn anyway. aa: "
           "beauty samples per pixel (1, 4, 8 or 16; "
-          "AOVs, ids, masks and depth stay exact). shadow_pass and depth_prepass: as --shadow-pass "
-          "and --depth-prepass (the same picture, another speed). The GIL is released while it "
+          "AOVs, ids, masks and depth stay exact). shadow_pass, depth_prepass and "
+          "finish_each_stage: as --shadow-pass, --depth-prepass and --finish-each-stage (the same "
+          "picture, another speed; finish_each_stage also decides which stages gpu_waits "
+          "has). The GIL is released while it "
           "renders.");
   renderer.def(
       "verify",

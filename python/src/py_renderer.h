@@ -30,6 +30,7 @@ struct PyRenderOptions {
   double maxMemoryMiB = 4096.0;
   std::string shadowPass = "auto";
   std::string depthPrepass = "auto";
+  std::string finishEachStage = "auto";  // RenderSettings::finishEachStage: auto, on or off
 };
 
 // verify()'s options, the CLI's verify options.

@@ -96,10 +96,19 @@ def test_camera_matches_the_request(renderer, demo_scene):
     assert np.isclose(k["fy"], 10 / np.tan(np.radians(30)), rtol=1e-5)
     assert (k["cx"], k["cy"]) == (20.0, 10.0)
     assert {"upload", "shadow maps", "lighting", "readback"} <= set(frame.times)
+
+
+def test_each_finished_stage_has_its_wait_for_the_gpu(renderer, demo_scene):
+    size = {"width": 40, "height": 20}
+    finished = renderer.render(demo_scene, finish_each_stage="on", **size)
     # Each GL stage's wait for the GPU is a part of that stage's time.
-    assert {"upload", "shadow maps", "lighting"} <= set(frame.gpu_waits)
-    for stage, wait in frame.gpu_waits.items():
-        assert 0.0 <= wait <= frame.times[stage]
+    assert {"upload", "shadow maps", "lighting"} <= set(finished.gpu_waits)
+    for stage, wait in finished.gpu_waits.items():
+        assert 0.0 <= wait <= finished.times[stage]
+    # Unfinished, the upload and the shadow maps are waited for in the lighting: the same picture.
+    flushed = renderer.render(demo_scene, finish_each_stage="off", **size)
+    assert set(flushed.gpu_waits) == {"lighting"}
+    np.testing.assert_array_equal(flushed.beauty, finished.beauty)
 
 
 @pytest.mark.parametrize("cli_args, render_args", [

@@ -83,6 +83,7 @@ def test_render_arguments_give_the_cli_message(binary, renderer, demo_scene, tmp
     ({"shading": "toon"}, "shading toon: expected pbr or phong"),
     ({"shadow_pass": "all"}, "shadow_pass all: expected auto, six, geometry, instanced or batched"),
     ({"depth_prepass": "yes"}, "depth_prepass yes: expected auto, on or off"),
+    ({"finish_each_stage": "later"}, "finish_each_stage later: expected auto, on or off"),
     ({"exposure": float("nan")}, "exposure nan: expected a finite number of stops"),
     ({"width": 0}, "width 0: expected a size from 1 to 16384"),
     ({"camera": {"eye": (0, 1)}}, 'camera["eye"]: expected 3 finite numbers'),
