@@ -9,8 +9,9 @@
 # --bundle DIR  build here and pack into DIR what a machine that cannot build needs: the
 #               binaries, the shared libraries they load beyond glibc, the scenes with the
 #               peers' lights, llvmpipe's images of them, and DIR/run.sh. There:
-#               `DIR/run.sh OUT [bench_gpu.py options]` (sets LD_LIBRARY_PATH and NVIDIA's
-#               EGL vendor file when it exists).
+#               `DIR/run.sh OUT [bench_gpu.py options]` (gives the binaries the bundled
+#               libraries, and NVIDIA's EGL vendor file when it exists; stops with status 3
+#               when EGL lists no hardware device, unless ALLOW_SOFTWARE=1).
 # --baseline BIN  (with --bundle) another omnishadow, packed as bin/omnishadow.baseline and timed
 #               in the same rounds as this build's (the peers' steady frames, the many-lights
 #               frame): one lease measures a change against what came before.
@@ -109,6 +110,15 @@ for d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib; do
 done
 vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 [[ -f $vendor && -z ${__EGL_VENDOR_LIBRARY_FILENAMES:-} ]] && export __EGL_VENDOR_LIBRARY_FILENAMES=$vendor
+# A GPU's tables from llvmpipe would mislead: stop unless EGL lists a hardware device (or
+# ALLOW_SOFTWARE=1, to try the bundle on a machine without one).
+if ! LD_LIBRARY_PATH="$libs" "$here/bin/omnishadow" devices | grep -q ' hardware$' &&
+  [[ -z ${ALLOW_SOFTWARE:-} ]]; then
+  echo "run.sh: EGL lists no hardware device:" >&2
+  LD_LIBRARY_PATH="$libs" "$here/bin/omnishadow" devices >&2 || true
+  env | grep -E '^(__EGL|__GL|LD_LIBRARY_PATH|CUDA_VISIBLE)' >&2 || true
+  exit 3
+fi
 baseline=()
 [[ -x $here/bin/omnishadow.baseline ]] && baseline=(--baseline-bin "$here/bin/omnishadow.baseline")
 exec python3 "$here/bench_gpu.py" --bin "$here/bin/omnishadow" "${baseline[@]}" --ld-library-path "$libs" \
