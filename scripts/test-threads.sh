@@ -5,8 +5,10 @@
 # context, the batch's loaders and encoders, texture decoding, mipmaps on two threads and on the
 # upload's mipmap queue, the texture digests, the memory warm-up's toucher, the reference ray
 # caster, the light clusters and the lights' shadow draws worked out on several threads, the float
-# beauty encoded in bands beside its readback, and decoded pictures shared between loads. Fails when a test fails or when any process, the CLI started by a test included, wrote
-# a report. Extra arguments go to every test binary (--gtest_filter=...).
+# beauty encoded in bands beside its readback, decoded pictures shared between loads, and the
+# worker's maps in frames without a glFinish after the upload. Fails when a test fails or when
+# any process, the CLI started by a test included, wrote a report. Extra arguments go to every
+# test binary (--gtest_filter=...).
 #
 # Not part of .ci/run (it would take CI past its time limit); run it after changing anything
 # that threads share.
@@ -22,7 +24,7 @@ tests=(parallel_shadow_maps_test concurrent_renderers_test steady_frames_test ro
   gltf_loader_test jpeg_texture_test png_texture_test image_mipmaps_test mipmap_queue_test
   memory_warmup_test texture_cache_test scene_fingerprint_test view_math_test in_parts_test
   srgb8_band_encoding_test srgb8_beauty_test decoded_image_cache_test pixel_bytes_test
-  shared_scene_loads_test)
+  shared_scene_loads_test stage_finish_test)
 
 reports="$build/tsan-reports"
 mkdir -p "$build"
