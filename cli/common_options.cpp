@@ -91,7 +91,7 @@ void applySceneSettings(const SceneInputOptions& o, RenderJob& job) {
   job.maxMemoryMiB = o.maxMemoryMiB;
   job.shadowPass = parseShadowPassStrategy(o.shadowPass);
   job.depthPrepass = parseDepthPrepass(o.depthPrepass);
-  if (o.finishEachStage != "auto") job.finishEachStage = o.finishEachStage == "on";
+  job.finishEachStage = parseFinishEachStage(o.finishEachStage);
   job.sceneIndex = o.sceneIndex;
   job.materialVariant = o.materialVariant;
   job.time = o.time;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,4 +80,14 @@ TEST(StageFinish, FramesWithoutAFinishAfterTheShadowMapsAreTheFramesWithOne) {
     EXPECT_FALSE(waited(flushedTimes, "upload"));
     EXPECT_TRUE(waited(flushedTimes, "lighting"));  // where the maps' GPU work is waited for
   }
+}
+
+TEST(StageFinish, SpelledAutoOnOrOff) {
+  EXPECT_EQ(parseFinishEachStage("on"), std::optional<bool>(true));
+  EXPECT_EQ(parseFinishEachStage("off"), std::optional<bool>(false));
+  EXPECT_EQ(parseFinishEachStage("auto"), std::nullopt);
+  for (const char* name : {"auto", "on", "off"}) EXPECT_TRUE(isFinishEachStageName(name));
+  EXPECT_FALSE(isFinishEachStageName("yes"));
+  EXPECT_FALSE(isFinishEachStageName("On"));
+  EXPECT_FALSE(isFinishEachStageName(""));
 }

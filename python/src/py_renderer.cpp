@@ -52,9 +52,9 @@ RenderSettings renderSettings(const PyRenderOptions& o) {
   if (!isDepthPrepassName(o.depthPrepass))
     throw InputError("depth_prepass " + o.depthPrepass + ": expected auto, on or off");
   settings.depthPrepass = parseDepthPrepass(o.depthPrepass);
-  if (o.finishEachStage != "auto" && o.finishEachStage != "on" && o.finishEachStage != "off")
+  if (!isFinishEachStageName(o.finishEachStage))
     throw InputError("finish_each_stage " + o.finishEachStage + ": expected auto, on or off");
-  if (o.finishEachStage != "auto") settings.finishEachStage = o.finishEachStage == "on";
+  settings.finishEachStage = parseFinishEachStage(o.finishEachStage);
   settings.antialiasing = o.antialiasing;  // checked by planFrame, with the CLI's message
   return settings;
 }

@@ -1175,7 +1175,8 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
   prepared.beautyOutputs = beautyOutputs;
   frame.warnings.insert(frame.warnings.end(), prepared.gpu.warnings().begin(),
                         prepared.gpu.warnings().end());
-  endStage(times, "upload", settings.finishEachStage.value_or(softwareRasterizer_));
+  const bool finishEachStage = settings.finishEachStage.value_or(softwareRasterizer_);
+  endStage(times, "upload", finishEachStage);
   upload.stop();
   if (!lit) {
     // Masks alone: the id pass reads no light and no shadow map. The shadow cache stays as the
@@ -1196,7 +1197,7 @@ Frame Renderer::Impl::render(const Scene& scene, const std::vector<Light>& reque
   ScopedStage shadowStage(times, "shadow maps");
   renderShadows(prepared, std::move(plan.shadows), scene, lights, settings,
                 shadowFingerprint(scene, meshes, &digests.casterImages), &frame);
-  endStage(times, "shadow maps", settings.finishEachStage.value_or(softwareRasterizer_));
+  endStage(times, "shadow maps", finishEachStage);
   shadowStage.stop();
 
   if (settings.readShadowMaps) frame.shadowMaps = readShadowMaps(prepared, times);

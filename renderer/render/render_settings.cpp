@@ -51,6 +51,16 @@ bool isDepthPrepassName(const std::string& name) {
   return name == "auto" || parseDepthPrepass(name) != DepthPrepass::Auto;
 }
 
+std::optional<bool> parseFinishEachStage(const std::string& name) {
+  if (name == "on") return true;
+  if (name == "off") return false;
+  return std::nullopt;
+}
+
+bool isFinishEachStageName(const std::string& name) {
+  return name == "auto" || parseFinishEachStage(name).has_value();
+}
+
 void requestObjectIds(RenderSettings& settings) {
   (settings.aovs ? settings.layers.objectId : settings.objectIds) = true;
 }

@@ -68,6 +68,11 @@ const char* toString(DepthPrepass prepass);
 DepthPrepass parseDepthPrepass(const std::string& name);
 bool isDepthPrepassName(const std::string& name);
 
+// RenderSettings::finishEachStage from its spelling (--finish-each-stage): "on" true, "off"
+// false, anything else unset (auto; callers check the spelling with isFinishEachStageName()).
+std::optional<bool> parseFinishEachStage(const std::string& name);
+bool isFinishEachStageName(const std::string& name);
+
 // Optional AOV layers (--aov-layers), appended to Frame::aovs after the fixed channels.
 struct AovLayers {
   bool albedo = false;      // albedo.R/G/B
