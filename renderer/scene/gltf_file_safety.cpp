@@ -258,7 +258,8 @@ bool isExtensionImageFormat(const unsigned char* b, std::size_t size) {
 // are skipped here and decoded by convertImages() after the bounds check; images from URIs
 // (bytes tinygltf read itself) are decoded as usual.
 bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
-                    int width, int height, const unsigned char* bytes, int size, void*) {
+                    int width, int height, const unsigned char* bytes, int size, void* dataUris) {
+  const bool taken = dataUris && static_cast<const DataUris*>(dataUris)->restoreImage(*image);
   if (image->bufferView >= 0) return true;
   const auto length = static_cast<std::size_t>(std::max(size, 0));
   // Left undecoded for the loader, which draws the texture's fallback source instead or names
@@ -276,10 +277,11 @@ bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::
     if (error) *error += "images[" + std::to_string(index) + "]: " + why + "\n";
     return false;
   }
-  // An image in a file of its own is decoded by the loader with the scene's other images, several
-  // at a time (convertImages); here they would be decoded one after the other as tinygltf parses.
-  // as_is marks the bytes as the file's, not yet decoded.
-  if (!image->uri.empty() && !tinygltf::IsDataURI(image->uri) && width <= 0 && height <= 0) {
+  // An image in a file of its own, or in a data: URI the reader took, is decoded by the loader
+  // with the scene's other images, several at a time (convertImages); here they would be decoded
+  // one after the other as tinygltf parses. as_is marks the bytes as not yet decoded.
+  if ((taken || (!image->uri.empty() && !tinygltf::IsDataURI(image->uri))) && width <= 0 &&
+      height <= 0) {
     image->image.assign(bytes, bytes + length);
     image->as_is = true;
     return true;
@@ -361,6 +363,7 @@ constexpr std::uint64_t kMaxExternalFileBytes = std::uint64_t{2} << 30;
 // and the read itself go through the policy, before the file is looked at.
 bool existsWithinFolder(const std::string& filepath, void* user) {
   auto* policy = static_cast<UriPolicy*>(user);
+  if (policy->dataUris && policy->dataUris->find(filepath)) return true;
   if (!permitted(*policy, filepath)) return false;
   // Anything that exists counts, so that reading it says why a FIFO or a folder is refused.
   std::error_code ec;
@@ -370,6 +373,16 @@ bool existsWithinFolder(const std::string& filepath, void* user) {
 bool readWithinFolder(std::vector<unsigned char>* out, std::string* error,
                       const std::string& filepath, void* user) {
   auto* policy = static_cast<UriPolicy*>(user);
+  if (DataUris::Payload* payload = policy->dataUris ? policy->dataUris->find(filepath) : nullptr) {
+    // Each placeholder is in the JSON once, so tinygltf reads it once: the bytes move.
+    if (payload->served) {
+      if (error) *error = "a data: URI read twice";
+      return false;
+    }
+    *out = std::move(payload->bytes);
+    payload->served = true;
+    return true;
+  }
   if (!permitted(*policy, filepath)) {
     if (error) *error = policy->violation;
     return false;

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "renderer/scene/gltf_data_uris.h"
+
 namespace omnishadow::gltf_detail {
 
 // glTF images are PNG or JPEG (WebP and AVIF through their extensions), and only those reach a
@@ -37,9 +39,10 @@ bool decodeImage(tinygltf::Image* image, int index, std::string* error, std::str
                  const unsigned char* bytes, int size);
 
 // tinygltf's image loader (TinyGLTF::SetImageLoader): checks images read from URIs as above and
-// decodes those in data: URIs; it leaves those in bufferViews to the loader, which checks their
-// bounds first, and keeps the bytes of those in files of their own (Image::as_is) for the
-// loader to decode with the other images.
+// decodes those in the data: URIs tinygltf decoded; it leaves those in bufferViews to the
+// loader, which checks their bounds first, and keeps the bytes of those in files of their own
+// and of those in the data: URIs the reader took (Image::as_is) for the loader to decode with
+// the other images. Its user data is the reader's DataUris (or nullptr), which tells the latter.
 bool decodeUriImage(tinygltf::Image* image, int index, std::string* error, std::string* warning,
                     int width, int height, const unsigned char* bytes, int size, void*);
 
@@ -50,6 +53,9 @@ struct UriPolicy {
   std::filesystem::path folder;  // canonical
   bool allowExternal = false;
   std::string violation;  // the first refused path, for the error message
+  // The data: URIs the reader took out of the JSON: their placeholder names are served from
+  // memory, before any lookup (gltf_data_uris.h).
+  DataUris* dataUris = nullptr;
 };
 
 // tinygltf's file callbacks (FsCallbacks::FileExists and ReadWholeFile), with a UriPolicy as

@@ -11,6 +11,7 @@
 #include "renderer/core/errors.h"
 #include "renderer/scene/gltf_compressed_json.h"
 #include "renderer/scene/gltf_context.h"
+#include "renderer/scene/json_strings.h"
 
 namespace omnishadow::gltf_detail {
 
@@ -323,13 +324,6 @@ class Reviewer {
   bool changed_ = false;
 };
 
-// Plain bytes of a string that can stand for a cut one: no quote, escape, control or non-ASCII
-// byte, so that any run of them is valid JSON string content.
-bool plainStringByte(char c) {
-  const auto byte = static_cast<unsigned char>(c);
-  return byte >= 0x20 && byte < 0x80 && c != '"' && c != '\\';
-}
-
 // `json` with every string longer than kLongString bytes cut to its plain first and last
 // (at most kKept) bytes. The review reads no long string but to spot WebP (a data: URI's
 // start, a file name's end): parsed whole, a 40 MB data URI cost nlohmann as much as tinygltf's
@@ -339,30 +333,17 @@ std::string withoutLongStrings(std::string_view json) {
   std::string out;
   out.reserve(std::min<std::size_t>(json.size(), 1 << 20));
   std::size_t copied = 0;
-  for (std::size_t i = json.find('"'); i != std::string_view::npos; i = json.find('"', i + 1)) {
-    // i opens a string: find the quote that closes it.
-    // A quote after an odd number of backslashes is escaped (found with memchr: the strings
-    // are most of a data URI file).
-    std::size_t end = json.find('"', i + 1);
-    while (end != std::string_view::npos) {
-      std::size_t backslashes = 0;
-      while (json[end - 1 - backslashes] == '\\') ++backslashes;
-      if (backslashes % 2 == 0) break;
-      end = json.find('"', end + 1);
-    }
-    if (end == std::string_view::npos) break;
-    const std::size_t length = end - i - 1;
-    if (length > kLongString) {
-      const std::string_view content = json.substr(i + 1, length);
-      std::size_t head = 0, tail = 0;
-      while (head < kKept && plainStringByte(content[head])) ++head;
-      while (tail < kKept && plainStringByte(content[length - 1 - tail])) ++tail;
-      out.append(json, copied, i + 1 - copied);
-      out.append(content.substr(0, head)).append(content.substr(length - tail));
-      copied = end;
-    }
-    i = end;
-  }
+  forEachJsonString(json, [&](std::size_t open, std::size_t close) {
+    const std::size_t length = close - open - 1;
+    if (length <= kLongString) return;
+    const std::string_view content = json.substr(open + 1, length);
+    std::size_t head = 0, tail = 0;
+    while (head < kKept && plainStringByte(content[head])) ++head;
+    while (tail < kKept && plainStringByte(content[length - 1 - tail])) ++tail;
+    out.append(json, copied, open + 1 - copied);
+    out.append(content.substr(0, head)).append(content.substr(length - tail));
+    copied = close;
+  });
   out.append(json.substr(copied));
   return out;
 }

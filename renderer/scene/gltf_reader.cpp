@@ -15,6 +15,7 @@
 #include "renderer/core/input_file.h"
 #include "renderer/core/json_depth.h"
 #include "renderer/scene/gltf_context.h"
+#include "renderer/scene/gltf_data_uris.h"
 #include "renderer/scene/gltf_extension_policy.h"
 #include "renderer/scene/gltf_file_safety.h"
 #include "renderer/scene/gltf_json_checks.h"
@@ -99,6 +100,21 @@ std::string locateParseError(const tinygltf::Model& model, const std::string& me
     return at("buffers", model.buffers.size()) + ": uri \"" + message.substr(kNotFound.size()) +
            "\": no such file";
   }
+  // tinygltf's words for an image's data: URI; "Failed to decode 'uri'" alone is a buffer's.
+  if (message.starts_with("Failed to decode 'uri' for image[")) {
+    return at("images", model.images.size()) + ": " + message;
+  }
+  // A buffer's names its whole data: URI, megabytes of base64 in a one-line message.
+  static constexpr std::string_view kUndecodedBuffer = "Failed to decode 'uri' : ";
+  static constexpr std::string_view kInBuffer = " in Buffer";
+  if (message.starts_with(kUndecodedBuffer) && message.ends_with(kInBuffer)) {
+    constexpr std::size_t kShown = 60;
+    std::string uri = message.substr(kUndecodedBuffer.size(),
+                                     message.size() - kUndecodedBuffer.size() - kInBuffer.size());
+    if (uri.size() > kShown) uri = uri.substr(0, kShown) + "...";
+    return at("buffers", model.buffers.size()) + ": " + std::string(kUndecodedBuffer) + uri +
+           std::string(kInBuffer);
+  }
   static constexpr std::string_view kBufferErrors[] = {"File read error",
                                                        "File is empty",
                                                        "File size mismatch",
@@ -156,6 +172,17 @@ std::optional<std::string> rewriteForCompression(const std::string& bytes, bool 
   return glbWithJson(bytes, *std::move(json));
 }
 
+// `file` (a .gltf's text or a .glb, its layout checked) with its data: URIs taken into
+// `dataUris`, or nullopt where none was taken.
+std::optional<std::string> takeDataUris(const std::string& file, bool binary, DataUris& dataUris) {
+  if (!binary) return dataUris.take(file);
+  const auto* header = reinterpret_cast<const unsigned char*>(file.data());
+  std::optional<std::string> json =
+      dataUris.take(std::string_view(file).substr(20, le32(header + 12)));
+  if (!json) return std::nullopt;
+  return glbWithJson(file, *std::move(json));
+}
+
 bool hasGlbExtension(const std::filesystem::path& path) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
@@ -202,14 +229,21 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
   if (!review.rewritten.empty()) {
     rewritten = binary ? glbWithJson(data, review.rewritten) : review.rewritten;
   }
+  // The data: URIs decoded here, not by tinygltf (gltf_data_uris.h).
+  DataUris dataUris;
+  if (std::optional<std::string> taken =
+          takeDataUris(rewritten.empty() ? data : rewritten, binary, dataUris)) {
+    rewritten = *std::move(taken);
+  }
   const std::string& parsed = rewritten.empty() ? data : rewritten;
   *isBinary = binary;
 
   tinygltf::TinyGLTF reader;
-  reader.SetImageLoader(decodeUriImage, nullptr);
+  reader.SetImageLoader(decodeUriImage, &dataUris);
   UriPolicy policy{std::filesystem::weakly_canonical(std::filesystem::absolute(path)).parent_path(),
                    allowExternalUris,
-                   {}};
+                   {},
+                   &dataUris};
   // URIs are looked up beside the scene (tinygltf also tries the working directory, which the
   // policy refuses unless --allow-external-uris is given).
   const std::string baseDir = policy.folder.string();
@@ -247,6 +281,7 @@ tinygltf::Model readModel(const std::filesystem::path& path, const std::string& 
         (lines.empty() ? "not a valid glTF file" : locateParseError(model, lines.front())));
   }
   restoreHiddenIndices(model, review.hiddenIndices);
+  dataUris.restore(model);
   // On success tinygltf's error text only holds tolerated oddities, so it is a warning too.
   // tinygltf repeats a message for every object it applies to; once each is enough.
   std::set<std::string> seen;
