@@ -18,6 +18,7 @@
 #include "renderer/scene/gltf_compressed_json.h"
 #include "renderer/scene/gltf_file_safety.h"
 #include "renderer/scene/gltf_reader.h"
+#include "tests/support/base64.h"
 #include "tests/support/input_error.h"
 #include "tests/support/temp_folder.h"
 
@@ -31,24 +32,13 @@ namespace {
 
 using gltf_detail::DataUris;
 using gltf_detail::decodeBase64AsTinygltf;
+using test_support::base64;
 using json = nlohmann::json;
 using Bytes = std::vector<unsigned char>;
 namespace fs = std::filesystem;
 
 constexpr char kLetters[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 constexpr char kOctetStream[] = "data:application/octet-stream;base64,";
-
-std::string base64(const Bytes& bytes) {
-  std::string out;
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
-    std::uint32_t bits = std::uint32_t{bytes[i]} << 16;
-    if (n > 1) bits |= std::uint32_t{bytes[i + 1]} << 8;
-    if (n > 2) bits |= bytes[i + 2];
-    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kLetters[(bits >> (18 - 6 * k)) & 63] : '=';
-  }
-  return out;
-}
 
 Bytes tinygltfDecoding(const std::string& text) {
   const std::string decoded = tinygltf::base64_decode(text);

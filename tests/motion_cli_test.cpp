@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "renderer/output/image_writer.h"
+#include "tests/support/base64.h"
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
@@ -19,6 +20,7 @@ namespace omnishadow {
 namespace {
 
 namespace fs = std::filesystem;
+using test_support::base64;
 using test_support::filesIn;
 using test_support::runOmnishadow;
 using test_support::RunOptions;
@@ -73,21 +75,6 @@ class MotionCli : public ::testing::Test {
         << R"({"lights": [{"name": "lamp", "position": [0, 1, 3], "intensity": 20,
                 "shadow": {"resolution": 1024}}]})";
     return folder_ / "skin_wall.gltf";
-  }
-
-  static std::string base64(const std::string& bytes) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (std::size_t i = 0; i < bytes.size(); i += 3) {
-      unsigned n = static_cast<unsigned char>(bytes[i]) << 16;
-      if (i + 1 < bytes.size()) n |= static_cast<unsigned char>(bytes[i + 1]) << 8;
-      if (i + 2 < bytes.size()) n |= static_cast<unsigned char>(bytes[i + 2]);
-      out += table[(n >> 18) & 63];
-      out += table[(n >> 12) & 63];
-      out += i + 1 < bytes.size() ? table[(n >> 6) & 63] : '=';
-      out += i + 2 < bytes.size() ? table[n & 63] : '=';
-    }
-    return out;
   }
 
   // Shadowed wall pixels (visibility below 0.5 where P.z is the wall's -1) left and right of

@@ -7,27 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include "scenes/builder/gltf_builder.h"
+#include "tests/support/base64.h"
 
 namespace omnishadow::test_support {
-
-namespace {
-
-std::string base64(const std::vector<unsigned char>& bytes) {
-  static constexpr char kDigits[] =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::size_t left = std::min<std::size_t>(3, bytes.size() - i);
-    std::uint32_t group = std::uint32_t{bytes[i]} << 16;
-    if (left > 1) group |= std::uint32_t{bytes[i + 1]} << 8;
-    if (left > 2) group |= bytes[i + 2];
-    for (std::size_t k = 0; k < 4; ++k)
-      out += k <= left ? kDigits[(group >> (18 - 6 * k)) & 63] : '=';
-  }
-  return out;
-}
-
-}  // namespace
 
 std::filesystem::path writeTexturedTriangle(const std::filesystem::path& folder,
                                             const std::vector<SceneImage>& images,
