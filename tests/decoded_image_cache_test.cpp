@@ -95,12 +95,12 @@ TEST(DecodedImageCache, BytesBeingDecodedAreWaitedFor) {
   }
 }
 
-// Two files holding the same PNG bytes: the second load through the cache takes the first
-// scene's pixels, the same picture a load without the cache decodes.
+// Files holding the same PNG bytes (in a bufferView, a file, a data: URI): a later load through
+// the cache takes the first scene's pixels, the same picture a load without the cache decodes.
 TEST(DecodedImageCache, LoadsOfFilesWithTheSameImageBytesShareThePicture) {
   test_support::TempFolder folder("decoded-image-cache");
-  const std::vector<std::uint8_t> rgba = test_support::cornersPictureRgba(64, 32);
-  const std::string png = encodePng(64, 32, 4, rgba);
+  const std::vector<std::uint8_t> rgba = test_support::cornersPictureRgba(128, 64);
+  const std::string png = encodePng(128, 64, 4, rgba);
   const test_support::SceneImage image{std::vector<unsigned char>(png.begin(), png.end()), "tex",
                                        "image/png", "tex.png", ""};
   const auto a = test_support::writeTexturedTriangle(folder.path(), {image},
@@ -113,13 +113,23 @@ TEST(DecodedImageCache, LoadsOfFilesWithTheSameImageBytesShareThePicture) {
   const Scene first = loadGltf(a, options);
   const Scene second = loadGltf(b, options);
   const Scene alone = loadGltf(b);
+  // A data: URI of 1 KiB and more is decoded by the reader and its picture by the loader's
+  // threads, as a file's (gltf_data_uris.h).
+  ASSERT_GE(png.size() * 4 / 3, 1024u);
+  const Scene third =
+      loadGltf(test_support::writeTexturedTriangle(folder.path(), {image},
+                                                   test_support::ImageStorage::DataUri, "c"),
+               options);
+  ASSERT_EQ(third.images.size(), 1u);
+  EXPECT_TRUE(third.images[0].rgba.sharesWith(first.images[0].rgba));
+  EXPECT_EQ(third.warnings, alone.warnings);
   ASSERT_EQ(first.images.size(), 1u);
   ASSERT_EQ(second.images.size(), 1u);
   EXPECT_TRUE(second.images[0].rgba.sharesWith(first.images[0].rgba));
   EXPECT_EQ(second.images[0].rgba, alone.images[0].rgba);
   EXPECT_EQ(second.images[0].rgba, rgba);
-  EXPECT_EQ(second.images[0].width, 64);
-  EXPECT_EQ(second.images[0].height, 32);
+  EXPECT_EQ(second.images[0].width, 128);
+  EXPECT_EQ(second.images[0].height, 64);
   EXPECT_EQ(second.images[0].format, alone.images[0].format);
   EXPECT_EQ(second.warnings, alone.warnings);
   EXPECT_FALSE(alone.images[0].rgba.sharesWith(first.images[0].rgba));
