@@ -165,6 +165,29 @@ TEST(DataUris, LeavesFilesItCannotReadWhole) {
   EXPECT_FALSE(uris.take(R"({"buffers": [{"byteLength": 3, "uri": "a.bin"}]})").has_value());
 }
 
+// tinygltf finds and reads a taken URI through the file callbacks, once.
+TEST(DataUris, AreServedOnceByTheFileCallbacks) {
+  test_support::TempFolder folder("omnishadow-data-uris");
+  const json doc = {
+      {"buffers", {{{"byteLength", 1200}, {"uri", kOctetStream + base64(long1200())}}}}};
+  DataUris uris;
+  const std::optional<std::string> taken = uris.take(doc.dump());
+  ASSERT_TRUE(taken.has_value());
+  const std::string name = json::parse(*taken)["buffers"][0]["uri"].get<std::string>();
+  gltf_detail::UriPolicy policy{folder.path(), false, {}, &uris};
+  const std::string path = (folder / name).string();
+  EXPECT_TRUE(gltf_detail::existsWithinFolder(path, &policy));
+  EXPECT_FALSE(
+      gltf_detail::existsWithinFolder((folder / "omnishadow-data-uri-7").string(), &policy));
+  std::vector<unsigned char> bytes;
+  std::string error;
+  ASSERT_TRUE(gltf_detail::readWithinFolder(&bytes, &error, path, &policy));
+  EXPECT_EQ(bytes, long1200());
+  EXPECT_FALSE(gltf_detail::readWithinFolder(&bytes, &error, path, &policy));
+  EXPECT_EQ(error, "a data: URI read twice");
+  EXPECT_TRUE(policy.violation.empty());
+}
+
 // What readModel() makes of a file against what tinygltf makes of it by itself.
 class DataUriModelTest : public ::testing::Test {
  protected:
