@@ -154,10 +154,17 @@ TEST(DataUris, LeavesFilesItCannotReadWhole) {
   EXPECT_FALSE(uris.take(good + " x").has_value());
   EXPECT_FALSE(uris.take("{,," + good.substr(1)).has_value());
   EXPECT_FALSE(uris.take(good.substr(0, good.size() - 1)).has_value());
-  // A URI with a raw control character is no JSON string.
+  // A URI with a raw control character is no JSON string; with it beside a URI that could be
+  // taken, tinygltf's message would name a position in the shorter JSON.
   std::string control = good;
   control.insert(control.find("base64,") + 7 + 1000, "\x01");
   EXPECT_FALSE(uris.take(control).has_value());
+  const std::string beside =
+      json{{"buffers", {buffers[0], {{"byteLength", 1200}, {"uri", "@"}}}}}.dump();
+  const std::string bad = kOctetStream + std::string(1200, 'A') + "\x01";
+  EXPECT_TRUE(uris.take(beside).has_value());
+  EXPECT_FALSE(
+      uris.take(std::string(beside).replace(beside.find("\"@\""), 3, '"' + bad + '"')).has_value());
   // Text that could be taken for a placeholder anywhere in the file: nothing is taken, so that
   // a file of that name is read as the file it is.
   EXPECT_FALSE(uris.take(json{{"buffers", buffers}, {"extras", "omnishadow-data-uri-0"}}.dump())

@@ -190,6 +190,17 @@ std::optional<std::string> DataUris::take(std::string_view json) {
     payload.bytes = std::move(bytes);
     payloads_.push_back(std::move(payload));
   }
+  // A candidate left in place that is not a valid JSON string (a control character, a bad
+  // escape) breaks the JSON; tinygltf's message then gives a position, which the shorter JSON
+  // would move. Only strings with other than plain bytes are parsed to know.
+  for (const Candidate& candidate : candidates) {
+    if (candidate.use != Candidate::Use::None) continue;
+    const std::string_view string =
+        json.substr(candidate.open, candidate.close - candidate.open + 1);
+    if (!std::all_of(string.begin() + 1, string.end() - 1, plainStringByte) &&
+        !Json::accept(string))
+      payloads_.clear();
+  }
   if (payloads_.empty()) return std::nullopt;
   return replaced([&](std::size_t i) { return candidates[i].use != Candidate::Use::None; });
 }
