@@ -95,11 +95,11 @@ bool markPointerTargets(Json& gltf) {
 
 }  // namespace
 
-std::optional<std::string> rewriteCompressedJson(const std::string& json, bool binary,
+std::optional<std::string> rewriteCompressedJson(std::string_view json, bool binary,
                                                  CompressionFixups& fixups) {
-  if (json.find("KHR_draco_mesh_compression") == std::string::npos &&
-      json.find("_meshopt_compression") == std::string::npos &&
-      json.find("KHR_animation_pointer") == std::string::npos) {
+  if (json.find("KHR_draco_mesh_compression") == std::string_view::npos &&
+      json.find("_meshopt_compression") == std::string_view::npos &&
+      json.find("KHR_animation_pointer") == std::string_view::npos) {
     return std::nullopt;
   }
   Json gltf = Json::parse(json, nullptr, /*allow_exceptions=*/false);

@@ -8,6 +8,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <utility>
 
 namespace omnishadow::gltf_detail {
@@ -33,7 +34,7 @@ bool usesMeshopt(const nlohmann::json& object);
 // rewriting (it uses none of those extensions, or is not JSON that nlohmann parses: then tinygltf's
 // own message is the one to give). `binary`: the JSON is a .glb's, whose buffer 0 is its BIN
 // chunk.
-std::optional<std::string> rewriteCompressedJson(const std::string& json, bool binary,
+std::optional<std::string> rewriteCompressedJson(std::string_view json, bool binary,
                                                  CompressionFixups& fixups);
 
 }  // namespace omnishadow::gltf_detail

@@ -79,15 +79,13 @@ std::string placeholderName(std::size_t index) {
   return std::string(kDataUriPlaceholder) + std::to_string(index);
 }
 
-// The index whose placeholderName() `uri` is, or -1.
-long placeholderIndex(const Json& uri) {
-  if (!uri.is_string()) return -1;
-  const std::string& text = uri.get_ref<const std::string&>();
-  if (!text.starts_with(kDataUriPlaceholder)) return -1;
-  long index = -1;
-  const char* first = text.data() + kDataUriPlaceholder.size();
-  std::from_chars(first, text.data() + text.size(), index);
-  return index >= 0 && text == placeholderName(static_cast<std::size_t>(index)) ? index : -1;
+// The number whose placeholderName() `name` is, or nullopt.
+std::optional<std::size_t> placeholderNumber(std::string_view name) {
+  if (!name.starts_with(kDataUriPlaceholder)) return std::nullopt;
+  std::size_t number = 0;
+  std::from_chars(name.data() + kDataUriPlaceholder.size(), name.data() + name.size(), number);
+  if (name != placeholderName(number)) return std::nullopt;
+  return number;
 }
 
 }  // namespace
@@ -148,10 +146,10 @@ std::optional<std::string> DataUris::take(std::string_view json) {
     for (const Json& object : *array) {
       if (!object.is_object()) continue;
       const auto uri = object.find("uri");
-      if (uri == object.end()) continue;
-      const long index = placeholderIndex(*uri);
-      if (index >= 0 && static_cast<std::size_t>(index) < candidates.size())
-        visit(object, candidates[static_cast<std::size_t>(index)]);
+      if (uri == object.end() || !uri->is_string()) continue;
+      const std::optional<std::size_t> index =
+          placeholderNumber(uri->get_ref<const std::string&>());
+      if (index && *index < candidates.size()) visit(object, candidates[*index]);
     }
   };
   each("buffers", [](const Json& buffer, Candidate& candidate) {
@@ -208,15 +206,12 @@ std::optional<std::string> DataUris::take(std::string_view json) {
 std::size_t DataUris::indexNamed(std::string_view name) const {
   // Payloads are in the order of their numbers: found by a binary search, since tinygltf looks
   // up every one of a file's buffers and images.
-  if (!name.starts_with(kDataUriPlaceholder)) return payloads_.size();
-  std::size_t number = 0;
-  const char* last = name.data() + name.size();
-  if (std::from_chars(name.data() + kDataUriPlaceholder.size(), last, number).ptr != last)
-    return payloads_.size();
+  const std::optional<std::size_t> number = placeholderNumber(name);
+  if (!number) return payloads_.size();
   const auto found =
-      std::lower_bound(payloads_.begin(), payloads_.end(), number,
+      std::lower_bound(payloads_.begin(), payloads_.end(), *number,
                        [](const Payload& payload, std::size_t n) { return payload.number < n; });
-  return found != payloads_.end() && found->name == name
+  return found != payloads_.end() && found->number == *number
              ? static_cast<std::size_t>(found - payloads_.begin())
              : payloads_.size();
 }

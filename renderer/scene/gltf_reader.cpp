@@ -159,28 +159,33 @@ std::string readInputFileNamed(const std::filesystem::path& path, const std::str
   return content;
 }
 
-// The file with its JSON rewritten for tinygltf (gltf_compressed_json.h), or nullopt when
-// tinygltf reads it as it is. A .glb's layout has been checked by checkGlbLayout.
-std::optional<std::string> rewriteForCompression(const std::string& bytes, bool binary,
-                                                 CompressionFixups& fixups) {
-  if (!binary) return rewriteCompressedJson(bytes, false, fixups);
-  if (bytes.size() < 20) return std::nullopt;
-  const auto* header = reinterpret_cast<const unsigned char*>(bytes.data());
-  std::optional<std::string> json =
-      rewriteCompressedJson(bytes.substr(20, le32(header + 12)), true, fixups);
-  if (!json) return std::nullopt;
-  return glbWithJson(bytes, *std::move(json));
-}
-
-// `file` (a .gltf's text or a .glb, its layout checked) with its data: URIs taken into
-// `dataUris`, or nullopt where none was taken.
-std::optional<std::string> takeDataUris(const std::string& file, bool binary, DataUris& dataUris) {
-  if (!binary) return dataUris.take(file);
+// `file` (a .gltf's text, or a .glb, its layout checked by checkGlbLayout) with its JSON
+// replaced by what `rewrite` makes of it, or nullopt where `rewrite` gives nullopt (the JSON
+// stays as it is).
+template <typename Rewrite>
+std::optional<std::string> withJsonRewritten(const std::string& file, bool binary,
+                                             const Rewrite& rewrite) {
+  if (!binary) return rewrite(std::string_view(file));
+  if (file.size() < 20) return std::nullopt;
   const auto* header = reinterpret_cast<const unsigned char*>(file.data());
-  std::optional<std::string> json =
-      dataUris.take(std::string_view(file).substr(20, le32(header + 12)));
+  std::optional<std::string> json = rewrite(std::string_view(file).substr(20, le32(header + 12)));
   if (!json) return std::nullopt;
   return glbWithJson(file, *std::move(json));
+}
+
+// The file with its JSON rewritten for tinygltf (gltf_compressed_json.h), or nullopt when
+// tinygltf reads it as it is.
+std::optional<std::string> rewriteForCompression(const std::string& bytes, bool binary,
+                                                 CompressionFixups& fixups) {
+  return withJsonRewritten(bytes, binary, [&](std::string_view json) {
+    return rewriteCompressedJson(json, binary, fixups);
+  });
+}
+
+// The file with its data: URIs taken into `dataUris`, or nullopt where none was taken.
+std::optional<std::string> takeDataUris(const std::string& file, bool binary, DataUris& dataUris) {
+  return withJsonRewritten(file, binary,
+                           [&](std::string_view json) { return dataUris.take(json); });
 }
 
 bool hasGlbExtension(const std::filesystem::path& path) {
