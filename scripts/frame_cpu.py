@@ -16,8 +16,12 @@ ratio floor / frame is what carries over to frames timed without it.
 Needs perf (Debian's linux-perf) with uprobes: root, or perf_event_paranoid <= 1 and access to
 /sys/kernel/tracing. The probes are made in the group `omni_frame_cpu` and removed at the end.
 
+With --timeline N it also draws N steady frames per scene as a timeline: one row per thread, one
+character per 0.5 ms, from blank (idle) to # (busy the whole bin), so that the stretches where a
+core idles beside a busy one show (docs/performance.md). Run it with --freq 10000 or more.
+
 Usage: scripts/frame_cpu.py [--bin FILE] [--scenes a,b] [--repeat N] [--freq HZ] [--filter F]
-                            [--size WxH] [--peers DIR]"""
+                            [--size WxH] [--peers DIR] [--timeline N]"""
 import argparse, bisect, collections, os, re, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -125,6 +129,33 @@ def measure(events, freq):
     return r
 
 
+def timeline(events, freq, count, bin_ms=0.5):
+    """Rows of characters, one per thread and bin of bin_ms, for `count` steady frames from the
+    middle of the run; `|` marks the lighting pass's start."""
+    frames = frames_of(events)
+    middle = max(0, len(frames) // 2 - count // 2)
+    shades = " .:-=+*#"
+    per_bin = freq * bin_ms / 1000.0  # samples of a thread busy through a bin
+    lines = []
+    for start, lighting, end in frames[middle:middle + count]:
+        bins = int((end - start) * 1000 / bin_ms) + 1
+        rows = collections.defaultdict(lambda: [0] * bins)
+        for comm, pid, tid, t, event in events:
+            if event.startswith("cpu-clock") and start <= t <= end:
+                who = ("calling" if tid == pid else comm if comm.startswith("llvmpipe") or
+                       comm == WORKER_THREAD else f"other {tid}")
+                rows[who][int((t - start) * 1000 / bin_ms)] += 1
+        mark = int((lighting - start) * 1000 / bin_ms)
+        lines.append(f"frame of {(end - start) * 1000:.1f} ms, lighting from "
+                     f"{(lighting - start) * 1000:.1f} ms (|):")
+        for who in sorted(rows):
+            cells = [shades[min(len(shades) - 1, round(c / per_bin * (len(shades) - 1)))]
+                     for c in rows[who]]
+            cells.insert(mark, "|")
+            lines.append(f"  {who:14} {''.join(cells)}")
+    return lines
+
+
 def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -135,6 +166,8 @@ def main():
     ap.add_argument("--freq", type=int, default=4000, help="samples per second and thread")
     ap.add_argument("--filter", default="pcf")
     ap.add_argument("--size", default="1280x720")
+    ap.add_argument("--timeline", type=int, default=0, metavar="N",
+                    help="also draw N steady frames per scene as a per-thread timeline")
     a = ap.parse_args()
     if a.repeat < 3:
         sys.exit("frame_cpu: --repeat must be at least 3 (the first two frames are left out)")
@@ -144,33 +177,42 @@ def main():
     cores = os.cpu_count() or 1
     size = tuple(map(int, a.size.split("x")))
     cmp = load_compare(a.peers)
-    rows = []
+    rows, timelines = [], []
     with tempfile.TemporaryDirectory(prefix="frame-cpu.") as tmp:
         add_probes(binary)
         try:
             for name in a.scenes.split(","):
                 scene, lights = cmp["SCENES"][name]
                 lights = cmp["with_filter"](lights, a.filter, tmp)
-                r = measure(record(binary, scene, lights, size, a.repeat, a.freq, tmp), a.freq)
+                events = record(binary, scene, lights, size, a.repeat, a.freq, tmp)
+                r = measure(events, a.freq)
                 rows.append((name, r))
+                if a.timeline:
+                    timelines += [f"{name}:"] + timeline(events, a.freq, a.timeline)
                 print(f"# {name}: {r['frames']} frames, {r['wall']:.1f} ms each under perf",
                       file=sys.stderr)
         finally:
             remove_probes()
     print(f"| scene | frame under perf ms | calling thread CPU | rasterizer threads CPU | "
-          f"second shadow context CPU | floor (CPU / {cores} cores) | floor / frame | shadow "
+          f"second shadow context CPU | other threads CPU | floor (CPU / {cores} cores) | floor / frame | shadow "
           f"stage: wall, calling, rasterizers, second context | lighting + readback: wall, "
           f"calling, rasterizers |")
-    print("|---|---:|---:|---:|---:|---:|---:|---|---|")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---|---|")
     for name, r in rows:
         floor = (r["calling"] + r["raster"] + r["worker"] + r["other"]) / cores
         print(f"| {name} | {r['wall']:.1f} | {r['calling']:.1f} | {r['raster']:.1f} | "
-              f"{r['worker']:.1f} | {floor:.1f} | {floor / r['wall']:.2f} | "
+              f"{r['worker']:.1f} | {r['other']:.1f} | {floor:.1f} | {floor / r['wall']:.2f} | "
               f"{r['shadow wall']:.1f}, {r['shadow calling']:.1f}, {r['shadow raster']:.1f}, "
               f"{r['shadow worker']:.1f} | {r['lighting wall']:.1f}, "
               f"{r['lighting calling']:.1f}, {r['lighting raster']:.1f} |")
     print(f"\n{a.filter}, {a.size}, `render --repeat {a.repeat}` (its {a.repeat + 1} frames "
-          f"less the first two), cpu-clock at {a.freq} Hz; CPU in ms per frame.")
+          f"less the first two), cpu-clock at {a.freq} Hz; CPU in ms per frame. Other threads: "
+          f"the readback's encoding thread and the memory warm-up.")
+    if timelines:
+        print("\nSteady frames, CPU per thread in 0.5 ms bins (blank: idle, #: busy throughout):")
+        print("```")
+        print("\n".join(timelines))
+        print("```")
 
 
 if __name__ == "__main__":

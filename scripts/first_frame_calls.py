@@ -1,0 +1,202 @@
+#!/usr/bin/env python3
+"""Where a process's first frame goes, call by call, and who faults its fresh pages (issue 19).
+
+Runs single `render`s of the bench scenes (compare.py's lights and settings) under perf with
+uprobes on the entry and return of the renderer's functions named below, and prints each
+function's time per render (the sum of its calls, min / median / max over the renders). A second
+set of renders counts page faults (`page-faults -c 1`) per thread and stage: before the frame,
+the shadow stage (Renderer::Impl::renderShadows), the lighting pass with its readback
+(Renderer::Impl::drawImages). A first frame that faults on its calling thread is waiting for
+the kernel to hand it fresh memory that the memory warm-up (cli/memory_warmup.h) did not reach in
+time; the warm-up's own faults in the same stage show it still racing the frame.
+
+Needs perf with uprobes (root, or perf_event_paranoid <= 1). The probes are made in the group
+`omni_first_frame` and removed at the end.
+
+Usage: scripts/first_frame_calls.py [--bin FILE] [--scenes a,b] [--renders N] [--calls A,B]
+                                    [--filter F] [--size WxH] [--peers DIR]"""
+import argparse, collections, os, re, statistics, subprocess, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_peers import load_compare  # noqa: E402
+
+GROUP = "omni_first_frame"
+CALLS = ("Renderer::Impl::renderShadows,ShadowTexturePool::take,TransmittancePass::place,"
+         "ShadowPass::render,TransmittancePass::render,TransmittancePass::attachTarget,"
+         "Renderer::Impl::drawImages,FrameTargets::FrameTargets,readSrgb8InBands")
+STAGE_CALLS = ("Renderer::Impl::renderShadows", "Renderer::Impl::drawImages")
+
+
+def function_addresses(binary, name):
+    """The addresses of the functions omnishadow::<name>(...), GCC's .cold parts left out."""
+    mangled = subprocess.run(["nm", binary], capture_output=True, text=True, check=True).stdout
+    demangled = subprocess.run(["nm", "-C", binary], capture_output=True, text=True,
+                               check=True).stdout
+    found = set()
+    for raw, readable in zip(mangled.splitlines(), demangled.splitlines()):
+        fields = raw.split()
+        if len(fields) != 3 or fields[1] not in "Tt" or "." in fields[2]:
+            continue
+        text = readable.split(" ", 2)[2] if readable.count(" ") >= 2 else ""
+        if text.startswith(f"omnishadow::{name}(") or text.startswith(
+                f"omnishadow::(anonymous namespace)::{name}("):
+            found.add(fields[0])
+    return sorted(found)
+
+
+def add_probes(binary, calls):
+    """Probes p<k>_<j> (entry and %return) for each overload j of calls[k]."""
+    names = {}
+    args = ["perf", "probe", "-q", "-x", binary]
+    for k, call in enumerate(calls):
+        addresses = function_addresses(binary, call)
+        if not addresses:
+            sys.exit(f"first_frame_calls: no function omnishadow::{call} in {binary}")
+        for j, address in enumerate(addresses):
+            event = f"p{k}_{j}"
+            names[event] = call
+            args += ["-a", f"{GROUP}:{event}=0x{address}", "-a",
+                     f"{GROUP}:{event}=0x{address}%return"]
+    p = subprocess.run(args, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit("first_frame_calls: perf probe failed (root or perf_event_paranoid <= 1 "
+                 f"needed):\n{p.stderr.strip()}")
+    return names
+
+
+def remove_probes():
+    subprocess.run(["perf", "probe", "-q", "-d", f"{GROUP}:*"], capture_output=True)
+
+
+def record(binary, scene, lights, size, tmp, extra_events=()):
+    data = os.path.join(tmp, "perf.data")
+    w, h = size
+    cmd = ["perf", "record", "-q", *extra_events, "-e", f"{GROUP}:*", "-o", data, "--", binary,
+           "render", scene, "-l", lights, "-o", os.path.join(tmp, "frame.png"), "--width",
+           str(w), "--height", str(h), "--no-gltf-lights"]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"first_frame_calls: {' '.join(cmd)} failed:\n{p.stderr.strip()}")
+    script = subprocess.run(["perf", "script", "-i", data, "-F", "comm,pid,tid,time,event"],
+                            capture_output=True, text=True, check=True).stdout
+    events = []
+    for line in script.splitlines():
+        m = re.match(r"\s*(\S+)\s+(\d+)/(\d+)\s+([\d.]+):\s+(\S+):", line)
+        if m:
+            events.append((m[1], int(m[2]), int(m[3]), float(m[4]), m[5]))
+    return events
+
+
+def call_times(events, names):
+    """Milliseconds per call name: the sum of its outermost calls on each thread."""
+    depth, since, total = collections.Counter(), {}, collections.Counter()
+    for _, _, tid, t, event in events:
+        if not event.startswith(GROUP + ":"):
+            continue
+        probe = event.split(":", 1)[1]
+        returning = probe.endswith("__return")
+        call = names[probe.removesuffix("__return")]
+        key = (tid, call)
+        if not returning:
+            if depth[key] == 0:
+                since[key] = t
+            depth[key] += 1
+        elif depth[key] > 0:
+            depth[key] -= 1
+            if depth[key] == 0:
+                total[call] += (t - since.pop(key)) * 1000
+    return total
+
+
+def stage_faults(events, names):
+    """Page faults per (stage, thread kind) of the first frame."""
+    marks = {}
+    for _, pid, tid, t, event in events:
+        if event.startswith(GROUP + ":") and tid == pid:
+            probe = event.split(":", 1)[1]
+            call = names[probe.removesuffix("__return")]
+            key = (call, probe.endswith("__return"))
+            marks.setdefault(key, t)
+    shadow = marks.get((STAGE_CALLS[0], False))
+    lighting = marks.get((STAGE_CALLS[1], False))
+    done = marks.get((STAGE_CALLS[1], True))
+    counts = collections.Counter()
+    if None in (shadow, lighting, done):
+        return counts
+    for comm, pid, tid, t, event in events:
+        if event != "page-faults":
+            continue
+        stage = ("before" if t < shadow else "shadow" if t < lighting else
+                 "lighting" if t < done else "after")
+        who = "calling" if tid == pid else "llvmpipe" if comm.startswith("llvmpipe") else "other"
+        counts[(stage, who)] += 1
+    return counts
+
+
+def main():
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--bin", default=os.path.join(root, "build", "omnishadow"))
+    ap.add_argument("--peers", default=os.path.join(root, "..", "shared", "peers"))
+    ap.add_argument("--scenes", default="box,cornell,sundial,whackamole,test_room")
+    ap.add_argument("--renders", type=int, default=7, help="single renders per scene and set")
+    ap.add_argument("--calls", default=CALLS, help="functions (omnishadow::<name>) to time")
+    ap.add_argument("--filter", default="pcf")
+    ap.add_argument("--size", default="1280x720")
+    a = ap.parse_args()
+    if not os.path.isfile(os.path.join(a.peers, "compare.py")):
+        sys.exit(f"first_frame_calls: no compare.py in {a.peers} (--peers DIR)")
+    calls = a.calls.split(",")
+    for needed in STAGE_CALLS:
+        if needed not in calls:
+            calls.append(needed)
+    binary = os.path.abspath(a.bin)
+    size = tuple(map(int, a.size.split("x")))
+    cmp = load_compare(a.peers)
+    times, faults = {}, {}
+    remove_probes()
+    names = add_probes(binary, calls)
+    try:
+        with tempfile.TemporaryDirectory(prefix="first-frame.") as tmp:
+            for scene_name in a.scenes.split(","):
+                scene, lights = cmp["SCENES"][scene_name]
+                lights = cmp["with_filter"](lights, a.filter, tmp)
+                times[scene_name] = [call_times(record(binary, scene, lights, size, tmp), names)
+                                     for _ in range(a.renders)]
+                faults[scene_name] = [
+                    stage_faults(record(binary, scene, lights, size, tmp,
+                                        ("-e", "page-faults", "-c", "1")), names)
+                    for _ in range(a.renders)]
+                print(f"# {scene_name}: {a.renders} + {a.renders} renders", file=sys.stderr)
+    finally:
+        remove_probes()
+    fmt = lambda values: (f"{min(values):.1f} / {statistics.median(values):.1f} / "  # noqa: E731
+                          f"{max(values):.1f}")
+    print(f"Calls of a first frame, ms per render (min / median / max of {a.renders}; a call "
+          "inside another counts in both):\n")
+    print("| call | " + " | ".join(times) + " |")
+    print("|---|" + "---:|" * len(times))
+    for call in calls:
+        cells = []
+        for runs in times.values():
+            values = [run.get(call, 0.0) for run in runs]
+            cells.append(fmt(values) if any(values) else "-")
+        print(f"| `{call}` | " + " | ".join(cells) + " |")
+    print(f"\nPage faults of a first frame per stage and thread (min / median / max of "
+          f"{a.renders}; 4 KiB pages, or one per huge page):\n")
+    print("| stage, thread | " + " | ".join(faults) + " |")
+    print("|---|" + "---:|" * len(faults))
+    for stage in ("before", "shadow", "lighting"):
+        for who in ("calling", "llvmpipe", "other"):
+            cells = []
+            for runs in faults.values():
+                values = [run.get((stage, who), 0) for run in runs]
+                cells.append(f"{min(values)} / {statistics.median(values):.0f} / {max(values)}")
+            print(f"| {stage}, {who} | " + " | ".join(cells) + " |")
+    print(f"\n{a.filter}, {a.size}, single `render`s; stages split at "
+          "Renderer::Impl::renderShadows and drawImages; `other` is mostly the memory warm-up's "
+          "toucher and the loader.")
+
+
+if __name__ == "__main__":
+    main()
