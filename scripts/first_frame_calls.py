@@ -38,8 +38,9 @@ def function_addresses(binary, name):
         if len(fields) != 3 or fields[1] not in "Tt" or "." in fields[2]:
             continue
         text = readable.split(" ", 2)[2] if readable.count(" ") >= 2 else ""
-        if text.startswith(f"omnishadow::{name}(") or text.startswith(
-                f"omnishadow::(anonymous namespace)::{name}("):
+        # Not the lambdas defined inside it ("name(...)::{lambda...}::operator()").
+        if (text.startswith(f"omnishadow::{name}(") or text.startswith(
+                f"omnishadow::(anonymous namespace)::{name}(")) and ")::" not in text:
             found.add(fields[0])
     return sorted(found)
 
