@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -130,6 +131,67 @@ TEST(ImageMipmaps, LevelOneOfALargeImageIsTheTwoByTwoBoxOfEveryTexelOnTwoThreads
       const int row = one.width * 4;
       EXPECT_NEAR(two.rgba[0],
                   (one.rgba[0] + one.rgba[4] + one.rgba[row] + one.rgba[row + 4]) / 4.0, 1.0);
+    }
+  }
+}
+
+// Level 2 of an image whose sides divide by 4 is made from level 1's rows while they are made,
+// without holding level 1's linear values whole: it must still be the 2x2 box of level 1's
+// unrounded values, rounded once, on one thread or two, also where level 2's sides are odd.
+TEST(ImageMipmaps, LevelTwoIsTheBoxOfLevelOnesUnroundedValuesWhenMadeRowsAtATime) {
+  for (const auto [width, height] :
+       {std::pair{1028, 516}, std::pair{64, 32}, std::pair{8, 12}, std::pair{4, 4}}) {
+    std::vector<std::uint8_t> rgba(std::size_t(width) * height * 4);
+    std::uint32_t state = static_cast<std::uint32_t>(width * 31 + height);
+    for (std::uint8_t& value : rgba) {
+      state = state * 1664525u + 1013904223u;
+      value = static_cast<std::uint8_t>(state >> 24);
+    }
+    const Image image = filled(width, height, rgba);
+    for (bool srgb : {true, false}) {
+      SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) +
+                   (srgb ? " sRGB" : " linear"));
+      const auto code = [&](float value, int c) {
+        return srgb && c < 3
+                   ? srgb8(value)
+                   : static_cast<std::uint8_t>(std::clamp(value, 0.0f, 1.0f) * 255.0f + 0.5f);
+      };
+      // Level 1's and level 2's linear values, each level whole.
+      const int w1 = width / 2, h1 = height / 2, w2 = w1 / 2, h2 = h1 / 2;
+      std::vector<float> one(std::size_t(w1) * h1 * 4), two(std::size_t(w2) * h2 * 4);
+      for (int y = 0; y < h1; ++y)
+        for (int x = 0; x < w1; ++x)
+          for (int c = 0; c < 4; ++c) {
+            const auto above = [&](int dx, int dy) {
+              const std::uint8_t v =
+                  rgba[((std::size_t(2 * y + dy) * width) + std::size_t(2 * x + dx)) * 4 + c];
+              return srgb && c < 3 ? srgbDecode(v) : static_cast<float>(v) / 255.0f;
+            };
+            one[(std::size_t(y) * w1 + x) * 4 + c] =
+                0.25f * ((above(0, 0) + above(1, 0)) + (above(0, 1) + above(1, 1)));
+          }
+      for (int y = 0; y < h2; ++y)
+        for (int x = 0; x < w2; ++x)
+          for (int c = 0; c < 4; ++c) {
+            const auto above = [&](int dx, int dy) {
+              return one[((std::size_t(2 * y + dy) * w1) + std::size_t(2 * x + dx)) * 4 + c];
+            };
+            two[(std::size_t(y) * w2 + x) * 4 + c] =
+                0.25f * ((above(0, 0) + above(1, 0)) + (above(0, 1) + above(1, 1)));
+          }
+      const std::vector<Image> chain = mipmapChain(image, srgb);
+      ASSERT_GE(chain.size(), 2u);
+      ASSERT_EQ(chain[0].width, w1);
+      ASSERT_EQ(chain[0].height, h1);
+      ASSERT_EQ(chain[1].width, w2);
+      ASSERT_EQ(chain[1].height, h2);
+      std::size_t wrongOne = 0, wrongTwo = 0;
+      for (std::size_t i = 0; i < one.size(); ++i)
+        wrongOne += chain[0].rgba[i] != code(one[i], static_cast<int>(i % 4));
+      for (std::size_t i = 0; i < two.size(); ++i)
+        wrongTwo += chain[1].rgba[i] != code(two[i], static_cast<int>(i % 4));
+      EXPECT_EQ(wrongOne, 0u);
+      EXPECT_EQ(wrongTwo, 0u);
     }
   }
 }

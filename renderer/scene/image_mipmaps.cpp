@@ -81,16 +81,15 @@ LinearLevel downsample(int width, int height, const Texel& texel) {
 }
 
 // Rows [y0, y1) of downsample() for 8-bit RGBA with even sides (the 2x2 box), decoded by the
-// tables, into `out`, which has its size already.
+// tables, to `o`: row y0's first value, then the rest in order (`width` texels a row).
 void downsampleEvenBytes(const Image& base, const std::array<float, 256>& rgbDecode,
-                         const std::array<float, 256>& alphaDecode, LinearLevel& out, int y0,
-                         int y1) {
+                         const std::array<float, 256>& alphaDecode, int width, int y0, int y1,
+                         float* o) {
   const std::size_t row = static_cast<std::size_t>(base.width) * 4;
-  float* o = out.rgba.data() + static_cast<std::size_t>(y0) * out.width * 4;
   for (int y = y0; y < y1; ++y) {
     const std::uint8_t* top = base.rgba.data() + 2 * static_cast<std::size_t>(y) * row;
     const std::uint8_t* bottom = top + row;
-    for (int x = 0; x < out.width; ++x, top += 8, bottom += 8, o += 4) {
+    for (int x = 0; x < width; ++x, top += 8, bottom += 8, o += 4) {
       for (int c = 0; c < 3; ++c)
         o[c] = 0.25f * ((rgbDecode[top[c]] + rgbDecode[top[4 + c]]) +
                         (rgbDecode[bottom[c]] + rgbDecode[bottom[4 + c]]));
@@ -100,17 +99,20 @@ void downsampleEvenBytes(const Image& base, const std::array<float, 256>& rgbDec
   }
 }
 
-// Rows [y0, y1) of `level` as 8-bit codes into `image`, which has its size already.
-void roundRows(const LinearLevel& level, bool srgb, Image& image, int y0, int y1) {
-  const std::size_t first = static_cast<std::size_t>(y0) * level.width;
-  const std::size_t texels = static_cast<std::size_t>(y1 - y0) * level.width;
-  const float* from = level.rgba.data() + first * 4;
-  std::uint8_t* to = image.rgba.data() + first * 4;
+// `texels` RGBA texels of linear values as 8-bit codes.
+void roundTexels(const float* from, std::size_t texels, bool srgb, std::uint8_t* to) {
   if (srgb) {
     rgbaToSrgb8Rgba(from, texels, to);
     return;
   }
   toLinear8(from, texels * 4, to);
+}
+
+// Rows [y0, y1) of `level` as 8-bit codes into `image`, which has its size already.
+void roundRows(const LinearLevel& level, bool srgb, Image& image, int y0, int y1) {
+  const std::size_t first = static_cast<std::size_t>(y0) * level.width;
+  roundTexels(level.rgba.data() + first * 4, static_cast<std::size_t>(y1 - y0) * level.width, srgb,
+              image.rgba.data() + first * 4);
 }
 
 Image sized(const std::string& name, int width, int height) {
@@ -133,6 +135,66 @@ Image rounded(const LinearLevel& level, bool srgb, const std::string& name) {
 // render's upload on one. The rows come out the same whichever thread makes them.
 constexpr std::size_t kTwoThreadTexels = std::size_t{512} * 512;
 
+// Level 1's rows are made this many at a time, so that their rounding (and level 2, made from
+// them) reads them from the cache.
+constexpr int kRowsAtATime = 8;
+
+// Rows [y0, y1) of the level below `above` (2x2 boxes: `above` has even sides) from `rows`, the
+// linear values of `above`'s rows [2 * y0, 2 * y1), into `out`, which has its size already. The
+// same sums in the same order as downsample(), so the same floats.
+void downsampleEvenRows(const float* rows, int aboveWidth, LinearLevel& out, int y0, int y1) {
+  const std::size_t row = static_cast<std::size_t>(aboveWidth) * 4;
+  float* o = out.rgba.data() + static_cast<std::size_t>(y0) * out.width * 4;
+  for (int y = y0; y < y1; ++y) {
+    const float* top = rows + 2 * static_cast<std::size_t>(y - y0) * row;
+    const float* bottom = top + row;
+    for (int x = 0; x < out.width; ++x, top += 8, bottom += 8)
+      for (int c = 0; c < 4; ++c)
+        *o++ = 0.25f * ((top[c] + top[4 + c]) + (bottom[c] + bottom[4 + c]));
+  }
+}
+
+// Levels 1 and 2 of 8-bit RGBA whose sides and level 1's sides are even: their codes go to
+// `chain`; level 2's linear values are returned. Level 1's linear values are held a band of rows
+// at a time, never whole. Whole, a 2048^2 image's were 16 MB of fresh memory, and once freed they
+// left a hole in the heap too small for the frame's textures, which went above it, into pages
+// the memory warm-up (cli/memory_warmup.h) reached later (docs/performance.md: Sundial's shadow
+// stage 28.7 -> 22.1 ms, DamagedHelmet's 22.9 -> 10.6).
+LinearLevel firstTwoLevelsEven(const Image& base, const std::array<float, 256>& rgbDecode,
+                               const std::array<float, 256>& alphaDecode, bool srgb,
+                               std::vector<Image>& chain) {
+  const int oneWidth = base.width / 2, oneHeight = base.height / 2;
+  LinearLevel two;
+  two.width = oneWidth / 2;
+  two.height = oneHeight / 2;
+  two.rgba.resize(static_cast<std::size_t>(two.width) * two.height * 4);
+  Image oneCodes = sized(base.name, oneWidth, oneHeight);
+  Image twoCodes = sized(base.name, two.width, two.height);
+  // In pairs of level 1's rows, one row of level 2 each, so that no pair straddles the halves.
+  const auto pairs = [&](std::size_t first, std::size_t end) {
+    std::vector<float, DefaultInitAllocator<float>> band(static_cast<std::size_t>(oneWidth) *
+                                                         kRowsAtATime * 4);
+    for (std::size_t from = first; from < end; from += kRowsAtATime / 2) {
+      const auto y0 = static_cast<int>(from);
+      const auto y1 = static_cast<int>(std::min(end, from + kRowsAtATime / 2));
+      const int rows = 2 * (y1 - y0);
+      // The band holds level 1's rows [2 * y0, 2 * y1), made and rounded as firstLevelEven()
+      // makes and rounds them.
+      downsampleEvenBytes(base, rgbDecode, alphaDecode, oneWidth, 2 * y0, 2 * y1, band.data());
+      const std::size_t firstTexel = 2 * static_cast<std::size_t>(y0) * oneWidth;
+      roundTexels(band.data(), static_cast<std::size_t>(rows) * oneWidth, srgb,
+                  oneCodes.rgba.data() + firstTexel * 4);
+      downsampleEvenRows(band.data(), oneWidth, two, y0, y1);
+      roundRows(two, srgb, twoCodes, y0, y1);
+    }
+  };
+  inTwoHalves(static_cast<std::size_t>(two.height),
+              static_cast<std::size_t>(base.width) * base.height >= kTwoThreadTexels, pairs);
+  chain.push_back(std::move(oneCodes));
+  chain.push_back(std::move(twoCodes));
+  return two;
+}
+
 // Level 1 of 8-bit RGBA with even sides: its linear values, and its codes into `codes`.
 LinearLevel firstLevelEven(const Image& base, const std::array<float, 256>& rgbDecode,
                            const std::array<float, 256>& alphaDecode, bool srgb, Image& codes) {
@@ -141,14 +203,12 @@ LinearLevel firstLevelEven(const Image& base, const std::array<float, 256>& rgbD
   level.height = base.height / 2;
   level.rgba.resize(static_cast<std::size_t>(level.width) * level.height * 4);
   codes = sized(base.name, level.width, level.height);
-  // A few rows at a time, so that the rounding reads the linear values from the cache: a
-  // 2048^2 image's level 1 is 16 MB of them.
-  constexpr std::size_t kRowsAtATime = 8;
   const auto rows = [&](std::size_t first, std::size_t end) {
     for (std::size_t from = first; from < end; from += kRowsAtATime) {
       const auto y0 = static_cast<int>(from);
       const auto y1 = static_cast<int>(std::min(end, from + kRowsAtATime));
-      downsampleEvenBytes(base, rgbDecode, alphaDecode, level, y0, y1);
+      downsampleEvenBytes(base, rgbDecode, alphaDecode, level.width, y0, y1,
+                          level.rgba.data() + static_cast<std::size_t>(y0) * level.width * 4);
       roundRows(level, srgb, codes, y0, y1);
     }
   };
@@ -169,7 +229,9 @@ std::vector<Image> mipmapChain(const Image& base, bool srgb) {
         srgb ? srgbDecode(static_cast<std::uint8_t>(v)) : decode[1][static_cast<std::size_t>(v)];
   }
   LinearLevel level;
-  if (base.width % 2 == 0 && base.height % 2 == 0) {
+  if (base.width % 4 == 0 && base.height % 4 == 0) {
+    level = firstTwoLevelsEven(base, decode[0], decode[1], srgb, chain);
+  } else if (base.width % 2 == 0 && base.height % 2 == 0) {
     Image codes;
     level = firstLevelEven(base, decode[0], decode[1], srgb, codes);
     chain.push_back(std::move(codes));
