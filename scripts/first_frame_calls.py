@@ -15,10 +15,11 @@ Needs perf with uprobes (root, or perf_event_paranoid <= 1). The probes are made
 
 Usage: scripts/first_frame_calls.py [--bin FILE] [--scenes a,b] [--renders N] [--calls A,B]
                                     [--filter F] [--size WxH] [--peers DIR]"""
-import argparse, collections, os, re, statistics, subprocess, sys, tempfile
+import argparse, collections, os, statistics, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_peers import load_compare  # noqa: E402
+import perf_events  # noqa: E402
 
 GROUP = "omni_first_frame"
 CALLS = ("Renderer::Impl::renderShadows,ShadowTexturePool::take,TransmittancePass::place,"
@@ -66,26 +67,15 @@ def add_probes(binary, calls):
 
 
 def remove_probes():
-    subprocess.run(["perf", "probe", "-q", "-d", f"{GROUP}:*"], capture_output=True)
+    perf_events.remove_probes(GROUP)
 
 
 def record(binary, scene, lights, size, tmp, extra_events=()):
-    data = os.path.join(tmp, "perf.data")
     w, h = size
-    cmd = ["perf", "record", "-q", *extra_events, "-e", f"{GROUP}:*", "-o", data, "--", binary,
-           "render", scene, "-l", lights, "-o", os.path.join(tmp, "frame.png"), "--width",
-           str(w), "--height", str(h), "--no-gltf-lights"]
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.exit(f"first_frame_calls: {' '.join(cmd)} failed:\n{p.stderr.strip()}")
-    script = subprocess.run(["perf", "script", "-i", data, "-F", "comm,pid,tid,time,event"],
-                            capture_output=True, text=True, check=True).stdout
-    events = []
-    for line in script.splitlines():
-        m = re.match(r"\s*(\S+)\s+(\d+)/(\d+)\s+([\d.]+):\s+(\S+):", line)
-        if m:
-            events.append((m[1], int(m[2]), int(m[3]), float(m[4]), m[5]))
-    return events
+    return perf_events.record_events(
+        "first_frame_calls", [*extra_events, "-e", f"{GROUP}:*"], os.path.join(tmp, "perf.data"),
+        [binary, "render", scene, "-l", lights, "-o", os.path.join(tmp, "frame.png"), "--width",
+         str(w), "--height", str(h), "--no-gltf-lights"])
 
 
 def call_times(events, names):

@@ -22,10 +22,11 @@ core idles beside a busy one show (docs/performance.md). Run it with --freq 1000
 
 Usage: scripts/frame_cpu.py [--bin FILE] [--scenes a,b] [--repeat N] [--freq HZ] [--filter F]
                             [--size WxH] [--peers DIR] [--timeline N]"""
-import argparse, bisect, collections, os, re, subprocess, sys, tempfile
+import argparse, bisect, collections, os, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_peers import load_compare  # noqa: E402
+import perf_events  # noqa: E402
 
 GROUP = "omni_frame_cpu"
 WORKER_THREAD = "omni-shadows"  # ShadowWorker::kThreadName: the second shadow context's thread
@@ -61,27 +62,16 @@ def add_probes(binary):
 
 
 def remove_probes():
-    subprocess.run(["perf", "probe", "-q", "-d", f"{GROUP}:*"], capture_output=True)
+    perf_events.remove_probes(GROUP)
 
 
 def record(binary, scene, lights, size, repeat, freq, tmp):
-    data = os.path.join(tmp, "perf.data")
     w, h = size
-    cmd = ["perf", "record", "-q", "-e", "cpu-clock", "-F", str(freq), "-e", f"{GROUP}:*",
-           "-o", data, "--", binary, "render", scene, "-l", lights, "-o",
-           os.path.join(tmp, "frame.png"), "--width", str(w), "--height", str(h),
-           "--no-gltf-lights", "--repeat", str(repeat)]
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.exit(f"frame_cpu: {' '.join(cmd)} failed:\n{p.stderr.strip()}")
-    script = subprocess.run(["perf", "script", "-i", data, "-F", "comm,pid,tid,time,event"],
-                            capture_output=True, text=True, check=True).stdout
-    events = []
-    for line in script.splitlines():
-        m = re.match(r"\s*(\S+)\s+(\d+)/(\d+)\s+([\d.]+):\s+(\S+):", line)
-        if m:
-            events.append((m[1], int(m[2]), int(m[3]), float(m[4]), m[5]))
-    return events
+    return perf_events.record_events(
+        "frame_cpu", ["-e", "cpu-clock", "-F", str(freq), "-e", f"{GROUP}:*"],
+        os.path.join(tmp, "perf.data"),
+        [binary, "render", scene, "-l", lights, "-o", os.path.join(tmp, "frame.png"), "--width",
+         str(w), "--height", str(h), "--no-gltf-lights", "--repeat", str(repeat)])
 
 
 def frames_of(events):

@@ -1,0 +1,26 @@
+"""perf helpers shared by the measuring scripts (frame_cpu.py, first_frame_calls.py): a command
+run under `perf record`, its samples and probe hits read back as events, and probes removed."""
+import re
+import subprocess
+import sys
+
+
+def record_events(who, record_args, data, command):
+    """Runs `perf record -q <record_args> -o <data> -- <command>` and returns its events as
+    (comm, pid, tid, seconds, event name) tuples; exits naming `who` when the command fails."""
+    cmd = ["perf", "record", "-q", *record_args, "-o", data, "--", *command]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"{who}: {' '.join(cmd)} failed:\n{p.stderr.strip()}")
+    script = subprocess.run(["perf", "script", "-i", data, "-F", "comm,pid,tid,time,event"],
+                            capture_output=True, text=True, check=True).stdout
+    events = []
+    for line in script.splitlines():
+        m = re.match(r"\s*(\S+)\s+(\d+)/(\d+)\s+([\d.]+):\s+(\S+):", line)
+        if m:
+            events.append((m[1], int(m[2]), int(m[3]), float(m[4]), m[5]))
+    return events
+
+
+def remove_probes(group):
+    subprocess.run(["perf", "probe", "-q", "-d", f"{group}:*"], capture_output=True)
