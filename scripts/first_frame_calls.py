@@ -125,15 +125,10 @@ def stage_faults(events, names):
 
 
 def main():
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--bin", default=os.path.join(root, "build", "omnishadow"))
-    ap.add_argument("--peers", default=os.path.join(root, "..", "shared", "peers"))
-    ap.add_argument("--scenes", default="box,cornell,sundial,whackamole,test_room")
+    perf_events.add_scene_arguments(ap)
     ap.add_argument("--renders", type=int, default=7, help="single renders per scene and set")
     ap.add_argument("--calls", default=CALLS, help="functions (omnishadow::<name>) to time")
-    ap.add_argument("--filter", default="pcf")
-    ap.add_argument("--size", default="1280x720")
     a = ap.parse_args()
     if not os.path.isfile(os.path.join(a.peers, "compare.py")):
         sys.exit(f"first_frame_calls: no compare.py in {a.peers} (--peers DIR)")

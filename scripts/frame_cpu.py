@@ -147,15 +147,10 @@ def timeline(events, freq, count, bin_ms=0.5):
 
 
 def main():
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--bin", default=os.path.join(root, "build", "omnishadow"))
-    ap.add_argument("--peers", default=os.path.join(root, "..", "shared", "peers"))
-    ap.add_argument("--scenes", default="box,cornell,sundial,whackamole,test_room")
+    perf_events.add_scene_arguments(ap)
     ap.add_argument("--repeat", type=int, default=20, help="frames of render --repeat")
     ap.add_argument("--freq", type=int, default=4000, help="samples per second and thread")
-    ap.add_argument("--filter", default="pcf")
-    ap.add_argument("--size", default="1280x720")
     ap.add_argument("--timeline", type=int, default=0, metavar="N",
                     help="also draw N steady frames per scene as a per-thread timeline")
     a = ap.parse_args()

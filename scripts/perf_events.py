@@ -1,8 +1,21 @@
-"""perf helpers shared by the measuring scripts (frame_cpu.py, first_frame_calls.py): a command
-run under `perf record`, its samples and probe hits read back as events, and probes removed."""
+"""perf helpers shared by the measuring scripts (frame_cpu.py, first_frame_calls.py): their
+common options, a command run under `perf record` with its samples and probe hits read back as
+events, and probes removed."""
+import os
 import re
 import subprocess
 import sys
+
+
+def add_scene_arguments(parser):
+    """--bin, --peers, --scenes, --filter and --size, as the measuring scripts take them: the
+    bench scenes of ../shared/peers/compare.py with its lights."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    parser.add_argument("--bin", default=os.path.join(root, "build", "omnishadow"))
+    parser.add_argument("--peers", default=os.path.join(root, "..", "shared", "peers"))
+    parser.add_argument("--scenes", default="box,cornell,sundial,whackamole,test_room")
+    parser.add_argument("--filter", default="pcf")
+    parser.add_argument("--size", default="1280x720")
 
 
 def record_events(who, record_args, data, command):
