@@ -158,8 +158,7 @@ void downsampleEvenRows(const float* rows, int aboveWidth, LinearLevel& out, int
 // `chain`; level 2's linear values are returned. Level 1's linear values are held a band of rows
 // at a time, never whole. Whole, a 2048^2 image's were 16 MB of fresh memory, and once freed they
 // left a hole in the heap too small for the frame's textures, which went above it, into pages
-// the memory warm-up (cli/memory_warmup.h) reached later (docs/performance.md: Sundial's shadow
-// stage 28.7 -> 22.1 ms, DamagedHelmet's 22.9 -> 10.6).
+// the memory warm-up (cli/memory_warmup.h) reached later (docs/performance.md).
 LinearLevel firstTwoLevelsEven(const Image& base, const std::array<float, 256>& rgbDecode,
                                const std::array<float, 256>& alphaDecode, bool srgb,
                                std::vector<Image>& chain) {
