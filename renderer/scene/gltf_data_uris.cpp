@@ -181,7 +181,6 @@ std::optional<std::string> DataUris::take(std::string_view json) {
     }
     Payload payload;
     payload.number = i;
-    payload.name = placeholderName(i);
     payload.image = candidate.use == Candidate::Use::Image;
     if (!payload.image) payload.uri = std::string(content);
     payload.mimeType = std::string(candidate.type->mimeType);
@@ -196,8 +195,10 @@ std::optional<std::string> DataUris::take(std::string_view json) {
     const std::string_view string =
         json.substr(candidate.open, candidate.close - candidate.open + 1);
     if (!std::all_of(string.begin() + 1, string.end() - 1, plainStringByte) &&
-        !Json::accept(string))
+        !Json::accept(string)) {
       payloads_.clear();
+      return std::nullopt;
+    }
   }
   if (payloads_.empty()) return std::nullopt;
   return replaced([&](std::size_t i) { return candidates[i].use != Candidate::Use::None; });

@@ -25,8 +25,8 @@ std::vector<unsigned char> decodeBase64AsTinygltf(std::string_view text);
 class DataUris {
  public:
   struct Payload {
-    std::string name;        // the placeholder file name the JSON now has in the URI's place
-    std::size_t number = 0;  // the number in the name
+    std::size_t number = 0;  // the number in its placeholder name, which the JSON now has in
+                             // the URI's place
     bool image = false;
     std::string uri;  // the data: URI (buffers keep it in tinygltf::Buffer::uri)
     // What tinygltf's DecodeDataURI sets an image's mimeType to ("" where it leaves it).
