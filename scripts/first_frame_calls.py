@@ -15,7 +15,7 @@ Needs perf with uprobes (root, or perf_event_paranoid <= 1). The probes are made
 
 Usage: scripts/first_frame_calls.py [--bin FILE] [--scenes a,b] [--renders N] [--calls A,B]
                                     [--filter F] [--size WxH] [--peers DIR]"""
-import argparse, collections, os, statistics, subprocess, sys, tempfile
+import argparse, collections, os, statistics, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_peers import load_compare  # noqa: E402
@@ -28,41 +28,18 @@ CALLS = ("Renderer::Impl::renderShadows,ShadowTexturePool::take,TransmittancePas
 STAGE_CALLS = ("Renderer::Impl::renderShadows", "Renderer::Impl::drawImages")
 
 
-def function_addresses(binary, name):
-    """The addresses of the functions omnishadow::<name>(...), GCC's .cold parts left out."""
-    mangled = subprocess.run(["nm", binary], capture_output=True, text=True, check=True).stdout
-    demangled = subprocess.run(["nm", "-C", binary], capture_output=True, text=True,
-                               check=True).stdout
-    found = set()
-    for raw, readable in zip(mangled.splitlines(), demangled.splitlines()):
-        fields = raw.split()
-        if len(fields) != 3 or fields[1] not in "Tt" or "." in fields[2]:
-            continue
-        text = readable.split(" ", 2)[2] if readable.count(" ") >= 2 else ""
-        # Not the lambdas defined inside it ("name(...)::{lambda...}::operator()").
-        if (text.startswith(f"omnishadow::{name}(") or text.startswith(
-                f"omnishadow::(anonymous namespace)::{name}(")) and ")::" not in text:
-            found.add(fields[0])
-    return sorted(found)
-
-
 def add_probes(binary, calls):
     """Probes p<k>_<j> (entry and %return) for each overload j of calls[k]."""
-    names = {}
-    args = ["perf", "probe", "-q", "-x", binary]
+    names, specs = {}, []
     for k, call in enumerate(calls):
-        addresses = function_addresses(binary, call)
+        addresses = perf_events.function_addresses(binary, call)
         if not addresses:
             sys.exit(f"first_frame_calls: no function omnishadow::{call} in {binary}")
         for j, address in enumerate(addresses):
             event = f"p{k}_{j}"
             names[event] = call
-            args += ["-a", f"{GROUP}:{event}=0x{address}", "-a",
-                     f"{GROUP}:{event}=0x{address}%return"]
-    p = subprocess.run(args, capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.exit("first_frame_calls: perf probe failed (root or perf_event_paranoid <= 1 "
-                 f"needed):\n{p.stderr.strip()}")
+            specs += [f"{GROUP}:{event}=0x{address}", f"{GROUP}:{event}=0x{address}%return"]
+    perf_events.add_probes("first_frame_calls", binary, specs)
     return names
 
 

@@ -22,7 +22,7 @@ core idles beside a busy one show (docs/performance.md). Run it with --freq 1000
 
 Usage: scripts/frame_cpu.py [--bin FILE] [--scenes a,b] [--repeat N] [--freq HZ] [--filter F]
                             [--size WxH] [--peers DIR] [--timeline N]"""
-import argparse, bisect, collections, os, subprocess, sys, tempfile
+import argparse, bisect, collections, os, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_peers import load_compare  # noqa: E402
@@ -30,35 +30,27 @@ import perf_events  # noqa: E402
 
 GROUP = "omni_frame_cpu"
 WORKER_THREAD = "omni-shadows"  # ShadowWorker::kThreadName: the second shadow context's thread
-SYMBOLS = {  # probe name -> the start of the mangled name of the function it marks
-    "frame": "_ZN10omnishadow8Renderer4Impl13renderShadows",
-    "lighting": "_ZN10omnishadow8Renderer4Impl10drawImages",
+FUNCTIONS = {  # probe name -> the function (omnishadow::<name>) it marks
+    "frame": "Renderer::Impl::renderShadows",
+    "lighting": "Renderer::Impl::drawImages",
 }
 
 
-def function_address(binary, prefix):
-    out = subprocess.run(["nm", binary], capture_output=True, text=True, check=True).stdout
-    found = [fields[0] for fields in map(str.split, out.splitlines())
-             if len(fields) == 3 and fields[1] in "Tt" and fields[2].startswith(prefix) and
-             "." not in fields[2]]  # not GCC's .cold parts
+def function_address(binary, name):
+    found = perf_events.function_addresses(binary, name)
     if len(found) != 1:
-        sys.exit(f"frame_cpu: {binary}: expected one function {prefix}..., found {len(found)}"
-                 " (a stripped binary has no symbols)")
+        sys.exit(f"frame_cpu: {binary}: expected one function omnishadow::{name}, found "
+                 f"{len(found)} (a stripped binary has no symbols)")
     return "0x" + found[0]
 
 
 def add_probes(binary):
     remove_probes()
-    specs = [f"{GROUP}:frame={function_address(binary, SYMBOLS['frame'])}",
-             f"{GROUP}:lighting={function_address(binary, SYMBOLS['lighting'])}",
-             f"{GROUP}:done={function_address(binary, SYMBOLS['lighting'])}%return"]
-    args = ["perf", "probe", "-q", "-x", binary]
-    for spec in specs:
-        args += ["-a", spec]
-    p = subprocess.run(args, capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.exit(f"frame_cpu: perf probe failed (root or perf_event_paranoid <= 1 needed):\n"
-                 f"{p.stderr.strip()}")
+    frame = function_address(binary, FUNCTIONS["frame"])
+    lighting = function_address(binary, FUNCTIONS["lighting"])
+    perf_events.add_probes("frame_cpu", binary, [f"{GROUP}:frame={frame}",
+                                                 f"{GROUP}:lighting={lighting}",
+                                                 f"{GROUP}:done={lighting}%return"])
 
 
 def remove_probes():
