@@ -1,7 +1,7 @@
 // The 8-bit beauty encoded on the CPU while the float target is read back in bands
 // (renderer/passes/srgb8_band_encoding.h): toSrgb8()'s bytes for every pixel, whatever the size
 // (one band, a last band cut short, more bands than buffers, one thread or two) and the row
-// order asked for.
+// order asked for; outside the rectangle the frame drew in, the background's bytes.
 #include "renderer/passes/srgb8_band_encoding.h"
 
 #include <GL/glcorearb.h>
@@ -62,6 +62,7 @@ TEST(Srgb8BandEncoding, EveryByteIsToSrgb8OfTheFloatTarget) {
         SCOPED_TRACE(::testing::Message() << size.width << "x" << size.height << ", glRowOrder "
                                           << glRowOrder << ", exposure " << exposure);
         const Srgb8Image encoded = readSrgb8InBands(texture.get(), size.width, size.height,
+                                                    TexelRect::whole(size.width, size.height),
                                                     std::exp2(exposure), glRowOrder);
         EXPECT_EQ(encoded.width, size.width);
         EXPECT_EQ(encoded.height, size.height);
@@ -74,6 +75,45 @@ TEST(Srgb8BandEncoding, EveryByteIsToSrgb8OfTheFloatTarget) {
       }
     EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
   }
+}
+
+TEST(Srgb8BandEncoding, OutsideTheDrawnRectangleEveryPixelIsTheBackground) {
+  test_support::sharedRenderer();
+  const int width = 704, height = 460;
+  const std::vector<float> rows = picture(width, height);
+  // What a frame holds: the picture inside the rectangle, the clear value (zeros) elsewhere.
+  // The texture holds the picture everywhere, so a pixel read back from outside the rectangle
+  // shows.
+  gl::Texture texture = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(texture.get(), 1, GL_RGBA32F, width, height);
+  glTextureSubImage2D(texture.get(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, rows.data());
+  // GL's coordinates (y up): a corner one, one inside starting at an odd row whose last band is
+  // short, one of two threads (at least 2^18 pixels), one pixel, a row, and none.
+  const TexelRect rects[] = {{0, 0, 37, 9},        {5, 3, 66, 44},     {61, 17, 704, 459},
+                             {703, 459, 704, 460}, {0, 200, 704, 201}, {}};
+  for (const TexelRect& rect : rects)
+    for (const bool glRowOrder : {false, true})
+      for (const float exposure : {0.0f, 1.5f}) {
+        SCOPED_TRACE(::testing::Message()
+                     << "rect " << rect.x0 << "," << rect.y0 << " to " << rect.x1 << "," << rect.y1
+                     << ", glRowOrder " << glRowOrder << ", exposure " << exposure);
+        std::vector<float> frame(rows.size(), 0.0f);
+        for (int y = rect.y0; y < rect.y1; ++y)
+          for (int x = rect.x0; x < rect.x1; ++x)
+            for (int c = 0; c < 4; ++c) {
+              const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 4 + c;
+              frame[i] = rows[i];
+            }
+        const Srgb8Image encoded =
+            readSrgb8InBands(texture.get(), width, height, rect, std::exp2(exposure), glRowOrder);
+        const std::vector<std::uint8_t> expected =
+            toSrgb8(asFrame(frame, width, height, glRowOrder), exposure);
+        ASSERT_EQ(encoded.rgb.size(), expected.size());
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < expected.size(); ++i) differ += encoded.rgb[i] != expected[i];
+        EXPECT_EQ(differ, 0u);
+      }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
 }  // namespace

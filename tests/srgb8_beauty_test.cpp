@@ -258,6 +258,58 @@ TEST(Srgb8Beauty, FloatFramesEncodedOnTheGpuOrInBandsEqualTheCpuEncoding) {
   }
 }
 
+// Objects that cover part of the view: the readback takes only the rectangle they may cover
+// (FrameTargets::drawn()), and the rest of the picture is the background's zeros. Every byte
+// still equals toSrgb8() of the float frame, which is read whole: for the 8-bit target and for
+// the float one read in bands (one thread and two), at odd sizes, with a sphere cut by the
+// view's right edge.
+TEST(Srgb8Beauty, FramesCoveringPartOfTheViewEqualTheCpuEncoding) {
+  Scene objects;
+  test::placeMesh(objects, builder::makeBox({0.5f, 0.5f, 0.5f}),
+                  glm::translate(glm::mat4(1.0f), {-0.8f, 0.5f, 0.0f}),
+                  addMaterial(objects, colored({0.9f, 0.2f, 0.1f, 1.0f})));
+  test::placeMesh(objects, builder::makeSphere(0.6f, 32, 16),
+                  glm::translate(glm::mat4(1.0f), {2.6f, 0.6f, 0.3f}),
+                  addMaterial(objects, colored({0.6f, 0.7f, 0.9f, 1.0f})));
+  Scene glass = objects;
+  Material blended = colored({0.2f, 0.5f, 0.9f, 0.4f});
+  blended.alphaMode = AlphaMode::Blend;
+  test::placeMesh(glass, builder::makeBox({0.3f, 0.3f, 0.3f}),
+                  glm::translate(glm::mat4(1.0f), {0.0f, 1.2f, 1.0f}), addMaterial(glass, blended));
+  const std::vector<Light> lights = litLights();
+  struct Case {
+    const char* what;
+    const Scene* scene;
+    int width, height;
+    float exposure;
+  };
+  for (const Case& c :
+       {Case{"opaque", &objects, 160, 96, 0.0f}, Case{"opaque, odd size", &objects, 61, 37, 0.5f},
+        Case{"blended", &glass, 160, 96, 0.0f}, Case{"blended, odd size", &glass, 97, 61, -0.75f},
+        Case{"blended, two threads encode", &glass, 704, 403, 0.25f}}) {
+    SCOPED_TRACE(c.what);
+    const ViewCamera camera =
+        lookFrom(*c.scene, {0.0f, 1.5f, 3.5f}, {0.2f, 0.5f, 0.0f}, c.width, c.height, 40.0f);
+    const Frame linear = render(*c.scene, lights, camera, {});
+    const std::vector<std::uint8_t> expected = toSrgb8(linear.beauty, c.exposure);
+    // The objects cover part of the view, and reach its right edge.
+    std::size_t background = 0, rightEdge = 0;
+    for (int y = 0; y < c.height; ++y)
+      for (int x = 0; x < c.width; ++x) {
+        const std::uint8_t* rgb = &expected[(static_cast<std::size_t>(y) * c.width + x) * 3];
+        const bool lit = rgb[0] != 0 || rgb[1] != 0 || rgb[2] != 0;
+        background += !lit;
+        rightEdge += lit && x == c.width - 1;
+      }
+    ASSERT_GT(background, expected.size() / 3 / 3);
+    ASSERT_LT(background, expected.size() / 3 * 9 / 10);
+    ASSERT_GT(rightEdge, 0u);
+    const Frame encoded = render(*c.scene, lights, camera, {.srgb8Exposure = c.exposure});
+    ASSERT_TRUE(encoded.srgb8.has_value());
+    EXPECT_EQ(encoded.srgb8->rgb, expected);
+  }
+}
+
 // FloatBeautyEncoding::Caller keeps the float beauty of such a frame for the caller to encode.
 TEST(Srgb8Beauty, FloatFramesLeftToTheCpuKeepTheFloatBeauty) {
   const Scene glass = glassScene();

@@ -1,6 +1,7 @@
 // An RGBA8UI target read back (readSrgb8Texture) through a kept pixel pack buffer or into memory
 // of its own: each pixel's RGB in the row order asked for, whether the buffer is new, grown for
-// a larger target, or reused by a smaller one after it.
+// a larger target, or reused by a smaller one after it; into memory, only the rectangle the
+// frame drew in, with zeros (the clear value) around it.
 #include <GL/glcorearb.h>
 #include <gtest/gtest.h>
 
@@ -44,7 +45,8 @@ TEST(Srgb8Readback, EachPixelsRgbInTheRowOrderAskedForThroughOneKeptBuffer) {
     for (const bool glRowOrder : {false, true})
       for (gl::PixelPackBuffer* through : {&readback, static_cast<gl::PixelPackBuffer*>(nullptr)}) {
         const Srgb8Image image =
-            readSrgb8Texture(texture.get(), size.width, size.height, glRowOrder, through);
+            readSrgb8Texture(texture.get(), size.width, size.height,
+                             TexelRect::whole(size.width, size.height), glRowOrder, through);
         ASSERT_EQ(image.width, size.width);
         ASSERT_EQ(image.height, size.height);
         ASSERT_EQ(image.rgb.size(), static_cast<std::size_t>(size.width) * size.height * 3);
@@ -60,6 +62,42 @@ TEST(Srgb8Readback, EachPixelsRgbInTheRowOrderAskedForThroughOneKeptBuffer) {
                              << (through ? " through the buffer" : " into its own memory");
       }
   }
+}
+
+TEST(Srgb8Readback, IntoMemoryOnlyTheDrawnRectangleIsReadAndTheRestIsZeros) {
+  test_support::sharedRenderer();
+  const int width = 61, height = 37;
+  const std::vector<std::uint8_t> rgba = texels(width, height, 104729u);
+  gl::Texture texture = gl::createTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(texture.get(), 1, GL_RGBA8UI, width, height);
+  glTextureSubImage2D(texture.get(), 0, 0, 0, width, height, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
+                      rgba.data());
+  // GL's coordinates (y up). The texture holds texels outside the rectangle too, where a frame
+  // holds zeros: a pixel read from there shows. Odd widths (the row's last pixels go byte by
+  // byte), a corner, one pixel, one column, the whole target and none.
+  const TexelRect rects[] = {{3, 2, 40, 31}, {0, 0, 2, 1},   {60, 36, 61, 37},
+                             {7, 0, 8, 37},  {0, 0, 61, 37}, {}};
+  for (const TexelRect& rect : rects)
+    for (const bool glRowOrder : {false, true}) {
+      const Srgb8Image image =
+          readSrgb8Texture(texture.get(), width, height, rect, glRowOrder, nullptr);
+      ASSERT_EQ(image.rgb.size(), static_cast<std::size_t>(width) * height * 3);
+      std::size_t wrong = 0;
+      for (int y = 0; y < height; ++y) {
+        const int glRow = glRowOrder ? y : height - 1 - y;
+        const bool rowInside = glRow >= rect.y0 && glRow < rect.y1;
+        for (int x = 0; x < width; ++x)
+          for (int c = 0; c < 3; ++c) {
+            const bool inside = rowInside && x >= rect.x0 && x < rect.x1;
+            const std::uint8_t expected =
+                inside ? rgba[(static_cast<std::size_t>(glRow) * width + x) * 4 + c] : 0;
+            wrong += image.rgb[(static_cast<std::size_t>(y) * width + x) * 3 + c] != expected;
+          }
+      }
+      EXPECT_EQ(wrong, 0u) << "rect " << rect.x0 << "," << rect.y0 << " to " << rect.x1 << ","
+                           << rect.y1 << (glRowOrder ? " GL order" : "");
+    }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
 }  // namespace

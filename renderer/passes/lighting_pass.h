@@ -169,6 +169,9 @@ class FrameTargets {
   TexelRect toClear(int clearValues, bool zeros) const;
   // A pass cleared toClear() to `clearValues` and then drew within `drawn`.
   void cleared(int clearValues, const TexelRect& drawn);
+  // The pixels the last pass may have drawn: every other pixel holds what it cleared them to.
+  // The whole frame before any pass has cleared.
+  TexelRect drawn() const { return clearValues_ ? drawn_ : TexelRect::whole(width_, height_); }
 
  private:
   int width_, height_;

@@ -100,8 +100,8 @@ FloatPixels readAttachment(const FrameTargets& targets, int index, bool glRowOrd
 
 // The RGB bytes of an Srgb8 target, first row = top.
 Srgb8Image readSrgb8(const FrameTargets& targets, bool glRowOrder, gl::PixelPackBuffer* readback) {
-  return readSrgb8Texture(targets.color(0), targets.width(), targets.height(), glRowOrder,
-                          readback);
+  return readSrgb8Texture(targets.color(0), targets.width(), targets.height(), targets.drawn(),
+                          glRowOrder, readback);
 }
 
 // Whether the lighting pass can encode the frame's beauty into 8-bit sRGB itself
@@ -881,8 +881,8 @@ void Renderer::Impl::drawResolvedSrgb8(FloatBeautyEncoding encoder, Prepared& pr
   ScopedStage readback(times, "readback");
   const float exposureScale = std::exp2(*settings.srgb8Exposure);  // as toSrgb8() scales
   if (encoder == FloatBeautyEncoding::CpuInBands) {
-    frame.srgb8 = readSrgb8InBands(targets.color(0), camera.width, camera.height, exposureScale,
-                                   camera.glRowOrder);
+    frame.srgb8 = readSrgb8InBands(targets.color(0), camera.width, camera.height, targets.drawn(),
+                                   exposureScale, camera.glRowOrder);
   } else {
     if (!srgb8Resolve_) srgb8Resolve_ = std::make_unique<Srgb8Resolve>();
     frame.srgb8 = srgb8Resolve_->resolve(targets.color(0), camera.width, camera.height,

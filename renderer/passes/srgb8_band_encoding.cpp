@@ -4,6 +4,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <mutex>
 #include <optional>
 #include <system_error>
@@ -83,32 +84,43 @@ class BandProgress {
 
 }  // namespace
 
-Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, float exposureScale,
-                            bool glRowOrder) {
+Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRect& drawn,
+                            float exposureScale, bool glRowOrder) {
   const int w = width, h = height;
-  const std::size_t row = static_cast<std::size_t>(w) * 4;
   Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
-  const int bands = (h + kBandRows - 1) / kBandRows;
+  // Outside `drawn` every pixel is the background: its bytes are written, not read back.
+  const TexelRect read = drawn.grown(0, 0, w, h);
+  const float background[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  std::uint8_t backgroundRgb[3] = {};
+  rgbaToSrgb8Rgb(background, 1, exposureScale, backgroundRgb);
+  if (backgroundRgb[0] != 0 || backgroundRgb[1] != 0 || backgroundRgb[2] != 0)
+    for (std::size_t i = 0; i < image.rgb.size(); i += 3)
+      std::memcpy(image.rgb.data() + i, backgroundRgb, 3);
+  if (read.empty()) return image;
+  const int readWidth = read.x1 - read.x0;
+  const std::size_t row = static_cast<std::size_t>(readWidth) * 4;
+  const int bands = (read.y1 - read.y0 + kBandRows - 1) / kBandRows;
   const int bufferCount = std::min(bands, kBuffers);
   std::vector<FloatPixels> buffers(static_cast<std::size_t>(bufferCount),
                                    FloatPixels(row * kBandRows));
   // Bands in GL's order (bottom first); each row is encoded into its place in the picture, as
   // readChannels() places them, so the rows need no turning around.
-  const auto firstRow = [&](int band) { return band * kBandRows; };
-  const auto rowsOf = [&](int band) { return std::min(kBandRows, h - firstRow(band)); };
+  const auto firstRow = [&](int band) { return read.y0 + band * kBandRows; };
+  const auto rowsOf = [&](int band) { return std::min(kBandRows, read.y1 - firstRow(band)); };
   const auto encode = [&](int band) {
     const float* rows = buffers[static_cast<std::size_t>(band % bufferCount)].data();
     for (int r = 0; r < rowsOf(band); ++r) {
       const int glRow = firstRow(band) + r;
       const int y = glRowOrder ? glRow : h - 1 - glRow;
-      rgbaToSrgb8Rgb(rows + static_cast<std::size_t>(r) * row, static_cast<std::size_t>(w),
-                     exposureScale, image.rgb.data() + static_cast<std::size_t>(y) * w * 3);
+      rgbaToSrgb8Rgb(rows + static_cast<std::size_t>(r) * row, static_cast<std::size_t>(readWidth),
+                     exposureScale,
+                     image.rgb.data() + (static_cast<std::size_t>(y) * w + read.x0) * 3);
     }
   };
 
   BandProgress progress(bands);
   std::thread encoder;
-  if (static_cast<std::size_t>(w) * h >= kTwoThreadPixels &&
+  if (static_cast<std::size_t>(readWidth) * (read.y1 - read.y0) >= kTwoThreadPixels &&
       std::thread::hardware_concurrency() >= 2) {
     try {
       encoder = std::thread([&] {
@@ -136,8 +148,9 @@ Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, float exposur
       while (!progress.isEncoded(previous))
         if (!encodeOne()) progress.waitEncoded(previous);
     FloatPixels& buffer = buffers[static_cast<std::size_t>(band % bufferCount)];
-    glGetTextureSubImage(texture, 0, 0, firstRow(band), 0, w, rowsOf(band), 1, GL_RGBA, GL_FLOAT,
-                         static_cast<GLsizei>(buffer.size() * sizeof(float)), buffer.data());
+    glGetTextureSubImage(texture, 0, read.x0, firstRow(band), 0, readWidth, rowsOf(band), 1,
+                         GL_RGBA, GL_FLOAT, static_cast<GLsizei>(buffer.size() * sizeof(float)),
+                         buffer.data());
     progress.markRead();
     if (!encoder.joinable()) encodeOne();
   }

@@ -3,6 +3,7 @@
 #include <GL/glcorearb.h>
 
 #include "renderer/render/frame.h"
+#include "renderer/view/caster_culling.h"
 
 namespace omnishadow {
 
@@ -16,7 +17,11 @@ namespace omnishadow {
 // of a process (about 3,600 faults), and a second pass over it to encode. On llvmpipe, Sundial's
 // first frame: readback 9.7 -> 2.7 ms, PNG encoding 11.6 -> 8.7 (medians of 10 renders); a later
 // frame's readback 1.5 -> 2.9, now with the encoding in it.
-Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, float exposureScale,
-                            bool glRowOrder);
+//
+// Only the rows and columns of `drawn` (GL's window coordinates: FrameTargets::drawn()) are read
+// and encoded; every other pixel holds the clear value, zeros, whose bytes are written instead.
+// Sundial's drawn rectangle is half its 1280x720 frame: steady readback 2.5 -> 1.5 ms.
+Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRect& drawn,
+                            float exposureScale, bool glRowOrder);
 
 }  // namespace omnishadow

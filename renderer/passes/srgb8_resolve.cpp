@@ -40,23 +40,37 @@ void rgbaRowToRgb(const std::uint8_t* from, std::uint8_t* to, int width) {
 
 }  // namespace
 
-Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, bool glRowOrder,
-                            gl::PixelPackBuffer* readback) {
+Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, const TexelRect& drawn,
+                            bool glRowOrder, gl::PixelPackBuffer* readback) {
   const int w = width, h = height;
-  const std::size_t bytes = static_cast<std::size_t>(w) * h * 4;
+  // Outside `drawn` every pixel holds the clear value, zeros, which the image starts with.
   Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
+  const TexelRect read = drawn.grown(0, 0, w, h);
+  if (read.empty()) return image;
+  const int readWidth = read.x1 - read.x0, readHeight = read.y1 - read.y0;
   // The copy into RGB turns the rows around too.
   auto toRgb = [&](const std::uint8_t* rgba) {
+    for (int r = 0; r < readHeight; ++r) {
+      const int glRow = read.y0 + r;
+      const int y = glRowOrder ? glRow : h - 1 - glRow;
+      rgbaRowToRgb(rgba + static_cast<std::size_t>(r) * readWidth * 4,
+                   image.rgb.data() + (static_cast<std::size_t>(y) * w + read.x0) * 3, readWidth);
+    }
+  };
+  if (readback) {
+    // A GPU's readback: the whole target through the kept buffer.
+    const std::uint8_t* rgba =
+        readback
+            ->read(texture, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, static_cast<std::size_t>(w) * h * 4)
+            .data();
     for (int y = 0; y < h; ++y)
       rgbaRowToRgb(rgba + static_cast<std::size_t>(glRowOrder ? y : h - 1 - y) * w * 4,
                    image.rgb.data() + static_cast<std::size_t>(y) * w * 3, w);
-  };
-  if (readback) {
-    toRgb(readback->read(texture, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, bytes).data());
   } else {
+    const std::size_t bytes = static_cast<std::size_t>(readWidth) * readHeight * 4;
     std::vector<std::uint8_t> rgba(bytes);
-    glGetTextureImage(texture, 0, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes),
-                      rgba.data());
+    glGetTextureSubImage(texture, 0, read.x0, read.y0, 0, readWidth, readHeight, 1, GL_RGBA_INTEGER,
+                         GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes), rgba.data());
     toRgb(rgba.data());
   }
   return image;
@@ -101,7 +115,8 @@ Srgb8Image Srgb8Resolve::resolve(GLuint beauty, int width, int height, float exp
   gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the 8-bit beauty's encoding");
-  return readSrgb8Texture(target_.get(), width, height, glRowOrder, &readback_);
+  return readSrgb8Texture(target_.get(), width, height, TexelRect::whole(width, height), glRowOrder,
+                          &readback_);
 }
 
 }  // namespace omnishadow
