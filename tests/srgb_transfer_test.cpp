@@ -141,6 +141,30 @@ TEST(SrgbTransfer, RgbaToSrgb8RgbIsEachChannelsSrgb8) {
   }
 }
 
+// Runs of zero pixels (a frame's background), which the AVX2 path writes as zero bytes without
+// converting them, of every length up to 20 at every offset in a step of eight, between pixels
+// that are not zero, negative zeros among them: every byte still srgb8() of its channel, and
+// written over what the output held.
+TEST(SrgbTransfer, RgbaToSrgb8RgbWritesZeroRunsAsTheirBytes) {
+  const std::vector<float> dense = denseRgba();
+  ASSERT_GE(dense.size(), 4u * 40);
+  for (std::size_t offset = 0; offset < 8; ++offset)
+    for (std::size_t run = 1; run <= 20; ++run) {
+      // Values near the steps (the dense sample's first ones all encode to 0).
+      std::vector<float> rgba(dense.end() - 4 * 40, dense.end());
+      for (std::size_t p = offset; p < offset + run; ++p)
+        for (std::size_t c = 0; c < 4; ++c) rgba[4 * p + c] = 0.0f;
+      rgba[4 * (offset + run) + 1] = -0.0f;  // the pixel after the run: not all zero bits
+      const std::size_t count = rgba.size() / 4;
+      std::vector<std::uint8_t> rgb(count * 3, 77);
+      rgbaToSrgb8Rgb(rgba.data(), count, 2.0f, rgb.data());
+      std::size_t mismatches = 0;
+      for (std::size_t i = 0; i < count * 3; ++i)
+        mismatches += rgb[i] != srgb8(rgba[i / 3 * 4 + i % 3] * 2.0f);
+      EXPECT_EQ(mismatches, 0u) << "a run of " << run << " from pixel " << offset;
+    }
+}
+
 // A mipmap level's texels: R, G and B as srgb8(), alpha rounded linearly.
 TEST(SrgbTransfer, ToLinear8IsLinear8OfEachValue) {
   // A dense sample of [0, 1] with both sides of every rounding step (k + 0.5) / 255, then values
