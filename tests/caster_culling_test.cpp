@@ -12,6 +12,7 @@
 #include "renderer/view/cube_faces.h"
 #include "renderer/view/shadow_draws.h"
 #include "renderer/view/shadow_views.h"
+#include "renderer/view/sphere_projection.h"
 #include "tests/support/cube_culling_light.h"
 
 using namespace omnishadow;
@@ -211,6 +212,74 @@ TEST(CasterCulling, NdcTexelRectOfABoxBoundsEveryPointOfTheBoxOnAWideFrame) {
             (TexelRect{0, 0, 1280, 720}));
   const glm::mat4 aside = glm::translate(glm::mat4(1.0f), glm::vec3(30.0f, 0.0f, 0.0f));
   EXPECT_TRUE(ndcTexelRect(projectedBox(viewProjection, aside, low, high), 1280, 720).empty());
+}
+
+// A caster's box as well as its sphere (the translucent casters' reach): a flat pane tilted
+// across a cube face, whose sphere is as wide as the pane, covers a narrower strip of the face
+// than its sphere does. The rectangle is where the two bounds meet; every point of the pane lies
+// in it; a layer the sphere reaches and the box does not is left out.
+TEST(CasterCulling, UnitedCasterTexelsOfABoxAndItsSphereAreWhereBothBoundsMeet) {
+  const glm::vec3 at(0.0f, 0.0f, 0.0f);
+  const ShadowCullingLight light = pointLight(at);
+  LightShadowPlan plan;
+  plan.layerCount = 6;
+  for (int face = 0; face < 6; ++face)
+    plan.viewProjection[static_cast<std::size_t>(face)] =
+        light.viewProjections[static_cast<std::size_t>(face)];
+  std::vector<ViewFrustum> views;
+  for (int face = 0; face < 6; ++face)
+    views.emplace_back(plan.viewProjection[static_cast<std::size_t>(face)]);
+  const int n = 1024;
+  // A 2 x 2 pane (z = 0 in its own space) 4 ahead along +X, turned 80 degrees about y: nearly
+  // edge-on to the +X face.
+  const glm::mat4 world = glm::translate(glm::mat4(1.0f), glm::vec3(4.0f, 0.0f, 0.0f)) *
+                          glm::rotate(glm::mat4(1.0f), glm::radians(80.0f), glm::vec3(0, 1, 0));
+  const CasterBox box{world, glm::vec3(-1.0f, -1.0f, 0.0f), glm::vec3(1.0f, 1.0f, 0.0f)};
+  const glm::vec3 center = glm::vec3(world * glm::vec4(0, 0, 0, 1));
+  const float radius = std::sqrt(2.0f);
+  const auto posX = static_cast<std::size_t>(CubeFace::PosX);
+  std::vector<TexelRect> spheres(6), both(6);
+  // As translucentReach() asks: the faces whose frusta the sphere touches.
+  const unsigned touched = casterViewMask(views, center, radius);
+  const unsigned bySphere = uniteCasterTexels(plan, touched, center, radius, n, spheres);
+  const unsigned byBoth = uniteCasterTexels(plan, touched, center, radius, n, both, &box);
+  EXPECT_EQ(bySphere, faceBit(CubeFace::PosX));
+  EXPECT_EQ(byBoth, faceBit(CubeFace::PosX));
+  const TexelRect boxRect =
+      ndcTexelRect(projectedBox(plan.viewProjection[posX], world, box.low, box.high), n, n);
+  EXPECT_EQ(both[posX], spheres[posX].intersected(boxRect));
+  EXPECT_LT(both[posX].x1 - both[posX].x0, (spheres[posX].x1 - spheres[posX].x0) / 2);
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 40; ++j) {
+      const glm::vec4 p = world * glm::vec4(i / 20.0f - 1.0f, j / 20.0f - 1.0f, 0.0f, 1.0f);
+      const glm::vec4 clip = plan.viewProjection[posX] * p;
+      const glm::vec2 window = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * static_cast<float>(n);
+      ASSERT_GE(window.x, static_cast<float>(both[posX].x0));
+      ASSERT_LT(window.x, static_cast<float>(both[posX].x1));
+      ASSERT_GE(window.y, static_cast<float>(both[posX].y0));
+      ASSERT_LT(window.y, static_cast<float>(both[posX].y1));
+    }
+  // A long thin box along +X whose sphere reaches into the +Y face: only its box's face stays.
+  const glm::mat4 rod = glm::translate(glm::mat4(1.0f), glm::vec3(6.0f, 2.4f, 0.0f));
+  const CasterBox rodBox{rod, glm::vec3(-3.0f, -0.05f, -0.05f), glm::vec3(3.0f, 0.05f, 0.05f)};
+  const glm::vec3 rodCenter(6.0f, 2.4f, 0.0f);
+  std::vector<TexelRect> rodSphere(6), rodBoth(6);
+  const unsigned rodTouched = casterViewMask(views, rodCenter, 3.0f);
+  const unsigned rodBySphere = uniteCasterTexels(plan, rodTouched, rodCenter, 3.0f, n, rodSphere);
+  const unsigned rodByBoth =
+      uniteCasterTexels(plan, rodTouched, rodCenter, 3.0f, n, rodBoth, &rodBox);
+  EXPECT_NE(rodBySphere & faceBit(CubeFace::PosY), 0u);
+  EXPECT_EQ(rodByBoth, faceBit(CubeFace::PosX));
+  EXPECT_TRUE(rodBoth[static_cast<std::size_t>(CubeFace::PosY)].empty());
+}
+
+TEST(CasterCulling, TexelRectsIntersectToWhereTheyMeetAndApartToNothing) {
+  const TexelRect a{10, 20, 30, 40}, b{25, 5, 50, 22};
+  EXPECT_EQ(a.intersected(b), (TexelRect{25, 20, 30, 22}));
+  EXPECT_EQ(b.intersected(a), (TexelRect{25, 20, 30, 22}));
+  EXPECT_TRUE(a.intersected(TexelRect{30, 20, 40, 40}).empty());  // touching edges only
+  EXPECT_TRUE(a.intersected(TexelRect{}).empty());
+  EXPECT_EQ(a.intersected(TexelRect::whole(64)), a);
 }
 
 TEST(CasterCulling, TexelRectsUniteToTheirBoundsAndEmptyOnesAddNothing) {

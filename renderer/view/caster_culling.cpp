@@ -32,6 +32,12 @@ TexelRect TexelRect::united(const TexelRect& other) const {
           std::max(y1, other.y1)};
 }
 
+TexelRect TexelRect::intersected(const TexelRect& other) const {
+  const TexelRect both{std::max(x0, other.x0), std::max(y0, other.y0), std::min(x1, other.x1),
+                       std::min(y1, other.y1)};
+  return both.empty() ? TexelRect{} : both;
+}
+
 TexelRect TexelRect::grown(int dx, int dy, int width, int height) const {
   if (empty()) return *this;
   return {std::max(x0 - dx, 0), std::max(y0 - dy, 0), std::min(x1 + dx, width),
@@ -60,11 +66,16 @@ TexelRect ndcTexelRect(const std::optional<NdcBounds>& ndc, int width, int heigh
 }
 
 unsigned uniteCasterTexels(const LightShadowPlan& plan, unsigned viewMask, const glm::vec3& center,
-                           float radius, int resolution, std::vector<TexelRect>& texels) {
+                           float radius, int resolution, std::vector<TexelRect>& texels,
+                           const CasterBox* box) {
   for (int layer = 0; layer < plan.layerCount; ++layer) {
     if ((viewMask >> layer & 1u) == 0) continue;
     const auto l = static_cast<std::size_t>(layer);
-    const TexelRect rect = sphereTexelRect(plan.viewProjection[l], center, radius, resolution);
+    TexelRect rect = sphereTexelRect(plan.viewProjection[l], center, radius, resolution);
+    if (box && !rect.empty())
+      rect = rect.intersected(
+          ndcTexelRect(projectedBox(plan.viewProjection[l], box->world, box->low, box->high),
+                       resolution, resolution));
     if (rect.empty()) viewMask &= ~(1u << layer);
     texels[l] = texels[l].united(rect);
   }

@@ -35,6 +35,8 @@ struct TexelRect {
   bool empty() const { return x0 >= x1 || y0 >= y1; }
   // The smallest rectangle holding both (an empty one adds nothing).
   TexelRect united(const TexelRect& other) const;
+  // The texels both hold (empty where they do not meet).
+  TexelRect intersected(const TexelRect& other) const;
   // Grown by dx texels left and right and dy up and down, within a `resolution`-sided view (an
   // empty one stays empty).
   TexelRect grown(int dx, int dy, int resolution) const {
@@ -56,11 +58,20 @@ TexelRect sphereTexelRect(const glm::mat4& viewProjection, const glm::vec3& cent
 // view without bounds (projectedBox(), projectedSphereBox()).
 TexelRect ndcTexelRect(const std::optional<NdcBounds>& ndc, int width, int height);
 
+// A caster's mesh box, which `world` places: the corners `low` and `high` in the mesh's space.
+struct CasterBox {
+  glm::mat4 world{1.0f};
+  glm::vec3 low{0.0f}, high{0.0f};
+};
+
 // Unites into `texels` (one rectangle per layer of `plan`) what a caster's bounding sphere may
-// cover in each layer of `viewMask`, at `resolution`; returns `viewMask` without the layers
-// where it covers nothing.
+// cover in each layer of `viewMask`, at `resolution`, and with `box` only what its box may cover
+// too (both bounds are conservative, so where they meet is); returns `viewMask` without the
+// layers where it covers nothing. A flat or long caster's box is the tighter one where it lies
+// oblique to the view; a small caster's sphere can be, where its box's corners lie outside it.
 unsigned uniteCasterTexels(const LightShadowPlan& plan, unsigned viewMask, const glm::vec3& center,
-                           float radius, int resolution, std::vector<TexelRect>& texels);
+                           float radius, int resolution, std::vector<TexelRect>& texels,
+                           const CasterBox* box = nullptr);
 
 // What culling needs to know of one caster (a draw of the scene).
 struct ShadowCaster {
