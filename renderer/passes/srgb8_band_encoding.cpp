@@ -4,7 +4,6 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <mutex>
 #include <optional>
 #include <system_error>
@@ -88,14 +87,9 @@ Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRe
                             float exposureScale, bool glRowOrder) {
   const int w = width, h = height;
   Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
-  // Outside `drawn` every pixel is the background: its bytes are written, not read back.
+  // Outside `drawn` every pixel holds the clear value, zeros, whose bytes at any exposure are
+  // the zeros the picture starts with: they are not read back.
   const TexelRect read = drawn.grown(0, 0, w, h);
-  const float background[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  std::uint8_t backgroundRgb[3] = {};
-  rgbaToSrgb8Rgb(background, 1, exposureScale, backgroundRgb);
-  if (backgroundRgb[0] != 0 || backgroundRgb[1] != 0 || backgroundRgb[2] != 0)
-    for (std::size_t i = 0; i < image.rgb.size(); i += 3)
-      std::memcpy(image.rgb.data() + i, backgroundRgb, 3);
   if (read.empty()) return image;
   const int readWidth = read.x1 - read.x0;
   const std::size_t row = static_cast<std::size_t>(readWidth) * 4;
