@@ -17,16 +17,21 @@ def load_compare(peers):
     return namespace
 
 
-def settle(limit_s=5.0):
-    """Waits until no Chromium process is left (at most limit_s), then a quarter second: node
-    returns while Chromium's processes still exit and hand their memory back, and a process
-    started then ran up to twice as long (Sundial 234-407 against 141-175 ms in one run)."""
+def settle(limit_s=5.0, after_s=2.0):
+    """Waits until no Chromium process is left (at most limit_s), then after_s: node returns
+    while Chromium's processes still exit and hand their memory back, and a process started then
+    ran up to twice as long (Sundial 234-407 against 141-175 ms in one run). The host then takes
+    back the memory Chromium freed (virtio-balloon's free page reporting, cli/huge_page_trial.h),
+    and a process that faults fresh pages within a second or so pays for the host backing them
+    again: with one binary in both of bench-peers' places, 6 rounds, Sundial's steady frame was
+    19.9 ms right after three.js against 17.9 one process later with a quarter second's wait,
+    17.9 against 18.4 with 2 s."""
     end = time.time() + limit_s
     while time.time() < end:
         if subprocess.run(["pgrep", "-x", "chromium"], capture_output=True).returncode != 0:
             break
         time.sleep(0.05)
-    time.sleep(0.25)
+    time.sleep(after_s)
 
 
 def run_omni(binary, scene, lights, out, w, h, repeat, env=None, extra=()):
