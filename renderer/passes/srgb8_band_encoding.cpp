@@ -89,7 +89,7 @@ Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRe
   Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
   // Outside `drawn` every pixel holds the clear value, zeros, whose bytes at any exposure are
   // the zeros the picture starts with: they are not read back.
-  const TexelRect read = drawn.grown(0, 0, w, h);
+  const TexelRect read = drawn.intersected(TexelRect::whole(w, h));
   if (read.empty()) return image;
   const int readWidth = read.x1 - read.x0;
   const std::size_t row = static_cast<std::size_t>(readWidth) * 4;

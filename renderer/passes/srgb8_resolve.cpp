@@ -45,33 +45,30 @@ Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, const TexelRe
   const int w = width, h = height;
   // Outside `drawn` every pixel holds the clear value, zeros, which the image starts with.
   Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
-  const TexelRect read = drawn.grown(0, 0, w, h);
+  const TexelRect read = drawn.intersected(TexelRect::whole(w, h));
   if (read.empty()) return image;
-  const int readWidth = read.x1 - read.x0, readHeight = read.y1 - read.y0;
-  // The copy into RGB turns the rows around too.
-  auto toRgb = [&](const std::uint8_t* rgba) {
-    for (int r = 0; r < readHeight; ++r) {
-      const int glRow = read.y0 + r;
+  // The pixels of `rect` from `rgba`, which holds just them, GL's rows first; the copy into RGB
+  // turns the rows around too.
+  const auto toRgb = [&](const std::uint8_t* rgba, const TexelRect& rect) {
+    const int rectWidth = rect.x1 - rect.x0;
+    for (int glRow = rect.y0; glRow < rect.y1; ++glRow) {
       const int y = glRowOrder ? glRow : h - 1 - glRow;
-      rgbaRowToRgb(rgba + static_cast<std::size_t>(r) * readWidth * 4,
-                   image.rgb.data() + (static_cast<std::size_t>(y) * w + read.x0) * 3, readWidth);
+      rgbaRowToRgb(rgba + static_cast<std::size_t>(glRow - rect.y0) * rectWidth * 4,
+                   image.rgb.data() + (static_cast<std::size_t>(y) * w + rect.x0) * 3, rectWidth);
     }
   };
   if (readback) {
     // A GPU's readback: the whole target through the kept buffer.
-    const std::uint8_t* rgba =
-        readback
-            ->read(texture, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, static_cast<std::size_t>(w) * h * 4)
-            .data();
-    for (int y = 0; y < h; ++y)
-      rgbaRowToRgb(rgba + static_cast<std::size_t>(glRowOrder ? y : h - 1 - y) * w * 4,
-                   image.rgb.data() + static_cast<std::size_t>(y) * w * 3, w);
+    const TexelRect whole = TexelRect::whole(w, h);
+    const std::size_t bytes = static_cast<std::size_t>(w) * h * 4;
+    toRgb(readback->read(texture, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, bytes).data(), whole);
   } else {
+    const int readWidth = read.x1 - read.x0, readHeight = read.y1 - read.y0;
     const std::size_t bytes = static_cast<std::size_t>(readWidth) * readHeight * 4;
     std::vector<std::uint8_t> rgba(bytes);
     glGetTextureSubImage(texture, 0, read.x0, read.y0, 0, readWidth, readHeight, 1, GL_RGBA_INTEGER,
                          GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes), rgba.data());
-    toRgb(rgba.data());
+    toRgb(rgba.data(), read);
   }
   return image;
 }
