@@ -144,7 +144,8 @@ TEST(PartialClear, NewBeautyTargetsOfLlvmpipeHoldZeros) {
     const bool bytes = outputs == PassOutputs::Srgb8;
     {
       FrameTargets full(w, h, outputs);
-      EXPECT_EQ(full.toClear(0, true), (TexelRect{0, 0, w, h}));  // not known to be zeroed
+      EXPECT_EQ(full.toClear(0, true),
+                TexelRegion(TexelRect{0, 0, w, h}));  // not known to be zeroed
       const float value[4] = {0.75f, 0.5f, 0.25f, 1.0f};
       const GLuint codes[4] = {191, 128, 64, 255};
       if (bytes)
@@ -157,7 +158,8 @@ TEST(PartialClear, NewBeautyTargetsOfLlvmpipeHoldZeros) {
     }
     FrameTargets fresh(w, h, outputs, contract::kMaxVisibilityOutputs, true);
     EXPECT_TRUE(fresh.toClear(0, true).empty());
-    EXPECT_EQ(fresh.toClear(0, false), (TexelRect{0, 0, w, h}));  // other values: cleared
+    EXPECT_EQ(fresh.toClear(0, false),
+              TexelRegion(TexelRect{0, 0, w, h}));  // other values: cleared
     std::vector<std::uint32_t> color(texels * 4, 7u);
     glGetTextureImage(fresh.color(0), 0, bytes ? GL_RGBA_INTEGER : GL_RGBA,
                       bytes ? GL_UNSIGNED_INT : GL_FLOAT,

@@ -1,7 +1,7 @@
 // The 8-bit beauty encoded on the CPU while the float target is read back in bands
 // (renderer/passes/srgb8_band_encoding.h): toSrgb8()'s bytes for every pixel, whatever the size
 // (one band, a last band cut short, more bands than buffers, one thread or two) and the row
-// order asked for; outside the rectangle the frame drew in, the background's bytes.
+// order asked for; outside the region the frame drew in, the background's bytes.
 #include "renderer/passes/srgb8_band_encoding.h"
 
 #include <GL/glcorearb.h>
@@ -61,9 +61,10 @@ TEST(Srgb8BandEncoding, EveryByteIsToSrgb8OfTheFloatTarget) {
       for (const float exposure : {0.0f, -1.25f}) {
         SCOPED_TRACE(::testing::Message() << size.width << "x" << size.height << ", glRowOrder "
                                           << glRowOrder << ", exposure " << exposure);
-        const Srgb8Image encoded = readSrgb8InBands(texture.get(), size.width, size.height,
-                                                    TexelRect::whole(size.width, size.height),
-                                                    std::exp2(exposure), glRowOrder);
+        const Srgb8Image encoded =
+            readSrgb8InBands(texture.get(), size.width, size.height,
+                             TexelRegion(TexelRect::whole(size.width, size.height)),
+                             std::exp2(exposure), glRowOrder);
         EXPECT_EQ(encoded.width, size.width);
         EXPECT_EQ(encoded.height, size.height);
         const std::vector<std::uint8_t> expected =
@@ -77,35 +78,50 @@ TEST(Srgb8BandEncoding, EveryByteIsToSrgb8OfTheFloatTarget) {
   }
 }
 
-TEST(Srgb8BandEncoding, OutsideTheDrawnRectangleEveryPixelIsTheBackground) {
+TEST(Srgb8BandEncoding, OutsideTheDrawnRegionEveryPixelIsTheBackground) {
   test_support::sharedRenderer();
   const int width = 704, height = 460;
   const std::vector<float> rows = picture(width, height);
-  // What a frame holds: the picture inside the rectangle, the clear value (zeros) elsewhere.
-  // The texture holds the picture everywhere, so a pixel read back from outside the rectangle
-  // shows.
+  // What a frame holds: the picture inside the region, the clear value (zeros) elsewhere. The
+  // texture holds the picture everywhere, so a pixel read back from outside the region shows.
   gl::Texture texture = gl::createTexture(GL_TEXTURE_2D);
   glTextureStorage2D(texture.get(), 1, GL_RGBA32F, width, height);
   glTextureSubImage2D(texture.get(), 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, rows.data());
-  // GL's coordinates (y up): a corner one, one inside starting at an odd row whose last band is
-  // short, one of two threads (at least 2^18 pixels), one pixel, a row, and none.
-  const TexelRect rects[] = {{0, 0, 37, 9},        {5, 3, 66, 44},     {61, 17, 704, 459},
-                             {703, 459, 704, 460}, {0, 200, 704, 201}, {}};
-  for (const TexelRect& rect : rects)
+  // GL's coordinates (y up): a corner rectangle, one inside starting at an odd row whose last
+  // band is short, one of two threads (at least 2^18 pixels), one pixel, a row, none; and
+  // regions of several rectangles: side by side in one band and apart in others, one starting
+  // and one ending inside a band, a column beside a frame-wide row, and two of two threads.
+  const std::vector<TexelRegion> regions = {
+      TexelRegion(TexelRect{0, 0, 37, 9}),
+      TexelRegion(TexelRect{5, 3, 66, 44}),
+      TexelRegion(TexelRect{61, 17, 704, 459}),
+      TexelRegion(TexelRect{703, 459, 704, 460}),
+      TexelRegion(TexelRect{0, 200, 704, 201}),
+      TexelRegion(),
+      TexelRegion::unionOf({{3, 5, 40, 30}, {100, 12, 130, 21}, {20, 25, 120, 70}},
+                           TexelRect::whole(width, height)),
+      TexelRegion::unionOf({{0, 0, 1, 460}, {0, 230, 704, 233}, {690, 3, 701, 11}},
+                           TexelRect::whole(width, height)),
+      TexelRegion::unionOf({{0, 0, 400, 420}, {401, 40, 704, 460}},
+                           TexelRect::whole(width, height))};
+  for (const TexelRegion& region : regions)
     for (const bool glRowOrder : {false, true})
       for (const float exposure : {0.0f, 1.5f}) {
+        const TexelRect bounds = region.bounds();
         SCOPED_TRACE(::testing::Message()
-                     << "rect " << rect.x0 << "," << rect.y0 << " to " << rect.x1 << "," << rect.y1
-                     << ", glRowOrder " << glRowOrder << ", exposure " << exposure);
+                     << region.rects().size() << " rects within " << bounds.x0 << "," << bounds.y0
+                     << " to " << bounds.x1 << "," << bounds.y1 << ", glRowOrder " << glRowOrder
+                     << ", exposure " << exposure);
         std::vector<float> frame(rows.size(), 0.0f);
-        for (int y = rect.y0; y < rect.y1; ++y)
-          for (int x = rect.x0; x < rect.x1; ++x)
-            for (int c = 0; c < 4; ++c) {
-              const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 4 + c;
-              frame[i] = rows[i];
-            }
+        for (const TexelRect& rect : region.rects())
+          for (int y = rect.y0; y < rect.y1; ++y)
+            for (int x = rect.x0; x < rect.x1; ++x)
+              for (int c = 0; c < 4; ++c) {
+                const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 4 + c;
+                frame[i] = rows[i];
+              }
         const Srgb8Image encoded =
-            readSrgb8InBands(texture.get(), width, height, rect, std::exp2(exposure), glRowOrder);
+            readSrgb8InBands(texture.get(), width, height, region, std::exp2(exposure), glRowOrder);
         const std::vector<std::uint8_t> expected =
             toSrgb8(asFrame(frame, width, height, glRowOrder), exposure);
         ASSERT_EQ(encoded.rgb.size(), expected.size());

@@ -258,8 +258,9 @@ TEST(Srgb8Beauty, FloatFramesEncodedOnTheGpuOrInBandsEqualTheCpuEncoding) {
   }
 }
 
-// Objects that cover part of the view: the readback takes only the rectangle they may cover
-// (FrameTargets::drawn()), and the rest of the picture is the background's zeros. Every byte
+// Objects that cover part of the view: the readback takes only the region they may cover
+// (FrameTargets::drawn(): here several rectangles, the objects lying apart), and the rest of the
+// picture is the background's zeros. Every byte
 // still equals toSrgb8() of the float frame, which is read whole: for the 8-bit target and for
 // the float one read in bands (one thread and two), at odd sizes, with a sphere cut by the
 // view's right edge.

@@ -5,6 +5,7 @@
 #include <GL/glcorearb.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -44,9 +45,9 @@ TEST(Srgb8Readback, EachPixelsRgbInTheRowOrderAskedForThroughOneKeptBuffer) {
                         GL_UNSIGNED_BYTE, rgba.data());
     for (const bool glRowOrder : {false, true})
       for (gl::PixelPackBuffer* through : {&readback, static_cast<gl::PixelPackBuffer*>(nullptr)}) {
-        const Srgb8Image image =
-            readSrgb8Texture(texture.get(), size.width, size.height,
-                             TexelRect::whole(size.width, size.height), glRowOrder, through);
+        const Srgb8Image image = readSrgb8Texture(
+            texture.get(), size.width, size.height,
+            TexelRegion(TexelRect::whole(size.width, size.height)), glRowOrder, through);
         ASSERT_EQ(image.width, size.width);
         ASSERT_EQ(image.height, size.height);
         ASSERT_EQ(image.rgb.size(), static_cast<std::size_t>(size.width) * size.height * 3);
@@ -64,7 +65,7 @@ TEST(Srgb8Readback, EachPixelsRgbInTheRowOrderAskedForThroughOneKeptBuffer) {
   }
 }
 
-TEST(Srgb8Readback, IntoMemoryOnlyTheDrawnRectangleIsReadAndTheRestIsZeros) {
+TEST(Srgb8Readback, IntoMemoryOnlyTheDrawnRegionIsReadAndTheRestIsZeros) {
   test_support::sharedRenderer();
   const int width = 61, height = 37;
   const std::vector<std::uint8_t> rgba = texels(width, height, 104729u);
@@ -72,30 +73,44 @@ TEST(Srgb8Readback, IntoMemoryOnlyTheDrawnRectangleIsReadAndTheRestIsZeros) {
   glTextureStorage2D(texture.get(), 1, GL_RGBA8UI, width, height);
   glTextureSubImage2D(texture.get(), 0, 0, 0, width, height, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE,
                       rgba.data());
-  // GL's coordinates (y up). The texture holds texels outside the rectangle too, where a frame
+  // GL's coordinates (y up). The texture holds texels outside the region too, where a frame
   // holds zeros: a pixel read from there shows. Odd widths (the row's last pixels go byte by
-  // byte), a corner, one pixel, one column, the whole target and none.
-  const TexelRect rects[] = {{3, 2, 40, 31}, {0, 0, 2, 1},   {60, 36, 61, 37},
-                             {7, 0, 8, 37},  {0, 0, 61, 37}, {}};
-  for (const TexelRect& rect : rects)
+  // byte), a corner, one pixel, one column, the whole target and none; and regions of several
+  // rectangles of different sizes, one of them wider than the first.
+  const TexelRect whole = TexelRect::whole(width, height);
+  const std::vector<TexelRegion> regions = {
+      TexelRegion(TexelRect{3, 2, 40, 31}),
+      TexelRegion(TexelRect{0, 0, 2, 1}),
+      TexelRegion(TexelRect{60, 36, 61, 37}),
+      TexelRegion(TexelRect{7, 0, 8, 37}),
+      TexelRegion(whole),
+      TexelRegion(),
+      TexelRegion::unionOf({{1, 1, 5, 4}, {10, 3, 60, 30}, {2, 20, 12, 36}}, whole),
+      TexelRegion::unionOf({{0, 0, 61, 2}, {30, 2, 31, 37}}, whole)};
+  for (const TexelRegion& region : regions)
     for (const bool glRowOrder : {false, true}) {
       const Srgb8Image image =
-          readSrgb8Texture(texture.get(), width, height, rect, glRowOrder, nullptr);
+          readSrgb8Texture(texture.get(), width, height, region, glRowOrder, nullptr);
       ASSERT_EQ(image.rgb.size(), static_cast<std::size_t>(width) * height * 3);
       std::size_t wrong = 0;
       for (int y = 0; y < height; ++y) {
         const int glRow = glRowOrder ? y : height - 1 - y;
-        const bool rowInside = glRow >= rect.y0 && glRow < rect.y1;
-        for (int x = 0; x < width; ++x)
+        for (int x = 0; x < width; ++x) {
+          const bool inside =
+              std::any_of(region.rects().begin(), region.rects().end(), [&](const TexelRect& rect) {
+                return glRow >= rect.y0 && glRow < rect.y1 && x >= rect.x0 && x < rect.x1;
+              });
           for (int c = 0; c < 3; ++c) {
-            const bool inside = rowInside && x >= rect.x0 && x < rect.x1;
             const std::uint8_t expected =
                 inside ? rgba[(static_cast<std::size_t>(glRow) * width + x) * 4 + c] : 0;
             wrong += image.rgb[(static_cast<std::size_t>(y) * width + x) * 3 + c] != expected;
           }
+        }
       }
-      EXPECT_EQ(wrong, 0u) << "rect " << rect.x0 << "," << rect.y0 << " to " << rect.x1 << ","
-                           << rect.y1 << (glRowOrder ? " GL order" : "");
+      const TexelRect bounds = region.bounds();
+      EXPECT_EQ(wrong, 0u) << region.rects().size() << " rects within " << bounds.x0 << ","
+                           << bounds.y0 << " to " << bounds.x1 << "," << bounds.y1
+                           << (glRowOrder ? " GL order" : "");
     }
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }

@@ -627,13 +627,13 @@ FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visib
                       " framebuffer (status " + hex(status) + ")");
 }
 
-TexelRect FrameTargets::toClear(int clearValues, bool zeros) const {
+TexelRegion FrameTargets::toClear(int clearValues, bool zeros) const {
   if (!clearValues_ && madeZeroed_ && zeros) return {};
-  if (clearValues_ != clearValues) return TexelRect::whole(width_, height_);
+  if (clearValues_ != clearValues) return TexelRegion(TexelRect::whole(width_, height_));
   return drawn_;
 }
 
-void FrameTargets::cleared(int clearValues, const TexelRect& drawn) {
+void FrameTargets::cleared(int clearValues, const TexelRegion& drawn) {
   clearValues_ = clearValues;
   drawn_ = drawn;
 }
@@ -842,21 +842,24 @@ bool overlap(const glm::vec4& a, const glm::vec4& b) {
   return a.x <= b.z && b.x <= a.z && a.y <= b.w && b.y <= a.w;
 }
 
-// The pixels a lighting pass of `scene` may draw: its draws' boxes projected, with a pixel more
-// for the points and lines (a pixel wide, centred on their vertices).
-TexelRect drawnPixels(const GpuScene& scene, const glm::mat4& viewProjection,
-                      const FrameTargets& targets) {
+// The pixels a lighting pass of `scene` may draw: its draws' boxes projected, each with a pixel
+// more for the points and lines (a pixel wide, centred on their vertices).
+TexelRegion drawnPixels(const GpuScene& scene, const glm::mat4& viewProjection,
+                        const FrameTargets& targets) {
   const int width = targets.width(), height = targets.height();
   const TexelRect whole = TexelRect::whole(width, height);
-  TexelRect drawn;
+  std::vector<TexelRect> draws;
+  draws.reserve(scene.draws().size());
   for (const GpuDraw& draw : scene.draws()) {
     if (draw.meshBounds.empty()) continue;  // no vertex
-    drawn = drawn.united(ndcTexelRect(
-        projectedBox(viewProjection, draw.world, draw.meshBounds.min, draw.meshBounds.max), width,
-        height));
-    if (drawn == whole) return whole;  // a room seen from inside: nothing more to learn
+    draws.push_back(ndcTexelRect(projectedBox(viewProjection, draw.world, draw.meshBounds.min,
+                                              draw.meshBounds.max),
+                                 width, height)
+                        .grown(1, 1, width, height));
+    // A room seen from inside: nothing more to learn.
+    if (draws.back() == whole) return TexelRegion(whole);
   }
-  return drawn.grown(1, 1, width, height);
+  return TexelRegion::unionOf(draws, whole);
 }
 
 }  // namespace
@@ -1227,7 +1230,9 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   bool zeros = true;
   for (int i = 0; i < targets.attachmentCount(); ++i)
     zeros = zeros && clearValue(i, parameters) == std::array<float, 4>{0, 0, 0, 0};
-  const TexelRect stale = targets.toClear(clearValues, zeros);
+  // One scissored clear of the stale pixels' bounds: a clear per rectangle of Sundial's drawn
+  // region (15 to 43 of them) cost the lighting pass more than their fewer texels saved.
+  const TexelRect stale = targets.toClear(clearValues, zeros).bounds();
   if (stale == whole) {
     clearTargets(targets, parameters);
   } else if (!stale.empty()) {  // empty: every pixel holds what the clear would write
@@ -1235,7 +1240,8 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
     clearTargets(targets, parameters);
     gl::Scissor{}.apply();
   }
-  targets.cleared(clearValues, background ? whole : drawnPixels(scene, viewProjection, targets));
+  targets.cleared(clearValues,
+                  background ? TexelRegion(whole) : drawnPixels(scene, viewProjection, targets));
 
   FrameUniforms uniforms;
   uniforms.viewProjection = viewProjection;

@@ -23,6 +23,7 @@
 #include "renderer/view/caster_culling.h"
 #include "renderer/view/light_clusters.h"
 #include "renderer/view/overdraw_estimate.h"
+#include "renderer/view/texel_region.h"
 
 namespace omnishadow {
 
@@ -166,12 +167,14 @@ class FrameTargets {
   // targets unless they were made zeroed and the values are zeros. llvmpipe clears a 16-byte
   // texel at a time and visits every tile a clear reaches: a whole 1280x720 float beauty took
   // 2.2 ms of Sundial's 10 ms lighting pass.
-  TexelRect toClear(int clearValues, bool zeros) const;
+  TexelRegion toClear(int clearValues, bool zeros) const;
   // A pass cleared toClear() to `clearValues` and then drew within `drawn`.
-  void cleared(int clearValues, const TexelRect& drawn);
+  void cleared(int clearValues, const TexelRegion& drawn);
   // The pixels the last pass may have drawn: every other pixel holds what it cleared them to.
   // The whole frame before any pass has cleared.
-  TexelRect drawn() const { return clearValues_ ? drawn_ : TexelRect::whole(width_, height_); }
+  TexelRegion drawn() const {
+    return clearValues_ ? drawn_ : TexelRegion(TexelRect::whole(width_, height_));
+  }
 
  private:
   int width_, height_;
@@ -179,7 +182,7 @@ class FrameTargets {
   int visibilityOutputs_;
   bool madeZeroed_;
   std::optional<int> clearValues_;  // none: nothing cleared them yet
-  TexelRect drawn_;
+  TexelRegion drawn_;
   gl::Framebuffer framebuffer_;
   std::vector<gl::Texture> colors_;
   gl::Texture depth_;

@@ -83,38 +83,46 @@ class BandProgress {
 
 }  // namespace
 
-Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRect& drawn,
+Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRegion& drawn,
                             float exposureScale, bool glRowOrder) {
   const int w = width, h = height;
   Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
   // Outside `drawn` every pixel holds the clear value, zeros, whose bytes at any exposure are
   // the zeros the picture starts with: they are not read back.
-  const TexelRect read = drawn.intersected(TexelRect::whole(w, h));
-  if (read.empty()) return image;
-  const int readWidth = read.x1 - read.x0;
-  const std::size_t row = static_cast<std::size_t>(readWidth) * 4;
-  const int bands = (read.y1 - read.y0 + kBandRows - 1) / kBandRows;
+  const TexelRegion read = drawn.clipped(TexelRect::whole(w, h));
+  const TexelRect bounds = read.bounds();
+  if (bounds.empty()) return image;
+  // A band's pieces of the region lie side by side within the bounds' columns, so that a band's
+  // buffer holds them all.
+  const std::size_t boundsRow = static_cast<std::size_t>(bounds.x1 - bounds.x0) * 4;
+  const int bands = (bounds.y1 - bounds.y0 + kBandRows - 1) / kBandRows;
   const int bufferCount = std::min(bands, kBuffers);
   std::vector<FloatPixels> buffers(static_cast<std::size_t>(bufferCount),
-                                   FloatPixels(row * kBandRows));
+                                   FloatPixels(boundsRow * kBandRows));
+  const auto firstRow = [&](int band) { return bounds.y0 + band * kBandRows; };
+  // The band's pieces of the region, in the order its buffer holds them.
+  const auto piecesOf = [&](int band) {
+    const TexelRect rows{bounds.x0, firstRow(band), bounds.x1,
+                         std::min(firstRow(band) + kBandRows, bounds.y1)};
+    return read.clipped(rows).rects();
+  };
   // Bands in GL's order (bottom first); each row is encoded into its place in the picture, as
   // readChannels() places them, so the rows need no turning around.
-  const auto firstRow = [&](int band) { return read.y0 + band * kBandRows; };
-  const auto rowsOf = [&](int band) { return std::min(kBandRows, read.y1 - firstRow(band)); };
   const auto encode = [&](int band) {
-    const float* rows = buffers[static_cast<std::size_t>(band % bufferCount)].data();
-    for (int r = 0; r < rowsOf(band); ++r) {
-      const int glRow = firstRow(band) + r;
-      const int y = glRowOrder ? glRow : h - 1 - glRow;
-      rgbaToSrgb8Rgb(rows + static_cast<std::size_t>(r) * row, static_cast<std::size_t>(readWidth),
-                     exposureScale,
-                     image.rgb.data() + (static_cast<std::size_t>(y) * w + read.x0) * 3);
+    const float* pixels = buffers[static_cast<std::size_t>(band % bufferCount)].data();
+    for (const TexelRect& piece : piecesOf(band)) {
+      const auto pieceWidth = static_cast<std::size_t>(piece.x1 - piece.x0);
+      for (int glRow = piece.y0; glRow < piece.y1; ++glRow, pixels += pieceWidth * 4) {
+        const int y = glRowOrder ? glRow : h - 1 - glRow;
+        rgbaToSrgb8Rgb(pixels, pieceWidth, exposureScale,
+                       image.rgb.data() + (static_cast<std::size_t>(y) * w + piece.x0) * 3);
+      }
     }
   };
 
   BandProgress progress(bands);
   std::thread encoder;
-  if (static_cast<std::size_t>(readWidth) * (read.y1 - read.y0) >= kTwoThreadPixels &&
+  if (static_cast<std::size_t>(read.texels()) >= kTwoThreadPixels &&
       std::thread::hardware_concurrency() >= 2) {
     try {
       encoder = std::thread([&] {
@@ -142,9 +150,15 @@ Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRe
       while (!progress.isEncoded(previous))
         if (!encodeOne()) progress.waitEncoded(previous);
     FloatPixels& buffer = buffers[static_cast<std::size_t>(band % bufferCount)];
-    glGetTextureSubImage(texture, 0, read.x0, firstRow(band), 0, readWidth, rowsOf(band), 1,
-                         GL_RGBA, GL_FLOAT, static_cast<GLsizei>(buffer.size() * sizeof(float)),
-                         buffer.data());
+    std::size_t at = 0;
+    for (const TexelRect& piece : piecesOf(band)) {
+      const std::size_t floats =
+          static_cast<std::size_t>(piece.x1 - piece.x0) * (piece.y1 - piece.y0) * 4;
+      glGetTextureSubImage(texture, 0, piece.x0, piece.y0, 0, piece.x1 - piece.x0,
+                           piece.y1 - piece.y0, 1, GL_RGBA, GL_FLOAT,
+                           static_cast<GLsizei>(floats * sizeof(float)), buffer.data() + at);
+      at += floats;
+    }
     progress.markRead();
     if (!encoder.joinable()) encodeOne();
   }

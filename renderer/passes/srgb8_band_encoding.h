@@ -3,7 +3,7 @@
 #include <GL/glcorearb.h>
 
 #include "renderer/render/frame.h"
-#include "renderer/view/caster_culling.h"
+#include "renderer/view/texel_region.h"
 
 namespace omnishadow {
 
@@ -18,10 +18,11 @@ namespace omnishadow {
 // first frame: readback 9.7 -> 2.7 ms, PNG encoding 11.6 -> 8.7 (medians of 10 renders); a later
 // frame's readback 1.5 -> 2.9, now with the encoding in it.
 //
-// Only the rows and columns of `drawn` (GL's window coordinates: FrameTargets::drawn()) are read
-// and encoded; every other pixel holds the clear value, zeros, whose bytes are written instead.
-// Sundial's drawn rectangle is half its 1280x720 frame: steady readback 2.5 -> 1.5 ms.
-Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRect& drawn,
+// Only the pixels of `drawn` (GL's window coordinates: FrameTargets::drawn()) are read and
+// encoded, each band's pieces of it one after another; every other pixel holds the clear value,
+// zeros, whose bytes are written instead. Sundial's drawn rectangle is half its 1280x720 frame:
+// steady readback 2.5 -> 1.5 ms.
+Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRegion& drawn,
                             float exposureScale, bool glRowOrder);
 
 }  // namespace omnishadow

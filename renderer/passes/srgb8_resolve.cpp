@@ -1,5 +1,6 @@
 #include "renderer/passes/srgb8_resolve.h"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstdint>
@@ -40,12 +41,12 @@ void rgbaRowToRgb(const std::uint8_t* from, std::uint8_t* to, int width) {
 
 }  // namespace
 
-Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, const TexelRect& drawn,
+Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, const TexelRegion& drawn,
                             bool glRowOrder, gl::PixelPackBuffer* readback) {
   const int w = width, h = height;
   // Outside `drawn` every pixel holds the clear value, zeros, which the image starts with.
   Srgb8Image image{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h * 3)};
-  const TexelRect read = drawn.intersected(TexelRect::whole(w, h));
+  const TexelRegion read = drawn.clipped(TexelRect::whole(w, h));
   if (read.empty()) return image;
   // The pixels of `rect` from `rgba`, which holds just them, GL's rows first; the copy into RGB
   // turns the rows around too.
@@ -63,12 +64,19 @@ Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, const TexelRe
     const std::size_t bytes = static_cast<std::size_t>(w) * h * 4;
     toRgb(readback->read(texture, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, bytes).data(), whole);
   } else {
-    const int readWidth = read.x1 - read.x0, readHeight = read.y1 - read.y0;
-    const std::size_t bytes = static_cast<std::size_t>(readWidth) * readHeight * 4;
-    std::vector<std::uint8_t> rgba(bytes);
-    glGetTextureSubImage(texture, 0, read.x0, read.y0, 0, readWidth, readHeight, 1, GL_RGBA_INTEGER,
-                         GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes), rgba.data());
-    toRgb(rgba.data(), read);
+    std::size_t largest = 0;
+    for (const TexelRect& rect : read.rects())
+      largest =
+          std::max(largest, static_cast<std::size_t>(rect.x1 - rect.x0) * (rect.y1 - rect.y0));
+    std::vector<std::uint8_t> rgba(largest * 4);
+    for (const TexelRect& rect : read.rects()) {
+      const int rectWidth = rect.x1 - rect.x0, rectHeight = rect.y1 - rect.y0;
+      const std::size_t bytes = static_cast<std::size_t>(rectWidth) * rectHeight * 4;
+      glGetTextureSubImage(texture, 0, rect.x0, rect.y0, 0, rectWidth, rectHeight, 1,
+                           GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes),
+                           rgba.data());
+      toRgb(rgba.data(), rect);
+    }
   }
   return image;
 }
@@ -112,8 +120,8 @@ Srgb8Image Srgb8Resolve::resolve(GLuint beauty, int width, int height, float exp
   gl::RasterState::restoreDefaults();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::checkErrors("the 8-bit beauty's encoding");
-  return readSrgb8Texture(target_.get(), width, height, TexelRect::whole(width, height), glRowOrder,
-                          &readback_);
+  return readSrgb8Texture(target_.get(), width, height,
+                          TexelRegion(TexelRect::whole(width, height)), glRowOrder, &readback_);
 }
 
 }  // namespace omnishadow
