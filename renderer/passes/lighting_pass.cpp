@@ -603,12 +603,13 @@ AovVisibilityLayout aovVisibilityLayout(int lights, bool rgbTerms) {
 }
 
 FrameTargets::FrameTargets(int width, int height, PassOutputs outputs, int visibilityOutputs,
-                           bool madeZeroed)
+                           bool madeZeroed, bool zerosByUpload)
     : width_(width),
       height_(height),
       outputs_(outputs),
       visibilityOutputs_(outputs == PassOutputs::Aovs ? visibilityOutputs : 0),
       madeZeroed_(madeZeroed),
+      zerosByUpload_(zerosByUpload),
       framebuffer_(gl::createFramebuffer()) {
   const int count = attachmentsFor(outputs, visibilityOutputs);
   std::vector<GLenum> drawBuffers;
@@ -636,6 +637,19 @@ TexelRegion FrameTargets::toClear(int clearValues, bool zeros) const {
 void FrameTargets::cleared(int clearValues, const TexelRegion& drawn) {
   clearValues_ = clearValues;
   drawn_ = drawn;
+}
+
+void FrameTargets::uploadZeros(int attachment, const TexelRegion& region) {
+  if (colorFormat(outputs_, attachment) != GL_RGBA32F)
+    throw std::logic_error("zeros uploaded into a frame target that is not RGBA32F");
+  const TexelRegion within = region.clipped(TexelRect::whole(width_, height_));
+  std::size_t largest = 0;
+  for (const TexelRect& r : within.rects())
+    largest = std::max(largest, static_cast<std::size_t>(r.x1 - r.x0) * (r.y1 - r.y0) * 4);
+  if (zeros_.size() < largest) zeros_.resize(largest, 0.0f);
+  for (const TexelRect& r : within.rects())
+    glTextureSubImage2D(colors_[static_cast<std::size_t>(attachment)].get(), 0, r.x0, r.y0,
+                        r.x1 - r.x0, r.y1 - r.y0, GL_RGBA, GL_FLOAT, zeros_.data());
 }
 
 double FrameTargets::bytes(int width, int height, PassOutputs outputs) {
@@ -1195,13 +1209,16 @@ std::array<float, 4> LightingPass::clearValue(int attachment,
   return {0, 0, 0, 0};  // the 8-bit beauty's too, in integers
 }
 
-void LightingPass::clearTargets(const FrameTargets& targets,
-                                const PassParameters& parameters) const {
+void LightingPass::clearTargets(FrameTargets& targets, const PassParameters& parameters,
+                                const TexelRegion* zerosOver) const {
   for (int i = 0; i < targets.attachmentCount(); ++i) {
     const std::array<float, 4> value = clearValue(i, parameters);
     if (writesSrgb8(outputs_) && i == 0) {
       const GLuint black[4] = {0, 0, 0, 0};
       glClearNamedFramebufferuiv(targets.framebuffer(), GL_COLOR, i, black);
+    } else if (zerosOver && colorFormat(outputs_, i) == GL_RGBA32F &&
+               value == std::array<float, 4>{0, 0, 0, 0}) {
+      targets.uploadZeros(i, *zerosOver);
     } else {
       glClearNamedFramebufferfv(targets.framebuffer(), GL_COLOR, i, value.data());
     }
@@ -1231,13 +1248,15 @@ void LightingPass::render(const GpuScene& scene, const ViewCamera& camera,
   for (int i = 0; i < targets.attachmentCount(); ++i)
     zeros = zeros && clearValue(i, parameters) == std::array<float, 4>{0, 0, 0, 0};
   // One scissored clear of the stale pixels' bounds: a clear per rectangle of Sundial's drawn
-  // region (15 to 43 of them) cost the lighting pass more than their fewer texels saved.
-  const TexelRect stale = targets.toClear(clearValues, zeros).bounds();
-  if (stale == whole) {
+  // region (15 to 43 of them) cost the lighting pass more than their fewer texels saved. Uploads
+  // of zeros, a row copy each, can take the region's rectangles alone.
+  const TexelRegion staleRegion = targets.toClear(clearValues, zeros);
+  const TexelRect stale = staleRegion.bounds();
+  if (staleRegion == TexelRegion(whole)) {
     clearTargets(targets, parameters);
   } else if (!stale.empty()) {  // empty: every pixel holds what the clear would write
     scissorTo(stale);
-    clearTargets(targets, parameters);
+    clearTargets(targets, parameters, targets.zerosByUpload() ? &staleRegion : nullptr);
     gl::Scissor{}.apply();
   }
   targets.cleared(clearValues,

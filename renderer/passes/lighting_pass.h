@@ -147,8 +147,12 @@ class FrameTargets {
  public:
   // `madeZeroed`: the driver fills every texture it makes with zero bytes, as llvmpipe does
   // (ShadowTexturePool), so new targets hold what a pass that clears to zeros clears them to.
+  // `zerosByUpload`: the driver's textures live in this process's memory and an upload copies
+  // them a row at a time, as llvmpipe's do, whose clears write a 16-byte texel at a time: the
+  // float attachments that clear to zeros take them from memory (uploadZeros()).
   FrameTargets(int width, int height, PassOutputs outputs,
-               int visibilityOutputs = contract::kMaxVisibilityOutputs, bool madeZeroed = false);
+               int visibilityOutputs = contract::kMaxVisibilityOutputs, bool madeZeroed = false,
+               bool zerosByUpload = false);
   // The most bytes such targets take (their colors and a 32-bit depth), for checks made before
   // any of them is allocated.
   static double bytes(int width, int height, PassOutputs outputs);
@@ -176,11 +180,19 @@ class FrameTargets {
     return clearValues_ ? drawn_ : TexelRegion(TexelRect::whole(width_, height_));
   }
 
+  bool zerosByUpload() const { return zerosByUpload_; }
+  // Zero bytes into the texels of `region` of color attachment `attachment` (RGBA32F), uploaded
+  // from memory of zeros a rectangle at a time. On llvmpipe, Sundial's steady lighting pass
+  // 9.9 -> 9.55 ms against a scissored clear of the region's bounds.
+  void uploadZeros(int attachment, const TexelRegion& region);
+
  private:
   int width_, height_;
   PassOutputs outputs_;
   int visibilityOutputs_;
   bool madeZeroed_;
+  bool zerosByUpload_;
+  std::vector<float> zeros_;  // for the largest rectangle uploadZeros() has written
   std::optional<int> clearValues_;  // none: nothing cleared them yet
   TexelRegion drawn_;
   gl::Framebuffer framebuffer_;
@@ -320,7 +332,10 @@ class LightingPass {
   // What color attachment `attachment` holds where no surface is.
   std::array<float, 4> clearValue(int attachment, const PassParameters& parameters) const;
   // Clears the color targets to their clearValue() and the depth (obeying the scissor).
-  void clearTargets(const FrameTargets& targets, const PassParameters& parameters) const;
+  // Clears every attachment and the depth, within the scissor; the float attachments that clear
+  // to zeros take them by upload over `zerosOver` instead where it is given.
+  void clearTargets(FrameTargets& targets, const PassParameters& parameters,
+                    const TexelRegion* zerosOver = nullptr) const;
   // The environment where no surface covers a pixel (EnvironmentBinding::background), over
   // the opaque and masked surfaces' depth and under what is drawn after them.
   // Leaves its own raster state applied.

@@ -798,14 +798,16 @@ FloatImage objectIdsOf(const IdPixels& ids, bool& anyBlendedOnly) {
 
 // `kept`, remade first when it is missing or of another size, attachments or shape (one slot
 // holds the beauty's targets with and without the ids).
-// `madeZeroed`: the driver fills new textures with zero bytes (FrameTargets).
-FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, bool madeZeroed, int width,
+// `llvmpipe`: the driver fills new textures with zero bytes and keeps them in this process's
+// memory (FrameTargets' madeZeroed and zerosByUpload).
+FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, bool llvmpipe, int width,
                           int height, PassOutputs outputs,
                           int visibilityOutputs = contract::kMaxVisibilityOutputs) {
   if (!kept || kept->width() != width || kept->height() != height || kept->outputs() != outputs ||
       (outputs == PassOutputs::Aovs && kept->visibilityOutputs() != visibilityOutputs)) {
     kept.reset();  // the old one goes before the new one takes its memory
-    kept = std::make_unique<FrameTargets>(width, height, outputs, visibilityOutputs, madeZeroed);
+    kept = std::make_unique<FrameTargets>(width, height, outputs, visibilityOutputs, llvmpipe,
+                                          llvmpipe);
   }
   return *kept;
 }
