@@ -101,6 +101,7 @@ TEST(TexelRegion, ClipsAndLeavesOutEmptyRectangles) {
   const TexelRegion two = TexelRegion::unionOf({{0, 0, 10, 10}, {20, 20, 40, 30}}, clip);
   EXPECT_EQ(two.bounds(), (TexelRect{0, 0, 40, 30}));
   EXPECT_EQ(two.texels(), 100 + 200);
+  EXPECT_EQ(two.largestRectTexels(), 200);
   EXPECT_EQ(two.clipped({5, 5, 25, 25}).rects(),
             (std::vector<TexelRect>{{5, 5, 10, 10}, {20, 20, 25, 25}}));
   EXPECT_TRUE(two.clipped({11, 0, 19, 48}).empty());

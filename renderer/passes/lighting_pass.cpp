@@ -643,10 +643,8 @@ void FrameTargets::uploadZeros(int attachment, const TexelRegion& region) {
   if (colorFormat(outputs_, attachment) != GL_RGBA32F)
     throw std::logic_error("zeros uploaded into a frame target that is not RGBA32F");
   const TexelRegion within = region.clipped(TexelRect::whole(width_, height_));
-  std::size_t largest = 0;
-  for (const TexelRect& r : within.rects())
-    largest = std::max(largest, static_cast<std::size_t>(r.x1 - r.x0) * (r.y1 - r.y0) * 4);
-  if (zeros_.size() < largest) zeros_.resize(largest, 0.0f);
+  const auto floats = static_cast<std::size_t>(within.largestRectTexels()) * 4;
+  if (zeros_.size() < floats) zeros_.resize(floats, 0.0f);
   for (const TexelRect& r : within.rects())
     glTextureSubImage2D(colors_[static_cast<std::size_t>(attachment)].get(), 0, r.x0, r.y0,
                         r.x1 - r.x0, r.y1 - r.y0, GL_RGBA, GL_FLOAT, zeros_.data());

@@ -192,7 +192,7 @@ class FrameTargets {
   int visibilityOutputs_;
   bool madeZeroed_;
   bool zerosByUpload_;
-  std::vector<float> zeros_;  // for the largest rectangle uploadZeros() has written
+  std::vector<float> zeros_;        // for the largest rectangle uploadZeros() has written
   std::optional<int> clearValues_;  // none: nothing cleared them yet
   TexelRegion drawn_;
   gl::Framebuffer framebuffer_;
@@ -331,9 +331,9 @@ class LightingPass {
                       const FrameUniforms& uniforms);
   // What color attachment `attachment` holds where no surface is.
   std::array<float, 4> clearValue(int attachment, const PassParameters& parameters) const;
-  // Clears the color targets to their clearValue() and the depth (obeying the scissor).
-  // Clears every attachment and the depth, within the scissor; the float attachments that clear
-  // to zeros take them by upload over `zerosOver` instead where it is given.
+  // Clears the color targets to their clearValue() and the depth, within the scissor; the float
+  // attachments that clear to zeros take them by upload over `zerosOver` instead where it is
+  // given (FrameTargets::uploadZeros()).
   void clearTargets(FrameTargets& targets, const PassParameters& parameters,
                     const TexelRegion* zerosOver = nullptr) const;
   // The environment where no surface covers a pixel (EnvironmentBinding::background), over

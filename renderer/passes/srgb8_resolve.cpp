@@ -1,6 +1,5 @@
 #include "renderer/passes/srgb8_resolve.h"
 
-#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstdint>
@@ -64,11 +63,7 @@ Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, const TexelRe
     const std::size_t bytes = static_cast<std::size_t>(w) * h * 4;
     toRgb(readback->read(texture, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, bytes).data(), whole);
   } else {
-    std::size_t largest = 0;
-    for (const TexelRect& rect : read.rects())
-      largest =
-          std::max(largest, static_cast<std::size_t>(rect.x1 - rect.x0) * (rect.y1 - rect.y0));
-    std::vector<std::uint8_t> rgba(largest * 4);
+    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(read.largestRectTexels()) * 4);
     for (const TexelRect& rect : read.rects()) {
       const int rectWidth = rect.x1 - rect.x0, rectHeight = rect.y1 - rect.y0;
       const std::size_t bytes = static_cast<std::size_t>(rectWidth) * rectHeight * 4;

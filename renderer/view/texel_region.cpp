@@ -126,6 +126,14 @@ std::int64_t TexelRegion::texels() const {
   return sum;
 }
 
+std::int64_t TexelRegion::largestRectTexels() const {
+  std::int64_t largest = 0;
+  for (const TexelRect& r : rects_)
+    largest = std::max(
+        largest, static_cast<std::int64_t>(r.x1 - r.x0) * static_cast<std::int64_t>(r.y1 - r.y0));
+  return largest;
+}
+
 TexelRegion TexelRegion::clipped(const TexelRect& clip) const {
   TexelRegion region;
   for (const TexelRect& r : rects_) {

@@ -36,6 +36,8 @@ class TexelRegion {
   // The smallest rectangle holding the region (empty for an empty region).
   TexelRect bounds() const;
   std::int64_t texels() const;
+  // The texels of its largest rectangle.
+  std::int64_t largestRectTexels() const;
   // The region's texels within `clip`.
   TexelRegion clipped(const TexelRect& clip) const;
   bool operator==(const TexelRegion& other) const = default;
