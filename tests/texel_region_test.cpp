@@ -139,5 +139,33 @@ TEST(TexelRegion, TooManyRectanglesCoarsenOntoTheGridThenIntoTheirBounds) {
   }
 }
 
+TEST(TexelRegion, ThousandsOfRectanglesComeOutAsTheirBoundsOrTheGridAndHoldThemAll) {
+  const int width = 2048, height = 2048;
+  const TexelRect clip{0, 0, width, height};
+  // 20,000 small rectangles scattered over a large view: past both sweeps' input limits.
+  std::vector<TexelRect> rects;
+  std::uint32_t state = 7u;
+  for (int i = 0; i < 20000; ++i) {
+    state = state * 1664525u + 1013904223u;
+    const int x = static_cast<int>((state >> 8) % 2040u);
+    state = state * 1664525u + 1013904223u;
+    const int y = static_cast<int>((state >> 8) % 2040u);
+    rects.push_back({x, y, x + 5, y + 5});
+  }
+  const TexelRegion region = TexelRegion::unionOf(rects, clip);
+  expectWellFormed(region);
+  EXPECT_LE(region.rects().size(), TexelRegion::kMaxRects);
+  TexelRect bounding;
+  for (const TexelRect& r : rects) bounding = bounding.united(r);
+  EXPECT_EQ(region.bounds(), bounding);
+  const std::vector<int> got = coverage(region.rects(), width, height);
+  std::size_t missing = 0;
+  for (const TexelRect& r : rects)
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x)
+        missing += got[static_cast<std::size_t>(y) * width + x] == 0;
+  EXPECT_EQ(missing, 0u);
+}
+
 }  // namespace
 }  // namespace omnishadow

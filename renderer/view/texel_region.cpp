@@ -10,8 +10,11 @@ namespace omnishadow {
 namespace {
 
 // Up to this many rectangles the exact union is tried first: its sweep visits every rectangle
-// once per band of rows between two of their edges.
+// once per band of rows between two of their edges. On the coarse grid, whose bands are at
+// least kCoarseGrid rows, up to kCoarseInputs distinct ones are swept; beyond that a region is
+// its bounds.
 constexpr std::size_t kExactInputs = 512;
+constexpr std::size_t kCoarseInputs = 4096;
 
 bool byRowThenColumn(const TexelRect& a, const TexelRect& b) {
   return a.y0 != b.y0 ? a.y0 < b.y0 : a.x0 < b.x0;
@@ -106,6 +109,7 @@ TexelRegion TexelRegion::unionOf(const std::vector<TexelRect>& rects, const Texe
     return std::tie(a.y0, a.x0, a.y1, a.x1) < std::tie(b.y0, b.x0, b.y1, b.x1);
   });
   inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
+  if (inside.size() > kCoarseInputs) return TexelRegion(bounding);
   if (std::optional<std::vector<TexelRect>> coarse = exactUnion(inside, maxRects)) {
     region.rects_ = std::move(*coarse);
     return region;
