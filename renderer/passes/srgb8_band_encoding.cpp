@@ -99,12 +99,16 @@ Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRe
   const int bufferCount = std::min(bands, kBuffers);
   std::vector<FloatPixels> buffers(static_cast<std::size_t>(bufferCount),
                                    FloatPixels(boundsRow * kBandRows));
-  const auto firstRow = [&](int band) { return bounds.y0 + band * kBandRows; };
-  // The band's pieces of the region, in the order its buffer holds them.
-  const auto piecesOf = [&](int band) {
-    const TexelRect rows{bounds.x0, firstRow(band), bounds.x1,
-                         std::min(firstRow(band) + kBandRows, bounds.y1)};
-    return read.clipped(rows).rects();
+  // Each band's pieces of the region, in the order its buffer holds them: found once, for the
+  // reading thread and the encoding one alike.
+  std::vector<TexelRegion> pieces;
+  pieces.reserve(static_cast<std::size_t>(bands));
+  for (int band = 0; band < bands; ++band) {
+    const int y0 = bounds.y0 + band * kBandRows;
+    pieces.push_back(read.clipped({bounds.x0, y0, bounds.x1, std::min(y0 + kBandRows, bounds.y1)}));
+  }
+  const auto piecesOf = [&](int band) -> const std::vector<TexelRect>& {
+    return pieces[static_cast<std::size_t>(band)].rects();
   };
   // Bands in GL's order (bottom first); each row is encoded into its place in the picture, as
   // readChannels() places them, so the rows need no turning around.

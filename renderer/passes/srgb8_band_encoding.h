@@ -20,8 +20,8 @@ namespace omnishadow {
 //
 // Only the pixels of `drawn` (GL's window coordinates: FrameTargets::drawn()) are read and
 // encoded, each band's pieces of it one after another; every other pixel holds the clear value,
-// zeros, whose bytes are written instead. Sundial's drawn rectangle is half its 1280x720 frame:
-// steady readback 2.5 -> 1.5 ms.
+// zeros, whose bytes are written instead. Sundial's drawn rectangle is half its 1280x720 frame
+// (steady readback 2.5 -> 1.5 ms), its drawn region 63% of that rectangle (1.5 -> 1.2 ms).
 Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRegion& drawn,
                             float exposureScale, bool glRowOrder);
 

@@ -14,8 +14,8 @@ namespace omnishadow {
 // read back through `readback`, or into memory of its own where it is null: on llvmpipe that
 // took 0.9-1.1 ms a 1280x720 frame against 1.1-1.5 through a buffer (docs/performance.md).
 // Into memory, only the pixels of `drawn` (GL's window coordinates: FrameTargets::drawn()) are
-// read, a rectangle of it at a time, and every other one is zeros, the clear value (Box's steady readback 0.8 -> 0.4 ms);
-// through the buffer the whole texture is.
+// read, a rectangle of it at a time, and every other one is zeros, the clear value (Box's
+// steady readback 0.8 -> 0.4 ms); through the buffer the whole texture is.
 Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, const TexelRegion& drawn,
                             bool glRowOrder, gl::PixelPackBuffer* readback);
 
