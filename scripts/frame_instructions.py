@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Instructions per steady frame, counted by valgrind, for A/Bs the host's noise would hide (issue 19).
+"""Instructions per steady frame under valgrind: A/Bs the host's noise would hide (issue 19).
 
 On this shared 2-core host a steady Sundial frame runs anywhere from 14.5 to 20 ms within
 minutes, and in slow spells twice that, so wall-clock A/Bs (scripts/bench_ab.py) need 10-16
@@ -62,10 +62,10 @@ def counts(path, binary):
 
 def callgrind(binary, scene, lights, repeat, size, tmp, tag):
     out = os.path.join(tmp, f"{tag}.{repeat}.callgrind")
-    args = ["valgrind", "--tool=callgrind", "--smc-check=all-non-file", f"--callgrind-out-file={out}",
-            binary, "render", scene, "-l", lights, "-o", os.path.join(tmp, f"{tag}.png"),
-            "--width", str(size[0]), "--height", str(size[1]), "--no-gltf-lights",
-            "--repeat", str(repeat)]
+    args = ["valgrind", "--tool=callgrind", "--smc-check=all-non-file",
+            f"--callgrind-out-file={out}", binary, "render", scene, "-l", lights,
+            "-o", os.path.join(tmp, f"{tag}.png"), "--width", str(size[0]),
+            "--height", str(size[1]), "--no-gltf-lights", "--repeat", str(repeat)]
     p = subprocess.run(args, capture_output=True, text=True)
     if p.returncode != 0:
         raise RuntimeError(f"{tag}: {p.stderr[-400:]}")
