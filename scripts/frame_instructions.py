@@ -15,11 +15,12 @@ split by where they run:
 - `compiles`: LLVM (should be 0 in a steady frame; a warm-up process fills the shader cache);
 - `other`: everything else.
 
-The counts repeat to well under 1% from run to run, where wall time does not; but they are
-instructions, not time: a cache miss, a wait for another thread or a page fault costs no
-instruction. Use them to see what a change does to the work, then bench_ab.py or
-bench-peers.sh for what it does to the time. A render under valgrind runs some 100 times
-slower (a Sundial process of --repeat 12: about 2 minutes).
+The counts repeat where wall time does not (on Sundial the shaders' and the driver's to 0.01%
+from run to run, the copies and fills to a few percent); but they are instructions, not time:
+a cache miss, a wait for another thread or a page fault costs no instruction. Use them to see
+what a change does to the work, then bench_ab.py or bench-peers.sh for what it does to the
+time. A render under valgrind runs some 100 times slower (a Sundial process of --repeat 12:
+about 2 minutes).
 
 Usage: scripts/frame_instructions.py --bin NEW [--baseline OLD] [--scenes sundial,box]
                                      [--frames 2,12] [--filter pcf] [--size WxH] [--peers DIR]"""
@@ -64,7 +65,7 @@ def callgrind(binary, scene, lights, repeat, size, tmp, tag):
     out = os.path.join(tmp, f"{tag}.{repeat}.callgrind")
     args = ["valgrind", "--tool=callgrind", "--smc-check=all-non-file",
             f"--callgrind-out-file={out}", binary, "render", scene, "-l", lights,
-            "-o", os.path.join(tmp, f"{tag}.png"), "--width", str(size[0]),
+            "-o", os.path.join(tmp, f"{tag}.{repeat}.png"), "--width", str(size[0]),
             "--height", str(size[1]), "--no-gltf-lights", "--repeat", str(repeat)]
     p = subprocess.run(args, capture_output=True, text=True)
     if p.returncode != 0:
@@ -104,8 +105,9 @@ def main():
             # features, so a native render would leave the counted ones compiling (and whichever
             # of the two compiled would count llvmpipe's IR building as frame work).
             subprocess.run(["valgrind", "--tool=none", "--smc-check=all-non-file", binary, "render",
-                            scene, "-l", lf, "-o", os.path.join(tmp, "warm.png"),
-                            "--no-gltf-lights"], capture_output=True, check=True)
+                            scene, "-l", lf, "-o", os.path.join(tmp, "warm.png"), "--width",
+                            str(size[0]), "--height", str(size[1]), "--no-gltf-lights"],
+                           capture_output=True, check=True)
         jobs = {}
         with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
             for who, binary in binaries:
