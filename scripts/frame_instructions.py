@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Instructions per steady frame under valgrind: A/Bs the host's noise would hide (issue 19).
 
-On this shared 2-core host a steady Sundial frame runs anywhere from 14.5 to 20 ms within
-minutes, and in slow spells twice that, so wall-clock A/Bs (scripts/bench_ab.py) need 10-16
-interleaved rounds to see a change of half a millisecond. This script counts instead: it runs
+On this shared 2-core host a steady Sundial frame runs anywhere from 14 to 21 ms within
+minutes, so wall-clock A/Bs (scripts/bench_ab.py) need 10-16 interleaved rounds to see a change
+of half a millisecond. This script counts instead: it runs
 each binary's `render --repeat A` and `render --repeat B` under callgrind (valgrind's
 instruction counter; llvmpipe's JIT code included) on compare.py's scenes and lights, and
 prints (count of B - count of A) / (B - A), the instructions one more steady frame executes,
