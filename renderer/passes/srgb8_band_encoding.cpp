@@ -156,8 +156,7 @@ Srgb8Image readSrgb8InBands(GLuint texture, int width, int height, const TexelRe
     FloatPixels& buffer = buffers[static_cast<std::size_t>(band % bufferCount)];
     std::size_t at = 0;
     for (const TexelRect& piece : piecesOf(band)) {
-      const std::size_t floats =
-          static_cast<std::size_t>(piece.x1 - piece.x0) * (piece.y1 - piece.y0) * 4;
+      const std::size_t floats = static_cast<std::size_t>(piece.texels()) * 4;
       glGetTextureSubImage(texture, 0, piece.x0, piece.y0, 0, piece.x1 - piece.x0,
                            piece.y1 - piece.y0, 1, GL_RGBA, GL_FLOAT,
                            static_cast<GLsizei>(floats * sizeof(float)), buffer.data() + at);

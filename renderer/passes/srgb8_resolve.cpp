@@ -65,9 +65,8 @@ Srgb8Image readSrgb8Texture(GLuint texture, int width, int height, const TexelRe
   } else {
     std::vector<std::uint8_t> rgba(static_cast<std::size_t>(read.largestRectTexels()) * 4);
     for (const TexelRect& rect : read.rects()) {
-      const int rectWidth = rect.x1 - rect.x0, rectHeight = rect.y1 - rect.y0;
-      const std::size_t bytes = static_cast<std::size_t>(rectWidth) * rectHeight * 4;
-      glGetTextureSubImage(texture, 0, rect.x0, rect.y0, 0, rectWidth, rectHeight, 1,
+      const std::size_t bytes = static_cast<std::size_t>(rect.texels()) * 4;
+      glGetTextureSubImage(texture, 0, rect.x0, rect.y0, 0, rect.x1 - rect.x0, rect.y1 - rect.y0, 1,
                            GL_RGBA_INTEGER, GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes),
                            rgba.data());
       toRgb(rgba.data(), rect);

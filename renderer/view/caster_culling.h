@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <optional>
 #include <vector>
@@ -33,6 +34,10 @@ class ViewFrustum {
 struct TexelRect {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   bool empty() const { return x0 >= x1 || y0 >= y1; }
+  // How many texels it holds (0 when empty).
+  std::int64_t texels() const {
+    return empty() ? 0 : static_cast<std::int64_t>(x1 - x0) * static_cast<std::int64_t>(y1 - y0);
+  }
   // The smallest rectangle holding both (an empty one adds nothing).
   TexelRect united(const TexelRect& other) const;
   // The texels both hold (empty where they do not meet).

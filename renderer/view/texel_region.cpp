@@ -125,16 +125,13 @@ TexelRect TexelRegion::bounds() const {
 
 std::int64_t TexelRegion::texels() const {
   std::int64_t sum = 0;
-  for (const TexelRect& r : rects_)
-    sum += static_cast<std::int64_t>(r.x1 - r.x0) * static_cast<std::int64_t>(r.y1 - r.y0);
+  for (const TexelRect& r : rects_) sum += r.texels();
   return sum;
 }
 
 std::int64_t TexelRegion::largestRectTexels() const {
   std::int64_t largest = 0;
-  for (const TexelRect& r : rects_)
-    largest = std::max(
-        largest, static_cast<std::int64_t>(r.x1 - r.x0) * static_cast<std::int64_t>(r.y1 - r.y0));
+  for (const TexelRect& r : rects_) largest = std::max(largest, r.texels());
   return largest;
 }
 
