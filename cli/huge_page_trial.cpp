@@ -1,18 +1,32 @@
 #include "cli/huge_page_trial.h"
 
+#include <algorithm>
+
 namespace omnishadow::cli {
 
 HugePageTrial::HugePageTrial(std::uintptr_t hugeBegin, std::uintptr_t hugeEnd)
     : hugeBegin_(hugeBegin), hugeEnd_(hugeEnd) {}
 
 bool HugePageTrial::asks(std::uintptr_t spanBegin, std::uintptr_t spanEnd) const {
-  return !givenUp_ && spanBegin >= hugeBegin_ && spanEnd <= hugeEnd_ &&
-         spanEnd - spanBegin == kHugePage;
+  return !givenUp_ && smallBytes_ >= kCalibrationBytes && spanBegin >= hugeBegin_ &&
+         spanEnd <= hugeEnd_ && spanEnd - spanBegin == kHugePage;
 }
 
-void HugePageTrial::touched(std::uintptr_t spanBegin, std::uintptr_t spanEnd,
-                            double cpuMilliseconds) {
-  if (asks(spanBegin, spanEnd) && cpuMilliseconds > kSlowMilliseconds) givenUp_ = true;
+double HugePageTrial::slowMilliseconds() const {
+  if (smallBytes_ == 0) return kSlowMilliseconds;
+  const double perHugePage =
+      smallMilliseconds_ * static_cast<double>(kHugePage) / static_cast<double>(smallBytes_);
+  return std::max(kSlowMilliseconds, perHugePage);
+}
+
+void HugePageTrial::touched(bool huge, std::uintptr_t touchedBytes, double cpuMilliseconds) {
+  if (touchedBytes == 0) return;
+  if (huge) {
+    if (cpuMilliseconds > slowMilliseconds()) givenUp_ = true;
+    return;
+  }
+  smallBytes_ += touchedBytes;
+  smallMilliseconds_ += cpuMilliseconds;
 }
 
 }  // namespace omnishadow::cli

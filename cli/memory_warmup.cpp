@@ -81,16 +81,26 @@ void MemoryWarmup::touch(std::size_t page) {
   const auto begin = reinterpret_cast<std::uintptr_t>(block_);
   const std::uintptr_t end = begin + bytes_;
   HugePageTrial trial(hugeBegin(), hugeEnd());
-  std::uintptr_t at = begin;
-  while (at < end && !stop_.load(std::memory_order_relaxed)) {
-    const std::uintptr_t spanBegin = at & ~(kHuge - 1);
-    const std::uintptr_t spanEnd = std::min(spanBegin + kHuge, end);
-    if (trial.asks(spanBegin, spanEnd)) advise(spanBegin, spanEnd, MADV_HUGEPAGE);
+  // Touches the span holding `cursor` up to `until` (and at most its end) with `touchPage`, a
+  // page at a time, in a huge page where the trial asks for one and the toucher has touched none
+  // of the span yet.
+  const auto touchSpan = [&](std::uintptr_t& cursor, std::uintptr_t until, auto touchPage,
+                             const std::atomic<bool>& halt) {
+    const std::uintptr_t spanBegin = cursor & ~(kHuge - 1);
+    const std::uintptr_t spanEnd = std::min(spanBegin + kHuge, until);
+    // The last page touched (cursor - page; the block is not page-aligned) lies before the span.
+    const bool huge = cursor - spanBegin < page && trial.asks(spanBegin, spanEnd);
+    if (huge) advise(spanBegin, spanEnd, MADV_HUGEPAGE);
+    const std::uintptr_t from = cursor;
     const double start = threadCpuMilliseconds();
-    for (; at < spanEnd && !stop_.load(std::memory_order_relaxed); at += page)
-      block_[at - begin] = 0;
-    trial.touched(spanBegin, spanEnd, threadCpuMilliseconds() - start);
-  }
+    for (; cursor < spanEnd && !halt.load(std::memory_order_relaxed); cursor += page)
+      touchPage(cursor);
+    trial.touched(huge, cursor - from, threadCpuMilliseconds() - start);
+  };
+  std::uintptr_t at = begin;
+  while (at < end && !stop_.load(std::memory_order_relaxed))
+    touchSpan(
+        at, end, [&](std::uintptr_t p) { block_[p - begin] = 0; }, stop_);
   handedOver_.store(true);
   handedOver_.notify_one();
   freed_.wait(false);
@@ -98,9 +108,18 @@ void MemoryWarmup::touch(std::size_t page) {
   // the frame is expected to need is faulted in without changing a byte. A locked add of 0
   // reads and writes the byte back in one step, so that a store another thread makes to it
   // meanwhile is not lost (x86-64 and AArch64 alike; C++ calls it a race with that thread's
-  // plain store, which the hardware does not).
-  for (; at < neededEnd_ && !quit_.load(std::memory_order_relaxed); at += page)
-    std::atomic_ref<char>(*reinterpret_cast<char*>(at)).fetch_add(0, std::memory_order_relaxed);
+  // plain store, which the hardware does not). A span asked for as a huge page keeps the bytes
+  // the frame wrote into it: advice changes how pages yet to fault are mapped, and the span gets
+  // a huge page only while none of its pages is mapped.
+  while (at < neededEnd_ && !quit_.load(std::memory_order_relaxed))
+    touchSpan(
+        at, neededEnd_,
+        [](std::uintptr_t p) {
+          // NOLINTNEXTLINE(performance-no-int-to-ptr): a page of the block, now the heap's
+          std::atomic_ref<char>(*reinterpret_cast<char*>(p))
+              .fetch_add(0, std::memory_order_relaxed);
+        },
+        quit_);
 }
 
 MemoryWarmup::~MemoryWarmup() {

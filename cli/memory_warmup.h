@@ -10,8 +10,9 @@
 // goes back to the heap, where the frame's textures and buffers are carved from pages that are
 // already there. malloc is set to serve every block from its heap, one heap for all threads,
 // and to keep what is freed, so that they are: a process that renders once and exits. Where
-// they fault quickly, the block gets transparent huge pages, which the toucher faults in 2 MiB
-// at a time (cli/huge_page_trial.h).
+// they fault more quickly than the same bytes in 4 KiB pages, the block gets transparent huge
+// pages, which the toucher faults in 2 MiB at a time (cli/huge_page_trial.h), before and after
+// it hands the block over.
 //
 // Where the scene loads on every core, the toucher gets little of that time (Sundial: 26 of
 // 128 MB), and the frame then faults in what it carves beyond (60 MB in its shadow stage). So

@@ -120,10 +120,11 @@ TEST(MemoryWarmup, WhatTheToucherDoesNotReachIsIn4KiBPages) {
   EXPECT_FALSE(hasFlag(tail, "hg")) << tail;
 }
 
-// The toucher asks for huge pages from the block's first whole span on, and where it stops
-// asking (a slow one, or the end of its time) it does not ask again: the spans asked for are
-// the block's first ones, a cube map carved from them lies in huge-page memory, and every
-// span after the first one not asked for is in 4 KiB pages.
+// The toucher asks for huge pages once it has touched a megabyte in 4 KiB pages (which sets
+// what a slow huge page is, cli/huge_page_trial.h): from the block's first or second whole span
+// on. Where it stops asking (a slow one, or the end of its time) it does not ask again: a cube
+// map carved from the first spans lies in huge-page memory, and every span after the first
+// one not asked for is in 4 KiB pages.
 TEST(MemoryWarmup, HugePagesAreAskedForFromTheStartOfTheBlock) {
   if (!kernelHasHugePages()) GTEST_SKIP() << "no transparent huge pages in this kernel";
   constexpr std::size_t kBlock = std::size_t{32} << 20;
@@ -144,9 +145,12 @@ TEST(MemoryWarmup, HugePagesAreAskedForFromTheStartOfTheBlock) {
     spans.push_back(mappingFlags(reinterpret_cast<const char*>(at)));
   std::free(carved);
   ASSERT_GE(spans.size(), 8u);
-  EXPECT_TRUE(hasFlag(spans[0], "hg")) << spans[0];
+  // The block's head before its first whole span is shorter than a span: when it is shorter
+  // than the megabyte, the first whole span is touched in 4 KiB pages too.
+  const std::size_t first = hasFlag(spans[0], "hg") ? 0 : 1;
+  EXPECT_TRUE(hasFlag(spans[first], "hg")) << spans[first];
   bool asked = true;
-  for (std::size_t i = 0; i < spans.size(); ++i) {
+  for (std::size_t i = first; i < spans.size(); ++i) {
     if (!hasFlag(spans[i], "hg")) asked = false;
     if (!asked) {
       EXPECT_FALSE(hasFlag(spans[i], "hg")) << "span " << i << ": " << spans[i];
@@ -180,7 +184,8 @@ void exitWhetherTheNeededPagesAreFaultedInAndKeepTheirBytes() {
   std::vector<unsigned char> resident(pages);
   const auto residentPages = [&] {
     // NOLINTNEXTLINE(performance-no-int-to-ptr): the buffer's own pages
-    if (mincore(reinterpret_cast<void*>(first), pages * page, resident.data()) != 0) return 0uz;
+    if (mincore(reinterpret_cast<void*>(first), pages * page, resident.data()) != 0)
+      return std::size_t{0};
     std::size_t count = 0;
     for (const unsigned char r : resident) count += r & 1u;
     return count;
