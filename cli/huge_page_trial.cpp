@@ -19,12 +19,15 @@ double HugePageTrial::slowMilliseconds() const {
   return std::max(kSlowMilliseconds, perHugePage);
 }
 
-void HugePageTrial::touched(bool huge, std::uintptr_t touchedBytes, double cpuMilliseconds) {
+void HugePageTrial::touched(std::uintptr_t spanBegin, bool huge, std::uintptr_t touchedBytes,
+                            double cpuMilliseconds) {
   if (touchedBytes == 0) return;
   if (huge) {
+    askedSpan_ = spanBegin;
     if (cpuMilliseconds > slowMilliseconds()) givenUp_ = true;
     return;
   }
+  if (spanBegin == askedSpan_) return;
   smallBytes_ += touchedBytes;
   smallMilliseconds_ += cpuMilliseconds;
 }

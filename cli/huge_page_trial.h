@@ -43,9 +43,12 @@ class HugePageTrial {
 
   // Whether to ask for a huge page for the span [spanBegin, spanEnd) before touching it.
   bool asks(std::uintptr_t spanBegin, std::uintptr_t spanEnd) const;
-  // The toucher touched `touchedBytes` of a span in `cpuMilliseconds`: in a huge page it had
-  // asked for (`huge`; its first byte faulted the whole page in), or in 4 KiB pages.
-  void touched(bool huge, std::uintptr_t touchedBytes, double cpuMilliseconds);
+  // The toucher touched `touchedBytes` of the span at `spanBegin` in `cpuMilliseconds`: in a
+  // huge page it had asked for (`huge`; its first byte faulted the whole page in), or in 4 KiB
+  // pages. The rest of a span asked for, touched after the toucher was cut short in it, lies in
+  // the huge page and tells nothing.
+  void touched(std::uintptr_t spanBegin, bool huge, std::uintptr_t touchedBytes,
+               double cpuMilliseconds);
   // Whether huge pages were given up: a span asked for took longer than slowMilliseconds().
   bool givenUp() const { return givenUp_; }
   // The bound: the larger of kSlowMilliseconds and what the spans touched in 4 KiB pages took
@@ -55,6 +58,7 @@ class HugePageTrial {
  private:
   std::uintptr_t hugeBegin_, hugeEnd_;
   bool givenUp_ = false;
+  std::uintptr_t askedSpan_ = 1;   // the last span asked for (1: none begins there)
   std::uintptr_t smallBytes_ = 0;  // touched in 4 KiB pages
   double smallMilliseconds_ = 0.0;
 };

@@ -95,7 +95,7 @@ void MemoryWarmup::touch(std::size_t page) {
     const double start = threadCpuMilliseconds();
     for (; cursor < spanEnd && !halt.load(std::memory_order_relaxed); cursor += page)
       touchPage(cursor);
-    trial.touched(huge, cursor - from, threadCpuMilliseconds() - start);
+    trial.touched(spanBegin, huge, cursor - from, threadCpuMilliseconds() - start);
   };
   std::uintptr_t at = begin;
   while (at < end && !stop_.load(std::memory_order_relaxed))
