@@ -10,7 +10,10 @@ prints (count of B - count of A) / (B - A), the instructions one more steady fra
 split by where they run:
 - `shaders`: llvmpipe's JIT code (fragment, vertex and triangle-setup functions);
 - `llvmpipe`: the driver's C code (binning, rasterization, clears, the GL state);
-- `memcpy/memset`: the C library's copies and fills (uploads, readbacks, wide-texel clears);
+- `memcpy/memset`: the C library's copies and fills (uploads, readbacks, wide-texel clears).
+  valgrind runs a large copy's `rep movsb` one byte per instruction (100 copies of 1 MiB: 104.9
+  M), so this column is nearer the bytes moved than the work: Sundial's 16-18 M are its frame's
+  copies of 16-18 MB, whose halving (a half-float beauty) saved no time;
 - `omnishadow`: this program (frame planning, culling, the CPU's sRGB encoding);
 - `compiles`: LLVM (should be 0 in a steady frame; a warm-up process fills the shader cache);
 - `other`: everything else.
