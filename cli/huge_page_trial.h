@@ -12,11 +12,12 @@
 // back) and the rest slow.
 //
 // What is slow depends on the machine. On some virtual machines every 4 KiB fault is expensive
-// (10.6 us, against 1.7-2 on the one above: 5.4 ms for 2 MiB), while a huge page takes 0.12 ms
-// of which the host still backs and 2.3-3.7 ms of which it must back again: there even the
-// slow huge pages are the cheaper. So the bound is the slower of 2 ms and what the same 2 MiB
-// took in 4 KiB pages, as measured on the block's own spans that were not asked for: the
-// toucher asks for no huge page before it has touched kCalibrationBytes in 4 KiB pages.
+// (10.1-11.3 us, against 1.7-2 on the one above: 5.2-5.8 ms for 2 MiB), while a huge page takes
+// 0.12-0.15 ms where the host still backs the memory and 1.2-3.7 ms where it must back it
+// again: there even the slow huge pages are the cheaper. So the bound is the larger of 2 ms and
+// what the same 2 MiB took in 4 KiB pages, as measured on the block's own spans that were not
+// asked for: the toucher asks for no huge page before it has touched kCalibrationBytes in 4 KiB
+// pages (scripts/fault_cost.py measures both kinds of page).
 //
 // So the toucher asks for a huge page span by span, just before it touches the span, and stops
 // asking at the first slow one. The block starts in 4 KiB pages, so that what the toucher does

@@ -3,9 +3,9 @@
 
 A single render's first frame takes some 100 MB of fresh memory (textures, cube maps, frame
 targets), which the kernel maps on first touch. What that costs is the machine's, not the
-renderer's: 1.7-2 us a 4 KiB page on the virtual machines of the earlier sessions, 10.6-11.3 us
+renderer's: 1.7-2 us a 4 KiB page on the virtual machines of the earlier sessions, 10.1-11.3 us
 on another (docs/performance.md, "Huge pages where 4 KiB faults are dear"), where the same 2
-MiB in one huge page took 0.12 ms, or 2.3-3.7 ms where the host had to back it again. The
+MiB in one huge page took 0.12-0.15 ms, or 1.2-3.7 ms where the host had to back it again. The
 memory warm-up (cli/memory_warmup.h, cli/huge_page_trial.h) chooses between the two by the same
 measure. Run this beside a benchmark to read its first frames.
 
