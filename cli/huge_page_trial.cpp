@@ -19,6 +19,12 @@ double HugePageTrial::slowMilliseconds() const {
   return std::max(kSlowMilliseconds, perHugePage);
 }
 
+double HugePageTrial::smallPageMicroseconds() const {
+  if (smallBytes_ < kCalibrationBytes) return 0.0;
+  constexpr double kSmallPage = 4096.0;
+  return smallMilliseconds_ * 1e3 * kSmallPage / static_cast<double>(smallBytes_);
+}
+
 void HugePageTrial::touched(std::uintptr_t spanBegin, bool huge, std::uintptr_t touchedBytes,
                             double cpuMilliseconds) {
   if (touchedBytes == 0) return;

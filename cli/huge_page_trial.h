@@ -55,6 +55,8 @@ class HugePageTrial {
   // The bound: the larger of kSlowMilliseconds and what the spans touched in 4 KiB pages took
   // per 2 MiB.
   double slowMilliseconds() const;
+  // What a 4 KiB page took on average, once kCalibrationBytes of them are measured; else 0.
+  double smallPageMicroseconds() const;
 
  private:
   std::uintptr_t hugeBegin_, hugeEnd_;

@@ -96,6 +96,8 @@ void MemoryWarmup::touch(std::size_t page) {
     for (; cursor < spanEnd && !halt.load(std::memory_order_relaxed); cursor += page)
       touchPage(cursor);
     trial.touched(spanBegin, huge, cursor - from, threadCpuMilliseconds() - start);
+    if (pageFaultMicroseconds_.load(std::memory_order_relaxed) == 0.0)
+      pageFaultMicroseconds_.store(trial.smallPageMicroseconds());
   };
   std::uintptr_t at = begin;
   while (at < end && !stop_.load(std::memory_order_relaxed))

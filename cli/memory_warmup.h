@@ -43,6 +43,11 @@ class MemoryWarmup {
   // them or the warm-up is destroyed.
   void finish(std::size_t neededBytes = 0);
 
+  // What faulting in a fresh 4 KiB page cost the toucher, in microseconds of its CPU time, once
+  // it has measured enough of them (HugePageTrial::kCalibrationBytes); 0 before, or without a
+  // toucher.
+  double pageFaultMicroseconds() const { return pageFaultMicroseconds_.load(); }
+
  private:
   void touch(std::size_t page);
   // The block's whole 2 MiB-aligned spans.
@@ -56,6 +61,7 @@ class MemoryWarmup {
   std::atomic<bool> freed_{false};       // it is the heap's; neededEnd_ is set
   std::atomic<bool> quit_{false};        // the toucher is to end
   std::uintptr_t neededEnd_ = 0;         // where the toucher ends once the block is freed
+  std::atomic<double> pageFaultMicroseconds_{0.0};
   std::thread toucher_;
 };
 

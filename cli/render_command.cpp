@@ -31,6 +31,14 @@ namespace {
 // wall, 9 interleaved rounds, Sundial 178 against 195 ms, test_room 223 against 243.
 constexpr std::size_t kWarmupBytes = std::size_t{128} << 20;
 
+// Where the warm-up measured a 4 KiB page fault at this or more (its toucher's CPU time;
+// unmeasured counts as cheap), a render does not prepare while the scene loads. Measured
+// (docs/performance.md, issue 19): where a fault cost 2 us, preparing made Sundial's process 3%
+// faster and the 250k-triangle bench room's first shadow maps 26-56 ms faster; where one cost
+// 10-12 us (the toucher measured 14-19), preparing Sundial's 24 MB cube map and targets took
+// 125-150 ms when the load had a few milliseconds left, and the bench room was no faster.
+constexpr double kDearPageFaultMicroseconds = 5.0;
+
 // The command line as a job; checks everything that needs no file reading.
 RenderJob jobFromOptions(const RenderOptions& o) {
   RenderJob job = sceneJob(o.input);
@@ -89,8 +97,12 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   }
   // While the scene is still loading, this thread allocates and clears what the frame will
   // need. When it has loaded already, nothing would overlap: the frame allocates its textures
-  // itself, from the pages the warm-up touched.
-  if (renderer && loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+  // itself, from the pages the warm-up touched. So does it where fresh memory is dear: preparing
+  // faults in fresh pages here, one by one, which the frame would have taken from the warm-up,
+  // and it outlasts a load that was nearly done (see kDearPageFaultMicroseconds).
+  const double pageFault = warmup.pageFaultMicroseconds();
+  if (renderer && loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready &&
+      pageFault < kDearPageFaultMicroseconds)
     prepareJob(*renderer, job);
   auto [loaded, loadMilliseconds] = loading.get();
   warmup.finish(renderer ? frameMemoryEstimate(*renderer, job, loaded) : 0);

@@ -96,6 +96,21 @@ TEST(HugePageTrial, TheBoundIsTheMeanOfAllSmallPagesTouched) {
   EXPECT_NEAR(trial.slowMilliseconds(), 512 * 0.008, 1e-9);
 }
 
+// What a 4 KiB page costs is known once the calibration's megabyte is measured (a render
+// prepares nothing ahead of the frame where it is dear), and huge pages do not count in it.
+TEST(HugePageTrial, Measures4KPagesOnceItHasTheCalibrationsMegabyte) {
+  HugePageTrial trial(kBegin, span(4));
+  trial.touched(kHead, false, kCalibration / 2, kSlowSmallPages / 2);
+  EXPECT_EQ(trial.smallPageMicroseconds(), 0.0);
+  trial.touched(kHead, false, kCalibration / 2, kSlowSmallPages / 2);
+  EXPECT_NEAR(trial.smallPageMicroseconds(), 10.6, 1e-9);
+  ASSERT_TRUE(trial.asks(span(0), span(1)));
+  trial.touched(span(0), true, kSpan, 0.15);
+  EXPECT_NEAR(trial.smallPageMicroseconds(), 10.6, 1e-9);
+  trial.touched(span(1), false, kCalibration, kQuickSmallPages);
+  EXPECT_NEAR(trial.smallPageMicroseconds(), (10.6 + 1.8) / 2, 1e-9);
+}
+
 // A span asked for and cut short after its first page (the block handed over) lies in its huge
 // page: its rest, touched after the hand-over, faults nothing and is no measure of 4 KiB pages
 // (a first version counted it, which brought the bound down to 2 ms and gave huge pages up).

@@ -52,6 +52,20 @@ TEST(MemoryWarmup, LargeBlocksComeFromTheHeapOnlyAfterAWarmup) {
   EXPECT_EQ(mappedBlocksFor(std::size_t{200} << 20), 0);
 }
 
+// The toucher reports what a fresh 4 KiB page cost it once it has faulted in a megabyte of
+// them: nothing before, and a time a page fault can take (a render prepares nothing ahead of
+// its frame where that is dear).
+TEST(MemoryWarmup, ReportsWhatA4KiBPageFaultCostsOnceMeasured) {
+  MemoryWarmup warmup(std::size_t{16} << 20);
+  // The toucher runs only on an idle core: wait for it.
+  for (int i = 0; i < 2000 && warmup.pageFaultMicroseconds() == 0.0; ++i) usleep(10000);
+  const double microseconds = warmup.pageFaultMicroseconds();
+  EXPECT_GT(microseconds, 0.0);
+  EXPECT_LT(microseconds, 10000.0);
+  warmup.finish();
+  EXPECT_EQ(warmup.pageFaultMicroseconds(), microseconds);
+}
+
 // After a warm-up a thread started later allocates from the main heap, whose pages the warm-up
 // touched and where what the others free goes (an arena of its own would fault in fresh pages
 // and keep what it frees): its block lies below the program break, where no mapping is.
