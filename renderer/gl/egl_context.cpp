@@ -12,6 +12,7 @@
 #include "renderer/core/errors.h"
 #include "renderer/gl/egl_extensions.h"
 #include "renderer/gl/enum_names.h"
+#include "renderer/gl/relocation_prefault.h"
 
 namespace omnishadow {
 namespace {
@@ -186,6 +187,9 @@ std::vector<Candidate> deviceCandidates(int gpuIndex, std::vector<std::string>& 
 }  // namespace
 
 EglContext::EglContext(const ContextOptions& options) : impl_(std::make_unique<Impl>()) {
+  // Listing the devices and initializing a display load the EGL vendor libraries and the
+  // driver (relocation_prefault.h); a process's later contexts load nothing new.
+  const RelocationPrefault prefault;
   std::vector<std::string> attempts;
   std::vector<Candidate> candidates = deviceCandidates(options.gpuIndex, attempts);
   // Asking for a device that is not there is a usage error, also where EGL lists none at all.
