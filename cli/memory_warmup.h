@@ -47,6 +47,8 @@ class MemoryWarmup {
   // it has measured enough of them (HugePageTrial::kCalibrationBytes); 0 before, or without a
   // toucher.
   double pageFaultMicroseconds() const { return pageFaultMicroseconds_.load(); }
+  // Whether a toucher runs: false where the warm-up is turned off or had no block.
+  bool active() const { return toucher_.joinable(); }
 
  private:
   void touch(std::size_t page);

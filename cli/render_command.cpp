@@ -31,12 +31,15 @@ namespace {
 // wall, 9 interleaved rounds, Sundial 178 against 195 ms, test_room 223 against 243.
 constexpr std::size_t kWarmupBytes = std::size_t{128} << 20;
 
-// Where the warm-up measured a 4 KiB page fault at this or more (its toucher's CPU time;
-// unmeasured counts as cheap), a render does not prepare while the scene loads. Measured
-// (docs/performance.md, issue 19): where a fault cost 2 us, preparing made Sundial's process 3%
-// faster and the 250k-triangle bench room's first shadow maps 26-56 ms faster; where one cost
-// 10-12 us (the toucher measured 14-19), preparing Sundial's 24 MB cube map and targets took
-// 125-150 ms when the load had a few milliseconds left, and the bench room was no faster.
+// Where the warm-up runs and has not measured a 4 KiB page fault under this (its toucher's CPU
+// time; a toucher that had no core to measure on by then counts as dear), a render prepares
+// while the scene loads only shadow maps and targets of more than half the warm-up's block. Below
+// that the frame takes them from the warm-up's pages, which preparing would leave for fresh ones
+// faulted in one by one on the rendering thread; above it they outgrow the block (the frame carves
+// them after the scene's textures and buffers) and are faulted in by someone anyway. Measured where
+// a fault cost 10-12 us (the toucher measured 13-19), issue 19 in docs/performance.md: preparing
+// Sundial's 45 MiB took 125-150 ms whenever the context was ready a little before the load; the
+// 250k-triangle bench room's 117 MiB took as long prepared as not.
 constexpr double kDearPageFaultMicroseconds = 5.0;
 
 // The command line as a job; checks everything that needs no file reading.
@@ -97,13 +100,14 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   }
   // While the scene is still loading, this thread allocates and clears what the frame will
   // need. When it has loaded already, nothing would overlap: the frame allocates its textures
-  // itself, from the pages the warm-up touched. So does it where fresh memory is dear: preparing
-  // faults in fresh pages here, one by one, which the frame would have taken from the warm-up,
-  // and it outlasts a load that was nearly done (see kDearPageFaultMicroseconds).
-  const double pageFault = warmup.pageFaultMicroseconds();
-  if (renderer && loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready &&
-      pageFault < kDearPageFaultMicroseconds)
-    prepareJob(*renderer, job);
+  // itself, from the pages the warm-up touched. Where fresh memory is dear, only what outgrows
+  // those pages (kDearPageFaultMicroseconds).
+  if (renderer && loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+    const double fault = warmup.pageFaultMicroseconds();
+    const bool cheap = fault > 0.0 && fault < kDearPageFaultMicroseconds;
+    prepareJob(*renderer, job,
+               warmup.active() && !cheap ? static_cast<double>(kWarmupBytes >> 20) / 2.0 : 0.0);
+  }
   auto [loaded, loadMilliseconds] = loading.get();
   warmup.finish(renderer ? frameMemoryEstimate(*renderer, job, loaded) : 0);
   if (contextError) std::rethrow_exception(contextError);

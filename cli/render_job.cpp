@@ -336,7 +336,7 @@ RenderSettings renderSettings(const RenderJob& job) {
 
 }  // namespace
 
-void prepareJob(Renderer& renderer, const RenderJob& job) {
+void prepareJob(Renderer& renderer, const RenderJob& job, double minimumMiB) {
   if (job.lights.empty()) return;  // the lights are the scene's or a headlight
   // A guess spends little: lights files are kilobytes (the loader reads this one again), and
   // the warm-up's 256 MiB cover what is prepared.
@@ -360,7 +360,7 @@ void prepareJob(Renderer& renderer, const RenderJob& job) {
   try {
     renderer.prepare(lights, job.camera.width.value_or(kDefaultWidth),
                      job.camera.height.value_or(kDefaultHeight), renderSettings(job),
-                     kPrepareBudgetMiB);
+                     kPrepareBudgetMiB, minimumMiB);
   } catch (const RenderError&) {
     // The render meets it again, after the load, whose errors come first.
   }

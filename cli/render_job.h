@@ -104,9 +104,9 @@ std::vector<std::string> poseJob(const RenderJob& job, std::optional<double> tim
 
 // What a render of `job` can do while its scene loads (Renderer::prepare): when a lights file
 // is given, prepares for its lights (as if the scene had none of its own) at the job's size, up
-// to 256 MiB. Reports nothing: what fails here fails again, and is reported, when the job is
-// loaded.
-void prepareJob(Renderer& renderer, const RenderJob& job);
+// to 256 MiB, and nothing where that would be less than `minimumMiB`. Reports nothing: what
+// fails here fails again, and is reported, when the job is loaded.
+void prepareJob(Renderer& renderer, const RenderJob& job, double minimumMiB = 0.0);
 
 // About the bytes a render of the loaded job allocates: Renderer::frameBytes, and the scene's
 // images with their mipmaps and its geometry as the GL copies them. For the memory warm-up

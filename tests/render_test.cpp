@@ -926,10 +926,17 @@ TEST(Shadows, PreparingChangesNoPixelAndRefusesNothing) {
   renderer.prepare(lights, camera.width, camera.height, encoded, 64.0);
   EXPECT_EQ(draw(b), plainB);
 
-  // Above the budget nothing is prepared; what render() refuses is neither prepared nor thrown.
-  EXPECT_EQ(renderer.prepare(lights, camera.width, camera.height, settings,
-                             0.999 * bytes / (1024.0 * 1024.0)),
+  // Above the budget nothing is prepared, nor below the minimum (where a caller's memory
+  // warm-up holds the frame's pages); what render() refuses is neither prepared nor thrown.
+  const double mebibytes = bytes / (1024.0 * 1024.0);
+  EXPECT_EQ(renderer.prepare(lights, camera.width, camera.height, settings, 0.999 * mebibytes),
             0.0);
+  EXPECT_EQ(
+      renderer.prepare(lights, camera.width, camera.height, settings, 64.0, 1.001 * mebibytes),
+      0.0);
+  EXPECT_EQ(
+      renderer.prepare(lights, camera.width, camera.height, settings, 64.0, 0.999 * mebibytes),
+      bytes);
   std::vector<Light> huge = lights;
   huge.front().shadow.resolution = renderer.limits().maxCubeMapSize * 2;
   EXPECT_EQ(renderer.prepare(huge, camera.width, camera.height, settings, 64.0), 0.0);

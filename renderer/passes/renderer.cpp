@@ -195,7 +195,7 @@ class Renderer::Impl {
                                                    const std::vector<Light>& lights,
                                                    ShadowPassStrategy strategy, bool parallel);
   double prepare(const std::vector<Light>& lights, int width, int height,
-                 const RenderSettings& settings, double budgetMiB);
+                 const RenderSettings& settings, double budgetMiB, double minimumMiB);
   void prepareEnvironment(const EnvironmentLight& environment) {
     try {
       environmentCache_.bind(environment);
@@ -800,8 +800,8 @@ FloatImage objectIdsOf(const IdPixels& ids, bool& anyBlendedOnly) {
 // holds the beauty's targets with and without the ids).
 // `llvmpipe`: the driver fills new textures with zero bytes and keeps them in this process's
 // memory (FrameTargets' madeZeroed and zerosByUpload).
-FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, bool llvmpipe, int width,
-                          int height, PassOutputs outputs,
+FrameTargets& keptTargets(std::unique_ptr<FrameTargets>& kept, bool llvmpipe, int width, int height,
+                          PassOutputs outputs,
                           int visibilityOutputs = contract::kMaxVisibilityOutputs) {
   if (!kept || kept->width() != width || kept->height() != height || kept->outputs() != outputs ||
       (outputs == PassOutputs::Aovs && kept->visibilityOutputs() != visibilityOutputs)) {
@@ -1402,7 +1402,8 @@ std::vector<CubeDistances> Renderer::Impl::renderShadowDistances(const Scene& sc
 }
 
 double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int height,
-                               const RenderSettings& settings, double budgetMiB) {
+                               const RenderSettings& settings, double budgetMiB,
+                               double minimumMiB) {
   // The checks render() makes, on a stand-in scene: the shadow groups and the frame targets
   // depend on the lights and the frame size, not on the scene.
   Scene standIn;
@@ -1427,7 +1428,7 @@ double Renderer::Impl::prepare(const std::vector<Light>& lights, int width, int 
   const double bytes = plan.shadows.bytes +
                        (beauty ? FrameTargets::bytes(width, height, floatOutputs) : 0.0) +
                        (srgb8 ? FrameTargets::bytes(width, height, srgb8Outputs) : 0.0);
-  if (bytes > budgetMiB * 1024.0 * 1024.0) return 0.0;
+  if (bytes > budgetMiB * 1024.0 * 1024.0 || bytes < minimumMiB * 1024.0 * 1024.0) return 0.0;
   for (const ShadowGroupPlan& group : plan.shadows.groups) {
     ShadowGroupTextures textures = shadowTextures_.take(group);
     clearShadowTextures(textures);
@@ -1512,9 +1513,9 @@ void Renderer::prepareEnvironment(const EnvironmentLight& environment) {
 }
 
 double Renderer::prepare(const std::vector<Light>& lights, int width, int height,
-                         const RenderSettings& settings, double budgetMiB) {
+                         const RenderSettings& settings, double budgetMiB, double minimumMiB) {
   impl_->context().makeCurrent();
-  return impl_->prepare(lights, width, height, settings, budgetMiB);
+  return impl_->prepare(lights, width, height, settings, budgetMiB, minimumMiB);
 }
 
 double Renderer::frameBytes(const Scene& scene, const std::vector<Light>& lights,

@@ -45,10 +45,10 @@ class Renderer {
   // `lights` and the beauty targets of a width x height frame, where the next render() that
   // needs them takes them. For time that would otherwise be spent waiting (the scene loading);
   // a render with other lights or another size leaves them unused. Nothing is prepared when it
-  // would take more than `budgetMiB`, or when render() would refuse the lights or the size
-  // (render() reports that). Returns the bytes it prepared.
+  // would take more than `budgetMiB` or less than `minimumMiB`, or when render() would refuse
+  // the lights or the size (render() reports that). Returns the bytes it prepared.
   double prepare(const std::vector<Light>& lights, int width, int height,
-                 const RenderSettings& settings, double budgetMiB);
+                 const RenderSettings& settings, double budgetMiB, double minimumMiB = 0.0);
   // Does ahead of render() what an environment light needs: reads and prefilters its image and
   // uploads the textures, which the next render() with the same environment takes. For time
   // spent waiting for the scene to load. An image that cannot be read is left for render() to
