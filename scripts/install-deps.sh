@@ -4,8 +4,8 @@
 set -euo pipefail
 
 packages=(
-  # toolchain
-  cmake g++ make pkg-config
+  # toolchain (lld: the linker, CMakeLists.txt)
+  cmake g++ make pkg-config lld
   # headless OpenGL through glvnd + Mesa (llvmpipe when there is no GPU)
   libegl-dev libopengl-dev libgl-dev libegl1 libopengl0 libegl-mesa0 libgl1-mesa-dri
   # libraries
