@@ -339,7 +339,7 @@ RenderSettings renderSettings(const RenderJob& job) {
 void prepareJob(Renderer& renderer, const RenderJob& job, double minimumMiB) {
   if (job.lights.empty()) return;  // the lights are the scene's or a headlight
   // A guess spends little: lights files are kilobytes (the loader reads this one again), and
-  // the warm-up's 256 MiB cover what is prepared.
+  // what it prepares is bounded (kPrepareBudgetMiB; the caller's minimumMiB below it).
   constexpr std::uintmax_t kMaxGuessedLightsFileBytes = 1 << 20;
   constexpr double kPrepareBudgetMiB = 256.0;
   std::error_code error;
