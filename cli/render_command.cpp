@@ -38,8 +38,8 @@ constexpr std::size_t kWarmupBytes = std::size_t{128} << 20;
 // faulted in one by one on the rendering thread; above it they outgrow the block (the frame carves
 // them after the scene's textures and buffers) and are faulted in by someone anyway. Measured where
 // a fault cost 10-12 us (the toucher measured 13-19), issue 19 in docs/performance.md: preparing
-// Sundial's 45 MiB took 125-150 ms whenever the context was ready a little before the load; the
-// 250k-triangle bench room's 117 MiB took as long prepared as not.
+// Sundial's 49 MiB took 125-150 ms whenever the context was ready a little before the load; the
+// 250k-triangle bench room's 121 MiB took as long prepared as not.
 constexpr double kDearPageFaultMicroseconds = 5.0;
 
 // The command line as a job; checks everything that needs no file reading.
