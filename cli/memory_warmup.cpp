@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "cli/huge_page_trial.h"
+#include "renderer/core/under_valgrind.h"
 
 namespace omnishadow::cli {
 
@@ -25,9 +26,7 @@ bool wanted() {
 #else
   const char* setting = std::getenv("OMNISHADOW_MEMORY_WARMUP");
   if (setting && std::string_view(setting) == "0") return false;
-  // Under valgrind the toucher would only compete with the render for its one running thread.
-  const char* preload = std::getenv("LD_PRELOAD");
-  return !(preload && std::string_view(preload).find("vgpreload") != std::string_view::npos);
+  return !underValgrind();
 #endif
 }
 

@@ -53,8 +53,8 @@ TEST(MemoryWarmup, LargeBlocksComeFromTheHeapOnlyAfterAWarmup) {
 }
 
 // The toucher reports what a fresh 4 KiB page cost it once it has faulted in a megabyte of
-// them: nothing before, and a time a page fault can take (a render prepares nothing ahead of
-// its frame where that is dear).
+// them: a time a page fault can take, which stays after the hand-over (a render prepares nothing
+// ahead of its frame where that is dear).
 TEST(MemoryWarmup, ReportsWhatA4KiBPageFaultCostsOnceMeasured) {
   MemoryWarmup warmup(std::size_t{16} << 20);
   // The toucher runs only on an idle core: wait for it.

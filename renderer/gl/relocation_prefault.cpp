@@ -8,17 +8,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
-#include <cstdlib>
-#include <string_view>
+
+#include "renderer/core/under_valgrind.h"
 
 namespace omnishadow {
 namespace {
-
-bool wanted() {
-  // Under valgrind the watcher would only compete with the render for its one running thread.
-  const char* preload = std::getenv("LD_PRELOAD");
-  return !(preload && std::string_view(preload).find("vgpreload") != std::string_view::npos);
-}
 
 struct Scan {
   std::vector<std::uintptr_t>* known;
@@ -57,7 +51,7 @@ int collect(dl_phdr_info* info, std::size_t size, void* data) {
 }  // namespace
 
 RelocationPrefault::RelocationPrefault() {
-  if (!wanted()) return;
+  if (underValgrind()) return;
   const auto pageSize = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
   // The libraries loaded already are relocated already.
   Scan scan{&known_, &loads_, {}, pageSize};
