@@ -12,6 +12,7 @@
 #include "renderer/core/errors.h"
 #include "renderer/gl/egl_extensions.h"
 #include "renderer/gl/enum_names.h"
+#include "renderer/gl/loaded_libraries.h"
 #include "renderer/gl/relocation_prefault.h"
 
 namespace omnishadow {
@@ -52,7 +53,10 @@ class DisplayUses {
 
   bool initialize(EGLDisplay display, EGLint* major, EGLint* minor) {
     const std::lock_guard<std::mutex> lock(mutex_);
+    const std::vector<std::string> before = loadedLibraries();
     if (!eglInitialize(display, major, minor)) return false;
+    // What initializing loaded (the driver, LLVM) stays loaded after the last eglTerminate().
+    keepLibrariesLoadedSince(before);
     ++uses_[display];
     return true;
   }
