@@ -12,7 +12,7 @@ std::vector<std::string> loadedLibraries() {
   std::vector<std::string> names;
   dl_iterate_phdr(
       [](dl_phdr_info* info, std::size_t, void* data) {
-        // The program and the vDSO have no file name here.
+        // The program has no file name here.
         if (info->dlpi_name != nullptr && info->dlpi_name[0] != '\0')
           static_cast<std::vector<std::string>*>(data)->emplace_back(info->dlpi_name);
         return 0;

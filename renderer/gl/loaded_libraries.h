@@ -14,7 +14,8 @@
 
 namespace omnishadow {
 
-// The file names of the shared libraries loaded in this process now (not the program itself).
+// The names of the shared libraries loaded in this process now, as the loader lists them (file
+// names, and the vDSO's; not the program itself).
 std::vector<std::string> loadedLibraries();
 
 // Marks each library loaded now and not named in `before` never to be unloaded
