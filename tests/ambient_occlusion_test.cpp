@@ -20,7 +20,7 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::ambient_occlusion_test {
 namespace {
 
 using test_support::lookFrom;
@@ -478,4 +478,4 @@ TEST(AmbientOcclusion, RealModelsAgreeWithRayTracedOcclusion) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::ambient_occlusion_test

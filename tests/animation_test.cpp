@@ -21,7 +21,7 @@
 #include "renderer/scene/scene_pose.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::animation_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -496,4 +496,4 @@ TEST(AnimationPointer, OtherPropertiesWarnAndMalformedPointersAreInputErrors) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::animation_test

@@ -11,7 +11,7 @@
 #include "renderer/gl/gl_debug.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::attachment_readback_test {
 namespace {
 
 // A value no two (attachment, x, y, channel) share.
@@ -52,4 +52,4 @@ TEST(AttachmentReadback, EveryCopyLandsWhereItSaysInEveryBandAndRowOrder) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::attachment_readback_test

@@ -11,7 +11,7 @@
 
 #include "tests/support/cli_fixture.h"
 
-namespace omnishadow {
+namespace omnishadow::batch_fleet_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -177,4 +177,4 @@ TEST_F(BatchFleetTest, DevicesListsWhatGpuChoosesFrom) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::batch_fleet_test

@@ -26,7 +26,7 @@
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/cli_fixture.h"
 
-namespace omnishadow {
+namespace omnishadow::batch_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -710,4 +710,4 @@ TEST_F(BatchTest, QuietPrintsNothingButFailures) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::batch_test

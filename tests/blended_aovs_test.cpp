@@ -12,6 +12,8 @@
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
 
+namespace blended_aovs_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -113,3 +115,5 @@ TEST(BlendedAovs, SundialHasNoCoveredPixelWithoutPositionOrNormal) {
   EXPECT_GT(counts.covered, 2000);
   EXPECT_EQ(counts.broken, 0);
 }
+
+}  // namespace blended_aovs_test

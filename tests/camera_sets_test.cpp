@@ -8,7 +8,7 @@
 
 #include "renderer/view/camera_export.h"
 
-namespace omnishadow {
+namespace omnishadow::camera_sets_test {
 namespace {
 
 TEST(CameraSets, OrbitKeepsElevationAndDistanceAndSpreadsEvenly) {
@@ -85,4 +85,4 @@ TEST(CameraExport, OpenCvMatricesReprojectToThePixelTheProjectionDrawsAt) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::camera_sets_test

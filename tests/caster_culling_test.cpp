@@ -15,6 +15,8 @@
 #include "renderer/view/sphere_projection.h"
 #include "tests/support/cube_culling_light.h"
 
+namespace caster_culling_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -565,3 +567,5 @@ TEST(FlatCasters, CullingLeavesOutOnlyTheFlatCastersThatShadowNothing) {
   // Without receivers (maps that are read back) every caster is drawn.
   EXPECT_NE(cullCasters({floor, box, partition}, light, Bounds{}).viewMask[0], 0u);
 }
+
+}  // namespace caster_culling_test

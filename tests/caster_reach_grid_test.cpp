@@ -15,6 +15,8 @@
 #include "renderer/view/caster_culling.h"
 #include "tests/support/cube_culling_light.h"
 
+namespace caster_reach_grid_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -199,3 +201,5 @@ TEST(CasterReachGrid, FewOrUnboundedCastersAreCandidatesOfEveryLight) {
   expectSameCulling(casters, grid, pointLight(glm::vec3(0.5f), 3.0f, CullFace::None), Bounds{},
                     "with an infinite and a NaN caster");
 }
+
+}  // namespace caster_reach_grid_test

@@ -22,7 +22,7 @@
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/cli_fixture.h"
 
-namespace omnishadow {
+namespace omnishadow::cli_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -706,4 +706,4 @@ TEST_F(CliTest, BuiltInDemoRendersWithoutArguments) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::cli_test

@@ -30,7 +30,7 @@
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::compressed_geometry_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -590,4 +590,4 @@ TEST(MeshoptFilters, ExponentialQuaternionAndIndexSequenceDecodeToWhatWasEncoded
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::compressed_geometry_test

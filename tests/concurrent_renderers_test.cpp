@@ -18,6 +18,8 @@
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/view/camera.h"
 
+namespace concurrent_renderers_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -161,3 +163,5 @@ TEST(ConcurrentRenderers, RenderersOnOneThreadDrawInTheirOwnContexts) {
   EXPECT_EQ(bytes(*third, 1), alone[1]);
   EXPECT_EQ(bytes(*third, 2), alone[2]);
 }
+
+}  // namespace concurrent_renderers_test

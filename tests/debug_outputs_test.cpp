@@ -30,7 +30,7 @@
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/cli_fixture.h"
 
-namespace omnishadow {
+namespace omnishadow::debug_outputs_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -639,4 +639,4 @@ INSTANTIATE_TEST_SUITE_P(DebugOutputs, DebugOutputsErrorTest, ::testing::ValuesI
                          });
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::debug_outputs_test

@@ -20,7 +20,7 @@
 #include "tests/support/temp_folder.h"
 #include "tests/support/textured_triangle.h"
 
-namespace omnishadow {
+namespace omnishadow::decoded_image_cache_test {
 namespace {
 
 using Picture = DecodedImageCache::Picture;
@@ -136,4 +136,4 @@ TEST(DecodedImageCache, LoadsOfFilesWithTheSameImageBytesShareThePicture) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::decoded_image_cache_test

@@ -26,7 +26,7 @@
 #include "renderer/view/cube_faces.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::depth_dump_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -466,4 +466,4 @@ TEST(FileSafeName, KeepsLettersDigitsDashUnderscoreDotAndReplacesTheRest) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::depth_dump_test

@@ -17,7 +17,7 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::depth_prepass_test {
 namespace {
 
 using test_support::lookFrom;
@@ -258,4 +258,4 @@ TEST(DepthPrepass, SpelledAutoOnOrOff) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::depth_prepass_test

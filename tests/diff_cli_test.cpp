@@ -16,7 +16,7 @@
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::diff_cli_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -336,4 +336,4 @@ TEST_F(DiffCliTest, Folders) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::diff_cli_test

@@ -11,6 +11,8 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
+namespace draw_order_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -144,3 +146,5 @@ TEST(BlendedOrder, DoubleSidedBlendedMeshComposesItsFrontOverItsBack) {
   EXPECT_NEAR(pixel.b, 0.25f, 1e-5f);
   EXPECT_NEAR(pixel.a, 0.75f, 1e-5f);
 }
+
+}  // namespace draw_order_test

@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace omnishadow {
+namespace omnishadow::environment_map_test {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -427,4 +427,4 @@ TEST(EnvironmentMap, BrdfTableMatchesHemisphereIntegral) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::environment_map_test

@@ -21,7 +21,7 @@
 #include "tests/support/shared_renderer.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::environment_render_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -541,4 +541,4 @@ TEST(EnvironmentRender, ABadImageIsAnInputErrorNamingTheFieldAndTheFile) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::environment_render_test

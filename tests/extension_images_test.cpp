@@ -26,7 +26,7 @@
 #include "tests/support/temp_folder.h"
 #include "tests/support/textured_triangle.h"
 
-namespace omnishadow {
+namespace omnishadow::extension_images_test {
 namespace {
 
 using test_support::ImageStorage;
@@ -424,4 +424,4 @@ TEST_F(AvifLoadingTest, LibavifIsLoadedOnlyForAScenesAvifImages) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::extension_images_test

@@ -15,7 +15,7 @@
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/cli_fixture.h"
 
-namespace omnishadow {
+namespace omnishadow::extensions_cli_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -256,4 +256,4 @@ TEST_F(MaterialVariantsCliTest, AnUnknownVariantIsRefusedWithoutOutput) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::extensions_cli_test

@@ -16,7 +16,7 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::facing_light_loop_test {
 namespace {
 
 using test_support::lookFrom;
@@ -131,4 +131,4 @@ TEST(FacingLightLoop, OnlyForFramesWhoseLightsFitItsMaskAndHaveNoRange) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::facing_light_loop_test

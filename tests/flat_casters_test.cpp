@@ -13,6 +13,8 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
+namespace flat_casters_test {
+
 using namespace omnishadow;
 using test_support::lookFrom;
 using test_support::sharedRenderer;
@@ -141,3 +143,5 @@ TEST(FlatCasters, ReceiversDrawnPerVertexCountToo) {
   const ViewCamera camera = lookFrom(scene, {0.0f, -0.4f, 1.2f}, {0.0f, -1.0f, 0.0f}, 32, 24);
   EXPECT_EQ(render(scene, lampAt({0.3f, 3.0f, 0.5f}), camera, false).flatCastersLeftOut, 0);
 }
+
+}  // namespace flat_casters_test

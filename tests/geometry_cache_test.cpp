@@ -12,7 +12,7 @@
 #include "renderer/scene/gltf_loader.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::geometry_cache_test {
 namespace {
 
 Scene boxTextured() {
@@ -80,4 +80,4 @@ TEST(GeometryCache, AMeshChangedInPlaceBetweenRendersDrawsTheChange) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::geometry_cache_test

@@ -27,7 +27,7 @@ namespace tinygltf {
 std::string base64_decode(std::string const& s);
 }  // namespace tinygltf
 
-namespace omnishadow {
+namespace omnishadow::gltf_data_uris_test {
 namespace {
 
 using gltf_detail::DataUris;
@@ -354,4 +354,4 @@ TEST_F(DataUriModelTest, BrokenDataUrisGiveTinygltfsMessages) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::gltf_data_uris_test

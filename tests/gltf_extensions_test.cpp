@@ -24,7 +24,7 @@
 #include "tests/support/input_error.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::gltf_extensions_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -1088,4 +1088,4 @@ TEST(ExtensionTable, ReadmeListsEveryKnownExtensionWithItsStatus) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::gltf_extensions_test

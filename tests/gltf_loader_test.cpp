@@ -25,7 +25,7 @@
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/input_error.h"
 
-namespace omnishadow {
+namespace omnishadow::gltf_loader_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -1567,4 +1567,4 @@ TEST_F(GltfLoaderTest, PngChunksPastTheEndOfTheImageAreRefusedBeforeDecoding) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::gltf_loader_test

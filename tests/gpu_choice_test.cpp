@@ -7,7 +7,7 @@
 #include "renderer/core/errors.h"
 #include "tests/support/input_error.h"
 
-namespace omnishadow {
+namespace omnishadow::gpu_choice_test {
 namespace {
 
 using test_support::inputError;
@@ -137,4 +137,4 @@ TEST(GpuChoiceTest, GpusAllOrAList) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::gpu_choice_test

@@ -21,6 +21,8 @@
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
+namespace hostile_input_test {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -929,3 +931,5 @@ TEST_F(HostileInputTest, MessagesAreOneLineOfBoundedLength) {
 }
 
 }  // namespace
+
+}  // namespace hostile_input_test

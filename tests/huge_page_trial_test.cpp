@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-namespace omnishadow::cli {
+namespace omnishadow::cli::huge_page_trial_test {
 namespace {
 
 constexpr std::uintptr_t kSpan = HugePageTrial::kHugePage;
@@ -140,4 +140,4 @@ TEST(HugePageTrial, NeverAsksForPartOfASpanOrOutsideTheAlignedSpans) {
 }
 
 }  // namespace
-}  // namespace omnishadow::cli
+}  // namespace omnishadow::cli::huge_page_trial_test

@@ -10,7 +10,7 @@
 
 #include "renderer/core/errors.h"
 
-namespace omnishadow {
+namespace omnishadow::image_diff_test {
 namespace {
 
 // A width x height image with the given channels, every value `fill`.
@@ -237,4 +237,4 @@ TEST(ImageDiff, HeatMapScalesTheDifference) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::image_diff_test

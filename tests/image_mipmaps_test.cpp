@@ -10,7 +10,7 @@
 
 #include "renderer/scene/srgb_transfer.h"
 
-namespace omnishadow {
+namespace omnishadow::image_mipmaps_test {
 namespace {
 
 Image filled(int width, int height, std::vector<std::uint8_t> rgba) {
@@ -191,4 +191,4 @@ TEST(ImageMipmaps, EvenLevelsAreBoxesOfTheUnroundedLevelAboveWhenMadeRowsAtATime
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::image_mipmaps_test

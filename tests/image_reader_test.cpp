@@ -23,7 +23,7 @@
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::image_reader_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -385,4 +385,4 @@ TEST(PngEncoderTest, WritesOnlyHeaderDataAndEnd) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::image_reader_test

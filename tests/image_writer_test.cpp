@@ -23,7 +23,7 @@
 #include "renderer/output/output_transaction.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::image_writer_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -440,4 +440,4 @@ TEST(OutputTransactionTest, FailedRenameThrowsAndRemovesTemporaries) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::image_writer_test

@@ -10,6 +10,8 @@
 #include <thread>
 #include <vector>
 
+namespace in_parts_test {
+
 using namespace omnishadow;
 
 TEST(InParts, EveryItemIsMadeOnceHoweverManyParts) {
@@ -102,3 +104,5 @@ TEST(InOrderAhead, LeavingEarlyStopsTheRangesNotBegun) {
   std::this_thread::sleep_for(std::chrono::milliseconds(30));
   EXPECT_EQ(made.load(), atExit) << "a range ran after the destructor returned";
 }
+
+}  // namespace in_parts_test

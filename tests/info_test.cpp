@@ -20,7 +20,7 @@
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::info_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -743,4 +743,4 @@ TEST_F(InfoTest, WhackAMoleSampleReportsItsSheen) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::info_test

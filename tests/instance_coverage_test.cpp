@@ -7,7 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
 
-namespace omnishadow {
+namespace omnishadow::instance_coverage_test {
 namespace {
 
 constexpr int kWidth = 16, kHeight = 12;
@@ -133,4 +133,4 @@ TEST(InstanceCoverage, SeededTrianglesCoverExactlyTheCentersInsideOrOnTheirEdges
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::instance_coverage_test

@@ -20,7 +20,7 @@
 #include "tests/support/temp_folder.h"
 #include "tests/support/textured_triangle.h"
 
-namespace omnishadow {
+namespace omnishadow::jpeg_texture_test {
 namespace {
 
 using test_support::TempFolder;
@@ -270,4 +270,4 @@ TEST(JpegTexture, AJpegLibjpegTurboRefusesIsAnErrorNamingTheImage) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::jpeg_texture_test

@@ -11,6 +11,8 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
+namespace light_debug_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -149,3 +151,5 @@ TEST(PlanarLightViews, SpotAndCascadesHaveViewsAndDepthDumps) {
   EXPECT_GT(g, 0.0f);
   EXPECT_NEAR(r / g, 1.0f, 0.05f);
 }
+
+}  // namespace light_debug_test

@@ -13,6 +13,8 @@
 #include "renderer/core/errors.h"
 #include "renderer/scene/light.h"
 
+namespace lights_loader_test {
+
 namespace {
 
 using omnishadow::CullFace;
@@ -784,3 +786,5 @@ TEST(LightsLoader, FarAloneNeedsOnlyToBePositiveWhenNearIsAutomatic) {
   EXPECT_FLOAT_EQ(light.shadow.far, 0.01f);
   EXPECT_FLOAT_EQ(light.shadow.near, 0.0f);  // derived at render time (effectiveShadowNear)
 }
+
+}  // namespace lights_loader_test

@@ -9,7 +9,7 @@
 
 #include "renderer/gl/egl_context.h"
 
-namespace omnishadow {
+namespace omnishadow::loaded_libraries_test {
 namespace {
 
 bool isLoaded(const std::string& path) {
@@ -65,4 +65,4 @@ TEST(LoadedLibraries, TheGlDriverOutlivesTheLastContext) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::loaded_libraries_test

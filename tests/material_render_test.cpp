@@ -28,7 +28,7 @@
 #include "tests/support/shared_renderer.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::material_render_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -1982,4 +1982,4 @@ TEST(DiffuseTransmissionRender, LightsBehindShineThroughAsTheSpecificationMixesI
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::material_render_test

@@ -19,7 +19,7 @@
 
 #include "tests/support/cli_fixture.h"
 
-namespace omnishadow::cli {
+namespace omnishadow::cli::memory_warmup_test {
 namespace {
 
 using test_support::sameBytes;
@@ -238,4 +238,4 @@ TEST_F(MemoryWarmupCliTest, ARenderWritesTheSameImageWithAndWithoutIt) {
 }
 
 }  // namespace
-}  // namespace omnishadow::cli
+}  // namespace omnishadow::cli::memory_warmup_test

@@ -10,7 +10,7 @@
 #include "scenes/builder/gltf_builder.h"
 #include "tests/support/scene_objects.h"
 
-namespace omnishadow {
+namespace omnishadow::mesh_topology_test {
 namespace {
 
 using builder::MeshData;
@@ -147,9 +147,9 @@ TEST(MeshPlane, ATransformedPlaneHoldsTheTransformedMesh) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::mesh_topology_test
 
-namespace omnishadow {
+namespace omnishadow::mesh_topology_test {
 namespace {
 
 TEST(WeldedWithin, PositionsWithinTheToleranceOfAnEarlierOneTakeItsValue) {
@@ -259,4 +259,4 @@ TEST(WeldedClosedSolid, ClosedMeshesAndRealOpeningsGetNone) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::mesh_topology_test

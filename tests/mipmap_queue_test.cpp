@@ -9,7 +9,7 @@
 
 #include "renderer/scene/image_mipmaps.h"
 
-namespace omnishadow {
+namespace omnishadow::mipmap_queue_test {
 namespace {
 
 Image noise(int width, int height, std::uint32_t seed) {
@@ -90,4 +90,4 @@ TEST(MipmapQueue, ALeftQueueFinishesTheChainItIsMakingAndDropsTheRest) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::mipmap_queue_test

@@ -16,7 +16,7 @@
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::motion_cli_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -285,4 +285,4 @@ TEST_F(MotionCli, BatchManifestJobsTakeATimeOrATimeRange) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::motion_cli_test

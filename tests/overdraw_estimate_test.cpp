@@ -9,7 +9,7 @@
 
 #include "renderer/view/camera.h"
 
-namespace omnishadow {
+namespace omnishadow::overdraw_estimate_test {
 namespace {
 
 constexpr int kWidth = 200, kHeight = 100;
@@ -126,4 +126,4 @@ TEST(OverdrawEstimate, SampledCountsAreScaledToPixels) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::overdraw_estimate_test

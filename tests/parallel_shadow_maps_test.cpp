@@ -11,6 +11,8 @@
 #include "tests/support/shadow_stage.h"
 #include "tests/support/shared_renderer.h"
 
+namespace parallel_shadow_maps_test {
+
 using namespace omnishadow;
 using test_support::lookFrom;
 
@@ -111,3 +113,5 @@ TEST(ParallelShadowMaps, OneMapOrReusedMapsStayInOneContext) {
   EXPECT_EQ(reused.shadowMapsReused, 3);
   EXPECT_EQ(reused.shadowMapsInParallel, 0);
 }
+
+}  // namespace parallel_shadow_maps_test

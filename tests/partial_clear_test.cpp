@@ -17,7 +17,7 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::partial_clear_test {
 namespace {
 
 using test_support::expectSameFrame;
@@ -175,4 +175,4 @@ TEST(PartialClear, NewBeautyTargetsOfLlvmpipeHoldZeros) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::partial_clear_test

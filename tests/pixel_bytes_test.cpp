@@ -11,7 +11,7 @@
 
 #include "renderer/scene/scene.h"
 
-namespace omnishadow {
+namespace omnishadow::pixel_bytes_test {
 namespace {
 
 TEST(PixelBytes, CopiesShareTheBytesUntilOneChangesThem) {
@@ -101,4 +101,4 @@ TEST(PixelBytes, EmptyBytesAreEqualAndOwnNothing) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::pixel_bytes_test

@@ -23,7 +23,7 @@
 #include "tests/support/temp_folder.h"
 #include "tests/support/textured_triangle.h"
 
-namespace omnishadow {
+namespace omnishadow::png_texture_test {
 namespace {
 
 using gltf_detail::DecodedPng;
@@ -447,4 +447,4 @@ TEST(PngTexture, RealTexturesDecodeAsStbImageDecodesThem) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::png_texture_test

@@ -15,7 +15,7 @@
 
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::relocation_prefault_test {
 namespace {
 
 using Range = RelocationPrefault::Range;
@@ -161,4 +161,4 @@ TEST(RelocationPrefault, StopsWhenAsked) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::relocation_prefault_test

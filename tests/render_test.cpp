@@ -31,6 +31,8 @@
 #include "tests/support/segment_occlusion.h"
 #include "tests/support/shared_renderer.h"
 
+namespace render_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -2023,8 +2025,6 @@ void expectIssueThreeBar(const LightVerification& v) {
   EXPECT_LE(v.interior.falseLightRate(), 0.0005) << v.interior.falseLight << " points";
 }
 
-}  // namespace
-
 class ShadowQuality : public ::testing::TestWithParam<QualityCase> {};
 
 // A floor with a sphere, a box, a 2 cm thin wall touching the floor and a tilted slab.
@@ -2132,3 +2132,7 @@ TEST(Renderer, FrameBytesCountTheShadowMapsAndTheBeautyTheSceneTakes) {
   settings.antialiasing = 3;                                   // not 1, 4, 8 or 16
   EXPECT_EQ(sharedRenderer().frameBytes(opaque, lights, camera, settings), 0.0);
 }
+
+}  // namespace
+
+}  // namespace render_test

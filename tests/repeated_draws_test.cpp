@@ -15,7 +15,7 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::repeated_draws_test {
 namespace {
 
 using test_support::expectSameFrame;
@@ -168,4 +168,4 @@ TEST(RepeatedDraws, EachPixelHoldsTheIdOfTheCopyThatWinsTheDepthTest) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::repeated_draws_test

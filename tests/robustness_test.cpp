@@ -21,6 +21,8 @@
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
+namespace robustness_test {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -759,3 +761,5 @@ TEST_F(RobustnessTest, BatchGivesUpOnAWorkerThatDiesBeforeAnyJob) {
 }
 
 }  // namespace
+
+}  // namespace robustness_test

@@ -11,7 +11,7 @@
 
 #include "scenes/builder/gltf_builder.h"
 
-namespace omnishadow {
+namespace omnishadow::scene_fingerprint_test {
 namespace {
 
 // Two spheres of ~1k triangles each, placed by two instances: positions and indices long
@@ -229,4 +229,4 @@ TEST(MeshDigests, ALargeSceneHashedOnTwoThreadsGivesEachMeshItsOwnDigests) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::scene_fingerprint_test

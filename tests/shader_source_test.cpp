@@ -9,7 +9,7 @@
 #include "renderer/gl/embedded_shaders.h"
 #include "renderer/gl/shader_program.h"
 
-namespace omnishadow {
+namespace omnishadow::shader_source_test {
 namespace {
 
 std::vector<std::string> splitLines(std::string_view text) {
@@ -101,4 +101,4 @@ TEST(ShaderSource, CompileLogsNameTheFiles) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::shader_source_test

@@ -18,6 +18,8 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shadow_checks.h"
 
+namespace shadow_defaults_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -303,3 +305,5 @@ TEST(IssueRigs, SuzanneLitFromBelowAndInFrontMeetsTheBarWithEveryFilter) {
   s.camera = cameraAt(s.scene, {0.0f, 0.3f, 4.0f}, {0.0f, 0.0f, 0.0f});
   expectTheBar(s, {point, spot}, 1024);  // the default maps, as the issue measured them
 }
+
+}  // namespace shadow_defaults_test

@@ -10,7 +10,7 @@
 #include "renderer/passes/lighting_pass.h"
 #include "renderer/passes/shader_contract.h"
 
-namespace omnishadow {
+namespace omnishadow::shadow_sampler_units_test {
 namespace {
 
 unsigned bit(ShadowFilter filter) {
@@ -96,4 +96,4 @@ TEST(ShadowSamplerUnits, EveryFrameFitsAfterTheMaterialsUnits) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::shadow_sampler_units_test

@@ -10,7 +10,7 @@
 #include "renderer/core/errors.h"
 #include "tests/support/input_error.h"
 
-namespace omnishadow::cli {
+namespace omnishadow::cli::shard_env_test {
 namespace {
 
 using test_support::inputError;
@@ -114,4 +114,4 @@ TEST(ShardEnvTest, ResolveLeavesExplicitShardsAlone) {
 }
 
 }  // namespace
-}  // namespace omnishadow::cli
+}  // namespace omnishadow::cli::shard_env_test

@@ -13,7 +13,7 @@
 #include "renderer/core/errors.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow::cli {
+namespace omnishadow::cli::shared_scene_loads_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -152,4 +152,4 @@ TEST(SharedSceneLoads, AtMostTwoScenesStayLoaded) {
 }
 
 }  // namespace
-}  // namespace omnishadow::cli
+}  // namespace omnishadow::cli::shared_scene_loads_test

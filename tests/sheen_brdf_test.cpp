@@ -10,7 +10,7 @@
 
 #include "renderer/view/sheen_albedo_table.h"
 
-namespace omnishadow {
+namespace omnishadow::sheen_brdf_test {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -103,4 +103,4 @@ TEST(SheenAlbedoTable, LookupInterpolatesBilinearlyAndClamps) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::sheen_brdf_test

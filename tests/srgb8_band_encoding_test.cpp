@@ -17,7 +17,7 @@
 #include "renderer/output/image_writer.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::srgb8_band_encoding_test {
 namespace {
 
 // A float RGBA picture whose every row and column differs, with values below 0, above 1 and
@@ -133,4 +133,4 @@ TEST(Srgb8BandEncoding, OutsideTheDrawnRegionEveryPixelIsTheBackground) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::srgb8_band_encoding_test

@@ -18,7 +18,7 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::srgb8_beauty_test {
 namespace {
 
 using test_support::lookFrom;
@@ -337,4 +337,4 @@ TEST(Srgb8Beauty, EncodedAndFloatFramesTakeTurnsOnOneRenderer) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::srgb8_beauty_test

@@ -15,7 +15,7 @@
 #include "renderer/passes/srgb8_resolve.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::srgb8_readback_test {
 namespace {
 
 // RGBA bytes whose every pixel differs, GL's first row (the bottom) first.
@@ -116,4 +116,4 @@ TEST(Srgb8Readback, IntoMemoryOnlyTheDrawnRegionIsReadAndTheRestIsZeros) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::srgb8_readback_test

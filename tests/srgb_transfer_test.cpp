@@ -10,7 +10,7 @@
 
 #include "renderer/output/display_transform.h"
 
-namespace omnishadow {
+namespace omnishadow::srgb_transfer_test {
 namespace {
 
 // What srgb8() replaced: the transfer function and a rounding per channel.
@@ -240,4 +240,4 @@ TEST(SrgbTransfer, RgbaToSrgb8RgbaEncodesColourAndRoundsAlphaLinearly) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::srgb_transfer_test

@@ -14,6 +14,8 @@
 #include "tests/support/shadow_stage.h"
 #include "tests/support/shared_renderer.h"
 
+namespace stage_finish_test {
+
 using namespace omnishadow;
 using test_support::lookFrom;
 
@@ -91,3 +93,5 @@ TEST(StageFinish, SpelledAutoOnOrOff) {
   EXPECT_FALSE(isFinishEachStageName("On"));
   EXPECT_FALSE(isFinishEachStageName(""));
 }
+
+}  // namespace stage_finish_test

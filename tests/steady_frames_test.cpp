@@ -6,7 +6,7 @@
 
 #include "tests/support/cli_fixture.h"
 
-namespace omnishadow {
+namespace omnishadow::steady_frames_test {
 namespace {
 
 using test_support::contains;
@@ -62,4 +62,4 @@ TEST_F(SteadyFramesTest, NegativeRepeatIsAUsageError) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::steady_frames_test

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace omnishadow {
+namespace omnishadow::texel_region_test {
 namespace {
 
 // How many of `rects` hold each texel of a `width` x `height` view, row by row.
@@ -168,4 +168,4 @@ TEST(TexelRegion, ThousandsOfRectanglesComeOutAsTheirBoundsOrTheGridAndHoldThemA
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::texel_region_test

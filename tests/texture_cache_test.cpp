@@ -13,7 +13,7 @@
 #include "renderer/scene/gltf_loader.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::texture_cache_test {
 namespace {
 
 Image image(int width, int height, std::uint8_t fill) {
@@ -207,4 +207,4 @@ TEST(TextureCache, TheSameRevisionIsTakenAsTheSameImages) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::texture_cache_test

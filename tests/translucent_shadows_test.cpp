@@ -22,6 +22,8 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shadow_checks.h"
 
+namespace translucent_shadows_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -679,3 +681,5 @@ TEST(TranslucentShadows, ManyLightsEachGetTheirOwnTransmittanceChannels) {
     EXPECT_NEAR(visibility, expected, 1e-5f);
   }
 }
+
+}  // namespace translucent_shadows_test

@@ -18,7 +18,7 @@
 #include "tests/support/run_binary.h"
 #include "tests/support/temp_folder.h"
 
-namespace omnishadow {
+namespace omnishadow::verify_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -706,4 +706,4 @@ TEST_F(VerifyCommand, ErrorsExitWithStatus2OneLineAndNoFile) {
 }
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::verify_test

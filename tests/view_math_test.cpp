@@ -12,6 +12,8 @@
 #include "renderer/view/light_clusters.h"
 #include "renderer/view/shadow_views.h"
 
+namespace view_math_test {
+
 using namespace omnishadow;
 
 namespace {
@@ -641,3 +643,5 @@ TEST(LightClusters, EveryPointFindsEveryLightThatReachesItInItsCluster) {
         << (orthographic ? "orthographic" : "perspective");
   }
 }
+
+}  // namespace view_math_test

@@ -22,7 +22,7 @@
 #include "renderer/passes/shadow_textures.h"
 #include "tests/support/shared_renderer.h"
 
-namespace omnishadow {
+namespace omnishadow::vsm_filter_test {
 namespace {
 
 constexpr int kSize = 48;
@@ -212,4 +212,4 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<Layout>& test) { return test.param.name; });
 
 }  // namespace
-}  // namespace omnishadow
+}  // namespace omnishadow::vsm_filter_test

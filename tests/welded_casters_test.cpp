@@ -16,6 +16,8 @@
 #include "tests/support/scene_objects.h"
 #include "tests/support/shared_renderer.h"
 
+namespace welded_casters_test {
+
 using namespace omnishadow;
 using test_support::lookFrom;
 using test_support::sharedRenderer;
@@ -102,3 +104,5 @@ TEST(WeldedCasters, ShadowMapsAreThoseOfTheWeldedMesh) {
     EXPECT_NEAR(map.at(CubeFace::NegY, middle, middle), 3.0f, 0.05f);
   }
 }
+
+}  // namespace welded_casters_test
