@@ -1,7 +1,8 @@
 # shellcheck shell=bash
 # Sourced by scripts/test-sanitizers.sh and scripts/test-threads.sh.
 
-# configure_instrumented ROOT BUILD OPTION: configures BUILD with the CMake OPTION on, at
+# configure_instrumented ROOT BUILD OPTION [CMAKE_ARGS...]: configures BUILD with the CMake OPTION
+# on (and the arguments after it, each time), at
 # -O1 -g1 instead of RelWithDebInfo's -O2 -g: the build takes half the compiler time (most of
 # the sanitizer step's time in CI, where nothing is reused from build/), and line tables are all
 # that sanitizer stack traces need.
@@ -9,10 +10,11 @@
 # (cmake --build does not regenerate the build system for a target it does not know yet).
 configure_instrumented() {
   local root=$1 build=$2 option=$3 settings=()
+  shift 3
   [[ -f "$build/CMakeCache.txt" ]] ||
     settings=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-D$option=ON"
       "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG")
-  cmake -S "$root" -B "$build" "${settings[@]}" \
+  cmake -S "$root" -B "$build" "${settings[@]}" "$@" \
     >"$build/configure.log" 2>&1 || { cat "$build/configure.log" >&2; return 1; }
 }
 
