@@ -1076,15 +1076,20 @@ TEST_F(GltfLoaderTest, ChoosesTheRequestedOrDefaultScene) {
   model.scenes[1].nodes = {1};
   const fs::path file = path("scenes.glb");
   builder.write(file, FileFormat::Glb);
+  const auto scene = [](int index) {
+    GltfLoadOptions options;
+    options.sceneIndex = index;
+    return options;
+  };
 
   EXPECT_EQ(loadGltf(file).meshes.at(0).name, "box/0");
-  EXPECT_EQ(loadGltf(file, {1}).meshes.at(0).name, "sphere/0");
+  EXPECT_EQ(loadGltf(file, scene(1)).meshes.at(0).name, "sphere/0");
   model.defaultScene = 1;
   builder.write(file, FileFormat::Glb);
   EXPECT_EQ(loadGltf(file).meshes.at(0).name, "sphere/0");
-  EXPECT_EQ(loadGltf(file, {0}).meshes.at(0).name, "box/0");
+  EXPECT_EQ(loadGltf(file, scene(0)).meshes.at(0).name, "box/0");
 
-  const std::string message = inputError([&] { loadGltf(file, {3}); });
+  const std::string message = inputError([&] { loadGltf(file, scene(3)); });
   EXPECT_EQ(message, file.string() + ": --scene 3: the file has 2 scenes");
 
   // No scenes at all: every root node is drawn.

@@ -58,7 +58,7 @@ using Storage = test_support::ImageStorage;
 Scene loadWithJpeg(const TempFolder& folder, const std::vector<unsigned char>& jpeg,
                    Storage storage) {
   return loadGltf(test_support::writeTexturedTriangle(
-      folder.path(), {{jpeg, "photo", "image/jpeg", "photo.jpg"}}, storage));
+      folder.path(), {{jpeg, "photo", "image/jpeg", "photo.jpg", ""}}, storage));
 }
 
 int largestDifference(const PixelBytes& a, const std::vector<std::uint8_t>& b) {
@@ -192,7 +192,7 @@ fs::path sceneWithImages(const TempFolder& folder,
   std::vector<test_support::SceneImage> files;
   for (std::size_t i = 0; i < images.size(); ++i) {
     const std::string name = "photo" + std::to_string(i);
-    files.push_back({images[i], name, "image/jpeg", name + ".jpg"});
+    files.push_back({images[i], name, "image/jpeg", name + ".jpg", ""});
   }
   return test_support::writeTexturedTriangle(folder.path(), files, storage, "images");
 }

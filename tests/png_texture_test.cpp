@@ -151,7 +151,7 @@ tinygltf::Image stbDecode(const Bytes& png, bool& decoded) {
 // .gltf (the loader decodes both, several at a time).
 fs::path sceneWithPng(const TempFolder& folder, const Bytes& png, bool inFile) {
   return test_support::writeTexturedTriangle(
-      folder.path(), {{png, "picture", "image/png", "picture.png"}},
+      folder.path(), {{png, "picture", "image/png", "picture.png", ""}},
       inFile ? test_support::ImageStorage::File : test_support::ImageStorage::BufferView);
 }
 
@@ -363,7 +363,7 @@ TEST(PngTexture, ImagesDecodedTogetherKeepTheirOwnPixels) {
       layout.before = {{"PLTE", palette}};
       files.push_back(
           {pngFile(width, kHeight, zlib(filterRows(indices, width, kHeight, 1, {1, 4})), layout),
-           name, "image/png", name + ".png"});
+           name, "image/png", name + ".png", ""});
       expected.push_back(rgba);
     } else {
       const int channels = i % 2 == 0 ? 4 : 3;
@@ -374,7 +374,7 @@ TEST(PngTexture, ImagesDecodedTogetherKeepTheirOwnPixels) {
       files.push_back(
           {pngFile(width, kHeight, zlib(filterRows(pixels, width, kHeight, channels, {3, 4, 2})),
                    layout),
-           name, "image/png", name + ".png"});
+           name, "image/png", name + ".png", ""});
       expected.push_back(toRgba(pixels, channels));
     }
   }
