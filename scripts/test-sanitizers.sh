@@ -2,8 +2,8 @@
 # The whole test suite built with AddressSanitizer + UndefinedBehaviorSanitizer
 # (-DOMNISHADOW_SANITIZE=ON) in build-asan/. Installs what is missing, builds quietly (the log is
 # printed only when the build fails), runs CTest (a test per test file, its tests in one process;
-# extra arguments go to ctest), and fails when a
-# test fails or when any process, the CLI started by a test included, wrote a sanitizer report.
+# extra arguments go to ctest), and fails when a test fails or when any process, the CLI started
+# by a test included, wrote a sanitizer report.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 # shellcheck source=scripts/lib/sanitizer-build.sh

@@ -23,8 +23,8 @@ build="$root/build-tsan"
 # process per program.
 groups=(
   "render_tests parallel_shadow_maps concurrent_renderers render material_render texture_cache
-   srgb8_band_encoding srgb8_beauty shared_scene_loads stage_finish"
-  "cli_tests steady_frames robustness verify batch cli memory_warmup"
+   srgb8_band_encoding srgb8_beauty shared_scene_loads stage_finish verify"
+  "cli_tests steady_frames robustness batch cli memory_warmup"
   "view_tests camera_sets view_math in_parts decoded_image_cache"
   "scene_tests gltf_loader jpeg_texture png_texture image_mipmaps mipmap_queue scene_fingerprint
    pixel_bytes")
