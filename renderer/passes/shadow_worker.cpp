@@ -25,6 +25,7 @@ ShadowWorker::~ShadowWorker() {
 void ShadowWorker::run(const EglContext& renderer, bool debug) {
   // Named for perf and top (scripts/frame_cpu.py counts it apart); at most 15 characters.
   pthread_setname_np(pthread_self(), kThreadName);
+  std::exception_ptr failure;
   try {
     // Destroyed in this order on this thread: the pass's GL objects, then the context.
     EglContext context(renderer, debug);
@@ -52,20 +53,24 @@ void ShadowWorker::run(const EglContext& renderer, bool debug) {
         error = std::current_exception();
       }
       {
+        // Moved, not copied: the thread that takes the error holds its only reference and frees
+        // it, after reading it, instead of this one dropping a copy at the same time.
         std::lock_guard lock(mutex_);
-        error_ = error;
+        error_ = std::move(error);
         state_ = State::Done;
       }
       changed_.notify_all();
     }
   } catch (...) {
-    {
-      std::lock_guard lock(mutex_);
-      error_ = std::current_exception();
-      state_ = State::Failed;
-    }
-    changed_.notify_all();
+    failure = std::current_exception();
   }
+  // Published after the handler has ended, for the same reason.
+  {
+    std::lock_guard lock(mutex_);
+    error_ = std::move(failure);
+    state_ = State::Failed;
+  }
+  changed_.notify_all();
 }
 
 void ShadowWorker::draw(ShadowPass& pass, const Task& task) {
