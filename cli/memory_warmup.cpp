@@ -60,7 +60,35 @@ MemoryWarmup::MemoryWarmup(std::size_t bytes) {
   // where the system's setting is "always".
   advise(hugeBegin(), hugeEnd(), MADV_NOHUGEPAGE);
   const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  adviseHeapAbove(page);
   toucher_ = std::thread([this, page] { touch(page); });
+}
+
+void MemoryWarmup::adviseHeapAbove(std::size_t page) {
+  // Taken and freed at once: it lies right above the block, at the heap's top, and goes back
+  // to malloc's top chunk, which M_TRIM_THRESHOLD keeps; later blocks are carved from it in
+  // order, the advice staying with the address range.
+  char* above = static_cast<char*>(std::malloc(kHugeHeapBytes));
+  if (!above) return;
+  // Its first whole pages, faulted in by this thread: few enough to cost 0.5 ms where a fault
+  // is dear, enough that one slow fault does not decide. The next blocks carved use them.
+  constexpr std::size_t kMeasuredPages = 32;
+  const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(above) + page - 1) & ~(page - 1);
+  const double start = threadCpuMilliseconds();
+  for (std::size_t i = 0; i < kMeasuredPages; ++i)
+    // NOLINTNEXTLINE(performance-no-int-to-ptr): a page of the block just taken
+    *reinterpret_cast<volatile char*>(first + i * page) = 0;
+  heapPageFaultMicroseconds_ =
+      (threadCpuMilliseconds() - start) * 1000.0 / static_cast<double>(kMeasuredPages);
+  hugeHeap_ = heapPageFaultMicroseconds_ >= kDearPageFaultMicroseconds;
+  if (hugeHeap_) {
+    constexpr std::uintptr_t kHuge = HugePageTrial::kHugePage;
+    const std::uintptr_t measuredEnd = first + kMeasuredPages * page;
+    advise((measuredEnd + kHuge - 1) & ~(kHuge - 1),
+           (reinterpret_cast<std::uintptr_t>(above) + kHugeHeapBytes) & ~(kHuge - 1),
+           MADV_HUGEPAGE);
+  }
+  std::free(above);
 }
 
 std::uintptr_t MemoryWarmup::hugeBegin() const {

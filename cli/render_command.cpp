@@ -40,7 +40,7 @@ constexpr std::size_t kWarmupBytes = std::size_t{128} << 20;
 // a fault cost 10-12 us (the toucher measured 13-19), issue 19 in docs/performance.md: preparing
 // Sundial's 49 MiB took 125-150 ms whenever the context was ready a little before the load; the
 // 250k-triangle bench room's 121 MiB took as long prepared as not.
-constexpr double kDearPageFaultMicroseconds = 5.0;
+constexpr double kDearPageFaultMicroseconds = MemoryWarmup::kDearPageFaultMicroseconds;
 
 // The command line as a job; checks everything that needs no file reading.
 RenderJob jobFromOptions(const RenderOptions& o) {
@@ -114,9 +114,15 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   warnings = loaded.warnings;
   times.add("load", loadMilliseconds);
   times.add("context", std::max(0.0, millisecondsSince(start) - loadMilliseconds));
-  if (o.device.verbose)
+  if (o.device.verbose) {
     std::fprintf(stderr, "omnishadow: scene %s, camera: %s, %dx%d\n", job.scene.c_str(),
                  loaded.camera.description.c_str(), loaded.camera.width, loaded.camera.height);
+    if (warmup.active())
+      std::fprintf(stderr, "omnishadow: memory: a fresh 4 KiB page took %.1f us; %s\n",
+                   warmup.heapPageFaultMicroseconds(),
+                   warmup.hugeHeap() ? "the heap above the warm-up asks for huge pages"
+                                     : "4 KiB pages above the warm-up");
+  }
 
   const Frame frame = renderJob(*renderer, job, loaded, times);
   warnings.insert(warnings.end(), frame.warnings.begin(), frame.warnings.end());

@@ -66,6 +66,24 @@ TEST(MemoryWarmup, ReportsWhatA4KiBPageFaultCostsOnceMeasured) {
   EXPECT_EQ(warmup.pageFaultMicroseconds(), microseconds);
 }
 
+// The warm-up measures the heap's first fresh pages above its block on the calling thread, and
+// is off entirely where it is turned off.
+TEST(MemoryWarmup, MeasuresTheHeapAboveTheBlockAtOnce) {
+  ASSERT_EQ(setenv("OMNISHADOW_MEMORY_WARMUP", "0", 1), 0);
+  {
+    MemoryWarmup off(std::size_t{16} << 20);
+    EXPECT_EQ(off.heapPageFaultMicroseconds(), 0.0);
+    EXPECT_FALSE(off.hugeHeap());
+  }
+  ASSERT_EQ(unsetenv("OMNISHADOW_MEMORY_WARMUP"), 0);
+  MemoryWarmup warmup(std::size_t{16} << 20);
+  const double microseconds = warmup.heapPageFaultMicroseconds();
+  EXPECT_GT(microseconds, 0.0);
+  EXPECT_LT(microseconds, 10000.0);
+  EXPECT_EQ(warmup.hugeHeap(), microseconds >= MemoryWarmup::kDearPageFaultMicroseconds);
+  warmup.finish();
+}
+
 // After a warm-up a thread started later allocates from the main heap, whose pages the warm-up
 // touched and where what the others free goes (an arena of its own would fault in fresh pages
 // and keep what it frees): its block lies below the program break, where no mapping is.
@@ -104,11 +122,12 @@ bool hasFlag(const std::string& vmFlags, const char* flag) {
   return (vmFlags + " ").find(std::string(" ") + flag + " ") != std::string::npos;
 }
 
-bool someMappingAsksForHugePages() {
+int mappingsAskingForHugePages() {
   std::ifstream smaps("/proc/self/smaps");
+  int count = 0;
   for (std::string line; std::getline(smaps, line);)
-    if (line.rfind("VmFlags:", 0) == 0 && hasFlag(line, "hg")) return true;
-  return false;
+    count += line.rfind("VmFlags:", 0) == 0 && hasFlag(line, "hg");
+  return count;
 }
 
 bool kernelHasHugePages() {
@@ -145,9 +164,12 @@ TEST(MemoryWarmup, HugePagesAreAskedForFromTheStartOfTheBlock) {
   constexpr std::size_t kSpan = std::size_t{2} << 20;
   {
     MemoryWarmup warmup(kBlock);
-    // The toucher runs only on an idle core: wait until it has asked for its first span.
-    for (int i = 0; i < 2000 && !someMappingAsksForHugePages(); ++i) usleep(10000);
-    ASSERT_TRUE(someMappingAsksForHugePages());
+    // The toucher runs only on an idle core: wait until it has asked for its first span. Where
+    // the heap above the block asks for huge pages, that is a mapping of its own, apart from
+    // the block's spans (its first pages, measured, lie between them).
+    const int asking = 1 + (warmup.hugeHeap() ? 1 : 0);
+    for (int i = 0; i < 2000 && mappingsAskingForHugePages() < asking; ++i) usleep(10000);
+    ASSERT_GE(mappingsAskingForHugePages(), asking);
     warmup.finish();
   }
   char* carved = static_cast<char*>(std::malloc(kBlock - kSpan));
@@ -217,6 +239,39 @@ void exitWhetherTheNeededPagesAreFaultedInAndKeepTheirBytes() {
 TEST(MemoryWarmupDeathTest, AfterFinishTheNeededPagesAreFaultedInAndKeepTheirBytes) {
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(exitWhetherTheNeededPagesAreFaultedInAndKeepTheirBytes(),
+              ::testing::ExitedWithCode(0), "");
+}
+// Where a fresh 4 KiB page is dear, what the process allocates above the block, while the
+// scene loads and after the frame outgrows the block, lies in memory that asks for huge pages
+// ("hg"); the block itself stays as the toucher leaves it. Where pages are cheap, nothing above
+// the block asks for them. A block carved after the hand-over starts at the freed block's start
+// only in a fresh heap: a process of its own.
+void exitWhetherTheHeapAboveTheBlockAsksForHugePagesWhereFaultsAreDear() {
+  constexpr std::size_t kBlock = std::size_t{16} << 20;
+  bool huge = false;
+  {
+    MemoryWarmup warmup(kBlock);
+    huge = warmup.hugeHeap();
+    warmup.finish();
+  }
+  // The freed block and the freed reserve above it are one free chunk again.
+  constexpr std::size_t kCarved = MemoryWarmup::kHugeHeapBytes / 2;
+  char* carved = static_cast<char*>(std::malloc(kCarved));
+  if (!carved) std::_Exit(2);
+  const std::string inBlock = mappingFlags(carved + kBlock / 2);
+  const std::string above = mappingFlags(carved + kBlock + kCarved / 2);
+  const std::string farAbove = mappingFlags(carved + kCarved - (std::size_t{4} << 20));
+  std::fprintf(stderr, "huge heap %d\nblock: %s\nabove: %s\nfar above: %s\n", huge ? 1 : 0,
+               inBlock.c_str(), above.c_str(), farAbove.c_str());
+  const bool holds =
+      !hasFlag(inBlock, "hg") && hasFlag(above, "hg") == huge && hasFlag(farAbove, "hg") == huge;
+  std::_Exit(holds ? 0 : 1);
+}
+
+TEST(MemoryWarmupDeathTest, TheHeapAboveTheBlockAsksForHugePagesWhereFaultsAreDear) {
+  if (!kernelHasHugePages()) GTEST_SKIP() << "no transparent huge pages in this kernel";
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(exitWhetherTheHeapAboveTheBlockAsksForHugePagesWhereFaultsAreDear(),
               ::testing::ExitedWithCode(0), "");
 }
 #endif
