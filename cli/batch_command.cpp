@@ -17,6 +17,7 @@
 #include "cli/batch_jobs.h"
 #include "cli/batch_worker.h"
 #include "cli/common_options.h"
+#include "cli/malloc_heap.h"
 #include "cli/shard_env.h"
 #include "cli/shared_scene_loads.h"
 #include "renderer/core/errors.h"
@@ -373,6 +374,12 @@ int runBatch(const BatchOptions& o) {
   parseGpuRequest(o.device.gpu);  // a malformed --gpu is a usage error before any worker starts
 
   setEncoderThreads(0);  // the batch's own workers encode in parallel already
+  // Before any worker is forked, which inherits the heap and its advice: the jobs' loads and
+  // frames carve fresh memory from the heap's top until the batch reaches its peak.
+  if (mallocSetUpWanted()) {
+    useOneKeptHeap();
+    adviseHeapTop();
+  }
   Progress progress(jobs.size(), ::isatty(STDOUT_FILENO) != 0, o.quiet);
   std::vector<JobResult> results(jobs.size());
   const auto finished = [&](std::size_t i, const JobResult& result) {

@@ -10,25 +10,13 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
-#include <string_view>
 
 #include "cli/huge_page_trial.h"
-#include "renderer/core/under_valgrind.h"
+#include "cli/malloc_heap.h"
 
 namespace omnishadow::cli {
 
 namespace {
-
-bool wanted() {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-  // The sanitizers' allocators ignore mallopt() and do not hand the freed block out again.
-  return false;
-#else
-  const char* setting = std::getenv("OMNISHADOW_MEMORY_WARMUP");
-  if (setting && std::string_view(setting) == "0") return false;
-  return !underValgrind();
-#endif
-}
 
 void advise(std::uintptr_t begin, std::uintptr_t end, int advice) {
   // NOLINTNEXTLINE(performance-no-int-to-ptr): the block's own pages, aligned
@@ -44,15 +32,11 @@ double threadCpuMilliseconds() {
 }  // namespace
 
 MemoryWarmup::MemoryWarmup(std::size_t bytes) {
-  if (bytes == 0 || !wanted()) return;
-  // Every block from the heap (no mmap of its own, which would come with fresh pages) and
-  // nothing given back to the system below 1 GiB: the warm pages stay for the frame. One heap
-  // for every thread: a thread's own arena would fault in fresh pages where the main heap has
-  // warm ones, and what it frees would not serve the frame (the upload's mipmap thread freed
-  // 16 MiB a texture that the frame then faulted in anew).
-  mallopt(M_MMAP_MAX, 0);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
-  mallopt(M_ARENA_MAX, 1);
+  if (bytes == 0 || !mallocSetUpWanted()) return;
+  // The warm pages stay for the frame (cli/malloc_heap.h). One heap for every thread: the
+  // upload's mipmap thread, in an arena of its own, freed 16 MiB a texture that the frame then
+  // faulted in anew.
+  useOneKeptHeap();
   block_ = static_cast<char*>(std::malloc(bytes));
   if (!block_) return;
   bytes_ = bytes;
@@ -60,35 +44,10 @@ MemoryWarmup::MemoryWarmup(std::size_t bytes) {
   // where the system's setting is "always".
   advise(hugeBegin(), hugeEnd(), MADV_NOHUGEPAGE);
   const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
-  adviseHeapAbove(page);
+  // Above the block: what the scene's load allocates while the toucher has the block, and what
+  // outgrows the block.
+  heapAbove_ = adviseHeapTop();
   toucher_ = std::thread([this, page] { touch(page); });
-}
-
-void MemoryWarmup::adviseHeapAbove(std::size_t page) {
-  // Taken and freed at once: it lies right above the block, at the heap's top, and goes back
-  // to malloc's top chunk, which M_TRIM_THRESHOLD keeps; later blocks are carved from it in
-  // order, the advice staying with the address range.
-  char* above = static_cast<char*>(std::malloc(kHugeHeapBytes));
-  if (!above) return;
-  // Its first whole pages, faulted in by this thread: few enough to cost 0.5 ms where a fault
-  // is dear, enough that one slow fault does not decide. The next blocks carved use them.
-  constexpr std::size_t kMeasuredPages = 32;
-  const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(above) + page - 1) & ~(page - 1);
-  const double start = threadCpuMilliseconds();
-  for (std::size_t i = 0; i < kMeasuredPages; ++i)
-    // NOLINTNEXTLINE(performance-no-int-to-ptr): a page of the block just taken
-    *reinterpret_cast<volatile char*>(first + i * page) = 0;
-  heapPageFaultMicroseconds_ =
-      (threadCpuMilliseconds() - start) * 1000.0 / static_cast<double>(kMeasuredPages);
-  hugeHeap_ = heapPageFaultMicroseconds_ >= kDearPageFaultMicroseconds;
-  if (hugeHeap_) {
-    constexpr std::uintptr_t kHuge = HugePageTrial::kHugePage;
-    const std::uintptr_t measuredEnd = first + kMeasuredPages * page;
-    advise((measuredEnd + kHuge - 1) & ~(kHuge - 1),
-           (reinterpret_cast<std::uintptr_t>(above) + kHugeHeapBytes) & ~(kHuge - 1),
-           MADV_HUGEPAGE);
-  }
-  std::free(above);
 }
 
 std::uintptr_t MemoryWarmup::hugeBegin() const {

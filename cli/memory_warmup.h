@@ -14,13 +14,10 @@
 // pages, which the toucher faults in 2 MiB at a time (cli/huge_page_trial.h), before and after
 // it hands the block over.
 //
-// Everything else a render allocates comes from the heap above the block: the scene's
-// decoded textures and buffers while the block is still the toucher's, and whatever outgrows
-// the block afterwards. Where a 4 KiB page fault is dear (kDearPageFaultMicroseconds, measured
-// on the heap's first pages above the block), that part of the heap asks for transparent huge
-// pages from the start: there even a huge page the host must back again is cheaper than the
-// same 2 MiB in 4 KiB pages (cli/huge_page_trial.h), and Sundial's 16.8 MB JPEG took 56-86 ms
-// to be given its pages one by one (docs/performance.md, issue 19).
+// Everything else a render allocates comes from the heap above the block: the scene's decoded
+// textures and buffers while the block is still the toucher's, and whatever outgrows the block
+// afterwards. Where a fresh 4 KiB page is dear, that part asks for huge pages from the start
+// (cli/malloc_heap.h).
 //
 // Where the scene loads on every core, the toucher gets little of that time (Sundial: 26 of
 // 128 MB), and the frame then faults in what it carves beyond (60 MB in its shadow stage). So
@@ -33,18 +30,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <thread>
+#include <utility>
+
+#include "cli/malloc_heap.h"
 
 namespace omnishadow::cli {
 
 class MemoryWarmup {
  public:
-  // A fresh 4 KiB page costing this many microseconds or more is dear: the heap above the block
-  // then asks for huge pages, and a render prepares little ahead of its frame.
-  static constexpr double kDearPageFaultMicroseconds = 5.0;
-  // How much of the heap above the block asks for huge pages where faults are dear: address
-  // space only, faulted in as the process uses it.
-  static constexpr std::size_t kHugeHeapBytes = std::size_t{512} << 20;
-
   // Sets malloc up as above, reserves `bytes` of its heap and starts touching them. Nothing at
   // all when OMNISHADOW_MEMORY_WARMUP is "0" or under valgrind or AddressSanitizer; no block
   // and no thread when the heap cannot give the block.
@@ -64,17 +57,17 @@ class MemoryWarmup {
   double pageFaultMicroseconds() const { return pageFaultMicroseconds_.load(); }
   // Whether a toucher runs: false where the warm-up is turned off or had no block.
   bool active() const { return toucher_.joinable(); }
-  // What the heap's first fresh 4 KiB pages above the block cost this thread, in microseconds
-  // of its CPU time each (0 without a block), and whether the heap above them asks for huge
-  // pages for that reason.
-  double heapPageFaultMicroseconds() const { return heapPageFaultMicroseconds_; }
-  bool hugeHeap() const { return hugeHeap_; }
+  // What the heap's first fresh pages above the block cost and whether the heap above them asks
+  // for huge pages (zero without a block).
+  const HeapTopAdvice& heapAbove() const { return heapAbove_; }
+  // The block's whole 2 MiB-aligned spans, [first, second): where the toucher asks for huge
+  // pages (empty without a block, or once it is handed over).
+  std::pair<std::uintptr_t, std::uintptr_t> blockSpans() const {
+    return block_ ? std::pair{hugeBegin(), hugeEnd()} : std::pair<std::uintptr_t, std::uintptr_t>{};
+  }
 
  private:
   void touch(std::size_t page);
-  // Measures the heap's fresh pages above the block and, where they are dear, advises the next
-  // kHugeHeapBytes of it to be huge pages.
-  void adviseHeapAbove(std::size_t page);
   // The block's whole 2 MiB-aligned spans.
   std::uintptr_t hugeBegin() const;
   std::uintptr_t hugeEnd() const;
@@ -87,8 +80,7 @@ class MemoryWarmup {
   std::atomic<bool> quit_{false};        // the toucher is to end
   std::uintptr_t neededEnd_ = 0;         // where the toucher ends once the block is freed
   std::atomic<double> pageFaultMicroseconds_{0.0};
-  double heapPageFaultMicroseconds_ = 0.0;
-  bool hugeHeap_ = false;
+  HeapTopAdvice heapAbove_;
   std::thread toucher_;
 };
 

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli/common_options.h"
+#include "cli/malloc_heap.h"
 #include "cli/memory_warmup.h"
 #include "cli/render_job.h"
 #include "cli/steady_frames.h"
@@ -30,17 +31,6 @@ namespace {
 // touches all of it, and 256 MB made single renders slower than 128 (more to zero): process
 // wall, 9 interleaved rounds, Sundial 178 against 195 ms, test_room 223 against 243.
 constexpr std::size_t kWarmupBytes = std::size_t{128} << 20;
-
-// Where the warm-up runs and has not measured a 4 KiB page fault under this (its toucher's CPU
-// time; a toucher that had no core to measure on by then counts as dear), a render prepares
-// while the scene loads only shadow maps and targets of more than half the warm-up's block. Below
-// that the frame takes them from the warm-up's pages, which preparing would leave for fresh ones
-// faulted in one by one on the rendering thread; above it they outgrow the block (the frame carves
-// them after the scene's textures and buffers) and are faulted in by someone anyway. Measured where
-// a fault cost 10-12 us (the toucher measured 13-19), issue 19 in docs/performance.md: preparing
-// Sundial's 49 MiB took 125-150 ms whenever the context was ready a little before the load; the
-// 250k-triangle bench room's 121 MiB took as long prepared as not.
-constexpr double kDearPageFaultMicroseconds = MemoryWarmup::kDearPageFaultMicroseconds;
 
 // The command line as a job; checks everything that needs no file reading.
 RenderJob jobFromOptions(const RenderOptions& o) {
@@ -75,6 +65,11 @@ RenderJob jobFromOptions(const RenderOptions& o) {
 
 int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   if (isFrameSet(o.frames)) {
+    // Many frames of one scene: no warm-up ahead of the first, but the heap set up as for one.
+    if (mallocSetUpWanted()) {
+      useOneKeptHeap();
+      adviseHeapTop();
+    }
     RenderJob pattern = jobFromOptions(o);
     pattern.cameraJson = o.frames.cameraJson;
     return renderFrameSet(pattern, o.frames, o.device, warnings);
@@ -100,8 +95,15 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   }
   // While the scene is still loading, this thread allocates and clears what the frame will
   // need. When it has loaded already, nothing would overlap: the frame allocates its textures
-  // itself, from the pages the warm-up touched. Where fresh memory is dear, only what outgrows
-  // those pages (kDearPageFaultMicroseconds).
+  // itself, from the pages the warm-up touched. Where the toucher has not measured a fresh 4 KiB
+  // page under kDearPageFaultMicroseconds (its CPU time; a toucher that had no core to measure
+  // on by then counts as dear), only shadow maps and targets of more than half the warm-up's
+  // block: smaller ones the frame takes from the warm-up's pages, which preparing would leave for
+  // fresh ones faulted in on this thread; larger ones outgrow the block and are faulted in by
+  // someone anyway. Measured where a fault cost 10-12 us, before the heap above the block asked
+  // for huge pages (issue 19 in docs/performance.md): preparing Sundial's 49 MiB took 125-150 ms
+  // whenever the context was ready a little before the load; the 250k-triangle bench room's
+  // 121 MiB took as long prepared as not.
   if (renderer && loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
     const double fault = warmup.pageFaultMicroseconds();
     const bool cheap = fault > 0.0 && fault < kDearPageFaultMicroseconds;
@@ -119,9 +121,9 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
                  loaded.camera.description.c_str(), loaded.camera.width, loaded.camera.height);
     if (warmup.active())
       std::fprintf(stderr, "omnishadow: memory: a fresh 4 KiB page took %.1f us; %s\n",
-                   warmup.heapPageFaultMicroseconds(),
-                   warmup.hugeHeap() ? "the heap above the warm-up asks for huge pages"
-                                     : "4 KiB pages above the warm-up");
+                   warmup.heapAbove().pageFaultMicroseconds,
+                   warmup.heapAbove().hugePages ? "the heap above the warm-up asks for huge pages"
+                                                : "4 KiB pages above the warm-up");
   }
 
   const Frame frame = renderJob(*renderer, job, loaded, times);

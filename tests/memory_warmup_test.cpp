@@ -72,15 +72,15 @@ TEST(MemoryWarmup, MeasuresTheHeapAboveTheBlockAtOnce) {
   ASSERT_EQ(setenv("OMNISHADOW_MEMORY_WARMUP", "0", 1), 0);
   {
     MemoryWarmup off(std::size_t{16} << 20);
-    EXPECT_EQ(off.heapPageFaultMicroseconds(), 0.0);
-    EXPECT_FALSE(off.hugeHeap());
+    EXPECT_EQ(off.heapAbove().pageFaultMicroseconds, 0.0);
+    EXPECT_FALSE(off.heapAbove().hugePages);
   }
   ASSERT_EQ(unsetenv("OMNISHADOW_MEMORY_WARMUP"), 0);
   MemoryWarmup warmup(std::size_t{16} << 20);
-  const double microseconds = warmup.heapPageFaultMicroseconds();
+  const double microseconds = warmup.heapAbove().pageFaultMicroseconds;
   EXPECT_GT(microseconds, 0.0);
   EXPECT_LT(microseconds, 10000.0);
-  EXPECT_EQ(warmup.hugeHeap(), microseconds >= MemoryWarmup::kDearPageFaultMicroseconds);
+  EXPECT_EQ(warmup.heapAbove().hugePages, microseconds >= kDearPageFaultMicroseconds);
   warmup.finish();
 }
 
@@ -122,12 +122,18 @@ bool hasFlag(const std::string& vmFlags, const char* flag) {
   return (vmFlags + " ").find(std::string(" ") + flag + " ") != std::string::npos;
 }
 
-int mappingsAskingForHugePages() {
+// Whether a mapping that overlaps [begin, end) asks for huge pages.
+bool someMappingAsksForHugePages(std::uintptr_t begin, std::uintptr_t end) {
   std::ifstream smaps("/proc/self/smaps");
-  int count = 0;
-  for (std::string line; std::getline(smaps, line);)
-    count += line.rfind("VmFlags:", 0) == 0 && hasFlag(line, "hg");
-  return count;
+  bool overlaps = false;
+  for (std::string line; std::getline(smaps, line);) {
+    std::uintptr_t from = 0, to = 0;
+    if (std::sscanf(line.c_str(), "%" SCNxPTR "-%" SCNxPTR " ", &from, &to) == 2)
+      overlaps = from < end && begin < to;
+    else if (overlaps && line.rfind("VmFlags:", 0) == 0 && hasFlag(line, "hg"))
+      return true;
+  }
+  return false;
 }
 
 bool kernelHasHugePages() {
@@ -164,12 +170,11 @@ TEST(MemoryWarmup, HugePagesAreAskedForFromTheStartOfTheBlock) {
   constexpr std::size_t kSpan = std::size_t{2} << 20;
   {
     MemoryWarmup warmup(kBlock);
-    // The toucher runs only on an idle core: wait until it has asked for its first span. Where
-    // the heap above the block asks for huge pages, that is a mapping of its own, apart from
-    // the block's spans (its first pages, measured, lie between them).
-    const int asking = 1 + (warmup.hugeHeap() ? 1 : 0);
-    for (int i = 0; i < 2000 && mappingsAskingForHugePages() < asking; ++i) usleep(10000);
-    ASSERT_GE(mappingsAskingForHugePages(), asking);
+    // The toucher runs only on an idle core: wait until it has asked for its first span.
+    const auto [begin, end] = warmup.blockSpans();
+    ASSERT_LT(begin, end);
+    for (int i = 0; i < 2000 && !someMappingAsksForHugePages(begin, end); ++i) usleep(10000);
+    ASSERT_TRUE(someMappingAsksForHugePages(begin, end));
     warmup.finish();
   }
   char* carved = static_cast<char*>(std::malloc(kBlock - kSpan));
@@ -241,31 +246,29 @@ TEST(MemoryWarmupDeathTest, AfterFinishTheNeededPagesAreFaultedInAndKeepTheirByt
   EXPECT_EXIT(exitWhetherTheNeededPagesAreFaultedInAndKeepTheirBytes(),
               ::testing::ExitedWithCode(0), "");
 }
-// Where a fresh 4 KiB page is dear, what the process allocates above the block, while the
-// scene loads and after the frame outgrows the block, lies in memory that asks for huge pages
-// ("hg"); the block itself stays as the toucher leaves it. Where pages are cheap, nothing above
-// the block asks for them. A block carved after the hand-over starts at the freed block's start
-// only in a fresh heap: a process of its own.
+// Where a fresh 4 KiB page is dear, what the process allocates beside the block, while the scene
+// loads (the block still the toucher's) and after the frame outgrows the block, lies in memory
+// that asks for huge pages ("hg"); where pages are cheap, it does not. Blocks are carved from the
+// heap's top only in a fresh heap: a process of its own, which exits 0 when the check holds.
 void exitWhetherTheHeapAboveTheBlockAsksForHugePagesWhereFaultsAreDear() {
   constexpr std::size_t kBlock = std::size_t{16} << 20;
+  constexpr std::size_t kLoaded = std::size_t{32} << 20, kOutgrown = std::size_t{64} << 20;
   bool huge = false;
+  std::string loaded, outgrown;
   {
     MemoryWarmup warmup(kBlock);
-    huge = warmup.hugeHeap();
+    huge = warmup.heapAbove().hugePages;
+    char* texture = static_cast<char*>(std::malloc(kLoaded));
+    if (!texture) std::_Exit(2);
+    loaded = mappingFlags(texture + kLoaded / 2);
     warmup.finish();
+    char* frame = static_cast<char*>(std::malloc(kOutgrown));  // larger than the freed block
+    if (!frame) std::_Exit(2);
+    outgrown = mappingFlags(frame + kOutgrown / 2);
   }
-  // The freed block and the freed reserve above it are one free chunk again.
-  constexpr std::size_t kCarved = MemoryWarmup::kHugeHeapBytes / 2;
-  char* carved = static_cast<char*>(std::malloc(kCarved));
-  if (!carved) std::_Exit(2);
-  const std::string inBlock = mappingFlags(carved + kBlock / 2);
-  const std::string above = mappingFlags(carved + kBlock + kCarved / 2);
-  const std::string farAbove = mappingFlags(carved + kCarved - (std::size_t{4} << 20));
-  std::fprintf(stderr, "huge heap %d\nblock: %s\nabove: %s\nfar above: %s\n", huge ? 1 : 0,
-               inBlock.c_str(), above.c_str(), farAbove.c_str());
-  const bool holds =
-      !hasFlag(inBlock, "hg") && hasFlag(above, "hg") == huge && hasFlag(farAbove, "hg") == huge;
-  std::_Exit(holds ? 0 : 1);
+  std::fprintf(stderr, "huge heap %d\nloaded: %s\noutgrown: %s\n", huge ? 1 : 0, loaded.c_str(),
+               outgrown.c_str());
+  std::_Exit(hasFlag(loaded, "hg") == huge && hasFlag(outgrown, "hg") == huge ? 0 : 1);
 }
 
 TEST(MemoryWarmupDeathTest, TheHeapAboveTheBlockAsksForHugePagesWhereFaultsAreDear) {
