@@ -18,11 +18,16 @@
 #include <vector>
 
 #include "tests/support/cli_fixture.h"
+#include "tests/support/memory_mappings.h"
 
 namespace omnishadow::cli::memory_warmup_test {
 namespace {
 
+using test_support::hasFlag;
+using test_support::kernelHasHugePages;
+using test_support::mappingFlags;
 using test_support::sameBytes;
+using test_support::someMappingAsksForHugePages;
 
 #if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 // Blocks the size of a 1024^2 cube map come from malloc's heap after a warm-up, not from
@@ -100,44 +105,6 @@ TEST(MemoryWarmup, ThreadsStartedAfterAWarmupAllocateFromTheWarmedHeap) {
   }).join();
   ASSERT_NE(block, 0u);
   EXPECT_LT(block, reinterpret_cast<std::uintptr_t>(sbrk(0)));
-}
-
-// The flags of the mapping that holds `address`, from /proc/self/smaps ("" when none does).
-std::string mappingFlags(const void* address) {
-  std::ifstream smaps("/proc/self/smaps");
-  const auto at = reinterpret_cast<std::uintptr_t>(address);
-  bool inside = false;
-  for (std::string line; std::getline(smaps, line);) {
-    std::uintptr_t begin = 0, end = 0;
-    if (std::sscanf(line.c_str(), "%" SCNxPTR "-%" SCNxPTR " ", &begin, &end) == 2) {
-      inside = begin <= at && at < end;
-    } else if (inside && line.rfind("VmFlags:", 0) == 0) {
-      return line;
-    }
-  }
-  return "";
-}
-
-bool hasFlag(const std::string& vmFlags, const char* flag) {
-  return (vmFlags + " ").find(std::string(" ") + flag + " ") != std::string::npos;
-}
-
-// Whether a mapping that overlaps [begin, end) asks for huge pages.
-bool someMappingAsksForHugePages(std::uintptr_t begin, std::uintptr_t end) {
-  std::ifstream smaps("/proc/self/smaps");
-  bool overlaps = false;
-  for (std::string line; std::getline(smaps, line);) {
-    std::uintptr_t from = 0, to = 0;
-    if (std::sscanf(line.c_str(), "%" SCNxPTR "-%" SCNxPTR " ", &from, &to) == 2)
-      overlaps = from < end && begin < to;
-    else if (overlaps && line.rfind("VmFlags:", 0) == 0 && hasFlag(line, "hg"))
-      return true;
-  }
-  return false;
-}
-
-bool kernelHasHugePages() {
-  return std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled").good();
 }
 
 // What the toucher does not reach is in 4 KiB pages ("nh": MADV_NOHUGEPAGE), so that the
@@ -293,6 +260,25 @@ TEST_F(MemoryWarmupCliTest, ARenderWritesTheSameImageWithAndWithoutIt) {
           {"OMNISHADOW_MEMORY_WARMUP=0"});
   ASSERT_EQ(off.status, 0) << off.err;
   EXPECT_TRUE(sameBytes(output("on.png"), output("off.png")));
+}
+
+// A batch's workers inherit the heap its process set up (cli/malloc_heap.h); they draw what
+// they drew without it.
+TEST_F(MemoryWarmupCliTest, ABatchWritesTheSameImagesWithAndWithoutTheHeapSetUp) {
+  test_support::writeBoxScene(input("a/scene.gltf"));
+  test_support::writeBoxScene(input("b/scene.gltf"), {.boxX = 0.4f});
+  // The folder: its tree is mirrored in the output folder.
+  std::vector<std::string> on = {"batch",    in_.string(), "--width", "64",
+                                 "--height", "48",         "-q",      "-o"};
+  std::vector<std::string> off = on;
+  on.push_back("on");
+  off.push_back("off");
+  const Run withHeap = run(on);
+  ASSERT_EQ(withHeap.status, 0) << withHeap.err;
+  const Run without = run(off, {"OMNISHADOW_MEMORY_WARMUP=0"});
+  ASSERT_EQ(without.status, 0) << without.err;
+  for (const char* name : {"a/scene.png", "b/scene.png"})
+    EXPECT_TRUE(sameBytes(output("on") / name, output("off") / name)) << name;
 }
 
 }  // namespace
