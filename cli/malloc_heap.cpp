@@ -14,15 +14,11 @@
 
 namespace omnishadow::cli {
 
-namespace {
-
-double thisThreadCpuMilliseconds() {
+double threadCpuMilliseconds() {
   timespec now{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
   return static_cast<double>(now.tv_sec) * 1e3 + static_cast<double>(now.tv_nsec) * 1e-6;
 }
-
-}  // namespace
 
 bool mallocSetUpWanted() {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
@@ -52,12 +48,12 @@ HeapTopAdvice adviseHeapTop(std::size_t bytes) {
   const std::uintptr_t first = (reinterpret_cast<std::uintptr_t>(top) + page - 1) & ~(page - 1);
   HeapTopAdvice advice;
   if (bytes >= (kMeasuredPages + 1) * page) {
-    const double start = thisThreadCpuMilliseconds();
+    const double start = threadCpuMilliseconds();
     for (std::uintptr_t i = 0; i < kMeasuredPages; ++i)
       // NOLINTNEXTLINE(performance-no-int-to-ptr): a page of the block just taken
       *reinterpret_cast<volatile char*>(first + i * page) = 0;
     advice.pageFaultMicroseconds =
-        (thisThreadCpuMilliseconds() - start) * 1000.0 / static_cast<double>(kMeasuredPages);
+        (threadCpuMilliseconds() - start) * 1000.0 / static_cast<double>(kMeasuredPages);
     advice.hugePages = advice.pageFaultMicroseconds >= kDearPageFaultMicroseconds;
   }
   constexpr std::uintptr_t kHuge = HugePageTrial::kHugePage;

@@ -28,6 +28,10 @@ inline constexpr double kDearPageFaultMicroseconds = 5.0;
 // faulted in as the process uses it.
 inline constexpr std::size_t kHugeHeapBytes = std::size_t{512} << 20;
 
+// The calling thread's CPU time: what page faults are timed in (a thread that waits for a core
+// does not count the wait as the fault's).
+double threadCpuMilliseconds();
+
 // Whether the CLI sets malloc up at all: not when OMNISHADOW_MEMORY_WARMUP is "0", under valgrind
 // or AddressSanitizer or ThreadSanitizer (whose allocators ignore mallopt()).
 bool mallocSetUpWanted();

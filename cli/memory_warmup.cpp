@@ -4,7 +4,6 @@
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,12 +20,6 @@ namespace {
 void advise(std::uintptr_t begin, std::uintptr_t end, int advice) {
   // NOLINTNEXTLINE(performance-no-int-to-ptr): the block's own pages, aligned
   if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, advice);
-}
-
-double threadCpuMilliseconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) * 1e3 + static_cast<double>(now.tv_nsec) * 1e-6;
 }
 
 }  // namespace
