@@ -376,10 +376,7 @@ int runBatch(const BatchOptions& o) {
   setEncoderThreads(0);  // the batch's own workers encode in parallel already
   // Before any worker is forked, which inherits the heap and its advice: the jobs' loads and
   // frames carve fresh memory from the heap's top until the batch reaches its peak.
-  if (mallocSetUpWanted()) {
-    useOneKeptHeap();
-    adviseHeapTop();
-  }
+  setUpMallocHeap();
   Progress progress(jobs.size(), ::isatty(STDOUT_FILENO) != 0, o.quiet);
   std::vector<JobResult> results(jobs.size());
   const auto finished = [&](std::size_t i, const JobResult& result) {

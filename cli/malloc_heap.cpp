@@ -66,4 +66,10 @@ HeapTopAdvice adviseHeapTop(std::size_t bytes) {
   return advice;
 }
 
+HeapTopAdvice setUpMallocHeap() {
+  if (!mallocSetUpWanted()) return {};
+  useOneKeptHeap();
+  return adviseHeapTop();
+}
+
 }  // namespace omnishadow::cli

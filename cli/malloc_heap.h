@@ -50,4 +50,8 @@ struct HeapTopAdvice {
 // the advised memory in the heap.
 HeapTopAdvice adviseHeapTop(std::size_t bytes = kHugeHeapBytes);
 
+// For a process that renders without the memory warm-up (batches, frame sequences): one kept
+// heap with its top advised, where the set-up is wanted; a zero advice where it is not.
+HeapTopAdvice setUpMallocHeap();
+
 }  // namespace omnishadow::cli

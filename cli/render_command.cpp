@@ -66,10 +66,7 @@ RenderJob jobFromOptions(const RenderOptions& o) {
 int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   if (isFrameSet(o.frames)) {
     // Many frames of one scene: no warm-up ahead of the first, but the heap set up as for one.
-    if (mallocSetUpWanted()) {
-      useOneKeptHeap();
-      adviseHeapTop();
-    }
+    setUpMallocHeap();
     RenderJob pattern = jobFromOptions(o);
     pattern.cameraJson = o.frames.cameraJson;
     return renderFrameSet(pattern, o.frames, o.device, warnings);
