@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -44,22 +43,6 @@ TEST(LlvmWarmup, CompilesAndRunsAFunctionWithTheLlvmTheDriverLoaded) {
   EXPECT_TRUE(warmup.started());
   EXPECT_TRUE(warmup.wait()) << "the function compiled with " << llvm << " did not return 42";
   // The driver still compiles and draws after it (its own LLVM contexts, the same library).
-}
-
-// In a process of its own: only the context whose display loads the driver starts the warm-up.
-TEST(LlvmWarmupDeathTest, TheContextThatLoadsLlvmStartsItUnlessAskedNotTo) {
-  // Each child runs the test program anew, in which no display was opened yet.
-  GTEST_FLAG_SET(death_test_style, "threadsafe");
-  const auto firstContext = [](bool warmUp) {
-    const EglContext context(ContextOptions{-1, false, warmUp});
-    LlvmWarmup* warmup = context.llvmWarmup();
-    if (!warmUp) std::exit(warmup == nullptr ? 0 : 1);
-    // A driver without LLVM (a GPU's) has nothing to warm up.
-    if (LlvmWarmup::llvmLibrary(loadedLibraries()).empty()) std::exit(warmup == nullptr ? 0 : 3);
-    std::exit(warmup != nullptr && warmup->wait() ? 0 : 2);
-  };
-  EXPECT_EXIT(firstContext(true), ::testing::ExitedWithCode(0), "");
-  EXPECT_EXIT(firstContext(false), ::testing::ExitedWithCode(0), "");
 }
 
 }  // namespace

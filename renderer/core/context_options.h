@@ -7,9 +7,6 @@ namespace omnishadow {
 struct ContextOptions {
   int gpuIndex = -1;   // EGL device index (--gpu); -1 = hardware devices first, then software
   bool debug = false;  // debug context + KHR_debug messages printed to stderr (--verbose)
-  // Where the driver brings LLVM, its first compilation on another thread while the context is
-  // made (renderer/gl/llvm_warmup.h); off for a context that draws nothing.
-  bool warmUpLlvm = true;
 };
 
 }  // namespace omnishadow

@@ -91,7 +91,7 @@ struct EglContext::Impl {
   std::unique_ptr<LlvmWarmup> llvmWarmup;
 
   // Returns an empty string on success, else why it failed.
-  std::string tryCreate(const Candidate& candidate, bool debug, bool warmUpLlvm) {
+  std::string tryCreate(const Candidate& candidate, bool debug) {
     auto getPlatformDisplay =
         gl::loadEglProc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
     if (!getPlatformDisplay) return "eglGetPlatformDisplayEXT is missing";
@@ -104,7 +104,7 @@ struct EglContext::Impl {
       display = EGL_NO_DISPLAY;
       return std::string("eglInitialize failed: ") + eglErrorName(eglGetError());
     }
-    if (warmUpLlvm && !llvmWarmup && !LlvmWarmup::llvmLibrary(loaded).empty())
+    if (!llvmWarmup && !LlvmWarmup::llvmLibrary(loaded).empty())
       llvmWarmup = std::make_unique<LlvmWarmup>(loaded);
     if (!eglBindAPI(EGL_OPENGL_API)) return fail("eglBindAPI(EGL_OPENGL_API)");
 
@@ -221,7 +221,7 @@ EglContext::EglContext(const ContextOptions& options) : impl_(std::make_unique<I
           "EGL surfaceless platform: not supported (no EGL_MESA_platform_surfaceless)");
   }
   for (const Candidate& candidate : candidates) {
-    const std::string why = impl_->tryCreate(candidate, options.debug, options.warmUpLlvm);
+    const std::string why = impl_->tryCreate(candidate, options.debug);
     if (why.empty()) return;
     attempts.push_back(candidate.description + ": " + why);
   }
@@ -257,10 +257,6 @@ void EglContext::makeCurrent() const {
 
 const std::string& EglContext::platformDescription() const {
   return impl_->description;
-}
-
-LlvmWarmup* EglContext::llvmWarmup() const {
-  return impl_->llvmWarmup.get();
 }
 
 std::string EglContext::glDescription() const {

@@ -7,8 +7,6 @@
 
 namespace omnishadow {
 
-class LlvmWarmup;
-
 // Headless OpenGL 4.5 core context, made current on the calling thread. No window, no surface,
 // no X: rendering goes into the caller's framebuffer objects. A thread has one current context:
 // where it holds more than one, its users call makeCurrent() before their GL calls.
@@ -32,9 +30,6 @@ class EglContext {
   const std::string& platformDescription() const;
   // GL_VENDOR, GL_RENDERER, GL_VERSION as one line.
   std::string glDescription() const;
-  // The first compilation this context started where making it loaded LLVM, or null
-  // (ContextOptions::warmUpLlvm).
-  LlvmWarmup* llvmWarmup() const;
 
  private:
   struct Impl;

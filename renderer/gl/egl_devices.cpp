@@ -15,7 +15,7 @@ namespace {
 // GL's own names for the device, from a context made on it: "vendor | renderer | version".
 void probeWithContext(GpuDevice& device) {
   try {
-    const EglContext context(ContextOptions{device.index, false, false});
+    const EglContext context(ContextOptions{device.index, false});
     auto text = [](GLenum name) {
       const auto* s = reinterpret_cast<const char*>(glGetString(name));
       return std::string(s ? s : "");
