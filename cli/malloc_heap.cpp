@@ -66,10 +66,10 @@ HeapTopAdvice adviseHeapTop(std::size_t bytes) {
   return advice;
 }
 
-HeapTopAdvice setUpMallocHeap() {
-  if (!mallocSetUpWanted()) return {};
+void setUpMallocHeap() {
+  if (!mallocSetUpWanted()) return;
   useOneKeptHeap();
-  return adviseHeapTop();
+  adviseHeapTop();
 }
 
 }  // namespace omnishadow::cli

@@ -51,7 +51,7 @@ struct HeapTopAdvice {
 HeapTopAdvice adviseHeapTop(std::size_t bytes = kHugeHeapBytes);
 
 // For a process that renders without the memory warm-up (batches, frame sequences): one kept
-// heap with its top advised, where the set-up is wanted; a zero advice where it is not.
-HeapTopAdvice setUpMallocHeap();
+// heap with its top advised, where the set-up is wanted.
+void setUpMallocHeap();
 
 }  // namespace omnishadow::cli
