@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <mutex>
 #include <string_view>
 
 #include "cli/huge_page_trial.h"
@@ -66,10 +67,16 @@ HeapTopAdvice adviseHeapTop(std::size_t bytes) {
   return advice;
 }
 
-void setUpMallocHeap() {
-  if (!mallocSetUpWanted()) return;
-  useOneKeptHeap();
-  adviseHeapTop();
+MallocHeapSetUp setUpMallocHeap() {
+  // The heap is the process's, and so is whether it was set up.
+  static std::once_flag once;
+  static MallocHeapSetUp done;
+  std::call_once(once, [] {
+    if (!mallocSetUpWanted()) return;
+    useOneKeptHeap();
+    done = {true, adviseHeapTop()};
+  });
+  return done;
 }
 
 }  // namespace omnishadow::cli

@@ -1,7 +1,8 @@
 #pragma once
 
-// malloc's heap set up for a process that renders: the CLI's, never a library's (the settings
-// are the process's).
+// malloc's heap set up for a process that renders: the CLI's, and the Python module's when its
+// user asks (omnishadow.use_rendering_heap()), never a library's on its own (the settings are
+// the process's).
 //
 // Every block comes from one heap (no mmap of its own, which would come with fresh pages; one
 // arena for every thread, since a thread's own arena would fault in fresh pages where the heap
@@ -50,8 +51,15 @@ struct HeapTopAdvice {
 // the advised memory in the heap.
 HeapTopAdvice adviseHeapTop(std::size_t bytes = kHugeHeapBytes);
 
-// For a process that renders without the memory warm-up (batches, frame sequences): one kept
-// heap with its top advised, where the set-up is wanted.
-void setUpMallocHeap();
+// What setting the heap up did.
+struct MallocHeapSetUp {
+  bool applied = false;  // false where mallocSetUpWanted() says no
+  HeapTopAdvice heapTop;
+};
+
+// For a process that renders without the memory warm-up (batches, frame sequences, the Python
+// module on request): one kept heap with its top advised, where the set-up is wanted. Once per
+// process: later calls change nothing and return what the first one did.
+MallocHeapSetUp setUpMallocHeap();
 
 }  // namespace omnishadow::cli

@@ -18,6 +18,7 @@ namespace {
 using test_support::hasFlag;
 using test_support::kernelHasHugePages;
 using test_support::mappingFlags;
+using test_support::mappingName;
 
 #if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 // A block carved after the advice starts where the advised block started only in a fresh heap:
@@ -46,6 +47,38 @@ TEST(MallocHeapDeathTest, TheTopAsksForHugePagesExactlyWhereItsFirstPagesWereDea
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(exitWhetherTheTopAsksForHugePagesExactlyWhereFaultsWereDear(),
               ::testing::ExitedWithCode(0), "");
+}
+
+// setUpMallocHeap() in a fresh process: a 64 MiB block comes from the heap, not from a mapping
+// of its own as without it, and a second call changes nothing and says what the first did.
+void exitWhetherTheHeapIsSetUpOnce() {
+  constexpr std::size_t kLarge = std::size_t{64} << 20;
+  char* before = static_cast<char*>(std::malloc(kLarge));
+  if (!before) std::_Exit(2);
+  before[0] = 1;
+  const bool mappedBefore = mappingName(before) != "[heap]";
+  std::free(before);
+  const MallocHeapSetUp first = setUpMallocHeap();
+  const MallocHeapSetUp second = setUpMallocHeap();
+  char* after = static_cast<char*>(std::malloc(kLarge));
+  if (!after) std::_Exit(2);
+  after[0] = 1;
+  const std::string name = mappingName(after);
+  std::fprintf(stderr, "before: %s, after: %s, applied %d/%d, %.1f/%.1f us\n",
+               mappedBefore ? "own mapping" : "heap", name.c_str(), first.applied ? 1 : 0,
+               second.applied ? 1 : 0, first.heapTop.pageFaultMicroseconds,
+               second.heapTop.pageFaultMicroseconds);
+  const bool holds = mappedBefore && first.applied && name == "[heap]" && second.applied &&
+                     first.heapTop.pageFaultMicroseconds > 0.0 &&
+                     second.heapTop.pageFaultMicroseconds == first.heapTop.pageFaultMicroseconds &&
+                     second.heapTop.hugePages == first.heapTop.hugePages;
+  std::free(after);
+  std::_Exit(holds ? 0 : 1);
+}
+
+TEST(MallocHeapDeathTest, IsSetUpOncePerProcess) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(exitWhetherTheHeapIsSetUpOnce(), ::testing::ExitedWithCode(0), "");
 }
 
 // A heap that cannot give the bytes asked for is left alone and measured as nothing.

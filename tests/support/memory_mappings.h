@@ -24,6 +24,22 @@ inline std::string mappingFlags(const void* address) {
   return "";
 }
 
+// The name of the mapping that holds `address` ("[heap]", a file's path; "" for an anonymous
+// mapping or none).
+inline std::string mappingName(const void* address) {
+  std::ifstream maps("/proc/self/maps");
+  const auto at = reinterpret_cast<std::uintptr_t>(address);
+  for (std::string line; std::getline(maps, line);) {
+    std::uintptr_t begin = 0, end = 0;
+    int nameAt = 0;
+    if (std::sscanf(line.c_str(), "%" SCNxPTR "-%" SCNxPTR " %*s %*s %*s %*s %n", &begin, &end,
+                    &nameAt) >= 2 &&
+        begin <= at && at < end)
+      return nameAt > 0 ? line.substr(static_cast<std::size_t>(nameAt)) : "";
+  }
+  return "";
+}
+
 // Whether a VmFlags line has `flag` ("hg": asks for huge pages, "nh": asks for none).
 inline bool hasFlag(const std::string& vmFlags, const char* flag) {
   return (vmFlags + " ").find(std::string(" ") + flag + " ") != std::string::npos;
