@@ -282,8 +282,8 @@ void printJson(const RenderJob& job, const LoadedJob& loaded,
 
 int verify(const VerifyOptions& o, std::vector<std::string>& warnings) {
   // A process that renders once and casts a ray per pixel and light: the heap set up as for a
-  // batch (cli/malloc_heap.h). Sundial at 640x360 took 0.74-1.26 s with malloc as the system
-  // has it and 0.24-0.47 s set up so, most of the difference fresh 4 KiB pages.
+  // batch (cli/malloc_heap.h). Sundial at 640x360 took 0.73-0.77 s with malloc as the system
+  // has it and 0.23-0.39 s set up so: most of the difference was fresh 4 KiB pages.
   setUpMallocHeap();
   StageTimes times;
   ScopedStage loadStage(times, "load");

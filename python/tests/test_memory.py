@@ -77,9 +77,9 @@ def run_heap_child(set_up, extra_env=None):
     from conftest import DEMO_LIGHTS, DEMO_SCENE
 
     env = dict(os.environ, **(extra_env or {}))
-    done = subprocess.run(
-        [sys.executable, "-c", HEAP_CHILD, str(DEMO_SCENE), str(DEMO_LIGHTS), "1" if set_up else "0"],
-        capture_output=True, text=True, env=env, timeout=300)
+    args = [str(DEMO_SCENE), str(DEMO_LIGHTS), "1" if set_up else "0"]
+    done = subprocess.run([sys.executable, "-c", HEAP_CHILD, *args], capture_output=True,
+                          text=True, env=env, timeout=300)
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.strip().splitlines()[-1])
 
