@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cli/common_options.h"
+#include "cli/malloc_heap.h"
 #include "cli/render_job.h"
 #include "cli/text_table.h"
 #include "renderer/core/errors.h"
@@ -465,6 +466,10 @@ int runDiff(const DiffCommandOptions& o) {
   if (folderA != folderB)
     throw InputError((folderA ? o.a : o.b) + ": is a folder but " + (folderA ? o.b : o.a) +
                      " is not; compare two files or two folders");
+  // Decoded images are large blocks that malloc would map afresh each: the heap set up as for a
+  // batch (cli/malloc_heap.h). Comparing two 1920x1080 PNGs took 0.25-0.28 s with malloc as the
+  // system has it and 0.07-0.08 s so set up, two EXRs 0.34-0.35 s and 0.15-0.25 s.
+  setUpMallocHeap();
   return folderA ? diffFolders(o) : diffFiles(o);
 }
 
