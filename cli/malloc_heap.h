@@ -57,9 +57,10 @@ struct MallocHeapSetUp {
   HeapTopAdvice heapTop;
 };
 
-// For a process that renders without the memory warm-up (batches, frame sequences, the Python
-// module on request): one kept heap with its top advised, where the set-up is wanted. Once per
-// process: later calls change nothing and return what the first one did.
+// For a process that renders or reads large files without the memory warm-up (batches, frame
+// sequences, verify, diff, info, the Python module on request): one kept heap with its top
+// advised, where the set-up is wanted. Once per process: later calls change nothing and return
+// what the first one did.
 MallocHeapSetUp setUpMallocHeap();
 
 }  // namespace omnishadow::cli
