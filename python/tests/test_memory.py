@@ -7,6 +7,7 @@ import subprocess
 import sys
 
 import omnishadow
+from conftest import DEMO_LIGHTS, DEMO_SCENE
 from gltf_scene import QuadScene
 
 
@@ -74,8 +75,6 @@ print(json.dumps(result))
 
 
 def run_heap_child(set_up, extra_env=None):
-    from conftest import DEMO_LIGHTS, DEMO_SCENE
-
     env = dict(os.environ, **(extra_env or {}))
     args = [str(DEMO_SCENE), str(DEMO_LIGHTS), "1" if set_up else "0"]
     done = subprocess.run([sys.executable, "-c", HEAP_CHILD, *args], capture_output=True,
