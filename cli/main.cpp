@@ -15,6 +15,7 @@
 #include "cli/info_command.h"
 #include "cli/render_command.h"
 #include "cli/report_merge.h"
+#include "cli/shader_cache_folder.h"
 #include "cli/verify_command.h"
 #include "renderer/core/errors.h"
 #include "renderer/core/message_text.h"
@@ -72,6 +73,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "omnishadow: %s\nRun 'omnishadow --help' or 'omnishadow %s --help'.\n",
                  e.what(), command.c_str());
     return 2;
+  }
+
+  // Before any thread, and before EGL loads Mesa: the commands that open a GL context.
+  if (app.got_subcommand("render") || app.got_subcommand("batch") || app.got_subcommand("verify") ||
+      app.got_subcommand("devices")) {
+    const auto shaderCache = omnishadow::cli::keepShaderCacheUsable();
+    if (render.device.verbose || batch.device.verbose || verify.device.verbose)
+      std::fprintf(stderr, "omnishadow: %s\n",
+                   omnishadow::cli::describeShaderCacheFolder(shaderCache).c_str());
   }
 
   try {

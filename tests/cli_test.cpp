@@ -6,6 +6,7 @@
 //   <root>/stdout, <root>/stderr  what the run printed
 // Renders are small (96x64, 64-texel shadow maps): llvmpipe is slow and CI has two cores.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -703,6 +704,43 @@ TEST_F(CliTest, BuiltInDemoRendersWithoutArguments) {
   double variance = 0.0;
   for (int c = 0; c < 3; ++c) variance += channelVariance(demo, c);
   EXPECT_GT(variance, 1e-3) << "a flat image";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Mesa's shader cache (cli/shader_cache_folder.h)
+
+// A user whose home cannot hold Mesa's cache, as in a container run as a user of its own: Mesa
+// keeps the compiled shaders in the CLI's folder instead of nowhere, and prints no "disabling"
+// line; where the user turned the cache off, the CLI makes no folder.
+TEST_F(CliTest, MesaKeepsItsShadersInTheCliFolderWhereItsOwnPlaceCannotBeWritten) {
+  if (std::getenv("MESA_SHADER_CACHE_DIR") || std::getenv("MESA_GLSL_CACHE_DIR") ||
+      std::getenv("MESA_SHADER_CACHE_DISABLE") || std::getenv("MESA_GLSL_CACHE_DISABLE"))
+    GTEST_SKIP() << "Mesa's shader cache variables are set for the tests";
+  writeBoxScene(input("scene.gltf"));
+  std::ofstream(root_ / "file") << "not a folder";
+  const fs::path tmp = root_ / "tmp";
+  fs::create_directory(tmp);
+  const std::vector<std::string> environment = {
+      "XDG_CACHE_HOME=" + (root_ / "file" / "cache").string(), "TMPDIR=" + tmp.string()};
+  const std::vector<std::string> args = {"render", in("scene.gltf"), "-o", "a.png", "--width",
+                                         "32",     "--height",       "32", "-v"};
+  const Run r = run(args, environment);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const fs::path cache =
+      tmp / ("omnishadow-shader-cache-" + std::to_string(getuid())) / "mesa_shader_cache";
+  EXPECT_TRUE(fs::is_regular_file(cache / "index")) << r.err;
+  EXPECT_GT(filesIn(cache).size(), 2u) << "the index and no shader";
+  EXPECT_TRUE(
+      contains(r.err, "omnishadow: shader cache: " + cache.string() + " (Mesa's own place"));
+  EXPECT_EQ(r.err.find("disabling"), std::string::npos) << r.err;
+
+  fs::remove_all(tmp);
+  fs::create_directory(tmp);
+  auto off = environment;
+  off.emplace_back("MESA_SHADER_CACHE_DISABLE=true");
+  const Run disabled = run(args, off);
+  ASSERT_EQ(disabled.status, 0) << disabled.err;
+  EXPECT_TRUE(filesIn(tmp).empty());
 }
 
 }  // namespace
