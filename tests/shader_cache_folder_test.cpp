@@ -12,6 +12,7 @@
 #include <map>
 #include <string>
 
+#include "tests/support/environment_map.h"
 #include "tests/support/temp_folder.h"
 
 namespace omnishadow::cli::shader_cache_folder_test {
@@ -20,13 +21,10 @@ namespace {
 namespace fs = std::filesystem;
 using Source = ShaderCacheFolder::Source;
 using test_support::TempFolder;
-using Variables = std::map<std::string, std::string>;
+using test_support::Variables;
 
-Environment environment(Variables variables) {
-  return [variables](const std::string& name) -> std::optional<std::string> {
-    const auto it = variables.find(name);
-    return it == variables.end() ? std::nullopt : std::optional<std::string>(it->second);
-  };
+Environment environment(const Variables& variables) {
+  return test_support::environmentOf(variables);
 }
 
 unsigned permissions(const fs::path& path) {

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "renderer/core/errors.h"
+#include "tests/support/environment_map.h"
 #include "tests/support/input_error.h"
 
 namespace omnishadow::cli::shard_env_test {
@@ -15,13 +16,10 @@ namespace {
 
 using test_support::inputError;
 
-using Variables = std::map<std::string, std::string>;
+using test_support::Variables;
 
-Environment environment(Variables variables) {
-  return [variables](const std::string& name) -> std::optional<std::string> {
-    const auto it = variables.find(name);
-    return it == variables.end() ? std::nullopt : std::optional<std::string>(it->second);
-  };
+Environment environment(const Variables& variables) {
+  return test_support::environmentOf(variables);
 }
 
 std::string shardOf(const Variables& variables, std::optional<int> count = std::nullopt) {
