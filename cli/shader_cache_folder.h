@@ -14,7 +14,8 @@
 // first frame 0.6 s more (docs/performance.md, issue 19).
 //
 // There the CLI gives Mesa a folder of its own, one per user under $TMPDIR (or /tmp), private to
-// that user, before anything loads Mesa. Where the user chose (MESA_SHADER_CACHE_DIR, Mesa's older
+// that user, before anything loads Mesa; the Python module does when its user asks
+// (omnishadow.keep_shader_cache()), never on its own. Where the user chose (MESA_SHADER_CACHE_DIR, Mesa's older
 // MESA_GLSL_CACHE_DIR, or turning the cache off with MESA_SHADER_CACHE_DISABLE or
 // MESA_GLSL_CACHE_DISABLE), or where Mesa's own place works, nothing changes.
 

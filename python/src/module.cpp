@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "cli/malloc_heap.h"
+#include "cli/shader_cache_folder.h"
 #include "python/src/py_frame.h"
 #include "python/src/py_inputs.h"
 #include "python/src/py_renderer.h"
@@ -346,6 +347,48 @@ PYBIND11_MODULE(omnishadow, m) {
       "process that mostly renders. Later calls change nothing. Returns {'applied': False "
       "under valgrind or AddressSanitizer, or with OMNISHADOW_MEMORY_WARMUP=0; "
       "'page_fault_us': what a fresh page cost; 'huge_pages': whether the top asks for them}.");
+
+  m.def(
+      "keep_shader_cache",
+      [] {
+        // Once per process: after the first call the variable is set, which a second look
+        // would take for the user's own choice. (Plain data: a static Python object would
+        // outlive the interpreter.)
+        static const cli::ShaderCacheFolder choice = cli::keepShaderCacheUsable();
+        using Source = cli::ShaderCacheFolder::Source;
+        py::dict result;
+        switch (choice.source) {
+          case Source::UsersChoice:
+            result["source"] = "users_choice";
+            break;
+          case Source::MesasOwn:
+            result["source"] = "mesa";
+            break;
+          case Source::OwnFallback:
+            result["source"] = "fallback";
+            break;
+          case Source::None:
+            result["source"] = "none";
+            break;
+        }
+        result["folder"] = choice.source == Source::MesasOwn ? choice.mesasOwn.string()
+                           : choice.source == Source::OwnFallback
+                               ? (choice.folder / "mesa_shader_cache").string()
+                               : std::string();
+        result["description"] = cli::describeShaderCacheFolder(choice);
+        return result;
+      },
+      "Keeps Mesa's shader cache usable as the CLI does: where Mesa's own place for it "
+      "($XDG_CACHE_HOME, else ~/.cache of the user's home in the password database) cannot be "
+      "written, as for a container's user without a home, sets MESA_SHADER_CACHE_DIR to "
+      "$TMPDIR/omnishadow-shader-cache-<uid> (or under /tmp), a folder only this user may "
+      "enter, so that later processes load the shaders this one compiles (50-120 ms each) "
+      "instead of compiling them again. Mesa reads the variable when the first Renderer opens "
+      "the display, and setting one is not safe while another thread reads the environment: "
+      "call it first, before any Renderer and any thread. Leaves Mesa's own variables "
+      "(MESA_SHADER_CACHE_DIR, MESA_SHADER_CACHE_DISABLE, their MESA_GLSL_ names) alone. Once "
+      "per process; returns {'source': 'users_choice', 'mesa', 'fallback' or 'none', 'folder': "
+      "where the shaders go ('' for users_choice and none), 'description': one line}.");
 
   bindRenderer(m);
   bindFrame(m);
