@@ -90,9 +90,11 @@ ShaderCacheFolder keepShaderCacheUsable() {
 }
 
 std::string describeShaderCacheFolder(const ShaderCacheFolder& choice) {
-  const std::string mesas = choice.mesasOwn.empty()
-                                ? "Mesa's own place (the user has no home in the password database)"
-                                : "Mesa's own place, " + choice.mesasOwn.string() + ",";
+  const std::string why =
+      choice.mesasOwn.empty()
+          ? "Mesa's own place needs a home, and the password database has "
+            "none for this user"
+          : "Mesa's own place, " + choice.mesasOwn.string() + ", cannot be written";
   switch (choice.source) {
     case ShaderCacheFolder::Source::UsersChoice:
       return "shader cache: as Mesa's variables set it (MESA_SHADER_CACHE_DIR, "
@@ -100,11 +102,10 @@ std::string describeShaderCacheFolder(const ShaderCacheFolder& choice) {
     case ShaderCacheFolder::Source::MesasOwn:
       return "shader cache: " + choice.mesasOwn.string();
     case ShaderCacheFolder::Source::OwnFallback:
-      return "shader cache: " + (choice.folder / "mesa_shader_cache").string() + " (" + mesas +
-             " cannot be written)";
+      return "shader cache: " + (choice.folder / "mesa_shader_cache").string() + " (" + why + ")";
     case ShaderCacheFolder::Source::None:
-      return "shader cache: none: " + mesas + " cannot be written, nor can " +
-             choice.folder.string() + "; every shader is compiled anew";
+      return "shader cache: none (" + why + ", and " + choice.folder.string() +
+             " is a link, another user's or open to others): every shader is compiled anew";
   }
   return {};
 }
