@@ -105,7 +105,8 @@ std::string describeShaderCacheFolder(const ShaderCacheFolder& choice) {
       return "shader cache: " + (choice.folder / "mesa_shader_cache").string() + " (" + why + ")";
     case ShaderCacheFolder::Source::None:
       return "shader cache: none (" + why + ", and " + choice.folder.string() +
-             " is a link, another user's or open to others): every shader is compiled anew";
+             " cannot be made, or is a link, another user's or open to others): every shader "
+             "is compiled anew";
   }
   return {};
 }

@@ -119,6 +119,12 @@ TEST_F(ShaderCacheFolderTest, AFolderOthersMayEnterOrALinkIsNotTaken) {
   fs::create_directory_symlink(temp / "elsewhere", fallback());
   EXPECT_EQ(chooseShaderCacheFolder(variables, std::nullopt, uid).source, Source::None);
 
+  // A $TMPDIR where no folder can be made.
+  const ShaderCacheFolder nowhere =
+      chooseShaderCacheFolder(environment({{"TMPDIR", unmakeable()}}), std::nullopt, uid);
+  EXPECT_EQ(nowhere.source, Source::None);
+  EXPECT_NE(describeShaderCacheFolder(nowhere).find("cannot be made"), std::string::npos);
+
   // A folder with the name of another user's (made here, so it is this user's, not theirs).
   const ShaderCacheFolder others = chooseShaderCacheFolder(variables, std::nullopt, uid + 1);
   EXPECT_EQ(others.source, Source::None);
