@@ -25,9 +25,15 @@ MESA_SHADER_CACHE_DIR each time), as on a fresh machine or in a container: the t
 first frame, `shaders` stage and process time. The other processes use the shader cache as it
 is (warm after the first round).
 
+--user UID runs every process as that user (`setpriv`; needs root), as in a container run as a
+user of its own (`docker run --user UID`): for a UID without an entry in the password database
+Mesa finds no home for its shader cache, and keeps none unless the binary gives it a folder
+(cli/shader_cache_folder.h). The scratch folder is opened to that user; the binaries and scenes
+must be readable by it.
+
 Usage: scripts/bench_ab.py --bin NEW --baseline OLD [--rounds N] [--repeat N] [--scenes a,b]
                            [--filter F] [--size WxH] [--peers DIR] [--idle S] [--no-steady]
-                           [--cold] [--outputs "ARGS"]"""
+                           [--cold] [--outputs "ARGS"] [--user UID]"""
 import argparse, os, shutil, statistics, sys, tempfile, time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -51,12 +57,20 @@ def main():
                     'scratch folder, e.g. "--masks {tmp}/m"')
     ap.add_argument("--cold", action="store_true",
                     help="also a single render with an empty shader cache per scene and binary")
+    ap.add_argument("--user", type=int, help="run every process as this user id (needs root)")
     a = ap.parse_args()
+    wrapper = []
+    if a.user is not None:
+        if os.geteuid() != 0:
+            sys.exit("bench_ab: --user needs root (setpriv changes the user)")
+        wrapper = ["setpriv", "--reuid", str(a.user), "--regid", str(a.user), "--clear-groups"]
     if not os.path.isfile(os.path.join(a.peers, "compare.py")):
         sys.exit(f"bench_ab: no compare.py in {a.peers} (--peers DIR)")
     cmp = load_compare(a.peers)
     w, h = map(int, a.size.split("x"))
     tmp = tempfile.mkdtemp(prefix="bench-ab.")
+    if wrapper:
+        os.chmod(tmp, 0o1777)  # the user's outputs and shader caches go here
     extra = [arg.replace("{tmp}", tmp) for arg in a.outputs.split()]
     scenes = a.scenes.split(",")
     binaries = [("new", a.bin), ("baseline", a.baseline)]
@@ -71,15 +85,19 @@ def main():
                 steady = {}
                 if not a.no_steady:
                     time.sleep(a.idle)
-                    steady = run_omni(binary, scene, lf, out, w, h, a.repeat, extra=extra)
+                    steady = run_omni(binary, scene, lf, out, w, h, a.repeat, extra=extra,
+                                      wrapper=wrapper)
                 time.sleep(a.idle)
-                first = run_omni(binary, scene, lf, out, w, h, 0, extra=extra)
+                first = run_omni(binary, scene, lf, out, w, h, 0, extra=extra, wrapper=wrapper)
                 cold = {}
                 if a.cold:
                     cache = tempfile.mkdtemp(prefix="shader-cache.", dir=tmp)
+                    if wrapper:
+                        os.chmod(cache, 0o1777)
                     time.sleep(a.idle)
                     cold = run_omni(binary, scene, lf, out, w, h, 0,
-                                    env=dict(os.environ, MESA_SHADER_CACHE_DIR=cache), extra=extra)
+                                    env=dict(os.environ, MESA_SHADER_CACHE_DIR=cache), extra=extra,
+                                    wrapper=wrapper)
                     shutil.rmtree(cache)
                 res.setdefault((name, who), []).append((steady, first, cold))
                 print(f"# round {r} {name} {who} steady {steady.get('steady') or 0:.1f} "
@@ -114,7 +132,8 @@ def main():
           f"steady: `render --repeat {a.repeat}`; first: a single `render`"
           + (f"; {a.idle:g} s idle before each process" if a.idle else "")
           + ("; cold: a single `render` with an empty shader cache" if a.cold else "")
-          + (f"; outputs `{a.outputs}`." if a.outputs else "."))
+          + (f"; outputs `{a.outputs}`" if a.outputs else "")
+          + (f"; every process as uid {a.user}" if wrapper else "") + ".")
 
 
 if __name__ == "__main__":

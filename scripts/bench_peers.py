@@ -34,8 +34,9 @@ def settle(limit_s=5.0, after_s=2.0):
     time.sleep(after_s)
 
 
-def run_omni(binary, scene, lights, out, w, h, repeat, env=None, extra=()):
-    args = [binary, "render", scene, "-l", lights, "-o", out, "--width", str(w), "--height", str(h),
+def run_omni(binary, scene, lights, out, w, h, repeat, env=None, extra=(), wrapper=()):
+    """One `render` process (`wrapper`: a command it runs under, e.g. setpriv)."""
+    args = [*wrapper, binary, "render", scene, "-l", lights, "-o", out, "--width", str(w), "--height", str(h),
             "--no-gltf-lights", "--stats", *extra]
     if repeat:
         args += ["--repeat", str(repeat)]
