@@ -356,21 +356,21 @@ PYBIND11_MODULE(omnishadow, m) {
         // outlive the interpreter.)
         static const cli::ShaderCacheFolder choice = cli::keepShaderCacheUsable();
         using Source = cli::ShaderCacheFolder::Source;
+        constexpr auto name = [](Source source) {
+          switch (source) {
+            case Source::MesasOwn:
+              return "mesa";
+            case Source::OwnFallback:
+              return "fallback";
+            case Source::None:
+              return "none";
+            case Source::UsersChoice:
+              break;
+          }
+          return "users_choice";
+        };
         py::dict result;
-        switch (choice.source) {
-          case Source::UsersChoice:
-            result["source"] = "users_choice";
-            break;
-          case Source::MesasOwn:
-            result["source"] = "mesa";
-            break;
-          case Source::OwnFallback:
-            result["source"] = "fallback";
-            break;
-          case Source::None:
-            result["source"] = "none";
-            break;
-        }
+        result["source"] = name(choice.source);
         result["folder"] = choice.source == Source::MesasOwn ? choice.mesasOwn.string()
                            : choice.source == Source::OwnFallback
                                ? (choice.folder / "mesa_shader_cache").string()
