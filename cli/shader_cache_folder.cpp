@@ -100,9 +100,9 @@ std::string describeShaderCacheFolder(const ShaderCacheFolder& choice) {
       return "shader cache: as Mesa's variables set it (MESA_SHADER_CACHE_DIR, "
              "MESA_SHADER_CACHE_DISABLE or their older MESA_GLSL_ names)";
     case ShaderCacheFolder::Source::MesasOwn:
-      return "shader cache: " + choice.mesasOwn.string();
+      return "shader cache: " + choice.shadersFolder().string();
     case ShaderCacheFolder::Source::OwnFallback:
-      return "shader cache: " + (choice.folder / "mesa_shader_cache").string() + " (" + why + ")";
+      return "shader cache: " + choice.shadersFolder().string() + " (" + why + ")";
     case ShaderCacheFolder::Source::None:
       return "shader cache: none (" + why + ", and " + choice.folder.string() +
              " cannot be made, or is a link, another user's or open to others): every shader "

@@ -15,8 +15,8 @@
 //
 // There the CLI gives Mesa a folder of its own, one per user under $TMPDIR (or /tmp), private to
 // that user, before anything loads Mesa; the Python module does when its user asks
-// (omnishadow.keep_shader_cache()), never on its own. Where the user chose (MESA_SHADER_CACHE_DIR, Mesa's older
-// MESA_GLSL_CACHE_DIR, or turning the cache off with MESA_SHADER_CACHE_DISABLE or
+// (omnishadow.keep_shader_cache()), never on its own. Where the user chose (MESA_SHADER_CACHE_DIR,
+// Mesa's older MESA_GLSL_CACHE_DIR, or turning the cache off with MESA_SHADER_CACHE_DISABLE or
 // MESA_GLSL_CACHE_DISABLE), or where Mesa's own place works, nothing changes.
 
 #include <filesystem>
@@ -37,6 +37,14 @@ struct ShaderCacheFolder {
   Source source = Source::UsersChoice;
   std::filesystem::path mesasOwn;  // where Mesa would keep it; empty without a home or a choice
   std::filesystem::path folder;    // the CLI's own (OwnFallback), or the one refused (None)
+
+  // Where Mesa keeps the shaders (it adds a folder of its own below MESA_SHADER_CACHE_DIR);
+  // empty where this does not know (UsersChoice) or Mesa keeps none.
+  std::filesystem::path shadersFolder() const {
+    if (source == Source::MesasOwn) return mesasOwn;
+    if (source == Source::OwnFallback) return folder / "mesa_shader_cache";
+    return {};
+  }
 };
 
 // Decides as above from `environment` (XDG_CACHE_HOME, TMPDIR and Mesa's variables), the home

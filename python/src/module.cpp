@@ -371,10 +371,7 @@ PYBIND11_MODULE(omnishadow, m) {
         };
         py::dict result;
         result["source"] = name(choice.source);
-        result["folder"] = choice.source == Source::MesasOwn ? choice.mesasOwn.string()
-                           : choice.source == Source::OwnFallback
-                               ? (choice.folder / "mesa_shader_cache").string()
-                               : std::string();
+        result["folder"] = choice.shadersFolder().string();
         result["description"] = cli::describeShaderCacheFolder(choice);
         return result;
       },
