@@ -25,6 +25,13 @@ MESA_SHADER_CACHE_DIR each time), as on a fresh machine or in a container: the t
 first frame, `shaders` stage and process time. The other processes use the shader cache as it
 is (warm after the first round).
 
+--hog MB runs, before each single render, a process that fills MB megabytes and exits, then
+waits --hog-wait S seconds (default 0.5): what a render meets right after a large process such
+as Chromium (scripts/bench-peers.sh runs one between renders). The host takes back the memory
+the hog freed, and fresh pages fault slowly for a while (docs/performance.md, "The slow mode
+after Chromium, reproduced without it"); every binary meets that in every round, instead of
+whichever runs right after three.js in bench-peers.sh.
+
 --user UID runs every process as that user (`setpriv`; needs root), as in a container run as a
 user of its own (`docker run --user UID`): for a UID without an entry in the password database
 Mesa finds no home for its shader cache, and keeps none unless the binary gives it a folder
@@ -33,11 +40,20 @@ must be readable by it.
 
 Usage: scripts/bench_ab.py --bin NEW --baseline OLD [--rounds N] [--repeat N] [--scenes a,b]
                            [--filter F] [--size WxH] [--peers DIR] [--idle S] [--no-steady]
-                           [--cold] [--outputs "ARGS"] [--user UID]"""
-import argparse, os, shutil, statistics, sys, tempfile, time
+                           [--cold] [--outputs "ARGS"] [--user UID] [--hog MB]
+                           [--hog-wait S]"""
+import argparse, os, shutil, statistics, subprocess, sys, tempfile, time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_peers import load_compare, run_omni  # noqa: E402
+
+
+def hog(megabytes, wait_s):
+    """A process that fills `megabytes` of fresh memory and exits; then `wait_s` seconds."""
+    subprocess.run([sys.executable, "-c",
+                    f"b = bytearray(b'\\x01') * ({megabytes} << 20); print(b[-1])"],
+                   check=True, capture_output=True)
+    time.sleep(wait_s)
 
 
 def main():
@@ -58,6 +74,10 @@ def main():
     ap.add_argument("--cold", action="store_true",
                     help="also a single render with an empty shader cache per scene and binary")
     ap.add_argument("--user", type=int, help="run every process as this user id (needs root)")
+    ap.add_argument("--hog", type=int, default=0,
+                    help="MB a process fills and frees before each single render")
+    ap.add_argument("--hog-wait", type=float, default=0.5,
+                    help="seconds between the hog's exit and the render")
     a = ap.parse_args()
     wrapper = []
     if a.user is not None:
@@ -88,6 +108,8 @@ def main():
                     steady = run_omni(binary, scene, lf, out, w, h, a.repeat, extra=extra,
                                       wrapper=wrapper)
                 time.sleep(a.idle)
+                if a.hog:
+                    hog(a.hog, a.hog_wait)
                 first = run_omni(binary, scene, lf, out, w, h, 0, extra=extra, wrapper=wrapper)
                 cold = {}
                 if a.cold:
@@ -131,6 +153,8 @@ def main():
     print(f"\n{a.filter}, {w}x{h}, 1024^2 shadow maps, {a.rounds} interleaved rounds, medians; "
           f"steady: `render --repeat {a.repeat}`; first: a single `render`"
           + (f"; {a.idle:g} s idle before each process" if a.idle else "")
+          + (f"; a {a.hog} MB process {a.hog_wait:g} s before each single render" if a.hog
+             else "")
           + ("; cold: a single `render` with an empty shader cache" if a.cold else "")
           + (f"; outputs `{a.outputs}`" if a.outputs else "")
           + (f"; every process as uid {a.user}" if wrapper else "") + ".")
