@@ -75,7 +75,6 @@ void MemoryWarmup::touch(std::size_t page) {
     for (; cursor < spanEnd && !halt.load(std::memory_order_relaxed); cursor += page)
       touchPage(cursor);
     trial.touched(spanBegin, huge, cursor - from, threadCpuMilliseconds() - start);
-    touchedBytes_.store(cursor - begin);
     if (pageFaultMicroseconds_.load(std::memory_order_relaxed) == 0.0)
       pageFaultMicroseconds_.store(trial.smallPageMicroseconds());
   };

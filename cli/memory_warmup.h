@@ -57,9 +57,6 @@ class MemoryWarmup {
   double pageFaultMicroseconds() const { return pageFaultMicroseconds_.load(); }
   // Whether a toucher runs: false where the warm-up is turned off or had no block.
   bool active() const { return toucher_.joinable(); }
-  // How much of the block the toucher has faulted in so far, from its start: what the frame
-  // will find there (after finish(), what the toucher has covered of the frame's part).
-  std::size_t touchedBytes() const { return touchedBytes_.load(); }
   // What the heap's first fresh pages above the block cost and whether the heap above them asks
   // for huge pages (zero without a block).
   const HeapTopAdvice& heapAbove() const { return heapAbove_; }
@@ -81,8 +78,7 @@ class MemoryWarmup {
   std::atomic<bool> handedOver_{false};  // the toucher has stopped writing to it
   std::atomic<bool> freed_{false};       // it is the heap's; neededEnd_ is set
   std::atomic<bool> quit_{false};        // the toucher is to end
-  std::atomic<std::size_t> touchedBytes_{0};
-  std::uintptr_t neededEnd_ = 0;  // where the toucher ends once the block is freed
+  std::uintptr_t neededEnd_ = 0;         // where the toucher ends once the block is freed
   std::atomic<double> pageFaultMicroseconds_{0.0};
   HeapTopAdvice heapAbove_;
   std::thread toucher_;

@@ -109,17 +109,7 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
                warmup.active() && !cheap ? static_cast<double>(kWarmupBytes >> 20) / 2.0 : 0.0);
   }
   auto [loaded, loadMilliseconds] = loading.get();
-  const std::size_t frameBytes = renderer ? frameMemoryEstimate(*renderer, job, loaded) : 0;
-  warmup.finish(frameBytes);
-  // LLVM's first compilation (about 10 ms of a core) on another thread while this one links
-  // shaders and uploads the scene, but only where the memory warm-up's toucher has already
-  // faulted in what the frame is expected to need: else the toucher, at idle priority, would
-  // give that core away while the frame still needs its pages. Right after a large process had
-  // exited (fresh memory slow), an unconditional warm-up made the first frames of Sundial and
-  // WhackAMole slower: 12 rounds after a 1 GB process, medians 168.7 against 150.3 ms and 161.7
-  // against 138.5 (docs/performance.md).
-  const bool llvmWarmedUp = renderer && (!warmup.active() || warmup.touchedBytes() >= frameBytes) &&
-                            renderer->warmUpLlvm();
+  warmup.finish(renderer ? frameMemoryEstimate(*renderer, job, loaded) : 0);
   if (contextError) std::rethrow_exception(contextError);
   warnings = loaded.warnings;
   times.add("load", loadMilliseconds);
@@ -127,8 +117,6 @@ int render(const RenderOptions& o, std::vector<std::string>& warnings) {
   if (o.device.verbose) {
     std::fprintf(stderr, "omnishadow: scene %s, camera: %s, %dx%d\n", job.scene.c_str(),
                  loaded.camera.description.c_str(), loaded.camera.width, loaded.camera.height);
-    if (llvmWarmedUp)
-      std::fprintf(stderr, "omnishadow: LLVM's first compilation runs beside the upload\n");
     if (warmup.active())
       std::fprintf(stderr, "omnishadow: memory: a fresh 4 KiB page took %.1f us; %s\n",
                    warmup.heapAbove().pageFaultMicroseconds,

@@ -743,25 +743,5 @@ TEST_F(CliTest, MesaKeepsItsShadersInTheCliFolderWhereItsOwnPlaceCannotBeWritten
   EXPECT_TRUE(filesIn(tmp).empty());
 }
 
-// Without the memory warm-up nothing else wants the second core, so a render on llvmpipe
-// compiles LLVM's first function there while it uploads (renderer/gl/llvm_warmup.h). The
-// picture holds the same bytes as one drawn with the memory warm-up on, where the toucher's
-// progress decides whether LLVM warms up.
-TEST_F(CliTest, LlvmWarmsUpBesideTheUploadWhereNothingElseWantsTheSecondCore) {
-  writeBoxScene(input("scene.gltf"));
-  const std::vector<std::string> args = {"render", in("scene.gltf"), "-o", "a.png", "--width",
-                                         "32",     "--height",       "32", "-v"};
-  const Run r = run(args, {"OMNISHADOW_MEMORY_WARMUP=0"});
-  ASSERT_EQ(r.status, 0) << r.err;
-  if (!contains(r.err, "llvmpipe")) GTEST_SKIP() << "this GL driver compiles without LLVM";
-  EXPECT_TRUE(contains(r.err, "omnishadow: LLVM's first compilation runs beside the upload"))
-      << r.err;
-  std::vector<std::string> other = args;
-  other[3] = "b.png";
-  const Run warm = run(other);
-  ASSERT_EQ(warm.status, 0) << warm.err;
-  EXPECT_TRUE(sameBytes(output("a.png"), output("b.png")));
-}
-
 }  // namespace
 }  // namespace omnishadow::cli_test

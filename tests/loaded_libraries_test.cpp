@@ -33,7 +33,7 @@ TEST(LoadedLibraries, KeepsWhatWasLoadedSinceAndNothingLoadedBefore) {
   ASSERT_NE(handle, nullptr) << ::dlerror();
   const std::vector<std::string> withIt = loadedLibraries();
   EXPECT_TRUE(listed(withIt, library));
-  EXPECT_TRUE(keepLibrariesLoadedSince(withIt).empty());
+  keepLibrariesLoadedSince(withIt);
   ::dlclose(handle);
   EXPECT_FALSE(isLoaded(library)) << "a library loaded before was kept";
   EXPECT_FALSE(listed(loadedLibraries(), library));
@@ -41,7 +41,7 @@ TEST(LoadedLibraries, KeepsWhatWasLoadedSinceAndNothingLoadedBefore) {
   const std::vector<std::string> withoutIt = loadedLibraries();
   handle = ::dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
   ASSERT_NE(handle, nullptr) << ::dlerror();
-  EXPECT_EQ(keepLibrariesLoadedSince(withoutIt), std::vector<std::string>{library});
+  keepLibrariesLoadedSince(withoutIt);
   ::dlclose(handle);
   EXPECT_TRUE(isLoaded(library)) << "a library loaded since was not kept";
   EXPECT_TRUE(listed(loadedLibraries(), library));

@@ -71,30 +71,6 @@ TEST(MemoryWarmup, ReportsWhatA4KiBPageFaultCostsOnceMeasured) {
   EXPECT_EQ(warmup.pageFaultMicroseconds(), microseconds);
 }
 
-// How far the toucher has come, which a render weighs against what its frame needs before it
-// starts LLVM's warm-up (cli/render_command.cpp): nothing where the warm-up is off, the whole
-// block once the toucher has had the time, and no more after finish() than it had.
-TEST(MemoryWarmup, TellsHowMuchOfTheBlockItHasTouched) {
-  ASSERT_EQ(setenv("OMNISHADOW_MEMORY_WARMUP", "0", 1), 0);
-  {
-    MemoryWarmup off(std::size_t{16} << 20);
-    EXPECT_FALSE(off.active());
-    EXPECT_EQ(off.touchedBytes(), 0u);
-  }
-  ASSERT_EQ(unsetenv("OMNISHADOW_MEMORY_WARMUP"), 0);
-  constexpr std::size_t kBlock = std::size_t{16} << 20;
-  MemoryWarmup warmup(kBlock);
-  if (!warmup.active()) GTEST_SKIP() << "no warm-up in this build (a sanitizer)";
-  // The toucher runs only on an idle core: wait for it.
-  for (int i = 0; i < 2000 && warmup.touchedBytes() < kBlock; ++i) usleep(10000);
-  const std::size_t touched = warmup.touchedBytes();
-  EXPECT_GE(touched, kBlock);
-  // Its pages start where malloc's block starts, not on a page boundary.
-  EXPECT_LT(touched, kBlock + static_cast<std::size_t>(sysconf(_SC_PAGESIZE)));
-  warmup.finish(kBlock / 2);
-  EXPECT_EQ(warmup.touchedBytes(), touched);
-}
-
 // The warm-up measures the heap's first fresh pages above its block on the calling thread, and
 // is off entirely where it is turned off.
 TEST(MemoryWarmup, MeasuresTheHeapAboveTheBlockAtOnce) {

@@ -5,7 +5,6 @@
 #include <GL/glcorearb.h>
 
 #include <map>
-#include <memory>
 #include <mutex>
 #include <optional>
 #include <vector>
@@ -13,7 +12,6 @@
 #include "renderer/core/errors.h"
 #include "renderer/gl/egl_extensions.h"
 #include "renderer/gl/enum_names.h"
-#include "renderer/gl/llvm_warmup.h"
 #include "renderer/gl/loaded_libraries.h"
 #include "renderer/gl/relocation_prefault.h"
 
@@ -53,14 +51,12 @@ class DisplayUses {
     return *uses;
   }
 
-  // `loaded`: the libraries initializing loaded (none where the driver was loaded before).
-  bool initialize(EGLDisplay display, EGLint* major, EGLint* minor,
-                  std::vector<std::string>& loaded) {
+  bool initialize(EGLDisplay display, EGLint* major, EGLint* minor) {
     const std::lock_guard<std::mutex> lock(mutex_);
     const std::vector<std::string> before = loadedLibraries();
     if (!eglInitialize(display, major, minor)) return false;
     // What initializing loaded (the driver, LLVM) stays loaded after the last eglTerminate().
-    loaded = keepLibrariesLoadedSince(before);
+    keepLibrariesLoadedSince(before);
     ++uses_[display];
     return true;
   }
@@ -86,10 +82,6 @@ struct EglContext::Impl {
   EGLContext context = EGL_NO_CONTEXT;
   bool ownsDisplay = true;  // false for a shared context: the first one terminates the display
   std::string description;
-  // LLVM's shared library where initializing the display loaded it (llvmpipe), else empty;
-  // and its first compilation, once started (startLlvmWarmup()).
-  std::string llvmLibrary;
-  std::unique_ptr<LlvmWarmup> llvmWarmup;
 
   // Returns an empty string on success, else why it failed.
   std::string tryCreate(const Candidate& candidate, bool debug) {
@@ -100,12 +92,10 @@ struct EglContext::Impl {
     if (display == EGL_NO_DISPLAY)
       return std::string("eglGetPlatformDisplayEXT failed: ") + eglErrorName(eglGetError());
     EGLint major = 0, minor = 0;
-    std::vector<std::string> loaded;
-    if (!DisplayUses::instance().initialize(display, &major, &minor, loaded)) {
+    if (!DisplayUses::instance().initialize(display, &major, &minor)) {
       display = EGL_NO_DISPLAY;
       return std::string("eglInitialize failed: ") + eglErrorName(eglGetError());
     }
-    llvmLibrary = LlvmWarmup::llvmLibrary(loaded);
     if (!eglBindAPI(EGL_OPENGL_API)) return fail("eglBindAPI(EGL_OPENGL_API)");
 
     const char* extensions = eglQueryString(display, EGL_EXTENSIONS);
@@ -257,16 +247,6 @@ void EglContext::makeCurrent() const {
 
 const std::string& EglContext::platformDescription() const {
   return impl_->description;
-}
-
-bool EglContext::startLlvmWarmup() {
-  if (!impl_->llvmWarmup && !impl_->llvmLibrary.empty())
-    impl_->llvmWarmup = std::make_unique<LlvmWarmup>(std::vector<std::string>{impl_->llvmLibrary});
-  return impl_->llvmWarmup && impl_->llvmWarmup->started();
-}
-
-LlvmWarmup* EglContext::llvmWarmup() const {
-  return impl_->llvmWarmup.get();
 }
 
 std::string EglContext::glDescription() const {

@@ -7,8 +7,6 @@
 
 namespace omnishadow {
 
-class LlvmWarmup;
-
 // Headless OpenGL 4.5 core context, made current on the calling thread. No window, no surface,
 // no X: rendering goes into the caller's framebuffer objects. A thread has one current context:
 // where it holds more than one, its users call makeCurrent() before their GL calls.
@@ -32,12 +30,6 @@ class EglContext {
   const std::string& platformDescription() const;
   // GL_VENDOR, GL_RENDERER, GL_VERSION as one line.
   std::string glDescription() const;
-  // Where making this context loaded LLVM (llvmpipe): starts LLVM's first compilation of the
-  // process on another thread (renderer/gl/llvm_warmup.h), once. Returns whether it runs or
-  // ran: false where the driver brought no LLVM, under valgrind, or for a shared context.
-  bool startLlvmWarmup();
-  // The compilation startLlvmWarmup() started, or null.
-  LlvmWarmup* llvmWarmup() const;
 
  private:
   struct Impl;

@@ -21,16 +21,13 @@ std::vector<std::string> loadedLibraries() {
   return names;
 }
 
-std::vector<std::string> keepLibrariesLoadedSince(const std::vector<std::string>& before) {
-  std::vector<std::string> loaded;
+void keepLibrariesLoadedSince(const std::vector<std::string>& before) {
   for (const std::string& name : loadedLibraries()) {
     if (std::find(before.begin(), before.end(), name) != before.end()) continue;
-    loaded.push_back(name);
     // Takes a reference that is never given back; RTLD_NOLOAD loads nothing that was unloaded
     // meanwhile (then it returns null, and there is nothing to keep).
     ::dlopen(name.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);
   }
-  return loaded;
 }
 
 }  // namespace omnishadow

@@ -20,7 +20,6 @@ std::vector<std::string> loadedLibraries();
 
 // Marks each library loaded now and not named in `before` never to be unloaded
 // (dlopen(RTLD_NOLOAD | RTLD_NODELETE)): a later dlclose() leaves it and its data mapped.
-// Returns their names.
-std::vector<std::string> keepLibrariesLoadedSince(const std::vector<std::string>& before);
+void keepLibrariesLoadedSince(const std::vector<std::string>& before);
 
 }  // namespace omnishadow

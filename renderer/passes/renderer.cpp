@@ -208,7 +208,6 @@ class Renderer::Impl {
 
   const RenderLimits& limits() const { return limits_; }
   const EglContext& context() const { return context_; }
-  bool startLlvmWarmup() { return context_.startLlvmWarmup(); }
 
  private:
   struct Prepared;
@@ -1486,10 +1485,6 @@ const RenderLimits& Renderer::limits() const {
 
 const std::string& Renderer::platformDescription() const {
   return impl_->context().platformDescription();
-}
-
-bool Renderer::warmUpLlvm() {
-  return impl_->startLlvmWarmup();
 }
 
 std::string Renderer::glDescription() const {

@@ -31,12 +31,6 @@ class Renderer {
   const std::string& platformDescription() const;
   // GL_VENDOR, GL_RENDERER, GL_VERSION as one line.
   std::string glDescription() const;
-  // Where the driver compiles shaders with LLVM (llvmpipe) and making this renderer's context
-  // loaded it: LLVM's first compilation of the process, which takes about 7 ms more than later
-  // ones, on another thread now, so that the first frame's first draw finds it done. It takes
-  // a core for about 10 ms: for callers that know one is spare. Once; returns whether it runs
-  // or ran.
-  bool warmUpLlvm();
 
   // Renders the scene with `lights` (already merged and uniquely named) and `ambience` (a
   // constant ambient radiance, or a LightSetup's ambient and environment). Stage times go to
