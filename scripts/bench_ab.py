@@ -8,7 +8,9 @@ N` (its steady frames), the binaries taking turns at going first. No Chromium ru
 processes, so small differences (a millisecond of `lighting`) stand out of the noise that
 bench-peers.sh's rounds carry. Prints a markdown table of medians, per scene and binary: steady
 shadow maps, lighting, readback, layers and frame; first-frame shadow maps, lighting and frame
-(shadow maps + lighting + readback + layer passes); process wall time.
+(shadow maps + lighting + readback + layer passes); the single render's `total` (all its
+stages, the context and the load included: work moved out of the first frame into another stage
+shows there, not in the first frame); process wall time.
 
 --idle S sleeps S seconds before each process: what a single render meets after a pause rather
 than right after another render. On a virtual machine whose host takes back the memory a guest
@@ -135,8 +137,9 @@ def main():
     cold_heads = " | cold first frame | cold shaders | cold process ms" if a.cold else ""
     print("| scene | binary | steady shadow maps | steady lighting | steady readback | steady layers "
           "| steady frame "
-          "| first shadow maps | first lighting | first frame | process ms" + cold_heads + " |")
-    print("|---|---|" + "---:|" * (9 + (3 if a.cold else 0)))
+          "| first shadow maps | first lighting | first frame | first total | process ms"
+          + cold_heads + " |")
+    print("|---|---|" + "---:|" * (10 + (3 if a.cold else 0)))
     for name in scenes:
         for who, _ in binaries:
             cells = [med(name, who, lambda s, f, c, k=k: s.get(f"steady {k}"))
@@ -144,6 +147,7 @@ def main():
             cells += [med(name, who, lambda s, f, c: f.get("shadow maps")),
                       med(name, who, lambda s, f, c: f.get("lighting")),
                       med(name, who, lambda s, f, c: f["first"]),
+                      med(name, who, lambda s, f, c: f.get("total")),
                       med(name, who, lambda s, f, c: f["wall"])]
             if a.cold:
                 cells += [med(name, who, lambda s, f, c: c.get("first")),
