@@ -119,6 +119,8 @@ def main():
                     if wrapper:
                         os.chmod(cache, 0o1777)
                     time.sleep(a.idle)
+                    if a.hog:
+                        hog(a.hog, a.hog_wait)
                     cold = run_omni(binary, scene, lf, out, w, h, 0,
                                     env=dict(os.environ, MESA_SHADER_CACHE_DIR=cache), extra=extra,
                                     wrapper=wrapper)
