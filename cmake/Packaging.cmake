@@ -37,8 +37,9 @@ set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # glvnd's libEGL, which the binary links, needs a vendor library to find a device; Mesa's
 # provides the software device, so that the package renders on any machine.
-# libavif is loaded when a scene has AVIF textures (dlopen, which dpkg-shlibdeps cannot see).
+# libavif is loaded when a scene has AVIF textures, Embree when `verify` casts its rays (dlopen,
+# which dpkg-shlibdeps cannot see).
 set(CPACK_DEBIAN_PACKAGE_DEPENDS
-    "libegl-mesa0 | libegl-vendor, libgl1-mesa-dri, ${OMNISHADOW_LIBAVIF_PACKAGE}")
+    "libegl-mesa0 | libegl-vendor, libgl1-mesa-dri, ${OMNISHADOW_LIBAVIF_PACKAGE}, ${OMNISHADOW_LIBEMBREE_PACKAGE}")
 set(CPACK_STRIP_FILES ON)
 include(CPack)

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "renderer/output/image_writer.h"
+#include "renderer/verify/embree_api.h"
 #include "renderer/verify/shadow_reference.h"
 #include "renderer/verify/shadow_verification.h"
 #include "scenes/builder/gltf_builder.h"
@@ -96,6 +97,35 @@ Scene cutoutScene(AlphaMode mode, float uvScale = 1.0f) {
 }
 
 constexpr glm::vec3 kUp{0.0f, 1.0f, 0.0f};
+
+// Embree is loaded by the first exact reference, not before: in a fresh process (the test
+// program re-run for this test alone), since another test may have loaded it already.
+TEST(EmbreeApiDeathTest, TheFirstReferenceLoadsEmbree) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        if (embreeLoaded()) std::exit(1);
+        const ShadowReference reference{Scene{}};
+        std::exit(embreeLoaded() ? 0 : 2);
+      },
+      ::testing::ExitedWithCode(0), "");
+}
+
+// Where Embree cannot be loaded, or a library of that name lacks its functions, the message
+// names the library, and says which package brings it.
+TEST(EmbreeApi, SaysWhichLibraryCannotBeLoadedOrLacksAFunction) {
+  const EmbreeLoad missing = loadEmbree("libomnishadow-no-such-library.so.1");
+  EXPECT_EQ(
+      missing.error.rfind("Embree (libomnishadow-no-such-library.so.1) cannot be loaded: ", 0), 0u)
+      << missing.error;
+  EXPECT_NE(missing.error.find("; on Debian: apt install libembree3-3"), std::string::npos);
+  EXPECT_EQ(missing.api.newDevice, nullptr);
+  EXPECT_EQ(loadEmbree("libm.so.6").error, "Embree (libm.so.6) lacks a function omnishadow calls");
+  const EmbreeApi& api = embreeApi();  // the one the build found
+  EXPECT_NE(api.newDevice, nullptr);
+  EXPECT_NE(api.occluded1, nullptr);
+  EXPECT_TRUE(embreeLoaded());
+}
 
 TEST(ShadowReference, CutOutQuadCastsLightThroughItsHole) {
   const Scene scene = cutoutScene(AlphaMode::Mask);
@@ -547,6 +577,32 @@ class VerifyCommand : public ::testing::Test {
     return folder_ / "out";
   }();
 };
+
+// Embree (with TBB) is loaded when rays are cast, not by every process: a render maps neither
+// (LD_DEBUG=files names every library the loader opens), and `verify` maps both.
+TEST_F(VerifyCommand, OnlyVerifyLoadsEmbree) {
+  const fs::path scene = sphereScene();
+  const fs::path lights = writeText("sphere.lights.json", lightsJson("{\"resolution\": 64}"));
+  test_support::RunOptions options;
+  options.workingDirectory = out_;
+  options.environment = {"LD_DEBUG=files"};
+  std::vector<std::string> render = {"render",        scene.string(), "-l",
+                                     lights.string(), "-o",           (out_ / "r.png").string()};
+  const std::vector<std::string> view = sphereView();
+  render.insert(render.end(), view.begin(), view.end());
+  const RunResult rendered = test_support::runOmnishadow(render, options);
+  ASSERT_EQ(rendered.status, 0) << rendered.err;
+  EXPECT_NE(rendered.err.find("libEGL"), std::string::npos) << "LD_DEBUG gave no list";
+  EXPECT_EQ(rendered.err.find("libembree3"), std::string::npos);
+  EXPECT_EQ(rendered.err.find("libtbb"), std::string::npos);
+
+  std::vector<std::string> verified = {"verify", scene.string(), "-l", lights.string()};
+  verified.insert(verified.end(), view.begin(), view.end());
+  const RunResult checked = test_support::runOmnishadow(verified, options);
+  ASSERT_EQ(checked.status, 0) << checked.out << checked.err.substr(0, 2000);
+  EXPECT_NE(checked.err.find("libembree3"), std::string::npos);
+  EXPECT_NE(checked.err.find("libtbb"), std::string::npos);
+}
 
 TEST_F(VerifyCommand, CornellBoxAgreesWithTheRays) {
   const fs::path lights =

@@ -11,6 +11,7 @@
 
 #include "renderer/core/errors.h"
 #include "renderer/scene/translucency.h"
+#include "renderer/verify/embree_api.h"
 
 namespace omnishadow {
 namespace {
@@ -260,6 +261,7 @@ RTCRay makeRay(const glm::vec3& origin, const glm::vec3& direction, float tnear,
 }  // namespace
 
 struct ShadowReference::Impl {
+  const EmbreeApi* rtc = nullptr;  // set before anything below
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<std::unique_ptr<Cutout>> cutouts;  // geometry user data; must outlive the scene
@@ -268,8 +270,8 @@ struct ShadowReference::Impl {
   std::vector<std::uint8_t> unlit;               // per geometry ID: KHR_materials_unlit
 
   ~Impl() {
-    if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
+    if (scene) rtc->releaseScene(scene);
+    if (device) rtc->releaseDevice(device);
   }
 
   std::optional<RTCRayHit> cast(const glm::vec3& origin, const glm::vec3& direction, float tnear,
@@ -279,7 +281,7 @@ struct ShadowReference::Impl {
     RTCRayHit rayHit{};
     rayHit.ray = makeRay(origin, direction, tnear, tfar, mask);
     rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene, &context, &rayHit);
+    rtc->intersect1(scene, &context, &rayHit);
     if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
     return rayHit;
   }
@@ -287,20 +289,22 @@ struct ShadowReference::Impl {
 
 ShadowReference::ShadowReference(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   Impl& impl = *impl_;
-  impl.device = rtcNewDevice(nullptr);
+  impl.rtc = &embreeApi();  // throws where Embree cannot be loaded
+  const EmbreeApi& rtc = *impl.rtc;
+  impl.device = rtc.newDevice(nullptr);
   if (!impl.device)
     throw RenderError("Embree: cannot create a device (" +
-                      std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
-  rtcSetDeviceErrorFunction(
+                      std::to_string(static_cast<int>(rtc.getDeviceError(nullptr))) + ")");
+  rtc.setDeviceErrorFunction(
       impl.device,
       [](void* user, RTCError, const char* message) {
         static_cast<Impl*>(user)->error = message ? message : "unknown error";
       },
       &impl);
-  impl.scene = rtcNewScene(impl.device);
+  impl.scene = rtc.newScene(impl.device);
   // Robust traversal: a shadow ray through a shared edge must not slip between two triangles.
-  rtcSetSceneFlags(impl.scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(impl.scene, RTC_BUILD_QUALITY_HIGH);
+  rtc.setSceneFlags(impl.scene, RTC_SCENE_FLAG_ROBUST);
+  rtc.setSceneBuildQuality(impl.scene, RTC_BUILD_QUALITY_HIGH);
 
   for (const MeshInstance& instance : scene.instances) {
     if (instance.mesh < 0 || instance.mesh >= static_cast<int>(scene.meshes.size())) continue;
@@ -314,10 +318,10 @@ ShadowReference::ShadowReference(const Scene& scene) : impl_(std::make_unique<Im
     }
     if (indices.empty()) continue;
 
-    RTCGeometry geometry = rtcNewGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    RTCGeometry geometry = rtc.newGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                3 * sizeof(float), mesh.positions.size()));
+        rtc.setNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                 3 * sizeof(float), mesh.positions.size()));
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
       const glm::vec3 p = glm::vec3(instance.world * glm::vec4(mesh.positions[i], 1.0f));
       vertices[3 * i] = p.x;
@@ -325,36 +329,36 @@ ShadowReference::ShadowReference(const Scene& scene) : impl_(std::make_unique<Im
       vertices[3 * i + 2] = p.z;
     }
     auto* triangles = static_cast<std::uint32_t*>(
-        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                3 * sizeof(std::uint32_t), indices.size() / 3));
+        rtc.setNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                 3 * sizeof(std::uint32_t), indices.size() / 3));
     std::copy(indices.begin(), indices.end(), triangles);
 
     const bool hasMaterial =
         mesh.material >= 0 && mesh.material < static_cast<int>(scene.materials.size());
     const AlphaMode mode =
         hasMaterial ? scene.materials[mesh.material].alphaMode : AlphaMode::Opaque;
-    rtcSetGeometryMask(geometry, mode == AlphaMode::Blend ? kCastsShadow : kCastsShadow | kInAovs);
+    rtc.setGeometryMask(geometry, mode == AlphaMode::Blend ? kCastsShadow : kCastsShadow | kInAovs);
     const bool translucent = hasMaterial && isTranslucentCaster(scene.materials[mesh.material]);
     impl.translucent = impl.translucent || translucent;
     if (mode != AlphaMode::Opaque || translucent) {
       impl.cutouts.push_back(
           std::make_unique<Cutout>(makeCutout(scene, mesh, scene.materials[mesh.material],
                                               std::move(indices), volumeScale(instance.world))));
-      rtcSetGeometryUserData(geometry, impl.cutouts.back().get());
+      rtc.setGeometryUserData(geometry, impl.cutouts.back().get());
       // Shadow rays of cut-out shadows (rtcOccluded1) see BLEND surfaces where alpha >= 0.5;
       // translucent shadow rays (rtcIntersect1) stop at every BLEND surface, whatever its alpha,
       // and weigh it (camera rays never see BLEND geometry: the mask keeps them out).
-      if (mode != AlphaMode::Opaque) rtcSetGeometryOccludedFilterFunction(geometry, alphaFilter);
-      if (mode == AlphaMode::Mask) rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
+      if (mode != AlphaMode::Opaque) rtc.setGeometryOccludedFilterFunction(geometry, alphaFilter);
+      if (mode == AlphaMode::Mask) rtc.setGeometryIntersectFilterFunction(geometry, alphaFilter);
     }
-    rtcCommitGeometry(geometry);
-    const unsigned id = rtcAttachGeometry(impl.scene, geometry);
-    rtcReleaseGeometry(geometry);
+    rtc.commitGeometry(geometry);
+    const unsigned id = rtc.attachGeometry(impl.scene, geometry);
+    rtc.releaseGeometry(geometry);
     if (impl.unlit.size() <= id) impl.unlit.resize(id + 1, 0);
     impl.unlit[id] = hasMaterial && scene.materials[mesh.material].unlit ? 1 : 0;
   }
-  rtcCommitScene(impl.scene);
-  if (rtcGetDeviceError(impl.device) != RTC_ERROR_NONE)
+  rtc.commitScene(impl.scene);
+  if (rtc.getDeviceError(impl.device) != RTC_ERROR_NONE)
     throw RenderError("Embree: cannot build the scene: " + impl.error);
 
   if (!scene.bounds.empty())
@@ -368,7 +372,7 @@ bool ShadowReference::occluded(const glm::vec3& origin, const glm::vec3& directi
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray = makeRay(origin, direction, tnear, tfar, kCastsShadow);
-  rtcOccluded1(impl_->scene, &context, &ray);
+  impl_->rtc->occluded1(impl_->scene, &context, &ray);
   // Embree marks an occluded ray by setting tfar to -inf.
   return ray.tfar < 0.0f;
 }
@@ -394,8 +398,8 @@ glm::vec3 ShadowReference::rayTransmittance(const glm::vec3& origin, const glm::
   for (int crossing = 0; crossing < kMaxTranslucentCrossings; ++crossing) {
     const std::optional<RTCRayHit> hit = impl_->cast(origin, direction, tnear, tfar, kCastsShadow);
     if (!hit) return transmittance;
-    RTCGeometry geometry = rtcGetGeometry(impl_->scene, hit->hit.geomID);
-    const auto* cutout = static_cast<const Cutout*>(rtcGetGeometryUserData(geometry));
+    RTCGeometry geometry = impl_->rtc->getGeometry(impl_->scene, hit->hit.geomID);
+    const auto* cutout = static_cast<const Cutout*>(impl_->rtc->getGeometryUserData(geometry));
     if (!cutout || !cutout->translucent) return glm::vec3(0.0f);
     const unsigned primitive = hit->hit.primID;
     const float u = hit->hit.u, v = hit->hit.v;
