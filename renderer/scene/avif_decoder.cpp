@@ -7,6 +7,8 @@
 #include <cstring>
 #include <memory>
 
+#include "renderer/core/library_symbol.h"
+
 #ifndef OMNISHADOW_LIBAVIF_SONAME
 #error "OMNISHADOW_LIBAVIF_SONAME: the CMake build defines it from the libavif it found"
 #endif
@@ -28,12 +30,6 @@ struct LibAvif {
   decltype(&avifResultToString) resultToString = nullptr;
 };
 
-template <class F>
-bool resolve(void* handle, const char* name, F& function) {
-  function = reinterpret_cast<F>(::dlsym(handle, name));
-  return function != nullptr;
-}
-
 LibAvif load() {
   LibAvif lib;
   // Never closed: the decoders' threads and function pointers live as long as the process.
@@ -43,14 +39,14 @@ LibAvif load() {
                 ") is not installed; on Debian: apt install libavif15";
     return lib;
   }
-  const bool all = resolve(handle, "avifDecoderCreate", lib.decoderCreate) &&
-                   resolve(handle, "avifDecoderDestroy", lib.decoderDestroy) &&
-                   resolve(handle, "avifDecoderSetIOMemory", lib.decoderSetIOMemory) &&
-                   resolve(handle, "avifDecoderParse", lib.decoderParse) &&
-                   resolve(handle, "avifDecoderNextImage", lib.decoderNextImage) &&
-                   resolve(handle, "avifRGBImageSetDefaults", lib.rgbImageSetDefaults) &&
-                   resolve(handle, "avifImageYUVToRGB", lib.imageYuvToRgb) &&
-                   resolve(handle, "avifResultToString", lib.resultToString);
+  const bool all = resolveSymbol(handle, "avifDecoderCreate", lib.decoderCreate) &&
+                   resolveSymbol(handle, "avifDecoderDestroy", lib.decoderDestroy) &&
+                   resolveSymbol(handle, "avifDecoderSetIOMemory", lib.decoderSetIOMemory) &&
+                   resolveSymbol(handle, "avifDecoderParse", lib.decoderParse) &&
+                   resolveSymbol(handle, "avifDecoderNextImage", lib.decoderNextImage) &&
+                   resolveSymbol(handle, "avifRGBImageSetDefaults", lib.rgbImageSetDefaults) &&
+                   resolveSymbol(handle, "avifImageYUVToRGB", lib.imageYuvToRgb) &&
+                   resolveSymbol(handle, "avifResultToString", lib.resultToString);
   if (!all)
     lib.error = std::string(OMNISHADOW_LIBAVIF_SONAME) + " lacks a function omnishadow calls";
   return lib;

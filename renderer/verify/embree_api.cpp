@@ -5,6 +5,7 @@
 #include <string>
 
 #include "renderer/core/errors.h"
+#include "renderer/core/library_symbol.h"
 
 #ifndef OMNISHADOW_LIBEMBREE_SONAME
 #error "OMNISHADOW_LIBEMBREE_SONAME: the CMake build defines it from the Embree it found"
@@ -12,12 +13,6 @@
 
 namespace omnishadow {
 namespace {
-
-template <class F>
-bool resolve(void* handle, const char* name, F& function) {
-  function = reinterpret_cast<F>(::dlsym(handle, name));
-  return function != nullptr;
-}
 
 const EmbreeLoad& processEmbree() {
   static const EmbreeLoad loaded = loadEmbree(OMNISHADOW_LIBEMBREE_SONAME);  // thread-safe
@@ -37,30 +32,30 @@ EmbreeLoad loadEmbree(const std::string& soname) {
     return loaded;
   }
   EmbreeApi& api = loaded.api;
-  const bool all = resolve(handle, "rtcNewDevice", api.newDevice) &&
-                   resolve(handle, "rtcReleaseDevice", api.releaseDevice) &&
-                   resolve(handle, "rtcGetDeviceError", api.getDeviceError) &&
-                   resolve(handle, "rtcSetDeviceErrorFunction", api.setDeviceErrorFunction) &&
-                   resolve(handle, "rtcNewScene", api.newScene) &&
-                   resolve(handle, "rtcReleaseScene", api.releaseScene) &&
-                   resolve(handle, "rtcSetSceneFlags", api.setSceneFlags) &&
-                   resolve(handle, "rtcSetSceneBuildQuality", api.setSceneBuildQuality) &&
-                   resolve(handle, "rtcCommitScene", api.commitScene) &&
-                   resolve(handle, "rtcNewGeometry", api.newGeometry) &&
-                   resolve(handle, "rtcReleaseGeometry", api.releaseGeometry) &&
-                   resolve(handle, "rtcCommitGeometry", api.commitGeometry) &&
-                   resolve(handle, "rtcAttachGeometry", api.attachGeometry) &&
-                   resolve(handle, "rtcSetNewGeometryBuffer", api.setNewGeometryBuffer) &&
-                   resolve(handle, "rtcSetGeometryMask", api.setGeometryMask) &&
-                   resolve(handle, "rtcSetGeometryUserData", api.setGeometryUserData) &&
-                   resolve(handle, "rtcGetGeometry", api.getGeometry) &&
-                   resolve(handle, "rtcGetGeometryUserData", api.getGeometryUserData) &&
-                   resolve(handle, "rtcSetGeometryOccludedFilterFunction",
-                           api.setGeometryOccludedFilterFunction) &&
-                   resolve(handle, "rtcSetGeometryIntersectFilterFunction",
-                           api.setGeometryIntersectFilterFunction) &&
-                   resolve(handle, "rtcIntersect1", api.intersect1) &&
-                   resolve(handle, "rtcOccluded1", api.occluded1);
+  const bool all = resolveSymbol(handle, "rtcNewDevice", api.newDevice) &&
+                   resolveSymbol(handle, "rtcReleaseDevice", api.releaseDevice) &&
+                   resolveSymbol(handle, "rtcGetDeviceError", api.getDeviceError) &&
+                   resolveSymbol(handle, "rtcSetDeviceErrorFunction", api.setDeviceErrorFunction) &&
+                   resolveSymbol(handle, "rtcNewScene", api.newScene) &&
+                   resolveSymbol(handle, "rtcReleaseScene", api.releaseScene) &&
+                   resolveSymbol(handle, "rtcSetSceneFlags", api.setSceneFlags) &&
+                   resolveSymbol(handle, "rtcSetSceneBuildQuality", api.setSceneBuildQuality) &&
+                   resolveSymbol(handle, "rtcCommitScene", api.commitScene) &&
+                   resolveSymbol(handle, "rtcNewGeometry", api.newGeometry) &&
+                   resolveSymbol(handle, "rtcReleaseGeometry", api.releaseGeometry) &&
+                   resolveSymbol(handle, "rtcCommitGeometry", api.commitGeometry) &&
+                   resolveSymbol(handle, "rtcAttachGeometry", api.attachGeometry) &&
+                   resolveSymbol(handle, "rtcSetNewGeometryBuffer", api.setNewGeometryBuffer) &&
+                   resolveSymbol(handle, "rtcSetGeometryMask", api.setGeometryMask) &&
+                   resolveSymbol(handle, "rtcSetGeometryUserData", api.setGeometryUserData) &&
+                   resolveSymbol(handle, "rtcGetGeometry", api.getGeometry) &&
+                   resolveSymbol(handle, "rtcGetGeometryUserData", api.getGeometryUserData) &&
+                   resolveSymbol(handle, "rtcSetGeometryOccludedFilterFunction",
+                                 api.setGeometryOccludedFilterFunction) &&
+                   resolveSymbol(handle, "rtcSetGeometryIntersectFilterFunction",
+                                 api.setGeometryIntersectFilterFunction) &&
+                   resolveSymbol(handle, "rtcIntersect1", api.intersect1) &&
+                   resolveSymbol(handle, "rtcOccluded1", api.occluded1);
   if (!all) loaded.error = "Embree (" + soname + ") lacks a function omnishadow calls";
   return loaded;
 }
